@@ -1,0 +1,80 @@
+#include "plugin/coupling.h"
+
+#include <mutex>
+#include <shared_mutex>
+#include <unordered_map>
+
+#include "ipmc_swim/ipmc_swim.h"
+#include "plugin/custom_fields.h"
+
+namespace ipmc {
+namespace {
+
+// Registry of contexts keyed by mjData. Written by Attach/Detach, read by
+// the callbacks; a shared mutex lets many threads step at once.
+struct Registry {
+  std::shared_mutex mutex;
+  std::unordered_map<const mjData*, std::unique_ptr<CouplingContext>> contexts;
+  bool callbacks_installed = false;
+  mjfGeneric previous_passive = nullptr;
+  mjfGeneric previous_control = nullptr;
+};
+
+Registry& GetRegistry() {
+  static Registry registry;
+  return registry;
+}
+
+void PassiveCallback(const mjModel* m, mjData* d) {
+  Registry& registry = GetRegistry();
+  if (registry.previous_passive) registry.previous_passive(m, d);
+  const CouplingContext* context = FindCoupling(d);
+  if (context && context->model == m && context->drag) context->drag->Apply(m, d);
+}
+
+void ControlCallback(const mjModel* m, mjData* d) {
+  Registry& registry = GetRegistry();
+  if (registry.previous_control) registry.previous_control(m, d);
+}
+
+void InstallCallbacksOnce(Registry& registry) {
+  if (registry.callbacks_installed) return;
+  if (mjcb_passive != PassiveCallback) registry.previous_passive = mjcb_passive;
+  if (mjcb_control != ControlCallback) registry.previous_control = mjcb_control;
+  mjcb_passive = PassiveCallback;
+  mjcb_control = ControlCallback;
+  registry.callbacks_installed = true;
+}
+
+}  // namespace
+
+const CouplingContext* FindCoupling(const mjData* d) {
+  Registry& registry = GetRegistry();
+  std::shared_lock<std::shared_mutex> lock(registry.mutex);
+  auto it = registry.contexts.find(d);
+  return it == registry.contexts.end() ? nullptr : it->second.get();
+}
+
+bool Attach(const mjModel* m, mjData* d) {
+  if (!HasCustomFieldWithPrefix(m, "ipmc_")) return false;
+  auto context = std::make_unique<CouplingContext>();
+  context->model = m;
+  if (std::optional<RftDragConfig> drag = RftDragConfig::FromModel(m)) {
+    context->drag.emplace(m, *drag);
+  }
+  Registry& registry = GetRegistry();
+  std::unique_lock<std::shared_mutex> lock(registry.mutex);
+  InstallCallbacksOnce(registry);
+  registry.contexts[d] = std::move(context);
+  return true;
+}
+
+bool Detach(const mjData* d) {
+  Registry& registry = GetRegistry();
+  std::unique_lock<std::shared_mutex> lock(registry.mutex);
+  return registry.contexts.erase(d) > 0;
+}
+
+const char* Version() { return "0.1.0"; }
+
+}  // namespace ipmc

@@ -1,0 +1,23 @@
+// Per-(model, data) coupling context and the registry the MuJoCo callbacks
+// dispatch through. The callbacks are process-wide; the state is not.
+#pragma once
+
+#include <mujoco/mujoco.h>
+
+#include <memory>
+#include <optional>
+
+#include "plugin/rft_drag.h"
+
+namespace ipmc {
+
+struct CouplingContext {
+  const mjModel* model = nullptr;
+  std::optional<RftDrag> drag;
+};
+
+// The context attached to d, or nullptr. The pointer stays valid until d
+// is detached or re-attached.
+const CouplingContext* FindCoupling(const mjData* d);
+
+}  // namespace ipmc

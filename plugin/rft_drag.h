@@ -1,0 +1,132 @@
+// Resistive-force theory (RFT) drag on slender rigid segments in Stokes flow.
+//
+// Force per unit length on an element with unit tangent t moving with
+// velocity u relative to still fluid (Gray & Hancock 1955):
+//   f = -xi_t (u.t) t - xi_n (u - (u.t) t)            [N/m]
+// For a rigid segment of length L, centre c, velocity v_c and angular
+// velocity w, u(s) = v_c + s (w x t), s in [-L/2, L/2]. Integrated exactly:
+//   F   = -L R v_c,                  R = xi_t t t^T + xi_n (I - t t^T)
+//   T_c = -xi_n L^3 / 12 (w - (w.t) t)      (torque about the centre)
+// The wrench is added to qfrc_passive with mj_applyFT from mjcb_passive.
+//
+// Coefficients [N s/m^2] from the viscosity mu, the equivalent radius a and
+// the wavelength lambda:
+//   Gray & Hancock (1955): xi_n = 4 pi mu / (ln(2 lambda / a) + 1/2),
+//                          xi_t = 2 pi mu / (ln(2 lambda / a) - 1/2)
+//   Lighthill (1976):      xi_n = 4 pi mu / (ln(2 q / a) + 1/2),
+//                          xi_t = 2 pi mu /  ln(2 q / a),  q = 0.09 lambda
+// or set directly. For the flat 3 mm x 250 um strip a = (w + h) / 4
+// (Batchelor 1970, elliptical section of semi-axes w/2, h/2).
+//
+// MJCF fields (all optional but the viscosity, which marks the model as
+// using RFT; a model without it gets no drag):
+//   numeric ipmc_rft_viscosity_Pa_s        mu > 0
+//   text    ipmc_rft_coefficients          gray_hancock | lighthill | direct
+//   numeric ipmc_rft_equivalent_radius_m   a > 0
+//   numeric ipmc_rft_wavelength_m          lambda > 2a (> 0.5 a / 0.09 for Lighthill)
+//   numeric ipmc_rft_xi_normal_N_s_m2, ipmc_rft_xi_tangential_N_s_m2 (direct)
+//   numeric ipmc_rft_fluid_density_kg_m3   rho_f >= 0 (Reynolds number only)
+//   text    ipmc_rft_geoms                 geom names; default all box,
+//                                          capsule and cylinder geoms not
+//                                          on the world body
+// A segment's axis is its geom's long axis (box: longest half-size;
+// capsule and cylinder: local z).
+#pragma once
+
+#include <mujoco/mujoco.h>
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace ipmc {
+
+constexpr char kAttrViscosity[] = "ipmc_rft_viscosity_Pa_s";
+constexpr char kAttrCoefficients[] = "ipmc_rft_coefficients";
+constexpr char kAttrEquivalentRadius[] = "ipmc_rft_equivalent_radius_m";
+constexpr char kAttrWavelength[] = "ipmc_rft_wavelength_m";
+constexpr char kAttrXiNormal[] = "ipmc_rft_xi_normal_N_s_m2";
+constexpr char kAttrXiTangential[] = "ipmc_rft_xi_tangential_N_s_m2";
+constexpr char kAttrFluidDensity[] = "ipmc_rft_fluid_density_kg_m3";
+constexpr char kAttrGeoms[] = "ipmc_rft_geoms";
+
+struct DragCoefficients {
+  double normal_N_s_m2 = 0.0;
+  double tangential_N_s_m2 = 0.0;
+};
+
+DragCoefficients GrayHancockCoefficients(double viscosity_Pa_s, double radius_m,
+                                         double wavelength_m);
+DragCoefficients LighthillCoefficients(double viscosity_Pa_s, double radius_m,
+                                       double wavelength_m);
+
+enum class CoefficientModel { kGrayHancock, kLighthill, kDirect };
+
+struct RftDragConfig {
+  double viscosity_Pa_s = 1.0e-3;
+  CoefficientModel model = CoefficientModel::kGrayHancock;
+  double equivalent_radius_m = 0.8125e-3;
+  double wavelength_m = 32e-3;
+  DragCoefficients direct;  // used with CoefficientModel::kDirect
+  double fluid_density_kg_m3 = 1000.0;
+  std::vector<std::string> geom_names;  // empty: all slender geoms
+
+  // nullopt if the model has no ipmc_rft_viscosity_Pa_s field. Throws
+  // std::invalid_argument naming the field if a field is malformed.
+  static std::optional<RftDragConfig> FromModel(const mjModel* m);
+  void Validate() const;  // throws std::invalid_argument naming the field
+  DragCoefficients Coefficients() const;
+};
+
+// A rigid slender segment in the world frame.
+struct Segment {
+  Eigen::Vector3d center_W;
+  Eigen::Vector3d tangent_W;  // unit
+  double length_m = 0.0;
+  Eigen::Vector3d velocity_center_W;
+  Eigen::Vector3d angular_velocity_W;
+};
+
+// Force and torque about the segment centre, world frame.
+struct Wrench {
+  Eigen::Vector3d force_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d torque_center_W = Eigen::Vector3d::Zero();
+};
+
+Wrench SegmentDragExact(const Segment& segment, const DragCoefficients& xi);
+// Gauss-Legendre quadrature of the same integral with `points` nodes per
+// sub-interval over `intervals` equal sub-intervals (cross-check only).
+Wrench SegmentDragQuadrature(const Segment& segment, const DragCoefficients& xi, int intervals);
+// Mechanical power of the drag wrench on the segment [W]; never positive.
+double SegmentDragPower(const Segment& segment, const Wrench& wrench);
+
+class RftDrag {
+ public:
+  // Resolves geoms and coefficients; throws std::invalid_argument on a bad
+  // configuration (unknown geom name, non-slender geom).
+  RftDrag(const mjModel* m, const RftDragConfig& config);
+
+  // Adds the drag of every segment into d->qfrc_passive.
+  void Apply(const mjModel* m, mjData* d) const;
+  // The current segments (positions and velocities from d).
+  std::vector<Segment> Segments(const mjModel* m, const mjData* d) const;
+
+  const RftDragConfig& config() const { return config_; }
+  const DragCoefficients& coefficients() const { return coefficients_; }
+  const std::vector<int>& geom_ids() const { return geom_ids_; }
+
+ private:
+  struct SlenderGeom {
+    int geom_id;
+    int axis;          // long axis in geom frame: 0, 1 or 2
+    double length_m;
+  };
+  static Segment SegmentOf(const mjModel* m, const mjData* d, const SlenderGeom& geom);
+  RftDragConfig config_;
+  DragCoefficients coefficients_;
+  std::vector<int> geom_ids_;
+  std::vector<SlenderGeom> slender_;
+};
+
+}  // namespace ipmc

@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# Installs what is missing, builds, and runs the default job: the paper's
+# three-link swimmer. Extra arguments replace the default job's arguments.
+set -euo pipefail
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+source "$root/scripts/setup.sh"
+ipmc_install_packages
+ipmc_build "$root"
+if [ "$#" -gt 0 ]; then
+  exec "$root/build/sim/ipmc-swim" "$@"
+fi
+exec "$root/build/sim/ipmc-swim" gait --model "$root/models/flagellum3.xml" \
+  --cycles 3 --out "$root/out/default"

@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages ipmc-swim needs (only those missing) and
+# builds the project in Release. Sourced by ./run.sh and ./test.sh.
+set -euo pipefail
+
+IPMC_PACKAGES=(
+  build-essential cmake pkg-config
+  libmujoco-dev libqhull-dev libgl-dev libosmesa6-dev
+  libeigen3-dev libsundials-dev
+  libcli11-dev libtomlplusplus-dev nlohmann-json3-dev
+  libgtest-dev libbenchmark-dev
+  libstb-dev libfftw3-dev ffmpeg gnuplot-nox
+)
+
+ipmc_missing_packages() {
+  local pkg
+  for pkg in "${IPMC_PACKAGES[@]}"; do
+    if ! dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed"; then
+      echo "$pkg"
+    fi
+  done
+}
+
+ipmc_install_packages() {
+  local missing
+  missing=$(ipmc_missing_packages)
+  if [ -z "$missing" ]; then
+    return 0
+  fi
+  local sudo=""
+  if [ "$(id -u)" -ne 0 ]; then
+    sudo="sudo"
+  fi
+  echo "ipmc-swim: installing Debian packages:" $missing >&2
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -q
+  # shellcheck disable=SC2086
+  $sudo apt-get install -y -q --no-install-recommends $missing
+}
+
+ipmc_build() {
+  local root="$1"
+  local jobs
+  jobs=$(nproc 2>/dev/null || echo 2)
+  cmake -S "$root" -B "$root/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake --build "$root/build" -j "$jobs"
+}

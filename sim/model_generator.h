@@ -1,0 +1,62 @@
+// Writes MJCF for a planar N-link IPMC flagellum swimming in Stokes flow.
+//
+// Geometry (Table 1 of the paper for the default): links of length L_q
+// [mm], width w [mm] (normal to the bending plane) and thickness h [um]
+// (in the bending plane), separated by gaps g [mm]; hinges about z sit at
+// the middle of each gap. An optional rigid head (the electrode clamp that
+// link 1 bends against) precedes link 1. The root is free in the x-y plane
+// (slide x, slide y, hinge z) or welded ("clamped", as on the test bench).
+//
+// Mechanics (assumptions, overridable): mass from density rho; each hinge
+// carries the link's bending stiffness k_q = E I / L_q with I = w h^3 / 12,
+// and damping c_q = 2 zeta_h sqrt(k_q J_q) (J_q = m_q L_q^2 / 3, the link's
+// inertia about its hinge) so that the rigid-link hinge mode is damped with
+// ratio zeta_h.
+//
+// Fluid: the <custom> fields read by the ipmc_swim plugin (rft_drag.h).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace ipmc {
+
+struct FlagellumSpec {
+  std::vector<double> link_lengths_mm = {10.0, 10.0, 10.0};
+  double gap_mm = 0.5;
+  double width_mm = 3.0;
+  double thickness_um = 250.0;
+  double head_length_mm = 1.0;          // 0: no head, link 1 is the root
+  double density_kg_m3 = 2000.0;
+  double bending_modulus_Pa = 0.25e9;
+  double hinge_damping_ratio = 1.0;     // zeta_h
+  bool clamped = false;
+  double timestep_s = 1e-4;
+  std::string integrator = "implicit";  // euler | implicit | RK4
+  // Resistive-force theory (see plugin/rft_drag.h).
+  double viscosity_Pa_s = 1.0e-3;
+  std::string coefficients = "gray_hancock";  // gray_hancock | lighthill | direct
+  double wavelength_mm = 32.0;
+  double equivalent_radius_mm = 0.0;    // 0: (w + h) / 4, Batchelor's flat strip
+  double xi_normal_N_s_m2 = 0.0;        // only with coefficients = direct
+  double xi_tangential_N_s_m2 = 0.0;
+  double fluid_density_kg_m3 = 1000.0;
+  std::string name = "flagellum";
+
+  // Throws std::invalid_argument naming the field and its allowed range.
+  void Validate() const;
+  int Links() const { return static_cast<int>(link_lengths_mm.size()); }
+};
+
+// Derived per-link mechanics in SI, as written into the MJCF.
+struct LinkMechanics {
+  double mass_kg;
+  double inertia_about_hinge_kg_m2;
+  double stiffness_N_m_rad;
+  double damping_N_m_s_rad;
+};
+LinkMechanics ComputeLinkMechanics(const FlagellumSpec& spec, int link_index);
+
+std::string GenerateFlagellumMjcf(const FlagellumSpec& spec);
+
+}  // namespace ipmc

@@ -1,0 +1,95 @@
+#include "sim/output.h"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+
+namespace ipmc {
+
+void WriteFileAtomically(const std::string& path, const std::string& content) {
+  std::string temp = path + ".tmp.XXXXXX";
+  const int fd = mkstemp(temp.data());
+  if (fd < 0) throw std::runtime_error(path + ": cannot create file (" + std::strerror(errno) + ")");
+  close(fd);
+  {
+    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+    out << content;
+    out.flush();
+    if (!out) {
+      std::remove(temp.c_str());
+      throw std::runtime_error(path + ": write failed");
+    }
+  }
+  if (std::rename(temp.c_str(), path.c_str()) != 0) {
+    std::remove(temp.c_str());
+    throw std::runtime_error(path + ": cannot rename into place (" + std::strerror(errno) + ")");
+  }
+}
+
+void EnsureDirectory(const std::string& dir) {
+  std::error_code error;
+  std::filesystem::create_directories(dir, error);
+  if (error || !std::filesystem::is_directory(dir)) {
+    throw std::runtime_error(dir + ": cannot create output directory");
+  }
+}
+
+std::string GaitSamplesCsv(const GaitRunResult& result) {
+  std::ostringstream csv;
+  csv << std::setprecision(10);
+  csv << "time_s,com_x_mm,com_y_mm,head_x_mm,head_y_mm,yaw_rad";
+  const size_t joints = result.samples.empty() ? 0 : result.samples.front().q_rad.size();
+  const size_t tips = result.samples.empty() ? 0 : result.samples.front().tip_x_mm.size();
+  for (size_t j = 0; j < joints; ++j) csv << ",q_ref" << j + 1 << "_rad,q" << j + 1 << "_rad";
+  for (size_t k = 0; k < tips; ++k) csv << ",tip" << k + 1 << "_x_mm,tip" << k + 1 << "_y_mm";
+  csv << "\n";
+  for (const GaitSample& s : result.samples) {
+    csv << s.t_s << "," << s.com_x_mm << "," << s.com_y_mm << "," << s.head_x_mm << ","
+        << s.head_y_mm << "," << s.yaw_rad;
+    for (size_t j = 0; j < joints; ++j) csv << "," << s.q_ref_rad[j] << "," << s.q_rad[j];
+    for (size_t k = 0; k < tips; ++k) csv << "," << s.tip_x_mm[k] << "," << s.tip_y_mm[k];
+    csv << "\n";
+  }
+  return csv.str();
+}
+
+nlohmann::json GaitSummaryJson(const GaitRunResult& result) {
+  nlohmann::json cycles = nlohmann::json::array();
+  for (size_t k = 0; k < result.per_cycle.size(); ++k) {
+    const Displacement_mm& c = result.per_cycle[k];
+    cycles.push_back({{"cycle", k + 1},
+                      {"com_along_mm", c.com_along},
+                      {"com_across_mm", c.com_across},
+                      {"head_along_mm", c.head_along},
+                      {"head_across_mm", c.head_across}});
+  }
+  return {{"gait", result.gait},
+          {"period_s", result.period_s},
+          {"timestep_s", result.timestep_s},
+          {"body_length_mm", result.body_length_mm},
+          {"per_cycle", cycles},
+          {"mean_speed_along_mm_s", result.mean_speed_along_mm_s},
+          {"peak_lateral_tip_speed_mm_s", result.peak_lateral_tip_speed_mm_s},
+          {"reynolds_tip", result.reynolds_tip},
+          {"reynolds_swim", result.reynolds_swim},
+          {"max_tracking_error_rad", result.max_tracking_error_rad},
+          {"max_reference_rad", result.max_reference_rad}};
+}
+
+void WriteGaitOutputs(const std::string& dir, const GaitRunResult& result,
+                      const nlohmann::json& inputs) {
+  EnsureDirectory(dir);
+  nlohmann::json summary = GaitSummaryJson(result);
+  summary["inputs"] = inputs;
+  WriteFileAtomically(dir + "/timeseries.csv", GaitSamplesCsv(result));
+  WriteFileAtomically(dir + "/summary.json", summary.dump(2) + "\n");
+}
+
+}  // namespace ipmc
