@@ -184,14 +184,9 @@ RftDrag::RftDrag(const mjModel* m, const RftDragConfig& config)
   for (int g : geom_ids_) {
     const mjtNum* size = m->geom_size + 3 * g;
     switch (m->geom_type[g]) {
-      case mjGEOM_BOX: {
-        int axis = 0;
-        for (int k = 1; k < 3; ++k) {
-          if (size[k] > size[axis]) axis = k;
-        }
-        slender_.push_back({g, axis, 2.0 * size[axis]});
+      case mjGEOM_BOX:
+        slender_.push_back({g, 0, 2.0 * size[0]});
         break;
-      }
       case mjGEOM_CAPSULE:
       case mjGEOM_CYLINDER:
         slender_.push_back({g, 2, 2.0 * size[1]});

@@ -29,8 +29,8 @@
 //   text    ipmc_rft_geoms                 geom names; default all box,
 //                                          capsule and cylinder geoms not
 //                                          on the world body
-// A segment's axis is its geom's long axis (box: longest half-size;
-// capsule and cylinder: local z).
+// A segment's axis is its geom's local x axis for a box (length 2 size[0])
+// and local z for a capsule or cylinder (length 2 size[1]).
 #pragma once
 
 #include <mujoco/mujoco.h>
@@ -119,7 +119,7 @@ class RftDrag {
  private:
   struct SlenderGeom {
     int geom_id;
-    int axis;          // long axis in geom frame: 0, 1 or 2
+    int axis;          // segment axis in the geom frame: 0 (x) or 2 (z)
     double length_m;
   };
   static Segment SegmentOf(const mjModel* m, const mjData* d, const SlenderGeom& geom);
