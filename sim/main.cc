@@ -19,6 +19,18 @@ namespace {
 
 using ipmc::FlagellumSpec;
 
+// MuJoCo's warnings, held back so that a failing run prints one line.
+std::vector<std::string>& MujocoWarnings() {
+  static std::vector<std::string> warnings;
+  return warnings;
+}
+void CollectMujocoWarning(const char* message) { MujocoWarnings().emplace_back(message); }
+void PrintMujocoWarnings() {
+  for (const std::string& warning : MujocoWarnings()) {
+    std::cerr << "ipmc-swim: MuJoCo warning: " << warning << "\n";
+  }
+}
+
 struct GenerateArgs {
   FlagellumSpec spec;
   std::string out_path;
@@ -41,7 +53,7 @@ void AddGenerateCommand(CLI::App& app, GenerateArgs& args) {
       ->capture_default_str();
   cmd->add_flag("--clamped", s.clamped, "Weld the root (test bench)");
   cmd->add_option("--timestep-s", s.timestep_s, "Time step [s]")->capture_default_str();
-  cmd->add_option("--integrator", s.integrator, "euler | implicit | RK4")->capture_default_str();
+  cmd->add_option("--integrator", s.integrator, "Euler | implicit | RK4")->capture_default_str();
   cmd->add_option("--viscosity-pa-s", s.viscosity_Pa_s, "Viscosity [Pa s]")->capture_default_str();
   cmd->add_option("--coefficients", s.coefficients, "gray_hancock | lighthill | direct")
       ->capture_default_str();
@@ -181,9 +193,13 @@ int main(int argc, char** argv) {
     std::cerr << "ipmc-swim: error: " << e.what() << " (see --help)\n";
     return 2;
   }
+  mju_user_warning = CollectMujocoWarning;
   try {
-    if (app.got_subcommand("generate")) return RunGenerate(generate);
-    if (app.got_subcommand("gait")) return RunGaitCommand(gait);
+    int status = 0;
+    if (app.got_subcommand("generate")) status = RunGenerate(generate);
+    if (app.got_subcommand("gait")) status = RunGaitCommand(gait);
+    PrintMujocoWarnings();
+    return status;
   } catch (const std::exception& e) {
     std::cerr << "ipmc-swim: error: " << e.what() << "\n";
     return 1;

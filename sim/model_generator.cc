@@ -82,8 +82,8 @@ void FlagellumSpec::Validate() const {
   RequireNonNegative(bending_modulus_Pa, "bending_modulus_Pa");
   RequireNonNegative(hinge_damping_ratio, "hinge_damping_ratio");
   RequirePositive(timestep_s, "timestep_s");
-  if (integrator != "euler" && integrator != "implicit" && integrator != "RK4") {
-    throw std::invalid_argument("flagellum spec: integrator must be euler, implicit or RK4 (got '" +
+  if (integrator != "Euler" && integrator != "implicit" && integrator != "RK4") {
+    throw std::invalid_argument("flagellum spec: integrator must be Euler, implicit or RK4 (got '" +
                                 integrator + "')");
   }
   RequirePositive(viscosity_Pa_s, "viscosity_Pa_s");

@@ -32,7 +32,7 @@ struct FlagellumSpec {
   double hinge_damping_ratio = 1.0;     // zeta_h
   bool clamped = false;
   double timestep_s = 1e-4;
-  std::string integrator = "implicit";  // euler | implicit | RK4
+  std::string integrator = "implicit";  // Euler | implicit | RK4
   // Resistive-force theory (see plugin/rft_drag.h).
   double viscosity_Pa_s = 1.0e-3;
   std::string coefficients = "gray_hancock";  // gray_hancock | lighthill | direct

@@ -1,1 +1,26 @@
-message(STATUS "pending")
+# Installs the build tree into a private prefix, builds tests/consumer
+# against it with find_package(ipmc_swim), and runs the example on the
+# installed model. Invoked by CTest with -DSOURCE_DIR and -DBUILD_DIR.
+set(work ${BUILD_DIR}/consumer_check)
+file(REMOVE_RECURSE ${work})
+set(prefix ${work}/prefix)
+
+function(run)
+  execute_process(COMMAND ${ARGV} RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT status EQUAL 0)
+    message(FATAL_ERROR "failed: ${ARGV}\n${out}\n${err}")
+  endif()
+  set(last_output "${out}" PARENT_SCOPE)
+endfunction()
+
+run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
+run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/consumer -B ${work}/build
+    -DCMAKE_PREFIX_PATH=${prefix} -DEXAMPLE_SOURCE=${SOURCE_DIR}/sim/example_attach.cc)
+run(${CMAKE_COMMAND} --build ${work}/build)
+file(READ ${work}/build/models_dir.txt models_dir)
+set(ENV{LD_LIBRARY_PATH} "${prefix}/lib:${prefix}/lib/x86_64-linux-gnu:$ENV{LD_LIBRARY_PATH}")
+run(${work}/build/example_attach ${models_dir}/flagellum3.xml 2000)
+message(STATUS "${last_output}")
+if(NOT last_output MATCHES "qvel\\[0\\] = ")
+  message(FATAL_ERROR "example_attach printed no result: ${last_output}")
+endif()

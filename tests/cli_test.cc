@@ -1,0 +1,169 @@
+// The ipmc-swim program: outputs, and one-line errors with no partial files
+// on bad input.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CommandResult {
+  int exit_code;
+  std::string output;  // stdout and stderr
+};
+
+CommandResult RunCli(const std::string& args) {
+  const std::string command = std::string(IPMC_SWIM_CLI) + " " + args + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  std::string output;
+  char buffer[4096];
+  while (size_t n = fread(buffer, 1, sizeof(buffer), pipe)) output.append(buffer, n);
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+std::string Model(const std::string& name) {
+  return std::string(IPMC_SWIM_SOURCE_DIR) + "/models/" + name;
+}
+
+fs::path FreshDir(const std::string& name) {
+  const fs::path dir = fs::path(::testing::TempDir()) / ("ipmc_cli_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+int CountLines(const std::string& text) {
+  int lines = 0;
+  for (char c : text) lines += c == '\n';
+  return lines;
+}
+
+// A bad-input run: non-zero exit, one line naming `what`, no output files.
+void ExpectOneLineError(const CommandResult& result, const std::string& what,
+                        const fs::path& out_dir) {
+  EXPECT_NE(result.exit_code, 0) << result.output;
+  EXPECT_EQ(CountLines(result.output), 1) << result.output;
+  EXPECT_NE(result.output.find(what), std::string::npos) << result.output;
+  EXPECT_FALSE(fs::exists(out_dir / "summary.json"));
+  EXPECT_FALSE(fs::exists(out_dir / "timeseries.csv"));
+}
+
+void WriteText(const fs::path& path, const std::string& text) {
+  std::ofstream(path) << text;
+}
+
+TEST(Cli, GaitWritesPerCycleTableCsvAndJson) {
+  const fs::path dir = FreshDir("gait");
+  const fs::path model = dir / "fast.xml";
+  // The paper's flagellum with a coarser step and a faster gait keeps this quick.
+  ASSERT_EQ(RunCli("generate --timestep-s 5e-4 --out " + model.string()).exit_code, 0);
+  const CommandResult result = RunCli("gait --model " + model.string() +
+                                      " --frequency-hz 0.5 --cycles 2 --out " + (dir / "out").string());
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_NE(result.output.find("com_along_mm"), std::string::npos);
+  EXPECT_NE(result.output.find("Reynolds number"), std::string::npos);
+  std::ifstream json_file(dir / "out" / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(json_file);
+  EXPECT_EQ(summary["per_cycle"].size(), 2u);
+  EXPECT_GT(summary["per_cycle"][1]["com_along_mm"].get<double>(), 0.0);
+  std::ifstream csv(dir / "out" / "timeseries.csv");
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_EQ(header.rfind("time_s,com_x_mm,com_y_mm,head_x_mm,head_y_mm,yaw_rad,q_ref1_rad", 0), 0u);
+}
+
+TEST(Cli, MissingModelFile) {
+  const fs::path dir = FreshDir("missing");
+  ExpectOneLineError(RunCli("gait --model " + (dir / "nope.xml").string() + " --out " +
+                            (dir / "out").string()),
+                     "nope.xml: cannot open model file", dir / "out");
+}
+
+TEST(Cli, MalformedModelFile) {
+  const fs::path dir = FreshDir("malformed");
+  WriteText(dir / "bad.xml", "<mujoco><worldbody><body></worldbody></mujoco>");
+  ExpectOneLineError(RunCli("gait --model " + (dir / "bad.xml").string() + " --out " +
+                            (dir / "out").string()),
+                     "bad.xml:", dir / "out");
+}
+
+// The paper's model with one custom field changed.
+void WriteModelWithField(const fs::path& path, const std::string& from, const std::string& to) {
+  std::ifstream in(Model("flagellum3.xml"));
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string xml = text.str();
+  const size_t at = xml.find(from);
+  ASSERT_NE(at, std::string::npos);
+  xml.replace(at, from.size(), to);
+  WriteText(path, xml);
+}
+
+TEST(Cli, NegativeViscosity) {
+  const fs::path dir = FreshDir("negative_viscosity");
+  WriteModelWithField(dir / "m.xml", R"(data="0.001")", R"(data="-0.001")");
+  ExpectOneLineError(RunCli("gait --model " + (dir / "m.xml").string() + " --out " +
+                            (dir / "out").string()),
+                     "m.xml: rft drag: ipmc_rft_viscosity_Pa_s must be finite and > 0", dir / "out");
+}
+
+TEST(Cli, MissingViscosity) {
+  const fs::path dir = FreshDir("missing_viscosity");
+  WriteModelWithField(dir / "m.xml", R"(<numeric name="ipmc_rft_viscosity_Pa_s" data="0.001"/>)", "");
+  ExpectOneLineError(RunCli("gait --model " + (dir / "m.xml").string() + " --out " +
+                            (dir / "out").string()),
+                     "ipmc_rft_viscosity_Pa_s is missing", dir / "out");
+}
+
+TEST(Cli, NanCoefficient) {
+  const fs::path dir = FreshDir("nan_coefficient");
+  WriteModelWithField(dir / "m.xml", R"(name="ipmc_rft_wavelength_m" data="0.032")",
+                      R"(name="ipmc_rft_wavelength_m" data="nan")");
+  ExpectOneLineError(RunCli("gait --model " + (dir / "m.xml").string() + " --out " +
+                            (dir / "out").string()),
+                     "'ipmc_rft_wavelength_m' must be finite", dir / "out");
+}
+
+TEST(Cli, UnknownOption) {
+  const fs::path dir = FreshDir("unknown_option");
+  ExpectOneLineError(RunCli("gait --model " + Model("flagellum3.xml") + " --speed 3 --out " +
+                            (dir / "out").string()),
+                     "--speed", dir / "out");
+}
+
+TEST(Cli, GaitCsvWithWrongColumnCount) {
+  const fs::path dir = FreshDir("csv_columns");
+  WriteText(dir / "gait.csv", "time_s,q1,q2,q3\n0,0,0,0\n1,0.1,0.2\n");
+  ExpectOneLineError(RunCli("gait --model " + Model("flagellum3.xml") + " --gait csv --csv " +
+                            (dir / "gait.csv").string() + " --out " + (dir / "out").string()),
+                     "gait.csv:3: expected 4 columns", dir / "out");
+}
+
+TEST(Cli, OutOfRangeFrequency) {
+  const fs::path dir = FreshDir("frequency");
+  ExpectOneLineError(RunCli("gait --model " + Model("flagellum3.xml") +
+                            " --frequency-hz -1 --out " + (dir / "out").string()),
+                     "frequency_Hz must be finite and > 0", dir / "out");
+}
+
+TEST(Cli, UnstableTimeStepIsReportedAsDivergence) {
+  const fs::path dir = FreshDir("diverge");
+  // Explicit Euler with 20 ms steps cannot hold the 450 rad/s hinge mode.
+  ASSERT_EQ(RunCli("generate --timestep-s 0.02 --integrator Euler --out " +
+                   (dir / "m.xml").string()).exit_code, 0);
+  const CommandResult result = RunCli("gait --model " + (dir / "m.xml").string() +
+                                      " --cycles 1 --out " + (dir / "out").string());
+  EXPECT_NE(result.exit_code, 0);
+  EXPECT_NE(result.output.find("simulation diverged"), std::string::npos) << result.output;
+  EXPECT_FALSE(fs::exists(dir / "out" / "summary.json"));
+}
+
+}  // namespace

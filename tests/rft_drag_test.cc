@@ -1,0 +1,200 @@
+// Resistive-force-theory drag: the segment integral, its invariants, and
+// its coupling into MuJoCo through mjcb_passive.
+#include "plugin/rft_drag.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "ipmc_swim/ipmc_swim.h"
+#include "tests/test_util.h"
+
+namespace ipmc::testing {
+namespace {
+
+constexpr double kPi = 3.141592653589793;
+const DragCoefficients kXi{2.6e-3, 1.6e-3};  // [N s/m^2], water-like
+
+Segment RandomSegment(std::mt19937& rng) {
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Segment s;
+  s.center_W = Eigen::Vector3d(normal(rng), normal(rng), normal(rng)) * 1e-2;
+  s.tangent_W = Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized();
+  s.length_m = 1e-2 * (0.1 + std::abs(normal(rng)));
+  s.velocity_center_W = Eigen::Vector3d(normal(rng), normal(rng), normal(rng)) * 1e-3;
+  s.angular_velocity_W = Eigen::Vector3d(normal(rng), normal(rng), normal(rng));
+  return s;
+}
+
+TEST(RftDrag, GrayHancockAndLighthillCoefficients) {
+  // Gray & Hancock (1955) with mu = 1e-3 Pa s, a = 0.8125 mm, lambda = 32 mm:
+  // ln(2 lambda / a) = ln(78.769) = 4.36652, xi_n = 4 pi mu / 4.86652,
+  // xi_t = 2 pi mu / 3.86652 (evaluated by hand).
+  const DragCoefficients gh = GrayHancockCoefficients(1e-3, 0.8125e-3, 32e-3);
+  EXPECT_NEAR(gh.normal_N_s_m2, 4 * kPi * 1e-3 / 4.866524, 1e-9);
+  EXPECT_NEAR(gh.tangential_N_s_m2, 2 * kPi * 1e-3 / 3.866524, 1e-9);
+  // Lighthill (1976): q = 0.09 lambda, ln(2 q / a) = ln(7.08923) = 1.958577.
+  const DragCoefficients li = LighthillCoefficients(1e-3, 0.8125e-3, 32e-3);
+  EXPECT_NEAR(li.normal_N_s_m2, 4 * kPi * 1e-3 / 2.458577, 1e-9);
+  EXPECT_NEAR(li.tangential_N_s_m2, 2 * kPi * 1e-3 / 1.958577, 1e-9);
+  // Both scale linearly with viscosity.
+  const DragCoefficients gh2 = GrayHancockCoefficients(2e-3, 0.8125e-3, 32e-3);
+  EXPECT_DOUBLE_EQ(gh2.normal_N_s_m2, 2 * gh.normal_N_s_m2);
+}
+
+TEST(RftDrag, ZeroVelocityGivesZeroForce) {
+  Segment s;
+  s.center_W = Eigen::Vector3d(1, 2, 3);
+  s.tangent_W = Eigen::Vector3d(0, 1, 0);
+  s.length_m = 0.01;
+  s.velocity_center_W.setZero();
+  s.angular_velocity_W.setZero();
+  const Wrench w = SegmentDragExact(s, kXi);
+  EXPECT_EQ(w.force_W.norm(), 0.0);
+  EXPECT_EQ(w.torque_center_W.norm(), 0.0);
+}
+
+TEST(RftDrag, DragNeverDoesPositiveWork) {
+  std::mt19937 rng(7);
+  for (int i = 0; i < 10000; ++i) {
+    const Segment s = RandomSegment(rng);
+    EXPECT_LE(SegmentDragPower(s, SegmentDragExact(s, kXi)), 0.0);
+  }
+}
+
+TEST(RftDrag, ExactSegmentIntegralEqualsFineQuadrature) {
+  std::mt19937 rng(11);
+  for (int i = 0; i < 100; ++i) {
+    const Segment s = RandomSegment(rng);
+    const Wrench exact = SegmentDragExact(s, kXi);
+    // The force integrand is linear in s: the midpoint rule is exact.
+    const Wrench coarse = SegmentDragQuadrature(s, kXi, 10);
+    const Wrench fine = SegmentDragQuadrature(s, kXi, 1000);
+    EXPECT_LT((fine.force_W - exact.force_W).norm(), 1e-12 * exact.force_W.norm() + 1e-20);
+    // The torque integrand is quadratic: midpoint error ~ 1/n^2, so 100x
+    // more intervals cut it 1e4x (measured ratio 1.0e4).
+    const double coarse_error = (coarse.torque_center_W - exact.torque_center_W).norm();
+    const double fine_error = (fine.torque_center_W - exact.torque_center_W).norm();
+    const double scale = exact.torque_center_W.norm();
+    EXPECT_LT(fine_error, 1e-5 * scale);
+    EXPECT_NEAR(coarse_error / fine_error, 1e4, 10.0);
+  }
+}
+
+TEST(RftDrag, SegmentAlongItsAxisFeelsTangentialCoefficientOnly) {
+  Segment s;
+  s.center_W.setZero();
+  s.tangent_W = Eigen::Vector3d(1, 0, 0);
+  s.length_m = 0.02;
+  s.velocity_center_W = Eigen::Vector3d(1e-3, 0, 0);
+  s.angular_velocity_W.setZero();
+  EXPECT_NEAR(SegmentDragExact(s, kXi).force_W.x(), -kXi.tangential_N_s_m2 * 0.02 * 1e-3, 1e-18);
+  s.velocity_center_W = Eigen::Vector3d(0, 1e-3, 0);
+  EXPECT_NEAR(SegmentDragExact(s, kXi).force_W.y(), -kXi.normal_N_s_m2 * 0.02 * 1e-3, 1e-18);
+  // Rotation about the centre: T = -xi_n L^3 / 12 w.
+  s.velocity_center_W.setZero();
+  s.angular_velocity_W = Eigen::Vector3d(0, 0, 2.0);
+  EXPECT_NEAR(SegmentDragExact(s, kXi).torque_center_W.z(),
+              -kXi.normal_N_s_m2 * std::pow(0.02, 3) / 12 * 2.0, 1e-20);
+}
+
+// In MuJoCo: the generalised drag force the callback adds never does
+// positive work along the motion (qfrc_drag . qvel <= 0).
+TEST(RftDrag, CallbackPowerIsNeverPositiveInMuJoCo) {
+  FlagellumSpec spec;
+  auto sim = MakeSimulation(spec);
+  mjModel* m = sim->model();
+  mjData* d = sim->data();
+  std::mt19937 rng(3);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  for (int trial = 0; trial < 200; ++trial) {
+    for (int i = 0; i < m->nq; ++i) d->qpos[i] = 0.3 * normal(rng);
+    for (int i = 0; i < m->nv; ++i) d->qvel[i] = 1e-3 * normal(rng);
+    mj_forward(m, d);
+    double power = 0.0;
+    std::vector<double> with(d->qfrc_passive, d->qfrc_passive + m->nv);
+    Detach(d);
+    mj_forward(m, d);
+    for (int i = 0; i < m->nv; ++i) {
+      power += (with[i] - d->qfrc_passive[i]) * d->qvel[i];
+    }
+    ASSERT_TRUE(Attach(m, d));
+    EXPECT_LE(power, 0.0);
+  }
+}
+
+TEST(RftDrag, ModelWithoutFieldsGetsNoDragAndNoCrash) {
+  auto m = LoadModelString(R"(<mujoco><worldbody><body><joint type="slide" axis="1 0 0"/>
+      <geom type="box" size="0.01 0.001 0.001"/></body></worldbody></mujoco>)");
+  mjData* d = mj_makeData(m.get());
+  EXPECT_FALSE(Attach(m.get(), d));
+  d->qvel[0] = 1.0;
+  for (int i = 0; i < 100; ++i) mj_step(m.get(), d);
+  EXPECT_DOUBLE_EQ(d->qvel[0], 1.0);  // nothing slows it down
+  mj_deleteData(d);
+}
+
+TEST(RftDrag, AttachedFreeBodyDecaysAtTheRftRate) {
+  // One free segment pushed along its axis: m dv/dt = -xi_t L v, so
+  // v(t) = v0 exp(-xi_t L t / m).
+  FlagellumSpec spec;
+  spec.link_lengths_mm = {10.0};
+  spec.head_length_mm = 0.0;
+  spec.timestep_s = 1e-5;
+  spec.integrator = "RK4";
+  auto sim = MakeSimulation(spec);
+  mjModel* m = sim->model();
+  mjData* d = sim->data();
+  const double mass_kg = ComputeLinkMechanics(spec, 0).mass_kg;
+  const DragCoefficients xi = GrayHancockCoefficients(1e-3, 0.8125e-3, 32e-3);
+  d->qvel[0] = 1e-3;
+  for (int i = 0; i < 10000; ++i) mj_step(m, d);
+  const double expected = 1e-3 * std::exp(-xi.tangential_N_s_m2 * 0.01 * d->time / mass_kg);
+  EXPECT_NEAR(d->qvel[0] / expected, 1.0, 1e-6);  // RK4, tau / dt = 9e4
+}
+
+TEST(RftDrag, MalformedFieldsAreRejectedWithTheFieldName) {
+  const auto load = [](const std::string& custom) {
+    return LoadModelString("<mujoco><custom>" + custom +
+                           "</custom><worldbody><body><joint type=\"slide\" axis=\"1 0 0\"/>"
+                           "<geom type=\"box\" size=\"0.01 0.001 0.001\"/></body></worldbody>"
+                           "</mujoco>");
+  };
+  const auto attach_error = [&](const std::string& custom) -> std::string {
+    auto m = load(custom);
+    mjData* d = mj_makeData(m.get());
+    std::string message;
+    try {
+      Attach(m.get(), d);
+    } catch (const std::invalid_argument& e) {
+      message = e.what();
+    }
+    Detach(d);
+    mj_deleteData(d);
+    return message;
+  };
+  EXPECT_NE(attach_error(R"(<numeric name="ipmc_rft_viscosity_Pa_s" data="-1"/>)")
+                .find("ipmc_rft_viscosity_Pa_s must be finite and > 0"),
+            std::string::npos);
+  EXPECT_NE(attach_error(R"(<numeric name="ipmc_rft_wavelength_m" data="0.03"/>)")
+                .find("ipmc_rft_viscosity_Pa_s is missing"),
+            std::string::npos);
+  EXPECT_NE(attach_error(R"(<numeric name="ipmc_rft_viscosity_Pa_s" data="1e-3"/>
+                            <text name="ipmc_rft_coefficients" data="direct"/>
+                            <numeric name="ipmc_rft_xi_normal_N_s_m2" data="nan"/>
+                            <numeric name="ipmc_rft_xi_tangential_N_s_m2" data="1e-3"/>)")
+                .find("ipmc_rft_xi_normal_N_s_m2' must be finite"),
+            std::string::npos);
+  EXPECT_NE(attach_error(R"(<numeric name="ipmc_rft_viscosity_Pa_s" data="1e-3"/>
+                            <text name="ipmc_rft_coefficients" data="stokeslet"/>)")
+                .find("gray_hancock, lighthill or direct"),
+            std::string::npos);
+  EXPECT_NE(attach_error(R"(<numeric name="ipmc_rft_viscosity_Pa_s" data="1e-3"/>
+                            <text name="ipmc_rft_geoms" data="tail"/>)")
+                .find("names geom 'tail'"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace ipmc::testing

@@ -1,0 +1,43 @@
+// Shared helpers for the test suites.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "sim/gait.h"
+#include "sim/gait_run.h"
+#include "sim/model_generator.h"
+#include "sim/simulation.h"
+
+namespace ipmc::testing {
+
+// A slender chain for Stokes-limit tests: density 100 kg/m^3, so the
+// viscous relaxation time rho A / xi_n is 29 ms, against gait periods of
+// 50 s (kStokesFrequency_Hz: omega tau = 3.6e-3); free hinges (no bending
+// stiffness) and no head.
+constexpr double kStokesFrequency_Hz = 0.02;
+inline FlagellumSpec StokesChain(int links, double total_length_mm) {
+  FlagellumSpec spec;
+  spec.link_lengths_mm.assign(links, total_length_mm / links);
+  spec.gap_mm = 0.0;
+  spec.head_length_mm = 0.0;
+  spec.density_kg_m3 = 100.0;
+  spec.bending_modulus_Pa = 0.0;
+  spec.hinge_damping_ratio = 0.0;
+  spec.timestep_s = 1e-3;
+  spec.name = "stokes_chain";
+  return spec;
+}
+
+inline std::unique_ptr<Simulation> MakeSimulation(const FlagellumSpec& spec) {
+  return std::make_unique<Simulation>(LoadModelString(GenerateFlagellumMjcf(spec)), spec.name);
+}
+
+inline GaitRunResult RunGaitOn(const FlagellumSpec& spec, const Gait& gait, int cycles) {
+  auto sim = MakeSimulation(spec);
+  GaitRunOptions options;
+  options.cycles = cycles;
+  return RunGait(*sim, gait, options);
+}
+
+}  // namespace ipmc::testing
