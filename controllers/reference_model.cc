@@ -1,0 +1,263 @@
+#include "controllers/reference_model.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace ipmc {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kSeriesMaxTau = 40.0;
+constexpr int kSeriesMaxTerms = 100000;
+// Integration range in v = ln w: the kernel decays as e^-|v|.
+constexpr double kIntegralMaxAbsV = 50.0;
+// exp(-x) below this argument is negligible (e^-800 underflows to 0).
+constexpr double kNegligibleExponent = 800.0;
+constexpr double kIntegralAbsTolerance = 1e-16;
+constexpr int kIntegralMaxDepth = 60;
+// Peak scan of the reference model step response, in w_c t.
+constexpr double kPeakScanStep = 0.05;
+constexpr double kPeakScanEnd = 200.0;
+constexpr double kGoldenTolerance = 1e-12;
+
+std::string FormatDouble(double value) {
+  std::ostringstream out;
+  out.precision(std::numeric_limits<double>::max_digits10);
+  out << value;
+  return out.str();
+}
+
+// Throws std::domain_error unless alpha satisfies `alpha_ok` (described by
+// `alpha_rule`) and z is finite and <= 0.
+void CheckDomain(const char* function, double alpha, double z, bool alpha_ok,
+                 const char* alpha_rule) {
+  if (!std::isfinite(alpha) || !alpha_ok) {
+    throw std::domain_error(std::string(function) + ": alpha must be " +
+                            alpha_rule + ", got " + FormatDouble(alpha));
+  }
+  if (!std::isfinite(z) || z > 0) {
+    throw std::domain_error(std::string(function) +
+                            ": z must be finite and <= 0, got " +
+                            FormatDouble(z));
+  }
+}
+
+// Gauss-Kronrod 7/15 nodes (abscissae of the 15-point Kronrod rule on
+// [-1, 1], non-negative half) and weights, from QUADPACK's qk15.
+constexpr std::array<double, 8> kKronrodNodes = {
+    0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
+    0.864864423359769072789712788640926, 0.741531185599394439863864773280788,
+    0.586087235467691130294144845693013, 0.405845151377397166906606412076961,
+    0.207784955007898467600689403773245, 0.000000000000000000000000000000000};
+constexpr std::array<double, 8> kKronrodWeights = {
+    0.022935322010529224963732008058970, 0.063092092629978553290700663189204,
+    0.104790010322250183839876322541518, 0.140653259715525918745189590510238,
+    0.169004726639267902826583426598550, 0.190350578064785409913256402421014,
+    0.204432940075298892414161999234649, 0.209482141084727828012999174891714};
+// 7-point Gauss weights at kKronrodNodes[1], [3], [5], [7].
+constexpr std::array<double, 4> kGaussWeights = {
+    0.129484966168869693270611432679082, 0.279705391489276667901467771423780,
+    0.381830050505118944950369775488975, 0.417959183673469387755102040816327};
+
+template <typename Function>
+double AdaptiveGaussKronrod(const Function& f, double a, double b,
+                            double tolerance, int depth) {
+  const double center = 0.5 * (a + b);
+  const double half = 0.5 * (b - a);
+  const double f_center = f(center);
+  double kronrod = kKronrodWeights[7] * f_center;
+  double gauss = kGaussWeights[3] * f_center;
+  for (int i = 0; i < 7; ++i) {
+    const double dx = half * kKronrodNodes[i];
+    const double pair = f(center - dx) + f(center + dx);
+    kronrod += kKronrodWeights[i] * pair;
+    if (i % 2 == 1) gauss += kGaussWeights[i / 2] * pair;
+  }
+  kronrod *= half;
+  gauss *= half;
+  const double error = std::abs(kronrod - gauss);
+  if (error <= tolerance ||
+      error <=
+          50 * std::numeric_limits<double>::epsilon() * std::abs(kronrod) ||
+      depth >= kIntegralMaxDepth) {
+    return kronrod;
+  }
+  return AdaptiveGaussKronrod(f, a, center, 0.5 * tolerance, depth + 1) +
+         AdaptiveGaussKronrod(f, center, b, 0.5 * tolerance, depth + 1);
+}
+
+}  // namespace
+
+double MittagLefflerSeries(double alpha, double z) {
+  CheckDomain("MittagLefflerSeries", alpha, z, alpha > 0 && alpha <= 2,
+              "in (0, 2]");
+  if (z == 0) return 1.0;
+  const long double log_abs_z = std::log(static_cast<long double>(-z));
+  if (log_abs_z / alpha > std::log(static_cast<long double>(kSeriesMaxTau))) {
+    throw std::domain_error("MittagLefflerSeries: |z|^(1/alpha) must be <= " +
+                            FormatDouble(kSeriesMaxTau) +
+                            " (cancellation), got z = " + FormatDouble(z) +
+                            ", alpha = " + FormatDouble(alpha));
+  }
+  // Kahan-compensated sum of (-1)^k |z|^k / Gamma(alpha k + 1).
+  long double sum = 1.0L;
+  long double compensation = 0.0L;
+  long double previous_magnitude = 1.0L;
+  for (int k = 1; k < kSeriesMaxTerms; ++k) {
+    const long double magnitude =
+        std::exp(k * log_abs_z -
+                 std::lgamma(static_cast<long double>(alpha) * k + 1.0L));
+    const long double term = (k % 2 == 1) ? -magnitude : magnitude;
+    const long double y = term - compensation;
+    const long double t = sum + y;
+    compensation = (t - sum) - y;
+    sum = t;
+    if (magnitude < previous_magnitude &&
+        magnitude <= std::numeric_limits<long double>::epsilon() * 1e-3L *
+                         std::max(std::abs(sum), 1e-300L)) {
+      return static_cast<double>(sum);
+    }
+    previous_magnitude = magnitude;
+  }
+  throw std::domain_error("MittagLefflerSeries: no convergence for z = " +
+                          FormatDouble(z) + ", alpha = " + FormatDouble(alpha));
+}
+
+double MittagLefflerIntegral(double alpha, double z) {
+  CheckDomain("MittagLefflerIntegral", alpha, z,
+              alpha > 0 && alpha < 2 && alpha != 1, "in (0, 2) and != 1");
+  const double tau = std::pow(-z, 1.0 / alpha);
+  // 2 cosh v + 2 cos(alpha pi) = 4 (sinh^2(v/2) + cos^2(alpha pi / 2)),
+  // written without cancellation near v = 0 for alpha close to 1.
+  const double cos_half = std::cos(0.5 * alpha * kPi);
+  const double cos_half_squared = cos_half * cos_half;
+  const auto integrand = [&](double v) {
+    const double sinh_half = std::sinh(0.5 * v);
+    const double kernel =
+        1.0 / (4.0 * (sinh_half * sinh_half + cos_half_squared));
+    if (tau == 0) return kernel;
+    return std::exp(-tau * std::exp(v / alpha)) * kernel;
+  };
+  double v_high = kIntegralMaxAbsV;
+  if (tau > 0) {
+    v_high = std::min(v_high, alpha * std::log(kNegligibleExponent / tau));
+  }
+  const double v_low = -kIntegralMaxAbsV;
+  double integral = 0;
+  if (v_high > v_low) {
+    // Split at the kernel's peak (v = 0) and at +-5 so that the adaptive
+    // rule starts on pieces of similar character.
+    const std::array<double, 5> breaks = {v_low, -5.0, 0.0, 5.0, v_high};
+    for (std::size_t i = 0; i + 1 < breaks.size(); ++i) {
+      const double a = std::max(breaks[i], v_low);
+      const double b = std::min(breaks[i + 1], v_high);
+      if (b > a) {
+        integral += AdaptiveGaussKronrod(integrand, a, b,
+                                         0.25 * kIntegralAbsTolerance, 0);
+      }
+    }
+  }
+  double value = std::sin(alpha * kPi) / (kPi * alpha) * integral;
+  if (alpha > 1) {
+    value += 2.0 / alpha * std::exp(tau * std::cos(kPi / alpha)) *
+             std::cos(tau * std::sin(kPi / alpha));
+  }
+  return value;
+}
+
+double MittagLeffler(double alpha, double z) {
+  CheckDomain("MittagLeffler", alpha, z, alpha > 0 && alpha <= 2, "in (0, 2]");
+  if (alpha == 1.0) return std::exp(z);
+  if (alpha == 2.0) return std::cos(std::sqrt(-z));
+  const double tau = std::pow(-z, 1.0 / alpha);
+  if (tau <= kMittagLefflerSwitchTau) return MittagLefflerSeries(alpha, z);
+  return MittagLefflerIntegral(alpha, z);
+}
+
+void ReferenceModel::Config::Validate() const {
+  if (!std::isfinite(crossover_rad_s) || !(crossover_rad_s > 0)) {
+    throw std::invalid_argument(
+        "ReferenceModel.Config.crossover_rad_s must be finite and > 0, got " +
+        FormatDouble(crossover_rad_s));
+  }
+  if (!std::isfinite(order) || !(order > 0) || order > 2) {
+    throw std::invalid_argument(
+        "ReferenceModel.Config.order must be in (0, 2], got " +
+        FormatDouble(order));
+  }
+}
+
+ReferenceModel::ReferenceModel() : ReferenceModel(Config{}) {}
+
+ReferenceModel::ReferenceModel(const Config& config) : config_(config) {
+  config_.Validate();
+}
+
+std::complex<double> ReferenceModel::OpenLoop(std::complex<double> s) const {
+  return std::pow(config_.crossover_rad_s / s, config_.order);
+}
+
+std::complex<double> ReferenceModel::ClosedLoop(std::complex<double> s) const {
+  return 1.0 / (std::pow(s / config_.crossover_rad_s, config_.order) + 1.0);
+}
+
+double ReferenceModel::StepResponse(double t_s) const {
+  if (!std::isfinite(t_s)) {
+    throw std::domain_error(
+        "ReferenceModel::StepResponse: t must be finite, got " +
+        FormatDouble(t_s));
+  }
+  if (t_s <= 0) return 0.0;
+  const double tau = config_.crossover_rad_s * t_s;
+  return 1.0 - MittagLeffler(config_.order, -std::pow(tau, config_.order));
+}
+
+std::optional<ReferenceModel::Peak> ReferenceModel::StepPeak() const {
+  if (config_.order <= 1) return std::nullopt;
+  const double step_s = kPeakScanStep / config_.crossover_rad_s;
+  const int points = static_cast<int>(kPeakScanEnd / kPeakScanStep);
+  double previous = StepResponse(step_s);
+  double current = StepResponse(2 * step_s);
+  for (int i = 3; i <= points; ++i) {
+    const double next = StepResponse(i * step_s);
+    if (current > previous && current >= next) {
+      // Golden-section search for the maximum on [t_(i-2), t_i].
+      const double inverse_phi = 0.5 * (std::sqrt(5.0) - 1.0);
+      double a = (i - 2) * step_s;
+      double b = i * step_s;
+      double c = b - inverse_phi * (b - a);
+      double d = a + inverse_phi * (b - a);
+      double f_c = StepResponse(c);
+      double f_d = StepResponse(d);
+      while (b - a > kGoldenTolerance * std::max(1.0, b)) {
+        if (f_c > f_d) {
+          b = d;
+          d = c;
+          f_d = f_c;
+          c = b - inverse_phi * (b - a);
+          f_c = StepResponse(c);
+        } else {
+          a = c;
+          c = d;
+          f_c = f_d;
+          d = a + inverse_phi * (b - a);
+          f_d = StepResponse(d);
+        }
+      }
+      Peak peak;
+      peak.time_s = 0.5 * (a + b);
+      peak.value = StepResponse(peak.time_s);
+      return peak;
+    }
+    previous = current;
+    current = next;
+  }
+  return std::nullopt;
+}
+
+}  // namespace ipmc
