@@ -35,6 +35,8 @@ void PassiveCallback(const mjModel* m, mjData* d) {
 void ControlCallback(const mjModel* m, mjData* d) {
   Registry& registry = GetRegistry();
   if (registry.previous_control) registry.previous_control(m, d);
+  CouplingContext* context = FindMutableCoupling(d);
+  if (context && context->model == m && context->actuators) context->actuators->Update(m, d);
 }
 
 void InstallCallbacksOnce(Registry& registry) {
@@ -48,12 +50,14 @@ void InstallCallbacksOnce(Registry& registry) {
 
 }  // namespace
 
-const CouplingContext* FindCoupling(const mjData* d) {
+CouplingContext* FindMutableCoupling(const mjData* d) {
   Registry& registry = GetRegistry();
   std::shared_lock<std::shared_mutex> lock(registry.mutex);
   auto it = registry.contexts.find(d);
   return it == registry.contexts.end() ? nullptr : it->second.get();
 }
+
+const CouplingContext* FindCoupling(const mjData* d) { return FindMutableCoupling(d); }
 
 bool Attach(const mjModel* m, mjData* d) {
   if (!HasCustomFieldWithPrefix(m, "ipmc_")) return false;
@@ -61,6 +65,9 @@ bool Attach(const mjModel* m, mjData* d) {
   context->model = m;
   if (std::optional<RftDragConfig> drag = RftDragConfig::FromModel(m)) {
     context->drag.emplace(m, *drag);
+  }
+  if (std::optional<IpmcActuatorsConfig> actuators = IpmcActuatorsConfig::FromModel(m)) {
+    context->actuators = std::make_unique<IpmcActuators>(m, *actuators);
   }
   Registry& registry = GetRegistry();
   std::unique_lock<std::shared_mutex> lock(registry.mutex);
@@ -73,6 +80,13 @@ bool Detach(const mjData* d) {
   Registry& registry = GetRegistry();
   std::unique_lock<std::shared_mutex> lock(registry.mutex);
   return registry.contexts.erase(d) > 0;
+}
+
+int SetVoltages(const mjData* d, const double* voltage_V, int count) {
+  CouplingContext* context = FindMutableCoupling(d);
+  if (!context || !context->actuators) return 0;
+  context->actuators->SetVoltages(d, std::vector<double>(voltage_V, voltage_V + count));
+  return context->actuators->Links();
 }
 
 const char* Version() { return "0.1.0"; }

@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 
+#include "plugin/ipmc_actuators.h"
 #include "plugin/rft_drag.h"
 
 namespace ipmc {
@@ -14,10 +15,13 @@ namespace ipmc {
 struct CouplingContext {
   const mjModel* model = nullptr;
   std::optional<RftDrag> drag;
+  std::unique_ptr<IpmcActuators> actuators;
 };
 
 // The context attached to d, or nullptr. The pointer stays valid until d
 // is detached or re-attached.
 const CouplingContext* FindCoupling(const mjData* d);
+// The same, for the thread that steps d (the actuators' state changes).
+CouplingContext* FindMutableCoupling(const mjData* d);
 
 }  // namespace ipmc

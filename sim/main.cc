@@ -61,6 +61,9 @@ void AddGenerateCommand(CLI::App& app, GenerateArgs& args) {
       ->capture_default_str();
   cmd->add_option("--xi-normal", s.xi_normal_N_s_m2, "Direct xi_n [N s/m^2]");
   cmd->add_option("--xi-tangential", s.xi_tangential_N_s_m2, "Direct xi_t [N s/m^2]");
+  cmd->add_option("--ipmc-model", s.ipmc_model, "IPMC link model: g1 (eq. 5) | g2 (eq. 6)")
+      ->capture_default_str();
+  cmd->add_option("--actuation", s.actuation, "distributed | single")->capture_default_str();
   cmd->add_option("--name", s.name, "Model name")->capture_default_str();
   cmd->add_option("-o,--out", args.out_path, "Output MJCF file (default: stdout)");
 }

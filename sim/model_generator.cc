@@ -46,6 +46,10 @@ double LinkStartOffset_m(const FlagellumSpec& spec, int q) {
   return q == 0 ? 0.0 : 0.5 * spec.gap_mm * kMmToM;
 }
 
+bool HasIpmcActuators(const FlagellumSpec& spec) {
+  return spec.ipmc_actuators && (spec.head_length_mm > 0.0 || spec.clamped);
+}
+
 void WriteCustomFields(const FlagellumSpec& spec, std::ostringstream& xml) {
   xml << "  <custom>\n"
       << "    <numeric name=\"ipmc_rft_viscosity_Pa_s\" data=\"" << Num(spec.viscosity_Pa_s) << "\"/>\n"
@@ -57,8 +61,15 @@ void WriteCustomFields(const FlagellumSpec& spec, std::ostringstream& xml) {
     xml << "    <numeric name=\"ipmc_rft_xi_normal_N_s_m2\" data=\"" << Num(spec.xi_normal_N_s_m2) << "\"/>\n"
         << "    <numeric name=\"ipmc_rft_xi_tangential_N_s_m2\" data=\"" << Num(spec.xi_tangential_N_s_m2) << "\"/>\n";
   }
-  xml << "    <numeric name=\"ipmc_strip_width_m\" data=\"" << Num(spec.width_mm * kMmToM) << "\"/>\n"
-      << "  </custom>\n";
+  xml << "    <numeric name=\"ipmc_strip_width_m\" data=\"" << Num(spec.width_mm * kMmToM) << "\"/>\n";
+  if (HasIpmcActuators(spec)) {
+    xml << "    <text name=\"ipmc_links\" data=\"";
+    for (int q = 1; q <= spec.Links(); ++q) xml << (q > 1 ? " " : "") << "j" << q;
+    xml << "\"/>\n"
+        << "    <text name=\"ipmc_model\" data=\"" << spec.ipmc_model << "\"/>\n"
+        << "    <text name=\"ipmc_actuation\" data=\"" << spec.actuation << "\"/>\n";
+  }
+  xml << "  </custom>\n";
 }
 
 void WriteRootJoints(std::ostringstream& xml, const std::string& indent) {
@@ -99,6 +110,14 @@ void FlagellumSpec::Validate() const {
     RequirePositive(xi_tangential_N_s_m2, "xi_tangential_N_s_m2");
   }
   RequireNonNegative(fluid_density_kg_m3, "fluid_density_kg_m3");
+  if (ipmc_model != "g1" && ipmc_model != "g2") {
+    throw std::invalid_argument("flagellum spec: ipmc_model must be g1 or g2 (got '" + ipmc_model +
+                                "')");
+  }
+  if (actuation != "distributed" && actuation != "single") {
+    throw std::invalid_argument(
+        "flagellum spec: actuation must be distributed or single (got '" + actuation + "')");
+  }
   if (clamped && head_length_mm == 0.0 && Links() < 1) {
     throw std::invalid_argument("flagellum spec: a clamped model needs at least one link");
   }

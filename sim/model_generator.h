@@ -41,6 +41,11 @@ struct FlagellumSpec {
   double xi_normal_N_s_m2 = 0.0;        // only with coefficients = direct
   double xi_tangential_N_s_m2 = 0.0;
   double fluid_density_kg_m3 = 1000.0;
+  // IPMC actuators on every link (plugin/ipmc_actuators.h), Table 2
+  // parameters; needs a hinge per link (a head, or a clamped root).
+  bool ipmc_actuators = true;
+  std::string ipmc_model = "g1";            // g1 | g2
+  std::string actuation = "distributed";    // distributed | single
   std::string name = "flagellum";
 
   // Throws std::invalid_argument naming the field and its allowed range.

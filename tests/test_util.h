@@ -25,6 +25,7 @@ inline FlagellumSpec StokesChain(int links, double total_length_mm) {
   spec.bending_modulus_Pa = 0.0;
   spec.hinge_damping_ratio = 0.0;
   spec.timestep_s = 1e-3;
+  spec.ipmc_actuators = false;
   spec.name = "stokes_chain";
   return spec;
 }

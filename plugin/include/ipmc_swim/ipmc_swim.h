@@ -4,7 +4,8 @@
 // drag, ipmc_link* for the actuators; see the README). A program loads
 // the model, makes its mjData, and calls Attach once per mjData before
 // stepping; mj_step then applies the drag (mjcb_passive) and advances the
-// actuators (mjcb_control). Attach/Detach may be called for many
+// IPMC link models to d->time, writing their active moments into the
+// ipmc_* motors' ctrl (mjcb_control). Attach/Detach may be called for many
 // (model, data) pairs; stepping different pairs from different threads is
 // safe. Call Attach before starting threads that step.
 #pragma once
@@ -23,6 +24,12 @@ bool Attach(const mjModel* m, mjData* d);
 // Removes the coupling of d (before mj_deleteData). Returns false if d was
 // not attached.
 bool Detach(const mjData* d);
+
+// Sets the IPMC links' voltages [V] from d->time on (held until changed).
+// `count` must equal the number of links in the model's ipmc_links field.
+// Returns that number, or 0 if d has no IPMC actuators. Throws
+// std::invalid_argument on a wrong count or a non-finite voltage.
+int SetVoltages(const mjData* d, const double* voltage_V, int count);
 
 // Library version, "MAJOR.MINOR.PATCH".
 const char* Version();

@@ -1,0 +1,135 @@
+// The IPMC link models coupled to the clamped flagellum: the multibody
+// follows the links' free deflection, and single actuation drags the
+// passive links along.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <complex>
+#include <cstdio>
+
+#include "ipmc_swim/ipmc_swim.h"
+#include "plugin/coupling.h"
+#include "plugin/ipmc_link_model.h"
+#include "tests/test_util.h"
+
+namespace ipmc::testing {
+namespace {
+
+constexpr double kPi = 3.141592653589793;
+
+struct Phasor {
+  double amplitude;
+  double phase_rad;
+};
+
+// Least-squares fit of y = a sin(w t) + b cos(w t) + c + d t (the offset
+// and drift absorb the slow start-up transient of the s^-0.5 factor).
+Phasor FitSine(const std::vector<double>& t, const std::vector<double>& y, double w) {
+  Eigen::MatrixXd basis(t.size(), 4);
+  Eigen::VectorXd values(t.size());
+  for (size_t i = 0; i < t.size(); ++i) {
+    basis.row(i) << std::sin(w * t[i]), std::cos(w * t[i]), 1.0, t[i];
+    values[i] = y[i];
+  }
+  const Eigen::Vector4d coef = basis.colPivHouseholderQr().solve(values);
+  return {std::hypot(coef[0], coef[1]), std::atan2(coef[1], coef[0])};
+}
+
+struct BenchRecord {
+  std::vector<double> t;
+  std::vector<std::vector<double>> relative_deflection_mm;  // L_q sin(theta_q), per link
+  std::vector<std::vector<double>> tip_y_mm;                // laser at each tip
+};
+
+// Sine voltage of 1 V at w on link `driven` (0-based; -1: every link) of
+// the clamped flagellum, voltages updated at 1 kHz, recorded over the last
+// `record_periods` of `periods`.
+BenchRecord RunSine(const FlagellumSpec& spec, double w_rad_s, int driven, int periods,
+                    int record_periods) {
+  auto sim = MakeSimulation(spec);
+  mjModel* m = sim->model();
+  mjData* d = sim->data();
+  const CouplingContext* coupling = FindCoupling(d);
+  const int links = coupling->actuators->Links();
+  const double dt = m->opt.timestep;
+  const long steps = std::lround(periods * 2 * kPi / w_rad_s / dt);
+  const long record_from = steps - std::lround(record_periods * 2 * kPi / w_rad_s / dt);
+  const int steps_per_sample = std::lround(1e-3 / dt);
+  BenchRecord record;
+  record.relative_deflection_mm.resize(links);
+  record.tip_y_mm.resize(links);
+  for (long step = 0; step < steps; ++step) {
+    if (step % steps_per_sample == 0) {
+      std::vector<double> volts(links, 0.0);
+      for (int q = 0; q < links; ++q) {
+        if (driven < 0 || q == driven) volts[q] = std::sin(w_rad_s * d->time);
+      }
+      SetVoltages(d, volts.data(), links);
+      if (step >= record_from) {
+        record.t.push_back(d->time);
+        for (int q = 0; q < links; ++q) {
+          const int joint = mj_name2id(m, mjOBJ_JOINT, ("j" + std::to_string(q + 1)).c_str());
+          const int site = mj_name2id(m, mjOBJ_SITE, ("tip" + std::to_string(q + 1)).c_str());
+          record.relative_deflection_mm[q].push_back(
+              coupling->actuators->LinkLengths_m()[q] * 1e3 * std::sin(d->qpos[m->jnt_qposadr[joint]]));
+          record.tip_y_mm[q].push_back(d->site_xpos[3 * site + 1] * 1e3);
+        }
+      }
+    }
+    sim->Step();
+  }
+  return record;
+}
+
+TEST(IpmcCoupling, ClampedLinksFollowTheirTransferFunctions) {
+  FlagellumSpec spec;
+  spec.clamped = true;
+  for (double w : {0.5, 2.0, 10.0}) {
+    for (int q = 0; q < 3; ++q) {
+      const BenchRecord record = RunSine(spec, w, q, w < 1.0 ? 6 : 12, 3);
+      const Phasor measured = FitSine(record.t, record.relative_deflection_mm[q], w);
+      const std::complex<double> expected =
+          LinkResponseExact(PaperLinkParams(q + 1, IpmcModelKind::kG1), w);
+      const double gain_error = measured.amplitude / std::abs(expected) - 1.0;
+      double phase_error_deg = (measured.phase_rad - std::arg(expected)) * 180 / kPi;
+      phase_error_deg -= 360.0 * std::round(phase_error_deg / 360.0);
+      std::printf("w %5.1f rad/s link %d: |y| %.5f mm vs |P| %.5f mm (%+.2f %%), phase %+.2f deg\n",
+                  w, q + 1, measured.amplitude, std::abs(expected), 100 * gain_error,
+                  phase_error_deg);
+      // Driven alone, each link follows P_q within the measured 0.8 % /
+      // 1.1 deg up to 2 rad/s; the gap grows with frequency (the hinge's
+      // first-order lag c/k = 4.5 ms and the drag) - see the README table.
+      EXPECT_LT(std::abs(gain_error), w < 5.0 ? 0.02 : 0.05);
+      EXPECT_LT(std::abs(phase_error_deg), w < 5.0 ? 2.0 : 5.0);
+    }
+  }
+}
+
+TEST(IpmcCoupling, SingleActuationMovesThePassiveLinksWithLinkOne) {
+  FlagellumSpec spec;
+  spec.clamped = true;
+  spec.actuation = "single";
+  const double w = 2.0;
+  const BenchRecord record = RunSine(spec, w, 0, 12, 4);
+  const Phasor tip1 = FitSine(record.t, record.tip_y_mm[0], w);
+  const Phasor tip2 = FitSine(record.t, record.tip_y_mm[1], w);
+  const Phasor tip3 = FitSine(record.t, record.tip_y_mm[2], w);
+  const double k2 = tip2.amplitude / tip1.amplitude, k3 = tip3.amplitude / tip1.amplitude;
+  const double lag3_deg = (tip1.phase_rad - tip3.phase_rad) * 180 / kPi;
+  std::printf("single actuation at %.1f rad/s: K2 = %.3f, K3 = %.3f, tip 3 lag %.2f deg "
+              "(paper: 3.72, 7.37, 4 deg)\n", w, k2, k3, lag3_deg);
+  // The passive links are rigid and their hinges stiff against the small
+  // drag at 2 rad/s, so they turn with link 1 as one straight body: the
+  // tips move in proportion to their distance from the clamp,
+  // K2 = 20.5 / 10 = 2.05, K3 = 31 / 10 = 3.10, with no lag (measured
+  // 2.050, 3.101, 0.01 deg). The paper's larger 3.72 / 7.37 and its 4 deg
+  // come from the strip bending into a C along each link, which rigid
+  // links cannot do.
+  EXPECT_NEAR(k2, 2.05, 0.01);
+  EXPECT_NEAR(k3, 3.10, 0.01);
+  EXPECT_LT(std::abs(lag3_deg), 0.5);
+}
+
+}  // namespace
+}  // namespace ipmc::testing
