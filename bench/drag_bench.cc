@@ -44,8 +44,9 @@ void StepLoop(benchmark::State& state, const mjModel* m, mjData* d) {
   state.SetItemsProcessed(steps);
 }
 
-void BM_BareMuJoCo(benchmark::State& state) {
-  ModelPtr m = LoadModelString(FlagellumXml());
+// Steps `xml` with MuJoCo's callbacks switched off for the duration.
+void StepWithoutCallbacks(benchmark::State& state, const std::string& xml) {
+  ModelPtr m = LoadModelString(xml);
   DataPtr d(mj_makeData(m.get()));
   mjfGeneric passive = mjcb_passive, control = mjcb_control;
   mjcb_passive = nullptr;
@@ -54,6 +55,8 @@ void BM_BareMuJoCo(benchmark::State& state) {
   mjcb_passive = passive;
   mjcb_control = control;
 }
+
+void BM_BareMuJoCo(benchmark::State& state) { StepWithoutCallbacks(state, FlagellumXml()); }
 
 void BM_RftDragCallback(benchmark::State& state) {
   ModelPtr m = LoadModelString(FlagellumXml());
@@ -64,14 +67,7 @@ void BM_RftDragCallback(benchmark::State& state) {
 }
 
 void BM_BuiltinEllipsoidFluid(benchmark::State& state) {
-  ModelPtr m = LoadModelString(BuiltinFluidXml());
-  DataPtr d(mj_makeData(m.get()));
-  mjfGeneric passive = mjcb_passive, control = mjcb_control;
-  mjcb_passive = nullptr;
-  mjcb_control = nullptr;
-  StepLoop(state, m.get(), d.get());
-  mjcb_passive = passive;
-  mjcb_control = control;
+  StepWithoutCallbacks(state, BuiltinFluidXml());
 }
 
 BENCHMARK(BM_BareMuJoCo)->MinTime(2.0);

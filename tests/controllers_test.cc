@@ -20,6 +20,7 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/test_util.h"
 #include "controllers/closed_loop.h"
 #include "controllers/fractional_integrator.h"
 #include "controllers/oustaloup.h"
@@ -30,18 +31,10 @@
 namespace ipmc {
 namespace {
 
+using ::ipmc::testing::ExpectThrowMentioning;
+
 using Complex = std::complex<double>;
 
-template <typename Exception, typename Function>
-void ExpectThrowMentioning(Function statement, const std::string& needle) {
-  try {
-    statement();
-    ADD_FAILURE() << "expected an exception mentioning '" << needle << "'";
-  } catch (const Exception& error) {
-    EXPECT_NE(std::string(error.what()).find(needle), std::string::npos)
-        << error.what();
-  }
-}
 
 double Db(Complex h) { return 20 * std::log10(std::abs(h)); }
 double Deg(Complex h) { return std::arg(h) * 180 / 3.14159265358979323846; }

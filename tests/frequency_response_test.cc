@@ -7,6 +7,7 @@
 // rounded there to the digits quoted. Tolerances are half a unit of the
 // last quoted digit plus about ten times the residual measured against the
 // unrounded values (crossovers to 1e-9 relative).
+#include "tests/test_util.h"
 #include "controllers/frequency_response.h"
 
 #include <cmath>
@@ -26,20 +27,12 @@
 namespace ipmc {
 namespace {
 
+using ::ipmc::testing::ExpectThrowMentioning;
+
 using Complex = std::complex<double>;
 
 constexpr double kPi = 3.14159265358979323846;
 
-template <typename Exception, typename Function>
-void ExpectThrowMentioning(Function statement, const std::string& needle) {
-  try {
-    statement();
-    ADD_FAILURE() << "expected an exception mentioning '" << needle << "'";
-  } catch (const Exception& error) {
-    EXPECT_NE(std::string(error.what()).find(needle), std::string::npos)
-        << error.what();
-  }
-}
 
 // Eq. 7: link 3, model G1, P(s) = s^-0.5 * 0.37609 / (2.13e-3 s^2 +
 // 23.31e-3 s + 1) [mm/V].

@@ -1,5 +1,6 @@
 // IPMC link model (plugin/ipmc_link_model.h): paper parameters, Oustaloup
 // realisation against the exact fractional response, and the G2 fit.
+#include "tests/test_util.h"
 #include "plugin/ipmc_link_model.h"
 
 #include <cmath>
@@ -14,19 +15,11 @@
 namespace ipmc {
 namespace {
 
+using ::ipmc::testing::ExpectInvalidArgument;
+
 using Complex = std::complex<double>;
 constexpr double kPi = 3.14159265358979323846;
 
-void ExpectInvalidArgument(const std::function<void()>& f,
-                           const std::string& field) {
-  try {
-    f();
-    ADD_FAILURE() << "expected std::invalid_argument naming " << field;
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find(field), std::string::npos)
-        << "message \"" << e.what() << "\" does not name " << field;
-  }
-}
 
 struct BodeError {
   double db = 0;

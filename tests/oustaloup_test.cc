@@ -1,5 +1,6 @@
 // Oustaloup approximation (controllers/oustaloup.h) and the state-space
 // toolbox (controllers/state_space.h).
+#include "tests/test_util.h"
 #include "controllers/oustaloup.h"
 
 #include <cmath>
@@ -16,6 +17,8 @@
 
 namespace ipmc {
 namespace {
+
+using ::ipmc::testing::ExpectInvalidArgument;
 
 using Complex = std::complex<double>;
 constexpr double kPi = 3.14159265358979323846;
@@ -71,16 +74,6 @@ std::vector<double> PolyFromRoots(const std::vector<double>& corners) {
   return c;
 }
 
-void ExpectInvalidArgument(const std::function<void()>& f,
-                           const std::string& field) {
-  try {
-    f();
-    ADD_FAILURE() << "expected std::invalid_argument naming " << field;
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find(field), std::string::npos)
-        << "message \"" << e.what() << "\" does not name " << field;
-  }
-}
 
 // The paper's eq. 15, C_I*(s), numerator and denominator, highest power
 // first, and both divided by the s^4 coefficient of the denominator.

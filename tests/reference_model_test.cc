@@ -5,6 +5,7 @@
 // power series E_alpha(z) = sum z^k / Gamma(alpha k + 1) summed to 1e-50),
 // and are listed with the residual measured here; tolerances are about ten
 // times that residual.
+#include "tests/test_util.h"
 #include "controllers/reference_model.h"
 
 #include <cmath>
@@ -19,20 +20,10 @@
 namespace ipmc {
 namespace {
 
+using ::ipmc::testing::ExpectThrowMentioning;
+
 constexpr double kPi = 3.14159265358979323846;
 
-// Fails unless `statement` throws `Exception` whose message contains
-// `needle`.
-template <typename Exception, typename Function>
-void ExpectThrowMentioning(Function statement, const std::string& needle) {
-  try {
-    statement();
-    ADD_FAILURE() << "expected an exception mentioning '" << needle << "'";
-  } catch (const Exception& error) {
-    EXPECT_NE(std::string(error.what()).find(needle), std::string::npos)
-        << error.what();
-  }
-}
 
 struct MittagLefflerCase {
   double alpha;

@@ -1,7 +1,11 @@
 // Shared helpers for the test suites.
 #pragma once
 
+#include <gtest/gtest.h>
+
+#include <functional>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "sim/gait.h"
@@ -28,6 +32,24 @@ inline FlagellumSpec StokesChain(int links, double total_length_mm) {
   spec.ipmc_actuators = false;
   spec.name = "stokes_chain";
   return spec;
+}
+
+// Fails unless `statement` throws `Exception` whose message contains
+// `needle`.
+template <typename Exception, typename Function>
+void ExpectThrowMentioning(Function statement, const std::string& needle) {
+  try {
+    statement();
+    ADD_FAILURE() << "expected an exception mentioning '" << needle << "'";
+  } catch (const Exception& error) {
+    EXPECT_NE(std::string(error.what()).find(needle), std::string::npos) << error.what();
+  }
+}
+
+// Fails unless `statement` throws std::invalid_argument naming `field`.
+inline void ExpectInvalidArgument(const std::function<void()>& statement,
+                                  const std::string& field) {
+  ExpectThrowMentioning<std::invalid_argument>(statement, field);
 }
 
 inline std::unique_ptr<Simulation> MakeSimulation(const FlagellumSpec& spec) {
