@@ -6,11 +6,10 @@
 //   ./build/bench/drag_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 
-#include <cstdio>
-#include <map>
 #include <regex>
 #include <string>
 
+#include "bench/ratio_reporter.h"
 #include "ipmc_swim/ipmc_swim.h"
 #include "sim/model_generator.h"
 #include "sim/simulation.h"
@@ -74,38 +73,7 @@ BENCHMARK(BM_BareMuJoCo)->MinTime(2.0);
 BENCHMARK(BM_RftDragCallback)->MinTime(2.0);
 BENCHMARK(BM_BuiltinEllipsoidFluid)->MinTime(2.0);
 
-// Console output plus the CPU-time ratios to the bare step at the end.
-class RatioReporter : public benchmark::ConsoleReporter {
- public:
-  void ReportRuns(const std::vector<Run>& runs) override {
-    ConsoleReporter::ReportRuns(runs);
-    for (const Run& run : runs) {
-      if (run.run_type == Run::RT_Aggregate && run.aggregate_name != "median") continue;
-      cpu_ns_[run.run_name.function_name] = run.GetAdjustedCPUTime();
-    }
-  }
-  void PrintRatios() const {
-    const auto bare = cpu_ns_.find("BM_BareMuJoCo");
-    if (bare == cpu_ns_.end()) return;
-    std::printf("\nCPU time per step relative to bare MuJoCo:\n");
-    for (const auto& [name, ns] : cpu_ns_) {
-      std::printf("  %-26s %6.3f\n", name.c_str(), ns / bare->second);
-    }
-  }
-
- private:
-  std::map<std::string, double> cpu_ns_;
-};
-
 }  // namespace
 }  // namespace ipmc
 
-int main(int argc, char** argv) {
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  ipmc::RatioReporter reporter;
-  benchmark::RunSpecifiedBenchmarks(&reporter);
-  reporter.PrintRatios();
-  benchmark::Shutdown();
-  return 0;
-}
+int main(int argc, char** argv) { return ipmc::RunWithRatios(argc, argv, "BM_BareMuJoCo"); }

@@ -1,0 +1,48 @@
+// Google Benchmark console output followed by each benchmark's CPU time
+// relative to a baseline benchmark of the same run.
+#pragma once
+
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace ipmc {
+
+// Console output plus the CPU-time ratios to a baseline at the end.
+class RatioReporter : public benchmark::ConsoleReporter {
+ public:
+  void ReportRuns(const std::vector<Run>& runs) override {
+    ConsoleReporter::ReportRuns(runs);
+    for (const Run& run : runs) {
+      if (run.run_type == Run::RT_Aggregate && run.aggregate_name != "median") continue;
+      cpu_ns_[run.run_name.function_name] = run.GetAdjustedCPUTime();
+    }
+  }
+  void PrintRatios(const std::string& baseline) const {
+    const auto bare = cpu_ns_.find(baseline);
+    if (bare == cpu_ns_.end()) return;
+    std::printf("\nCPU time per step relative to %s:\n", baseline.c_str());
+    for (const auto& [name, ns] : cpu_ns_) {
+      std::printf("  %-26s %6.3f\n", name.c_str(), ns / bare->second);
+    }
+  }
+
+ private:
+  std::map<std::string, double> cpu_ns_;
+};
+
+// Runs the registered benchmarks and prints the ratios to `baseline`.
+inline int RunWithRatios(int argc, char** argv, const std::string& baseline) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  RatioReporter reporter;
+  benchmark::RunSpecifiedBenchmarks(&reporter);
+  reporter.PrintRatios(baseline);
+  benchmark::Shutdown();
+  return 0;
+}
+
+}  // namespace ipmc
