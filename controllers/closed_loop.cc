@@ -1,3 +1,4 @@
+#include "controllers/format.h"
 #include "controllers/closed_loop.h"
 
 #include <algorithm>
@@ -13,13 +14,6 @@ namespace {
 constexpr int kMaxOutputSubsteps = 10000;
 // Relative slack when comparing a horizon with a whole number of samples.
 constexpr double kHorizonSlack = 1e-9;
-
-std::string FormatDouble(double value) {
-  std::ostringstream out;
-  out.precision(std::numeric_limits<double>::max_digits10);
-  out << value;
-  return out.str();
-}
 
 void CheckSeries(const char* function, const std::vector<double>& time_s,
                  const std::vector<double>& output) {

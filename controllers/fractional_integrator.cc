@@ -1,3 +1,4 @@
+#include "controllers/format.h"
 #include "controllers/fractional_integrator.h"
 
 #include <algorithm>
@@ -13,13 +14,6 @@ namespace ipmc {
 namespace {
 
 constexpr int kMaxOustaloupN = 64;
-
-std::string FormatDouble(double value) {
-  std::ostringstream out;
-  out.precision(std::numeric_limits<double>::max_digits10);
-  out << value;
-  return out.str();
-}
 
 [[noreturn]] void ThrowField(const char* field, const std::string& rule,
                              const std::string& got) {

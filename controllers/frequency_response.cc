@@ -1,3 +1,4 @@
+#include "controllers/format.h"
 #include "controllers/frequency_response.h"
 
 #include <algorithm>
@@ -15,13 +16,6 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDegPerRad = 180.0 / kPi;
 constexpr int kBrentMaxIterations = 200;
-
-std::string FormatDouble(double value) {
-  std::ostringstream out;
-  out.precision(std::numeric_limits<double>::max_digits10);
-  out << value;
-  return out.str();
-}
 
 // H(j w), checked to be finite and nonzero (so that dB and phase exist).
 std::complex<double> EvaluateChecked(const FrequencyFunction& response,

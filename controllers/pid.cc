@@ -1,3 +1,4 @@
+#include "controllers/format.h"
 #include "controllers/pid.h"
 
 #include <algorithm>
@@ -9,13 +10,6 @@
 
 namespace ipmc {
 namespace {
-
-std::string FormatDouble(double value) {
-  std::ostringstream out;
-  out.precision(std::numeric_limits<double>::max_digits10);
-  out << value;
-  return out.str();
-}
 
 void RequireNonNegative(const char* field, double value) {
   if (!std::isfinite(value) || value < 0) {

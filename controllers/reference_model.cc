@@ -1,3 +1,4 @@
+#include "controllers/format.h"
 #include "controllers/reference_model.h"
 
 #include <algorithm>
@@ -24,13 +25,6 @@ constexpr int kIntegralMaxDepth = 60;
 constexpr double kPeakScanStep = 0.05;
 constexpr double kPeakScanEnd = 200.0;
 constexpr double kGoldenTolerance = 1e-12;
-
-std::string FormatDouble(double value) {
-  std::ostringstream out;
-  out.precision(std::numeric_limits<double>::max_digits10);
-  out << value;
-  return out.str();
-}
 
 // Throws std::domain_error unless alpha satisfies `alpha_ok` (described by
 // `alpha_rule`) and z is finite and <= 0.
