@@ -738,13 +738,15 @@ void IpmcActuatorBank::AdvanceTo(double t_s) {
   impl.time_s = t_s;
 }
 
+double IpmcActuatorBank::FreeTipDeflection_mm(int link) const {
+  const Block& block = impl_->blocks.at(link);
+  return block.c.dot(impl_->state.segment(block.offset, block.size)) +
+         block.d * impl_->voltage_V[link];
+}
+
 std::vector<double> IpmcActuatorBank::FreeTipDeflection_mm() const {
   std::vector<double> out(impl_->blocks.size());
-  for (std::size_t q = 0; q < out.size(); ++q) {
-    const Block& block = impl_->blocks[q];
-    out[q] = block.c.dot(impl_->state.segment(block.offset, block.size)) +
-             block.d * impl_->voltage_V[q];
-  }
+  for (std::size_t q = 0; q < out.size(); ++q) out[q] = FreeTipDeflection_mm(static_cast<int>(q));
   return out;
 }
 

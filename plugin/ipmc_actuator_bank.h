@@ -105,6 +105,8 @@ class IpmcActuatorBank {
   void AdvanceTo(double t_s);
 
   // y_q = c_q x_q + d_q u_q [mm], one per link.
+  // The same for one link (0-based), without allocating.
+  double FreeTipDeflection_mm(int link) const;
   std::vector<double> FreeTipDeflection_mm() const;
 
   double Time_s() const;

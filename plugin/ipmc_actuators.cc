@@ -158,16 +158,16 @@ void IpmcActuators::SetVoltages(const mjData* d, const std::vector<double>& volt
 
 void IpmcActuators::Update(const mjModel* m, mjData* d) {
   AdvanceTo(d);
-  const std::vector<double> deflection_mm = bank_->FreeTipDeflection_mm();
   for (size_t q = 0; q < hinges_.size(); ++q) {
-    const double ratio = deflection_mm[q] * kMmToM / length_m_[q];
+    const double deflection_mm = bank_->FreeTipDeflection_mm(static_cast<int>(q));
+    const double ratio = deflection_mm * kMmToM / length_m_[q];
     double theta_free_rad = 0.0;
     if (std::abs(ratio) >= 1.0) {
       if (clamp_count_++ == 0) {
         std::fprintf(stderr,
                      "warning: ipmc link %zu: free deflection %.3g mm exceeds its length; "
                      "theta_free clamped to +-pi/2\n",
-                     q + 1, deflection_mm[q]);
+                     q + 1, deflection_mm);
       }
       theta_free_rad = std::copysign(kHalfPi, ratio);
     } else {
