@@ -9,8 +9,6 @@
 namespace ipmc {
 namespace {
 
-constexpr double kMToMm = 1e3;
-
 struct Servo {
   int actuator;
   int joint;
@@ -29,22 +27,11 @@ std::vector<Servo> FindServos(const mjModel* m) {
   return servos;
 }
 
-std::vector<int> FindTipSites(const mjModel* m) {
-  std::vector<int> sites;
-  for (int q = 1;; ++q) {
-    const int id = mj_name2id(m, mjOBJ_SITE, ("tip" + std::to_string(q)).c_str());
-    if (id < 0) break;
-    sites.push_back(id);
-  }
-  return sites;
-}
-
-double RotationalDragScale(const CouplingContext* coupling, const mjModel* m, const mjData* d,
-                           double* body_length_m) {
-  *body_length_m = 0.0;
+// Rotational drag of the whole body about one end, xi_n L^3 / 3 [N m s].
+double RotationalDragScale(const CouplingContext* coupling, const mjModel* m, const mjData* d) {
   if (!coupling || !coupling->drag) return 0.0;
-  for (const Segment& s : coupling->drag->Segments(m, d)) *body_length_m += s.length_m;
-  const double length = *body_length_m;
+  double length = 0.0;
+  for (const Segment& s : coupling->drag->Segments(m, d)) length += s.length_m;
   return coupling->drag->coefficients().normal_N_s_m2 * length * length * length / 3.0;
 }
 
@@ -81,31 +68,13 @@ double HingeInertiaMax(const mjModel* m, mjData* d, const std::vector<Servo>& se
   return inertia;
 }
 
-GaitSample Sample(const mjData* d, const std::vector<Servo>& servos,
-                  const std::vector<int>& tips, const JointReference& ref) {
+GaitSample Sample(const SwimMeter& meter, const mjData* d, const std::vector<Servo>& servos,
+                  const JointReference& ref) {
   GaitSample s;
-  s.t_s = d->time;
-  const int root = 1;
-  s.com_x_mm = d->subtree_com[3 * root] * kMToMm;
-  s.com_y_mm = d->subtree_com[3 * root + 1] * kMToMm;
-  s.head_x_mm = d->xpos[3 * root] * kMToMm;
-  s.head_y_mm = d->xpos[3 * root + 1] * kMToMm;
-  const mjtNum* xmat = d->xmat + 9 * root;
-  s.yaw_rad = std::atan2(xmat[3], xmat[0]);
+  s.pose = meter.Pose(d);
   s.q_ref_rad = ref.angle_rad;
   for (const Servo& servo : servos) s.q_rad.push_back(d->qpos[servo.qpos_adr]);
-  for (int site : tips) {
-    s.tip_x_mm.push_back(d->site_xpos[3 * site] * kMToMm);
-    s.tip_y_mm.push_back(d->site_xpos[3 * site + 1] * kMToMm);
-  }
   return s;
-}
-
-double LateralTipSpeed_m_s(const mjModel* m, const mjData* d, const std::vector<int>& tips) {
-  if (tips.empty()) return 0.0;
-  mjtNum velocity[6];
-  mj_objectVelocity(m, d, mjOBJ_SITE, tips.back(), velocity, 0);
-  return std::abs(velocity[4]);
 }
 
 }  // namespace
@@ -131,8 +100,8 @@ GaitRunResult RunGait(Simulation& sim, const Gait& gait, const GaitRunOptions& o
                              " joints but the model has " + std::to_string(servos.size()) +
                              " servo_* actuators");
   }
-  const std::vector<int> tips = FindTipSites(m);
   const CouplingContext* coupling = FindCoupling(d);
+  SwimMeter meter(m);
 
   // Start at the gait's pose, root at rest.
   mj_resetData(m, d);
@@ -141,11 +110,10 @@ GaitRunResult RunGait(Simulation& sim, const Gait& gait, const GaitRunOptions& o
     d->qpos[servos[j].qpos_adr] = start.angle_rad[j];
     d->qvel[servos[j].dof_adr] = start.velocity_rad_s[j];
   }
-  double body_length_m = 0.0;
   const double dt = m->opt.timestep;
   const double servo_time_s = options.servo_time_constant_steps * dt;
   const double kv = std::max(
-      options.servo_damping_over_drag * RotationalDragScale(coupling, m, d, &body_length_m),
+      options.servo_damping_over_drag * RotationalDragScale(coupling, m, d),
       4.0 * HingeInertiaMax(m, d, servos) / servo_time_s);
   const double kp = kv / servo_time_s;
   SetServoGains(m, servos, kp, kv);
@@ -155,15 +123,13 @@ GaitRunResult RunGait(Simulation& sim, const Gait& gait, const GaitRunOptions& o
   result.gait = gait.Describe();
   result.period_s = gait.Period_s();
   result.timestep_s = dt;
-  result.body_length_mm = body_length_m * kMToMm;
   const long steps_per_cycle = std::lround(gait.Period_s() / dt);
   const long sample_every =
       std::max<long>(1, steps_per_cycle / options.samples_per_cycle);
   const long settle_steps = steps_per_cycle / 20;
 
-  GaitSample cycle_start = Sample(d, servos, tips, start);
-  result.samples.push_back(cycle_start);
-  const GaitSample run_start = cycle_start;
+  meter.Start(d);
+  result.samples.push_back(Sample(meter, d, servos, start));
   for (int cycle = 0; cycle < options.cycles; ++cycle) {
     for (long step = 1; step <= steps_per_cycle; ++step) {
       // The servo aims at the reference at the end of the step.
@@ -180,32 +146,14 @@ GaitRunResult RunGait(Simulation& sim, const Gait& gait, const GaitRunOptions& o
               std::max(result.max_reference_rad, std::abs(ref.angle_rad[j]));
         }
       }
-      result.peak_lateral_tip_speed_mm_s = std::max(result.peak_lateral_tip_speed_mm_s,
-                                                    LateralTipSpeed_m_s(m, d, tips) * kMToMm);
+      meter.Observe(m, d);
       if (step % sample_every == 0 || step == steps_per_cycle) {
-        result.samples.push_back(Sample(d, servos, tips, ref));
+        result.samples.push_back(Sample(meter, d, servos, ref));
       }
     }
-    const GaitSample& end = result.samples.back();
-    result.per_cycle.push_back({-(end.com_x_mm - cycle_start.com_x_mm),
-                                end.com_y_mm - cycle_start.com_y_mm,
-                                -(end.head_x_mm - cycle_start.head_x_mm),
-                                end.head_y_mm - cycle_start.head_y_mm});
-    cycle_start = end;
+    meter.EndCycle(d);
   }
-  const GaitSample& end = result.samples.back();
-  result.mean_speed_along_mm_s = -(end.com_x_mm - run_start.com_x_mm) / end.t_s;
-
-  if (coupling && coupling->drag) {
-    const RftDragConfig& fluid = coupling->drag->config();
-    const int width_id = mj_name2id(m, mjOBJ_NUMERIC, "ipmc_strip_width_m");
-    const double width_m = width_id >= 0 ? m->numeric_data[m->numeric_adr[width_id]]
-                                         : 2.0 * fluid.equivalent_radius_m;
-    const double rho_over_mu = fluid.fluid_density_kg_m3 / fluid.viscosity_Pa_s;
-    result.reynolds_tip = rho_over_mu * result.peak_lateral_tip_speed_mm_s / kMToMm * width_m;
-    result.reynolds_swim =
-        rho_over_mu * std::abs(result.mean_speed_along_mm_s) / kMToMm * body_length_m;
-  }
+  result.swim = meter.Finish(m, d);
   return result;
 }
 

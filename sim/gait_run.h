@@ -8,10 +8,7 @@
 // larger of 100 times the body's rotational drag xi_n L^3 / 3 and
 // 4 J / T_s (J the largest hinge inertia), kp = kv / T_s, T_s = 10 dt:
 // an overdamped servo ten steps fast whose damping MuJoCo's implicit
-// integrator treats implicitly.
-//
-// Frames: the swimming axis is -x (the head points to -x at rest); "along"
-// is displacement along -x (positive = head first), "across" along +y.
+// integrator treats implicitly. Swim metrics and frames: sim/swim_meter.h.
 #pragma once
 
 #include <string>
@@ -19,6 +16,7 @@
 
 #include "sim/gait.h"
 #include "sim/simulation.h"
+#include "sim/swim_meter.h"
 
 namespace ipmc {
 
@@ -30,27 +28,16 @@ struct GaitRunOptions {
   void Validate() const;
 };
 
-struct Displacement_mm {
-  double com_along = 0.0, com_across = 0.0, head_along = 0.0, head_across = 0.0;
-};
-
 struct GaitSample {
-  double t_s = 0.0;
-  double com_x_mm = 0.0, com_y_mm = 0.0, head_x_mm = 0.0, head_y_mm = 0.0, yaw_rad = 0.0;
+  BodyPose pose;
   std::vector<double> q_ref_rad, q_rad;
-  std::vector<double> tip_x_mm, tip_y_mm;
 };
 
 struct GaitRunResult {
   std::string gait;
   double period_s = 0.0;
   double timestep_s = 0.0;
-  std::vector<Displacement_mm> per_cycle;
-  double mean_speed_along_mm_s = 0.0;     // over all cycles
-  double peak_lateral_tip_speed_mm_s = 0.0;
-  double reynolds_tip = 0.0;              // rho v_tip w / mu
-  double reynolds_swim = 0.0;             // rho |U| L_body / mu
-  double body_length_mm = 0.0;
+  SwimMetrics swim;
   double max_tracking_error_rad = 0.0;    // after the first 5 % of cycle 1
   double max_reference_rad = 0.0;
   std::vector<GaitSample> samples;

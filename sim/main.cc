@@ -134,23 +134,27 @@ std::unique_ptr<ipmc::Gait> MakeGait(const GaitArgs& args, int joints) {
   return ipmc::MakeSineGait(config);
 }
 
-void PrintGaitResult(const ipmc::GaitRunResult& r) {
-  std::printf("%s, period %.6g s, time step %.3g s\n", r.gait.c_str(), r.period_s, r.timestep_s);
+void PrintSwimMetrics(const ipmc::SwimMetrics& swim) {
   std::printf("%5s %14s %14s %14s %14s\n", "cycle", "com_along_mm", "com_across_mm",
               "head_along_mm", "head_across_mm");
-  for (size_t k = 0; k < r.per_cycle.size(); ++k) {
-    const ipmc::Displacement_mm& c = r.per_cycle[k];
+  for (size_t k = 0; k < swim.per_cycle.size(); ++k) {
+    const ipmc::Displacement_mm& c = swim.per_cycle[k];
     std::printf("%5zu %14.6g %14.6g %14.6g %14.6g\n", k + 1, c.com_along, c.com_across,
                 c.head_along, c.head_across);
   }
-  std::printf("mean speed along the swimming axis: %.6g mm/s\n", r.mean_speed_along_mm_s);
+  std::printf("mean speed along the swimming axis: %.6g mm/s\n", swim.mean_speed_along_mm_s);
   std::printf("Reynolds number: %.3g (peak lateral tip speed x width), %.3g (mean speed x length)\n",
-              r.reynolds_tip, r.reynolds_swim);
-  std::printf("servo tracking: max error %.3g rad for references up to %.3g rad\n",
-              r.max_tracking_error_rad, r.max_reference_rad);
-  if (r.reynolds_tip > 1.0 || r.reynolds_swim > 1.0) {
+              swim.reynolds_tip, swim.reynolds_swim);
+  if (swim.reynolds_tip > 1.0 || swim.reynolds_swim > 1.0) {
     std::fprintf(stderr, "warning: Reynolds number above 1; resistive-force theory assumes Re << 1\n");
   }
+}
+
+void PrintGaitResult(const ipmc::GaitRunResult& r) {
+  std::printf("%s, period %.6g s, time step %.3g s\n", r.gait.c_str(), r.period_s, r.timestep_s);
+  PrintSwimMetrics(r.swim);
+  std::printf("servo tracking: max error %.3g rad for references up to %.3g rad\n",
+              r.max_tracking_error_rad, r.max_reference_rad);
 }
 
 int RunGenerate(const GenerateArgs& args) {

@@ -46,41 +46,47 @@ std::string GaitSamplesCsv(const GaitRunResult& result) {
   csv << std::setprecision(10);
   csv << "time_s,com_x_mm,com_y_mm,head_x_mm,head_y_mm,yaw_rad";
   const size_t joints = result.samples.empty() ? 0 : result.samples.front().q_rad.size();
-  const size_t tips = result.samples.empty() ? 0 : result.samples.front().tip_x_mm.size();
+  const size_t tips = result.samples.empty() ? 0 : result.samples.front().pose.tip_x_mm.size();
   for (size_t j = 0; j < joints; ++j) csv << ",q_ref" << j + 1 << "_rad,q" << j + 1 << "_rad";
   for (size_t k = 0; k < tips; ++k) csv << ",tip" << k + 1 << "_x_mm,tip" << k + 1 << "_y_mm";
   csv << "\n";
   for (const GaitSample& s : result.samples) {
-    csv << s.t_s << "," << s.com_x_mm << "," << s.com_y_mm << "," << s.head_x_mm << ","
-        << s.head_y_mm << "," << s.yaw_rad;
+    const BodyPose& p = s.pose;
+    csv << p.t_s << "," << p.com_x_mm << "," << p.com_y_mm << "," << p.head_x_mm << ","
+        << p.head_y_mm << "," << p.yaw_rad;
     for (size_t j = 0; j < joints; ++j) csv << "," << s.q_ref_rad[j] << "," << s.q_rad[j];
-    for (size_t k = 0; k < tips; ++k) csv << "," << s.tip_x_mm[k] << "," << s.tip_y_mm[k];
+    for (size_t k = 0; k < tips; ++k) csv << "," << p.tip_x_mm[k] << "," << p.tip_y_mm[k];
     csv << "\n";
   }
   return csv.str();
 }
 
-nlohmann::json GaitSummaryJson(const GaitRunResult& result) {
+nlohmann::json SwimMetricsJson(const SwimMetrics& swim) {
   nlohmann::json cycles = nlohmann::json::array();
-  for (size_t k = 0; k < result.per_cycle.size(); ++k) {
-    const Displacement_mm& c = result.per_cycle[k];
+  for (size_t k = 0; k < swim.per_cycle.size(); ++k) {
+    const Displacement_mm& c = swim.per_cycle[k];
     cycles.push_back({{"cycle", k + 1},
                       {"com_along_mm", c.com_along},
                       {"com_across_mm", c.com_across},
                       {"head_along_mm", c.head_along},
                       {"head_across_mm", c.head_across}});
   }
-  return {{"gait", result.gait},
-          {"period_s", result.period_s},
-          {"timestep_s", result.timestep_s},
-          {"body_length_mm", result.body_length_mm},
+  return {{"body_length_mm", swim.body_length_mm},
           {"per_cycle", cycles},
-          {"mean_speed_along_mm_s", result.mean_speed_along_mm_s},
-          {"peak_lateral_tip_speed_mm_s", result.peak_lateral_tip_speed_mm_s},
-          {"reynolds_tip", result.reynolds_tip},
-          {"reynolds_swim", result.reynolds_swim},
-          {"max_tracking_error_rad", result.max_tracking_error_rad},
-          {"max_reference_rad", result.max_reference_rad}};
+          {"mean_speed_along_mm_s", swim.mean_speed_along_mm_s},
+          {"peak_lateral_tip_speed_mm_s", swim.peak_lateral_tip_speed_mm_s},
+          {"reynolds_tip", swim.reynolds_tip},
+          {"reynolds_swim", swim.reynolds_swim}};
+}
+
+nlohmann::json GaitSummaryJson(const GaitRunResult& result) {
+  nlohmann::json summary = SwimMetricsJson(result.swim);
+  summary["gait"] = result.gait;
+  summary["period_s"] = result.period_s;
+  summary["timestep_s"] = result.timestep_s;
+  summary["max_tracking_error_rad"] = result.max_tracking_error_rad;
+  summary["max_reference_rad"] = result.max_reference_rad;
+  return summary;
 }
 
 void WriteGaitOutputs(const std::string& dir, const GaitRunResult& result,

@@ -17,6 +17,7 @@ void WriteFileAtomically(const std::string& path, const std::string& content);
 // Creates `dir` (and parents) if needed; throws naming the directory.
 void EnsureDirectory(const std::string& dir);
 
+nlohmann::json SwimMetricsJson(const SwimMetrics& swim);
 std::string GaitSamplesCsv(const GaitRunResult& result);
 nlohmann::json GaitSummaryJson(const GaitRunResult& result);
 

@@ -22,9 +22,9 @@ std::vector<double> RunWave(double viscosity_Pa_s) {
   const GaitRunResult result = RunGait(*sim, *gait, options);
   std::vector<double> trace;
   for (const GaitSample& s : result.samples) {
-    trace.push_back(s.com_x_mm);
-    trace.push_back(s.com_y_mm);
-    trace.push_back(s.yaw_rad);
+    trace.push_back(s.pose.com_x_mm);
+    trace.push_back(s.pose.com_y_mm);
+    trace.push_back(s.pose.yaw_rad);
   }
   return trace;
 }

@@ -17,7 +17,7 @@ constexpr double kPi = 3.141592653589793;
 // Net displacement of the centre of mass along the swimming axis in the
 // second cycle (the first includes the start from rest) [mm].
 double SecondCycleAlong_mm(const FlagellumSpec& spec, const Gait& gait) {
-  return RunGaitOn(spec, gait, 2).per_cycle[1].com_along;
+  return RunGaitOn(spec, gait, 2).swim.per_cycle[1].com_along;
 }
 
 SineGaitConfig ChainWave(int joints, double frequency_Hz, double amplitude_rad,
@@ -31,9 +31,9 @@ TEST(Swimming, ReciprocalStrokeGivesNoNetDisplacement) {
   const auto reciprocal = MakeSineGait(ChainWave(5, kStokesFrequency_Hz, 0.4, 0.0));
   const auto wave = MakeSineGait(ChainWave(5, kStokesFrequency_Hz, 0.4, 1.0));
   const double moving_mm = SecondCycleAlong_mm(spec, *wave);
-  const Displacement_mm coarse = RunGaitOn(spec, *reciprocal, 2).per_cycle[1];
+  const Displacement_mm coarse = RunGaitOn(spec, *reciprocal, 2).swim.per_cycle[1];
   spec.timestep_s *= 0.5;
-  const Displacement_mm fine = RunGaitOn(spec, *reciprocal, 2).per_cycle[1];
+  const Displacement_mm fine = RunGaitOn(spec, *reciprocal, 2).swim.per_cycle[1];
   std::printf("travelling wave %.4f mm per cycle; reciprocal: %.3e mm (dt 1 ms), %.3e mm (0.5 ms)\n",
               moving_mm, coarse.com_along, fine.com_along);
   EXPECT_GT(moving_mm, 0.1);
@@ -51,7 +51,7 @@ TEST(Swimming, ReversingTheWaveReversesTheSwim) {
   const auto forward = MakeSineGait(ChainWave(5, kStokesFrequency_Hz, 0.4, 1.0));
   const auto backward = MakeSineGait(ChainWave(5, kStokesFrequency_Hz, 0.4, -1.0));
   const GaitRunResult forward_run = RunGaitOn(spec, *forward, 2);
-  const double forward_mm = forward_run.per_cycle[1].com_along;
+  const double forward_mm = forward_run.swim.per_cycle[1].com_along;
   const double backward_mm = SecondCycleAlong_mm(spec, *backward);
   // The servo holds the gait: measured max error 5.0e-5 rad on 0.4 rad
   // references (1.3e-4 relative), so these checks measure the fluid
@@ -153,9 +153,9 @@ TEST(Swimming, HalvingTheTimeStepChangesDisplacementByLessThanHalfAPercent) {
   // 0.01 Hz, one cycle, default step 1e-4 s against 5e-5 s.
   FlagellumSpec spec;
   const auto gait = MakeSineGait(TravellingWave(3, 0.01, 0.3, 2.0));
-  const double default_mm = RunGaitOn(spec, *gait, 1).per_cycle[0].com_along;
+  const double default_mm = RunGaitOn(spec, *gait, 1).swim.per_cycle[0].com_along;
   spec.timestep_s *= 0.5;
-  const double half_mm = RunGaitOn(spec, *gait, 1).per_cycle[0].com_along;
+  const double half_mm = RunGaitOn(spec, *gait, 1).swim.per_cycle[0].com_along;
   std::printf("one cycle: dt 1e-4 s %.7f mm, dt 5e-5 s %.7f mm\n", default_mm, half_mm);
   EXPECT_LT(std::abs(default_mm / half_mm - 1.0), 0.005);
 }

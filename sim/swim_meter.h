@@ -1,0 +1,57 @@
+// Measures how a free swimmer moves: its pose, the net displacement per
+// cycle, the mean speed and the Reynolds numbers. Shared by the gait and
+// the closed-loop runs.
+//
+// Frames: the swimming axis is -x (the head points to -x at rest); "along"
+// is displacement along -x (positive = head first), "across" along +y.
+// The head is the root body's origin (where link 1 starts); the centre of
+// mass is that of the root body's subtree.
+#pragma once
+
+#include <mujoco/mujoco.h>
+
+#include <vector>
+
+namespace ipmc {
+
+struct BodyPose {
+  double t_s = 0.0;
+  double com_x_mm = 0.0, com_y_mm = 0.0, head_x_mm = 0.0, head_y_mm = 0.0, yaw_rad = 0.0;
+  std::vector<double> tip_x_mm, tip_y_mm;  // sites tip1..tipN
+};
+
+struct Displacement_mm {
+  double com_along = 0.0, com_across = 0.0, head_along = 0.0, head_across = 0.0;
+};
+
+struct SwimMetrics {
+  std::vector<Displacement_mm> per_cycle;
+  double mean_speed_along_mm_s = 0.0;       // centre of mass, over all cycles
+  double peak_lateral_tip_speed_mm_s = 0.0;  // last tip, across the axis
+  double reynolds_tip = 0.0;                 // rho v_tip w / mu
+  double reynolds_swim = 0.0;                // rho |U| L_body / mu
+  double body_length_mm = 0.0;               // sum of the drag segments
+};
+
+class SwimMeter {
+ public:
+  explicit SwimMeter(const mjModel* m);
+
+  BodyPose Pose(const mjData* d) const;
+  // Marks the start of the run and of its first cycle.
+  void Start(const mjData* d);
+  // After every step: tracks the peak lateral tip speed.
+  void Observe(const mjModel* m, const mjData* d);
+  // At the end of each cycle: records its net displacement.
+  void EndCycle(const mjData* d);
+  // Mean speed since Start and the Reynolds numbers (needs the model's RFT
+  // fields through the coupling of d; without them both are 0).
+  SwimMetrics Finish(const mjModel* m, const mjData* d) const;
+
+ private:
+  std::vector<int> tip_sites_;
+  BodyPose run_start_, cycle_start_;
+  SwimMetrics metrics_;
+};
+
+}  // namespace ipmc
