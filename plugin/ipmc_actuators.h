@@ -49,6 +49,7 @@ class IpmcActuators {
   IpmcActuators(const mjModel* m, IpmcActuatorsConfig config);
 
   int Links() const { return static_cast<int>(hinges_.size()); }
+  const std::vector<std::string>& joints() const { return config_.joints; }
   Actuation actuation() const { return config_.actuation; }
 
   // Voltages from d->time on [V]; in single actuation links 2..n are held
@@ -63,6 +64,7 @@ class IpmcActuators {
 
   // The links' free tip deflections at the last update [mm].
   std::vector<double> FreeTipDeflection_mm() const { return bank_->FreeTipDeflection_mm(); }
+  double FreeTipDeflection_mm(int link) const { return bank_->FreeTipDeflection_mm(link); }
   // Link lengths L_q [m] used for theta_free = asin(delta / L).
   const std::vector<double>& LinkLengths_m() const { return length_m_; }
   // How often theta_free had to be clamped to +-pi/2.

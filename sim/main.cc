@@ -1,6 +1,7 @@
 // ipmc-swim command-line program.
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
@@ -9,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/bench_run.h"
 #include "sim/gait.h"
 #include "sim/gait_run.h"
 #include "sim/model_generator.h"
@@ -102,6 +104,50 @@ void AddGaitCommand(CLI::App& app, GaitArgs& args) {
   cmd->add_option("--out", args.out_dir, "Directory for timeseries.csv and summary.json");
 }
 
+struct BenchArgs {
+  std::string model_path = std::string(IPMC_SWIM_MODELS_DIR) + "/flagellum3_clamped.xml";
+  std::string signal = "sine";
+  ipmc::BenchSignal bench;
+  std::string out_path;
+};
+
+void AddBenchCommand(CLI::App& app, BenchArgs& args) {
+  CLI::App* cmd = app.add_subcommand(
+      "bench", "Voltage experiment on the test bench, recorded like the laser meter");
+  ipmc::BenchSignal& b = args.bench;
+  cmd->add_option("--model", args.model_path, "MJCF model with IPMC actuators")
+      ->capture_default_str();
+  cmd->add_option("--signal", args.signal, "sine | chirp")
+      ->check(CLI::IsMember({"sine", "chirp"}))->capture_default_str();
+  cmd->add_option("--amplitude-v", b.amplitude_V, "Voltage amplitude [V]")->capture_default_str();
+  cmd->add_option("--frequency-hz", b.frequency_Hz, "Sine frequency [Hz]")->capture_default_str();
+  cmd->add_option("--f0-hz", b.start_Hz, "Chirp start frequency [Hz]")->capture_default_str();
+  cmd->add_option("--f1-hz", b.end_Hz, "Chirp end frequency [Hz]")->capture_default_str();
+  cmd->add_option("--duration-s", b.duration_s, "Duration [s]")->capture_default_str();
+  cmd->add_option("--links", b.driven_links, "Driven links, 1-based")->delimiter(',')
+      ->capture_default_str();
+  cmd->add_option("--sample-rate-hz", b.sample_rate_Hz, "Voltage update and recording rate [Hz]")
+      ->capture_default_str();
+  cmd->add_option("--out", args.out_path, "CSV file to write")->required();
+}
+
+int RunBenchCommand(BenchArgs args) {
+  args.bench.kind = args.signal == "chirp" ? ipmc::BenchSignal::Kind::kChirp
+                                           : ipmc::BenchSignal::Kind::kSine;
+  args.bench.Validate();
+  ipmc::Simulation sim(ipmc::LoadModelFile(args.model_path), args.model_path);
+  const ipmc::BenchRecord record = ipmc::RunBench(sim, args.bench);
+  ipmc::WriteFileAtomically(args.out_path, ipmc::BenchCsv(record));
+  std::printf("%zu samples at %g Hz written to %s\n", record.t_s.size(),
+              args.bench.sample_rate_Hz, args.out_path.c_str());
+  for (size_t q = 0; q < record.relative_mm.size(); ++q) {
+    double peak = 0.0;
+    for (double value : record.relative_mm[q]) peak = std::max(peak, std::abs(value));
+    std::printf("link %zu: peak relative tip deflection %.6g mm\n", q + 1, peak);
+  }
+  return 0;
+}
+
 int CountServos(const mjModel* m) {
   int count = 0;
   for (int a = 0; a < m->nu; ++a) {
@@ -192,6 +238,8 @@ int main(int argc, char** argv) {
   GaitArgs gait;
   AddGenerateCommand(app, generate);
   AddGaitCommand(app, gait);
+  BenchArgs bench;
+  AddBenchCommand(app, bench);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -205,6 +253,7 @@ int main(int argc, char** argv) {
     int status = 0;
     if (app.got_subcommand("generate")) status = RunGenerate(generate);
     if (app.got_subcommand("gait")) status = RunGaitCommand(gait);
+    if (app.got_subcommand("bench")) status = RunBenchCommand(bench);
     PrintMujocoWarnings();
     return status;
   } catch (const std::exception& e) {

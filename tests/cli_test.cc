@@ -167,3 +167,49 @@ TEST(Cli, UnstableTimeStepIsReportedAsDivergence) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(Cli, BenchSineWritesTheLaserRecord) {
+  const fs::path dir = FreshDir("bench");
+  const CommandResult result = RunCli("bench --signal sine --frequency-hz 1 --duration-s 2 --links 1,3 --out " +
+                                      (dir / "bench.csv").string());
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  std::ifstream csv(dir / "bench.csv");
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_EQ(header.rfind("time_s,voltage1_V,relative1_mm,tip1_lateral_mm,free1_mm", 0), 0u);
+  int rows = 0;
+  for (std::string line; std::getline(csv, line);) ++rows;
+  EXPECT_EQ(rows, 2000);  // 2 s at 1 kHz
+}
+
+TEST(Cli, BenchNonFiniteVoltage) {
+  const fs::path dir = FreshDir("bench_nan");
+  ExpectOneLineError(RunCli("bench --amplitude-v nan --out " + (dir / "bench.csv").string()),
+                     "amplitude_V must be finite", dir);
+  EXPECT_FALSE(fs::exists(dir / "bench.csv"));
+}
+
+TEST(Cli, BenchNegativeB2) {
+  const fs::path dir = FreshDir("bench_b2");
+  WriteModelWithField(dir / "m.xml", R"(<text name="ipmc_model" data="g1"/>)",
+                      R"(<text name="ipmc_model" data="g1"/>
+    <numeric name="ipmc_b2_s2" data="1.62e-3 -1.61e-3 2.13e-3"/>)");
+  ExpectOneLineError(RunCli("bench --model " + (dir / "m.xml").string() + " --out " +
+                            (dir / "bench.csv").string()),
+                     "link 2: ipmc link: b2_s2 must be finite and >= 0", dir);
+  EXPECT_FALSE(fs::exists(dir / "bench.csv"));
+}
+
+TEST(Cli, BenchAlphaOutOfRange) {
+  const fs::path dir = FreshDir("bench_alpha");
+  WriteModelWithField(dir / "m.xml", R"(<text name="ipmc_model" data="g1"/>)",
+                      R"(<text name="ipmc_model" data="g2"/>
+    <numeric name="ipmc_alpha" data="1.79 2.5 1.71"/>)");
+  ExpectOneLineError(RunCli("bench --model " + (dir / "m.xml").string() + " --out " +
+                            (dir / "bench.csv").string()),
+                     "alpha", dir);
+}
+
+}  // namespace

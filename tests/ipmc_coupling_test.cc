@@ -9,7 +9,7 @@
 #include <cstdio>
 
 #include "ipmc_swim/ipmc_swim.h"
-#include "plugin/coupling.h"
+#include "sim/bench_run.h"
 #include "plugin/ipmc_link_model.h"
 #include "tests/test_util.h"
 
@@ -36,50 +36,17 @@ Phasor FitSine(const std::vector<double>& t, const std::vector<double>& y, doubl
   return {std::hypot(coef[0], coef[1]), std::atan2(coef[1], coef[0])};
 }
 
-struct BenchRecord {
-  std::vector<double> t;
-  std::vector<std::vector<double>> relative_deflection_mm;  // L_q sin(theta_q), per link
-  std::vector<std::vector<double>> tip_y_mm;                // laser at each tip
-};
-
-// Sine voltage of 1 V at w on link `driven` (0-based; -1: every link) of
-// the clamped flagellum, voltages updated at 1 kHz, recorded over the last
-// `record_periods` of `periods`.
+// 1 V sine at w on link `driven` (1-based; 0: every link) of the model,
+// recorded over the last `record_periods` of `periods`.
 BenchRecord RunSine(const FlagellumSpec& spec, double w_rad_s, int driven, int periods,
                     int record_periods) {
   auto sim = MakeSimulation(spec);
-  mjModel* m = sim->model();
-  mjData* d = sim->data();
-  const CouplingContext* coupling = FindCoupling(d);
-  const int links = coupling->actuators->Links();
-  const double dt = m->opt.timestep;
-  const long steps = std::lround(periods * 2 * kPi / w_rad_s / dt);
-  const long record_from = steps - std::lround(record_periods * 2 * kPi / w_rad_s / dt);
-  const int steps_per_sample = std::lround(1e-3 / dt);
-  BenchRecord record;
-  record.relative_deflection_mm.resize(links);
-  record.tip_y_mm.resize(links);
-  for (long step = 0; step < steps; ++step) {
-    if (step % steps_per_sample == 0) {
-      std::vector<double> volts(links, 0.0);
-      for (int q = 0; q < links; ++q) {
-        if (driven < 0 || q == driven) volts[q] = std::sin(w_rad_s * d->time);
-      }
-      SetVoltages(d, volts.data(), links);
-      if (step >= record_from) {
-        record.t.push_back(d->time);
-        for (int q = 0; q < links; ++q) {
-          const int joint = mj_name2id(m, mjOBJ_JOINT, ("j" + std::to_string(q + 1)).c_str());
-          const int site = mj_name2id(m, mjOBJ_SITE, ("tip" + std::to_string(q + 1)).c_str());
-          record.relative_deflection_mm[q].push_back(
-              coupling->actuators->LinkLengths_m()[q] * 1e3 * std::sin(d->qpos[m->jnt_qposadr[joint]]));
-          record.tip_y_mm[q].push_back(d->site_xpos[3 * site + 1] * 1e3);
-        }
-      }
-    }
-    sim->Step();
-  }
-  return record;
+  BenchSignal signal;
+  signal.amplitude_V = 1.0;
+  signal.frequency_Hz = w_rad_s / (2 * kPi);
+  signal.duration_s = periods / signal.frequency_Hz;
+  signal.driven_links = driven > 0 ? std::vector<int>{driven} : std::vector<int>{1, 2, 3};
+  return RunBench(*sim, signal, (periods - record_periods) / signal.frequency_Hz);
 }
 
 TEST(IpmcCoupling, ClampedLinksFollowTheirTransferFunctions) {
@@ -87,8 +54,8 @@ TEST(IpmcCoupling, ClampedLinksFollowTheirTransferFunctions) {
   spec.clamped = true;
   for (double w : {0.5, 2.0, 10.0}) {
     for (int q = 0; q < 3; ++q) {
-      const BenchRecord record = RunSine(spec, w, q, w < 1.0 ? 6 : 12, 3);
-      const Phasor measured = FitSine(record.t, record.relative_deflection_mm[q], w);
+      const BenchRecord record = RunSine(spec, w, q + 1, w < 1.0 ? 6 : 12, 3);
+      const Phasor measured = FitSine(record.t_s, record.relative_mm[q], w);
       const std::complex<double> expected =
           LinkResponseExact(PaperLinkParams(q + 1, IpmcModelKind::kG1), w);
       const double gain_error = measured.amplitude / std::abs(expected) - 1.0;
@@ -111,10 +78,10 @@ TEST(IpmcCoupling, SingleActuationMovesThePassiveLinksWithLinkOne) {
   spec.clamped = true;
   spec.actuation = "single";
   const double w = 2.0;
-  const BenchRecord record = RunSine(spec, w, 0, 12, 4);
-  const Phasor tip1 = FitSine(record.t, record.tip_y_mm[0], w);
-  const Phasor tip2 = FitSine(record.t, record.tip_y_mm[1], w);
-  const Phasor tip3 = FitSine(record.t, record.tip_y_mm[2], w);
+  const BenchRecord record = RunSine(spec, w, 1, 12, 4);
+  const Phasor tip1 = FitSine(record.t_s, record.tip_lateral_mm[0], w);
+  const Phasor tip2 = FitSine(record.t_s, record.tip_lateral_mm[1], w);
+  const Phasor tip3 = FitSine(record.t_s, record.tip_lateral_mm[2], w);
   const double k2 = tip2.amplitude / tip1.amplitude, k3 = tip3.amplitude / tip1.amplitude;
   const double lag3_deg = (tip1.phase_rad - tip3.phase_rad) * 180 / kPi;
   std::printf("single actuation at %.1f rad/s: K2 = %.3f, K3 = %.3f, tip 3 lag %.2f deg "

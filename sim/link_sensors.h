@@ -1,0 +1,33 @@
+// What the test bench measures, read from the model's sensors: each IPMC
+// link's relative tip deflection L_q sin(theta_q) [mm] (the controller's
+// measurement; theta_q from the jointpos sensor angle_<joint>) and the
+// lateral position of each tip [mm] (the laser; framepos sensor tipq_pos).
+// MuJoCo fills sensordata during mj_step's forward pass, so after a step
+// the values describe the state at the start of that step: a sensor delay
+// of one time step.
+#pragma once
+
+#include <mujoco/mujoco.h>
+
+#include <string>
+#include <vector>
+
+namespace ipmc {
+
+class LinkSensors {
+ public:
+  // Throws std::runtime_error naming `source` if d has no IPMC actuators or
+  // a sensor is missing.
+  LinkSensors(const mjModel* m, const mjData* d, const std::string& source);
+
+  int Links() const { return static_cast<int>(angle_adr_.size()); }
+  double RelativeDeflection_mm(const mjData* d, int link) const;
+  double TipLateral_mm(const mjData* d, int link) const;
+
+ private:
+  std::vector<int> angle_adr_;
+  std::vector<int> tip_y_adr_;
+  std::vector<double> length_mm_;
+};
+
+}  // namespace ipmc
