@@ -1,4 +1,4 @@
-// Google Benchmark console output followed by each benchmark's CPU time
+// Google Benchmark console output followed by each benchmark's wall time
 // relative to a baseline benchmark of the same run.
 #pragma once
 
@@ -18,20 +18,20 @@ class RatioReporter : public benchmark::ConsoleReporter {
     ConsoleReporter::ReportRuns(runs);
     for (const Run& run : runs) {
       if (run.run_type == Run::RT_Aggregate && run.aggregate_name != "median") continue;
-      cpu_ns_[run.run_name.function_name] = run.GetAdjustedCPUTime();
+      time_[run.run_name.function_name] = run.GetAdjustedRealTime();
     }
   }
   void PrintRatios(const std::string& baseline) const {
-    const auto bare = cpu_ns_.find(baseline);
-    if (bare == cpu_ns_.end()) return;
-    std::printf("\nCPU time per step relative to %s:\n", baseline.c_str());
-    for (const auto& [name, ns] : cpu_ns_) {
+    const auto bare = time_.find(baseline);
+    if (bare == time_.end()) return;
+    std::printf("\nWall time relative to %s:\n", baseline.c_str());
+    for (const auto& [name, ns] : time_) {
       std::printf("  %-26s %6.3f\n", name.c_str(), ns / bare->second);
     }
   }
 
  private:
-  std::map<std::string, double> cpu_ns_;
+  std::map<std::string, double> time_;
 };
 
 // Runs the registered benchmarks and prints the ratios to `baseline`.

@@ -98,4 +98,59 @@ void WriteGaitOutputs(const std::string& dir, const GaitRunResult& result,
   WriteFileAtomically(dir + "/summary.json", summary.dump(2) + "\n");
 }
 
+std::string ClosedLoopSamplesCsv(const ClosedLoopResult& result) {
+  std::ostringstream csv;
+  csv << std::setprecision(10);
+  csv << "time_s,com_x_mm,com_y_mm,head_x_mm,head_y_mm,yaw_rad";
+  const size_t links = result.links.size();
+  const size_t tips = result.samples.empty() ? 0 : result.samples.front().pose.tip_x_mm.size();
+  for (size_t q = 1; q <= links; ++q) {
+    csv << ",reference" << q << "_mm,measured" << q << "_mm,voltage" << q << "_V";
+  }
+  for (size_t k = 1; k <= tips; ++k) csv << ",tip" << k << "_x_mm,tip" << k << "_y_mm";
+  csv << "\n";
+  for (const ClosedLoopSample& s : result.samples) {
+    const BodyPose& p = s.pose;
+    csv << p.t_s << "," << p.com_x_mm << "," << p.com_y_mm << "," << p.head_x_mm << ","
+        << p.head_y_mm << "," << p.yaw_rad;
+    for (size_t q = 0; q < links; ++q) {
+      csv << "," << s.reference_mm[q] << "," << s.measured_mm[q] << "," << s.voltage_V[q];
+    }
+    for (size_t k = 0; k < tips; ++k) csv << "," << p.tip_x_mm[k] << "," << p.tip_y_mm[k];
+    csv << "\n";
+  }
+  return csv.str();
+}
+
+nlohmann::json ClosedLoopSummaryJson(const ClosedLoopResult& result) {
+  nlohmann::json summary = SwimMetricsJson(result.swim);
+  nlohmann::json links = nlohmann::json::array();
+  for (size_t q = 0; q < result.links.size(); ++q) {
+    const LinkTracking& t = result.links[q];
+    links.push_back({{"link", q + 1},
+                     {"iae_mm_s", t.iae_mm_s},
+                     {"itae_mm_s2", t.itae_mm_s2},
+                     {"max_abs_error_mm", t.max_abs_error_mm},
+                     {"max_abs_reference_mm", t.max_abs_reference_mm},
+                     {"rms_voltage_V", t.rms_voltage_V},
+                     {"peak_voltage_V", t.peak_voltage_V},
+                     {"saturated_fraction", t.saturated_fraction}});
+  }
+  summary["controller"] = result.controller;
+  summary["actuation"] = result.actuation;
+  summary["period_s"] = result.period_s;
+  summary["timestep_s"] = result.timestep_s;
+  summary["links"] = links;
+  return summary;
+}
+
+void WriteClosedLoopOutputs(const std::string& dir, const ClosedLoopResult& result,
+                            const nlohmann::json& inputs) {
+  EnsureDirectory(dir);
+  nlohmann::json summary = ClosedLoopSummaryJson(result);
+  summary["inputs"] = inputs;
+  WriteFileAtomically(dir + "/timeseries.csv", ClosedLoopSamplesCsv(result));
+  WriteFileAtomically(dir + "/summary.json", summary.dump(2) + "\n");
+}
+
 }  // namespace ipmc

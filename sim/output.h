@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "sim/closed_loop_run.h"
 #include "sim/gait_run.h"
 
 namespace ipmc {
@@ -24,5 +25,12 @@ nlohmann::json GaitSummaryJson(const GaitRunResult& result);
 // Writes DIR/timeseries.csv and DIR/summary.json.
 void WriteGaitOutputs(const std::string& dir, const GaitRunResult& result,
                       const nlohmann::json& inputs);
+
+std::string ClosedLoopSamplesCsv(const ClosedLoopResult& result);
+nlohmann::json ClosedLoopSummaryJson(const ClosedLoopResult& result);
+
+// Writes DIR/timeseries.csv and DIR/summary.json of a closed-loop run.
+void WriteClosedLoopOutputs(const std::string& dir, const ClosedLoopResult& result,
+                            const nlohmann::json& inputs);
 
 }  // namespace ipmc

@@ -19,6 +19,7 @@
 //   c0_um = 0.0; c1_um_per_mm = 200.0; c2_um_per_mm2 = 0.0
 //   c_um = 0.0; alpha = 0.5
 //   frequency_Hz = 0.01; wavelength_mm = 32.0
+//   start_ramp_cycles = 0.25           # references fade in over this; [0, cycles]
 //   [fluid]
 //   viscosity_Pa_s = 1e-3              # overrides the model's; > 0
 //   [output]
@@ -48,6 +49,9 @@ struct ScenarioConfig {
   PidController::Config pid;                    // sample period, clamp set from the fields above
   FractionalIntegrator::Config fractional;
   WaveformConfig waveform;
+  // The references are multiplied by (1 - cos(pi t / T_r)) / 2 for
+  // t < T_r = start_ramp_cycles / f, so the run starts without a jump.
+  double start_ramp_cycles = 0.25;
   std::optional<double> viscosity_Pa_s;
   std::string output_dir;   // empty: no files
   int samples_per_cycle = 200;

@@ -1,0 +1,389 @@
+// Scenario files: the paper's two scenarios load with the paper's values,
+// and every class of bad input gives one line naming the file, line and
+// key.
+#include "sim/scenario.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+
+namespace ipmc {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kSourceDir = IPMC_SWIM_SOURCE_DIR;
+
+// A fresh directory holding a dummy model, "m.xml"; scenarios parsed with
+// a source in it resolve "m.xml" to that model.
+class ScenarioErrorTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = fs::temp_directory_path() / (std::string("ipmc_scenario_test_") + info->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    std::ofstream(dir_ / "m.xml") << "<mujoco/>\n";
+    source_ = (dir_ / "paper.toml").string();
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  ScenarioConfig Parse(const std::string& text) const { return ParseScenario(text, source_); }
+
+  // The message of the error `text` raises, or "" (with a failure).
+  std::string ErrorOf(const std::string& text) const {
+    try {
+      Parse(text);
+    } catch (const std::runtime_error& error) {
+      const std::string message = error.what();
+      EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+      return message;
+    }
+    ADD_FAILURE() << "no error for:\n" << text;
+    return "";
+  }
+
+  // Fails unless `text` raises exactly source + `suffix`.
+  void ExpectError(const std::string& text, const std::string& suffix) const {
+    EXPECT_EQ(ErrorOf(text), source_ + suffix) << "for:\n" << text;
+  }
+
+  fs::path dir_;
+  std::string source_;
+};
+
+constexpr char kModelLine[] = "model = \"m.xml\"\n";
+
+TEST(ScenarioTest, PaperScenarioHasThePapersValues) {
+  const std::string path = (kSourceDir / "scenarios" / "paper.toml").string();
+  const ScenarioConfig config = LoadScenario(path);
+  EXPECT_EQ(config.source, path);
+  EXPECT_EQ(fs::path(config.model_path), fs::canonical(kSourceDir / "models" / "flagellum3.xml"));
+  EXPECT_EQ(config.actuation, "distributed");
+  EXPECT_EQ(config.cycles, 3);
+  ASSERT_TRUE(config.timestep_s.has_value());
+  EXPECT_DOUBLE_EQ(*config.timestep_s, 5e-4);
+  EXPECT_EQ(config.controller, ControllerKind::kPid);
+  EXPECT_DOUBLE_EQ(config.sample_rate_Hz, 1000.0);
+  EXPECT_DOUBLE_EQ(config.pid.kp, 8.12);
+  EXPECT_DOUBLE_EQ(config.pid.ki, 53.36);
+  EXPECT_DOUBLE_EQ(config.pid.kd, 0.61);
+  EXPECT_DOUBLE_EQ(config.pid.derivative_filter_time_s, 0.0);
+  EXPECT_DOUBLE_EQ(config.pid.sample_period_s, 1e-3);
+  EXPECT_TRUE(config.pid.clamp_enabled);
+  EXPECT_DOUBLE_EQ(config.pid.v_max, 6.0);
+  EXPECT_EQ(config.waveform.kind, WaveformKind::kPolynomial);
+  EXPECT_DOUBLE_EQ(config.waveform.c0_um, 0.0);
+  EXPECT_DOUBLE_EQ(config.waveform.c1_um_per_mm, 200.0);
+  EXPECT_DOUBLE_EQ(config.waveform.c2_um_per_mm2, 0.0);
+  EXPECT_DOUBLE_EQ(config.waveform.frequency_Hz, 0.01);
+  EXPECT_DOUBLE_EQ(config.waveform.wavelength_mm, 32.0);
+  // Table 4 read as um per mm: 6.2 mm at the tip, 31 mm from the head.
+  EXPECT_NEAR(config.waveform.c1_um_per_mm * 31.0 * 1e-3, 6.2, 1e-12);
+  ASSERT_TRUE(config.viscosity_Pa_s.has_value());
+  EXPECT_DOUBLE_EQ(*config.viscosity_Pa_s, 1e-3);
+  EXPECT_EQ(config.output_dir, "out/paper");
+  EXPECT_EQ(config.samples_per_cycle, 200);
+}
+
+TEST(ScenarioTest, PaperFractionalScenarioHasEquation15) {
+  const ScenarioConfig config =
+      LoadScenario((kSourceDir / "scenarios" / "paper_fractional.toml").string());
+  EXPECT_EQ(fs::path(config.model_path), fs::canonical(kSourceDir / "models" / "flagellum3.xml"));
+  EXPECT_EQ(config.actuation, "distributed");
+  EXPECT_EQ(config.cycles, 3);
+  ASSERT_TRUE(config.timestep_s.has_value());
+  EXPECT_DOUBLE_EQ(*config.timestep_s, 5e-4);
+  EXPECT_EQ(config.controller, ControllerKind::kFractional);
+  EXPECT_DOUBLE_EQ(config.fractional.gain, 15.62);
+  EXPECT_DOUBLE_EQ(config.fractional.order, 0.62);
+  EXPECT_EQ(config.fractional.oustaloup_n, 4);
+  EXPECT_DOUBLE_EQ(config.fractional.w_low_rad_s, 1e-3);
+  EXPECT_DOUBLE_EQ(config.fractional.w_high_rad_s, 1e2);
+  EXPECT_DOUBLE_EQ(config.fractional.sample_period_s, 1e-3);
+  EXPECT_TRUE(config.fractional.clamp_enabled);
+  EXPECT_DOUBLE_EQ(config.fractional.v_max, 6.0);
+  EXPECT_EQ(config.waveform.kind, WaveformKind::kPolynomial);
+  EXPECT_DOUBLE_EQ(config.waveform.c1_um_per_mm, 200.0);
+  EXPECT_DOUBLE_EQ(config.waveform.frequency_Hz, 0.01);
+  EXPECT_DOUBLE_EQ(config.waveform.wavelength_mm, 32.0);
+  EXPECT_EQ(config.output_dir, "out/paper_fractional");
+}
+
+TEST_F(ScenarioErrorTest, OnlyTheModelGivesTheDefaults) {
+  const ScenarioConfig config = Parse(kModelLine);
+  EXPECT_EQ(config.source, source_);
+  EXPECT_EQ(config.model_path, (dir_ / "m.xml").string());
+  EXPECT_EQ(config.actuation, "distributed");
+  EXPECT_EQ(config.cycles, 3);
+  EXPECT_FALSE(config.timestep_s.has_value());
+  EXPECT_EQ(config.controller, ControllerKind::kPid);
+  EXPECT_DOUBLE_EQ(config.pid.sample_period_s, 1e-3);
+  EXPECT_DOUBLE_EQ(config.fractional.sample_period_s, 1e-3);
+  EXPECT_FALSE(config.viscosity_Pa_s.has_value());
+  EXPECT_EQ(config.output_dir, "");
+  EXPECT_EQ(config.samples_per_cycle, 200);
+}
+
+TEST_F(ScenarioErrorTest, ModelResolvesAgainstTheScenarioDirectory) {
+  fs::create_directories(dir_ / "sub");
+  const ScenarioConfig config =
+      ParseScenario("model = \"../m.xml\"\n", (dir_ / "sub" / "s.toml").string());
+  EXPECT_EQ(config.model_path, (dir_ / "m.xml").string());
+  const ScenarioConfig absolute =
+      ParseScenario("model = \"" + (dir_ / "m.xml").string() + "\"\n", "elsewhere/s.toml");
+  EXPECT_EQ(absolute.model_path, (dir_ / "m.xml").string());
+}
+
+TEST_F(ScenarioErrorTest, IntegersAreAcceptedForFloats) {
+  const ScenarioConfig config = Parse(std::string(kModelLine) +
+                                      "[controller]\n"
+                                      "sample_rate_Hz = 500\n"
+                                      "v_max_V = 5\n"
+                                      "kp = 8\nki = 53\nkd = 1\nderivative_filter_s = 0\n"
+                                      "[waveform]\nc1_um_per_mm = 150\nwavelength_mm = 30\n"
+                                      "frequency_Hz = 1\n"
+                                      "[fluid]\nviscosity_Pa_s = 1\n");
+  EXPECT_DOUBLE_EQ(config.sample_rate_Hz, 500.0);
+  EXPECT_DOUBLE_EQ(config.pid.sample_period_s, 2e-3);
+  EXPECT_DOUBLE_EQ(config.pid.v_max, 5.0);
+  EXPECT_DOUBLE_EQ(config.pid.kp, 8.0);
+  EXPECT_DOUBLE_EQ(config.pid.ki, 53.0);
+  EXPECT_DOUBLE_EQ(config.pid.kd, 1.0);
+  EXPECT_DOUBLE_EQ(config.waveform.c1_um_per_mm, 150.0);
+  EXPECT_DOUBLE_EQ(config.waveform.wavelength_mm, 30.0);
+  EXPECT_DOUBLE_EQ(config.waveform.frequency_Hz, 1.0);
+  EXPECT_DOUBLE_EQ(*config.viscosity_Pa_s, 1.0);
+
+  const ScenarioConfig fractional =
+      Parse(std::string(kModelLine) +
+            "[controller]\nkind = \"fractional\"\n"
+            "gain = 15\norder = 1\nband_rad_s = [1, 100]\n"
+            "[waveform]\nkind = \"fractional\"\nc_um = 1000\nalpha = 1\n");
+  EXPECT_DOUBLE_EQ(fractional.fractional.gain, 15.0);
+  EXPECT_DOUBLE_EQ(fractional.fractional.order, 1.0);
+  EXPECT_DOUBLE_EQ(fractional.fractional.w_low_rad_s, 1.0);
+  EXPECT_DOUBLE_EQ(fractional.fractional.w_high_rad_s, 100.0);
+  EXPECT_EQ(fractional.waveform.kind, WaveformKind::kFractional);
+  EXPECT_DOUBLE_EQ(fractional.waveform.c_um, 1000.0);
+  EXPECT_DOUBLE_EQ(fractional.waveform.alpha, 1.0);
+}
+
+TEST_F(ScenarioErrorTest, SyntaxErrorsGiveLineAndColumn) {
+  // FILE:LINE:COL: message
+  const std::string message = ErrorOf(std::string(kModelLine) + "cycles = = 3\n");
+  const std::string prefix = source_ + ":2:";
+  ASSERT_EQ(message.rfind(prefix, 0), 0u) << message;
+  const std::size_t column_end = message.find(": ", prefix.size());
+  ASSERT_NE(column_end, std::string::npos) << message;
+  const std::string column = message.substr(prefix.size(), column_end - prefix.size());
+  EXPECT_FALSE(column.empty()) << message;
+  EXPECT_EQ(column.find_first_not_of("0123456789"), std::string::npos) << message;
+  EXPECT_GT(message.size(), column_end + 2) << message;
+}
+
+TEST_F(ScenarioErrorTest, UnknownKeysNameTheKeyAndTheAllowedOnes) {
+  ExpectError(std::string(kModelLine) + "cycles = 3\n\n\n\n\ncontroler = 1\n",
+              ":7: unknown key 'controler' (allowed: model, actuation, cycles, timestep_s, "
+              "controller, waveform, fluid, output)");
+  ExpectError(
+      std::string(kModelLine) + "[controller]\nkp = 1.0\nkpp = 2.0\n",
+      ":4: unknown key 'controller.kpp' (allowed: kind, sample_rate_Hz, v_max_V, clamp, kp, "
+      "ki, kd, derivative_filter_s, gain, order, oustaloup_n, band_rad_s)");
+  ExpectError(
+      std::string(kModelLine) + "[waveform]\nc3_um = 1.0\n",
+      ":3: unknown key 'waveform.c3_um' (allowed: kind, c0_um, c1_um_per_mm, c2_um_per_mm2, "
+      "c_um, alpha, frequency_Hz, wavelength_mm, start_ramp_cycles)");
+  ExpectError(std::string(kModelLine) + "[fluid]\ndensity = 1000\n",
+              ":3: unknown key 'fluid.density' (allowed: viscosity_Pa_s)");
+  ExpectError(std::string(kModelLine) + "[output]\ndir = \"x\"\nformat = \"csv\"\n",
+              ":4: unknown key 'output.format' (allowed: dir, samples_per_cycle)");
+  // The earliest of several.
+  ExpectError(std::string(kModelLine) + "zz = 1\naa = 2\n",
+              ":2: unknown key 'zz' (allowed: model, actuation, cycles, timestep_s, controller, "
+              "waveform, fluid, output)");
+  // Dotted keys are walked like tables.
+  ExpectError(
+      std::string(kModelLine) + "controller.kq = 1\n",
+      ":2: unknown key 'controller.kq' (allowed: kind, sample_rate_Hz, v_max_V, clamp, kp, ki, "
+      "kd, derivative_filter_s, gain, order, oustaloup_n, band_rad_s)");
+}
+
+TEST_F(ScenarioErrorTest, WrongTypesNameTheKeyAndTheType) {
+  ExpectError(
+      std::string(kModelLine) + "[controller]\nkind = \"pid\"\n\n\n\n\n\n\n\n\nkp = \"8\"\n",
+      ":12: controller.kp must be a number (got string)");
+  ExpectError("model = 3\n", ":1: model must be a string (got integer)");
+  ExpectError(std::string(kModelLine) + "cycles = 2.5\n",
+              ":2: cycles must be an integer (got float)");
+  ExpectError(std::string(kModelLine) + "cycles = 3.0\n",
+              ":2: cycles must be an integer (got float)");
+  ExpectError(std::string(kModelLine) + "timestep_s = true\n",
+              ":2: timestep_s must be a number (got boolean)");
+  ExpectError(std::string(kModelLine) + "actuation = 1\n",
+              ":2: actuation must be a string (got integer)");
+  ExpectError(std::string(kModelLine) + "[controller]\nclamp = 1\n",
+              ":3: controller.clamp must be a boolean (got integer)");
+  ExpectError(std::string(kModelLine) + "[controller]\noustaloup_n = 4.0\nkind = \"fractional\"\n",
+              ":3: controller.oustaloup_n must be an integer (got float)");
+  ExpectError(std::string(kModelLine) + "[output]\nsamples_per_cycle = \"200\"\n",
+              ":3: output.samples_per_cycle must be an integer (got string)");
+  ExpectError(std::string(kModelLine) + "[output]\ndir = [\"out\"]\n",
+              ":3: output.dir must be a string (got array)");
+  ExpectError(std::string(kModelLine) + "[waveform]\nfrequency_Hz = \"0.01\"\n",
+              ":3: waveform.frequency_Hz must be a number (got string)");
+  ExpectError(std::string(kModelLine) + "controller = 3\n",
+              ":2: controller must be a table (got integer)");
+  ExpectError(std::string(kModelLine) + "[[fluid]]\nviscosity_Pa_s = 1e-3\n",
+              ":2: fluid must be a table (got array)");
+  ExpectError(std::string(kModelLine) + "[controller]\nkp = inf\n",
+              ":3: controller.kp must be finite (got inf)");
+  ExpectError(std::string(kModelLine) + "[fluid]\nviscosity_Pa_s = nan\n",
+              ":3: fluid.viscosity_Pa_s must be finite (got nan)");
+}
+
+TEST_F(ScenarioErrorTest, OutOfRangeValuesNameTheBound) {
+  const std::string model = kModelLine;
+  ExpectError(model + "cycles = 0\n", ":2: cycles must be >= 1 (got 0)");
+  ExpectError(model + "cycles = 2\n[waveform]\nstart_ramp_cycles = 3\n",
+              ":4: waveform.start_ramp_cycles must be in [0, cycles] = [0, 2] (got 3)");
+  ExpectError(model + "cycles = 3000000000\n", ":2: cycles must be <= 2147483647 (got 3000000000)");
+  ExpectError(model + "timestep_s = 0\n", ":2: timestep_s must be > 0 (got 0)");
+  ExpectError(model + "timestep_s = -1e-4\n", ":2: timestep_s must be > 0 (got -0.0001)");
+  ExpectError(model + "timestep_s = 2e-3\n", ":2: timestep_s must be <= 0.001 (got 0.002)");
+  ExpectError(model + "[controller]\nsample_rate_Hz = 0\n",
+              ":3: controller.sample_rate_Hz must be > 0 (got 0)");
+  ExpectError(model + "[controller]\nv_max_V = 0\n", ":3: controller.v_max_V must be > 0 (got 0)");
+  ExpectError(model + "[controller]\n\n\n\n\n\n\n\n\n\nkp = -1\n",
+              ":12: controller.kp must be >= 0 (got -1)");
+  ExpectError(model + "[controller]\nki = -0.5\n", ":3: controller.ki must be >= 0 (got -0.5)");
+  ExpectError(model + "[controller]\nkd = -2\n", ":3: controller.kd must be >= 0 (got -2)");
+  ExpectError(model + "[controller]\nderivative_filter_s = -0.01\n",
+              ":3: controller.derivative_filter_s must be >= 0 (got -0.01)");
+  const std::string fractional = model + "[controller]\nkind = \"fractional\"\n";
+  ExpectError(fractional + "gain = -1\n", ":4: controller.gain must be >= 0 (got -1)");
+  ExpectError(fractional + "order = 0\n", ":4: controller.order must be > 0 (got 0)");
+  ExpectError(fractional + "order = 1.5\n", ":4: controller.order must be <= 1 (got 1.5)");
+  ExpectError(fractional + "oustaloup_n = 0\n", ":4: controller.oustaloup_n must be >= 1 (got 0)");
+  ExpectError(fractional + "oustaloup_n = 65\n",
+              ":4: controller.oustaloup_n must be <= 64 (got 65)");
+  ExpectError(model + "[fluid]\nviscosity_Pa_s = 0\n",
+              ":3: fluid.viscosity_Pa_s must be > 0 (got 0)");
+  ExpectError(model + "[output]\nsamples_per_cycle = 0\n",
+              ":3: output.samples_per_cycle must be >= 1 (got 0)");
+}
+
+TEST_F(ScenarioErrorTest, BandIsTwoIncreasingPositiveNumbers) {
+  const std::string fractional = std::string(kModelLine) + "[controller]\nkind = \"fractional\"\n";
+  ExpectError(fractional + "band_rad_s = [1e-3]\n",
+              ":4: controller.band_rad_s must be an array of two numbers [w_b, w_h] (got 1)");
+  ExpectError(fractional + "band_rad_s = [1e-3, 1e1, 1e2]\n",
+              ":4: controller.band_rad_s must be an array of two numbers [w_b, w_h] (got 3)");
+  ExpectError(fractional + "band_rad_s = []\n",
+              ":4: controller.band_rad_s must be an array of two numbers [w_b, w_h] (got 0)");
+  ExpectError(fractional + "band_rad_s = 100\n",
+              ":4: controller.band_rad_s must be an array of two numbers [w_b, w_h] (got integer)");
+  ExpectError(fractional + "band_rad_s = [1e-3, \"100\"]\n",
+              ":4: controller.band_rad_s[1] must be a number (got string)");
+  ExpectError(fractional + "band_rad_s = [0, 100]\n",
+              ":4: controller.band_rad_s[0] must be > 0 (got 0)");
+  ExpectError(fractional + "band_rad_s = [100, 1e-3]\n",
+              ":4: controller.band_rad_s must have w_b < w_h (got [100, 0.001])");
+  ExpectError(fractional + "band_rad_s = [10, 10]\n",
+              ":4: controller.band_rad_s must have w_b < w_h (got [10, 10])");
+  // An element on its own line is reported there.
+  ExpectError(fractional + "band_rad_s = [\n  1e-3,\n  -5,\n]\n",
+              ":6: controller.band_rad_s[1] must be > 0 (got -5)");
+}
+
+TEST_F(ScenarioErrorTest, EnumsListTheChoices) {
+  const std::string model = kModelLine;
+  ExpectError(model + "actuation = \"dual\"\n",
+              ":2: actuation must be \"distributed\" or \"single\" (got \"dual\")");
+  ExpectError(model + "[controller]\nkind = \"PID\"\n",
+              ":3: controller.kind must be \"pid\" or \"fractional\" (got \"PID\")");
+  ExpectError(model + "[waveform]\nkind = \"sine\"\n",
+              ":3: waveform.kind must be \"polynomial\" or \"fractional\" (got \"sine\")");
+  EXPECT_EQ(Parse(model + "actuation = \"single\"\n").actuation, "single");
+}
+
+TEST_F(ScenarioErrorTest, KeysOfTheOtherKindAreRejected) {
+  const std::string model = kModelLine;
+  ExpectError(model + "[controller]\nkind = \"fractional\"\nkp = 8.12\n",
+              ":4: controller.kp applies only to kind = \"pid\" (kind is \"fractional\")");
+  ExpectError(model + "[controller]\ngain = 15.62\n",
+              ":3: controller.gain applies only to kind = \"fractional\" (kind is \"pid\")");
+  ExpectError(model + "[waveform]\nalpha = 0.5\n",
+              ":3: waveform.alpha applies only to kind = \"fractional\" (kind is \"polynomial\")");
+  ExpectError(
+      model + "[waveform]\nkind = \"fractional\"\nc1_um_per_mm = 200\n",
+      ":4: waveform.c1_um_per_mm applies only to kind = \"polynomial\" (kind is \"fractional\")");
+}
+
+TEST_F(ScenarioErrorTest, ModelIsRequiredAndMustExist) {
+  ExpectError("cycles = 3\n", ": model is required");
+  ExpectError("", ": model is required");
+  ExpectError("model = \"missing.xml\"\n",
+              ":1: model: cannot open '" + (dir_ / "missing.xml").string() + "'");
+  ExpectError("\nmodel = \"sub/../missing.xml\"\n",
+              ":2: model: cannot open '" + (dir_ / "missing.xml").string() + "'");
+  ExpectError("model = \".\"\n", ":1: model: cannot open '" + (dir_ / "").string() + "'");
+}
+
+TEST_F(ScenarioErrorTest, WaveformIsValidatedByWaveformConfig) {
+  const std::string model = kModelLine;
+  std::string message = ErrorOf(model + "[waveform]\nc1_um_per_mm = 200\n\nfrequency_Hz = 0\n");
+  EXPECT_EQ(message.rfind(source_ + ":5: waveform", 0), 0u) << message;
+  EXPECT_NE(message.find("frequency_Hz"), std::string::npos) << message;
+
+  message = ErrorOf(model + "[waveform]\nwavelength_mm = -32\n");
+  EXPECT_EQ(message.rfind(source_ + ":3: waveform", 0), 0u) << message;
+  EXPECT_NE(message.find("wavelength_mm"), std::string::npos) << message;
+
+  message = ErrorOf(model + "[waveform]\nkind = \"fractional\"\nc_um = 1000\nalpha = 0\n");
+  EXPECT_EQ(message.rfind(source_ + ":5: waveform", 0), 0u) << message;
+  EXPECT_NE(message.find("alpha"), std::string::npos) << message;
+
+  // A negative frequency (a wave from tail to head) is allowed.
+  EXPECT_DOUBLE_EQ(Parse(model + "[waveform]\nfrequency_Hz = -0.01\n").waveform.frequency_Hz,
+                   -0.01);
+}
+
+TEST_F(ScenarioErrorTest, SamplePeriodIsAWholeNumberOfTimesteps) {
+  const std::string model = kModelLine;
+  EXPECT_DOUBLE_EQ(
+      *Parse(model + "timestep_s = 2.5e-4\n[controller]\nsample_rate_Hz = 1000\n").timestep_s,
+      2.5e-4);
+  ExpectError(
+      model + "timestep_s = 3e-4\n[controller]\nsample_rate_Hz = 1000\n",
+      ":4: controller.sample_rate_Hz must make the sample period a whole number of timesteps "
+      "(1 / (1000 Hz x 0.0003 s) = 3.3333333333333335)");
+  // Sampling faster than the physics steps.
+  ExpectError(
+      model + "timestep_s = 1e-3\n[controller]\nsample_rate_Hz = 2000\n",
+      ":4: controller.sample_rate_Hz must make the sample period a whole number of timesteps "
+      "(1 / (2000 Hz x 0.001 s) = 0.5)");
+  // With the default rate the timestep is the key to blame.
+  ExpectError(
+      model + "timestep_s = 3e-4\n",
+      ":2: controller.sample_rate_Hz must make the sample period a whole number of timesteps "
+      "(1 / (1000 Hz x 0.0003 s) = 3.3333333333333335)");
+}
+
+TEST_F(ScenarioErrorTest, LoadScenarioReportsAMissingFile) {
+  const std::string path = (dir_ / "none.toml").string();
+  try {
+    LoadScenario(path);
+    ADD_FAILURE() << "no error";
+  } catch (const std::runtime_error& error) {
+    EXPECT_EQ(std::string(error.what()), path + ": cannot open the scenario file");
+  }
+  std::ofstream(source_) << kModelLine << "cycles = 2\n";
+  EXPECT_EQ(LoadScenario(source_).cycles, 2);
+}
+
+}  // namespace
+}  // namespace ipmc
