@@ -83,15 +83,16 @@ void OverrideViscosity(mjModel* m, double viscosity_Pa_s, const std::string& sou
 
 }  // namespace
 
-ClosedLoopResult RunScenario(const ScenarioConfig& scenario) {
+ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserver& observer) {
   ModelPtr model = LoadModelFile(scenario.model_path);
   if (scenario.timestep_s) model->opt.timestep = *scenario.timestep_s;
   if (scenario.viscosity_Pa_s) OverrideViscosity(model.get(), *scenario.viscosity_Pa_s, scenario.source);
   Simulation sim(std::move(model), scenario.model_path);
-  return RunClosedLoop(sim, scenario);
+  return RunClosedLoop(sim, scenario, observer);
 }
 
-ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario) {
+ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
+                               const SampleObserver& observer) {
   scenario.waveform.Validate();
   mjModel* m = sim.model();
   mjData* d = sim.data();
@@ -154,6 +155,7 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario) 
         SetVoltages(d, volts.data(), links);
         if (samples % record_every == 0) {
           result.samples.push_back({meter.Pose(d), reference, measured, volts});
+          if (observer) observer(m, d, result.samples.back());
         }
         ++samples;
       }

@@ -14,6 +14,7 @@
 // plus the RMS and peak voltage and the fraction of samples at the clamp.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -48,12 +49,18 @@ struct ClosedLoopResult {
   std::vector<ClosedLoopSample> samples;
 };
 
+// Called with every recorded sample (output.samples_per_cycle per cycle),
+// for example to render a frame of the model's current state.
+using SampleObserver =
+    std::function<void(const mjModel* m, const mjData* d, const ClosedLoopSample& sample)>;
+
 // Loads the scenario's model, applies its overrides (time step, viscosity)
 // and runs it. Throws std::runtime_error naming the file on bad input or
 // divergence.
-ClosedLoopResult RunScenario(const ScenarioConfig& scenario);
+ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserver& observer = {});
 
 // Runs on an existing simulation (its time step and fluid as they are).
-ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario);
+ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
+                               const SampleObserver& observer = {});
 
 }  // namespace ipmc
