@@ -3,7 +3,6 @@
 // closed-loop step overshoots; bad option values give one line and no
 // files.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdio>
@@ -15,37 +14,17 @@
 #include <string>
 #include <vector>
 
+#include "tests/cli_util.h"
+
 namespace {
 
 namespace fs = std::filesystem;
+using ipmc::testing::CommandResult;
+using ipmc::testing::CountLines;
+using ipmc::testing::RunCli;
 
-struct CommandResult {
-  int exit_code;
-  std::string output;  // stdout and stderr
-};
-
-CommandResult RunCli(const std::string& args) {
-  const std::string command = std::string(IPMC_SWIM_CLI) + " " + args + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string output;
-  char buffer[4096];
-  while (size_t n = fread(buffer, 1, sizeof(buffer), pipe)) output.append(buffer, n);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
-
-fs::path FreshDir(const std::string& name) {
-  const fs::path dir = fs::path(::testing::TempDir()) / ("ipmc_analysis_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-int CountLines(const std::string& text) {
-  int lines = 0;
-  for (char c : text) lines += c == '\n';
-  return lines;
-}
+// Directories are named after the suite.
+fs::path FreshDir(const std::string& name) { return ipmc::testing::FreshDir("analysis_" + name); }
 
 // The number printed right after `label`; NaN if the label is missing or
 // not followed by a number.

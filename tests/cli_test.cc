@@ -1,7 +1,6 @@
 // The ipmc-swim program: outputs, and one-line errors with no partial files
 // on bad input.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -10,40 +9,20 @@
 #include <sstream>
 #include <string>
 
+#include "tests/cli_util.h"
+
 namespace {
 
 namespace fs = std::filesystem;
+using ipmc::testing::CommandResult;
+using ipmc::testing::CountLines;
+using ipmc::testing::RunCli;
 
-struct CommandResult {
-  int exit_code;
-  std::string output;  // stdout and stderr
-};
-
-CommandResult RunCli(const std::string& args) {
-  const std::string command = std::string(IPMC_SWIM_CLI) + " " + args + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string output;
-  char buffer[4096];
-  while (size_t n = fread(buffer, 1, sizeof(buffer), pipe)) output.append(buffer, n);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
+// Directories are named after the suite.
+fs::path FreshDir(const std::string& name) { return ipmc::testing::FreshDir("cli_" + name); }
 
 std::string Model(const std::string& name) {
   return std::string(IPMC_SWIM_SOURCE_DIR) + "/models/" + name;
-}
-
-fs::path FreshDir(const std::string& name) {
-  const fs::path dir = fs::path(::testing::TempDir()) / ("ipmc_cli_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-int CountLines(const std::string& text) {
-  int lines = 0;
-  for (char c : text) lines += c == '\n';
-  return lines;
 }
 
 // A bad-input run: non-zero exit, one line naming `what`, no output files.
