@@ -14,6 +14,7 @@ constexpr char kAttrModel[] = "ipmc_model";
 constexpr char kAttrActuation[] = "ipmc_actuation";
 constexpr char kAttrBand[] = "ipmc_integrator_band_rad_s";
 constexpr char kAttrPairs[] = "ipmc_integrator_pairs";
+constexpr char kAttrRelTol[] = "ipmc_cvode_rel_tol";
 constexpr double kHalfPi = 1.5707963267948966;
 constexpr double kMmToM = 1e-3;
 
@@ -83,6 +84,12 @@ std::optional<IpmcActuatorsConfig> IpmcActuatorsConfig::FromModel(const mjModel*
   if (auto pairs = FindCustomScalar(m, kAttrPairs)) {
     for (IpmcLinkParams& p : config.links) p.integrator.n = static_cast<int>(*pairs);
   }
+  if (auto rel_tol = FindCustomScalar(m, kAttrRelTol)) config.cvode.rel_tol = *rel_tol;
+  try {
+    config.cvode.Validate();
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("ipmc actuators: ") + kAttrRelTol + ": " + e.what());
+  }
   for (size_t q = 0; q < config.links.size(); ++q) {
     try {
       config.links[q].Validate();
@@ -125,7 +132,7 @@ IpmcActuators::IpmcActuators(const mjModel* m, IpmcActuatorsConfig config)
     length_m_.push_back(length_m);
   }
   voltage_V_.assign(hinges_.size(), 0.0);
-  bank_ = IpmcActuatorBank::Create(config_.links);
+  bank_ = IpmcActuatorBank::Create(config_.links, config_.cvode);
 }
 
 void IpmcActuators::AdvanceTo(const mjData* d) {
