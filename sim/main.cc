@@ -17,7 +17,9 @@
 #include "sim/gait_run.h"
 #include "sim/model_generator.h"
 #include "sim/output.h"
+#include "sim/plot_command.h"
 #include "sim/scenario.h"
+#include "renders/render_command.h"
 #include "sim/simulation.h"
 
 namespace {
@@ -285,6 +287,10 @@ int main(int argc, char** argv) {
   AddRunCommand(app, run);
   ipmc::AnalysisArgs analysis;
   ipmc::AddAnalysisCommands(app, analysis);
+  ipmc::RenderArgs render;
+  ipmc::AddRenderCommand(app, render);
+  ipmc::PlotArgs plot;
+  ipmc::AddPlotCommand(app, plot);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -301,6 +307,8 @@ int main(int argc, char** argv) {
     if (app.got_subcommand("bench")) status = RunBenchCommand(bench);
     if (app.got_subcommand("run")) status = RunScenarioCommand(run);
     if (int s = ipmc::RunAnalysisCommand(app, analysis); s >= 0) status = s;
+    if (int s = ipmc::RunRenderCommand(app, render); s >= 0) status = s;
+    if (int s = ipmc::RunPlotCommand(app, plot); s >= 0) status = s;
     PrintMujocoWarnings();
     return status;
   } catch (const std::exception& e) {

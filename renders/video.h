@@ -1,0 +1,63 @@
+// Writing rendered frames: PNG images and H.264 MP4 videos. Frames are
+// 8-bit RGB, rows from top to bottom (width x height x 3 bytes), as
+// OffscreenRenderer::Frame returns them.
+//
+// Like every output of ipmc-swim, a file is written whole or not at all:
+// PNGs go through WriteFileAtomically; the video is encoded into
+// OUT.tmp.mp4 and renamed to OUT when ffmpeg has finished successfully.
+#pragma once
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace ipmc {
+
+// Encodes rgb as a PNG file at path. Throws std::invalid_argument if rgb is
+// not width x height x 3 bytes, std::runtime_error naming the path if it
+// cannot be written.
+void WritePng(const std::string& path, const std::vector<unsigned char>& rgb, int width,
+              int height);
+
+// Pipes raw frames to ffmpeg (from PATH):
+//   ffmpeg -y -f rawvideo -pix_fmt rgb24 -s WxH -r FPS -i -
+//          -c:v libx264 -pix_fmt yuv420p OUT.tmp.mp4
+// with -nostdin, -loglevel error and -f mp4 added, and ffmpeg's messages
+// going to a temporary log next to OUT (its last line ends up in the error
+// message). yuv420p needs an even width and height.
+class Mp4Writer {
+ public:
+  // Starts ffmpeg. Throws std::invalid_argument for an odd or non-positive
+  // size or fps <= 0, std::runtime_error naming the file if ffmpeg cannot
+  // be started.
+  Mp4Writer(const std::string& path, int width, int height, double fps);
+  // Without a successful Finish(): stops ffmpeg and removes the temporary
+  // file, leaving no output.
+  ~Mp4Writer();
+  Mp4Writer(const Mp4Writer&) = delete;
+  Mp4Writer& operator=(const Mp4Writer&) = delete;
+
+  // Throws std::invalid_argument for a wrong frame size, std::runtime_error
+  // naming the file (and ffmpeg's last message) if ffmpeg stopped.
+  void AddFrame(const std::vector<unsigned char>& rgb);
+  // Waits for ffmpeg and renames the video into place. Throws
+  // std::runtime_error naming the file on failure or if no frame was added.
+  void Finish();
+
+  int frames() const { return frames_; }
+  const std::string& path() const { return path_; }
+
+ private:
+  // Closes the pipe and returns ffmpeg's exit status (-1 if it was killed).
+  int ClosePipe();
+  // Removes the temporary files and throws "OUT: what (ffmpeg's message)".
+  [[noreturn]] void Fail(const std::string& what);
+
+  std::string path_, temp_path_, log_path_;
+  int width_, height_;
+  int frames_ = 0;
+  FILE* pipe_ = nullptr;
+  bool finished_ = false;
+};
+
+}  // namespace ipmc
