@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, and runs the default job: the paper's
 # three-link swimmer under closed-loop distributed actuation
-# (scenarios/paper.toml). Extra arguments replace the default job's.
+# (scenarios/paper.toml), then films it and draws its figures into
+# out/default. Extra arguments replace the default job's.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 source "$root/scripts/setup.sh"
@@ -10,4 +11,15 @@ ipmc_build "$root"
 if [ "$#" -gt 0 ]; then
   exec "$root/build/sim/ipmc-swim" "$@"
 fi
-exec "$root/build/sim/ipmc-swim" run "$root/scenarios/paper.toml" --out "$root/out/default"
+bin="$root/build/sim/ipmc-swim"
+out="$root/out/default"
+"$bin" run "$root/scenarios/paper.toml" --out "$out"
+"$bin" render "$root/scenarios/paper.toml" --out "$out/swim.mp4"
+for kind in tracking waveform surface; do
+  "$bin" plot "$kind" "$out/timeseries.csv" --out "$out/$kind.png"
+done
+"$bin" bode --controller pid --out "$out/bode" > /dev/null
+"$bin" plot bode "$out/bode/bode.csv" --out "$out/bode.png"
+"$bin" step --controller pid --no-clamp --out "$out/step" > /dev/null
+"$bin" plot step "$out/step/step.csv" --out "$out/step.png"
+echo "ipmc-swim: results, video and figures in $out"
