@@ -1,0 +1,73 @@
+// Frames per second of 640x480 off-screen rendering of the swimming
+// flagellum, alone and with H.264 encoding through ffmpeg, in one run.
+// The swimmer moves between frames (hinges swinging under their own
+// stiffness, drag on), so the trail and the camera do real work.
+//
+//   ./build/bench/render_bench
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <string>
+
+#include "bench/ratio_reporter.h"
+#include "renders/offscreen_renderer.h"
+#include "renders/video.h"
+#include "sim/model_generator.h"
+#include "sim/simulation.h"
+
+namespace ipmc {
+namespace {
+
+constexpr int kWidth = 640;
+constexpr int kHeight = 480;
+constexpr int kStepsPerFrame = 40;
+
+// Advances the bent flagellum between frames, re-bending it every 100 frames.
+void AdvanceSwimmer(Simulation& sim, long frame) {
+  mjData* d = sim.data();
+  if (frame % 100 == 0) {
+    mj_resetData(sim.model(), d);
+    for (int i = sim.model()->nq - 3; i < sim.model()->nq; ++i) d->qpos[i] = 0.4;
+  }
+  for (int i = 0; i < kStepsPerFrame; ++i) sim.Step();
+}
+
+void BM_Render640x480(benchmark::State& state) {
+  Simulation sim(LoadModelString(GenerateFlagellumMjcf(FlagellumSpec())), "flagellum");
+  OffscreenRenderer renderer(sim.model(), kWidth, kHeight);
+  long frames = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    AdvanceSwimmer(sim, frames);
+    state.ResumeTiming();
+    benchmark::DoNotOptimize(renderer.Frame(sim.data()));
+    ++frames;
+  }
+  state.counters["frames_per_second"] = benchmark::Counter(frames, benchmark::Counter::kIsRate);
+}
+
+void BM_Render640x480WithEncoding(benchmark::State& state) {
+  Simulation sim(LoadModelString(GenerateFlagellumMjcf(FlagellumSpec())), "flagellum");
+  OffscreenRenderer renderer(sim.model(), kWidth, kHeight);
+  const std::string path = "/tmp/ipmc_render_bench.mp4";
+  Mp4Writer video(path, kWidth, kHeight, 25.0);
+  long frames = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    AdvanceSwimmer(sim, frames);
+    state.ResumeTiming();
+    video.AddFrame(renderer.Frame(sim.data()));
+    ++frames;
+  }
+  video.Finish();
+  std::remove(path.c_str());
+  state.counters["frames_per_second"] = benchmark::Counter(frames, benchmark::Counter::kIsRate);
+}
+
+BENCHMARK(BM_Render640x480)->MinTime(3.0)->UseRealTime();
+BENCHMARK(BM_Render640x480WithEncoding)->MinTime(3.0)->UseRealTime();
+
+}  // namespace
+}  // namespace ipmc
+
+int main(int argc, char** argv) { return ipmc::RunWithRatios(argc, argv, "BM_Render640x480"); }
