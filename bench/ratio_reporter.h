@@ -18,7 +18,9 @@ class RatioReporter : public benchmark::ConsoleReporter {
     ConsoleReporter::ReportRuns(runs);
     for (const Run& run : runs) {
       if (run.run_type == Run::RT_Aggregate && run.aggregate_name != "median") continue;
-      time_[run.run_name.function_name] = run.GetAdjustedRealTime();
+      // Seconds per iteration, whatever unit the benchmark reports in.
+      time_[run.run_name.function_name] =
+          run.GetAdjustedRealTime() / benchmark::GetTimeUnitMultiplier(run.time_unit);
     }
   }
   void PrintRatios(const std::string& baseline) const {

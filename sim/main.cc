@@ -14,6 +14,7 @@
 #include "sim/bench_run.h"
 #include "sim/closed_loop_run.h"
 #include "sim/gait.h"
+#include "sim/identify_command.h"
 #include "sim/gait_run.h"
 #include "sim/model_generator.h"
 #include "sim/output.h"
@@ -291,6 +292,8 @@ int main(int argc, char** argv) {
   ipmc::AddRenderCommand(app, render);
   ipmc::PlotArgs plot;
   ipmc::AddPlotCommand(app, plot);
+  ipmc::IdentifyArgs identify;
+  ipmc::AddIdentifyCommands(app, identify);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -309,6 +312,7 @@ int main(int argc, char** argv) {
     if (int s = ipmc::RunAnalysisCommand(app, analysis); s >= 0) status = s;
     if (int s = ipmc::RunRenderCommand(app, render); s >= 0) status = s;
     if (int s = ipmc::RunPlotCommand(app, plot); s >= 0) status = s;
+    if (int s = ipmc::RunIdentifyCommand(app, identify); s >= 0) status = s;
     PrintMujocoWarnings();
     return status;
   } catch (const std::exception& e) {
