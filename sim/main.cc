@@ -20,6 +20,7 @@
 #include "sim/output.h"
 #include "sim/plot_command.h"
 #include "sim/scenario.h"
+#include "sim/sweep_command.h"
 #include "renders/render_command.h"
 #include "sim/simulation.h"
 
@@ -294,6 +295,8 @@ int main(int argc, char** argv) {
   ipmc::AddPlotCommand(app, plot);
   ipmc::IdentifyArgs identify;
   ipmc::AddIdentifyCommands(app, identify);
+  ipmc::SweepArgs sweep;
+  ipmc::AddSweepCommands(app, sweep);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -313,6 +316,7 @@ int main(int argc, char** argv) {
     if (int s = ipmc::RunRenderCommand(app, render); s >= 0) status = s;
     if (int s = ipmc::RunPlotCommand(app, plot); s >= 0) status = s;
     if (int s = ipmc::RunIdentifyCommand(app, identify); s >= 0) status = s;
+    if (int s = ipmc::RunSweepCommand(app, sweep); s >= 0) status = s;
     PrintMujocoWarnings();
     return status;
   } catch (const std::exception& e) {
