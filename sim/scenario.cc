@@ -2,6 +2,7 @@
 // against its list of keys; each value is checked for type, finiteness and
 // range before it reaches a Config, and the Configs' own Validate() runs
 // last as a backstop. Every error is one line, "FILE:LINE: key ...".
+#include "sim/toml_names.h"
 #include "sim/scenario.h"
 
 #include <toml++/toml.h>
@@ -95,31 +96,7 @@ std::string OneLine(std::string text) {
   return text;
 }
 
-std::string TypeName(toml::node_type type) {
-  switch (type) {
-    case toml::node_type::string:
-      return "string";
-    case toml::node_type::integer:
-      return "integer";
-    case toml::node_type::floating_point:
-      return "float";
-    case toml::node_type::boolean:
-      return "boolean";
-    case toml::node_type::array:
-      return "array";
-    case toml::node_type::table:
-      return "table";
-    case toml::node_type::date:
-      return "date";
-    case toml::node_type::time:
-      return "time";
-    case toml::node_type::date_time:
-      return "date-time";
-    case toml::node_type::none:
-      break;
-  }
-  return "nothing";
-}
+std::string TypeName(toml::node_type type) { return TomlTypeName(type); }
 
 std::string Join(KeyList keys, const char* separator) {
   std::string joined;

@@ -2,6 +2,7 @@
 // point's scenario is built at the TOML level and read by ParseScenario
 // before anything runs, then the points run on a pool of threads, each
 // writing only its own row.
+#include "sim/toml_names.h"
 #include "sim/sweep.h"
 
 #include <mujoco/mujoco.h>
@@ -83,31 +84,7 @@ std::string FullPrecision(double value) {
   return buffer;
 }
 
-std::string TypeName(const toml::node& node) {
-  switch (node.type()) {
-    case toml::node_type::string:
-      return "string";
-    case toml::node_type::integer:
-      return "integer";
-    case toml::node_type::floating_point:
-      return "float";
-    case toml::node_type::boolean:
-      return "boolean";
-    case toml::node_type::array:
-      return "array";
-    case toml::node_type::table:
-      return "table";
-    case toml::node_type::date:
-      return "date";
-    case toml::node_type::time:
-      return "time";
-    case toml::node_type::date_time:
-      return "date-time";
-    case toml::node_type::none:
-      break;
-  }
-  return "nothing";
-}
+std::string TypeName(const toml::node& node) { return TomlTypeName(node.type()); }
 
 // A swept value as the table prints it: strings bare, numbers shortest,
 // arrays in JSON syntax (strings quoted), so that SweepTableJson reads
