@@ -8,6 +8,7 @@
 
 #include "ipmc_swim/ipmc_swim.h"
 #include "plugin/coupling.h"
+#include "sim/model_generator.h"
 #include "sim/link_sensors.h"
 
 namespace ipmc {
@@ -84,10 +85,19 @@ void OverrideViscosity(mjModel* m, double viscosity_Pa_s, const std::string& sou
 }  // namespace
 
 ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserver& observer) {
-  ModelPtr model = LoadModelFile(scenario.model_path);
+  std::string source = scenario.model_path;
+  ModelPtr model;
+  if (scenario.link_lengths_mm.empty()) {
+    model = LoadModelFile(scenario.model_path);
+  } else {
+    FlagellumSpec spec;
+    spec.link_lengths_mm = scenario.link_lengths_mm;
+    source = scenario.source + " (generated flagellum)";
+    model = LoadModelString(GenerateFlagellumMjcf(spec));
+  }
   if (scenario.timestep_s) model->opt.timestep = *scenario.timestep_s;
   if (scenario.viscosity_Pa_s) OverrideViscosity(model.get(), *scenario.viscosity_Pa_s, scenario.source);
-  Simulation sim(std::move(model), scenario.model_path);
+  Simulation sim(std::move(model), source);
   return RunClosedLoop(sim, scenario, observer);
 }
 

@@ -28,6 +28,8 @@ namespace {
 
 // Top level.
 constexpr char kModel[] = "model";
+constexpr char kLinkLengths[] = "link_lengths_mm";
+constexpr int kMaxLinks = 20;
 constexpr char kActuation[] = "actuation";
 constexpr char kCycles[] = "cycles";
 constexpr char kTimestep[] = "timestep_s";
@@ -274,6 +276,7 @@ class ScenarioReader {
   void ReadController(const toml::table& table, ScenarioConfig* config) const;
   void ReadWaveform(const toml::table& table, WaveformConfig* wave) const;
   void ReadStartRamp(const toml::table& table, ScenarioConfig* config) const;
+  void ReadLinkLengths(const Entry& entry, ScenarioConfig* config) const;
 
   std::string source_;
 };
@@ -444,6 +447,26 @@ void ScenarioReader::ReadWaveform(const toml::table& table, WaveformConfig* wave
   }
 }
 
+// 1 to kMaxLinks positive link lengths [mm].
+void ScenarioReader::ReadLinkLengths(const Entry& entry, ScenarioConfig* config) const {
+  const toml::array* lengths = entry.node->as_array();
+  if (lengths == nullptr) FailType(entry, "an array of link lengths in mm");
+  if (lengths->empty() || lengths->size() > static_cast<std::size_t>(kMaxLinks)) {
+    Fail(entry.line, entry.name + " must hold 1 to " + std::to_string(kMaxLinks) +
+                         " lengths (got " + std::to_string(lengths->size()) + ")");
+  }
+  for (std::size_t i = 0; i < lengths->size(); ++i) {
+    Entry length;
+    length.name = entry.name + "[" + std::to_string(i) + "]";
+    length.node = lengths->get(i);
+    length.line = length.node->source().begin.line > 0 ? length.node->source().begin.line
+                                                       : entry.line;
+    const double value = Number(length);
+    RequireAbove(length, value, 0.0);
+    config->link_lengths_mm.push_back(value);
+  }
+}
+
 // The references' fade-in, in [0, cycles] wave periods.
 void ScenarioReader::ReadStartRamp(const toml::table& table, ScenarioConfig* config) const {
   const auto entry = Find(table, std::string(kWaveform) + ".", kStartRamp);
@@ -458,14 +481,18 @@ void ScenarioReader::ReadStartRamp(const toml::table& table, ScenarioConfig* con
 
 ScenarioConfig ScenarioReader::Read(const toml::table& root) const {
   RejectUnknownKeys(
-      root, "", {kModel, kActuation, kCycles, kTimestep, kController, kWaveform, kFluid, kOutput});
+      root, "",
+      {kModel, kLinkLengths, kActuation, kCycles, kTimestep, kController, kWaveform, kFluid, kOutput});
 
   ScenarioConfig config;
   config.source = source_;
 
+  if (const auto entry = Find(root, "", kLinkLengths)) ReadLinkLengths(*entry, &config);
   const std::optional<Entry> model = Find(root, "", kModel);
-  if (!model) Fail(0, std::string(kModel) + " is required");
-  {
+  if (!model && config.link_lengths_mm.empty()) {
+    Fail(0, std::string(kModel) + " is required (or " + kLinkLengths + ")");
+  }
+  if (model) {
     namespace fs = std::filesystem;
     fs::path path(String(*model));
     if (path.is_relative()) path = fs::path(source_).parent_path() / path;

@@ -4,6 +4,10 @@
 // are errors naming the file, key and line.
 //
 //   model = "models/flagellum3.xml"    # relative to the scenario file
+//   link_lengths_mm = [8, 10, 12]      # instead: the generated flagellum with
+//                                      # these links (1-20, > 0) and the
+//                                      # generator's other defaults; wins
+//                                      # over model
 //   actuation = "distributed"          # distributed | single
 //   cycles = 3                         # >= 1
 //   timestep_s = 5e-4                  # overrides the model's step; (0, 1e-3]
@@ -29,6 +33,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "controllers/fractional_integrator.h"
 #include "controllers/pid.h"
@@ -41,6 +46,7 @@ enum class ControllerKind { kPid, kFractional };
 struct ScenarioConfig {
   std::string source;       // the scenario file, for messages
   std::string model_path;   // resolved against the scenario's directory
+  std::vector<double> link_lengths_mm;  // non-empty: generate the model instead
   std::string actuation = "distributed";
   int cycles = 3;
   std::optional<double> timestep_s;

@@ -83,3 +83,30 @@ TEST(ClosedLoop, PidTracksBetterThanTheFractionalIntegrator) {
 
 }  // namespace
 }  // namespace ipmc::testing
+
+namespace ipmc::testing {
+namespace {
+
+// link_lengths_mm replaces the model by the generated flagellum, so link
+// lengths can be swept; two links of 15.5 mm make a two-link swimmer.
+TEST(ClosedLoop, LinkLengthsGenerateTheFlagellum) {
+  const ScenarioConfig scenario = ParseScenario(
+      "link_lengths_mm = [15, 15.5]\ncycles = 1\ntimestep_s = 5e-4\n"
+      "[waveform]\nfrequency_Hz = 0.5\n",
+      std::string(IPMC_SWIM_SOURCE_DIR) + "/scenarios/two_links.toml");
+  ASSERT_EQ(scenario.link_lengths_mm.size(), 2u);
+  const ClosedLoopResult result = RunScenario(scenario);
+  EXPECT_EQ(result.links.size(), 2u);
+  EXPECT_GT(result.links[1].max_abs_reference_mm, 0.0);
+}
+
+TEST(ClosedLoop, BadLinkLengthsNameTheKey) {
+  ExpectThrowMentioning<std::runtime_error>(
+      [] { ParseScenario("link_lengths_mm = [10, -1]\n", "s.toml"); },
+      "s.toml:1: link_lengths_mm[1] must be > 0");
+  ExpectThrowMentioning<std::runtime_error>([] { ParseScenario("cycles = 2\n", "s.toml"); },
+                                            "model is required (or link_lengths_mm)");
+}
+
+}  // namespace
+}  // namespace ipmc::testing
