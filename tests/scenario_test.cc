@@ -187,7 +187,7 @@ TEST_F(ScenarioErrorTest, SyntaxErrorsGiveLineAndColumn) {
 
 TEST_F(ScenarioErrorTest, UnknownKeysNameTheKeyAndTheAllowedOnes) {
   ExpectError(std::string(kModelLine) + "cycles = 3\n\n\n\n\ncontroler = 1\n",
-              ":7: unknown key 'controler' (allowed: model, actuation, cycles, timestep_s, "
+              ":7: unknown key 'controler' (allowed: model, link_lengths_mm, actuation, cycles, timestep_s, "
               "controller, waveform, fluid, output)");
   ExpectError(
       std::string(kModelLine) + "[controller]\nkp = 1.0\nkpp = 2.0\n",
@@ -203,7 +203,7 @@ TEST_F(ScenarioErrorTest, UnknownKeysNameTheKeyAndTheAllowedOnes) {
               ":4: unknown key 'output.format' (allowed: dir, samples_per_cycle)");
   // The earliest of several.
   ExpectError(std::string(kModelLine) + "zz = 1\naa = 2\n",
-              ":2: unknown key 'zz' (allowed: model, actuation, cycles, timestep_s, controller, "
+              ":2: unknown key 'zz' (allowed: model, link_lengths_mm, actuation, cycles, timestep_s, controller, "
               "waveform, fluid, output)");
   // Dotted keys are walked like tables.
   ExpectError(
@@ -324,8 +324,8 @@ TEST_F(ScenarioErrorTest, KeysOfTheOtherKindAreRejected) {
 }
 
 TEST_F(ScenarioErrorTest, ModelIsRequiredAndMustExist) {
-  ExpectError("cycles = 3\n", ": model is required");
-  ExpectError("", ": model is required");
+  ExpectError("cycles = 3\n", ": model is required (or link_lengths_mm)");
+  ExpectError("", ": model is required (or link_lengths_mm)");
   ExpectError("model = \"missing.xml\"\n",
               ":1: model: cannot open '" + (dir_ / "missing.xml").string() + "'");
   ExpectError("\nmodel = \"sub/../missing.xml\"\n",
