@@ -59,15 +59,17 @@ CouplingContext* FindMutableCoupling(const mjData* d) {
 
 const CouplingContext* FindCoupling(const mjData* d) { return FindMutableCoupling(d); }
 
-bool Attach(const mjModel* m, mjData* d) {
+bool Attach(const mjModel* m, mjData* d) { return AttachWithOverrides(m, d, {}); }
+
+bool AttachWithOverrides(const mjModel* m, mjData* d, const IpmcActuatorsOverrides& overrides) {
   if (!HasCustomFieldWithPrefix(m, "ipmc_")) return false;
   auto context = std::make_unique<CouplingContext>();
   context->model = m;
   if (std::optional<RftDragConfig> drag = RftDragConfig::FromModel(m)) {
     context->drag.emplace(m, *drag);
   }
-  if (std::optional<IpmcActuatorsConfig> actuators = IpmcActuatorsConfig::FromModel(m)) {
-    context->actuators = std::make_unique<IpmcActuators>(m, *actuators);
+  if (std::optional<IpmcActuatorsConfig> actuators = IpmcActuatorsConfig::FromModel(m, overrides)) {
+    context->actuators = std::make_unique<IpmcActuators>(std::move(*actuators));
   }
   Registry& registry = GetRegistry();
   std::unique_lock<std::shared_mutex> lock(registry.mutex);

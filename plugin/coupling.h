@@ -18,6 +18,9 @@ struct CouplingContext {
   std::unique_ptr<IpmcActuators> actuators;
 };
 
+// Attach (ipmc_swim.h) with settings imposed over the model's fields.
+bool AttachWithOverrides(const mjModel* m, mjData* d, const IpmcActuatorsOverrides& overrides);
+
 // The context attached to d, or nullptr. The pointer stays valid until d
 // is detached or re-attached.
 const CouplingContext* FindCoupling(const mjData* d);

@@ -1,5 +1,6 @@
 #include "plugin/ipmc_link_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -122,6 +123,37 @@ IpmcLinkParams PaperLinkParams(int link, IpmcModelKind kind) {
     p.b1 = kPaperG2B1[i];
   }
   return p;
+}
+
+const char* PlantAssignmentName(PlantAssignment plants) {
+  return plants == PlantAssignment::kUniform ? "uniform" : "table2";
+}
+
+std::optional<PlantAssignment> ParsePlantAssignment(const std::string& word) {
+  if (word == "uniform") return PlantAssignment::kUniform;
+  if (word == "table2") return PlantAssignment::kTable2;
+  return std::nullopt;
+}
+
+IpmcLinkParams ScaleLinkToLength(IpmcLinkParams p, double length_m) {
+  if (!std::isfinite(length_m) || !(length_m > 0)) ThrowField("length_m", "finite and > 0", length_m);
+  if (length_m == kPaperLinkLength_m) return p;
+  const double ratio = length_m / kPaperLinkLength_m;
+  const double ratio2 = ratio * ratio;
+  p.a0_mm_per_V *= ratio2;
+  if (p.kind == IpmcModelKind::kG1) {
+    p.b2_s2 *= ratio2 * ratio2;
+    p.b1 *= ratio2;
+  } else {
+    p.b1 *= std::pow(ratio, 2.0 * p.alpha);
+  }
+  return p;
+}
+
+IpmcLinkParams AssignedLinkParams(PlantAssignment plants, int link, IpmcModelKind kind,
+                                  double length_m) {
+  const int row = plants == PlantAssignment::kUniform ? 3 : std::min(link, 3);
+  return ScaleLinkToLength(PaperLinkParams(row, kind), length_m);
 }
 
 StateSpace LinkStateSpace(const IpmcLinkParams& params) {

@@ -35,6 +35,8 @@
 #define IPMC_SWIM_PLUGIN_IPMC_LINK_MODEL_H_
 
 #include <complex>
+#include <optional>
+#include <string>
 
 #include "controllers/oustaloup.h"
 #include "controllers/state_space.h"
@@ -74,6 +76,42 @@ struct IpmcLinkParams {  // one link; SI except the paper's mm/V interface
 // paper's units x 1e-3 converted to plain numbers). Throws
 // std::invalid_argument for a link outside 1..3.
 IpmcLinkParams PaperLinkParams(int link, IpmcModelKind kind);
+
+// Which plant each link of a flagellum gets.
+//  - kUniform: every link the control-design plant, link 3's model (eq. 7
+//    for G1). Section 5.3 simulates three equal links "modeled with the
+//    same dynamics since they have the same length"; Table 2's link-2 and
+//    link-3 rows were measured at the tips of passive links while link 1
+//    alone was driven (section 4.1), so they are not the links' own
+//    actuators.
+//  - kTable2: link q gets Table 2's row q (links beyond 3 repeat row 3).
+enum class PlantAssignment { kUniform, kTable2 };
+
+// "uniform" / "table2"; ParsePlantAssignment returns nullopt for any other
+// word.
+const char* PlantAssignmentName(PlantAssignment plants);
+std::optional<PlantAssignment> ParsePlantAssignment(const std::string& word);
+
+// Length of the links Table 2 was identified on [m] (Table 1).
+constexpr double kPaperLinkLength_m = 10e-3;
+
+// The model of a link of length_m [m], scaled from one identified on a
+// link of kPaperLinkLength_m. Assumptions (the paper identifies 10 mm
+// links only):
+//  - a uniform electro-active bending moment M gives the curvature
+//    M / (E I) whatever the length, so the free tip deflection
+//    M L^2 / (2 E I) grows as L^2: a0 ~ L^2;
+//  - the first bending mode of a clamped strip has w_1 = 3.516
+//    sqrt(E I / (rho A L^4)) (Euler-Bernoulli), so w_1 ~ 1/L^2: b2 ~ L^4
+//    for G1, and b1 ~ L^2 keeps its damping ratio b1 / (2 sqrt(b2));
+//    for G2, whose corner is b1^(-1/alpha), b1 ~ L^(2 alpha).
+// The Oustaloup bands are kept. A link of kPaperLinkLength_m is returned
+// unchanged. Throws std::invalid_argument unless length_m is finite > 0.
+IpmcLinkParams ScaleLinkToLength(IpmcLinkParams params, double length_m);
+
+// Link q's (1-based) model under `plants`, scaled to its length.
+IpmcLinkParams AssignedLinkParams(PlantAssignment plants, int link, IpmcModelKind kind,
+                                  double length_m);
 
 // Damping ratio of link 3's G1 (eq. 7), zeta = b1 / (2 sqrt(b2)) = 0.2525,
 // which PaperLinkParams gives links 1 and 2: b1 = 2 zeta sqrt(b2).

@@ -87,17 +87,20 @@ void OverrideViscosity(mjModel* m, double viscosity_Pa_s, const std::string& sou
 ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserver& observer) {
   std::string source = scenario.model_path;
   ModelPtr model;
-  if (scenario.link_lengths_mm.empty()) {
+  if (!scenario.GeneratesModel()) {
     model = LoadModelFile(scenario.model_path);
   } else {
     FlagellumSpec spec;
-    spec.link_lengths_mm = scenario.link_lengths_mm;
+    if (!scenario.link_lengths_mm.empty()) spec.link_lengths_mm = scenario.link_lengths_mm;
+    if (scenario.segments_per_link > 0) spec.segments_per_link = scenario.segments_per_link;
     source = scenario.source + " (generated flagellum)";
     model = LoadModelString(GenerateFlagellumMjcf(spec));
   }
   if (scenario.timestep_s) model->opt.timestep = *scenario.timestep_s;
   if (scenario.viscosity_Pa_s) OverrideViscosity(model.get(), *scenario.viscosity_Pa_s, scenario.source);
-  Simulation sim(std::move(model), source);
+  IpmcActuatorsOverrides overrides;
+  overrides.plants = scenario.plants;
+  Simulation sim(std::move(model), source, overrides);
   return RunClosedLoop(sim, scenario, observer);
 }
 

@@ -23,14 +23,29 @@ LinkSensors::LinkSensors(const mjModel* m, const mjData* d, const std::string& s
   }
   const IpmcActuators& actuators = *coupling->actuators;
   for (int q = 0; q < actuators.Links(); ++q) {
-    angle_adr_.push_back(SensorAddress(m, "angle_" + actuators.joints()[q], source));
+    const LinkChain& chain = actuators.chains()[q];
+    LinkAngles link;
+    for (size_t i = 0; i < chain.joints.size(); ++i) {
+      const std::string joint = m->names + m->name_jntadr[chain.joints[i]];
+      link.angle_adr.push_back(SensorAddress(m, "angle_" + joint, source));
+      link.segment_length_mm.push_back(chain.segment_length_m[i] * 1e3);
+    }
+    links_.push_back(std::move(link));
     tip_y_adr_.push_back(SensorAddress(m, "tip" + std::to_string(q + 1) + "_pos", source) + 1);
-    length_mm_.push_back(actuators.LinkLengths_m()[q] * 1e3);
   }
 }
 
 double LinkSensors::RelativeDeflection_mm(const mjData* d, int link) const {
-  return length_mm_[link] * std::sin(d->sensordata[angle_adr_[link]]);
+  const LinkAngles& angles = links_[link];
+  if (angles.angle_adr.size() == 1) {
+    return angles.segment_length_mm[0] * std::sin(d->sensordata[angles.angle_adr[0]]);
+  }
+  double angle_rad = 0.0, deflection_mm = 0.0;
+  for (size_t j = 0; j < angles.angle_adr.size(); ++j) {
+    angle_rad += d->sensordata[angles.angle_adr[j]];
+    deflection_mm += angles.segment_length_mm[j] * std::sin(angle_rad);
+  }
+  return deflection_mm;
 }
 
 double LinkSensors::TipLateral_mm(const mjData* d, int link) const {

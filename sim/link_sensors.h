@@ -1,6 +1,8 @@
 // What the test bench measures, read from the model's sensors: each IPMC
-// link's relative tip deflection L_q sin(theta_q) [mm] (the controller's
-// measurement; theta_q from the jointpos sensor angle_<joint>) and the
+// link's relative tip deflection [mm], the tip's distance from the link's
+// root tangent (the controller's measurement): L_q sin(theta_q) for a rigid
+// link, sum_j l_j sin(theta_1 + ... + theta_j) for a chain of
+// sub-segments (angles from the jointpos sensors angle_<joint>), and the
 // lateral position of each tip [mm] (the laser; framepos sensor tipq_pos).
 // MuJoCo fills sensordata during mj_step's forward pass, so after a step
 // the values describe the state at the start of that step: a sensor delay
@@ -20,14 +22,17 @@ class LinkSensors {
   // a sensor is missing.
   LinkSensors(const mjModel* m, const mjData* d, const std::string& source);
 
-  int Links() const { return static_cast<int>(angle_adr_.size()); }
+  int Links() const { return static_cast<int>(links_.size()); }
   double RelativeDeflection_mm(const mjData* d, int link) const;
   double TipLateral_mm(const mjData* d, int link) const;
 
  private:
-  std::vector<int> angle_adr_;
+  struct LinkAngles {
+    std::vector<int> angle_adr;  // one per hinge of the link, root first
+    std::vector<double> segment_length_mm;
+  };
+  std::vector<LinkAngles> links_;
   std::vector<int> tip_y_adr_;
-  std::vector<double> length_mm_;
 };
 
 }  // namespace ipmc

@@ -70,6 +70,12 @@ void AddGenerateCommand(CLI::App& app, GenerateArgs& args) {
       ->capture_default_str();
   cmd->add_option("--xi-normal", s.xi_normal_N_s_m2, "Direct xi_n [N s/m^2]");
   cmd->add_option("--xi-tangential", s.xi_tangential_N_s_m2, "Direct xi_t [N s/m^2]");
+  cmd->add_option("--segments-per-link", s.segments_per_link,
+                  "Rigid sub-segments per link (1: rigid links)")
+      ->capture_default_str();
+  cmd->add_option("--plants", s.plants,
+                  "uniform (every link eq. 7's plant) | table2 (Table 2's row per link)")
+      ->capture_default_str();
   cmd->add_option("--ipmc-model", s.ipmc_model, "IPMC link model: g1 (eq. 5) | g2 (eq. 6)")
       ->capture_default_str();
   cmd->add_option("--actuation", s.actuation, "distributed | single")->capture_default_str();

@@ -5,6 +5,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "plugin/ipmc_actuators.h"
+
 namespace ipmc {
 namespace {
 
@@ -65,7 +67,12 @@ void WriteCustomFields(const FlagellumSpec& spec, std::ostringstream& xml) {
   if (HasIpmcActuators(spec)) {
     xml << "    <text name=\"ipmc_links\" data=\"";
     for (int q = 1; q <= spec.Links(); ++q) xml << (q > 1 ? " " : "") << "j" << q;
-    xml << "\"/>\n"
+    xml << "\"/>\n";
+    if (spec.segments_per_link > 1) {
+      xml << "    <numeric name=\"ipmc_segments_per_link\" data=\"" << spec.segments_per_link
+          << "\"/>\n";
+    }
+    xml << "    <text name=\"ipmc_plants\" data=\"" << spec.plants << "\"/>\n"
         << "    <text name=\"ipmc_model\" data=\"" << spec.ipmc_model << "\"/>\n"
         << "    <text name=\"ipmc_actuation\" data=\"" << spec.actuation << "\"/>\n";
   }
@@ -110,6 +117,15 @@ void FlagellumSpec::Validate() const {
     RequirePositive(xi_tangential_N_s_m2, "xi_tangential_N_s_m2");
   }
   RequireNonNegative(fluid_density_kg_m3, "fluid_density_kg_m3");
+  if (segments_per_link < 1 || segments_per_link > kMaxSegmentsPerLink) {
+    throw std::invalid_argument("flagellum spec: segments_per_link must be in [1, " +
+                                std::to_string(kMaxSegmentsPerLink) + "] (got " +
+                                std::to_string(segments_per_link) + ")");
+  }
+  if (!ParsePlantAssignment(plants)) {
+    throw std::invalid_argument("flagellum spec: plants must be uniform or table2 (got '" +
+                                plants + "')");
+  }
   if (ipmc_model != "g1" && ipmc_model != "g2") {
     throw std::invalid_argument("flagellum spec: ipmc_model must be g1 or g2 (got '" + ipmc_model +
                                 "')");
@@ -123,18 +139,26 @@ void FlagellumSpec::Validate() const {
   }
 }
 
-LinkMechanics ComputeLinkMechanics(const FlagellumSpec& spec, int q) {
-  const double length_m = spec.link_lengths_mm.at(q) * kMmToM;
+SegmentMechanics ComputeSegmentMechanics(const FlagellumSpec& spec, int q, int segment) {
+  const double length_m = spec.link_lengths_mm.at(q) * kMmToM / spec.segments_per_link;
   const double width_m = spec.width_mm * kMmToM;
   const double thickness_m = spec.thickness_um * kUmToM;
-  LinkMechanics link{};
-  link.mass_kg = spec.density_kg_m3 * length_m * width_m * thickness_m;
-  link.inertia_about_hinge_kg_m2 = link.mass_kg * length_m * length_m / 3.0;
+  SegmentMechanics mech{};
+  mech.length_m = length_m;
+  mech.mass_kg = spec.density_kg_m3 * length_m * width_m * thickness_m;
+  mech.inertia_about_hinge_kg_m2 = mech.mass_kg * length_m * length_m / 3.0;
+  mech.hinge_share_m = segment == 0 ? 0.5 * length_m : length_m;
   const double second_moment_m4 = width_m * thickness_m * thickness_m * thickness_m / 12.0;
-  link.stiffness_N_m_rad = spec.bending_modulus_Pa * second_moment_m4 / length_m;
-  link.damping_N_m_s_rad = 2.0 * spec.hinge_damping_ratio *
-                           std::sqrt(link.stiffness_N_m_rad * link.inertia_about_hinge_kg_m2);
-  return link;
+  mech.stiffness_N_m_rad = spec.bending_modulus_Pa * second_moment_m4 / mech.hinge_share_m;
+  mech.damping_N_m_s_rad = 2.0 * spec.hinge_damping_ratio *
+                           std::sqrt(mech.stiffness_N_m_rad * mech.inertia_about_hinge_kg_m2);
+  return mech;
+}
+
+// Names of link q's (0-based) sub-segment s: "link2", "link2_2", ...; its
+// hinge "j2", "j2_2", ...
+std::string SegmentSuffix(int q, int s) {
+  return std::to_string(q + 1) + (s == 0 ? "" : "_" + std::to_string(s + 1));
 }
 
 std::string GenerateFlagellumMjcf(const FlagellumSpec& spec) {
@@ -173,28 +197,32 @@ std::string GenerateFlagellumMjcf(const FlagellumSpec& spec) {
   }
   double body_pos_m = 0.0;
   for (int q = 0; q < links; ++q) {
-    const LinkMechanics mech = ComputeLinkMechanics(spec, q);
-    const double length_m = spec.link_lengths_mm[q] * kMmToM;
-    const double start_m = LinkStartOffset_m(spec, q);
     const std::string n = std::to_string(q + 1);
-    xml << indent << "<body name=\"link" << n << "\" pos=\"" << Num(body_pos_m) << " 0 0\">\n";
-    indent += "  ";
-    ++open_bodies;
-    const bool is_free_root = (q == 0 && !has_head && !spec.clamped);
-    if (is_free_root) {
-      WriteRootJoints(xml, indent);
-    } else {
-      xml << indent << "<joint name=\"j" << n << "\" type=\"hinge\" axis=\"0 0 1\" stiffness=\""
-          << Num(mech.stiffness_N_m_rad) << "\" damping=\"" << Num(mech.damping_N_m_s_rad)
-          << "\"/>\n";
+    for (int seg = 0; seg < spec.segments_per_link; ++seg) {
+      const SegmentMechanics mech = ComputeSegmentMechanics(spec, q, seg);
+      const double start_m = seg == 0 ? LinkStartOffset_m(spec, q) : 0.0;
+      const std::string suffix = SegmentSuffix(q, seg);
+      xml << indent << "<body name=\"link" << suffix << "\" pos=\"" << Num(body_pos_m)
+          << " 0 0\">\n";
+      indent += "  ";
+      ++open_bodies;
+      const bool is_free_root = (q == 0 && seg == 0 && !has_head && !spec.clamped);
+      if (is_free_root) {
+        WriteRootJoints(xml, indent);
+      } else {
+        xml << indent << "<joint name=\"j" << suffix
+            << "\" type=\"hinge\" axis=\"0 0 1\" stiffness=\"" << Num(mech.stiffness_N_m_rad)
+            << "\" damping=\"" << Num(mech.damping_N_m_s_rad) << "\"/>\n";
+      }
+      xml << indent << "<geom name=\"link" << suffix << "\" type=\"box\" pos=\""
+          << Num(start_m + 0.5 * mech.length_m) << " 0 0\" size=\"" << Num(0.5 * mech.length_m)
+          << " " << Num(half_thickness_m) << " " << Num(half_width_m) << "\" density=\""
+          << Num(spec.density_kg_m3) << "\" rgba=\"0.15 0.45 0.8 1\"/>\n";
+      body_pos_m = start_m + mech.length_m;
     }
-    xml << indent << "<geom name=\"link" << n << "\" type=\"box\" pos=\""
-        << Num(start_m + 0.5 * length_m) << " 0 0\" size=\"" << Num(0.5 * length_m) << " "
-        << Num(half_thickness_m) << " " << Num(half_width_m) << "\" density=\""
-        << Num(spec.density_kg_m3) << "\" rgba=\"0.15 0.45 0.8 1\"/>\n"
-        << indent << "<site name=\"tip" << n << "\" pos=\"" << Num(start_m + length_m)
+    xml << indent << "<site name=\"tip" << n << "\" pos=\"" << Num(body_pos_m)
         << " 0 0\" size=\"0.0003\"/>\n";
-    body_pos_m = start_m + length_m + 0.5 * spec.gap_mm * kMmToM;
+    body_pos_m += 0.5 * spec.gap_mm * kMmToM;
   }
   for (; open_bodies > 0; --open_bodies) {
     indent.resize(indent.size() - 2);
@@ -202,18 +230,22 @@ std::string GenerateFlagellumMjcf(const FlagellumSpec& spec) {
   }
   xml << "  </worldbody>\n";
 
-  // Hinges that can be driven: every link with a hinge of its own.
-  std::vector<std::string> hinges;
+  // Hinges that can be driven: every link with a hinge of its own (its root
+  // hinge, then its interior hinges).
+  std::vector<std::string> root_hinges, hinges;
   for (int q = 0; q < links; ++q) {
-    if (q == 0 && !has_head && !spec.clamped) continue;
-    hinges.push_back("j" + std::to_string(q + 1));
+    for (int seg = 0; seg < spec.segments_per_link; ++seg) {
+      if (q == 0 && seg == 0 && !has_head && !spec.clamped) continue;
+      hinges.push_back("j" + SegmentSuffix(q, seg));
+      if (seg == 0) root_hinges.push_back(hinges.back());
+    }
   }
   xml << "  <actuator>\n";
   for (const std::string& joint : hinges) {
-    // Active IPMC moment k_q theta_free_q [N m] (plugin/ipmc_actuators.h).
+    // Active IPMC moment k theta0 [N m] (plugin/ipmc_actuators.h).
     xml << "    <motor name=\"ipmc_" << joint << "\" joint=\"" << joint << "\" gear=\"1\"/>\n";
   }
-  for (const std::string& joint : hinges) {
+  for (const std::string& joint : root_hinges) {
     // Prescribed-gait servo; its gains are set at run time (sim/gait.h).
     xml << "    <general name=\"servo_" << joint << "\" joint=\"" << joint
         << "\" gaintype=\"fixed\" biastype=\"affine\" gainprm=\"0\" biasprm=\"0 0 0\"/>\n";

@@ -7,11 +7,19 @@
 // link 1 bends against) precedes link 1. The root is free in the x-y plane
 // (slide x, slide y, hinge z) or welded ("clamped", as on the test bench).
 //
+// Each link is n rigid sub-segments of length l = L_q / n (n = 1: one rigid
+// link); the sub-segments of a link are joined by hinges at their ends, with
+// no gap.
+//
 // Mechanics (assumptions, overridable): mass from density rho; each hinge
-// carries the link's bending stiffness k_q = E I / L_q with I = w h^3 / 12,
-// and damping c_q = 2 zeta_h sqrt(k_q J_q) (J_q = m_q L_q^2 / 3, the link's
-// inertia about its hinge) so that the rigid-link hinge mode is damped with
-// ratio zeta_h.
+// carries the strip's bending stiffness for its share s of the length,
+// k = E I / s with I = w h^3 / 12 (discrete elastic rods weight each hinge
+// by its Voronoi length): s = l for a hinge between two sub-segments,
+// s = l / 2 for a link's root hinge, whose other side is the stiff junction
+// (for n = 1, k = 2 E I / L, the stiffness of a cantilever under an end
+// moment: M L^2 / (2 E I) = L M / k). Damping c = 2 zeta_h sqrt(k J)
+// (J = m_s l^2 / 3, the sub-segment's inertia about its hinge) damps the
+// rigid sub-segment's hinge mode with ratio zeta_h.
 //
 // Fluid: the <custom> fields read by the ipmc_swim plugin (rft_drag.h).
 #pragma once
@@ -23,6 +31,7 @@ namespace ipmc {
 
 struct FlagellumSpec {
   std::vector<double> link_lengths_mm = {10.0, 10.0, 10.0};
+  int segments_per_link = 1;            // [1, kMaxSegmentsPerLink]
   double gap_mm = 0.5;
   double width_mm = 3.0;
   double thickness_um = 250.0;
@@ -44,6 +53,7 @@ struct FlagellumSpec {
   // IPMC actuators on every link (plugin/ipmc_actuators.h), Table 2
   // parameters; needs a hinge per link (a head, or a clamped root).
   bool ipmc_actuators = true;
+  std::string plants = "uniform";           // uniform | table2
   std::string ipmc_model = "g1";            // g1 | g2
   std::string actuation = "distributed";    // distributed | single
   std::string name = "flagellum";
@@ -53,14 +63,19 @@ struct FlagellumSpec {
   int Links() const { return static_cast<int>(link_lengths_mm.size()); }
 };
 
-// Derived per-link mechanics in SI, as written into the MJCF.
-struct LinkMechanics {
+// Derived mechanics of one sub-segment of link `link_index` and of the
+// hinge at its root, in SI, as written into the MJCF; `segment_index` 0 is
+// the link's first sub-segment (its hinge is the link's root hinge).
+struct SegmentMechanics {
+  double length_m;
   double mass_kg;
   double inertia_about_hinge_kg_m2;
+  double hinge_share_m;  // s
   double stiffness_N_m_rad;
   double damping_N_m_s_rad;
 };
-LinkMechanics ComputeLinkMechanics(const FlagellumSpec& spec, int link_index);
+SegmentMechanics ComputeSegmentMechanics(const FlagellumSpec& spec, int link_index,
+                                         int segment_index);
 
 std::string GenerateFlagellumMjcf(const FlagellumSpec& spec);
 

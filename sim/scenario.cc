@@ -30,6 +30,8 @@ namespace {
 constexpr char kModel[] = "model";
 constexpr char kLinkLengths[] = "link_lengths_mm";
 constexpr int kMaxLinks = 20;
+constexpr char kSegmentsPerLink[] = "segments_per_link";
+constexpr char kPlants[] = "plants";
 constexpr char kActuation[] = "actuation";
 constexpr char kCycles[] = "cycles";
 constexpr char kTimestep[] = "timestep_s";
@@ -482,14 +484,21 @@ void ScenarioReader::ReadStartRamp(const toml::table& table, ScenarioConfig* con
 ScenarioConfig ScenarioReader::Read(const toml::table& root) const {
   RejectUnknownKeys(
       root, "",
-      {kModel, kLinkLengths, kActuation, kCycles, kTimestep, kController, kWaveform, kFluid, kOutput});
+      {kModel, kLinkLengths, kSegmentsPerLink, kPlants, kActuation, kCycles, kTimestep,
+       kController, kWaveform, kFluid, kOutput});
 
   ScenarioConfig config;
   config.source = source_;
 
   if (const auto entry = Find(root, "", kLinkLengths)) ReadLinkLengths(*entry, &config);
+  if (const auto entry = Find(root, "", kSegmentsPerLink)) {
+    config.segments_per_link = Integer(*entry, 1, kMaxSegmentsPerLink);
+  }
+  if (const auto entry = Find(root, "", kPlants)) {
+    config.plants = *ParsePlantAssignment(Choice(*entry, {"uniform", "table2"}));
+  }
   const std::optional<Entry> model = Find(root, "", kModel);
-  if (!model && config.link_lengths_mm.empty()) {
+  if (!model && !config.GeneratesModel()) {
     Fail(0, std::string(kModel) + " is required (or " + kLinkLengths + ")");
   }
   if (model) {

@@ -8,6 +8,11 @@
 //                                      # these links (1-20, > 0) and the
 //                                      # generator's other defaults; wins
 //                                      # over model
+//   segments_per_link = 4              # rigid sub-segments per link, [1, 64];
+//                                      # also generates the flagellum (links
+//                                      # of 10 mm unless link_lengths_mm)
+//   plants = "uniform"                 # uniform | table2, over the model's
+//                                      # ipmc_plants (plugin/ipmc_actuators.h)
 //   actuation = "distributed"          # distributed | single
 //   cycles = 3                         # >= 1
 //   timestep_s = 5e-4                  # overrides the model's step; (0, 1e-3]
@@ -37,6 +42,7 @@
 
 #include "controllers/fractional_integrator.h"
 #include "controllers/pid.h"
+#include "plugin/ipmc_actuators.h"
 #include "sim/waveform.h"
 
 namespace ipmc {
@@ -47,6 +53,8 @@ struct ScenarioConfig {
   std::string source;       // the scenario file, for messages
   std::string model_path;   // resolved against the scenario's directory
   std::vector<double> link_lengths_mm;  // non-empty: generate the model instead
+  int segments_per_link = 0;            // > 0: generate the model instead
+  std::optional<PlantAssignment> plants;  // over the model's ipmc_plants
   std::string actuation = "distributed";
   int cycles = 3;
   std::optional<double> timestep_s;
@@ -61,6 +69,8 @@ struct ScenarioConfig {
   std::optional<double> viscosity_Pa_s;
   std::string output_dir;   // empty: no files
   int samples_per_cycle = 200;
+
+  bool GeneratesModel() const { return !link_lengths_mm.empty() || segments_per_link > 0; }
 };
 
 // Parses and validates; throws std::runtime_error "FILE:LINE: key: reason".

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "ipmc_swim/ipmc_swim.h"
+#include "plugin/coupling.h"
 
 namespace ipmc {
 namespace {
@@ -47,10 +48,11 @@ ModelPtr LoadModelString(const std::string& xml) {
   return ModelPtr(m);
 }
 
-Simulation::Simulation(ModelPtr m, const std::string& source)
+Simulation::Simulation(ModelPtr m, const std::string& source,
+                       const IpmcActuatorsOverrides& overrides)
     : model_(std::move(m)), data_(mj_makeData(model_.get())), source_(source) {
   try {
-    Attach(model_.get(), data_.get());
+    AttachWithOverrides(model_.get(), data_.get(), overrides);
   } catch (const std::exception& e) {
     throw std::runtime_error(source_ + ": " + e.what());
   }

@@ -6,6 +6,8 @@
 #include <memory>
 #include <string>
 
+#include "plugin/ipmc_actuators.h"
+
 namespace ipmc {
 
 struct ModelDeleter {
@@ -25,9 +27,11 @@ ModelPtr LoadModelString(const std::string& xml);
 
 class Simulation {
  public:
-  // Takes ownership of m, makes its data and attaches the coupling. Errors
-  // from the model's ipmc_* fields are prefixed with `source` (the file).
-  Simulation(ModelPtr m, const std::string& source);
+  // Takes ownership of m, makes its data and attaches the coupling, with
+  // `overrides` imposed over the model's fields. Errors from the model's
+  // ipmc_* fields are prefixed with `source` (the file).
+  Simulation(ModelPtr m, const std::string& source,
+             const IpmcActuatorsOverrides& overrides = {});
   ~Simulation();
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;

@@ -146,7 +146,7 @@ TEST(RftDrag, AttachedFreeBodyDecaysAtTheRftRate) {
   auto sim = MakeSimulation(spec);
   mjModel* m = sim->model();
   mjData* d = sim->data();
-  const double mass_kg = ComputeLinkMechanics(spec, 0).mass_kg;
+  const double mass_kg = ComputeSegmentMechanics(spec, 0, 0).mass_kg;
   const DragCoefficients xi = GrayHancockCoefficients(1e-3, 0.8125e-3, 32e-3);
   d->qvel[0] = 1e-3;
   for (int i = 0; i < 10000; ++i) mj_step(m, d);
