@@ -86,7 +86,9 @@ int RequireMotor(const mjModel* m, const std::string& joint_name) {
 
 // Link chain from its root hinge: the root hinge's body and the n - 1
 // bodies that follow it, one child each, each with a hinge of its own.
-LinkChain FindChain(const mjModel* m, const std::string& root_name, int segments) {
+// Interior hinges are never another link's root hinge.
+LinkChain FindChain(const mjModel* m, const std::string& root_name, int segments,
+                    const std::vector<std::string>& roots) {
   const int root = mj_name2id(m, mjOBJ_JOINT, root_name.c_str());
   if (root < 0 || m->jnt_type[root] != mjJNT_HINGE) {
     Fail(std::string(kAttrLinks) + " names '" + root_name + "', which is not a hinge of the model");
@@ -98,10 +100,14 @@ LinkChain FindChain(const mjModel* m, const std::string& root_name, int segments
     if (s > 0) {
       body = OnlyChild(m, body);
       joint = body < 0 ? -1 : FirstHinge(m, body);
+      if (joint >= 0 && std::find(roots.begin(), roots.end(),
+                                  std::string(m->names + m->name_jntadr[joint])) != roots.end()) {
+        joint = -1;
+      }
       if (joint < 0) {
         Fail("link '" + root_name + "' needs " + std::to_string(segments) + " sub-segments (" +
              kAttrSegments + "), but sub-segment " + std::to_string(s + 1) +
-             " is not a single child body with a hinge");
+             " is not a single child body with a hinge of its own");
       }
     }
     const std::string name = m->names + m->name_jntadr[joint];
@@ -210,7 +216,7 @@ std::optional<IpmcActuatorsConfig> IpmcActuatorsConfig::FromModel(
   if (config.joints.empty()) Fail(std::string(kAttrLinks) + " must name at least one hinge");
   const int segments = SegmentsPerLink(m);
   for (const std::string& joint : config.joints) {
-    config.chains.push_back(FindChain(m, joint, segments));
+    config.chains.push_back(FindChain(m, joint, segments, config.joints));
   }
   const IpmcModelKind kind = ModelKind(m);
   config.plants = overrides.plants ? *overrides.plants : Plants(m);
