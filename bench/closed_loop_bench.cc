@@ -1,7 +1,10 @@
 // Wall time of the paper's closed-loop run (scenarios/paper.toml: three
 // 100 s cycles) against the simulated time it covers (realtime factor) and
 // against the drag-only swimmer stepped over the same simulated time with
-// the same step, in one run.
+// the same step, in one run. Also the cost of one coupled step of the free
+// swimmer with n = 1, 2, 4, 8 rigid sub-segments per link (20 000 steps,
+// voltages changed every 1 ms as by the controllers), so its wall time
+// relative to the drag-only run is the cost per step against n.
 //
 //   ./build/bench/closed_loop_bench
 #include <benchmark/benchmark.h>
@@ -12,7 +15,9 @@
 #include "bench/ratio_reporter.h"
 #include "sim/closed_loop_run.h"
 #include "sim/model_generator.h"
+#include "ipmc_swim/ipmc_swim.h"
 #include "sim/scenario.h"
+#include "sim/simulation.h"
 
 namespace ipmc {
 namespace {
@@ -45,10 +50,54 @@ void BM_DragOnlySwimmer(benchmark::State& state) {
       SimulatedTime_s(scenario) * state.iterations(), benchmark::Counter::kIsRate);
 }
 
+// 20 000 coupled steps of the free swimmer with `segments` sub-segments
+// per link, a 3 V sine at 1 Hz on every link updated every 1 ms.
+void BM_CoupledSteps(benchmark::State& state, int segments) {
+  FlagellumSpec spec;
+  spec.segments_per_link = segments;
+  spec.timestep_s = 5e-4 / (segments * segments);  // the hinge modes go as n^2
+  const long steps_per_sample = std::lround(1e-3 / spec.timestep_s);
+  constexpr long kSteps = 20000;
+  for (auto _ : state) {
+    Simulation sim(LoadModelString(GenerateFlagellumMjcf(spec)), "flexible flagellum");
+    double volts[3] = {0, 0, 0};
+    for (long i = 0; i < kSteps; ++i) {
+      if (i % steps_per_sample == 0) {
+        const double v = 3.0 * std::sin(2 * 3.141592653589793 * sim.data()->time);
+        for (double& volt : volts) volt = v;
+        SetVoltages(sim.data(), volts, 3);
+      }
+      sim.Step();
+    }
+  }
+  state.SetItemsProcessed(kSteps * state.iterations());
+}
+
+// The drag-only swimmer (rigid links) over the same 20 000 steps.
+void BM_DragOnlySteps(benchmark::State& state) {
+  FlagellumSpec spec;
+  spec.ipmc_actuators = false;
+  spec.timestep_s = 5e-4;
+  for (auto _ : state) {
+    Simulation sim(LoadModelString(GenerateFlagellumMjcf(spec)), "drag-only flagellum");
+    sim.data()->qvel[0] = 1e-4;
+    for (long i = 0; i < 20000; ++i) sim.Step();
+  }
+  state.SetItemsProcessed(20000 * state.iterations());
+}
+
 BENCHMARK(BM_PaperScenario)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
 BENCHMARK(BM_DragOnlySwimmer)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+BENCHMARK(BM_DragOnlySteps)->Repetitions(5)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_CoupledSteps, segments_1, 1)->Repetitions(5)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_CoupledSteps, segments_2, 2)->Repetitions(5)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_CoupledSteps, segments_4, 4)->Repetitions(5)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_CoupledSteps, segments_8, 8)->Repetitions(5)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 }  // namespace ipmc
 
-int main(int argc, char** argv) { return ipmc::RunWithRatios(argc, argv, "BM_DragOnlySwimmer"); }
+int main(int argc, char** argv) {
+  return ipmc::RunWithRatios(argc, argv,
+                             std::vector<std::string>{"BM_DragOnlySwimmer", "BM_DragOnlySteps"});
+}

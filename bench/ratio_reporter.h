@@ -28,7 +28,7 @@ class RatioReporter : public benchmark::ConsoleReporter {
     if (bare == time_.end()) return;
     std::printf("\nWall time relative to %s:\n", baseline.c_str());
     for (const auto& [name, ns] : time_) {
-      std::printf("  %-26s %6.3f\n", name.c_str(), ns / bare->second);
+      std::printf("  %-30s %6.3f\n", name.c_str(), ns / bare->second);
     }
   }
 
@@ -36,15 +36,19 @@ class RatioReporter : public benchmark::ConsoleReporter {
   std::map<std::string, double> time_;
 };
 
-// Runs the registered benchmarks and prints the ratios to `baseline`.
-inline int RunWithRatios(int argc, char** argv, const std::string& baseline) {
+// Runs the registered benchmarks and prints the ratios to each baseline.
+inline int RunWithRatios(int argc, char** argv, const std::vector<std::string>& baselines) {
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   RatioReporter reporter;
   benchmark::RunSpecifiedBenchmarks(&reporter);
-  reporter.PrintRatios(baseline);
+  for (const std::string& baseline : baselines) reporter.PrintRatios(baseline);
   benchmark::Shutdown();
   return 0;
+}
+
+inline int RunWithRatios(int argc, char** argv, const std::string& baseline) {
+  return RunWithRatios(argc, argv, std::vector<std::string>{baseline});
 }
 
 }  // namespace ipmc

@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -757,13 +758,53 @@ bool ParsesAsNumber(const std::string& text) {
   return end == text.c_str() + text.size();
 }
 
+// A sweep column, or one element of an array column: "link_lengths_mm[0]".
+class SweepAxis {
+ public:
+  SweepAxis(const CsvTable& table, const std::string& spec) : name_(spec) {
+    std::string column = spec;
+    const size_t open = spec.find('[');
+    if (open != std::string::npos && spec.back() == ']') {
+      column = spec.substr(0, open);
+      const std::string index = spec.substr(open + 1, spec.size() - open - 2);
+      char* end = nullptr;
+      const long value = std::strtol(index.c_str(), &end, 10);
+      if (index.empty() || end != index.c_str() + index.size() || value < 0) {
+        throw std::invalid_argument(table.path() + ": column " + spec +
+                                    ": the element index must be a whole number >= 0");
+      }
+      element_ = value;
+    }
+    column_ = table.Column(column);
+  }
+
+  // The field (or its array element) of `row` as text.
+  std::string Text(const CsvTable& table, size_t row) const {
+    const std::string& text = table.Text(row, column_);
+    if (element_ < 0) return text;
+    const nlohmann::json array = nlohmann::json::parse(text, nullptr, false);
+    if (!array.is_array() || element_ >= static_cast<long>(array.size())) {
+      throw std::invalid_argument(table.path() + ": column " + name_ + ": '" + text +
+                                  "' has no element " + std::to_string(element_));
+    }
+    const nlohmann::json& value = array[element_];
+    return value.is_string() ? value.get<std::string>() : value.dump();
+  }
+
+ private:
+  std::string name_;
+  size_t column_ = 0;
+  long element_ = -1;
+};
+
 // Metric against a swept parameter, one curve per group.
 Figure SweepFigure(const CsvTable& table, const PlotArgs& args, const ScratchDir& scratch,
                    const std::string& title) {
-  const size_t x_column = table.Column(args.x_column);
+  const SweepAxis x_axis(table, args.x_column);
   const size_t y_column = table.Column(args.y_column);
   const bool grouped = !args.group_column.empty();
-  const size_t group_column = grouped ? table.Column(args.group_column) : 0;
+  const std::optional<SweepAxis> group_axis =
+      grouped ? std::optional<SweepAxis>(SweepAxis(table, args.group_column)) : std::nullopt;
   const bool has_status = table.Has(kStatusColumn);
   const size_t status_column = has_status ? table.Column(kStatusColumn) : 0;
 
@@ -776,18 +817,18 @@ Figure SweepFigure(const CsvTable& table, const PlotArgs& args, const ScratchDir
                                 " to plot");
   }
   bool numeric_x = true;
-  for (size_t r : rows) numeric_x = numeric_x && ParsesAsNumber(table.Text(r, x_column));
+  for (size_t r : rows) numeric_x = numeric_x && ParsesAsNumber(x_axis.Text(table, r));
   std::vector<std::string> categories;  // distinct x values, non-numeric x
   std::vector<std::string> groups;      // distinct group values, in order
   std::map<std::string, std::vector<std::pair<double, double>>> points;
   for (size_t r : rows) {
-    const std::string group = grouped ? table.Text(r, group_column) : "";
+    const std::string group = grouped ? group_axis->Text(table, r) : "";
     if (std::find(groups.begin(), groups.end(), group) == groups.end()) groups.push_back(group);
     double x = 0.0;
+    const std::string value = x_axis.Text(table, r);
     if (numeric_x) {
-      x = table.Number(r, x_column);
+      x = std::strtod(value.c_str(), nullptr);
     } else {
-      const std::string& value = table.Text(r, x_column);
       auto at = std::find(categories.begin(), categories.end(), value);
       if (at == categories.end()) at = categories.insert(categories.end(), value);
       x = static_cast<double>(at - categories.begin());
@@ -985,7 +1026,8 @@ void AddPlotCommand(CLI::App& app, PlotArgs& args) {
                   "waveform: wave period [s] (default: period_s of summary.json beside INPUT)");
   cmd->add_option("--max-lines", args.max_lines, "surface: most body lines drawn")
       ->capture_default_str();
-  cmd->add_option("--x", args.x_column, "sweep: column on the x axis");
+  cmd->add_option("--x", args.x_column,
+                  "sweep: column on the x axis (NAME[i]: element i of an array column)");
   cmd->add_option("--y", args.y_column, "sweep: column on the y axis");
   cmd->add_option("--group", args.group_column, "sweep: one curve per value of this column");
   cmd->add_flag("--log-x", args.log_x, "sweep: logarithmic x axis");
