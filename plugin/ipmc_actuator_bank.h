@@ -40,7 +40,7 @@
 // changed every 1 ms, default options): about 1.8 us per AdvanceTo, of
 // which most is the restart after each change; 0.15 us with held voltages.
 // The bank replaces the serial N_Vector kernels of the vectors CVODE uses
-// with equivalent loops compiled with the project (see the .cc file).
+// with equivalent loops compiled with the project (plugin/serial_kernels.h).
 #ifndef IPMC_SWIM_PLUGIN_IPMC_ACTUATOR_BANK_H_
 #define IPMC_SWIM_PLUGIN_IPMC_ACTUATOR_BANK_H_
 
