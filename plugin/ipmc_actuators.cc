@@ -302,10 +302,12 @@ void IpmcActuators::ApplyFreeShape(const mjModel* m, mjData* d, int q, double de
     kappa_1_m = shape.Curvature_1_m(deflection_mm * kMmToM, curvature_1_m_[q], &clamped);
   }
   if (clamped && clamp_count_++ == 0) {
-    std::fprintf(stderr,
-                 "warning: ipmc link %d: free deflection %.3g mm exceeds its reach %.3g mm; "
-                 "clamped\n",
-                 q + 1, deflection_mm, shape.Reach_m() / kMmToM);
+    char message[200];
+    std::snprintf(message, sizeof(message),
+                  "ipmc link %d: free deflection %.6g mm at t = %.6g s exceeds the link's reach "
+                  "%.6g mm; clamped (reported once per coupling)",
+                  q + 1, deflection_mm, d->time, shape.Reach_m() / kMmToM);
+    mju_warning(message);
   }
   curvature_1_m_[q] = kappa_1_m;
   for (size_t i = 0; i < chain.joints.size(); ++i) {

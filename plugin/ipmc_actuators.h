@@ -19,7 +19,8 @@
 // the midpoint rule of the arc's integral of sin(kappa s) ds, so the free
 // shape converges to the arc as 1/n^2. For n = 1 this is the rigid link's
 // theta0 = asin(delta_free_q / L_q). A deflection beyond the chain's reach
-// is clamped to it (for n = 1, theta0 = +-pi/2) with a warning.
+// is clamped to it (for n = 1, theta0 = +-pi/2); the first clamp of a
+// coupling is reported through mju_warning.
 // delta_free_q is the output of the link's model P_q(s) = s^-0.5 G_q(s)
 // (plugin/ipmc_link_model.h) driven by its voltage, integrated by CVODE
 // (plugin/ipmc_actuator_bank.h) in mjcb_control.

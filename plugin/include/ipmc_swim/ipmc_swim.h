@@ -8,6 +8,11 @@
 // ipmc_* motors' ctrl (mjcb_control). Attach/Detach may be called for many
 // (model, data) pairs; stepping different pairs from different threads is
 // safe. Call Attach before starting threads that step.
+//
+// Warnings (a clamped free deflection) go through mju_warning: MuJoCo
+// prints them to stdout and appends them to MUJOCO_LOG.TXT unless the
+// program sets mju_user_warning. Each names the link and the time;
+// mju_user_warning is called from the thread that steps.
 #pragma once
 
 #include <mujoco/mujoco.h>
