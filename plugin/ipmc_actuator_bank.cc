@@ -549,6 +549,28 @@ void IpmcActuatorBank::Reset(double t0_s) {
   impl_->reinit_pending = true;
 }
 
+void IpmcActuatorBank::SetState(double t_s, const Eigen::VectorXd& state) {
+  if (!std::isfinite(t_s)) {
+    std::ostringstream out;
+    out << "ipmc actuator: SetState needs a finite t_s (got " << t_s << ")";
+    throw std::invalid_argument(out.str());
+  }
+  if (state.size() != impl_->states) {
+    std::ostringstream out;
+    out << "ipmc actuator: state needs " << impl_->states << " values (got "
+        << state.size() << ")";
+    throw std::invalid_argument(out.str());
+  }
+  if (!state.allFinite()) {
+    throw std::invalid_argument("ipmc actuator: state values must be finite");
+  }
+  impl_->state = state;  // keeps the storage y_vector wraps
+  impl_->time_s = t_s;
+  impl_->reinit_pending = true;
+}
+
+void IpmcActuatorBank::Restart() { impl_->reinit_pending = true; }
+
 const Eigen::VectorXd& IpmcActuatorBank::State() const {
   return impl_->state;
 }

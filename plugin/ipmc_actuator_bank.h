@@ -114,6 +114,19 @@ class IpmcActuatorBank {
   // Zero state at time t0_s (finite); the held voltages are kept.
   void Reset(double t0_s = 0);
 
+  // x = `state` at time t_s, the held voltages kept. Throws
+  // std::invalid_argument unless t_s is finite and `state` holds States()
+  // finite values.
+  void SetState(double t_s, const Eigen::VectorXd& state);
+
+  // Makes the next AdvanceTo restart CVODE at Time_s() from State(), as a
+  // voltage change does, discarding its internal steps past Time_s(). From
+  // a restart the integration depends only on (Time_s(), State(),
+  // Voltages_V()) and the times asked for, so two banks of the same links
+  // set to the same triple (SetState, SetVoltages) give identical numbers.
+  // Reset, SetState and a voltage change imply it.
+  void Restart();
+
   // The augmented Oustaloup state x at Time_s(), links in order.
   const Eigen::VectorXd& State() const;
 
