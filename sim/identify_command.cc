@@ -778,11 +778,12 @@ int RunPipeline(const IdentifyArgs::Pipeline& args) {
     }
   }
   if (!drive_each && links > 1) {
-    report << "\nGains relative to link 1 (a0 of G1):";
+    // Section 4.3: K_q = a0_q / a0_(q-1), each tip against the one before.
+    report << "\nGains of each tip against the one before (a0 of G1, as section 4.3):";
     for (int q = 1; q < links; ++q) {
       report << Format(" K%d = %.3f", q + 1,
                        results[q].id.g1.params.a0_mm_per_V /
-                           results[0].id.g1.params.a0_mm_per_V);
+                           results[q - 1].id.g1.params.a0_mm_per_V);
     }
     report << ".\n";
   }

@@ -712,7 +712,7 @@ TEST(IdentifyCommandTest, PipelineWritesTheReport) {
   for (const char* needle :
        {"# Identification of the simulated flagellum", "## Identified models (as Table 2)",
         "## Fit indices (as Table 3)", "## Controllers for link 3", "fractional integrator",
-        "Gains relative to link 1", "Repeats: 2", "2 records x 8 sections"}) {
+        "Gains of each tip against the one before", "Repeats: 2", "2 records x 8 sections"}) {
     EXPECT_NE(report.find(needle), std::string::npos) << needle;
   }
   for (int q = 1; q <= 3; ++q) {
