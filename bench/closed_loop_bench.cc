@@ -13,11 +13,11 @@
 #include <string>
 
 #include "bench/ratio_reporter.h"
-#include "sim/closed_loop_run.h"
-#include "sim/model_generator.h"
+#include "sim/runs/closed_loop_run.h"
+#include "sim/core/model_generator.h"
 #include "ipmc_swim/ipmc_swim.h"
-#include "sim/scenario.h"
-#include "sim/simulation.h"
+#include "sim/core/scenario.h"
+#include "sim/core/simulation.h"
 
 namespace ipmc {
 namespace {

@@ -27,7 +27,7 @@
 #include "controllers/fractional_integrator.h"
 #include "controllers/pid.h"
 #include "controllers/reference_model.h"
-#include "controllers/state_space.h"
+#include "controllers/linear/state_space.h"
 
 namespace ipmc {
 

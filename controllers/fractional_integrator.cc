@@ -1,4 +1,4 @@
-#include "controllers/format.h"
+#include "sim/io/numbers.h"
 #include "controllers/fractional_integrator.h"
 
 #include <algorithm>

@@ -28,8 +28,8 @@
 
 #include <Eigen/Dense>
 
-#include "controllers/oustaloup.h"
-#include "controllers/state_space.h"
+#include "controllers/linear/oustaloup.h"
+#include "controllers/linear/state_space.h"
 
 namespace ipmc {
 

@@ -23,10 +23,10 @@
 #include "tests/test_util.h"
 #include "controllers/closed_loop.h"
 #include "controllers/fractional_integrator.h"
-#include "controllers/oustaloup.h"
+#include "controllers/linear/oustaloup.h"
 #include "controllers/pid.h"
 #include "controllers/reference_model.h"
-#include "controllers/state_space.h"
+#include "controllers/linear/state_space.h"
 
 namespace ipmc {
 namespace {

@@ -8,7 +8,7 @@
 // last quoted digit plus about ten times the residual measured against the
 // unrounded values (crossovers to 1e-9 relative).
 #include "tests/test_util.h"
-#include "controllers/frequency_response.h"
+#include "controllers/linear/frequency_response.h"
 
 #include <cmath>
 #include <complex>

@@ -9,8 +9,8 @@
 #include <cstdio>
 
 #include "ipmc_swim/ipmc_swim.h"
-#include "sim/bench_run.h"
-#include "plugin/ipmc_link_model.h"
+#include "sim/runs/bench_run.h"
+#include "plugin/actuators/ipmc_link_model.h"
 #include "tests/test_util.h"
 
 namespace ipmc::testing {

@@ -1,7 +1,7 @@
 // Oustaloup approximation (controllers/oustaloup.h) and the state-space
 // toolbox (controllers/state_space.h).
 #include "tests/test_util.h"
-#include "controllers/oustaloup.h"
+#include "controllers/linear/oustaloup.h"
 
 #include <cmath>
 #include <complex>
@@ -13,7 +13,7 @@
 
 #include <gtest/gtest.h>
 
-#include "controllers/state_space.h"
+#include "controllers/linear/state_space.h"
 
 namespace ipmc {
 namespace {

@@ -35,10 +35,10 @@
 #include <string>
 #include <vector>
 
-#include "sim/closed_loop_run.h"
-#include "sim/model_generator.h"
-#include "sim/scenario.h"
-#include "sim/simulation.h"
+#include "sim/runs/closed_loop_run.h"
+#include "sim/core/model_generator.h"
+#include "sim/core/scenario.h"
+#include "sim/core/simulation.h"
 #include "tests/test_util.h"
 
 namespace ipmc::testing {

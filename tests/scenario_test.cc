@@ -1,7 +1,7 @@
 // Scenario files: the paper's two scenarios load with the paper's values,
 // and every class of bad input gives one line naming the file, line and
 // key.
-#include "sim/scenario.h"
+#include "sim/core/scenario.h"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 // recorded without stopping the others, and bad sweep files or tables give
 // one-line errors. The runs are one 2 s wave period at a 0.5 ms step
 // (about 0.03 s each).
-#include "sim/sweep.h"
+#include "sim/batch/sweep.h"
 
 #include <gtest/gtest.h>
 
@@ -17,8 +17,8 @@
 #include <string>
 #include <vector>
 
-#include "sim/closed_loop_run.h"
-#include "sim/sweep_command.h"
+#include "sim/runs/closed_loop_run.h"
+#include "sim/cli/sweep_command.h"
 
 namespace ipmc {
 namespace {

@@ -8,10 +8,10 @@
 #include <stdexcept>
 #include <string>
 
-#include "sim/gait.h"
-#include "sim/gait_run.h"
-#include "sim/model_generator.h"
-#include "sim/simulation.h"
+#include "sim/core/gait.h"
+#include "sim/runs/gait_run.h"
+#include "sim/core/model_generator.h"
+#include "sim/core/simulation.h"
 
 namespace ipmc::testing {
 
