@@ -1,6 +1,6 @@
-// IPMC links as chains of rigid sub-segments (plugin/ipmc_actuators.h,
-// sim/model_generator.h), the plant assignment and the scaling of a link's
-// plant with its length (plugin/ipmc_link_model.h).
+// IPMC links as chains of rigid sub-segments (plugin/actuators/ipmc_actuators.h,
+// sim/core/model_generator.h), the plant assignment and the scaling of a link's
+// plant with its length (plugin/actuators/ipmc_link_model.h).
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>

@@ -1,4 +1,4 @@
-// Bode data, crossovers and margins (controllers/frequency_response.h):
+// Bode data, crossovers and margins (controllers/linear/frequency_response.h):
 // textbook loops with closed-form answers, then the paper's open loops of
 // section 5.2 on the link-3 model of eq. 7.
 //

@@ -1,4 +1,4 @@
-// IPMC actuator bank (plugin/ipmc_actuator_bank.h): CVODE against exact
+// IPMC actuator bank (plugin/actuators/ipmc_actuator_bank.h): CVODE against exact
 // solutions of the same linear system, the s^-0.5 step response, input
 // holding, determinism and error reporting.
 #include "plugin/actuators/ipmc_actuator_bank.h"

@@ -1,5 +1,5 @@
-// Oustaloup approximation (controllers/oustaloup.h) and the state-space
-// toolbox (controllers/state_space.h).
+// Oustaloup approximation (controllers/linear/oustaloup.h) and the state-space
+// toolbox (controllers/linear/state_space.h).
 #include "tests/test_util.h"
 #include "controllers/linear/oustaloup.h"
 

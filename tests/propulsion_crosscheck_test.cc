@@ -46,7 +46,7 @@ namespace {
 
 constexpr double kPi = 3.141592653589793;
 constexpr double kMToMm = 1e3;
-// The swimmer's root: the first body under the world (sim/swim_meter.h).
+// The swimmer's root: the first body under the world (sim/core/swim_meter.h).
 constexpr int kRootBody = 1;
 
 // ---------------------------------------------------------------------------

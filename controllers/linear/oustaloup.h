@@ -77,7 +77,7 @@ ZeroPoleGain OustaloupZpk(const OustaloupConfig& config);
 // then |m| integrators for m < 0. Throws std::invalid_argument if the
 // realisation would be improper (m > 0, i.e. a differentiator); realise
 // s^alpha with alpha >= 1 in a denominator by feedback instead (see
-// plugin/ipmc_link_model.h).
+// plugin/actuators/ipmc_link_model.h).
 StateSpace OustaloupStateSpace(const OustaloupConfig& config);
 
 }  // namespace ipmc

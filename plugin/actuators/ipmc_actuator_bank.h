@@ -1,6 +1,6 @@
 // The IPMC actuators of a flagellum as one linear ODE integrated by CVODE.
 //
-// Each link q is a SISO state-space block (plugin/ipmc_link_model.h), voltage
+// Each link q is a SISO state-space block (plugin/actuators/ipmc_link_model.h), voltage
 // u_q [V] -> free tip deflection y_q [mm]. The blocks are stacked into the
 // augmented Oustaloup state x = [x_1; ...; x_L] with block-diagonal A:
 //

@@ -21,8 +21,8 @@
 // theta0 = asin(delta_free_q / L_q). A deflection beyond the chain's reach
 // is clamped to it (for n = 1, theta0 = +-pi/2) with a warning.
 // delta_free_q is the output of the link's model P_q(s) = s^-0.5 G_q(s)
-// (plugin/ipmc_link_model.h) driven by its voltage, integrated by CVODE
-// (plugin/ipmc_actuator_bank.h) in mjcb_control.
+// (plugin/actuators/ipmc_link_model.h) driven by its voltage, integrated by CVODE
+// (plugin/actuators/ipmc_actuator_bank.h) in mjcb_control.
 //
 // MJCF fields:
 //   text    ipmc_links           root hinges of links 1..n, in order

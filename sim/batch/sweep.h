@@ -3,7 +3,7 @@
 //
 // Sweep file (TOML); paths are relative to the sweep file:
 //
-//   base = "paper.toml"                 # a scenario file (sim/scenario.h); required
+//   base = "paper.toml"                 # a scenario file (sim/core/scenario.h); required
 //   [set]                               # optional: overrides applied to every point
 //   cycles = 2
 //   [grid]                              # the Cartesian product of these arrays
@@ -51,7 +51,7 @@
 //   link<q>_iae_mm_s, link<q>_itae_mm_s2, link<q>_rms_voltage_V,
 //   link<q>_clamped_fraction  (q = 1..links, the most links of any point's model),
 //   last_cycle_com_along_mm, mean_speed_along_mm_s, reynolds_tip, reynolds_swim
-// (sim/closed_loop_run.h, sim/swim_meter.h). Swept values are printed as
+// (sim/runs/closed_loop_run.h, sim/core/swim_meter.h). Swept values are printed as
 // the shortest text that reads back exactly ("" where a list's point keeps
 // the base's value); results with 17 significant digits (max_digits10), so
 // tables compare exactly. Error rows leave the results empty.

@@ -1,7 +1,7 @@
 // The identification subcommands of ipmc-swim (paper sections 4.1, 4.2 and
-// 5.2): frequency response from bench data (sim/welch.h), Levy fits of G1
-// and G2 (sim/levy.h), and the controller design on an identified link
-// (sim/controller_design.h).
+// 5.2): frequency response from bench data (sim/identify/welch.h), Levy fits of G1
+// and G2 (sim/identify/levy.h), and the controller design on an identified link
+// (sim/identify/controller_design.h).
 //
 //   ipmc-swim identify DATA.csv --input voltage1_V --output relative3_mm
 //       [--sample-rate-hz 1000] [--band-rad-s 0.2,50] [--out DIR]

@@ -1,4 +1,4 @@
-// The sweep subcommands of ipmc-swim (sim/sweep.h describes sweep files
+// The sweep subcommands of ipmc-swim (sim/batch/sweep.h describes sweep files
 // and the table).
 //
 //   ipmc-swim sweep SWEEP.toml --out PREFIX [--jobs N] [--shard i/n]

@@ -242,11 +242,11 @@ std::string GenerateFlagellumMjcf(const FlagellumSpec& spec) {
   }
   xml << "  <actuator>\n";
   for (const std::string& joint : hinges) {
-    // Active IPMC moment k theta0 [N m] (plugin/ipmc_actuators.h).
+    // Active IPMC moment k theta0 [N m] (plugin/actuators/ipmc_actuators.h).
     xml << "    <motor name=\"ipmc_" << joint << "\" joint=\"" << joint << "\" gear=\"1\"/>\n";
   }
   for (const std::string& joint : root_hinges) {
-    // Prescribed-gait servo; its gains are set at run time (sim/gait.h).
+    // Prescribed-gait servo; its gains are set at run time (sim/core/gait.h).
     xml << "    <general name=\"servo_" << joint << "\" joint=\"" << joint
         << "\" gaintype=\"fixed\" biastype=\"affine\" gainprm=\"0\" biasprm=\"0 0 0\"/>\n";
   }

@@ -42,7 +42,7 @@ struct FlagellumSpec {
   bool clamped = false;
   double timestep_s = 1e-4;
   std::string integrator = "implicit";  // Euler | implicit | RK4
-  // Resistive-force theory (see plugin/rft_drag.h).
+  // Resistive-force theory (see plugin/fluid/rft_drag.h).
   double viscosity_Pa_s = 1.0e-3;
   std::string coefficients = "gray_hancock";  // gray_hancock | lighthill | direct
   double wavelength_mm = 32.0;
@@ -50,7 +50,7 @@ struct FlagellumSpec {
   double xi_normal_N_s_m2 = 0.0;        // only with coefficients = direct
   double xi_tangential_N_s_m2 = 0.0;
   double fluid_density_kg_m3 = 1000.0;
-  // IPMC actuators on every link (plugin/ipmc_actuators.h), Table 2
+  // IPMC actuators on every link (plugin/actuators/ipmc_actuators.h), Table 2
   // parameters; needs a hinge per link (a head, or a clamped root).
   bool ipmc_actuators = true;
   std::string plants = "uniform";           // uniform | table2

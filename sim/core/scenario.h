@@ -12,7 +12,7 @@
 //                                      # also generates the flagellum (links
 //                                      # of 10 mm unless link_lengths_mm)
 //   plants = "uniform"                 # uniform | table2, over the model's
-//                                      # ipmc_plants (plugin/ipmc_actuators.h)
+//                                      # ipmc_plants (plugin/actuators/ipmc_actuators.h)
 //   actuation = "distributed"          # distributed | single
 //   cycles = 3                         # >= 1
 //   timestep_s = 5e-4                  # overrides the model's step; (0, 1e-3]

@@ -7,7 +7,7 @@
 //     deg, so  lambda = (arg P(j w_c) + 180 deg - PM) / 90 deg;
 //   gain condition: |L(j w_c)| = 1, so  K = w_c^lambda / |P(j w_c)|.
 // arg P is unwrapped along a logarithmic grid from 1e-4 w_c up to w_c
-// (controllers/frequency_response.h), so plants whose phase passes -180 deg
+// (controllers/linear/frequency_response.h), so plants whose phase passes -180 deg
 // below w_c are handled. For eq. 7 with w_c = 5 rad/s, PM = 75 deg:
 // arg P(j5) = -52.02 deg, |P(j5)| = 0.17632 mm/V, lambda = 0.5887,
 // K = 14.63 (the paper prints 0.62 and 15.62, which give a crossover of

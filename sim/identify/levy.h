@@ -2,7 +2,7 @@
 // by Levy's method (paper section 4.2; E. C. Levy, "Complex-curve fitting",
 // IRE Trans. Automatic Control AC-4, 1959, pp. 37-44).
 //
-// The measured response P(j w) (e.g. from sim/welch.h, [mm/V]) holds the
+// The measured response P(j w) (e.g. from sim/identify/welch.h, [mm/V]) holds the
 // fractional integrator H(s) = s^-0.5 of eq. 4 in series with the
 // mechanical model G(s). The integrator is removed first:
 //   G_meas(j w) = P(j w) / (j w)^h,  h = integrator_order = -0.5,

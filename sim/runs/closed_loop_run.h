@@ -1,8 +1,8 @@
 // Closed-loop swimming (paper section 5): every driven IPMC link has its
 // own controller (the PID of eq. 12 or the fractional integrator of eq. 14),
 // sampled at a fixed rate, which reads the link's measured relative tip
-// deflection from the sensors (sim/link_sensors.h) and tracks the link's
-// reference from the discretised travelling wave (sim/waveform.h); its
+// deflection from the sensors (sim/core/link_sensors.h) and tracks the link's
+// reference from the discretised travelling wave (sim/core/waveform.h); its
 // clamped voltage drives the link through ipmc::SetVoltages and is held
 // until the next sample. In single actuation only link 1 is driven (it
 // tracks its own reference); the other links get 0 V and are passive.

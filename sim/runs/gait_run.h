@@ -8,7 +8,7 @@
 // larger of 100 times the body's rotational drag xi_n L^3 / 3 and
 // 4 J / T_s (J the largest hinge inertia), kp = kv / T_s, T_s = 10 dt:
 // an overdamped servo ten steps fast whose damping MuJoCo's implicit
-// integrator treats implicitly. Swim metrics and frames: sim/swim_meter.h.
+// integrator treats implicitly. Swim metrics and frames: sim/core/swim_meter.h.
 #pragma once
 
 #include <string>
