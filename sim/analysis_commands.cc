@@ -18,6 +18,7 @@
 #include "controllers/fractional_integrator.h"
 #include "controllers/frequency_response.h"
 #include "controllers/oustaloup.h"
+#include "controllers/paper_eq15.h"
 #include "controllers/pid.h"
 #include "controllers/reference_model.h"
 #include "controllers/state_space.h"
@@ -54,22 +55,6 @@ constexpr double kSettlingBand = 0.02;
 constexpr double kMaxStepSamples = 1e6;
 // The Oustaloup bound of FractionalIntegrator::Config.
 constexpr int kMaxOustaloupPairs = 64;
-
-// Eq. 15 as printed, highest power of s first.
-constexpr double kEq15Numerator[] = {32.08, 1981.0, 6511.0, 1196.0, 11.7};
-constexpr double kEq15Denominator[] = {36.47, 372.9, 202.9, 6.175, 0.01};
-
-template <std::size_t N>
-Complex Polynomial(const double (&coefficients)[N], Complex s) {
-  Complex value = 0.0;
-  for (double coefficient : coefficients) value = value * s + coefficient;
-  return value;
-}
-
-Complex Eq15(double w_rad_s) {
-  const Complex s(0.0, w_rad_s);
-  return Polynomial(kEq15Numerator, s) / Polynomial(kEq15Denominator, s);
-}
 
 std::string Short(double value) {
   char buffer[32];
@@ -192,9 +177,7 @@ ControllerResponse BodeController(const BodeArgs& args) {
                 ", " + Short(args.band_rad_s[1]) + "] rad/s"};
   }
   if (c == kFractionalEq15) {
-    return {Eq15,
-            "C(s) = (32.08 s^4 + 1981 s^3 + 6511 s^2 + 1196 s + 11.7) / "
-            "(36.47 s^4 + 372.9 s^3 + 202.9 s^2 + 6.175 s + 0.01) (eq. 15)"};
+    return {[](double w) { return Eq15Evaluate({0.0, w}); }, Eq15Description()};
   }
   return {[](double) { return Complex(1.0, 0.0); }, "C(s) = 1 (no controller)"};
 }
