@@ -21,6 +21,7 @@
 #include "sim/plot_command.h"
 #include "sim/scenario.h"
 #include "sim/sweep_command.h"
+#include "sim/table5_command.h"
 #include "renders/render_command.h"
 #include "sim/simulation.h"
 
@@ -303,6 +304,8 @@ int main(int argc, char** argv) {
   ipmc::AddIdentifyCommands(app, identify);
   ipmc::SweepArgs sweep;
   ipmc::AddSweepCommands(app, sweep);
+  ipmc::Table5Args table5;
+  ipmc::AddTable5Command(app, table5);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -323,6 +326,7 @@ int main(int argc, char** argv) {
     if (int s = ipmc::RunPlotCommand(app, plot); s >= 0) status = s;
     if (int s = ipmc::RunIdentifyCommand(app, identify); s >= 0) status = s;
     if (int s = ipmc::RunSweepCommand(app, sweep); s >= 0) status = s;
+    if (int s = ipmc::RunTable5Command(app, table5); s >= 0) status = s;
     PrintMujocoWarnings();
     return status;
   } catch (const std::exception& e) {
