@@ -579,6 +579,16 @@ TEST(ClosedLoopTest, RejectsBadSimulation) {
   ExpectThrowMentioning<std::invalid_argument>(
       [&] { SimulateClosedLoopStep(Integrators(1), pid, simulation); },
       "step_amplitude");
+  simulation = {};
+  simulation.max_horizon_s = -1.0;
+  ExpectThrowMentioning<std::invalid_argument>(
+      [&] { SimulateClosedLoopStep(Integrators(1), pid, simulation); },
+      "max_horizon_s");
+  simulation = {};
+  simulation.settling_band = 1.0;
+  ExpectThrowMentioning<std::invalid_argument>(
+      [&] { SimulateClosedLoopStep(Integrators(1), pid, simulation); },
+      "settling_band");
   ExpectThrowMentioning<std::invalid_argument>(
       [&] {
         SimulateClosedLoopStep(Integrators(1), [](double e) { return e; }, 0.0,
@@ -700,6 +710,78 @@ TEST(PaperStepResponsesTest, CostOfThePaperPidAgainstTheReferenceModel) {
     EXPECT_NEAR(j_standard, design[i], 5e-4) << "horizon " << horizons[i];
     EXPECT_GT(j_standard, j_fine);
   }
+}
+
+// Each reason a record can leave its step metrics open, on responses
+// whose metrics are known: records of a held controller output into
+// first- and second-order lags.
+TEST(ClosedLoopTest, RecordCheckNamesWhatTheRecordDoesNotDetermine) {
+  const auto record = [](const StateSpace& plant, double horizon_s) {
+    StepSimulation simulation;
+    simulation.horizon_s = horizon_s;
+    return SimulateClosedLoopStep(plant, [](double) { return 1.0; }, 0.01, simulation);
+  };
+  // Monotone 1 - e^-t: the maximum is always the last point.
+  const StateSpace lag = SecondOrderLag(1.0, 1.0, 0.0);
+  EXPECT_EQ(CheckStepRecord(record(lag, 2.0)), StepRecordStatus::kPeakAtEnd);
+  EXPECT_EQ(CheckStepRecord(record(lag, 20.0)), StepRecordStatus::kPeakAtEnd);
+  // 0.5 e^-t (x' = -x + u, y = -x / 2 + u / 2) starts at its peak and never
+  // reaches 90 %.
+  StateSpace decay;
+  decay.a = Eigen::MatrixXd::Constant(1, 1, -1.0);
+  decay.b = Eigen::MatrixXd::Constant(1, 1, 1.0);
+  decay.c = Eigen::MatrixXd::Constant(1, 1, -0.5);
+  decay.d = Eigen::MatrixXd::Constant(1, 1, 0.5);
+  EXPECT_EQ(CheckStepRecord(record(decay, 5.0)), StepRecordStatus::kBelow90Percent);
+  // zeta = 0.1, w_n = 1: peak at pi / w_d = 3.16 s, 2 % settling ~ 39 s.
+  const StateSpace resonance = SecondOrderLag(1.0, 0.2, 1.0);
+  EXPECT_EQ(CheckStepRecord(record(resonance, 10.0)), StepRecordStatus::kOutsideBand);
+  const ClosedLoopResponse settled = record(resonance, 60.0);
+  ASSERT_TRUE(ComputeStepMetrics(settled).settling_time_s.has_value());
+  EXPECT_GT(*ComputeStepMetrics(settled).settling_time_s, 30.0);
+  EXPECT_EQ(CheckStepRecord(settled), StepRecordStatus::kSettledLate);
+  EXPECT_EQ(CheckStepRecord(record(resonance, 100.0)), StepRecordStatus::kDetermined);
+  EXPECT_STREQ(StepRecordStatusText(StepRecordStatus::kPeakAtEnd),
+               "peak at the end (still rising)");
+}
+
+// C_I on link 1 (Table 2, the slowest loop) peaks at 16.4 s and settles
+// at 27.0 s: a 10 s record misses both. Extended, the record stops at the
+// first multiple of the horizon that holds them (60 s: in the band for
+// more than half of it) and its metrics are those of a 300 s record.
+TEST(ClosedLoopTest, RecordIsExtendedUntilItsMetricsAreDetermined) {
+  const StateSpace plant = LinkPlant(1);
+  FractionalIntegrator integrator(WideBandIntegrator(1e-3));
+  StepSimulation simulation;
+  simulation.horizon_s = 10.0;
+  const ClosedLoopResponse short_record = SimulateClosedLoopStep(plant, integrator, simulation);
+  EXPECT_EQ(CheckStepRecord(short_record), StepRecordStatus::kPeakAtEnd);
+  simulation.max_horizon_s = 300.0;
+  const ClosedLoopResponse extended = SimulateClosedLoopStep(plant, integrator, simulation);
+  EXPECT_NEAR(extended.time_s.back(), 60.0, 1e-9);
+  EXPECT_EQ(CheckStepRecord(extended), StepRecordStatus::kDetermined);
+  // The first 10 s are the short record's, sample for sample.
+  for (std::size_t i = 0; i + 1 < short_record.time_s.size(); ++i) {
+    ASSERT_EQ(extended.output[i], short_record.output[i]) << i;
+  }
+  StepSimulation whole;
+  whole.horizon_s = 300.0;
+  const StepMetrics long_metrics =
+      ComputeStepMetrics(SimulateClosedLoopStep(plant, integrator, whole));
+  const StepMetrics metrics = ComputeStepMetrics(extended);
+  EXPECT_EQ(metrics.overshoot_percent, long_metrics.overshoot_percent);
+  EXPECT_EQ(metrics.peak_time_s, long_metrics.peak_time_s);
+  EXPECT_EQ(*metrics.rise_time_s, *long_metrics.rise_time_s);
+  EXPECT_EQ(*metrics.settling_time_s, *long_metrics.settling_time_s);
+  // Measured: 3.6256 % at 16.395 s, settled at 27.028 s.
+  EXPECT_NEAR(metrics.overshoot_percent, 3.6256, 1e-3);
+  EXPECT_NEAR(*metrics.settling_time_s, 27.028, 1e-2);
+
+  // A cap short of that leaves the record open, at the cap.
+  simulation.max_horizon_s = 25.0;
+  const ClosedLoopResponse capped = SimulateClosedLoopStep(plant, integrator, simulation);
+  EXPECT_NEAR(capped.time_s.back(), 25.0, 1e-9);
+  EXPECT_EQ(CheckStepRecord(capped), StepRecordStatus::kOutsideBand);
 }
 
 TEST(PaperStepResponsesTest, ClampedLoopStaysWithinSixVolts) {
