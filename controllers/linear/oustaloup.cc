@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 namespace ipmc {
 namespace {
@@ -103,14 +104,28 @@ ZeroPoleGain OustaloupZpk(const OustaloupConfig& config) {
   return zpk;
 }
 
-StateSpace OustaloupStateSpace(const OustaloupConfig& config) {
-  const ZeroPoleGain zpk = OustaloupZpk(config);
+StateSpace ZeroPoleGainStateSpace(const ZeroPoleGain& zpk) {
+  if (zpk.zero_corners_rad_s.size() != zpk.pole_corners_rad_s.size()) {
+    std::ostringstream out;
+    out << "zero-pole-gain realisation: needs as many zero as pole corners (got "
+        << zpk.zero_corners_rad_s.size() << " and " << zpk.pole_corners_rad_s.size() << ")";
+    throw std::invalid_argument(out.str());
+  }
+  for (const std::vector<double>* corners : {&zpk.zero_corners_rad_s, &zpk.pole_corners_rad_s}) {
+    for (double corner : *corners) {
+      if (!std::isfinite(corner) || !(corner > 0)) {
+        std::ostringstream out;
+        out << "zero-pole-gain realisation: corners must be finite and > 0 (stable, "
+               "minimum-phase sections), got "
+            << corner;
+        throw std::invalid_argument(out.str());
+      }
+    }
+  }
   if (zpk.integer_order > 0) {
     std::ostringstream out;
-    out << "oustaloup: order " << config.order << " has integer part "
-        << zpk.integer_order
-        << " (a differentiator), so its realisation is improper; realise "
-           "s^order in a denominator by feedback instead";
+    out << "zero-pole-gain realisation: integer order " << zpk.integer_order
+        << " (a differentiator) is improper";
     throw std::invalid_argument(out.str());
   }
   StateSpace system = Gain(zpk.gain);
@@ -122,6 +137,19 @@ StateSpace OustaloupStateSpace(const OustaloupConfig& config) {
     system = Series(system, Integrators(-zpk.integer_order));
   }
   return system;
+}
+
+StateSpace OustaloupStateSpace(const OustaloupConfig& config) {
+  const ZeroPoleGain zpk = OustaloupZpk(config);
+  if (zpk.integer_order > 0) {
+    std::ostringstream out;
+    out << "oustaloup: order " << config.order << " has integer part "
+        << zpk.integer_order
+        << " (a differentiator), so its realisation is improper; realise "
+           "s^order in a denominator by feedback instead";
+    throw std::invalid_argument(out.str());
+  }
+  return ZeroPoleGainStateSpace(zpk);
 }
 
 }  // namespace ipmc

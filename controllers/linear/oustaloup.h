@@ -70,14 +70,20 @@ double OustaloupFractionalOrder(double order);
 // fractional part is approximated; integer_order = OustaloupIntegerOrder.
 ZeroPoleGain OustaloupZpk(const OustaloupConfig& config);
 
-// State-space realisation of OustaloupZpk(config): the gain followed by a
-// cascade of first-order sections (s + z) / (s + p), each one state scaled
-// so that its DC gain from input to state is 1,
+// State-space realisation of a zero-pole-gain form with as many zero as
+// pole corners: the gain followed by a cascade of first-order sections
+// (s + z_k) / (s + p_k), each one state scaled so that its DC gain from
+// input to state is 1,
 //   x' = -p x + p u,  y = ((z - p) / p) x + u,
-// then |m| integrators for m < 0. Throws std::invalid_argument if the
-// realisation would be improper (m > 0, i.e. a differentiator); realise
-// s^alpha with alpha >= 1 in a denominator by feedback instead (see
-// plugin/actuators/ipmc_link_model.h).
+// then |m| integrators for m = integer_order < 0. Throws
+// std::invalid_argument if the counts differ, a corner is not finite and
+// > 0, or integer_order > 0 (an improper differentiator).
+StateSpace ZeroPoleGainStateSpace(const ZeroPoleGain& zpk);
+
+// ZeroPoleGainStateSpace(OustaloupZpk(config)). Throws
+// std::invalid_argument if the realisation would be improper (m > 0, i.e.
+// a differentiator); realise s^alpha with alpha >= 1 in a denominator by
+// feedback instead (see plugin/actuators/ipmc_link_model.h).
 StateSpace OustaloupStateSpace(const OustaloupConfig& config);
 
 }  // namespace ipmc

@@ -32,6 +32,7 @@
 
 #include "sim/runs/closed_loop_run.h"
 #include "sim/core/link_sensors.h"
+#include "sim/core/mujoco_warnings.h"
 #include "sim/runs/output.h"
 #include "sim/core/simulation.h"
 
@@ -58,8 +59,9 @@ constexpr const char* kSwimColumns[] = {"last_cycle_com_along_mm", "mean_speed_a
                                         "reynolds_tip", "reynolds_swim"};
 
 // The scenario reader's words for a key of the other kind of its table
-// ("controller.kp applies only to kind = \"pid\" (kind is ...)").
-constexpr char kOtherKindMessage[] = " applies only to kind = ";
+// ("controller.kp applies only to kind = \"pid\" (kind is ...)", or
+// "controller.gain applies only to realisation = \"oustaloup\" ...").
+constexpr char kOtherKindMessage[] = " applies only to ";
 
 // A grid this large is a mistake in the sweep file, not a plan.
 constexpr double kMaxPoints = 1e6;
@@ -660,48 +662,6 @@ int CountLinks(const SweepPlan& plan) {
   }
   return links;
 }
-
-// MuJoCo's warning hook is one process-wide pointer, and the program's
-// hook need not be thread-safe. While points run in parallel, calls to it
-// are serialised.
-class SerialisedMujocoWarnings {
- public:
-  SerialisedMujocoWarnings() {
-    std::lock_guard<std::mutex> lock(Mutex());
-    if (Users()++ == 0) {
-      Previous() = mju_user_warning;
-      if (Previous() != nullptr) mju_user_warning = Forward;
-    }
-  }
-  ~SerialisedMujocoWarnings() {
-    std::lock_guard<std::mutex> lock(Mutex());
-    if (--Users() == 0 && Previous() != nullptr) {
-      mju_user_warning = Previous();
-      Previous() = nullptr;
-    }
-  }
-  SerialisedMujocoWarnings(const SerialisedMujocoWarnings&) = delete;
-  SerialisedMujocoWarnings& operator=(const SerialisedMujocoWarnings&) = delete;
-
- private:
-  using Hook = void (*)(const char*);
-  static std::mutex& Mutex() {
-    static std::mutex mutex;
-    return mutex;
-  }
-  static int& Users() {
-    static int users = 0;
-    return users;
-  }
-  static Hook& Previous() {
-    static Hook previous = nullptr;
-    return previous;
-  }
-  static void Forward(const char* message) {
-    std::lock_guard<std::mutex> lock(Mutex());
-    if (Previous() != nullptr) Previous()(message);
-  }
-};
 
 // Physics steps of a point's run, for scheduling (0 for a point that will
 // not run; the model's own step, unknown here, counts as kDefaultStep_s).

@@ -19,6 +19,7 @@
 #include "controllers/fractional_integrator.h"
 #include "controllers/linear/frequency_response.h"
 #include "controllers/linear/oustaloup.h"
+#include "controllers/paper_eq15.h"
 #include "controllers/pid.h"
 #include "controllers/reference_model.h"
 #include "controllers/linear/state_space.h"
@@ -55,22 +56,6 @@ constexpr double kSettlingBand = 0.02;
 constexpr double kMaxStepSamples = 1e6;
 // The Oustaloup bound of FractionalIntegrator::Config.
 constexpr int kMaxOustaloupPairs = 64;
-
-// Eq. 15 as printed, highest power of s first.
-constexpr double kEq15Numerator[] = {32.08, 1981.0, 6511.0, 1196.0, 11.7};
-constexpr double kEq15Denominator[] = {36.47, 372.9, 202.9, 6.175, 0.01};
-
-template <std::size_t N>
-Complex Polynomial(const double (&coefficients)[N], Complex s) {
-  Complex value = 0.0;
-  for (double coefficient : coefficients) value = value * s + coefficient;
-  return value;
-}
-
-Complex Eq15(double w_rad_s) {
-  const Complex s(0.0, w_rad_s);
-  return Polynomial(kEq15Numerator, s) / Polynomial(kEq15Denominator, s);
-}
 
 std::string Short(double value) {
   char buffer[32];
@@ -193,9 +178,7 @@ ControllerResponse BodeController(const BodeArgs& args) {
                 ", " + Short(args.band_rad_s[1]) + "] rad/s"};
   }
   if (c == kFractionalEq15) {
-    return {Eq15,
-            "C(s) = (32.08 s^4 + 1981 s^3 + 6511 s^2 + 1196 s + 11.7) / "
-            "(36.47 s^4 + 372.9 s^3 + 202.9 s^2 + 6.175 s + 0.01) (eq. 15)"};
+    return {[](double w) { return Eq15Evaluate({0.0, w}); }, Eq15Description()};
   }
   return {[](double) { return Complex(1.0, 0.0); }, "C(s) = 1 (no controller)"};
 }
@@ -341,6 +324,14 @@ void ValidateStep(const CLI::App& command, const StepArgs& args) {
                                 FormatDouble(args.horizon_s * args.sample_rate_hz));
   }
   if (!args.no_clamp) RequireFinitePositive(name, "--v-max", args.v_max);
+  RequireFinitePositive(name, "--max-horizon-s", args.max_horizon_s);
+}
+
+// How far a link's record may be extended for its metrics: --max-horizon-s
+// within the sample budget, and never short of the horizon.
+double MetricsHorizon_s(const StepArgs& args) {
+  const double budget_s = kMaxStepSamples / args.sample_rate_hz;
+  return std::max(args.horizon_s, std::min(args.max_horizon_s, budget_s));
 }
 
 StateSpace AccurateLinkPlant(const std::string& plant, int link) {
@@ -355,6 +346,8 @@ ClosedLoopResponse SimulateLink(const StepArgs& args, int link) {
   const StateSpace plant = AccurateLinkPlant(args.plant, link);
   StepSimulation simulation;
   simulation.horizon_s = args.horizon_s;
+  simulation.max_horizon_s = MetricsHorizon_s(args);
+  simulation.settling_band = kSettlingBand;
   const double sample_period_s = 1.0 / args.sample_rate_hz;
   if (args.controller == kPid) {
     PidController::Config config = PidConfig(args.gains);
@@ -384,17 +377,37 @@ std::string Optional(const std::optional<double>& value, const char* format) {
   return buffer;
 }
 
-// One row of the step table; `still_rising` marks a peak at the end of
-// the record (the response has not turned yet).
-void PrintStepRow(const std::string& label, const StepMetrics& m, bool still_rising,
-                  const std::string& max_abs_u, const std::string& cost) {
-  char peak_time[32];
+// One row of the step table. A '*' marks a metric the record does not
+// determine: a peak at the end of the record (the response has not
+// turned yet, so overshoot and peak are lower bounds), or a settling time
+// after half the record (the response may leave the band again).
+void PrintStepRow(const std::string& label, const StepMetrics& m, StepRecordStatus status,
+                  const std::string& max_abs_u, const std::string& cost,
+                  const std::string& record) {
+  const bool still_rising = status == StepRecordStatus::kPeakAtEnd;
+  const bool settled_late = status == StepRecordStatus::kSettledLate;
+  char overshoot[32], peak_time[32];
+  std::snprintf(overshoot, sizeof(overshoot), "%.3f%s", m.overshoot_percent,
+                still_rising ? "*" : "");
   std::snprintf(peak_time, sizeof(peak_time), "%.4f%s", m.peak_time_s, still_rising ? "*" : "");
-  std::printf("%4s %11.3f %11s %9.5f %11s %12s %11s %9s\n", label.c_str(), m.overshoot_percent,
-              Optional(m.rise_time_s, "%.4f").c_str(), m.peak_value, peak_time,
-              Optional(m.settling_time_s, "%.4f").c_str(), max_abs_u.c_str(), cost.c_str());
+  std::string settling = Optional(m.settling_time_s, "%.4f");
+  if (settled_late && m.settling_time_s) settling += "*";
+  std::printf("%4s %11s %11s %9.5f %11s %12s %11s %9s %9s\n", label.c_str(), overshoot,
+              Optional(m.rise_time_s, "%.4f").c_str(), m.peak_value, peak_time, settling.c_str(),
+              max_abs_u.c_str(), cost.c_str(), record.c_str());
 }
 
+// The first `points` of a link's record (the horizon's, shared by all).
+std::size_t HorizonPoints(const std::vector<double>& time_s, double horizon_s,
+                          double sample_period_s) {
+  std::size_t points = 0;
+  // The horizon's last point is the first sample at or after it.
+  const double end_s = std::ceil(horizon_s / sample_period_s - 1e-9) * sample_period_s;
+  while (points < time_s.size() && time_s[points] <= end_s * (1 + 1e-12)) ++points;
+  return points;
+}
+
+// Rows t = time_s[0 .. reference.size() - 1] (the horizon).
 std::string StepCsv(const std::vector<double>& time_s, const std::vector<double>& reference,
                     const std::vector<int>& links,
                     const std::vector<ClosedLoopResponse>& responses) {
@@ -404,7 +417,7 @@ std::string StepCsv(const std::vector<double>& time_s, const std::vector<double>
   for (int link : links) csv << ",y_link" << link;
   for (int link : links) csv << ",u_link" << link;
   csv << "\n";
-  for (std::size_t i = 0; i < time_s.size(); ++i) {
+  for (std::size_t i = 0; i < reference.size(); ++i) {
     csv << time_s[i] << "," << reference[i];
     for (const ClosedLoopResponse& r : responses) csv << "," << r.output[i];
     for (const ClosedLoopResponse& r : responses) csv << "," << r.control[i];
@@ -419,10 +432,13 @@ int RunStep(const CLI::App& command, const StepArgs& args) {
   std::vector<ClosedLoopResponse> responses;
   for (int link : args.links) responses.push_back(SimulateLink(args, link));
 
-  // The reference model on the same time grid (the links share it).
+  // The reference model on the horizon's time grid (the links share it;
+  // their records may go on past it for their metrics).
   const std::vector<double>& time_s = responses.front().time_s;
-  std::vector<double> reference(time_s.size());
-  for (std::size_t i = 0; i < time_s.size(); ++i) reference[i] = model.StepResponse(time_s[i]);
+  const std::size_t horizon_points =
+      HorizonPoints(time_s, args.horizon_s, responses.front().sample_period_s);
+  std::vector<double> reference(horizon_points);
+  for (std::size_t i = 0; i < horizon_points; ++i) reference[i] = model.StepResponse(time_s[i]);
 
   if (!args.out_dir.empty()) {
     const std::string csv = StepCsv(time_s, reference, args.links, responses);
@@ -433,45 +449,61 @@ int RunStep(const CLI::App& command, const StepArgs& args) {
   const std::string controller = args.controller == kPid
                                      ? PidDescription(args.gains) + " (eq. 10)"
                                      : FractionalDescription(args.gains) + " (eq. 13)";
+  const double metrics_horizon_s = MetricsHorizon_s(args);
   std::printf("unit step (1 mm), controller %s: %s\n", args.controller.c_str(),
               controller.c_str());
-  std::printf("  sampled at %g Hz, %s; horizon %g s\n", args.sample_rate_hz,
+  std::printf("  sampled at %g Hz, %s; horizon %g s (step.csv, J_eq11)\n", args.sample_rate_hz,
               args.no_clamp ? "no clamp" : ("clamp +-" + Short(args.v_max) + " V").c_str(),
               args.horizon_s);
   std::printf("  plant s^-0.5 %s (Table 2)", args.plant == "g2" ? "G2" : "G1");
   std::printf("; s^-0.5%s by %d Oustaloup pairs on [%g, %g] rad/s\n",
               args.controller == kFractional ? " and s^-lambda" : "", kAccurateOustaloupPairs,
               kAccurateBandLow_rad_s, kAccurateBandHigh_rad_s);
-  std::printf("%4s %11s %11s %9s %11s %12s %11s %9s\n", "link", "overshoot_%", "rise_time_s",
-              "peak_mm", "peak_time_s", "settling_s", "max_abs_u_V", "J_eq11");
-  bool any_still_rising = false;
+  std::printf("%4s %11s %11s %9s %11s %12s %11s %9s %9s\n", "link", "overshoot_%",
+              "rise_time_s", "peak_mm", "peak_time_s", "settling_s", "max_abs_u_V", "J_eq11",
+              "record_s");
+  std::vector<std::string> open_metrics;
   for (std::size_t k = 0; k < responses.size(); ++k) {
     const ClosedLoopResponse& r = responses[k];
     const StepMetrics metrics = ComputeStepMetrics(r, kSettlingBand);
+    const StepRecordStatus status = CheckStepRecord(r, kSettlingBand);
     double max_abs_u = 0;
     for (double u : r.control) max_abs_u = std::max(max_abs_u, std::abs(u));
     const double cost = ReferenceModelCost(r, model, args.horizon_s);
-    const bool still_rising = metrics.peak_time_s >= r.time_s.back() - r.sample_period_s;
-    any_still_rising = any_still_rising || still_rising;
-    char u_text[32], cost_text[32];
+    char u_text[32], cost_text[32], record_text[32];
     std::snprintf(u_text, sizeof(u_text), "%.3f", max_abs_u);
     std::snprintf(cost_text, sizeof(cost_text), "%.4f", cost);
-    PrintStepRow(std::to_string(args.links[k]), metrics, still_rising, u_text, cost_text);
+    std::snprintf(record_text, sizeof(record_text), "%g", r.time_s.back());
+    PrintStepRow(std::to_string(args.links[k]), metrics, status, u_text, cost_text, record_text);
+    if (status != StepRecordStatus::kDetermined) {
+      open_metrics.push_back("link " + std::to_string(args.links[k]) + ": " +
+                             StepRecordStatusText(status) + " at " + record_text + " s");
+    }
   }
   // The reference model: its exact first peak where the horizon holds it.
-  StepMetrics reference_metrics = ComputeStepMetrics(time_s, reference, 1.0, kSettlingBand);
+  const std::vector<double> reference_time_s(time_s.begin(), time_s.begin() + horizon_points);
+  StepMetrics reference_metrics =
+      ComputeStepMetrics(reference_time_s, reference, 1.0, kSettlingBand);
   const std::optional<ReferenceModel::Peak> peak = model.StepPeak();
-  if (peak && peak->time_s <= time_s.back()) {
+  if (peak && peak->time_s <= reference_time_s.back()) {
     reference_metrics.peak_value = peak->value;
     reference_metrics.peak_time_s = peak->time_s;
     reference_metrics.overshoot_percent = 100.0 * (peak->value - 1.0);
   }
-  PrintStepRow("ref", reference_metrics, false, "-", "-");
+  char reference_record[32];
+  std::snprintf(reference_record, sizeof(reference_record), "%g", reference_time_s.back());
+  PrintStepRow("ref", reference_metrics, StepRecordStatus::kDetermined, "-", "-",
+               reference_record);
   std::printf("ref: reference model 1 / ((s/5)^1.16 + 1) (eq. 9); J_eq11: eq. 11 over the "
-              "horizon; settling: %g %% band\n",
-              100 * kSettlingBand);
-  if (any_still_rising) {
-    std::printf("*: peak at the end of the horizon (still rising); extend --horizon-s\n");
+              "%g s horizon; settling: %g %% band\n",
+              args.horizon_s, 100 * kSettlingBand);
+  std::printf("metrics from each link's record (record_s), simulated past the horizon until "
+              "they are determined, at most %g s\n",
+              metrics_horizon_s);
+  if (!open_metrics.empty()) {
+    std::string list;
+    for (const std::string& item : open_metrics) list += (list.empty() ? "" : "; ") + item;
+    std::printf("*: not determined by the record (%s); raise --max-horizon-s\n", list.c_str());
   }
   return 0;
 }
@@ -524,7 +556,12 @@ void AddAnalysisCommands(CLI::App& app, AnalysisArgs& args) {
   step->add_option("--gain", s.gains.gain, "Fractional integrator gain K")->capture_default_str();
   step->add_option("--order", s.gains.order, "Fractional integrator order lambda, in (0, 1]")
       ->capture_default_str();
-  step->add_option("--horizon-s", s.horizon_s, "Simulated time [s]")->capture_default_str();
+  step->add_option("--horizon-s", s.horizon_s, "Horizon of step.csv and of J (eq. 11) [s]")
+      ->capture_default_str();
+  step->add_option("--max-horizon-s", s.max_horizon_s,
+                   "Longest record for the step metrics [s]: each link's simulation goes on "
+                   "past --horizon-s until its metrics are determined")
+      ->capture_default_str();
   step->add_option("--sample-rate-hz", s.sample_rate_hz, "Controller sample rate [Hz]")
       ->capture_default_str();
   step->add_flag("--no-clamp", s.no_clamp, "No output clamp (the paper's linear setting)");

@@ -22,6 +22,7 @@
 #include "sim/cli/plot_command.h"
 #include "sim/core/scenario.h"
 #include "sim/cli/sweep_command.h"
+#include "sim/cli/table5_command.h"
 #include "sim/cli/render_command.h"
 #include "sim/core/simulation.h"
 
@@ -304,6 +305,8 @@ int main(int argc, char** argv) {
   ipmc::AddIdentifyCommands(app, identify);
   ipmc::SweepArgs sweep;
   ipmc::AddSweepCommands(app, sweep);
+  ipmc::Table5Args table5;
+  ipmc::AddTable5Command(app, table5);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -324,6 +327,7 @@ int main(int argc, char** argv) {
     if (int s = ipmc::RunPlotCommand(app, plot); s >= 0) status = s;
     if (int s = ipmc::RunIdentifyCommand(app, identify); s >= 0) status = s;
     if (int s = ipmc::RunSweepCommand(app, sweep); s >= 0) status = s;
+    if (int s = ipmc::RunTable5Command(app, table5); s >= 0) status = s;
     PrintMujocoWarnings();
     return status;
   } catch (const std::exception& e) {

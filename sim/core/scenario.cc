@@ -54,6 +54,7 @@ constexpr char kGain[] = "gain";
 constexpr char kOrder[] = "order";
 constexpr char kOustaloupN[] = "oustaloup_n";
 constexpr char kBand[] = "band_rad_s";
+constexpr char kRealisation[] = "realisation";
 // [waveform], kind = "polynomial".
 constexpr char kC0[] = "c0_um";
 constexpr char kC1[] = "c1_um_per_mm";
@@ -73,6 +74,8 @@ constexpr char kStartRamp[] = "start_ramp_cycles";
 
 constexpr char kPid[] = "pid";
 constexpr char kFractional[] = "fractional";
+constexpr char kOustaloup[] = "oustaloup";
+constexpr char kEq15[] = "eq15";
 constexpr char kPolynomial[] = "polynomial";
 constexpr char kDistributed[] = "distributed";
 constexpr char kSingle[] = "single";
@@ -261,13 +264,16 @@ class ScenarioReader {
   }
 
   // Keys that belong to the other kind of a table are mistakes (a gain
-  // that would be silently ignored), not settings.
+  // that would be silently ignored), not settings. `selector` is the key
+  // that chose the kind ("kind", or "realisation" in [controller]).
   void RejectKeysOfOtherKind(const toml::table& table, const std::string& prefix, KeyList keys,
-                             const char* their_kind, const std::string& kind) const {
+                             const char* their_kind, const std::string& kind,
+                             const char* selector = "kind") const {
     for (const char* key : keys) {
       if (const std::optional<Entry> entry = Find(table, prefix, key)) {
-        Fail(entry->line, entry->name + " applies only to kind = " + Quoted(their_kind) +
-                              " (kind is " + Quoted(kind) + ")");
+        Fail(entry->line, entry->name + " applies only to " + selector + " = " +
+                              Quoted(their_kind) + " (" + selector + " is " + Quoted(kind) +
+                              ")");
       }
     }
   }
@@ -276,6 +282,7 @@ class ScenarioReader {
 
  private:
   void ReadController(const toml::table& table, ScenarioConfig* config) const;
+  void ReadRealisation(const toml::table& table, FractionalIntegrator::Config* fractional) const;
   void ReadWaveform(const toml::table& table, WaveformConfig* wave) const;
   void ReadStartRamp(const toml::table& table, ScenarioConfig* config) const;
   void ReadLinkLengths(const Entry& entry, ScenarioConfig* config) const;
@@ -309,15 +316,17 @@ void ScenarioReader::ReadController(const toml::table& table, ScenarioConfig* co
   const std::string prefix = std::string(kController) + ".";
   RejectUnknownKeys(table, prefix,
                     {kKind, kSampleRate, kVMax, kClamp, kKp, kKi, kKd, kDerivativeFilter, kGain,
-                     kOrder, kOustaloupN, kBand});
+                     kOrder, kOustaloupN, kBand, kRealisation});
 
   std::string kind = kPid;
   if (const auto entry = Find(table, prefix, kKind)) kind = Choice(*entry, {kPid, kFractional});
   config->controller = kind == kPid ? ControllerKind::kPid : ControllerKind::kFractional;
   if (kind == kPid) {
-    RejectKeysOfOtherKind(table, prefix, {kGain, kOrder, kOustaloupN, kBand}, kFractional, kind);
+    RejectKeysOfOtherKind(table, prefix, {kGain, kOrder, kOustaloupN, kBand, kRealisation},
+                          kFractional, kind);
   } else {
     RejectKeysOfOtherKind(table, prefix, {kKp, kKi, kKd, kDerivativeFilter}, kPid, kind);
+    ReadRealisation(table, &config->fractional);
   }
 
   if (const auto entry = Find(table, prefix, kSampleRate)) {
@@ -403,6 +412,22 @@ void ScenarioReader::ReadController(const toml::table& table, ScenarioConfig* co
       if (const auto entry = Find(table, prefix, key)) line = entry->line;
     }
     Fail(line, std::string(kController) + ": " + message);
+  }
+}
+
+// [controller] realisation of the fractional integrator: "oustaloup"
+// (K / s^lambda by Oustaloup, the default) or "eq15" (the paper's printed
+// eq. 15, which fixes gain, order and band, so they are not settings).
+void ScenarioReader::ReadRealisation(const toml::table& table,
+                                     FractionalIntegrator::Config* fractional) const {
+  const std::string prefix = std::string(kController) + ".";
+  const auto entry = Find(table, prefix, kRealisation);
+  if (!entry) return;
+  const std::string word = Choice(*entry, {kOustaloup, kEq15});
+  fractional->realisation = *ParseFractionalRealisation(word);
+  if (fractional->realisation == FractionalRealisation::kEq15) {
+    RejectKeysOfOtherKind(table, prefix, {kGain, kOrder, kOustaloupN, kBand}, kOustaloup, word,
+                          kRealisation);
   }
 }
 

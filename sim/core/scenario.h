@@ -23,6 +23,10 @@
 //   clamp = true
 //   kp = 8.12; ki = 53.36; kd = 0.61; derivative_filter_s = 0.0     # pid
 //   gain = 15.62; order = 0.62; oustaloup_n = 4; band_rad_s = [1e-3, 1e2]  # fractional
+//   realisation = "oustaloup"          # fractional: oustaloup (K / s^lambda by
+//                                      # Oustaloup on the band) | eq15 (the
+//                                      # paper's printed eq. 15; no gain,
+//                                      # order, oustaloup_n or band_rad_s)
 //   [waveform]
 //   kind = "polynomial"                # polynomial | fractional
 //   c0_um = 0.0; c1_um_per_mm = 200.0; c2_um_per_mm2 = 0.0
