@@ -14,10 +14,10 @@
 //  - phase margin PM = 180 deg + arg L(j w_gc), reported in (-180, 180];
 //    gain margin GM = -20 log10 |L(j w_pc)| [dB].
 //
-// Crossovers are bracketed on a logarithmic search grid and refined by
-// Brent's method on log10 w, so a crossing between two grid points that the
-// grid does not resolve (two crossings within one grid step) is missed:
-// choose `points_per_decade` accordingly.
+// Crossovers are bracketed on a logarithmic search grid and refined on
+// log10 w by TOMS Algorithm 748 (BracketedRoot below), so a crossing that
+// the grid does not resolve (two crossings within one grid step) is
+// missed: choose `points_per_decade` accordingly.
 #ifndef IPMC_SWIM_CONTROLLERS_FREQUENCY_RESPONSE_H_
 #define IPMC_SWIM_CONTROLLERS_FREQUENCY_RESPONSE_H_
 
@@ -100,7 +100,7 @@ struct StabilityMargins {
 // the paper's loops (crossovers of 5 to 40 rad/s) with ample room.
 struct MarginSearch {
   FrequencyGrid grid{1e-4, 1e5, 200};
-  // Stop Brent's iteration when the bracket in log10 w is this narrow.
+  // Stop the root search when the bracket in log10 w is this narrow.
   double log10_w_tolerance = 1e-12;
 
   // Throws std::invalid_argument naming the field.
@@ -112,13 +112,16 @@ struct MarginSearch {
 StabilityMargins ComputeMargins(const FrequencyFunction& loop,
                                 const MarginSearch& search = {});
 
-// Root of f on [a, b] by Brent's method (inverse quadratic interpolation
-// with bisection safeguards); f(a) and f(b) must have opposite signs or
-// one of them be zero. Stops when the bracket is narrower than `tolerance`
-// (absolute) or after 200 iterations. Throws std::invalid_argument if the
-// root is not bracketed.
-double BrentRoot(const std::function<double(double)>& f, double a, double b,
-                 double tolerance);
+// Root of f on [a, b] (either order) by TOMS Algorithm 748 (G. E. Alefeld,
+// F. A. Potra, Y. Shi, ACM Trans. Math. Softw. 21, 327, 1995: interpolation
+// steps that keep the root bracketed), as Boost.Math's toms748_solve.
+// f(a) and f(b) must have opposite signs or one of them be zero (that end
+// is returned). Returns the midpoint of the final bracket, once that is at
+// most `tolerance` (absolute, > 0) plus four ulps of its ends wide, or
+// after 200 evaluations of f. Throws std::invalid_argument for a bad
+// interval or tolerance, or a root that is not bracketed.
+double BracketedRoot(const std::function<double(double)>& f, double a,
+                     double b, double tolerance);
 
 }  // namespace ipmc
 

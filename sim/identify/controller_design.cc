@@ -1,11 +1,12 @@
 #include "sim/identify/controller_design.h"
 
-#include <algorithm>
 #include <cmath>
+#include <exception>
 #include <limits>
-#include <numeric>
 #include <stdexcept>
 #include <string>
+
+#include <nlopt.hpp>
 
 #include "sim/io/numbers.h"
 #include "controllers/fractional_integrator.h"
@@ -110,6 +111,42 @@ void NelderMeadOptions::Validate() const {
   }
 }
 
+namespace {
+
+// What the NLopt objective needs: f, the evaluation count, and the first
+// exception f or the start check raised (NLopt's C core cannot carry it).
+struct NelderMeadObjective {
+  const std::function<double(const Eigen::VectorXd&)>* f = nullptr;
+  nlopt::opt* optimizer = nullptr;
+  int evaluations = 0;
+  std::exception_ptr error;
+};
+
+double EvaluateForNlopt(const std::vector<double>& x, std::vector<double>& /*gradient*/,
+                        void* data) {
+  auto& objective = *static_cast<NelderMeadObjective*>(data);
+  try {
+    ++objective.evaluations;
+    const double value =
+        FiniteOr((*objective.f)(Eigen::Map<const Eigen::VectorXd>(x.data(), x.size())));
+    // NLopt evaluates the start first.
+    if (objective.evaluations == 1 && !std::isfinite(value)) {
+      Throw("nelder-mead", "f is not finite at the start");
+    }
+    return value;
+  } catch (...) {
+    objective.error = std::current_exception();
+    objective.optimizer->force_stop();
+    return kInfinity;
+  }
+}
+
+bool IsConvergence(nlopt::result code) {
+  return code == nlopt::SUCCESS || code == nlopt::FTOL_REACHED || code == nlopt::XTOL_REACHED;
+}
+
+}  // namespace
+
 NelderMeadResult MinimizeNelderMead(const std::function<double(const Eigen::VectorXd&)>& f,
                                     const Eigen::VectorXd& start,
                                     const NelderMeadOptions& options) {
@@ -123,101 +160,32 @@ NelderMeadResult MinimizeNelderMead(const std::function<double(const Eigen::Vect
                      std::to_string(options.max_evaluations) + ")");
   }
 
+  nlopt::opt optimizer(nlopt::LN_NELDERMEAD, static_cast<unsigned>(n));
+  NelderMeadObjective objective;
+  objective.f = &f;
+  objective.optimizer = &optimizer;
+  optimizer.set_min_objective(EvaluateForNlopt, &objective);
+  optimizer.set_initial_step(options.initial_step);
+  optimizer.set_xtol_abs(options.x_tolerance);
+  optimizer.set_ftol_abs(options.f_tolerance);
+  optimizer.set_maxeval(options.max_evaluations);
+
+  std::vector<double> x(start.data(), start.data() + n);
+  double value = kInfinity;
+  nlopt::result code = nlopt::FAILURE;
+  try {
+    code = optimizer.optimize(x, value);
+  } catch (const nlopt::forced_stop&) {
+    if (objective.error) std::rethrow_exception(objective.error);
+    throw;
+  } catch (const nlopt::roundoff_limited&) {
+    code = nlopt::ROUNDOFF_LIMITED;  // x and value hold the best point
+  }
   NelderMeadResult result;
-  const auto evaluate = [&](const Eigen::VectorXd& x) {
-    ++result.evaluations;
-    return FiniteOr(f(x));
-  };
-  // Vertices and their values, kept sorted by value (best first).
-  std::vector<Eigen::VectorXd> vertex(n + 1, start);
-  std::vector<double> value(n + 1);
-  value[0] = evaluate(start);
-  if (!std::isfinite(value[0])) Throw(where, "f is not finite at the start");
-  for (int i = 0; i < n; ++i) {
-    vertex[i + 1](i) += options.initial_step;
-    value[i + 1] = evaluate(vertex[i + 1]);
-  }
-  std::vector<int> order(n + 1);
-  const auto sort = [&]() {
-    std::iota(order.begin(), order.end(), 0);
-    std::stable_sort(order.begin(), order.end(),
-                     [&](int i, int j) { return value[i] < value[j]; });
-    std::vector<Eigen::VectorXd> sorted_vertex(n + 1);
-    std::vector<double> sorted_value(n + 1);
-    for (int i = 0; i <= n; ++i) {
-      sorted_vertex[i] = vertex[order[i]];
-      sorted_value[i] = value[order[i]];
-    }
-    vertex.swap(sorted_vertex);
-    value.swap(sorted_value);
-  };
-  sort();
-
-  while (true) {
-    double spread_x = 0.0, spread_f = 0.0;
-    for (int i = 1; i <= n; ++i) {
-      spread_x = std::max(spread_x, (vertex[i] - vertex[0]).cwiseAbs().maxCoeff());
-      spread_f = std::max(spread_f, std::abs(value[i] - value[0]));
-    }
-    if (spread_x <= options.x_tolerance && spread_f <= options.f_tolerance) {
-      result.converged = true;
-      break;
-    }
-    if (result.evaluations >= options.max_evaluations) break;
-    ++result.iterations;
-
-    Eigen::VectorXd centroid = Eigen::VectorXd::Zero(n);
-    for (int i = 0; i < n; ++i) centroid += vertex[i];
-    centroid /= n;
-    const Eigen::VectorXd& worst = vertex[n];
-
-    const Eigen::VectorXd reflected = centroid + (centroid - worst);
-    const double f_reflected = evaluate(reflected);
-    bool shrink = false;
-    if (f_reflected < value[0]) {
-      const Eigen::VectorXd expanded = centroid + 2.0 * (centroid - worst);
-      const double f_expanded = evaluate(expanded);
-      if (f_expanded < f_reflected) {
-        vertex[n] = expanded;
-        value[n] = f_expanded;
-      } else {
-        vertex[n] = reflected;
-        value[n] = f_reflected;
-      }
-    } else if (f_reflected < value[n - 1]) {
-      vertex[n] = reflected;
-      value[n] = f_reflected;
-    } else if (f_reflected < value[n]) {
-      // Outside contraction.
-      const Eigen::VectorXd contracted = centroid + 0.5 * (reflected - centroid);
-      const double f_contracted = evaluate(contracted);
-      if (f_contracted <= f_reflected) {
-        vertex[n] = contracted;
-        value[n] = f_contracted;
-      } else {
-        shrink = true;
-      }
-    } else {
-      // Inside contraction.
-      const Eigen::VectorXd contracted = centroid + 0.5 * (worst - centroid);
-      const double f_contracted = evaluate(contracted);
-      if (f_contracted < value[n]) {
-        vertex[n] = contracted;
-        value[n] = f_contracted;
-      } else {
-        shrink = true;
-      }
-    }
-    if (shrink) {
-      for (int i = 1; i <= n; ++i) {
-        vertex[i] = vertex[0] + 0.5 * (vertex[i] - vertex[0]);
-        value[i] = evaluate(vertex[i]);
-      }
-    }
-    sort();
-  }
-  result.x = vertex[0];
-  result.value = value[0];
+  result.x = Eigen::Map<const Eigen::VectorXd>(x.data(), n);
+  result.value = value;
+  result.evaluations = objective.evaluations;
+  result.converged = IsConvergence(code);
   return result;
 }
 
