@@ -50,32 +50,6 @@ std::string Shortest(double value) {
   return buffer;
 }
 
-// One link's controller of the scenario's kind.
-class LinkController {
- public:
-  explicit LinkController(const ScenarioConfig& scenario) {
-    if (scenario.controller == ControllerKind::kPid) {
-      pid_ = std::make_unique<PidController>(scenario.pid);
-    } else {
-      fractional_ = std::make_unique<FractionalIntegrator>(scenario.fractional);
-    }
-  }
-  double Update(double error_mm) {
-    return pid_ ? pid_->Update(error_mm) : fractional_->Update(error_mm);
-  }
-
- private:
-  std::unique_ptr<PidController> pid_;
-  std::unique_ptr<FractionalIntegrator> fractional_;
-};
-
-// The references' fade-in of the scenario (sim/core/scenario.h):
-// (1 - cos(pi t / T_r)) / 2 for t < T_r, then 1.
-double StartRamp(double t_s, double ramp_s) {
-  if (t_s >= ramp_s) return 1.0;
-  return 0.5 * (1.0 - std::cos(kPi * t_s / ramp_s));
-}
-
 std::vector<TrackingIndices> IndicesOf(const ClosedLoopResult& result) {
   std::vector<TrackingIndices> indices;
   for (const LinkTracking& link : result.links) indices.push_back({link.iae_mm_s, link.itae_mm_s2});

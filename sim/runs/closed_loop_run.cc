@@ -14,25 +14,6 @@
 namespace ipmc {
 namespace {
 
-// One link's controller, whichever kind the scenario names.
-class LinkController {
- public:
-  explicit LinkController(const ScenarioConfig& scenario) {
-    if (scenario.controller == ControllerKind::kPid) {
-      pid_ = std::make_unique<PidController>(scenario.pid);
-    } else {
-      fractional_ = std::make_unique<FractionalIntegrator>(scenario.fractional);
-    }
-  }
-  double Update(double error_mm) {
-    return pid_ ? pid_->Update(error_mm) : fractional_->Update(error_mm);
-  }
-
- private:
-  std::unique_ptr<PidController> pid_;
-  std::unique_ptr<FractionalIntegrator> fractional_;
-};
-
 // Segment pitches of the model at rest (hinge anchors and the last tip
 // along x) and the IPMC links' lengths.
 LinkGeometry ModelGeometry(const mjModel* m, const mjData* d, const std::string& source) {
@@ -70,11 +51,6 @@ long StepsPerSample(double sample_rate_Hz, double dt_s, const std::string& sourc
   return steps;
 }
 
-// (1 - cos(pi t / T)) / 2 up to T, then 1.
-double StartRamp(double t_s, double ramp_s) {
-  if (t_s >= ramp_s) return 1.0;
-  return 0.5 * (1.0 - std::cos(3.141592653589793 * t_s / ramp_s));
-}
 
 void OverrideViscosity(mjModel* m, double viscosity_Pa_s, const std::string& source) {
   const int id = mj_name2id(m, mjOBJ_NUMERIC, "ipmc_rft_viscosity_Pa_s");
@@ -83,6 +59,11 @@ void OverrideViscosity(mjModel* m, double viscosity_Pa_s, const std::string& sou
 }
 
 }  // namespace
+
+double StartRamp(double t_s, double ramp_s) {
+  if (t_s >= ramp_s) return 1.0;
+  return 0.5 * (1.0 - std::cos(3.141592653589793 * t_s / ramp_s));
+}
 
 ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserver& observer) {
   std::string source = scenario.model_path;

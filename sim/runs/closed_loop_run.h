@@ -15,6 +15,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -53,6 +54,29 @@ struct ClosedLoopResult {
 // for example to render a frame of the model's current state.
 using SampleObserver =
     std::function<void(const mjModel* m, const mjData* d, const ClosedLoopSample& sample)>;
+
+// One link's controller, whichever kind the scenario names.
+class LinkController {
+ public:
+  explicit LinkController(const ScenarioConfig& scenario) {
+    if (scenario.controller == ControllerKind::kPid) {
+      pid_ = std::make_unique<PidController>(scenario.pid);
+    } else {
+      fractional_ = std::make_unique<FractionalIntegrator>(scenario.fractional);
+    }
+  }
+  double Update(double error_mm) {
+    return pid_ ? pid_->Update(error_mm) : fractional_->Update(error_mm);
+  }
+
+ private:
+  std::unique_ptr<PidController> pid_;
+  std::unique_ptr<FractionalIntegrator> fractional_;
+};
+
+// The references' fade-in (sim/core/scenario.h): (1 - cos(pi t / T_r)) / 2
+// for t < T_r = ramp_s, then 1.
+double StartRamp(double t_s, double ramp_s);
 
 // Loads the scenario's model, applies its overrides (time step, viscosity)
 // and runs it. Throws std::runtime_error naming the file on bad input or
