@@ -18,10 +18,10 @@
 #include <cstdio>
 
 #include "bench/ratio_reporter.h"
-#include "sim/bench_run.h"
+#include "sim/runs/bench_run.h"
 #include "ipmc_swim/ipmc_swim.h"
-#include "sim/model_generator.h"
-#include "sim/simulation.h"
+#include "sim/core/model_generator.h"
+#include "sim/core/simulation.h"
 
 namespace ipmc {
 namespace {

@@ -11,8 +11,8 @@
 
 #include "bench/ratio_reporter.h"
 #include "ipmc_swim/ipmc_swim.h"
-#include "sim/model_generator.h"
-#include "sim/simulation.h"
+#include "sim/core/model_generator.h"
+#include "sim/core/simulation.h"
 
 namespace ipmc {
 namespace {

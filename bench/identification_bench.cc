@@ -8,11 +8,11 @@
 #include <benchmark/benchmark.h>
 
 #include "bench/ratio_reporter.h"
-#include "sim/bench_run.h"
-#include "sim/controller_design.h"
-#include "sim/levy.h"
-#include "sim/model_generator.h"
-#include "sim/welch.h"
+#include "sim/runs/bench_run.h"
+#include "sim/identify/controller_design.h"
+#include "sim/identify/levy.h"
+#include "sim/core/model_generator.h"
+#include "sim/identify/welch.h"
 
 namespace ipmc {
 namespace {

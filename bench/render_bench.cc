@@ -12,8 +12,8 @@
 #include "bench/ratio_reporter.h"
 #include "renders/offscreen_renderer.h"
 #include "renders/video.h"
-#include "sim/model_generator.h"
-#include "sim/simulation.h"
+#include "sim/core/model_generator.h"
+#include "sim/core/simulation.h"
 
 namespace ipmc {
 namespace {

@@ -1,4 +1,4 @@
-// The project's serial vector kernels (plugin/serial_kernels.h) against
+// The project's serial vector kernels (plugin/actuators/serial_kernels.h) against
 // Debian's stock N_V*_Serial ones, both called through the vector's
 // operation table as CVODE calls them, on the bank's 30 states (3 paper
 // links) and on 300.
@@ -8,7 +8,7 @@
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 
-#include "plugin/serial_kernels.h"
+#include "plugin/actuators/serial_kernels.h"
 
 namespace ipmc {
 namespace {

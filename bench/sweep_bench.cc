@@ -9,7 +9,7 @@
 #include <string>
 
 #include "bench/ratio_reporter.h"
-#include "sim/sweep.h"
+#include "sim/batch/sweep.h"
 
 namespace ipmc {
 namespace {

@@ -1,4 +1,4 @@
-#include "controllers/format.h"
+#include "sim/io/numbers.h"
 #include "controllers/closed_loop.h"
 
 #include <algorithm>
@@ -36,6 +36,17 @@ void CheckSeries(const char* function, const std::vector<double>& time_s,
   }
 }
 
+// Samples of period T that cover `horizon_s`: the nearest whole number if
+// horizon / T is one to within kHorizonSlack, else the next above.
+long long WholeSamples(double horizon_s, double sample_period_s) {
+  const double samples_real = horizon_s / sample_period_s;
+  const double nearest = std::round(samples_real);
+  return static_cast<long long>(
+      std::abs(samples_real - nearest) <= kHorizonSlack * nearest
+          ? nearest
+          : std::ceil(samples_real));
+}
+
 // Time at which the straight line through (t0, y0) and (t1, y1) reaches
 // `level` (y0 and y1 on either side of it, or one equal to it).
 double CrossingTime(double t0, double y0, double t1, double y1, double level) {
@@ -62,6 +73,16 @@ void StepSimulation::Validate() const {
         std::to_string(kMaxOutputSubsteps) + "], got " +
         std::to_string(output_substeps));
   }
+  if (!std::isfinite(max_horizon_s) || max_horizon_s < 0) {
+    throw std::invalid_argument(
+        "StepSimulation.max_horizon_s must be finite and >= 0, got " +
+        FormatDouble(max_horizon_s));
+  }
+  if (!(settling_band > 0) || !(settling_band < 1)) {
+    throw std::invalid_argument(
+        "StepSimulation.settling_band must be in (0, 1), got " +
+        FormatDouble(settling_band));
+  }
 }
 
 ClosedLoopResponse SimulateClosedLoopStep(const StateSpace& plant,
@@ -79,12 +100,10 @@ ClosedLoopResponse SimulateClosedLoopStep(const StateSpace& plant,
   if (!controller) {
     throw std::invalid_argument("SimulateClosedLoopStep: controller is empty");
   }
-  const double samples_real = simulation.horizon_s / sample_period_s;
-  const double nearest = std::round(samples_real);
-  const long long samples = static_cast<long long>(
-      std::abs(samples_real - nearest) <= kHorizonSlack * nearest
-          ? nearest
-          : std::ceil(samples_real));
+  const long long samples = WholeSamples(simulation.horizon_s, sample_period_s);
+  const long long max_samples =
+      WholeSamples(std::max(simulation.max_horizon_s, simulation.horizon_s),
+                   sample_period_s);
   const int substeps = simulation.output_substeps;
   const double substep_s = sample_period_s / substeps;
   const DiscreteStateSpace hold = DiscretizeZeroOrderHold(plant, substep_s);
@@ -103,28 +122,38 @@ ClosedLoopResponse SimulateClosedLoopStep(const StateSpace& plant,
   Eigen::VectorXd next(n);
   const auto state_output = [&]() { return n > 0 ? (plant.c * x)(0, 0) : 0.0; };
   double u = 0.0;
-  for (long long k = 0; k < samples; ++k) {
-    const double measured = state_output() + d * u;  // y(t_k^-)
-    u = controller(simulation.step_amplitude - measured);
-    if (!std::isfinite(u)) {
-      throw std::runtime_error(
-          "SimulateClosedLoopStep: controller output is not finite at t = " +
-          FormatDouble(k * sample_period_s) + " s");
-    }
-    for (int j = 0; j < substeps; ++j) {
-      response.time_s.push_back(static_cast<double>(k * substeps + j) *
-                                substep_s);
-      response.output.push_back(state_output() + d * u);
-      response.control.push_back(u);
-      if (n > 0) {
-        next.noalias() = hold.a * x;
-        next += hold.b.col(0) * u;
-        x.swap(next);
+  long long k = 0;
+  // Samples k up to `end` (exclusive), recording [t_k, t_(k+1)).
+  const auto advance_to = [&](long long end) {
+    for (; k < end; ++k) {
+      const double measured = state_output() + d * u;  // y(t_k^-)
+      u = controller(simulation.step_amplitude - measured);
+      if (!std::isfinite(u)) {
+        throw std::runtime_error(
+            "SimulateClosedLoopStep: controller output is not finite at t = " +
+            FormatDouble(k * sample_period_s) + " s");
+      }
+      for (int j = 0; j < substeps; ++j) {
+        response.time_s.push_back(static_cast<double>(k * substeps + j) *
+                                  substep_s);
+        response.output.push_back(state_output() + d * u);
+        response.control.push_back(u);
+        if (n > 0) {
+          next.noalias() = hold.a * x;
+          next += hold.b.col(0) * u;
+          x.swap(next);
+        }
       }
     }
+  };
+  advance_to(samples);
+  // The extension, a horizon at a time, while the metrics are open.
+  while (k < max_samples &&
+         CheckStepRecord(response, simulation.settling_band) !=
+             StepRecordStatus::kDetermined) {
+    advance_to(std::min(max_samples, k + samples));
   }
-  response.time_s.push_back(static_cast<double>(samples * substeps) *
-                            substep_s);
+  response.time_s.push_back(static_cast<double>(k * substeps) * substep_s);
   response.output.push_back(state_output() + d * u);
   response.control.push_back(u);
   return response;
@@ -234,6 +263,42 @@ StepMetrics ComputeStepMetrics(const ClosedLoopResponse& response,
                                double settling_band) {
   return ComputeStepMetrics(response.time_s, response.output,
                             response.step_amplitude, settling_band);
+}
+
+StepRecordStatus CheckStepRecord(const ClosedLoopResponse& response,
+                                 double settling_band) {
+  const StepMetrics metrics = ComputeStepMetrics(response, settling_band);
+  const double t_end = response.time_s.back();
+  const double last_interval_s =
+      response.time_s.size() > 1
+          ? t_end - response.time_s[response.time_s.size() - 2]
+          : 0.0;
+  if (metrics.peak_time_s >= t_end - last_interval_s) {
+    return StepRecordStatus::kPeakAtEnd;
+  }
+  if (!metrics.rise_time_s) return StepRecordStatus::kBelow90Percent;
+  if (!metrics.settling_time_s) return StepRecordStatus::kOutsideBand;
+  // In the band for at least as long as it took to enter it for good.
+  if (*metrics.settling_time_s > 0.5 * (t_end - response.time_s.front())) {
+    return StepRecordStatus::kSettledLate;
+  }
+  return StepRecordStatus::kDetermined;
+}
+
+const char* StepRecordStatusText(StepRecordStatus status) {
+  switch (status) {
+    case StepRecordStatus::kDetermined:
+      return "determined";
+    case StepRecordStatus::kBelow90Percent:
+      return "below 90 %";
+    case StepRecordStatus::kPeakAtEnd:
+      return "peak at the end (still rising)";
+    case StepRecordStatus::kOutsideBand:
+      return "outside the settling band at the end";
+    case StepRecordStatus::kSettledLate:
+      return "settled after half the record";
+  }
+  return "unknown";
 }
 
 double ReferenceModelCost(const std::vector<double>& time_s,

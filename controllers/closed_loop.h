@@ -12,7 +12,9 @@
 //   strictly proper plant, d = 0, such as s^-0.5 G1).
 // The response is recorded `output_substeps` times per sample period (exact
 // values of the continuous plant output between the samples), from t = 0 to
-// t = N T with N = ceil(horizon / T).
+// t = N T with N = ceil(horizon / T). With max_horizon_s > horizon_s the
+// record goes on, horizon_s at a time (the last span cut at
+// max_horizon_s), until CheckStepRecord finds its step metrics determined.
 //
 // Eq. 11: J = int_0^H (1/2 + t/2) |y_r(t) - y(t)| dt, with y_r the
 // reference model's step response (controllers/reference_model.h) scaled
@@ -27,7 +29,7 @@
 #include "controllers/fractional_integrator.h"
 #include "controllers/pid.h"
 #include "controllers/reference_model.h"
-#include "controllers/state_space.h"
+#include "controllers/linear/state_space.h"
 
 namespace ipmc {
 
@@ -35,6 +37,10 @@ struct StepSimulation {
   double horizon_s = 10.0;      // finite and > 0
   double step_amplitude = 1.0;  // A, finite and != 0
   int output_substeps = 1;      // recorded points per sample, in [1, 10000]
+  // Extension past horizon_s while the metrics are not determined, up to
+  // this time [s]; finite and >= 0, no extension unless > horizon_s.
+  double max_horizon_s = 0.0;
+  double settling_band = 0.02;  // the extension's criterion, in (0, 1)
 
   // Throws std::invalid_argument naming the field and its allowed range.
   void Validate() const;
@@ -92,6 +98,31 @@ StepMetrics ComputeStepMetrics(const std::vector<double>& time_s,
                                double final_value, double settling_band = 0.02);
 StepMetrics ComputeStepMetrics(const ClosedLoopResponse& response,
                                double settling_band = 0.02);
+
+// Whether a record holds its step metrics, or why not (the first that
+// applies):
+//  - kPeakAtEnd: its maximum is at the last sample, so the response may
+//    still rise (overshoot and peak are lower bounds);
+//  - kBelow90Percent: it turned without reaching 90 % of the final value
+//    (no rise time);
+//  - kOutsideBand: it ends outside the settling band (no settling time);
+//  - kSettledLate: it entered the band for the last time after half the
+//    record. The loops of a fractional plant approach their final value
+//    along an algebraic tail, so a response that has stayed in the band
+//    for less time than it took to get there is not taken as settled;
+//  - kDetermined: none of these.
+enum class StepRecordStatus {
+  kDetermined,
+  kPeakAtEnd,
+  kBelow90Percent,
+  kOutsideBand,
+  kSettledLate
+};
+StepRecordStatus CheckStepRecord(const ClosedLoopResponse& response,
+                                 double settling_band = 0.02);
+// "determined", "below 90 %", "peak at the end (still rising)", "outside
+// the settling band at the end", "settled after half the record".
+const char* StepRecordStatusText(StepRecordStatus status);
 
 // Eq. 11 over [0, horizon_s] (linear interpolation inside the last
 // interval). Throws std::invalid_argument if the arrays are inconsistent,

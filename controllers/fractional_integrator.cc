@@ -1,5 +1,6 @@
-#include "controllers/format.h"
+#include "sim/io/numbers.h"
 #include "controllers/fractional_integrator.h"
+#include "controllers/paper_eq15.h"
 
 #include <algorithm>
 #include <cmath>
@@ -57,6 +58,18 @@ DiscreteStateSpace DiscretizeZeroOrderHold(const StateSpace& continuous,
   return discrete;
 }
 
+const char* FractionalRealisationName(FractionalRealisation realisation) {
+  return realisation == FractionalRealisation::kEq15 ? "eq15" : "oustaloup";
+}
+
+std::optional<FractionalRealisation> ParseFractionalRealisation(const std::string& word) {
+  for (FractionalRealisation realisation :
+       {FractionalRealisation::kOustaloup, FractionalRealisation::kEq15}) {
+    if (word == FractionalRealisationName(realisation)) return realisation;
+  }
+  return std::nullopt;
+}
+
 void FractionalIntegrator::Config::Validate() const {
   if (!std::isfinite(gain) || gain < 0) {
     ThrowField("gain", "finite and >= 0", FormatDouble(gain));
@@ -83,18 +96,33 @@ void FractionalIntegrator::Config::Validate() const {
   if (clamp_enabled && (!std::isfinite(v_max) || !(v_max > 0))) {
     ThrowField("v_max", "finite and > 0", FormatDouble(v_max));
   }
+  if (realisation != FractionalRealisation::kOustaloup &&
+      realisation != FractionalRealisation::kEq15) {
+    ThrowField("realisation", "kOustaloup or kEq15",
+               std::to_string(static_cast<int>(realisation)));
+  }
 }
+
+namespace {
+
+// K s^-lambda by Oustaloup, or eq. 15 as printed.
+StateSpace ContinuousRealisation(const FractionalIntegrator::Config& config) {
+  if (config.realisation == FractionalRealisation::kEq15) return Eq15StateSpace();
+  OustaloupConfig oustaloup;
+  oustaloup.order = -config.order;
+  oustaloup.w_low_rad_s = config.w_low_rad_s;
+  oustaloup.w_high_rad_s = config.w_high_rad_s;
+  oustaloup.n = config.oustaloup_n;
+  oustaloup.variant = config.variant;
+  return Series(OustaloupStateSpace(oustaloup), Gain(config.gain));
+}
+
+}  // namespace
 
 FractionalIntegrator::FractionalIntegrator(const Config& config)
     : config_(config) {
   config_.Validate();
-  OustaloupConfig oustaloup;
-  oustaloup.order = -config_.order;
-  oustaloup.w_low_rad_s = config_.w_low_rad_s;
-  oustaloup.w_high_rad_s = config_.w_high_rad_s;
-  oustaloup.n = config_.oustaloup_n;
-  oustaloup.variant = config_.variant;
-  continuous_ = Series(OustaloupStateSpace(oustaloup), Gain(config_.gain));
+  continuous_ = ContinuousRealisation(config_);
   discrete_ = DiscretizeZeroOrderHold(continuous_, config_.sample_period_s);
   state_ = Eigen::VectorXd::Zero(continuous_.States());
 }

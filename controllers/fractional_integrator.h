@@ -3,13 +3,17 @@
 //
 //   C_I(s) = K / s^lambda,   0 < lambda <= 1        [V per mm of error]
 //
-// realised by the Oustaloup approximation of s^-lambda (controllers/
-// oustaloup.h) with N pairs on the band [w_b, w_h]; the defaults are the
-// paper's eq. 15 (N = 4 pairs on [1e-3, 1e2] rad/s). The realisation is the
-// continuous state-space block (a, b, c, d) = OustaloupStateSpace scaled by
-// K, so inside the band C_I(j w) is matched within the Oustaloup ripple and
-// outside it the gain levels off (finite DC gain: no true integrator unless
-// lambda = 1).
+// realised as a continuous state-space block (a, b, c, d) in one of two
+// ways (Config::realisation):
+//  - kOustaloup (default): the Oustaloup approximation of s^-lambda
+//    (controllers/linear/oustaloup.h) with N pairs on the band [w_b, w_h],
+//    scaled by K; the defaults are eq. 15's setting (N = 4 pairs on
+//    [1e-3, 1e2] rad/s). Inside the band C_I(j w) is matched within the
+//    Oustaloup ripple and outside it the gain levels off (finite DC gain:
+//    no true integrator unless lambda = 1).
+//  - kEq15: the paper's printed eq. 15 itself (controllers/paper_eq15.h),
+//    the filter behind Table 5's C_I column; gain, order, N and the band
+//    do not enter it (EvaluateExact still uses gain and order).
 //
 // Discretisation: exact zero-order hold (ZOH) at the sample period T
 // (default 1 ms): the error e_k sampled at t_k is held over the sample, so
@@ -25,13 +29,23 @@
 #define IPMC_SWIM_CONTROLLERS_FRACTIONAL_INTEGRATOR_H_
 
 #include <complex>
+#include <optional>
+#include <string>
 
 #include <Eigen/Dense>
 
-#include "controllers/oustaloup.h"
-#include "controllers/state_space.h"
+#include "controllers/linear/oustaloup.h"
+#include "controllers/linear/state_space.h"
 
 namespace ipmc {
+
+// How the fractional integrator's s^-lambda is realised (see above).
+enum class FractionalRealisation { kOustaloup, kEq15 };
+
+// "oustaloup" / "eq15"; ParseFractionalRealisation returns nullopt for any
+// other word.
+const char* FractionalRealisationName(FractionalRealisation realisation);
+std::optional<FractionalRealisation> ParseFractionalRealisation(const std::string& word);
 
 // Discrete-time SISO state space, x_(k+1) = a x_k + b u_k,
 // y_k = c x_k + d u_k, at a fixed sample period.
@@ -59,6 +73,7 @@ class FractionalIntegrator {
     double w_low_rad_s = 1e-3;  // w_b, finite and > 0
     double w_high_rad_s = 1e2;  // w_h, finite and > w_b
     OustaloupVariant variant = OustaloupVariant::kNPairs;
+    FractionalRealisation realisation = FractionalRealisation::kOustaloup;
     double sample_period_s = 1e-3;  // T [s], finite and > 0
     bool clamp_enabled = true;
     double v_max = 6.0;  // output limit [V], > 0 (checked if clamp_enabled)
@@ -82,7 +97,7 @@ class FractionalIntegrator {
 
   // K s^-lambda on the principal branch (the ideal controller).
   std::complex<double> EvaluateExact(std::complex<double> s) const;
-  // The continuous Oustaloup realisation c (s I - a)^-1 b + d.
+  // The continuous realisation c (s I - a)^-1 b + d (Oustaloup or eq. 15).
   std::complex<double> Evaluate(std::complex<double> s) const;
 
   const Config& config() const { return config_; }

@@ -1,4 +1,4 @@
-#include "controllers/format.h"
+#include "sim/io/numbers.h"
 #include "controllers/pid.h"
 
 #include <algorithm>

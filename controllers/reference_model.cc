@@ -1,13 +1,14 @@
-#include "controllers/format.h"
+#include "sim/io/numbers.h"
 #include "controllers/reference_model.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+
+#include <boost/math/quadrature/gauss_kronrod.hpp>
 
 namespace ipmc {
 namespace {
@@ -19,8 +20,10 @@ constexpr int kSeriesMaxTerms = 100000;
 constexpr double kIntegralMaxAbsV = 50.0;
 // exp(-x) below this argument is negligible (e^-800 underflows to 0).
 constexpr double kNegligibleExponent = 800.0;
-constexpr double kIntegralAbsTolerance = 1e-16;
-constexpr int kIntegralMaxDepth = 60;
+// Adaptive Gauss-Kronrod target (relative) and bisection depth; see
+// GaussKronrod15 for why the target is not near machine epsilon.
+constexpr double kIntegralRelativeTolerance = 1e-10;
+constexpr unsigned kIntegralMaxDepth = 15;
 // Peak scan of the reference model step response, in w_c t.
 constexpr double kPeakScanStep = 0.05;
 constexpr double kPeakScanEnd = 200.0;
@@ -41,48 +44,24 @@ void CheckDomain(const char* function, double alpha, double z, bool alpha_ok,
   }
 }
 
-// Gauss-Kronrod 7/15 nodes (abscissae of the 15-point Kronrod rule on
-// [-1, 1], non-negative half) and weights, from QUADPACK's qk15.
-constexpr std::array<double, 8> kKronrodNodes = {
-    0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
-    0.864864423359769072789712788640926, 0.741531185599394439863864773280788,
-    0.586087235467691130294144845693013, 0.405845151377397166906606412076961,
-    0.207784955007898467600689403773245, 0.000000000000000000000000000000000};
-constexpr std::array<double, 8> kKronrodWeights = {
-    0.022935322010529224963732008058970, 0.063092092629978553290700663189204,
-    0.104790010322250183839876322541518, 0.140653259715525918745189590510238,
-    0.169004726639267902826583426598550, 0.190350578064785409913256402421014,
-    0.204432940075298892414161999234649, 0.209482141084727828012999174891714};
-// 7-point Gauss weights at kKronrodNodes[1], [3], [5], [7].
-constexpr std::array<double, 4> kGaussWeights = {
-    0.129484966168869693270611432679082, 0.279705391489276667901467771423780,
-    0.381830050505118944950369775488975, 0.417959183673469387755102040816327};
-
+// Integral of `f` on [a, b] by Boost.Math's adaptive Gauss-Kronrod rule
+// (7-point Gauss embedded in 15-point Kronrod, QUADPACK's qk15 pair),
+// bisecting a piece while its |K15 - G7| exceeds both the target times its
+// own integral and the target times the whole integral halved per level.
+// Boost (1.74, and unchanged since) takes that error before scaling by the
+// piece's half-width h and never below 2 eps of it, so the first test
+// fails for good once h < 2 eps / target; only the second can then accept
+// a piece. Hence one interval (breaks at -5, 0, 5 left a piece v > 0 with
+// 2e-12 of the integral at tau = 29, which bisected to the full depth,
+// 2^15 rules) and a target of 1e-10, for which depth 15 stays above that
+// h. Measured against the hand-written rule it replaced (four pieces, an
+// absolute target of 1e-16): E_alpha within 1.1e-15 over 0.01 <= alpha <=
+// 1.999, 0 <= tau <= 400; 466 integrand evaluations per call on average,
+// in 31 instead of 59 us at alpha = 1.16.
 template <typename Function>
-double AdaptiveGaussKronrod(const Function& f, double a, double b,
-                            double tolerance, int depth) {
-  const double center = 0.5 * (a + b);
-  const double half = 0.5 * (b - a);
-  const double f_center = f(center);
-  double kronrod = kKronrodWeights[7] * f_center;
-  double gauss = kGaussWeights[3] * f_center;
-  for (int i = 0; i < 7; ++i) {
-    const double dx = half * kKronrodNodes[i];
-    const double pair = f(center - dx) + f(center + dx);
-    kronrod += kKronrodWeights[i] * pair;
-    if (i % 2 == 1) gauss += kGaussWeights[i / 2] * pair;
-  }
-  kronrod *= half;
-  gauss *= half;
-  const double error = std::abs(kronrod - gauss);
-  if (error <= tolerance ||
-      error <=
-          50 * std::numeric_limits<double>::epsilon() * std::abs(kronrod) ||
-      depth >= kIntegralMaxDepth) {
-    return kronrod;
-  }
-  return AdaptiveGaussKronrod(f, a, center, 0.5 * tolerance, depth + 1) +
-         AdaptiveGaussKronrod(f, center, b, 0.5 * tolerance, depth + 1);
+double GaussKronrod15(const Function& f, double a, double b) {
+  return boost::math::quadrature::gauss_kronrod<double, 15>::integrate(
+      f, a, b, kIntegralMaxDepth, kIntegralRelativeTolerance);
 }
 
 }  // namespace
@@ -142,20 +121,8 @@ double MittagLefflerIntegral(double alpha, double z) {
     v_high = std::min(v_high, alpha * std::log(kNegligibleExponent / tau));
   }
   const double v_low = -kIntegralMaxAbsV;
-  double integral = 0;
-  if (v_high > v_low) {
-    // Split at the kernel's peak (v = 0) and at +-5 so that the adaptive
-    // rule starts on pieces of similar character.
-    const std::array<double, 5> breaks = {v_low, -5.0, 0.0, 5.0, v_high};
-    for (std::size_t i = 0; i + 1 < breaks.size(); ++i) {
-      const double a = std::max(breaks[i], v_low);
-      const double b = std::min(breaks[i + 1], v_high);
-      if (b > a) {
-        integral += AdaptiveGaussKronrod(integrand, a, b,
-                                         0.25 * kIntegralAbsTolerance, 0);
-      }
-    }
-  }
+  const double integral =
+      v_high > v_low ? GaussKronrod15(integrand, v_low, v_high) : 0.0;
   double value = std::sin(alpha * kPi) / (kPi * alpha) * integral;
   if (alpha > 1) {
     value += 2.0 / alpha * std::exp(tau * std::cos(kPi / alpha)) *

@@ -25,8 +25,8 @@
 //    the [alpha > 1] term being the residues at the two poles
 //    s = exp(+-i pi / alpha) of the principal sheet. The integral is taken
 //    in v = ln w (integrand exp(-tau e^(v/alpha)) / (2 cosh v + 2 cos(alpha
-//    pi)), exponentially decaying both ways) by adaptive Gauss-Kronrod
-//    (7/15 points). It holds for every tau >= 0.
+//    pi)), exponentially decaying both ways) by Boost.Math's adaptive
+//    Gauss-Kronrod (7/15 points). It holds for every tau >= 0.
 // alpha = 1 gives exp(z) and alpha = 2 gives cos(sqrt(-z)) exactly.
 #ifndef IPMC_SWIM_CONTROLLERS_REFERENCE_MODEL_H_
 #define IPMC_SWIM_CONTROLLERS_REFERENCE_MODEL_H_

@@ -7,7 +7,7 @@
 #include <unordered_map>
 
 #include "ipmc_swim/ipmc_swim.h"
-#include "plugin/custom_fields.h"
+#include "plugin/mjcf/custom_fields.h"
 
 namespace ipmc {
 namespace {

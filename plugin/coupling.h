@@ -7,8 +7,8 @@
 #include <memory>
 #include <optional>
 
-#include "plugin/ipmc_actuators.h"
-#include "plugin/rft_drag.h"
+#include "plugin/actuators/ipmc_actuators.h"
+#include "plugin/fluid/rft_drag.h"
 
 namespace ipmc {
 

@@ -9,7 +9,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "sim/simulation.h"
+#include "sim/core/simulation.h"
 
 namespace ipmc {
 namespace {

@@ -14,7 +14,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "sim/output.h"
+#include "sim/io/files.h"
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STBI_WRITE_NO_STDIO

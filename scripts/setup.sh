@@ -6,7 +6,7 @@ set -euo pipefail
 IPMC_PACKAGES=(
   build-essential cmake pkg-config
   libmujoco-dev libqhull-dev libgl-dev libosmesa6-dev
-  libeigen3-dev libsundials-dev
+  libeigen3-dev libsundials-dev libnlopt-cxx-dev libboost-math-dev
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev
   libgtest-dev libbenchmark-dev
   libstb-dev libfftw3-dev ffmpeg gnuplot-nox

@@ -205,8 +205,42 @@ TEST(AnalysisCli, StepPidClampedStaysWithinTheLimit) {
   ASSERT_EQ(rows.size(), 3u) << result.output;
   for (const char* link : {"1", "3"}) EXPECT_LE(rows[link][5], 6.0) << result.output;
   EXPECT_FALSE(std::isnan(rows["3"][4])) << result.output;  // settled
-  // Link 1 (gain 27 times smaller) is still rising at 10 s.
-  EXPECT_NE(result.output.find("still rising"), std::string::npos) << result.output;
+  // Link 1 (gain 27 times smaller) is still rising at the 10 s horizon;
+  // its record goes on until it has peaked and settled. Measured: 0.423 %
+  // at 118.41 s, settled at 111.75 s, record 230 s.
+  EXPECT_GT(rows["1"][3], 100.0) << result.output;
+  EXPECT_NEAR(rows["1"][7], 230.0, 1e-9) << result.output;
+  EXPECT_EQ(result.output.find("still rising"), std::string::npos) << result.output;
+  // Held to the horizon, the record leaves link 1's metrics open and says so.
+  const CommandResult held = RunCli("step --controller pid --links 3,1 --max-horizon-s 10");
+  ASSERT_EQ(held.exit_code, 0) << held.output;
+  EXPECT_NE(held.output.find("0.000*"), std::string::npos) << held.output;
+  EXPECT_NE(held.output.find("link 1: peak at the end (still rising) at 10 s"), std::string::npos)
+      << held.output;
+}
+
+// The step metrics do not depend on where the record stops. C_I's link 1
+// peaks at 16.4 s and settles at 27.0 s, past the 10 s horizon (which had
+// printed 0.000 % for it). Links 3/2/1 at 1 kHz: 5.685 / 3.692 / 3.626 %
+// (controllers_test: the continuous loop gives 5.520 / 3.682 / 3.620; the
+// sampling adds 0.16 points on link 3). A record allowed to run twice as
+// long prints the same table.
+TEST(AnalysisCli, StepFractionalMetricsDoNotDependOnTheRecord) {
+  const CommandResult result = RunCli("step --controller fractional --no-clamp");
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  auto rows = ParseStepTable(result.output);
+  ASSERT_EQ(rows.size(), 4u) << result.output;
+  EXPECT_NEAR(rows["3"][0], 5.685, 1e-3) << result.output;
+  EXPECT_NEAR(rows["2"][0], 3.692, 1e-3) << result.output;
+  EXPECT_NEAR(rows["1"][0], 3.626, 1e-3) << result.output;
+  EXPECT_NEAR(rows["1"][3], 16.3954, 1e-4) << result.output;
+  EXPECT_NEAR(rows["1"][4], 27.0280, 1e-4) << result.output;
+  EXPECT_NEAR(rows["1"][7], 60.0, 1e-9) << result.output;  // the record
+  EXPECT_EQ(result.output.find("*"), std::string::npos) << result.output;
+  const CommandResult longer = RunCli("step --controller fractional --no-clamp --max-horizon-s 600");
+  ASSERT_EQ(longer.exit_code, 0) << longer.output;
+  EXPECT_EQ(longer.output, result.output.substr(0, result.output.find("at most")) + "at most 600 s\n")
+      << longer.output;
 }
 
 TEST(AnalysisCli, BadValuesGiveOneLineAndNoFiles) {
@@ -216,6 +250,8 @@ TEST(AnalysisCli, BadValuesGiveOneLineAndNoFiles) {
   ExpectOneLineError(RunCli("step --controller pid --horizon-s -1" + out), "--horizon-s",
                      dir / "out");
   ExpectOneLineError(RunCli("step --controller pid --links 1,4" + out), "--links", dir / "out");
+  ExpectOneLineError(RunCli("step --controller pid --max-horizon-s 0" + out), "--max-horizon-s",
+                     dir / "out");
   ExpectOneLineError(RunCli("bode --controller fractional --kp 3" + out),
                      "--kp does not apply to --controller fractional", dir / "out");
   ExpectOneLineError(RunCli("bode --controller fractional-oustaloup --band-rad-s 10,1" + out),

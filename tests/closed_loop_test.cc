@@ -1,6 +1,6 @@
 // Closed-loop swimming of the paper's flagellum (Table 4 wave, eq. 12 PID
 // or eq. 14 fractional integrator, 1 kHz, +-6 V unless the clamp is off).
-#include "sim/closed_loop_run.h"
+#include "sim/runs/closed_loop_run.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
-// IPMC links as chains of rigid sub-segments (plugin/ipmc_actuators.h,
-// sim/model_generator.h), the plant assignment and the scaling of a link's
-// plant with its length (plugin/ipmc_link_model.h).
+// IPMC links as chains of rigid sub-segments (plugin/actuators/ipmc_actuators.h,
+// sim/core/model_generator.h), the plant assignment and the scaling of a link's
+// plant with its length (plugin/actuators/ipmc_link_model.h).
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -10,11 +10,11 @@
 #include <vector>
 
 #include "plugin/coupling.h"
-#include "plugin/ipmc_actuators.h"
-#include "plugin/ipmc_link_model.h"
-#include "sim/bench_run.h"
-#include "sim/model_generator.h"
-#include "sim/scenario.h"
+#include "plugin/actuators/ipmc_actuators.h"
+#include "plugin/actuators/ipmc_link_model.h"
+#include "sim/runs/bench_run.h"
+#include "sim/core/model_generator.h"
+#include "sim/core/scenario.h"
 #include "tests/test_util.h"
 
 namespace ipmc::testing {

@@ -1,7 +1,7 @@
-// IPMC actuator bank (plugin/ipmc_actuator_bank.h): CVODE against exact
+// IPMC actuator bank (plugin/actuators/ipmc_actuator_bank.h): CVODE against exact
 // solutions of the same linear system, the s^-0.5 step response, input
 // holding, determinism and error reporting.
-#include "plugin/ipmc_actuator_bank.h"
+#include "plugin/actuators/ipmc_actuator_bank.h"
 
 #include <cmath>
 #include <cstdio>
@@ -14,9 +14,9 @@
 #include <gtest/gtest.h>
 #include <unsupported/Eigen/MatrixFunctions>
 
-#include "controllers/oustaloup.h"
-#include "controllers/state_space.h"
-#include "plugin/ipmc_link_model.h"
+#include "controllers/linear/oustaloup.h"
+#include "controllers/linear/state_space.h"
+#include "plugin/actuators/ipmc_link_model.h"
 
 namespace ipmc {
 namespace {

@@ -1,7 +1,7 @@
-// Oustaloup approximation (controllers/oustaloup.h) and the state-space
-// toolbox (controllers/state_space.h).
+// Oustaloup approximation (controllers/linear/oustaloup.h) and the state-space
+// toolbox (controllers/linear/state_space.h).
 #include "tests/test_util.h"
-#include "controllers/oustaloup.h"
+#include "controllers/linear/oustaloup.h"
 
 #include <cmath>
 #include <complex>
@@ -13,7 +13,8 @@
 
 #include <gtest/gtest.h>
 
-#include "controllers/state_space.h"
+#include "controllers/paper_eq15.h"
+#include "controllers/linear/state_space.h"
 
 namespace ipmc {
 namespace {
@@ -76,9 +77,9 @@ std::vector<double> PolyFromRoots(const std::vector<double>& corners) {
 
 
 // The paper's eq. 15, C_I*(s), numerator and denominator, highest power
-// first, and both divided by the s^4 coefficient of the denominator.
-const std::vector<double> kEq15Num = {32.08, 1981, 6511, 1196, 11.7};
-const std::vector<double> kEq15Den = {36.47, 372.9, 202.9, 6.175, 0.01};
+// first (controllers/paper_eq15.h, the one definition of them).
+const std::vector<double> kEq15Num(kEq15Numerator.begin(), kEq15Numerator.end());
+const std::vector<double> kEq15Den(kEq15Denominator.begin(), kEq15Denominator.end());
 constexpr double kEq15Gain = 15.62;  // eq. 14
 
 std::vector<double> Monic(const std::vector<double>& c, double lead) {

@@ -85,7 +85,7 @@ std::string RunOrDescribe(const std::string& args) {
   return result.exit_code == 0 ? "" : "ipmc-swim " + args + ": " + result.output;
 }
 
-// A table laid out as "ipmc-swim sweep" writes it (sim/sweep.h: point,
+// A table laid out as "ipmc-swim sweep" writes it (sim/batch/sweep.h: point,
 // swept keys, status ok | error, error, metrics), from three real runs and
 // one failed point whose error has a comma and quotes in it.
 std::string SweepTable(const fs::path& dir, std::string& failure) {

@@ -35,10 +35,10 @@
 #include <string>
 #include <vector>
 
-#include "sim/closed_loop_run.h"
-#include "sim/model_generator.h"
-#include "sim/scenario.h"
-#include "sim/simulation.h"
+#include "sim/runs/closed_loop_run.h"
+#include "sim/core/model_generator.h"
+#include "sim/core/scenario.h"
+#include "sim/core/simulation.h"
 #include "tests/test_util.h"
 
 namespace ipmc::testing {
@@ -46,7 +46,7 @@ namespace {
 
 constexpr double kPi = 3.141592653589793;
 constexpr double kMToMm = 1e3;
-// The swimmer's root: the first body under the world (sim/swim_meter.h).
+// The swimmer's root: the first body under the world (sim/core/swim_meter.h).
 constexpr int kRootBody = 1;
 
 // ---------------------------------------------------------------------------

@@ -19,9 +19,9 @@
 #include <stb/stb_image.h>
 
 #include "renders/offscreen_renderer.h"
-#include "renders/render_command.h"
+#include "sim/cli/render_command.h"
 #include "renders/video.h"
-#include "sim/simulation.h"
+#include "sim/core/simulation.h"
 #include "tests/cli_util.h"
 #include "tests/test_util.h"
 

@@ -1,6 +1,6 @@
 // Resistive-force-theory drag: the segment integral, its invariants, and
 // its coupling into MuJoCo through mjcb_passive.
-#include "plugin/rft_drag.h"
+#include "plugin/fluid/rft_drag.h"
 
 #include <gtest/gtest.h>
 

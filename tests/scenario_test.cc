@@ -1,7 +1,7 @@
 // Scenario files: the paper's two scenarios load with the paper's values,
 // and every class of bad input gives one line naming the file, line and
 // key.
-#include "sim/scenario.h"
+#include "sim/core/scenario.h"
 
 #include <gtest/gtest.h>
 
@@ -192,7 +192,7 @@ TEST_F(ScenarioErrorTest, UnknownKeysNameTheKeyAndTheAllowedOnes) {
   ExpectError(
       std::string(kModelLine) + "[controller]\nkp = 1.0\nkpp = 2.0\n",
       ":4: unknown key 'controller.kpp' (allowed: kind, sample_rate_Hz, v_max_V, clamp, kp, "
-      "ki, kd, derivative_filter_s, gain, order, oustaloup_n, band_rad_s)");
+      "ki, kd, derivative_filter_s, gain, order, oustaloup_n, band_rad_s, realisation)");
   ExpectError(
       std::string(kModelLine) + "[waveform]\nc3_um = 1.0\n",
       ":3: unknown key 'waveform.c3_um' (allowed: kind, c0_um, c1_um_per_mm, c2_um_per_mm2, "
@@ -209,7 +209,7 @@ TEST_F(ScenarioErrorTest, UnknownKeysNameTheKeyAndTheAllowedOnes) {
   ExpectError(
       std::string(kModelLine) + "controller.kq = 1\n",
       ":2: unknown key 'controller.kq' (allowed: kind, sample_rate_Hz, v_max_V, clamp, kp, ki, "
-      "kd, derivative_filter_s, gain, order, oustaloup_n, band_rad_s)");
+      "kd, derivative_filter_s, gain, order, oustaloup_n, band_rad_s, realisation)");
 }
 
 TEST_F(ScenarioErrorTest, WrongTypesNameTheKeyAndTheType) {
@@ -321,6 +321,32 @@ TEST_F(ScenarioErrorTest, KeysOfTheOtherKindAreRejected) {
   ExpectError(
       model + "[waveform]\nkind = \"fractional\"\nc1_um_per_mm = 200\n",
       ":4: waveform.c1_um_per_mm applies only to kind = \"polynomial\" (kind is \"fractional\")");
+}
+
+// controller.realisation chooses how the fractional integrator runs:
+// "oustaloup" (the default, so existing scenarios keep their results) or
+// the paper's printed eq. 15, which fixes gain, order and band.
+TEST_F(ScenarioErrorTest, FractionalRealisationKey) {
+  const std::string fractional = std::string(kModelLine) + "[controller]\nkind = \"fractional\"\n";
+  EXPECT_EQ(Parse(fractional).fractional.realisation, FractionalRealisation::kOustaloup);
+  EXPECT_EQ(Parse(fractional + "realisation = \"oustaloup\"\ngain = 10\n").fractional.realisation,
+            FractionalRealisation::kOustaloup);
+  EXPECT_EQ(Parse(fractional + "realisation = \"eq15\"\n").fractional.realisation,
+            FractionalRealisation::kEq15);
+  ExpectError(fractional + "realisation = \"Eq15\"\n",
+              ":4: controller.realisation must be \"oustaloup\" or \"eq15\" (got \"Eq15\")");
+  ExpectError(fractional + "realisation = 15\n",
+              ":4: controller.realisation must be a string (got integer)");
+  ExpectError(std::string(kModelLine) + "[controller]\nrealisation = \"eq15\"\n",
+              ":3: controller.realisation applies only to kind = \"fractional\" (kind is "
+              "\"pid\")");
+  for (const char* key : {"gain = 15.62", "order = 0.62", "oustaloup_n = 4",
+                          "band_rad_s = [1e-3, 1e2]"}) {
+    const std::string name = std::string(key).substr(0, std::string(key).find(' '));
+    ExpectError(fractional + "realisation = \"eq15\"\n" + key + "\n",
+                ":5: controller." + name +
+                    " applies only to realisation = \"oustaloup\" (realisation is \"eq15\")");
+  }
 }
 
 TEST_F(ScenarioErrorTest, ModelIsRequiredAndMustExist) {

@@ -1,8 +1,8 @@
-// The project's serial N_Vector kernels (plugin/serial_kernels.h) against
+// The project's serial N_Vector kernels (plugin/actuators/serial_kernels.h) against
 // the stock N_V*_Serial kernels of SUNDIALS on random vectors: the same
 // numbers, bit for bit, except where SUNDIALS factors a (x +- y) in
 // N_VLinearSum (a = +-b, |a| != 1), which rounds differently.
-#include "plugin/serial_kernels.h"
+#include "plugin/actuators/serial_kernels.h"
 
 #include <gtest/gtest.h>
 #include <nvector/nvector_serial.h>

@@ -3,7 +3,7 @@
 // recorded without stopping the others, and bad sweep files or tables give
 // one-line errors. The runs are one 2 s wave period at a 0.5 ms step
 // (about 0.03 s each).
-#include "sim/sweep.h"
+#include "sim/batch/sweep.h"
 
 #include <gtest/gtest.h>
 
@@ -17,8 +17,8 @@
 #include <string>
 #include <vector>
 
-#include "sim/closed_loop_run.h"
-#include "sim/sweep_command.h"
+#include "sim/runs/closed_loop_run.h"
+#include "sim/cli/sweep_command.h"
 
 namespace ipmc {
 namespace {
@@ -175,6 +175,32 @@ TEST_F(SweepTest, OverridesReachEveryPartOfTheScenario) {
   EXPECT_EQ(fractional.fractional.order, 0.5);
   EXPECT_EQ(fractional.viscosity_Pa_s, 2e-3);
   EXPECT_EQ(plan.points[2].scenario->actuation, "single");
+}
+
+// Sweeping the fractional integrator's realisation over
+// paper_fractional.toml: "eq15" drops the base's gain, order, oustaloup_n
+// and band_rad_s (eq. 15 fixes them), as a change of kind drops the keys
+// of the other kind; a point that gives one of them itself is an error.
+TEST_F(SweepTest, RealisationOverridesDropTheBasesOustaloupKeys) {
+  const std::string base = (kSourceDir / "scenarios" / "paper_fractional.toml").string();
+  SweepPlan plan = Parse("base = \"" + base + "\"\n"
+                         "[grid]\n"
+                         "\"controller.realisation\" = [\"oustaloup\", \"eq15\"]\n");
+  ASSERT_EQ(plan.points.size(), 2u);
+  for (const SweepPoint& point : plan.points) ASSERT_TRUE(point.scenario) << point.error;
+  EXPECT_EQ(plan.points[0].scenario->fractional.realisation, FractionalRealisation::kOustaloup);
+  EXPECT_EQ(plan.points[1].scenario->fractional.realisation, FractionalRealisation::kEq15);
+
+  plan = Parse("base = \"" + base + "\"\n"
+               "[[point]]\n"
+               "controller = { realisation = \"eq15\", gain = 10.0 }\n");
+  ASSERT_EQ(plan.points.size(), 1u);
+  EXPECT_FALSE(plan.points[0].scenario);
+  EXPECT_NE(plan.points[0].error.find(
+                "controller.gain applies only to realisation = \"oustaloup\" (realisation is "
+                "\"eq15\")"),
+            std::string::npos)
+      << plan.points[0].error;
 }
 
 TEST_F(SweepTest, TheWorkedExampleHasTwelvePoints) {

@@ -6,7 +6,7 @@
 #include <fstream>
 #include <iomanip>
 
-#include "plugin/rft_drag.h"
+#include "plugin/fluid/rft_drag.h"
 #include "tests/test_util.h"
 
 namespace ipmc::testing {

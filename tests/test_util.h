@@ -12,10 +12,10 @@
 #include <utility>
 #include <vector>
 
-#include "sim/gait.h"
-#include "sim/gait_run.h"
-#include "sim/model_generator.h"
-#include "sim/simulation.h"
+#include "sim/core/gait.h"
+#include "sim/runs/gait_run.h"
+#include "sim/core/model_generator.h"
+#include "sim/core/simulation.h"
 
 namespace ipmc::testing {
 

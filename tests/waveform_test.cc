@@ -7,7 +7,7 @@
 // the projection. Tolerances are about ten times the residual measured here
 // (quoted beside each), except where the tolerance is itself the contract:
 // chords to 1e-9 mm and periodicity to 1e-12 mm.
-#include "sim/waveform.h"
+#include "sim/core/waveform.h"
 
 #include <gtest/gtest.h>
 

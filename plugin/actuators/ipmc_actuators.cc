@@ -1,0 +1,396 @@
+#include "plugin/actuators/ipmc_actuators.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+#include "plugin/mjcf/custom_fields.h"
+
+namespace ipmc {
+namespace {
+
+constexpr char kAttrLinks[] = "ipmc_links";
+constexpr char kAttrSegments[] = "ipmc_segments_per_link";
+constexpr char kAttrPlants[] = "ipmc_plants";
+constexpr char kAttrModel[] = "ipmc_model";
+constexpr char kAttrActuation[] = "ipmc_actuation";
+constexpr char kAttrBand[] = "ipmc_integrator_band_rad_s";
+constexpr char kAttrPairs[] = "ipmc_integrator_pairs";
+constexpr char kAttrRelTol[] = "ipmc_cvode_rel_tol";
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kMmToM = 1e-3;
+
+[[noreturn]] void Fail(const std::string& message) {
+  throw std::invalid_argument("ipmc actuators: " + message);
+}
+
+// Applies a per-link numeric override `name` (n values) through `set`.
+template <typename Setter>
+void OverridePerLink(const mjModel* m, const char* name, std::vector<IpmcLinkParams>& links,
+                     Setter set) {
+  const std::optional<std::vector<double>> values = FindCustomVector(m, name);
+  if (!values) return;
+  if (values->size() != links.size()) {
+    Fail(std::string(name) + " must hold " + std::to_string(links.size()) +
+         " values, one per link (got " + std::to_string(values->size()) + ")");
+  }
+  for (size_t q = 0; q < links.size(); ++q) set(links[q], (*values)[q]);
+}
+
+int SegmentsPerLink(const mjModel* m) {
+  const std::optional<double> value = FindCustomScalar(m, kAttrSegments);
+  if (!value) return 1;
+  if (*value != std::floor(*value) || *value < 1 || *value > kMaxSegmentsPerLink) {
+    Fail(std::string(kAttrSegments) + " must be an integer in [1, " +
+         std::to_string(kMaxSegmentsPerLink) + "] (got " + std::to_string(*value) + ")");
+  }
+  return static_cast<int>(*value);
+}
+
+// The first hinge joint of `body`, or -1.
+int FirstHinge(const mjModel* m, int body) {
+  for (int j = m->body_jntadr[body]; j >= 0 && j < m->body_jntadr[body] + m->body_jntnum[body];
+       ++j) {
+    if (m->jnt_type[j] == mjJNT_HINGE) return j;
+  }
+  return -1;
+}
+
+// The only child of `body`, or -1 if it has none or several.
+int OnlyChild(const mjModel* m, int body) {
+  int child = -1;
+  for (int b = body + 1; b < m->nbody; ++b) {
+    if (m->body_parentid[b] != body) continue;
+    if (child >= 0) return -1;
+    child = b;
+  }
+  return child;
+}
+
+// Length of the sub-segment carried by `body`: its first box geom's
+// 2 size[0] (the RFT segment convention).
+double SegmentLength_m(const mjModel* m, int body, const std::string& joint_name) {
+  for (int g = m->body_geomadr[body]; g >= 0 && g < m->body_geomadr[body] + m->body_geomnum[body];
+       ++g) {
+    if (m->geom_type[g] == mjGEOM_BOX) return 2.0 * m->geom_size[3 * g];
+  }
+  Fail("the body of hinge '" + joint_name + "' has no box geom giving the segment length");
+}
+
+int RequireMotor(const mjModel* m, const std::string& joint_name) {
+  const int motor = mj_name2id(m, mjOBJ_ACTUATOR, ("ipmc_" + joint_name).c_str());
+  if (motor < 0) Fail("hinge '" + joint_name + "' needs a motor named ipmc_" + joint_name);
+  return motor;
+}
+
+// Link chain from its root hinge: the root hinge's body and the n - 1
+// bodies that follow it, one child each, each with a hinge of its own.
+// Interior hinges are never another link's root hinge.
+LinkChain FindChain(const mjModel* m, const std::string& root_name, int segments,
+                    const std::vector<std::string>& roots) {
+  const int root = mj_name2id(m, mjOBJ_JOINT, root_name.c_str());
+  if (root < 0 || m->jnt_type[root] != mjJNT_HINGE) {
+    Fail(std::string(kAttrLinks) + " names '" + root_name + "', which is not a hinge of the model");
+  }
+  LinkChain chain;
+  int body = m->jnt_bodyid[root];
+  int joint = root;
+  for (int s = 0; s < segments; ++s) {
+    if (s > 0) {
+      body = OnlyChild(m, body);
+      joint = body < 0 ? -1 : FirstHinge(m, body);
+      if (joint >= 0 && std::find(roots.begin(), roots.end(),
+                                  std::string(m->names + m->name_jntadr[joint])) != roots.end()) {
+        joint = -1;
+      }
+      if (joint < 0) {
+        Fail("link '" + root_name + "' needs " + std::to_string(segments) + " sub-segments (" +
+             kAttrSegments + "), but sub-segment " + std::to_string(s + 1) +
+             " is not a single child body with a hinge of its own");
+      }
+    }
+    const std::string name = m->names + m->name_jntadr[joint];
+    chain.joints.push_back(joint);
+    chain.motors.push_back(RequireMotor(m, name));
+    chain.segment_length_m.push_back(SegmentLength_m(m, body, name));
+    chain.length_m += chain.segment_length_m.back();
+  }
+  return chain;
+}
+
+IpmcModelKind ModelKind(const mjModel* m) {
+  const std::optional<std::string> model = FindCustomText(m, kAttrModel);
+  if (!model || *model == "g1") return IpmcModelKind::kG1;
+  if (*model == "g2") return IpmcModelKind::kG2;
+  Fail(std::string(kAttrModel) + " must be g1 or g2 (got '" + *model + "')");
+}
+
+PlantAssignment Plants(const mjModel* m) {
+  const std::optional<std::string> word = FindCustomText(m, kAttrPlants);
+  if (!word) return PlantAssignment::kUniform;
+  if (const std::optional<PlantAssignment> plants = ParsePlantAssignment(*word)) return *plants;
+  Fail(std::string(kAttrPlants) + " must be uniform or table2 (got '" + *word + "')");
+}
+
+Actuation ActuationOf(const mjModel* m) {
+  const std::optional<std::string> actuation = FindCustomText(m, kAttrActuation);
+  if (!actuation || *actuation == "distributed") return Actuation::kDistributed;
+  if (*actuation == "single") return Actuation::kSingle;
+  Fail(std::string(kAttrActuation) + " must be distributed or single (got '" + *actuation + "')");
+}
+
+}  // namespace
+
+ChainShape::ChainShape(const std::vector<double>& segment_length_m)
+    : segment_length_m_(segment_length_m) {
+  double cumulative_m = 0.0;
+  for (size_t j = 0; j < segment_length_m_.size(); ++j) {
+    const double share_m = j == 0 ? 0.5 * segment_length_m_[0]
+                                  : 0.5 * (segment_length_m_[j - 1] + segment_length_m_[j]);
+    share_m_.push_back(share_m);
+    cumulative_m += share_m;
+    cumulative_share_m_.push_back(cumulative_m);
+  }
+  // f(kappa) rises while every cumulative angle kappa c_j is below pi and
+  // f' = sum l_j c_j cos(kappa c_j) > 0; f' falls on [0, pi / c_last], so
+  // its root there (bisection) is the reach's curvature.
+  double lo = 0.0, hi = kPi / cumulative_share_m_.back();
+  if (segment_length_m_.size() == 1) {
+    lo = 0.5 * hi;  // L sin(kappa L / 2) peaks at kappa L / 2 = pi / 2
+  } else {
+    for (int i = 0; i < 200 && hi - lo > 1e-15 * hi; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (Slope(mid) > 0 ? lo : hi) = mid;
+    }
+  }
+  max_curvature_1_m_ = lo;
+  reach_m_ = TipDeflection_m(lo);
+}
+
+double ChainShape::TipDeflection_m(double kappa_1_m) const {
+  double y_m = 0.0;
+  for (size_t j = 0; j < segment_length_m_.size(); ++j) {
+    y_m += segment_length_m_[j] * std::sin(kappa_1_m * cumulative_share_m_[j]);
+  }
+  return y_m;
+}
+
+double ChainShape::Slope(double kappa_1_m) const {
+  double slope = 0.0;
+  for (size_t j = 0; j < segment_length_m_.size(); ++j) {
+    slope += segment_length_m_[j] * cumulative_share_m_[j] * std::cos(kappa_1_m * cumulative_share_m_[j]);
+  }
+  return slope;
+}
+
+double ChainShape::Curvature_1_m(double deflection_m, double guess_1_m, bool* clamped) const {
+  *clamped = std::abs(deflection_m) >= reach_m_;
+  if (*clamped) return std::copysign(max_curvature_1_m_, deflection_m);
+  if (segment_length_m_.size() == 1) {
+    return std::asin(deflection_m / segment_length_m_[0]) / share_m_[0];
+  }
+  // Newton from the last value, kept inside the monotone branch; f is
+  // odd, so solve for |deflection| and restore the sign.
+  const double target_m = std::abs(deflection_m);
+  double lo = 0.0, hi = max_curvature_1_m_;
+  double kappa = std::min(std::abs(guess_1_m), hi);
+  for (int i = 0; i < 100; ++i) {
+    const double residual_m = TipDeflection_m(kappa) - target_m;
+    (residual_m < 0 ? lo : hi) = kappa;
+    if (std::abs(residual_m) <= 1e-15 * reach_m_) break;
+    double next = kappa - residual_m / Slope(kappa);
+    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    if (next == kappa) break;
+    kappa = next;
+  }
+  return std::copysign(kappa, deflection_m);
+}
+
+std::optional<IpmcActuatorsConfig> IpmcActuatorsConfig::FromModel(
+    const mjModel* m, const IpmcActuatorsOverrides& overrides) {
+  const std::optional<std::string> joints = FindCustomText(m, kAttrLinks);
+  if (!joints) return std::nullopt;
+  IpmcActuatorsConfig config;
+  config.joints = SplitWords(*joints);
+  if (config.joints.empty()) Fail(std::string(kAttrLinks) + " must name at least one hinge");
+  const int segments = SegmentsPerLink(m);
+  for (const std::string& joint : config.joints) {
+    config.chains.push_back(FindChain(m, joint, segments, config.joints));
+  }
+  const IpmcModelKind kind = ModelKind(m);
+  config.plants = overrides.plants ? *overrides.plants : Plants(m);
+  config.actuation = ActuationOf(m);
+  for (size_t q = 0; q < config.chains.size(); ++q) {
+    config.links.push_back(AssignedLinkParams(config.plants, static_cast<int>(q) + 1, kind,
+                                              config.chains[q].length_m));
+  }
+  OverridePerLink(m, "ipmc_a0_mm_per_V", config.links,
+                  [](IpmcLinkParams& p, double v) { p.a0_mm_per_V = v; });
+  OverridePerLink(m, "ipmc_b1", config.links, [](IpmcLinkParams& p, double v) { p.b1 = v; });
+  OverridePerLink(m, "ipmc_b2_s2", config.links,
+                  [](IpmcLinkParams& p, double v) { p.b2_s2 = v; });
+  OverridePerLink(m, "ipmc_alpha", config.links,
+                  [](IpmcLinkParams& p, double v) { p.alpha = v; });
+  if (auto band = FindCustomVector(m, kAttrBand)) {
+    if (band->size() != 2) Fail(std::string(kAttrBand) + " must hold two values [w_b, w_h] in rad/s");
+    for (IpmcLinkParams& p : config.links) {
+      p.integrator.w_low_rad_s = (*band)[0];
+      p.integrator.w_high_rad_s = (*band)[1];
+    }
+  }
+  if (auto pairs = FindCustomScalar(m, kAttrPairs)) {
+    for (IpmcLinkParams& p : config.links) p.integrator.n = static_cast<int>(*pairs);
+  }
+  if (auto rel_tol = FindCustomScalar(m, kAttrRelTol)) config.cvode.rel_tol = *rel_tol;
+  try {
+    config.cvode.Validate();
+  } catch (const std::invalid_argument& e) {
+    Fail(std::string(kAttrRelTol) + ": " + e.what());
+  }
+  for (size_t q = 0; q < config.links.size(); ++q) {
+    try {
+      config.links[q].Validate();
+    } catch (const std::invalid_argument& e) {
+      Fail("link " + std::to_string(q + 1) + ": " + e.what());
+    }
+  }
+  return config;
+}
+
+IpmcActuators::IpmcActuators(IpmcActuatorsConfig config) : config_(std::move(config)) {
+  for (const LinkChain& chain : config_.chains) {
+    length_m_.push_back(chain.length_m);
+    shapes_.emplace_back(chain.segment_length_m);
+  }
+  curvature_1_m_.assign(config_.chains.size(), 0.0);
+  voltage_V_.assign(config_.chains.size(), 0.0);
+  bank_ = IpmcActuatorBank::Create(config_.links, config_.cvode);
+}
+
+void IpmcActuators::AdvanceTo(const mjData* d) {
+  if (d->time < bank_->Time_s()) {
+    // mj_resetData, an earlier d->time or an older mjData copied into d,
+    // without RestoreState or ResetState: the link models cannot go back,
+    // so they restart from rest, and the program hears of it.
+    const double from_s = bank_->Time_s();
+    ResetState(d);
+    char message[320];
+    std::snprintf(message, sizeof(message),
+                  "ipmc: d->time went back from %.9g s to %.9g s without ipmc::RestoreState or "
+                  "ipmc::ResetState; the IPMC link models restart from rest (0 V) at %.9g s",
+                  from_s, d->time, d->time);
+    mju_warning(message);
+  } else if (d->time > bank_->Time_s()) {
+    bank_->AdvanceTo(d->time);
+  }
+}
+
+CouplingState IpmcActuators::SaveState() {
+  bank_->Restart();
+  CouplingState state;
+  state.time_s = bank_->Time_s();
+  const Eigen::VectorXd& x = bank_->State();
+  state.actuator_state.assign(x.data(), x.data() + x.size());
+  state.voltage_V = voltage_V_;
+  state.curvature_1_m = curvature_1_m_;
+  state.clamp_count = clamp_count_;
+  return state;
+}
+
+void IpmcActuators::RestoreState(const mjData* d, const CouplingState& state) {
+  const auto require_size = [](const char* field, size_t got, size_t needed, const char* what) {
+    if (got != needed) {
+      Fail(std::string("RestoreState: ") + field + " must hold " + std::to_string(needed) +
+           " values, " + what + " (got " + std::to_string(got) + ")");
+    }
+  };
+  const auto require_finite = [](const char* field, const std::vector<double>& values) {
+    for (size_t i = 0; i < values.size(); ++i) {
+      if (!std::isfinite(values[i])) {
+        Fail(std::string("RestoreState: ") + field + "[" + std::to_string(i) + "] must be finite");
+      }
+    }
+  };
+  require_size("actuator_state", state.actuator_state.size(),
+               static_cast<size_t>(bank_->States()), "the link models' states");
+  require_size("voltage_V", state.voltage_V.size(), voltage_V_.size(), "one per link");
+  require_size("curvature_1_m", state.curvature_1_m.size(), curvature_1_m_.size(), "one per link");
+  require_finite("actuator_state", state.actuator_state);
+  require_finite("voltage_V", state.voltage_V);
+  require_finite("curvature_1_m", state.curvature_1_m);
+  if (state.clamp_count < 0) {
+    Fail("RestoreState: clamp_count must be >= 0 (got " + std::to_string(state.clamp_count) + ")");
+  }
+  if (!std::isfinite(state.time_s) || state.time_s > d->time) {
+    char message[200];
+    std::snprintf(message, sizeof(message),
+                  "RestoreState: time_s must be finite and <= d->time = %.17g s (got %.17g s); "
+                  "copy the saved mjData into d first",
+                  d->time, state.time_s);
+    Fail(message);
+  }
+  voltage_V_ = state.voltage_V;
+  if (config_.actuation == Actuation::kSingle) {
+    for (size_t q = 1; q < voltage_V_.size(); ++q) voltage_V_[q] = 0.0;
+  }
+  bank_->SetVoltages(voltage_V_);
+  bank_->SetState(state.time_s, Eigen::Map<const Eigen::VectorXd>(
+                                    state.actuator_state.data(),
+                                    static_cast<Eigen::Index>(state.actuator_state.size())));
+  curvature_1_m_ = state.curvature_1_m;
+  clamp_count_ = state.clamp_count;
+}
+
+void IpmcActuators::ResetState(const mjData* d) {
+  voltage_V_.assign(voltage_V_.size(), 0.0);
+  bank_->SetVoltages(voltage_V_);
+  bank_->Reset(d->time);
+  curvature_1_m_.assign(curvature_1_m_.size(), 0.0);
+  clamp_count_ = 0;
+}
+
+void IpmcActuators::SetVoltages(const mjData* d, const std::vector<double>& voltage_V) {
+  if (voltage_V.size() != config_.chains.size()) {
+    Fail("got " + std::to_string(voltage_V.size()) + " voltages for " +
+         std::to_string(config_.chains.size()) + " links");
+  }
+  for (size_t q = 0; q < voltage_V.size(); ++q) {
+    if (!std::isfinite(voltage_V[q])) Fail("voltage of link " + std::to_string(q + 1) + " is not finite");
+  }
+  AdvanceTo(d);  // the old voltages hold up to now
+  voltage_V_ = voltage_V;
+  if (config_.actuation == Actuation::kSingle) {
+    for (size_t q = 1; q < voltage_V_.size(); ++q) voltage_V_[q] = 0.0;
+  }
+  bank_->SetVoltages(voltage_V_);
+}
+
+void IpmcActuators::ApplyFreeShape(const mjModel* m, mjData* d, int q, double deflection_mm) {
+  const LinkChain& chain = config_.chains[q];
+  const ChainShape& shape = shapes_[q];
+  bool clamped = false;
+  double kappa_1_m = 0.0;
+  if (config_.actuation == Actuation::kDistributed || q == 0) {
+    kappa_1_m = shape.Curvature_1_m(deflection_mm * kMmToM, curvature_1_m_[q], &clamped);
+  }
+  if (clamped && clamp_count_++ == 0) {
+    char message[200];
+    std::snprintf(message, sizeof(message),
+                  "ipmc link %d: free deflection %.6g mm at t = %.6g s exceeds the link's reach "
+                  "%.6g mm; clamped (reported once per coupling)",
+                  q + 1, deflection_mm, d->time, shape.Reach_m() / kMmToM);
+    mju_warning(message);
+  }
+  curvature_1_m_[q] = kappa_1_m;
+  for (size_t i = 0; i < chain.joints.size(); ++i) {
+    d->ctrl[chain.motors[i]] = m->jnt_stiffness[chain.joints[i]] * kappa_1_m * shape.Share_m(i);
+  }
+}
+
+void IpmcActuators::Update(const mjModel* m, mjData* d) {
+  AdvanceTo(d);
+  for (int q = 0; q < Links(); ++q) ApplyFreeShape(m, d, q, bank_->FreeTipDeflection_mm(q));
+}
+
+}  // namespace ipmc

@@ -1,0 +1,234 @@
+#include "plugin/fluid/rft_drag.h"
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "plugin/mjcf/custom_fields.h"
+
+namespace ipmc {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+// Lighthill's (1976) effective distance q = 0.09 lambda.
+constexpr double kLighthillDistanceOverWavelength = 0.09;
+
+void RequirePositive(double value, const char* field) {
+  if (!(value > 0.0) || !std::isfinite(value)) {
+    std::ostringstream msg;
+    msg << "rft drag: " << field << " must be finite and > 0 (got " << value << ")";
+    throw std::invalid_argument(msg.str());
+  }
+}
+
+CoefficientModel ParseCoefficientModel(const std::string& text) {
+  if (text == "gray_hancock") return CoefficientModel::kGrayHancock;
+  if (text == "lighthill") return CoefficientModel::kLighthill;
+  if (text == "direct") return CoefficientModel::kDirect;
+  throw std::invalid_argument(std::string("rft drag: ") + kAttrCoefficients +
+                              " must be gray_hancock, lighthill or direct (got '" + text + "')");
+}
+
+// Applied drag per unit length for velocity u on a tangent t.
+Eigen::Vector3d DragPerLength(const Eigen::Vector3d& u, const Eigen::Vector3d& t,
+                              const DragCoefficients& xi) {
+  const Eigen::Vector3d u_tangential = u.dot(t) * t;
+  return -xi.tangential_N_s_m2 * u_tangential - xi.normal_N_s_m2 * (u - u_tangential);
+}
+
+}  // namespace
+
+DragCoefficients GrayHancockCoefficients(double viscosity_Pa_s, double radius_m,
+                                         double wavelength_m) {
+  const double log_term = std::log(2.0 * wavelength_m / radius_m);
+  return {4.0 * kPi * viscosity_Pa_s / (log_term + 0.5),
+          2.0 * kPi * viscosity_Pa_s / (log_term - 0.5)};
+}
+
+DragCoefficients LighthillCoefficients(double viscosity_Pa_s, double radius_m,
+                                       double wavelength_m) {
+  const double log_term =
+      std::log(2.0 * kLighthillDistanceOverWavelength * wavelength_m / radius_m);
+  return {4.0 * kPi * viscosity_Pa_s / (log_term + 0.5), 2.0 * kPi * viscosity_Pa_s / log_term};
+}
+
+std::optional<RftDragConfig> RftDragConfig::FromModel(const mjModel* m) {
+  const std::optional<double> viscosity = FindCustomScalar(m, kAttrViscosity);
+  if (!viscosity) {
+    if (HasCustomFieldWithPrefix(m, "ipmc_rft_")) {
+      throw std::invalid_argument(std::string("rft drag: ") + kAttrViscosity +
+                                  " is missing (required with any ipmc_rft_ field; > 0 Pa s)");
+    }
+    return std::nullopt;
+  }
+  RftDragConfig config;
+  config.viscosity_Pa_s = *viscosity;
+  if (auto text = FindCustomText(m, kAttrCoefficients)) config.model = ParseCoefficientModel(*text);
+  if (auto radius = FindCustomScalar(m, kAttrEquivalentRadius)) config.equivalent_radius_m = *radius;
+  if (auto wavelength = FindCustomScalar(m, kAttrWavelength)) config.wavelength_m = *wavelength;
+  if (auto density = FindCustomScalar(m, kAttrFluidDensity)) config.fluid_density_kg_m3 = *density;
+  const std::optional<double> xi_n = FindCustomScalar(m, kAttrXiNormal);
+  const std::optional<double> xi_t = FindCustomScalar(m, kAttrXiTangential);
+  if (config.model == CoefficientModel::kDirect) {
+    if (!xi_n || !xi_t) {
+      throw std::invalid_argument(std::string("rft drag: coefficients = direct needs ") +
+                                  kAttrXiNormal + " and " + kAttrXiTangential + " (> 0 N s/m^2)");
+    }
+    config.direct = {*xi_n, *xi_t};
+  } else if (xi_n || xi_t) {
+    throw std::invalid_argument(std::string("rft drag: ") + kAttrXiNormal + "/" +
+                                kAttrXiTangential + " are only allowed with " + kAttrCoefficients +
+                                " = direct");
+  }
+  if (auto geoms = FindCustomText(m, kAttrGeoms)) config.geom_names = SplitWords(*geoms);
+  config.Validate();
+  return config;
+}
+
+void RftDragConfig::Validate() const {
+  RequirePositive(viscosity_Pa_s, kAttrViscosity);
+  if (!(fluid_density_kg_m3 >= 0.0) || !std::isfinite(fluid_density_kg_m3)) {
+    std::ostringstream msg;
+    msg << "rft drag: " << kAttrFluidDensity << " must be finite and >= 0 (got "
+        << fluid_density_kg_m3 << ")";
+    throw std::invalid_argument(msg.str());
+  }
+  if (model == CoefficientModel::kDirect) {
+    RequirePositive(direct.normal_N_s_m2, kAttrXiNormal);
+    RequirePositive(direct.tangential_N_s_m2, kAttrXiTangential);
+    return;
+  }
+  RequirePositive(equivalent_radius_m, kAttrEquivalentRadius);
+  RequirePositive(wavelength_m, kAttrWavelength);
+  // Both formulas need a positive tangential log term.
+  const double distance_m = model == CoefficientModel::kLighthill
+                                ? kLighthillDistanceOverWavelength * wavelength_m
+                                : wavelength_m;
+  const double log_term = std::log(2.0 * distance_m / equivalent_radius_m);
+  const double min_log = model == CoefficientModel::kLighthill ? 0.0 : 0.5;
+  if (!(log_term > min_log)) {
+    std::ostringstream msg;
+    msg << "rft drag: " << kAttrWavelength << " too short for " << kAttrEquivalentRadius << " = "
+        << equivalent_radius_m << " m (need ln(2 " << (min_log > 0 ? "lambda" : "0.09 lambda")
+        << " / a) > " << min_log << ")";
+    throw std::invalid_argument(msg.str());
+  }
+}
+
+DragCoefficients RftDragConfig::Coefficients() const {
+  switch (model) {
+    case CoefficientModel::kGrayHancock:
+      return GrayHancockCoefficients(viscosity_Pa_s, equivalent_radius_m, wavelength_m);
+    case CoefficientModel::kLighthill:
+      return LighthillCoefficients(viscosity_Pa_s, equivalent_radius_m, wavelength_m);
+    case CoefficientModel::kDirect:
+      return direct;
+  }
+  return direct;
+}
+
+Wrench SegmentDragExact(const Segment& segment, const DragCoefficients& xi) {
+  const Eigen::Vector3d& t = segment.tangent_W;
+  const double length = segment.length_m;
+  const Eigen::Vector3d w_normal =
+      segment.angular_velocity_W - segment.angular_velocity_W.dot(t) * t;
+  Wrench wrench;
+  wrench.force_W = length * DragPerLength(segment.velocity_center_W, t, xi);
+  wrench.torque_center_W = -xi.normal_N_s_m2 * length * length * length / 12.0 * w_normal;
+  return wrench;
+}
+
+Wrench SegmentDragQuadrature(const Segment& segment, const DragCoefficients& xi, int intervals) {
+  if (intervals < 1) throw std::invalid_argument("rft drag: quadrature intervals must be >= 1");
+  const Eigen::Vector3d& t = segment.tangent_W;
+  const double ds = segment.length_m / intervals;
+  Wrench wrench;
+  for (int i = 0; i < intervals; ++i) {
+    const double s = -0.5 * segment.length_m + (i + 0.5) * ds;  // midpoint rule
+    const Eigen::Vector3d u =
+        segment.velocity_center_W + s * segment.angular_velocity_W.cross(t);
+    const Eigen::Vector3d f = DragPerLength(u, t, xi) * ds;
+    wrench.force_W += f;
+    wrench.torque_center_W += (s * t).cross(f);
+  }
+  return wrench;
+}
+
+double SegmentDragPower(const Segment& segment, const Wrench& wrench) {
+  return wrench.force_W.dot(segment.velocity_center_W) +
+         wrench.torque_center_W.dot(segment.angular_velocity_W);
+}
+
+RftDrag::RftDrag(const mjModel* m, const RftDragConfig& config)
+    : config_(config), coefficients_(config.Coefficients()) {
+  config_.Validate();
+  if (config_.geom_names.empty()) {
+    for (int g = 0; g < m->ngeom; ++g) {
+      const int type = m->geom_type[g];
+      if (m->geom_bodyid[g] == 0) continue;
+      if (type == mjGEOM_BOX || type == mjGEOM_CAPSULE || type == mjGEOM_CYLINDER) {
+        geom_ids_.push_back(g);
+      }
+    }
+  } else {
+    for (const std::string& name : config_.geom_names) {
+      const int g = mj_name2id(m, mjOBJ_GEOM, name.c_str());
+      if (g < 0) {
+        throw std::invalid_argument(std::string("rft drag: ") + kAttrGeoms + " names geom '" +
+                                    name + "', which the model does not have");
+      }
+      geom_ids_.push_back(g);
+    }
+  }
+  for (int g : geom_ids_) {
+    const mjtNum* size = m->geom_size + 3 * g;
+    switch (m->geom_type[g]) {
+      case mjGEOM_BOX:
+        slender_.push_back({g, 0, 2.0 * size[0]});
+        break;
+      case mjGEOM_CAPSULE:
+      case mjGEOM_CYLINDER:
+        slender_.push_back({g, 2, 2.0 * size[1]});
+        break;
+      default:
+        throw std::invalid_argument(std::string("rft drag: geom '") +
+                                    mj_id2name(m, mjOBJ_GEOM, g) +
+                                    "' is not a box, capsule or cylinder");
+    }
+  }
+}
+
+Segment RftDrag::SegmentOf(const mjModel* m, const mjData* d, const SlenderGeom& geom) {
+  mjtNum velocity[6];  // [angular; linear] at the geom centre, world frame
+  mj_objectVelocity(m, d, mjOBJ_GEOM, geom.geom_id, velocity, 0);
+  const mjtNum* xmat = d->geom_xmat + 9 * geom.geom_id;  // row-major
+  Segment segment;
+  segment.center_W = Eigen::Vector3d(d->geom_xpos + 3 * geom.geom_id);
+  segment.tangent_W = Eigen::Vector3d(xmat[geom.axis], xmat[3 + geom.axis], xmat[6 + geom.axis]);
+  segment.length_m = geom.length_m;
+  segment.angular_velocity_W = Eigen::Vector3d(velocity[0], velocity[1], velocity[2]);
+  segment.velocity_center_W = Eigen::Vector3d(velocity[3], velocity[4], velocity[5]);
+  return segment;
+}
+
+std::vector<Segment> RftDrag::Segments(const mjModel* m, const mjData* d) const {
+  std::vector<Segment> segments;
+  segments.reserve(slender_.size());
+  for (const SlenderGeom& geom : slender_) segments.push_back(SegmentOf(m, d, geom));
+  return segments;
+}
+
+void RftDrag::Apply(const mjModel* m, mjData* d) const {
+  for (const SlenderGeom& geom : slender_) {
+    const Segment segment = SegmentOf(m, d, geom);
+    const Wrench wrench = SegmentDragExact(segment, coefficients_);
+    mjtNum force[3] = {wrench.force_W.x(), wrench.force_W.y(), wrench.force_W.z()};
+    mjtNum torque[3] = {wrench.torque_center_W.x(), wrench.torque_center_W.y(),
+                        wrench.torque_center_W.z()};
+    mjtNum point[3] = {segment.center_W.x(), segment.center_W.y(), segment.center_W.z()};
+    mj_applyFT(m, d, force, torque, point, m->geom_bodyid[geom.geom_id], d->qfrc_passive);
+  }
+}
+
+}  // namespace ipmc

@@ -1,0 +1,1043 @@
+// Sweeps: the sweep file is read strictly (like scenario files), every
+// point's scenario is built at the TOML level and read by ParseScenario
+// before anything runs, then the points run on a pool of threads, each
+// writing only its own row.
+#include "sim/io/toml_names.h"
+#include "sim/io/files.h"
+#include "sim/batch/sweep.h"
+
+#include <mujoco/mujoco.h>
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <atomic>
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <iterator>
+#include <map>
+#include <mutex>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <string_view>
+#include <thread>
+#include <utility>
+
+#include "sim/runs/closed_loop_run.h"
+#include "sim/core/link_sensors.h"
+#include "sim/core/mujoco_warnings.h"
+#include "sim/runs/output.h"
+#include "sim/core/simulation.h"
+
+namespace ipmc {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Sweep file keys.
+constexpr char kBase[] = "base";
+constexpr char kSet[] = "set";
+constexpr char kGrid[] = "grid";
+constexpr char kPoint[] = "point";
+
+// Table columns.
+constexpr char kPointColumn[] = "point";
+constexpr char kStatusColumn[] = "status";
+constexpr char kErrorColumn[] = "error";
+constexpr char kOk[] = "ok";
+constexpr char kError[] = "error";
+constexpr const char* kLinkColumns[] = {"iae_mm_s", "itae_mm_s2", "rms_voltage_V",
+                                        "clamped_fraction"};
+constexpr const char* kSwimColumns[] = {"last_cycle_com_along_mm", "mean_speed_along_mm_s",
+                                        "reynolds_tip", "reynolds_swim"};
+
+// The scenario reader's words for a key of the other kind of its table
+// ("controller.kp applies only to kind = \"pid\" (kind is ...)", or
+// "controller.gain applies only to realisation = \"oustaloup\" ...").
+constexpr char kOtherKindMessage[] = " applies only to ";
+
+// A grid this large is a mistake in the sweep file, not a plan.
+constexpr double kMaxPoints = 1e6;
+
+std::string OneLine(std::string text) {
+  std::replace_if(
+      text.begin(), text.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+  return text;
+}
+
+// The shortest decimal that reads back as `value`.
+std::string Shortest(double value) {
+  char buffer[64];
+  const std::to_chars_result result =
+      std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::general);
+  return std::string(buffer, result.ptr);
+}
+
+// Results: max_digits10 significant digits, so every double reads back exactly.
+std::string FullPrecision(double value) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof(buffer), "%.17g", value);
+  return buffer;
+}
+
+std::string TypeName(const toml::node& node) { return TomlTypeName(node.type()); }
+
+// A swept value as the table prints it: strings bare, numbers shortest,
+// arrays in JSON syntax (strings quoted), so that SweepTableJson reads
+// them back.
+std::string ValueText(const toml::node& node, bool in_array = false) {
+  if (const auto* text = node.as_string()) {
+    return in_array ? nlohmann::json(text->get()).dump() : OneLine(text->get());
+  }
+  if (const auto* integer = node.as_integer()) return std::to_string(integer->get());
+  if (const auto* number = node.as_floating_point()) return Shortest(number->get());
+  if (const auto* boolean = node.as_boolean()) return boolean->get() ? "true" : "false";
+  if (const auto* array = node.as_array()) {
+    std::string joined = "[";
+    for (const toml::node& element : *array) {
+      if (joined.size() > 1) joined += ", ";
+      joined += ValueText(element, true);
+    }
+    return joined + "]";
+  }
+  std::ostringstream text;  // dates, times, tables: TOML's own text
+  node.visit([&](const auto& value) { text << value; });
+  return OneLine(text.str());
+}
+
+std::string ReadTextFile(const std::string& path, const std::string& what) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw std::runtime_error(path + ": cannot open the " + what);
+  std::ostringstream text;
+  text << file.rdbuf();
+  if (file.bad()) throw std::runtime_error(path + ": cannot read the " + what);
+  return text.str();
+}
+
+// TOML syntax errors as one line, "SOURCE:LINE:COLUMN: description".
+toml::table ParseToml(const std::string& text, const std::string& source) {
+  try {
+    return toml::parse(text, source);
+  } catch (const toml::parse_error& error) {
+    const toml::source_position& where = error.source().begin;
+    throw std::runtime_error(OneLine(source + ":" + std::to_string(where.line) + ":" +
+                                     std::to_string(where.column) + ": " +
+                                     std::string(error.description())));
+  }
+}
+
+// One replaced (or added) key of the base scenario.
+struct Override {
+  std::string key;                // dotted: "waveform.frequency_Hz"
+  std::vector<std::string> path;  // {"waveform", "frequency_Hz"}
+  const toml::node* value = nullptr;
+  std::uint32_t line = 0, column = 0;  // in the sweep file
+};
+
+bool Before(const Override& a, const Override& b) {
+  return std::make_pair(a.line, a.column) < std::make_pair(b.line, b.column);
+}
+
+// A swept key of a grid and its values.
+struct Axis {
+  Override key;  // value: unused
+  std::vector<const toml::node*> values;
+};
+
+// Is `message` (from the scenario reader, without its location) about a
+// key the scenario does not have, or a value of the wrong TOML type? The
+// reader words these "unknown key '...'" and "... must be a(n) ... (got
+// <type>)" with a TOML type name; range errors end "(got <value>)".
+bool IsKeyOrTypeError(const std::string& message) {
+  if (message.rfind("unknown key '", 0) == 0) return true;
+  if (message.find(" must be a") == std::string::npos) return false;
+  for (const char* type : {"string", "integer", "float", "boolean", "array", "table", "date",
+                           "time", "date-time"}) {
+    const std::string ending = std::string("(got ") + type + ")";
+    if (message.size() >= ending.size() &&
+        message.compare(message.size() - ending.size(), ending.size(), ending) == 0) {
+      return true;
+    }
+  }
+  return false;
+}
+
+// The outcome of reading one point's scenario.
+struct PointScenario {
+  std::optional<ScenarioConfig> scenario;
+  std::string error;   // relocated: names the sweep file or the base
+  bool fatal = false;  // an unknown or ill-typed override: stops the sweep
+};
+
+// One point of the sweep file: its overrides and their printed values
+// (one per swept key).
+struct PointOverrides {
+  std::vector<Override> overrides;
+  std::vector<std::string> printed;
+};
+
+// A scenario reader's error, moved to where its key came from.
+struct ScenarioError {
+  std::string message;   // "FILE:LINE: ..." naming the sweep file or the base
+  std::string key;       // the dotted key on the reported line, if any
+  bool in_sweep = false;  // the key is an override
+  bool in_base = false;   // the key is the base's own
+};
+
+class SweepReader {
+ public:
+  explicit SweepReader(std::string source) : source_(std::move(source)) {}
+
+  [[noreturn]] void Fail(std::uint32_t line, const std::string& message) const {
+    std::string text = source_;
+    if (line > 0) text += ":" + std::to_string(line);
+    throw std::runtime_error(OneLine(text + ": " + message));
+  }
+
+  SweepPlan Read(const std::string& toml_text);
+
+ private:
+  void ReadBase(const toml::table& root);
+  void RejectUnknownKeys(const toml::table& root) const;
+  std::vector<std::string> SplitKey(const std::string& key, std::uint32_t line) const;
+  void FlattenOverrides(const toml::table& table, const std::string& prefix,
+                        std::vector<Override>* overrides) const;
+  void FlattenGrid(const toml::table& table, const std::string& prefix,
+                   std::vector<Axis>* axes) const;
+  void RejectRepeatedKeys(std::vector<const Override*> overrides) const;
+  std::vector<PointOverrides> ReadGrid(const toml::table& grid, std::uint32_t grid_line,
+                                       const std::vector<const Override*>& fixed,
+                                       std::vector<std::string>* keys) const;
+  std::vector<PointOverrides> ReadPoints(const toml::array& tables,
+                                         const std::vector<const Override*>& fixed,
+                                         std::vector<std::string>* keys) const;
+  toml::table WithOverrides(const std::vector<const Override*>& overrides) const;
+  PointScenario ReadScenario(const std::vector<const Override*>& overrides) const;
+  ScenarioError Locate(const std::string& message, const std::string& text,
+                       const std::vector<const Override*>& overrides) const;
+  // Reads the base with `overrides`; stops the sweep on a fatal error.
+  PointScenario Check(const std::vector<const Override*>& overrides) const {
+    PointScenario point = ReadScenario(overrides);
+    if (point.fatal) throw std::runtime_error(point.error);
+    return point;
+  }
+
+  std::string source_;
+  std::string base_path_;
+  toml::table base_;
+};
+
+void SweepReader::RejectUnknownKeys(const toml::table& root) const {
+  const std::initializer_list<const char*> allowed = {kBase, kSet, kGrid, kPoint};
+  const toml::key* unknown = nullptr;
+  for (auto&& [key, node] : root) {
+    if (std::any_of(allowed.begin(), allowed.end(), [&](const char* k) { return key == k; })) {
+      continue;
+    }
+    if (unknown == nullptr || key.source().begin.line < unknown->source().begin.line) {
+      unknown = &key;
+    }
+  }
+  if (unknown != nullptr) {
+    Fail(unknown->source().begin.line,
+         "unknown key '" + std::string(unknown->str()) + "' (allowed: base, set, grid, point)");
+  }
+}
+
+void SweepReader::ReadBase(const toml::table& root) {
+  const auto it = root.find(kBase);
+  if (it == root.end()) Fail(0, std::string(kBase) + " is required (the scenario file to sweep)");
+  const std::uint32_t line = it->first.source().begin.line;
+  const toml::value<std::string>* base = it->second.as_string();
+  if (base == nullptr) {
+    Fail(line, std::string(kBase) + " must be a string (got " + TypeName(it->second) + ")");
+  }
+  fs::path path(base->get());
+  if (path.is_relative()) path = fs::path(source_).parent_path() / path;
+  base_path_ = path.lexically_normal().string();
+  std::error_code ignored;
+  if (!fs::is_regular_file(base_path_, ignored) || !std::ifstream(base_path_).good()) {
+    Fail(line, std::string(kBase) + ": cannot open '" + base_path_ + "'");
+  }
+  const std::string text = ReadTextFile(base_path_, "scenario file");
+  base_ = ParseToml(text, base_path_);
+  ParseScenario(text, base_path_);  // the base must be a scenario by itself
+}
+
+std::vector<std::string> SweepReader::SplitKey(const std::string& key,
+                                               std::uint32_t line) const {
+  std::vector<std::string> path;
+  std::string::size_type start = 0;
+  for (;;) {
+    const std::string::size_type dot = key.find('.', start);
+    path.push_back(key.substr(start, dot == std::string::npos ? std::string::npos : dot - start));
+    if (path.back().empty()) Fail(line, "'" + key + "' is not a dotted scenario key");
+    if (dot == std::string::npos) return path;
+    start = dot + 1;
+  }
+}
+
+void SweepReader::FlattenOverrides(const toml::table& table, const std::string& prefix,
+                                   std::vector<Override>* overrides) const {
+  for (auto&& [key, node] : table) {
+    const std::string name = prefix + std::string(key.str());
+    if (const toml::table* nested = node.as_table()) {
+      FlattenOverrides(*nested, name + ".", overrides);
+      continue;
+    }
+    Override entry;
+    entry.key = name;
+    entry.line = key.source().begin.line;
+    entry.column = key.source().begin.column;
+    entry.path = SplitKey(name, entry.line);
+    entry.value = &node;
+    overrides->push_back(std::move(entry));
+  }
+}
+
+void SweepReader::FlattenGrid(const toml::table& table, const std::string& prefix,
+                              std::vector<Axis>* axes) const {
+  for (auto&& [key, node] : table) {
+    const std::string name = prefix + std::string(key.str());
+    if (const toml::table* nested = node.as_table()) {
+      FlattenGrid(*nested, name + ".", axes);
+      continue;
+    }
+    const std::uint32_t line = key.source().begin.line;
+    const toml::array* values = node.as_array();
+    if (values == nullptr) {
+      Fail(line, std::string(kGrid) + "." + name + " must be an array of values (got " +
+                     TypeName(node) + ")");
+    }
+    if (values->empty()) Fail(line, std::string(kGrid) + "." + name + " must not be empty");
+    Axis axis;
+    axis.key.key = name;
+    axis.key.line = line;
+    axis.key.column = key.source().begin.column;
+    axis.key.path = SplitKey(name, line);
+    for (const toml::node& value : *values) {
+      if (value.is_table()) {
+        Fail(line, std::string(kGrid) + "." + name +
+                       " must hold values, not tables (use [[point]] to change several keys "
+                       "together)");
+      }
+      axis.values.push_back(&value);
+    }
+    axes->push_back(std::move(axis));
+  }
+}
+
+// A key given twice, or a key inside another given key (which would
+// replace it), is an error.
+void SweepReader::RejectRepeatedKeys(std::vector<const Override*> overrides) const {
+  std::sort(overrides.begin(), overrides.end(),
+            [](const Override* a, const Override* b) { return Before(*a, *b); });
+  for (size_t i = 0; i < overrides.size(); ++i) {
+    for (size_t j = 0; j < i; ++j) {
+      const Override& earlier = *overrides[j];
+      const Override& later = *overrides[i];
+      if (later.key == earlier.key) {
+        Fail(later.line, later.key + " is given twice (also on line " +
+                             std::to_string(earlier.line) + ")");
+      }
+      for (const auto& [outer, inner] : {std::pair(&earlier, &later), std::pair(&later, &earlier)}) {
+        if (inner->key.rfind(outer->key + ".", 0) == 0) {
+          Fail(later.line, inner->key + " and " + outer->key + " (lines " +
+                               std::to_string(earlier.line) + " and " +
+                               std::to_string(later.line) + ") cannot both be given");
+        }
+      }
+    }
+  }
+}
+
+// The base with `overrides` inserted.
+toml::table SweepReader::WithOverrides(const std::vector<const Override*>& overrides) const {
+  toml::table root = base_;
+  for (const Override* entry : overrides) {
+    toml::table* table = &root;
+    std::string parent;
+    for (size_t i = 0; i + 1 < entry->path.size(); ++i) {
+      parent += (i > 0 ? "." : "") + entry->path[i];
+      auto it = table->find(entry->path[i]);
+      if (it == table->end()) {
+        it = table->insert(entry->path[i], toml::table{}).first;
+      } else if (!it->second.is_table()) {
+        Fail(entry->line, entry->key + ": " + parent + " is not a table in " + base_path_ +
+                              " (it is a " + TypeName(it->second) + ")");
+      }
+      table = it->second.as_table();
+    }
+    table->insert_or_assign(entry->path.back(), *entry->value);
+  }
+  return root;
+}
+
+// Lines of a TOML document and the dotted keys on them.
+void CollectKeyLines(const toml::table& table, const std::string& prefix,
+                     std::map<std::uint32_t, std::string>* keys) {
+  for (auto&& [key, node] : table) {
+    const std::string name = prefix + std::string(key.str());
+    keys->emplace(key.source().begin.line, name);
+    if (const toml::table* nested = node.as_table()) {
+      keys->emplace(nested->source().begin.line, name);
+      CollectKeyLines(*nested, name + ".", keys);
+    }
+  }
+}
+
+// The table holding a dotted key, if the key is there, and its last part.
+template <typename Table>
+Table* ParentOf(Table* root, const std::string& dotted, std::string* last) {
+  Table* table = root;
+  std::string::size_type start = 0;
+  for (;;) {
+    const std::string::size_type dot = dotted.find('.', start);
+    const std::string part = dotted.substr(start, dot == std::string::npos ? dot : dot - start);
+    auto it = table->find(part);
+    if (it == table->end()) return nullptr;
+    if (dot == std::string::npos) {
+      *last = part;
+      return table;
+    }
+    table = it->second.as_table();
+    if (table == nullptr) return nullptr;
+    start = dot + 1;
+  }
+}
+
+// The key at a dotted path of `root`, or nullptr.
+const toml::key* FindKey(const toml::table& root, const std::string& dotted) {
+  std::string last;
+  const toml::table* parent = ParentOf(&root, dotted, &last);
+  return parent == nullptr ? nullptr : &parent->find(last)->first;
+}
+
+// Removes the key at a dotted path of `root`; false if there is none.
+bool EraseKey(toml::table* root, const std::string& dotted) {
+  std::string last;
+  toml::table* parent = ParentOf(root, dotted, &last);
+  return parent != nullptr && parent->erase(last) > 0;
+}
+
+// The scenario reader's message "BASE:LINE: rest" locates the line in the
+// serialised text, which nobody has seen. Moves it to the line the key
+// came from: the override's line in the sweep file (the key itself, or
+// the first override under a table the message is about), else the key's
+// line in the base; without a line, "BASE: rest".
+ScenarioError SweepReader::Locate(const std::string& message, const std::string& text,
+                                  const std::vector<const Override*>& overrides) const {
+  ScenarioError error;
+  error.message = OneLine(message);
+  const std::string prefix = base_path_ + ":";
+  if (message.compare(0, prefix.size(), prefix) != 0) return error;
+  std::uint32_t line = 0;
+  const char* begin = message.data() + prefix.size();
+  const char* end = message.data() + message.size();
+  const std::from_chars_result number = std::from_chars(begin, end, line);
+  if (number.ec != std::errc() || end - number.ptr < 2 || number.ptr[0] != ':' ||
+      number.ptr[1] != ' ') {
+    return error;  // no line, or TOML syntax (line:column), which cannot come from us
+  }
+  const std::string rest = OneLine(std::string(number.ptr + 2, end));
+
+  std::map<std::uint32_t, std::string> keys;
+  CollectKeyLines(ParseToml(text, base_path_), "", &keys);
+  const auto found = keys.find(line);
+  error.message = base_path_ + ": " + rest;
+  if (found == keys.end()) return error;
+  error.key = found->second;
+
+  const Override* origin = nullptr;
+  for (const Override* entry : overrides) {
+    if (entry->key == error.key) origin = entry;
+  }
+  for (const Override* entry : overrides) {
+    if (origin == nullptr && entry->key.rfind(error.key + ".", 0) == 0) origin = entry;
+  }
+  if (origin != nullptr) {
+    error.in_sweep = true;
+    error.message = source_ + ":" + std::to_string(origin->line) + ": " + rest;
+  } else if (const toml::key* key = FindKey(base_, error.key)) {
+    error.in_base = true;
+    error.message = base_path_ + ":" + std::to_string(key->source().begin.line) + ": " + rest;
+  }
+  return error;
+}
+
+PointScenario SweepReader::ReadScenario(const std::vector<const Override*>& overrides) const {
+  toml::table root = WithOverrides(overrides);
+  PointScenario point;
+  for (;;) {
+    std::ostringstream text;
+    text << root;
+    try {
+      point.scenario = ParseScenario(text.str(), base_path_);
+      return point;
+    } catch (const std::runtime_error& failure) {
+      const ScenarioError error = Locate(failure.what(), text.str(), overrides);
+      // A base key of the other kind of its table (the override changed
+      // the kind): dropped, and read again.
+      if (error.in_base && error.message.find(kOtherKindMessage) != std::string::npos &&
+          EraseKey(&root, error.key)) {
+        continue;
+      }
+      point.error = error.message;
+      const std::string::size_type rest = point.error.find(": ");
+      point.fatal = error.in_sweep && rest != std::string::npos &&
+                    IsKeyOrTypeError(point.error.substr(rest + 2));
+      return point;
+    }
+  }
+}
+
+// The points of a [grid], in order; their swept keys go to `keys`.
+std::vector<PointOverrides> SweepReader::ReadGrid(const toml::table& grid,
+                                                  std::uint32_t grid_line,
+                                                  const std::vector<const Override*>& fixed,
+                                                  std::vector<std::string>* keys) const {
+  std::vector<Axis> axes;
+  FlattenGrid(grid, "", &axes);
+  if (axes.empty()) Fail(grid_line, std::string(kGrid) + " must sweep at least one key");
+  std::sort(axes.begin(), axes.end(),
+            [](const Axis& a, const Axis& b) { return Before(a.key, b.key); });
+  std::vector<const Override*> all_keys = fixed;
+  double count = 1.0;
+  for (const Axis& axis : axes) {
+    all_keys.push_back(&axis.key);
+    keys->push_back(axis.key.key);
+    count *= static_cast<double>(axis.values.size());
+  }
+  RejectRepeatedKeys(all_keys);
+  if (count > kMaxPoints) {
+    Fail(grid_line, "the grid has " + Shortest(count) + " points (at most " +
+                        Shortest(kMaxPoints) + ")");
+  }
+  for (const Axis& axis : axes) {
+    for (const toml::node* value : axis.values) {
+      Override entry = axis.key;
+      entry.value = value;
+      Check({&entry});
+    }
+  }
+  // An odometer over the axes, the last one fastest.
+  std::vector<PointOverrides> points;
+  std::vector<size_t> digit(axes.size(), 0);
+  for (long index = 0; index < static_cast<long>(count); ++index) {
+    PointOverrides point;
+    for (size_t k = 0; k < axes.size(); ++k) {
+      Override entry = axes[k].key;
+      entry.value = axes[k].values[digit[k]];
+      point.printed.push_back(ValueText(*entry.value));
+      point.overrides.push_back(std::move(entry));
+    }
+    points.push_back(std::move(point));
+    for (size_t k = axes.size(); k-- > 0;) {
+      if (++digit[k] < axes[k].values.size()) break;
+      digit[k] = 0;
+    }
+  }
+  return points;
+}
+
+// The [[point]] tables, in order; every key any of them sets goes to
+// `keys`, in the order the keys first appear.
+std::vector<PointOverrides> SweepReader::ReadPoints(const toml::array& tables,
+                                                    const std::vector<const Override*>& fixed,
+                                                    std::vector<std::string>* keys) const {
+  std::vector<PointOverrides> points;
+  std::vector<Override> first_use;
+  for (const toml::node& node : tables) {
+    PointOverrides point;
+    FlattenOverrides(*node.as_table(), "", &point.overrides);
+    std::vector<const Override*> all_keys = fixed;
+    for (const Override& entry : point.overrides) {
+      all_keys.push_back(&entry);
+      Check({&entry});
+      const auto seen = std::find_if(first_use.begin(), first_use.end(),
+                                     [&](const Override& o) { return o.key == entry.key; });
+      if (seen == first_use.end()) {
+        first_use.push_back(entry);
+      } else if (Before(entry, *seen)) {
+        *seen = entry;
+      }
+    }
+    RejectRepeatedKeys(all_keys);
+    points.push_back(std::move(point));
+  }
+  std::sort(first_use.begin(), first_use.end(), Before);
+  for (const Override& entry : first_use) keys->push_back(entry.key);
+  for (PointOverrides& point : points) {
+    point.printed.assign(keys->size(), "");
+    for (const Override& entry : point.overrides) {
+      const auto column = std::find(keys->begin(), keys->end(), entry.key) - keys->begin();
+      point.printed[column] = ValueText(*entry.value);
+    }
+  }
+  return points;
+}
+
+SweepPlan SweepReader::Read(const std::string& toml_text) {
+  const toml::table root = ParseToml(toml_text, source_);
+  RejectUnknownKeys(root);
+  ReadBase(root);
+
+  auto line_of = [&](const char* key) { return root.find(key)->first.source().begin.line; };
+  auto fail_type = [&](const char* key, const std::string& expected) {
+    Fail(line_of(key), std::string(key) + " must be " + expected + " (got " +
+                           TypeName(*root.get(key)) + ")");
+  };
+  std::vector<Override> fixed;
+  if (root.contains(kSet)) {
+    const toml::table* set = root[kSet].as_table();
+    if (set == nullptr) fail_type(kSet, "a table");
+    FlattenOverrides(*set, "", &fixed);
+  }
+  std::vector<const Override*> fixed_keys;
+  for (const Override& entry : fixed) {
+    fixed_keys.push_back(&entry);
+    Check({&entry});
+  }
+
+  const bool has_grid = root.contains(kGrid);
+  const bool has_points = root.contains(kPoint);
+  if (has_grid && has_points) {
+    Fail(std::max(line_of(kGrid), line_of(kPoint)),
+         "[grid] and [[point]] cannot be combined (use one or the other)");
+  }
+  if (!has_grid && !has_points) Fail(0, "needs a [grid] table or [[point]] tables");
+  SweepPlan plan;
+  plan.source = source_;
+  plan.base_path = base_path_;
+  std::vector<PointOverrides> points;
+  if (has_grid) {
+    const toml::table* grid = root[kGrid].as_table();
+    if (grid == nullptr) fail_type(kGrid, "a table");
+    points = ReadGrid(*grid, line_of(kGrid), fixed_keys, &plan.keys);
+  } else {
+    const toml::array* tables = root[kPoint].as_array();
+    if (tables == nullptr || !tables->is_array_of_tables() || tables->empty()) {
+      Fail(line_of(kPoint),
+           std::string(kPoint) + " must be one or more tables of overrides ([[point]])");
+    }
+    points = ReadPoints(*tables, fixed_keys, &plan.keys);
+  }
+
+  for (size_t index = 0; index < points.size(); ++index) {
+    std::vector<const Override*> overrides = fixed_keys;
+    for (const Override& entry : points[index].overrides) overrides.push_back(&entry);
+    PointScenario read = Check(overrides);
+    SweepPoint point;
+    point.index = static_cast<int>(index);
+    point.values = std::move(points[index].printed);
+    point.scenario = std::move(read.scenario);
+    point.error = std::move(read.error);
+    plan.points.push_back(std::move(point));
+  }
+  return plan;
+}
+
+// The number of IPMC links of each model the points use (as the run
+// counts them); a model that does not load counts none, and its points
+// fail when they run.
+int CountLinks(const SweepPlan& plan) {
+  std::set<std::string> models;
+  for (const SweepPoint& point : plan.points) {
+    if (point.scenario) models.insert(point.scenario->model_path);
+  }
+  int links = 0;
+  for (const std::string& model : models) {
+    try {
+      Simulation sim(LoadModelFile(model), model);
+      links = std::max(links, LinkSensors(sim.model(), sim.data(), model).Links());
+    } catch (const std::exception&) {
+    }
+  }
+  return links;
+}
+
+// Physics steps of a point's run, for scheduling (0 for a point that will
+// not run; the model's own step, unknown here, counts as kDefaultStep_s).
+double EstimatedSteps(const SweepPoint& point) {
+  constexpr double kDefaultStep_s = 1e-4;
+  if (!point.scenario) return 0.0;
+  const ScenarioConfig& scenario = *point.scenario;
+  return scenario.cycles / std::abs(scenario.waveform.frequency_Hz) /
+         scenario.timestep_s.value_or(kDefaultStep_s);
+}
+
+// One point's row; `error` receives the failure, if any.
+std::vector<std::string> RunPoint(const SweepPlan& plan, const SweepPoint& point,
+                                  std::string* error) {
+  std::vector<std::string> row = {std::to_string(point.index)};
+  row.insert(row.end(), point.values.begin(), point.values.end());
+  std::optional<ClosedLoopResult> result;
+  *error = point.error;
+  if (point.scenario) {
+    try {
+      result = RunScenario(*point.scenario);
+    } catch (const std::exception& failure) {
+      *error = OneLine(failure.what());
+    }
+  }
+  row.push_back(result ? kOk : kError);
+  row.push_back(result ? "" : *error);
+  for (int q = 0; q < plan.links; ++q) {
+    if (result && q < static_cast<int>(result->links.size())) {
+      const LinkTracking& link = result->links[q];
+      for (double value : {link.iae_mm_s, link.itae_mm_s2, link.rms_voltage_V,
+                           link.saturated_fraction}) {
+        row.push_back(FullPrecision(value));
+      }
+    } else {
+      row.insert(row.end(), std::size(kLinkColumns), "");
+    }
+  }
+  if (result) {
+    const SwimMetrics& swim = result->swim;
+    const double last_cycle = swim.per_cycle.empty() ? 0.0 : swim.per_cycle.back().com_along;
+    for (double value : {last_cycle, swim.mean_speed_along_mm_s, swim.reynolds_tip,
+                         swim.reynolds_swim}) {
+      row.push_back(FullPrecision(value));
+    }
+  } else {
+    row.insert(row.end(), std::size(kSwimColumns), "");
+  }
+  return row;
+}
+
+// The status column of a table, checked.
+size_t StatusColumn(const std::vector<std::string>& columns, const std::string& source) {
+  const auto status = std::find(columns.begin(), columns.end(), kStatusColumn);
+  if (columns.empty() || columns.front() != kPointColumn || status == columns.end() ||
+      status + 1 == columns.end() || *(status + 1) != kErrorColumn) {
+    throw std::runtime_error(source +
+                             ":1: not a sweep table (expected columns point, ..., status, error, ...)");
+  }
+  return static_cast<size_t>(status - columns.begin());
+}
+
+bool ParseDouble(const std::string& text, double* value) {
+  const char* end = text.data() + text.size();
+  const std::from_chars_result result = std::from_chars(text.data(), end, *value);
+  return result.ec == std::errc() && result.ptr == end;
+}
+
+bool ParseIndex(const std::string& text, long* value) {
+  const char* end = text.data() + text.size();
+  const std::from_chars_result result = std::from_chars(text.data(), end, *value);
+  return !text.empty() && text[0] != '-' && result.ec == std::errc() && result.ptr == end;
+}
+
+nlohmann::ordered_json NumberJson(const std::string& text) {
+  double value = 0.0;
+  if (!ParseDouble(text, &value) || !std::isfinite(value)) return nullptr;
+  return value;
+}
+
+nlohmann::ordered_json SweptValueJson(const std::string& text) {
+  if (text.empty()) return nullptr;
+  if (text == "true") return true;
+  if (text == "false") return false;
+  long integer = 0;
+  if (text[0] == '-' ? ParseIndex(text.substr(1), &integer) : ParseIndex(text, &integer)) {
+    return text[0] == '-' ? -integer : integer;
+  }
+  double value = 0.0;
+  if (ParseDouble(text, &value) && std::isfinite(value)) return value;
+  if (text.front() == '[') {
+    nlohmann::ordered_json array = nlohmann::ordered_json::parse(text, nullptr, false);
+    if (!array.is_discarded()) return array;
+  }
+  return text;
+}
+
+std::string CsvCell(const std::string& text) {
+  if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
+  std::string quoted = "\"";
+  for (char c : text) {
+    if (c == '"') quoted += '"';
+    quoted += c;
+  }
+  return quoted + "\"";
+}
+
+// One CSV record (no line breaks inside cells: the tables have none).
+std::vector<std::string> SplitCsvLine(const std::string& line, const std::string& where) {
+  std::vector<std::string> cells(1);
+  bool quoted = false;
+  for (size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quoted) {
+      if (c != '"') {
+        cells.back() += c;
+      } else if (i + 1 < line.size() && line[i + 1] == '"') {
+        cells.back() += '"';
+        ++i;
+      } else {
+        quoted = false;
+      }
+    } else if (c == ',') {
+      cells.emplace_back();
+    } else if (c == '"' && cells.back().empty()) {
+      quoted = true;
+    } else {
+      cells.back() += c;
+    }
+  }
+  if (quoted) throw std::runtime_error(where + ": unterminated quoted cell");
+  return cells;
+}
+
+}  // namespace
+
+SweepPlan ParseSweep(const std::string& toml_text, const std::string& source) {
+  SweepReader reader(source);
+  SweepPlan plan = reader.Read(toml_text);
+  plan.links = CountLinks(plan);
+  return plan;
+}
+
+SweepPlan LoadSweep(const std::string& path) {
+  return ParseSweep(ReadTextFile(path, "sweep file"), path);
+}
+
+SweepShard ParseSweepShard(const std::string& text) {
+  SweepShard shard;
+  const std::string::size_type slash = text.find('/');
+  const char* begin = text.data();
+  const char* end = begin + text.size();
+  bool valid = slash != std::string::npos;
+  if (valid) {
+    const auto index = std::from_chars(begin, begin + slash, shard.index);
+    const auto count = std::from_chars(begin + slash + 1, end, shard.count);
+    valid = index.ec == std::errc() && index.ptr == begin + slash && count.ec == std::errc() &&
+            count.ptr == end && shard.count >= 1 && shard.index >= 1 &&
+            shard.index <= shard.count;
+  }
+  if (!valid) {
+    throw std::invalid_argument("sweep: --shard must be i/n with 1 <= i <= n (got '" + text + "')");
+  }
+  return shard;
+}
+
+std::vector<std::string> SweepColumns(const SweepPlan& plan) {
+  std::vector<std::string> columns = {kPointColumn};
+  columns.insert(columns.end(), plan.keys.begin(), plan.keys.end());
+  columns.push_back(kStatusColumn);
+  columns.push_back(kErrorColumn);
+  for (int q = 1; q <= plan.links; ++q) {
+    for (const char* name : kLinkColumns) columns.push_back("link" + std::to_string(q) + "_" + name);
+  }
+  columns.insert(columns.end(), std::begin(kSwimColumns), std::end(kSwimColumns));
+  return columns;
+}
+
+SweepTable RunSweep(const SweepPlan& plan, const SweepOptions& options) {
+  if (options.jobs < 1) {
+    throw std::invalid_argument("sweep: --jobs must be >= 1 (got " + std::to_string(options.jobs) +
+                                ")");
+  }
+  const SweepShard& shard = options.shard;
+  if (shard.count < 1 || shard.index < 1 || shard.index > shard.count) {
+    throw std::invalid_argument("sweep: --shard must be i/n with 1 <= i <= n (got " +
+                                std::to_string(shard.index) + "/" + std::to_string(shard.count) +
+                                ")");
+  }
+  std::vector<const SweepPoint*> todo;
+  for (const SweepPoint& point : plan.points) {
+    if (point.index % shard.count == shard.index - 1) todo.push_back(&point);
+  }
+  // Rows go in index order; runs start longest first, so that the last
+  // runs to finish are short ones.
+  std::vector<size_t> schedule(todo.size());
+  for (size_t k = 0; k < todo.size(); ++k) schedule[k] = k;
+  std::stable_sort(schedule.begin(), schedule.end(), [&](size_t a, size_t b) {
+    return EstimatedSteps(*todo[a]) > EstimatedSteps(*todo[b]);
+  });
+
+  SweepTable table;
+  table.columns = SweepColumns(plan);
+  table.rows.resize(todo.size());
+  std::atomic<size_t> next{0};
+  std::mutex progress_mutex;
+  int done = 0;
+  std::exception_ptr callback_failure;
+  const auto start = std::chrono::steady_clock::now();
+  auto work = [&] {
+    for (size_t slot = next++; slot < todo.size(); slot = next++) {
+      const size_t k = schedule[slot];
+      std::string error;
+      table.rows[k] = RunPoint(plan, *todo[k], &error);
+      std::lock_guard<std::mutex> lock(progress_mutex);
+      ++done;
+      if (!options.on_point_done || callback_failure) continue;
+      SweepProgress progress;
+      progress.done = done;
+      progress.total = static_cast<int>(todo.size());
+      progress.point = todo[k]->index;
+      progress.ok = table.rows[k][plan.keys.size() + 1] == kOk;
+      progress.error = error;
+      progress.elapsed_s =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      try {
+        options.on_point_done(progress);
+      } catch (...) {
+        callback_failure = std::current_exception();
+      }
+    }
+  };
+  const size_t threads = std::min<size_t>(options.jobs, todo.size());
+  if (threads <= 1) {
+    work();
+  } else {
+    const SerialisedMujocoWarnings warnings;
+    std::vector<std::thread> pool;
+    for (size_t t = 0; t < threads; ++t) pool.emplace_back(work);
+    for (std::thread& thread : pool) thread.join();
+  }
+  if (callback_failure) std::rethrow_exception(callback_failure);
+  return table;
+}
+
+std::string SweepTableCsv(const SweepTable& table) {
+  std::string csv;
+  auto add_row = [&](const std::vector<std::string>& cells) {
+    for (size_t c = 0; c < cells.size(); ++c) {
+      if (c > 0) csv += ',';
+      csv += CsvCell(cells[c]);
+    }
+    csv += '\n';
+  };
+  add_row(table.columns);
+  for (const std::vector<std::string>& row : table.rows) add_row(row);
+  return csv;
+}
+
+nlohmann::ordered_json SweepTableJson(const SweepTable& table) {
+  const size_t status = StatusColumn(table.columns, "sweep table");
+  nlohmann::ordered_json points = nlohmann::ordered_json::array();
+  for (const std::vector<std::string>& row : table.rows) {
+    nlohmann::ordered_json point = nlohmann::ordered_json::object();
+    for (size_t c = 0; c < table.columns.size() && c < row.size(); ++c) {
+      nlohmann::ordered_json& cell = point[table.columns[c]];
+      long index = 0;
+      if (c == 0 && ParseIndex(row[c], &index)) {
+        cell = index;
+      } else if (c == status || c == status + 1) {
+        cell = row[c];
+      } else if (c < status) {
+        cell = SweptValueJson(row[c]);
+      } else {
+        cell = NumberJson(row[c]);
+      }
+    }
+    points.push_back(std::move(point));
+  }
+  return {{"columns", table.columns}, {"points", std::move(points)}};
+}
+
+SweepTable ParseSweepTableCsv(const std::string& csv_text, const std::string& source) {
+  SweepTable table;
+  std::istringstream lines(csv_text);
+  std::string line;
+  int line_number = 0;
+  std::set<long> indices;
+  while (std::getline(lines, line)) {
+    ++line_number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const std::string where = source + ":" + std::to_string(line_number);
+    if (line_number == 1) {
+      table.columns = SplitCsvLine(line, where);
+      StatusColumn(table.columns, source);
+      continue;
+    }
+    if (line.empty()) continue;
+    std::vector<std::string> row = SplitCsvLine(line, where);
+    if (row.size() != table.columns.size()) {
+      throw std::runtime_error(where + ": expected " + std::to_string(table.columns.size()) +
+                               " cells, got " + std::to_string(row.size()));
+    }
+    long index = 0;
+    if (!ParseIndex(row[0], &index)) {
+      throw std::runtime_error(where + ": point must be a whole number >= 0 (got '" + row[0] + "')");
+    }
+    if (!indices.insert(index).second) {
+      throw std::runtime_error(where + ": point " + row[0] + " appears twice");
+    }
+    table.rows.push_back(std::move(row));
+  }
+  if (line_number == 0) throw std::runtime_error(source + ": empty file, not a sweep table");
+  return table;
+}
+
+SweepTable LoadSweepTableCsv(const std::string& path) {
+  return ParseSweepTableCsv(ReadTextFile(path, "sweep table"), path);
+}
+
+SweepTable MergeSweepTables(const std::vector<SweepTable>& tables,
+                            const std::vector<std::string>& sources) {
+  if (tables.empty() || tables.size() != sources.size()) {
+    throw std::invalid_argument("merge: needs one or more tables, each with its file name");
+  }
+  SweepTable merged;
+  merged.columns = tables.front().columns;
+  std::map<long, std::pair<const std::vector<std::string>*, size_t>> rows;  // -> row, table
+  for (size_t t = 0; t < tables.size(); ++t) {
+    const SweepTable& table = tables[t];
+    StatusColumn(table.columns, sources[t]);
+    if (table.columns != merged.columns) {
+      size_t c = 0;
+      while (c < table.columns.size() && c < merged.columns.size() &&
+             table.columns[c] == merged.columns[c]) {
+        ++c;
+      }
+      const std::string theirs = c < table.columns.size() ? "'" + table.columns[c] + "'" : "none";
+      const std::string ours = c < merged.columns.size() ? "'" + merged.columns[c] + "'" : "none";
+      throw std::runtime_error(sources[t] + ": columns differ from " + sources.front() +
+                               "'s (column " + std::to_string(c + 1) + ": " + theirs + " vs " +
+                               ours + ")");
+    }
+    for (const std::vector<std::string>& row : table.rows) {
+      long index = 0;
+      if (row.empty() || !ParseIndex(row[0], &index)) {
+        throw std::runtime_error(sources[t] + ": a row without a point index");
+      }
+      const auto [it, added] = rows.emplace(index, std::make_pair(&row, t));
+      if (!added) {
+        throw std::runtime_error(sources[t] + ": point " + row[0] + " is also in " +
+                                 sources[it->second.second]);
+      }
+    }
+  }
+  long expected = 0;
+  for (const auto& [index, row] : rows) {
+    if (index != expected) {
+      std::string files;
+      for (const std::string& source : sources) files += (files.empty() ? "" : ", ") + source;
+      throw std::runtime_error("merge: point " + std::to_string(expected) +
+                               " is missing (in none of " + files + "; they hold points up to " +
+                               std::to_string(rows.rbegin()->first) + ")");
+    }
+    merged.rows.push_back(*row.first);
+    ++expected;
+  }
+  return merged;
+}
+
+void WriteSweepTable(const std::string& prefix, const SweepTable& table) {
+  const fs::path directory = fs::path(prefix).parent_path();
+  if (!directory.empty()) EnsureDirectory(directory.string());
+  const std::string json = SweepTableJson(table).dump(2) + "\n";
+  WriteFileAtomically(prefix + ".csv", SweepTableCsv(table));
+  WriteFileAtomically(prefix + ".json", json);
+}
+
+}  // namespace ipmc

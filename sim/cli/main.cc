@@ -1,0 +1,338 @@
+// ipmc-swim command-line program.
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "sim/cli/analysis_commands.h"
+#include "sim/io/files.h"
+#include "sim/runs/bench_run.h"
+#include "sim/runs/closed_loop_run.h"
+#include "sim/core/gait.h"
+#include "sim/cli/identify_command.h"
+#include "sim/runs/gait_run.h"
+#include "sim/core/model_generator.h"
+#include "sim/runs/output.h"
+#include "sim/cli/plot_command.h"
+#include "sim/core/scenario.h"
+#include "sim/cli/sweep_command.h"
+#include "sim/cli/table5_command.h"
+#include "sim/cli/render_command.h"
+#include "sim/core/simulation.h"
+
+namespace {
+
+using ipmc::FlagellumSpec;
+
+// MuJoCo's warnings, held back so that a failing run prints one line.
+std::vector<std::string>& MujocoWarnings() {
+  static std::vector<std::string> warnings;
+  return warnings;
+}
+void CollectMujocoWarning(const char* message) { MujocoWarnings().emplace_back(message); }
+void PrintMujocoWarnings() {
+  for (const std::string& warning : MujocoWarnings()) {
+    std::cerr << "ipmc-swim: MuJoCo warning: " << warning << "\n";
+  }
+}
+
+struct GenerateArgs {
+  FlagellumSpec spec;
+  std::string out_path;
+};
+
+void AddGenerateCommand(CLI::App& app, GenerateArgs& args) {
+  CLI::App* cmd = app.add_subcommand("generate", "Write the MJCF of an N-link flagellum");
+  FlagellumSpec& s = args.spec;
+  cmd->add_option("--links-mm", s.link_lengths_mm, "Link lengths [mm], one per link")
+      ->delimiter(',')->capture_default_str();
+  cmd->add_option("--gap-mm", s.gap_mm, "Gap between links [mm]")->capture_default_str();
+  cmd->add_option("--width-mm", s.width_mm, "Strip width [mm]")->capture_default_str();
+  cmd->add_option("--thickness-um", s.thickness_um, "Strip thickness [um]")->capture_default_str();
+  cmd->add_option("--head-mm", s.head_length_mm, "Head (clamp) length [mm], 0 for none")
+      ->capture_default_str();
+  cmd->add_option("--density", s.density_kg_m3, "Density [kg/m^3]")->capture_default_str();
+  cmd->add_option("--modulus-pa", s.bending_modulus_Pa, "Bending modulus E [Pa]")
+      ->capture_default_str();
+  cmd->add_option("--hinge-damping-ratio", s.hinge_damping_ratio, "Hinge damping ratio zeta_h")
+      ->capture_default_str();
+  cmd->add_flag("--clamped", s.clamped, "Weld the root (test bench)");
+  cmd->add_option("--timestep-s", s.timestep_s, "Time step [s]")->capture_default_str();
+  cmd->add_option("--integrator", s.integrator, "Euler | implicit | RK4")->capture_default_str();
+  cmd->add_option("--viscosity-pa-s", s.viscosity_Pa_s, "Viscosity [Pa s]")->capture_default_str();
+  cmd->add_option("--coefficients", s.coefficients, "gray_hancock | lighthill | direct")
+      ->capture_default_str();
+  cmd->add_option("--wavelength-mm", s.wavelength_mm, "Wavelength for the RFT coefficients [mm]")
+      ->capture_default_str();
+  cmd->add_option("--xi-normal", s.xi_normal_N_s_m2, "Direct xi_n [N s/m^2]");
+  cmd->add_option("--xi-tangential", s.xi_tangential_N_s_m2, "Direct xi_t [N s/m^2]");
+  cmd->add_option("--segments-per-link", s.segments_per_link,
+                  "Rigid sub-segments per link (1: rigid links)")
+      ->capture_default_str();
+  cmd->add_option("--plants", s.plants,
+                  "uniform (every link eq. 7's plant) | table2 (Table 2's row per link)")
+      ->capture_default_str();
+  cmd->add_option("--ipmc-model", s.ipmc_model, "IPMC link model: g1 (eq. 5) | g2 (eq. 6)")
+      ->capture_default_str();
+  cmd->add_option("--actuation", s.actuation, "distributed | single")->capture_default_str();
+  cmd->add_option("--name", s.name, "Model name")->capture_default_str();
+  cmd->add_option("-o,--out", args.out_path, "Output MJCF file (default: stdout)");
+}
+
+struct GaitArgs {
+  std::string model_path;
+  std::string gait = "sine";
+  double frequency_Hz = 0.01;
+  double amplitude_rad = 0.3;
+  double phase_lag_rad = 2.0;
+  std::vector<double> amplitudes_rad;
+  std::vector<double> phases_rad;
+  std::string csv_path;
+  ipmc::GaitRunOptions run;
+  std::string out_dir;
+};
+
+void AddGaitCommand(CLI::App& app, GaitArgs& args) {
+  CLI::App* cmd = app.add_subcommand("gait", "Run a prescribed joint-space gait and measure the swim");
+  cmd->add_option("--model", args.model_path, "MJCF model")->required();
+  cmd->add_option("--gait", args.gait, "sine | square | csv")
+      ->check(CLI::IsMember({"sine", "square", "csv"}))->capture_default_str();
+  cmd->add_option("--frequency-hz", args.frequency_Hz, "Gait frequency [Hz]")->capture_default_str();
+  cmd->add_option("--amplitude-rad", args.amplitude_rad, "Joint amplitude [rad]")
+      ->capture_default_str();
+  cmd->add_option("--phase-lag-rad", args.phase_lag_rad,
+                  "Sine: phase lag between consecutive joints [rad]; > 0 sends the wave to the tail")
+      ->capture_default_str();
+  cmd->add_option("--amplitudes-rad", args.amplitudes_rad, "Sine: per-joint amplitudes [rad]")
+      ->delimiter(',');
+  cmd->add_option("--phases-rad", args.phases_rad, "Sine: per-joint phases [rad]")->delimiter(',');
+  cmd->add_option("--csv", args.csv_path, "CSV gait: time_s, q_1..q_n [rad]");
+  cmd->add_option("--cycles", args.run.cycles, "Number of gait cycles")->capture_default_str();
+  cmd->add_option("--samples-per-cycle", args.run.samples_per_cycle, "Time-series samples per cycle")
+      ->capture_default_str();
+  cmd->add_option("--out", args.out_dir, "Directory for timeseries.csv and summary.json");
+}
+
+struct BenchArgs {
+  std::string model_path = std::string(IPMC_SWIM_MODELS_DIR) + "/flagellum3_clamped.xml";
+  std::string signal = "sine";
+  ipmc::BenchSignal bench;
+  std::string out_path;
+};
+
+void AddBenchCommand(CLI::App& app, BenchArgs& args) {
+  CLI::App* cmd = app.add_subcommand(
+      "bench", "Voltage experiment on the test bench, recorded like the laser meter");
+  ipmc::BenchSignal& b = args.bench;
+  cmd->add_option("--model", args.model_path, "MJCF model with IPMC actuators")
+      ->capture_default_str();
+  cmd->add_option("--signal", args.signal, "sine | chirp")
+      ->check(CLI::IsMember({"sine", "chirp"}))->capture_default_str();
+  cmd->add_option("--amplitude-v", b.amplitude_V, "Voltage amplitude [V]")->capture_default_str();
+  cmd->add_option("--frequency-hz", b.frequency_Hz, "Sine frequency [Hz]")->capture_default_str();
+  cmd->add_option("--f0-hz", b.start_Hz, "Chirp start frequency [Hz]")->capture_default_str();
+  cmd->add_option("--f1-hz", b.end_Hz, "Chirp end frequency [Hz]")->capture_default_str();
+  cmd->add_option("--duration-s", b.duration_s, "Duration [s]")->capture_default_str();
+  cmd->add_option("--links", b.driven_links, "Driven links, 1-based")->delimiter(',')
+      ->capture_default_str();
+  cmd->add_option("--sample-rate-hz", b.sample_rate_Hz, "Voltage update and recording rate [Hz]")
+      ->capture_default_str();
+  cmd->add_option("--out", args.out_path, "CSV file to write")->required();
+}
+
+int RunBenchCommand(BenchArgs args) {
+  args.bench.kind = args.signal == "chirp" ? ipmc::BenchSignal::Kind::kChirp
+                                           : ipmc::BenchSignal::Kind::kSine;
+  args.bench.Validate();
+  ipmc::Simulation sim(ipmc::LoadModelFile(args.model_path), args.model_path);
+  const ipmc::BenchRecord record = ipmc::RunBench(sim, args.bench);
+  ipmc::WriteFileAtomically(args.out_path, ipmc::BenchCsv(record));
+  std::printf("%zu samples at %g Hz written to %s\n", record.t_s.size(),
+              args.bench.sample_rate_Hz, args.out_path.c_str());
+  for (size_t q = 0; q < record.relative_mm.size(); ++q) {
+    double peak = 0.0;
+    for (double value : record.relative_mm[q]) peak = std::max(peak, std::abs(value));
+    std::printf("link %zu: peak relative tip deflection %.6g mm\n", q + 1, peak);
+  }
+  return 0;
+}
+
+void PrintSwimMetrics(const ipmc::SwimMetrics& swim);
+
+struct RunArgs {
+  std::string scenario_path;
+  std::string out_dir;
+};
+
+void AddRunCommand(CLI::App& app, RunArgs& args) {
+  CLI::App* cmd = app.add_subcommand("run", "Run a closed-loop scenario file (TOML)");
+  cmd->add_option("scenario", args.scenario_path, "Scenario file")->required();
+  cmd->add_option("--out", args.out_dir, "Output directory (overrides output.dir)");
+}
+
+void PrintClosedLoopResult(const ipmc::ClosedLoopResult& r) {
+  std::printf("%s controller, %s actuation, wave period %.6g s, time step %.3g s\n",
+              r.controller.c_str(), r.actuation.c_str(), r.period_s, r.timestep_s);
+  std::printf("%4s %12s %14s %14s %12s %12s %10s\n", "link", "IAE_mm_s", "ITAE_mm_s2",
+              "max_error_mm", "max_ref_mm", "rms_V", "clamped_%");
+  for (size_t q = 0; q < r.links.size(); ++q) {
+    const ipmc::LinkTracking& t = r.links[q];
+    std::printf("%4zu %12.5g %14.6g %14.5g %12.5g %12.4g %10.1f\n", q + 1, t.iae_mm_s,
+                t.itae_mm_s2, t.max_abs_error_mm, t.max_abs_reference_mm, t.rms_voltage_V,
+                100.0 * t.saturated_fraction);
+  }
+  PrintSwimMetrics(r.swim);
+}
+
+int RunScenarioCommand(const RunArgs& args) {
+  const ipmc::ScenarioConfig scenario = ipmc::LoadScenario(args.scenario_path);
+  const ipmc::ClosedLoopResult result = ipmc::RunScenario(scenario);
+  PrintClosedLoopResult(result);
+  const std::string dir = args.out_dir.empty() ? scenario.output_dir : args.out_dir;
+  if (!dir.empty()) {
+    ipmc::WriteClosedLoopOutputs(dir, result, {{"scenario", args.scenario_path}});
+  }
+  return 0;
+}
+
+int CountServos(const mjModel* m) {
+  int count = 0;
+  for (int a = 0; a < m->nu; ++a) {
+    const char* name = mj_id2name(m, mjOBJ_ACTUATOR, a);
+    if (name && std::string(name).rfind("servo_", 0) == 0) ++count;
+  }
+  return count;
+}
+
+std::unique_ptr<ipmc::Gait> MakeGait(const GaitArgs& args, int joints) {
+  if (args.gait == "csv") {
+    if (args.csv_path.empty()) throw std::invalid_argument("gait: --gait csv needs --csv PATH");
+    return ipmc::LoadCsvGait(args.csv_path, joints);
+  }
+  if (args.gait == "square") {
+    ipmc::SquareStrokeConfig config;
+    config.frequency_Hz = args.frequency_Hz;
+    config.amplitude_rad = args.amplitude_rad;
+    config.joints = joints;
+    return ipmc::MakeSquareStroke(config);
+  }
+  ipmc::SineGaitConfig config =
+      ipmc::TravellingWave(joints, args.frequency_Hz, args.amplitude_rad, args.phase_lag_rad);
+  if (!args.amplitudes_rad.empty()) config.amplitude_rad = args.amplitudes_rad;
+  if (!args.phases_rad.empty()) config.phase_rad = args.phases_rad;
+  if (static_cast<int>(config.amplitude_rad.size()) != joints) {
+    throw std::invalid_argument("gait: --amplitudes-rad needs " + std::to_string(joints) +
+                                " values (one per driven joint)");
+  }
+  return ipmc::MakeSineGait(config);
+}
+
+void PrintSwimMetrics(const ipmc::SwimMetrics& swim) {
+  std::printf("%5s %14s %14s %14s %14s\n", "cycle", "com_along_mm", "com_across_mm",
+              "head_along_mm", "head_across_mm");
+  for (size_t k = 0; k < swim.per_cycle.size(); ++k) {
+    const ipmc::Displacement_mm& c = swim.per_cycle[k];
+    std::printf("%5zu %14.6g %14.6g %14.6g %14.6g\n", k + 1, c.com_along, c.com_across,
+                c.head_along, c.head_across);
+  }
+  std::printf("mean speed along the swimming axis: %.6g mm/s\n", swim.mean_speed_along_mm_s);
+  std::printf("Reynolds number: %.3g (peak lateral tip speed x width), %.3g (mean speed x length)\n",
+              swim.reynolds_tip, swim.reynolds_swim);
+  if (swim.reynolds_tip > 1.0 || swim.reynolds_swim > 1.0) {
+    std::fprintf(stderr, "warning: Reynolds number above 1; resistive-force theory assumes Re << 1\n");
+  }
+}
+
+void PrintGaitResult(const ipmc::GaitRunResult& r) {
+  std::printf("%s, period %.6g s, time step %.3g s\n", r.gait.c_str(), r.period_s, r.timestep_s);
+  PrintSwimMetrics(r.swim);
+  std::printf("servo tracking: max error %.3g rad for references up to %.3g rad\n",
+              r.max_tracking_error_rad, r.max_reference_rad);
+}
+
+int RunGenerate(const GenerateArgs& args) {
+  const std::string xml = ipmc::GenerateFlagellumMjcf(args.spec);
+  if (args.out_path.empty()) {
+    std::cout << xml;
+  } else {
+    ipmc::WriteFileAtomically(args.out_path, xml);
+  }
+  return 0;
+}
+
+int RunGaitCommand(const GaitArgs& args) {
+  ipmc::Simulation sim(ipmc::LoadModelFile(args.model_path), args.model_path);
+  const std::unique_ptr<ipmc::Gait> gait = MakeGait(args, CountServos(sim.model()));
+  const ipmc::GaitRunResult result = ipmc::RunGait(sim, *gait, args.run);
+  PrintGaitResult(result);
+  if (!args.out_dir.empty()) {
+    nlohmann::json inputs = {{"model", args.model_path},   {"gait", args.gait},
+                             {"frequency_Hz", args.frequency_Hz},
+                             {"amplitude_rad", args.amplitude_rad},
+                             {"phase_lag_rad", args.phase_lag_rad},
+                             {"cycles", args.run.cycles}, {"csv", args.csv_path}};
+    ipmc::WriteGaitOutputs(args.out_dir, result, inputs);
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"ipmc-swim: an IPMC flagellum swimming in Stokes flow (MuJoCo 2.2)"};
+  app.require_subcommand(1);
+  GenerateArgs generate;
+  GaitArgs gait;
+  AddGenerateCommand(app, generate);
+  AddGaitCommand(app, gait);
+  BenchArgs bench;
+  AddBenchCommand(app, bench);
+  RunArgs run;
+  AddRunCommand(app, run);
+  ipmc::AnalysisArgs analysis;
+  ipmc::AddAnalysisCommands(app, analysis);
+  ipmc::RenderArgs render;
+  ipmc::AddRenderCommand(app, render);
+  ipmc::PlotArgs plot;
+  ipmc::AddPlotCommand(app, plot);
+  ipmc::IdentifyArgs identify;
+  ipmc::AddIdentifyCommands(app, identify);
+  ipmc::SweepArgs sweep;
+  ipmc::AddSweepCommands(app, sweep);
+  ipmc::Table5Args table5;
+  ipmc::AddTable5Command(app, table5);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "ipmc-swim: error: " << e.what() << " (see --help)\n";
+    return 2;
+  }
+  mju_user_warning = CollectMujocoWarning;
+  try {
+    int status = 0;
+    if (app.got_subcommand("generate")) status = RunGenerate(generate);
+    if (app.got_subcommand("gait")) status = RunGaitCommand(gait);
+    if (app.got_subcommand("bench")) status = RunBenchCommand(bench);
+    if (app.got_subcommand("run")) status = RunScenarioCommand(run);
+    if (int s = ipmc::RunAnalysisCommand(app, analysis); s >= 0) status = s;
+    if (int s = ipmc::RunRenderCommand(app, render); s >= 0) status = s;
+    if (int s = ipmc::RunPlotCommand(app, plot); s >= 0) status = s;
+    if (int s = ipmc::RunIdentifyCommand(app, identify); s >= 0) status = s;
+    if (int s = ipmc::RunSweepCommand(app, sweep); s >= 0) status = s;
+    if (int s = ipmc::RunTable5Command(app, table5); s >= 0) status = s;
+    PrintMujocoWarnings();
+    return status;
+  } catch (const std::exception& e) {
+    std::cerr << "ipmc-swim: error: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,231 @@
+#include "sim/core/gait.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace ipmc {
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586;
+
+void RequirePositiveFrequency(double frequency_Hz) {
+  if (!(frequency_Hz > 0.0) || !std::isfinite(frequency_Hz)) {
+    std::ostringstream msg;
+    msg << "gait: frequency_Hz must be finite and > 0 (got " << frequency_Hz << ")";
+    throw std::invalid_argument(msg.str());
+  }
+}
+
+class SineGait final : public Gait {
+ public:
+  explicit SineGait(SineGaitConfig config) : config_(std::move(config)) {}
+  int Joints() const override { return static_cast<int>(config_.amplitude_rad.size()); }
+  double Period_s() const override { return 1.0 / config_.frequency_Hz; }
+  JointReference At(double t_s) const override {
+    const double w = kTwoPi * config_.frequency_Hz;
+    JointReference ref;
+    for (int j = 0; j < Joints(); ++j) {
+      const double phase = w * t_s + config_.phase_rad[j];
+      ref.angle_rad.push_back(config_.amplitude_rad[j] * std::sin(phase));
+      ref.velocity_rad_s.push_back(config_.amplitude_rad[j] * w * std::cos(phase));
+    }
+    return ref;
+  }
+  std::string Describe() const override {
+    std::ostringstream out;
+    out << "sine gait, f = " << config_.frequency_Hz << " Hz";
+    return out.str();
+  }
+
+ private:
+  SineGaitConfig config_;
+};
+
+// Periodic square wave of unit amplitude with half-cosine ramps; phase p
+// in cycles. Rise over [0, 1/4), hold +1, fall over [1/2, 3/4), hold -1.
+void SmoothSquare(double p, double* value, double* slope_per_cycle) {
+  p -= std::floor(p);
+  constexpr double kRamp = 0.25;
+  constexpr double kPi = 3.141592653589793;
+  if (p < kRamp) {
+    *value = -std::cos(kPi * p / kRamp);
+    *slope_per_cycle = kPi / kRamp * std::sin(kPi * p / kRamp);
+  } else if (p < 0.5) {
+    *value = 1.0;
+    *slope_per_cycle = 0.0;
+  } else if (p < 0.5 + kRamp) {
+    *value = std::cos(kPi * (p - 0.5) / kRamp);
+    *slope_per_cycle = -kPi / kRamp * std::sin(kPi * (p - 0.5) / kRamp);
+  } else {
+    *value = -1.0;
+    *slope_per_cycle = 0.0;
+  }
+}
+
+class SquareStroke final : public Gait {
+ public:
+  explicit SquareStroke(SquareStrokeConfig config) : config_(config) {}
+  int Joints() const override { return config_.joints; }
+  double Period_s() const override { return 1.0 / config_.frequency_Hz; }
+  JointReference At(double t_s) const override {
+    JointReference ref;
+    for (int j = 0; j < config_.joints; ++j) {
+      double value = 0.0, slope = 0.0;
+      SmoothSquare(t_s * config_.frequency_Hz - 0.25 * j, &value, &slope);
+      ref.angle_rad.push_back(config_.amplitude_rad * value);
+      ref.velocity_rad_s.push_back(config_.amplitude_rad * slope * config_.frequency_Hz);
+    }
+    return ref;
+  }
+  std::string Describe() const override {
+    std::ostringstream out;
+    out << "square stroke, f = " << config_.frequency_Hz << " Hz, A = " << config_.amplitude_rad
+        << " rad";
+    return out.str();
+  }
+
+ private:
+  SquareStrokeConfig config_;
+};
+
+class CsvGait final : public Gait {
+ public:
+  CsvGait(std::string path, std::vector<double> times, std::vector<std::vector<double>> angles)
+      : path_(std::move(path)), times_(std::move(times)), angles_(std::move(angles)) {}
+  int Joints() const override { return static_cast<int>(angles_.front().size()); }
+  double Period_s() const override { return times_.back() - times_.front(); }
+  JointReference At(double t_s) const override {
+    double local = std::fmod(t_s - times_.front(), Period_s());
+    if (local < 0) local += Period_s();
+    local += times_.front();
+    const size_t hi = std::min<size_t>(
+        times_.size() - 1,
+        std::max<size_t>(1, std::upper_bound(times_.begin(), times_.end(), local) - times_.begin()));
+    const size_t lo = hi - 1;
+    const double span = times_[hi] - times_[lo];
+    const double frac = (local - times_[lo]) / span;
+    JointReference ref;
+    for (int j = 0; j < Joints(); ++j) {
+      const double a = angles_[lo][j], b = angles_[hi][j];
+      ref.angle_rad.push_back(a + frac * (b - a));
+      ref.velocity_rad_s.push_back((b - a) / span);
+    }
+    return ref;
+  }
+  std::string Describe() const override { return "CSV gait " + path_; }
+
+ private:
+  std::string path_;
+  std::vector<double> times_;
+  std::vector<std::vector<double>> angles_;
+};
+
+bool ParseDouble(const std::string& text, double* value) {
+  std::istringstream in(text);
+  in >> *value;
+  if (in.fail()) return false;
+  in >> std::ws;
+  return in.eof() && std::isfinite(*value);
+}
+
+std::vector<std::string> SplitCsv(const std::string& line) {
+  std::vector<std::string> cells;
+  std::stringstream in(line);
+  for (std::string cell; std::getline(in, cell, ',');) cells.push_back(cell);
+  if (!line.empty() && line.back() == ',') cells.emplace_back();
+  return cells;
+}
+
+}  // namespace
+
+void SineGaitConfig::Validate() const {
+  RequirePositiveFrequency(frequency_Hz);
+  if (amplitude_rad.empty()) throw std::invalid_argument("gait: amplitude_rad is empty");
+  if (phase_rad.size() != amplitude_rad.size()) {
+    throw std::invalid_argument("gait: phase_rad has " + std::to_string(phase_rad.size()) +
+                                " values, amplitude_rad has " +
+                                std::to_string(amplitude_rad.size()));
+  }
+  for (double a : amplitude_rad) {
+    if (!std::isfinite(a) || std::abs(a) > 3.141592653589793) {
+      throw std::invalid_argument("gait: amplitude_rad must be finite and in [-pi, pi]");
+    }
+  }
+  for (double p : phase_rad) {
+    if (!std::isfinite(p)) throw std::invalid_argument("gait: phase_rad must be finite");
+  }
+}
+
+std::unique_ptr<Gait> MakeSineGait(const SineGaitConfig& config) {
+  config.Validate();
+  return std::make_unique<SineGait>(config);
+}
+
+SineGaitConfig TravellingWave(int joints, double frequency_Hz, double amplitude_rad,
+                              double phase_lag_rad) {
+  SineGaitConfig config;
+  config.frequency_Hz = frequency_Hz;
+  for (int j = 0; j < joints; ++j) {
+    config.amplitude_rad.push_back(amplitude_rad);
+    config.phase_rad.push_back(-j * phase_lag_rad);
+  }
+  return config;
+}
+
+void SquareStrokeConfig::Validate() const {
+  RequirePositiveFrequency(frequency_Hz);
+  if (!(amplitude_rad > 0.0) || amplitude_rad > 3.141592653589793) {
+    throw std::invalid_argument("gait: square stroke amplitude_rad must be in (0, pi]");
+  }
+  if (joints < 1) throw std::invalid_argument("gait: square stroke needs joints >= 1");
+}
+
+std::unique_ptr<Gait> MakeSquareStroke(const SquareStrokeConfig& config) {
+  config.Validate();
+  return std::make_unique<SquareStroke>(config);
+}
+
+std::unique_ptr<Gait> LoadCsvGait(const std::string& path, int joints) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path + ": cannot open gait CSV");
+  std::vector<double> times;
+  std::vector<std::vector<double>> angles;
+  std::string line;
+  for (int line_number = 1; std::getline(in, line); ++line_number) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.find_first_not_of(" \t") == std::string::npos) continue;
+    const std::vector<std::string> cells = SplitCsv(line);
+    std::vector<double> values;
+    bool numeric = true;
+    for (const std::string& cell : cells) {
+      double value = 0.0;
+      if (!ParseDouble(cell, &value)) {
+        numeric = false;
+        break;
+      }
+      values.push_back(value);
+    }
+    const std::string where = path + ":" + std::to_string(line_number) + ": ";
+    if (!numeric) {
+      if (times.empty() && angles.empty() && line_number == 1) continue;  // header
+      throw std::runtime_error(where + "non-numeric or non-finite value");
+    }
+    if (static_cast<int>(values.size()) != joints + 1) {
+      throw std::runtime_error(where + "expected " + std::to_string(joints + 1) +
+                               " columns (time_s and " + std::to_string(joints) +
+                               " joint angles in rad), got " + std::to_string(values.size()));
+    }
+    if (!times.empty() && !(values[0] > times.back())) {
+      throw std::runtime_error(where + "time_s must increase strictly");
+    }
+    times.push_back(values[0]);
+    angles.emplace_back(values.begin() + 1, values.end());
+  }
+  if (times.size() < 2) throw std::runtime_error(path + ": gait CSV needs at least two rows");
+  return std::make_unique<CsvGait>(path, std::move(times), std::move(angles));
+}
+
+}  // namespace ipmc

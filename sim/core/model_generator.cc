@@ -1,0 +1,266 @@
+#include "sim/core/model_generator.h"
+
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+
+#include "plugin/actuators/ipmc_actuators.h"
+
+namespace ipmc {
+namespace {
+
+constexpr double kMmToM = 1e-3;
+constexpr double kUmToM = 1e-6;
+
+void RequirePositive(double value, const char* field) {
+  if (!(value > 0.0) || !std::isfinite(value)) {
+    std::ostringstream msg;
+    msg << "flagellum spec: " << field << " must be finite and > 0 (got " << value << ")";
+    throw std::invalid_argument(msg.str());
+  }
+}
+
+void RequireNonNegative(double value, const char* field) {
+  if (!(value >= 0.0) || !std::isfinite(value)) {
+    std::ostringstream msg;
+    msg << "flagellum spec: " << field << " must be finite and >= 0 (got " << value << ")";
+    throw std::invalid_argument(msg.str());
+  }
+}
+
+std::string Num(double value) {
+  std::ostringstream out;
+  out << std::setprecision(10) << value;
+  return out.str();
+}
+
+double EquivalentRadius_m(const FlagellumSpec& spec) {
+  if (spec.equivalent_radius_mm > 0.0) return spec.equivalent_radius_mm * kMmToM;
+  // Batchelor (1970): a slender body of elliptical section with semi-axes
+  // a, b has the resistance of a circular one of radius (a + b) / 2; a flat
+  // strip w x h is taken as the ellipse a = w/2, b = h/2.
+  return 0.25 * (spec.width_mm * kMmToM + spec.thickness_um * kUmToM);
+}
+
+// Local x offset of link q's geometry from its hinge [m].
+double LinkStartOffset_m(const FlagellumSpec& spec, int q) {
+  return q == 0 ? 0.0 : 0.5 * spec.gap_mm * kMmToM;
+}
+
+bool HasIpmcActuators(const FlagellumSpec& spec) {
+  return spec.ipmc_actuators && (spec.head_length_mm > 0.0 || spec.clamped);
+}
+
+void WriteCustomFields(const FlagellumSpec& spec, std::ostringstream& xml) {
+  xml << "  <custom>\n"
+      << "    <numeric name=\"ipmc_rft_viscosity_Pa_s\" data=\"" << Num(spec.viscosity_Pa_s) << "\"/>\n"
+      << "    <text name=\"ipmc_rft_coefficients\" data=\"" << spec.coefficients << "\"/>\n"
+      << "    <numeric name=\"ipmc_rft_equivalent_radius_m\" data=\"" << Num(EquivalentRadius_m(spec)) << "\"/>\n"
+      << "    <numeric name=\"ipmc_rft_wavelength_m\" data=\"" << Num(spec.wavelength_mm * kMmToM) << "\"/>\n"
+      << "    <numeric name=\"ipmc_rft_fluid_density_kg_m3\" data=\"" << Num(spec.fluid_density_kg_m3) << "\"/>\n";
+  if (spec.coefficients == "direct") {
+    xml << "    <numeric name=\"ipmc_rft_xi_normal_N_s_m2\" data=\"" << Num(spec.xi_normal_N_s_m2) << "\"/>\n"
+        << "    <numeric name=\"ipmc_rft_xi_tangential_N_s_m2\" data=\"" << Num(spec.xi_tangential_N_s_m2) << "\"/>\n";
+  }
+  xml << "    <numeric name=\"ipmc_strip_width_m\" data=\"" << Num(spec.width_mm * kMmToM) << "\"/>\n";
+  if (HasIpmcActuators(spec)) {
+    xml << "    <text name=\"ipmc_links\" data=\"";
+    for (int q = 1; q <= spec.Links(); ++q) xml << (q > 1 ? " " : "") << "j" << q;
+    xml << "\"/>\n";
+    if (spec.segments_per_link > 1) {
+      xml << "    <numeric name=\"ipmc_segments_per_link\" data=\"" << spec.segments_per_link
+          << "\"/>\n";
+    }
+    xml << "    <text name=\"ipmc_plants\" data=\"" << spec.plants << "\"/>\n"
+        << "    <text name=\"ipmc_model\" data=\"" << spec.ipmc_model << "\"/>\n"
+        << "    <text name=\"ipmc_actuation\" data=\"" << spec.actuation << "\"/>\n";
+  }
+  xml << "  </custom>\n";
+}
+
+void WriteRootJoints(std::ostringstream& xml, const std::string& indent) {
+  xml << indent << "<joint name=\"root_x\" type=\"slide\" axis=\"1 0 0\"/>\n"
+      << indent << "<joint name=\"root_y\" type=\"slide\" axis=\"0 1 0\"/>\n"
+      << indent << "<joint name=\"root_yaw\" type=\"hinge\" axis=\"0 0 1\"/>\n";
+}
+
+}  // namespace
+
+void FlagellumSpec::Validate() const {
+  if (link_lengths_mm.empty()) {
+    throw std::invalid_argument("flagellum spec: link_lengths_mm must list at least one link");
+  }
+  for (double length : link_lengths_mm) RequirePositive(length, "link_lengths_mm");
+  RequireNonNegative(gap_mm, "gap_mm");
+  RequirePositive(width_mm, "width_mm");
+  RequirePositive(thickness_um, "thickness_um");
+  RequireNonNegative(head_length_mm, "head_length_mm");
+  RequirePositive(density_kg_m3, "density_kg_m3");
+  RequireNonNegative(bending_modulus_Pa, "bending_modulus_Pa");
+  RequireNonNegative(hinge_damping_ratio, "hinge_damping_ratio");
+  RequirePositive(timestep_s, "timestep_s");
+  if (integrator != "Euler" && integrator != "implicit" && integrator != "RK4") {
+    throw std::invalid_argument("flagellum spec: integrator must be Euler, implicit or RK4 (got '" +
+                                integrator + "')");
+  }
+  RequirePositive(viscosity_Pa_s, "viscosity_Pa_s");
+  if (coefficients != "gray_hancock" && coefficients != "lighthill" && coefficients != "direct") {
+    throw std::invalid_argument(
+        "flagellum spec: coefficients must be gray_hancock, lighthill or direct (got '" +
+        coefficients + "')");
+  }
+  RequirePositive(wavelength_mm, "wavelength_mm");
+  RequireNonNegative(equivalent_radius_mm, "equivalent_radius_mm");
+  if (coefficients == "direct") {
+    RequirePositive(xi_normal_N_s_m2, "xi_normal_N_s_m2");
+    RequirePositive(xi_tangential_N_s_m2, "xi_tangential_N_s_m2");
+  }
+  RequireNonNegative(fluid_density_kg_m3, "fluid_density_kg_m3");
+  if (segments_per_link < 1 || segments_per_link > kMaxSegmentsPerLink) {
+    throw std::invalid_argument("flagellum spec: segments_per_link must be in [1, " +
+                                std::to_string(kMaxSegmentsPerLink) + "] (got " +
+                                std::to_string(segments_per_link) + ")");
+  }
+  if (!ParsePlantAssignment(plants)) {
+    throw std::invalid_argument("flagellum spec: plants must be uniform or table2 (got '" +
+                                plants + "')");
+  }
+  if (ipmc_model != "g1" && ipmc_model != "g2") {
+    throw std::invalid_argument("flagellum spec: ipmc_model must be g1 or g2 (got '" + ipmc_model +
+                                "')");
+  }
+  if (actuation != "distributed" && actuation != "single") {
+    throw std::invalid_argument(
+        "flagellum spec: actuation must be distributed or single (got '" + actuation + "')");
+  }
+  if (clamped && head_length_mm == 0.0 && Links() < 1) {
+    throw std::invalid_argument("flagellum spec: a clamped model needs at least one link");
+  }
+}
+
+SegmentMechanics ComputeSegmentMechanics(const FlagellumSpec& spec, int q, int segment) {
+  const double length_m = spec.link_lengths_mm.at(q) * kMmToM / spec.segments_per_link;
+  const double width_m = spec.width_mm * kMmToM;
+  const double thickness_m = spec.thickness_um * kUmToM;
+  SegmentMechanics mech{};
+  mech.length_m = length_m;
+  mech.mass_kg = spec.density_kg_m3 * length_m * width_m * thickness_m;
+  mech.inertia_about_hinge_kg_m2 = mech.mass_kg * length_m * length_m / 3.0;
+  mech.hinge_share_m = segment == 0 ? 0.5 * length_m : length_m;
+  const double second_moment_m4 = width_m * thickness_m * thickness_m * thickness_m / 12.0;
+  mech.stiffness_N_m_rad = spec.bending_modulus_Pa * second_moment_m4 / mech.hinge_share_m;
+  mech.damping_N_m_s_rad = 2.0 * spec.hinge_damping_ratio *
+                           std::sqrt(mech.stiffness_N_m_rad * mech.inertia_about_hinge_kg_m2);
+  return mech;
+}
+
+// Names of link q's (0-based) sub-segment s: "link2", "link2_2", ...; its
+// hinge "j2", "j2_2", ...
+std::string SegmentSuffix(int q, int s) {
+  return std::to_string(q + 1) + (s == 0 ? "" : "_" + std::to_string(s + 1));
+}
+
+std::string GenerateFlagellumMjcf(const FlagellumSpec& spec) {
+  spec.Validate();
+  const double half_width_m = 0.5 * spec.width_mm * kMmToM;
+  const double half_thickness_m = 0.5 * spec.thickness_um * kUmToM;
+  const bool has_head = spec.head_length_mm > 0.0;
+  const int links = spec.Links();
+
+  std::ostringstream xml;
+  xml << "<mujoco model=\"" << spec.name << "\">\n"
+      << "  <!-- Generated by ipmc-swim. SI units: m, kg, s, N m. -->\n"
+      << "  <compiler angle=\"radian\" inertiafromgeom=\"true\"/>\n"
+      << "  <option timestep=\"" << Num(spec.timestep_s) << "\" integrator=\"" << spec.integrator
+      << "\" gravity=\"0 0 0\">\n"
+      << "    <flag contact=\"disable\"/>\n"
+      << "  </option>\n"
+      << "  <visual><global offwidth=\"1280\" offheight=\"720\"/></visual>\n";
+  WriteCustomFields(spec, xml);
+  xml << "  <worldbody>\n"
+      << "    <light name=\"top\" pos=\"0.015 0 0.2\" dir=\"0 0 -1\" directional=\"true\"/>\n";
+
+  std::string indent = "    ";
+  int open_bodies = 0;
+  if (has_head) {
+    const double head_m = spec.head_length_mm * kMmToM;
+    xml << indent << "<body name=\"head\" pos=\"0 0 0\">\n";
+    indent += "  ";
+    ++open_bodies;
+    if (!spec.clamped) WriteRootJoints(xml, indent);
+    xml << indent << "<geom name=\"head\" type=\"box\" pos=\"" << Num(-0.5 * head_m)
+        << " 0 0\" size=\"" << Num(0.5 * head_m) << " " << Num(half_thickness_m) << " "
+        << Num(half_width_m) << "\" density=\"" << Num(spec.density_kg_m3)
+        << "\" rgba=\"0.35 0.35 0.4 1\"/>\n"
+        << indent << "<site name=\"head_tip\" pos=\"" << Num(-head_m) << " 0 0\" size=\"0.0003\"/>\n";
+  }
+  double body_pos_m = 0.0;
+  for (int q = 0; q < links; ++q) {
+    const std::string n = std::to_string(q + 1);
+    for (int seg = 0; seg < spec.segments_per_link; ++seg) {
+      const SegmentMechanics mech = ComputeSegmentMechanics(spec, q, seg);
+      const double start_m = seg == 0 ? LinkStartOffset_m(spec, q) : 0.0;
+      const std::string suffix = SegmentSuffix(q, seg);
+      xml << indent << "<body name=\"link" << suffix << "\" pos=\"" << Num(body_pos_m)
+          << " 0 0\">\n";
+      indent += "  ";
+      ++open_bodies;
+      const bool is_free_root = (q == 0 && seg == 0 && !has_head && !spec.clamped);
+      if (is_free_root) {
+        WriteRootJoints(xml, indent);
+      } else {
+        xml << indent << "<joint name=\"j" << suffix
+            << "\" type=\"hinge\" axis=\"0 0 1\" stiffness=\"" << Num(mech.stiffness_N_m_rad)
+            << "\" damping=\"" << Num(mech.damping_N_m_s_rad) << "\"/>\n";
+      }
+      xml << indent << "<geom name=\"link" << suffix << "\" type=\"box\" pos=\""
+          << Num(start_m + 0.5 * mech.length_m) << " 0 0\" size=\"" << Num(0.5 * mech.length_m)
+          << " " << Num(half_thickness_m) << " " << Num(half_width_m) << "\" density=\""
+          << Num(spec.density_kg_m3) << "\" rgba=\"0.15 0.45 0.8 1\"/>\n";
+      body_pos_m = start_m + mech.length_m;
+    }
+    xml << indent << "<site name=\"tip" << n << "\" pos=\"" << Num(body_pos_m)
+        << " 0 0\" size=\"0.0003\"/>\n";
+    body_pos_m += 0.5 * spec.gap_mm * kMmToM;
+  }
+  for (; open_bodies > 0; --open_bodies) {
+    indent.resize(indent.size() - 2);
+    xml << indent << "</body>\n";
+  }
+  xml << "  </worldbody>\n";
+
+  // Hinges that can be driven: every link with a hinge of its own (its root
+  // hinge, then its interior hinges).
+  std::vector<std::string> root_hinges, hinges;
+  for (int q = 0; q < links; ++q) {
+    for (int seg = 0; seg < spec.segments_per_link; ++seg) {
+      if (q == 0 && seg == 0 && !has_head && !spec.clamped) continue;
+      hinges.push_back("j" + SegmentSuffix(q, seg));
+      if (seg == 0) root_hinges.push_back(hinges.back());
+    }
+  }
+  xml << "  <actuator>\n";
+  for (const std::string& joint : hinges) {
+    // Active IPMC moment k theta0 [N m] (plugin/actuators/ipmc_actuators.h).
+    xml << "    <motor name=\"ipmc_" << joint << "\" joint=\"" << joint << "\" gear=\"1\"/>\n";
+  }
+  for (const std::string& joint : root_hinges) {
+    // Prescribed-gait servo; its gains are set at run time (sim/core/gait.h).
+    xml << "    <general name=\"servo_" << joint << "\" joint=\"" << joint
+        << "\" gaintype=\"fixed\" biastype=\"affine\" gainprm=\"0\" biasprm=\"0 0 0\"/>\n";
+  }
+  xml << "  </actuator>\n  <sensor>\n";
+  for (const std::string& joint : hinges) {
+    xml << "    <jointpos name=\"angle_" << joint << "\" joint=\"" << joint << "\"/>\n";
+  }
+  for (int q = 0; q < links; ++q) {
+    const std::string n = std::to_string(q + 1);
+    xml << "    <framepos name=\"tip" << n << "_pos\" objtype=\"site\" objname=\"tip" << n
+        << "\"/>\n";
+  }
+  xml << "  </sensor>\n</mujoco>\n";
+  return xml.str();
+}
+
+}  // namespace ipmc

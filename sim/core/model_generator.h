@@ -1,0 +1,82 @@
+// Writes MJCF for a planar N-link IPMC flagellum swimming in Stokes flow.
+//
+// Geometry (Table 1 of the paper for the default): links of length L_q
+// [mm], width w [mm] (normal to the bending plane) and thickness h [um]
+// (in the bending plane), separated by gaps g [mm]; hinges about z sit at
+// the middle of each gap. An optional rigid head (the electrode clamp that
+// link 1 bends against) precedes link 1. The root is free in the x-y plane
+// (slide x, slide y, hinge z) or welded ("clamped", as on the test bench).
+//
+// Each link is n rigid sub-segments of length l = L_q / n (n = 1: one rigid
+// link); the sub-segments of a link are joined by hinges at their ends, with
+// no gap.
+//
+// Mechanics (assumptions, overridable): mass from density rho; each hinge
+// carries the strip's bending stiffness for its share s of the length,
+// k = E I / s with I = w h^3 / 12 (discrete elastic rods weight each hinge
+// by its Voronoi length): s = l for a hinge between two sub-segments,
+// s = l / 2 for a link's root hinge, whose other side is the stiff junction
+// (for n = 1, k = 2 E I / L, the stiffness of a cantilever under an end
+// moment: M L^2 / (2 E I) = L M / k). Damping c = 2 zeta_h sqrt(k J)
+// (J = m_s l^2 / 3, the sub-segment's inertia about its hinge) damps the
+// rigid sub-segment's hinge mode with ratio zeta_h.
+//
+// Fluid: the <custom> fields read by the ipmc_swim plugin (rft_drag.h).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace ipmc {
+
+struct FlagellumSpec {
+  std::vector<double> link_lengths_mm = {10.0, 10.0, 10.0};
+  int segments_per_link = 1;            // [1, kMaxSegmentsPerLink]
+  double gap_mm = 0.5;
+  double width_mm = 3.0;
+  double thickness_um = 250.0;
+  double head_length_mm = 1.0;          // 0: no head, link 1 is the root
+  double density_kg_m3 = 2000.0;
+  double bending_modulus_Pa = 0.25e9;
+  double hinge_damping_ratio = 1.0;     // zeta_h
+  bool clamped = false;
+  double timestep_s = 1e-4;
+  std::string integrator = "implicit";  // Euler | implicit | RK4
+  // Resistive-force theory (see plugin/fluid/rft_drag.h).
+  double viscosity_Pa_s = 1.0e-3;
+  std::string coefficients = "gray_hancock";  // gray_hancock | lighthill | direct
+  double wavelength_mm = 32.0;
+  double equivalent_radius_mm = 0.0;    // 0: (w + h) / 4, Batchelor's flat strip
+  double xi_normal_N_s_m2 = 0.0;        // only with coefficients = direct
+  double xi_tangential_N_s_m2 = 0.0;
+  double fluid_density_kg_m3 = 1000.0;
+  // IPMC actuators on every link (plugin/actuators/ipmc_actuators.h), Table 2
+  // parameters; needs a hinge per link (a head, or a clamped root).
+  bool ipmc_actuators = true;
+  std::string plants = "uniform";           // uniform | table2
+  std::string ipmc_model = "g1";            // g1 | g2
+  std::string actuation = "distributed";    // distributed | single
+  std::string name = "flagellum";
+
+  // Throws std::invalid_argument naming the field and its allowed range.
+  void Validate() const;
+  int Links() const { return static_cast<int>(link_lengths_mm.size()); }
+};
+
+// Derived mechanics of one sub-segment of link `link_index` and of the
+// hinge at its root, in SI, as written into the MJCF; `segment_index` 0 is
+// the link's first sub-segment (its hinge is the link's root hinge).
+struct SegmentMechanics {
+  double length_m;
+  double mass_kg;
+  double inertia_about_hinge_kg_m2;
+  double hinge_share_m;  // s
+  double stiffness_N_m_rad;
+  double damping_N_m_s_rad;
+};
+SegmentMechanics ComputeSegmentMechanics(const FlagellumSpec& spec, int link_index,
+                                         int segment_index);
+
+std::string GenerateFlagellumMjcf(const FlagellumSpec& spec);
+
+}  // namespace ipmc

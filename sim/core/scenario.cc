@@ -1,0 +1,629 @@
+// Scenario files: strict TOML reading. Every table is walked and checked
+// against its list of keys; each value is checked for type, finiteness and
+// range before it reaches a Config, and the Configs' own Validate() runs
+// last as a backstop. Every error is one line, "FILE:LINE: key ...".
+#include "sim/io/toml_names.h"
+#include "sim/core/scenario.h"
+
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <charconv>
+#include <climits>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace ipmc {
+namespace {
+
+// Top level.
+constexpr char kModel[] = "model";
+constexpr char kLinkLengths[] = "link_lengths_mm";
+constexpr int kMaxLinks = 20;
+constexpr char kSegmentsPerLink[] = "segments_per_link";
+constexpr char kPlants[] = "plants";
+constexpr char kActuation[] = "actuation";
+constexpr char kCycles[] = "cycles";
+constexpr char kTimestep[] = "timestep_s";
+constexpr char kController[] = "controller";
+constexpr char kWaveform[] = "waveform";
+constexpr char kFluid[] = "fluid";
+constexpr char kOutput[] = "output";
+// [controller], both kinds.
+constexpr char kKind[] = "kind";
+constexpr char kSampleRate[] = "sample_rate_Hz";
+constexpr char kVMax[] = "v_max_V";
+constexpr char kClamp[] = "clamp";
+// [controller], kind = "pid".
+constexpr char kKp[] = "kp";
+constexpr char kKi[] = "ki";
+constexpr char kKd[] = "kd";
+constexpr char kDerivativeFilter[] = "derivative_filter_s";
+// [controller], kind = "fractional".
+constexpr char kGain[] = "gain";
+constexpr char kOrder[] = "order";
+constexpr char kOustaloupN[] = "oustaloup_n";
+constexpr char kBand[] = "band_rad_s";
+constexpr char kRealisation[] = "realisation";
+// [waveform], kind = "polynomial".
+constexpr char kC0[] = "c0_um";
+constexpr char kC1[] = "c1_um_per_mm";
+constexpr char kC2[] = "c2_um_per_mm2";
+// [waveform], kind = "fractional".
+constexpr char kC[] = "c_um";
+constexpr char kAlpha[] = "alpha";
+// [waveform], both kinds.
+constexpr char kFrequency[] = "frequency_Hz";
+constexpr char kWavelength[] = "wavelength_mm";
+// [fluid]
+constexpr char kViscosity[] = "viscosity_Pa_s";
+// [output]
+constexpr char kDir[] = "dir";
+constexpr char kSamplesPerCycle[] = "samples_per_cycle";
+constexpr char kStartRamp[] = "start_ramp_cycles";
+
+constexpr char kPid[] = "pid";
+constexpr char kFractional[] = "fractional";
+constexpr char kOustaloup[] = "oustaloup";
+constexpr char kEq15[] = "eq15";
+constexpr char kPolynomial[] = "polynomial";
+constexpr char kDistributed[] = "distributed";
+constexpr char kSingle[] = "single";
+
+constexpr double kMaxTimestep_s = 1e-3;
+constexpr int kMaxOustaloupN = 64;
+// Relative tolerance on "a whole number of timesteps per controller sample".
+constexpr double kWholeStepsTolerance = 1e-9;
+
+using KeyList = std::initializer_list<const char*>;
+
+// The shortest decimal that reads back as `value` ("0.001", "1000", not
+// "0.0010000000000000002" or "1e+03").
+std::string FormatNumber(double value) {
+  char buffer[64];
+  const std::to_chars_result result =
+      std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::general);
+  return std::string(buffer, result.ptr);
+}
+
+// Messages are one line even for keys or parser messages with line breaks.
+std::string OneLine(std::string text) {
+  std::replace_if(
+      text.begin(), text.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+  return text;
+}
+
+std::string TypeName(toml::node_type type) { return TomlTypeName(type); }
+
+std::string Join(KeyList keys, const char* separator) {
+  std::string joined;
+  for (const char* key : keys) {
+    if (!joined.empty()) joined += separator;
+    joined += key;
+  }
+  return joined;
+}
+
+std::string Quoted(std::string_view text) { return "\"" + std::string(text) + "\""; }
+
+bool Contains(KeyList keys, std::string_view key) {
+  return std::any_of(keys.begin(), keys.end(), [&](const char* k) { return key == k; });
+}
+
+// One value of the document: where it is and what it is called in messages.
+struct Entry {
+  std::string name;  // dotted: "controller.kp"
+  const toml::node* node = nullptr;
+  std::uint32_t line = 0;
+};
+
+// Reads one scenario document; every failure throws std::runtime_error
+// with one line naming the source, the line and the key.
+class ScenarioReader {
+ public:
+  explicit ScenarioReader(std::string source) : source_(std::move(source)) {}
+
+  [[noreturn]] void Fail(std::uint32_t line, const std::string& message) const {
+    std::string text = source_;
+    if (line > 0) text += ":" + std::to_string(line);
+    text += ": " + message;
+    throw std::runtime_error(OneLine(std::move(text)));
+  }
+
+  // The line a table starts on: its header, or for a table made by dotted
+  // keys, its first key.
+  static std::uint32_t TableLine(const toml::table& table) {
+    std::uint32_t line = table.source().begin.line;
+    if (line > 0) return line;
+    for (auto&& [key, node] : table) {
+      const std::uint32_t key_line = key.source().begin.line;
+      if (key_line > 0 && (line == 0 || key_line < line)) line = key_line;
+    }
+    return line;
+  }
+
+  // The earliest key of `table` that is not in `allowed`, reported with
+  // the list of allowed keys.
+  void RejectUnknownKeys(const toml::table& table, const std::string& prefix,
+                         KeyList allowed) const {
+    const toml::key* unknown = nullptr;
+    for (auto&& [key, node] : table) {
+      if (Contains(allowed, key.str())) continue;
+      if (unknown == nullptr || key.source().begin.line < unknown->source().begin.line) {
+        unknown = &key;
+      }
+    }
+    if (unknown != nullptr) {
+      Fail(unknown->source().begin.line, "unknown key '" + prefix + std::string(unknown->str()) +
+                                             "' (allowed: " + Join(allowed, ", ") + ")");
+    }
+  }
+
+  std::optional<Entry> Find(const toml::table& table, const std::string& prefix,
+                            const char* key) const {
+    const auto it = table.find(key);
+    if (it == table.end()) return std::nullopt;
+    Entry entry;
+    entry.name = prefix + key;
+    entry.node = &it->second;
+    entry.line = it->first.source().begin.line;
+    if (entry.line == 0) entry.line = it->second.source().begin.line;
+    return entry;
+  }
+
+  [[noreturn]] void FailType(const Entry& entry, const std::string& expected) const {
+    Fail(entry.line,
+         entry.name + " must be " + expected + " (got " + TypeName(entry.node->type()) + ")");
+  }
+
+  // A finite number; integers are accepted.
+  double Number(const Entry& entry) const {
+    if (!entry.node->is_number()) FailType(entry, "a number");
+    const double value = entry.node->is_integer()
+                             ? static_cast<double>(entry.node->as_integer()->get())
+                             : entry.node->as_floating_point()->get();
+    if (!std::isfinite(value)) {
+      Fail(entry.line, entry.name + " must be finite (got " + FormatNumber(value) + ")");
+    }
+    return value;
+  }
+
+  // An integer in [minimum, maximum].
+  int Integer(const Entry& entry, int minimum, int maximum) const {
+    if (!entry.node->is_integer()) FailType(entry, "an integer");
+    const std::int64_t value = entry.node->as_integer()->get();
+    if (value < minimum) {
+      Fail(entry.line, entry.name + " must be >= " + std::to_string(minimum) + " (got " +
+                           std::to_string(value) + ")");
+    }
+    if (value > maximum) {
+      Fail(entry.line, entry.name + " must be <= " + std::to_string(maximum) + " (got " +
+                           std::to_string(value) + ")");
+    }
+    return static_cast<int>(value);
+  }
+
+  bool Boolean(const Entry& entry) const {
+    if (!entry.node->is_boolean()) FailType(entry, "a boolean");
+    return entry.node->as_boolean()->get();
+  }
+
+  std::string String(const Entry& entry) const {
+    if (!entry.node->is_string()) FailType(entry, "a string");
+    return entry.node->as_string()->get();
+  }
+
+  // One of `choices` (a string).
+  std::string Choice(const Entry& entry, KeyList choices) const {
+    const std::string value = String(entry);
+    if (!Contains(choices, value)) {
+      std::string allowed;
+      for (const char* choice : choices) {
+        if (!allowed.empty()) allowed += " or ";
+        allowed += Quoted(choice);
+      }
+      Fail(entry.line, entry.name + " must be " + allowed + " (got " + Quoted(value) + ")");
+    }
+    return value;
+  }
+
+  const toml::table* Table(const toml::table& root, const char* key) const {
+    const std::optional<Entry> entry = Find(root, "", key);
+    if (!entry) return nullptr;
+    if (!entry->node->is_table()) FailType(*entry, "a table");
+    return entry->node->as_table();
+  }
+
+  void RequireAtLeast(const Entry& entry, double value, double minimum) const {
+    if (!(value >= minimum)) {
+      Fail(entry.line, entry.name + " must be >= " + FormatNumber(minimum) + " (got " +
+                           FormatNumber(value) + ")");
+    }
+  }
+  void RequireAbove(const Entry& entry, double value, double minimum) const {
+    if (!(value > minimum)) {
+      Fail(entry.line, entry.name + " must be > " + FormatNumber(minimum) + " (got " +
+                           FormatNumber(value) + ")");
+    }
+  }
+  void RequireAtMost(const Entry& entry, double value, double maximum) const {
+    if (!(value <= maximum)) {
+      Fail(entry.line, entry.name + " must be <= " + FormatNumber(maximum) + " (got " +
+                           FormatNumber(value) + ")");
+    }
+  }
+
+  // Keys that belong to the other kind of a table are mistakes (a gain
+  // that would be silently ignored), not settings. `selector` is the key
+  // that chose the kind ("kind", or "realisation" in [controller]).
+  void RejectKeysOfOtherKind(const toml::table& table, const std::string& prefix, KeyList keys,
+                             const char* their_kind, const std::string& kind,
+                             const char* selector = "kind") const {
+    for (const char* key : keys) {
+      if (const std::optional<Entry> entry = Find(table, prefix, key)) {
+        Fail(entry->line, entry->name + " applies only to " + selector + " = " +
+                              Quoted(their_kind) + " (" + selector + " is " + Quoted(kind) +
+                              ")");
+      }
+    }
+  }
+
+  ScenarioConfig Read(const toml::table& root) const;
+
+ private:
+  void ReadController(const toml::table& table, ScenarioConfig* config) const;
+  void ReadRealisation(const toml::table& table, FractionalIntegrator::Config* fractional) const;
+  void ReadWaveform(const toml::table& table, WaveformConfig* wave) const;
+  void ReadStartRamp(const toml::table& table, ScenarioConfig* config) const;
+  void ReadLinkLengths(const Entry& entry, ScenarioConfig* config) const;
+
+  std::string source_;
+};
+
+// Controller fields as the TOML keys that set them, for placing a
+// Validate() message on the right line.
+const char* ControllerKeyOfField(const std::string& message) {
+  static const std::pair<const char*, const char*> kFieldKeys[] = {
+      {"kp", kKp},
+      {"ki", kKi},
+      {"kd", kKd},
+      {"derivative_filter_time_s", kDerivativeFilter},
+      {"sample_period_s", kSampleRate},
+      {"v_max", kVMax},
+      {"gain", kGain},
+      {"order", kOrder},
+      {"oustaloup_n", kOustaloupN},
+      {"w_low_rad_s", kBand},
+      {"w_high_rad_s", kBand},
+  };
+  for (const auto& [field, key] : kFieldKeys) {
+    if (message.find(std::string("Config.") + field + " ") != std::string::npos) return key;
+  }
+  return nullptr;
+}
+
+void ScenarioReader::ReadController(const toml::table& table, ScenarioConfig* config) const {
+  const std::string prefix = std::string(kController) + ".";
+  RejectUnknownKeys(table, prefix,
+                    {kKind, kSampleRate, kVMax, kClamp, kKp, kKi, kKd, kDerivativeFilter, kGain,
+                     kOrder, kOustaloupN, kBand, kRealisation});
+
+  std::string kind = kPid;
+  if (const auto entry = Find(table, prefix, kKind)) kind = Choice(*entry, {kPid, kFractional});
+  config->controller = kind == kPid ? ControllerKind::kPid : ControllerKind::kFractional;
+  if (kind == kPid) {
+    RejectKeysOfOtherKind(table, prefix, {kGain, kOrder, kOustaloupN, kBand, kRealisation},
+                          kFractional, kind);
+  } else {
+    RejectKeysOfOtherKind(table, prefix, {kKp, kKi, kKd, kDerivativeFilter}, kPid, kind);
+    ReadRealisation(table, &config->fractional);
+  }
+
+  if (const auto entry = Find(table, prefix, kSampleRate)) {
+    config->sample_rate_Hz = Number(*entry);
+    RequireAbove(*entry, config->sample_rate_Hz, 0.0);
+  }
+  double v_max = config->pid.v_max;
+  if (const auto entry = Find(table, prefix, kVMax)) {
+    v_max = Number(*entry);
+    RequireAbove(*entry, v_max, 0.0);
+  }
+  bool clamp = config->pid.clamp_enabled;
+  if (const auto entry = Find(table, prefix, kClamp)) clamp = Boolean(*entry);
+
+  PidController::Config& pid = config->pid;
+  const std::pair<const char*, double*> pid_gains[] = {
+      {kKp, &pid.kp},
+      {kKi, &pid.ki},
+      {kKd, &pid.kd},
+      {kDerivativeFilter, &pid.derivative_filter_time_s}};
+  for (const auto& [key, field] : pid_gains) {
+    if (const auto entry = Find(table, prefix, key)) {
+      *field = Number(*entry);
+      RequireAtLeast(*entry, *field, 0.0);
+    }
+  }
+
+  FractionalIntegrator::Config& fractional = config->fractional;
+  if (const auto entry = Find(table, prefix, kGain)) {
+    fractional.gain = Number(*entry);
+    RequireAtLeast(*entry, fractional.gain, 0.0);
+  }
+  if (const auto entry = Find(table, prefix, kOrder)) {
+    fractional.order = Number(*entry);
+    RequireAbove(*entry, fractional.order, 0.0);
+    RequireAtMost(*entry, fractional.order, 1.0);
+  }
+  if (const auto entry = Find(table, prefix, kOustaloupN)) {
+    fractional.oustaloup_n = Integer(*entry, 1, kMaxOustaloupN);
+  }
+  if (const auto entry = Find(table, prefix, kBand)) {
+    const toml::array* band = entry->node->as_array();
+    if (band == nullptr) FailType(*entry, "an array of two numbers [w_b, w_h]");
+    if (band->size() != 2) {
+      Fail(entry->line, entry->name + " must be an array of two numbers [w_b, w_h] (got " +
+                            std::to_string(band->size()) + ")");
+    }
+    double corners[2];
+    for (int i = 0; i < 2; ++i) {
+      Entry corner;
+      corner.name = entry->name + "[" + std::to_string(i) + "]";
+      corner.node = band->get(static_cast<std::size_t>(i));
+      corner.line =
+          corner.node->source().begin.line > 0 ? corner.node->source().begin.line : entry->line;
+      corners[i] = Number(corner);
+      RequireAbove(corner, corners[i], 0.0);
+    }
+    if (!(corners[0] < corners[1])) {
+      Fail(entry->line, entry->name + " must have w_b < w_h (got [" + FormatNumber(corners[0]) +
+                            ", " + FormatNumber(corners[1]) + "])");
+    }
+    fractional.w_low_rad_s = corners[0];
+    fractional.w_high_rad_s = corners[1];
+  }
+
+  const double sample_period_s = 1.0 / config->sample_rate_Hz;
+  pid.sample_period_s = sample_period_s;
+  pid.clamp_enabled = clamp;
+  pid.v_max = v_max;
+  fractional.sample_period_s = sample_period_s;
+  fractional.clamp_enabled = clamp;
+  fractional.v_max = v_max;
+  try {
+    if (config->controller == ControllerKind::kPid) {
+      pid.Validate();
+    } else {
+      fractional.Validate();
+    }
+  } catch (const std::invalid_argument& error) {
+    const std::string message = error.what();
+    std::uint32_t line = TableLine(table);
+    if (const char* key = ControllerKeyOfField(message)) {
+      if (const auto entry = Find(table, prefix, key)) line = entry->line;
+    }
+    Fail(line, std::string(kController) + ": " + message);
+  }
+}
+
+// [controller] realisation of the fractional integrator: "oustaloup"
+// (K / s^lambda by Oustaloup, the default) or "eq15" (the paper's printed
+// eq. 15, which fixes gain, order and band, so they are not settings).
+void ScenarioReader::ReadRealisation(const toml::table& table,
+                                     FractionalIntegrator::Config* fractional) const {
+  const std::string prefix = std::string(kController) + ".";
+  const auto entry = Find(table, prefix, kRealisation);
+  if (!entry) return;
+  const std::string word = Choice(*entry, {kOustaloup, kEq15});
+  fractional->realisation = *ParseFractionalRealisation(word);
+  if (fractional->realisation == FractionalRealisation::kEq15) {
+    RejectKeysOfOtherKind(table, prefix, {kGain, kOrder, kOustaloupN, kBand}, kOustaloup, word,
+                          kRealisation);
+  }
+}
+
+void ScenarioReader::ReadWaveform(const toml::table& table, WaveformConfig* wave) const {
+  const std::string prefix = std::string(kWaveform) + ".";
+  RejectUnknownKeys(table, prefix,
+                    {kKind, kC0, kC1, kC2, kC, kAlpha, kFrequency, kWavelength, kStartRamp});
+
+  std::string kind = kPolynomial;
+  if (const auto entry = Find(table, prefix, kKind)) {
+    kind = Choice(*entry, {kPolynomial, kFractional});
+  }
+  wave->kind = kind == kPolynomial ? WaveformKind::kPolynomial : WaveformKind::kFractional;
+  if (kind == kPolynomial) {
+    RejectKeysOfOtherKind(table, prefix, {kC, kAlpha}, kFractional, kind);
+  } else {
+    RejectKeysOfOtherKind(table, prefix, {kC0, kC1, kC2}, kPolynomial, kind);
+  }
+
+  const std::pair<const char*, double*> numbers[] = {{kC0, &wave->c0_um},
+                                                     {kC1, &wave->c1_um_per_mm},
+                                                     {kC2, &wave->c2_um_per_mm2},
+                                                     {kC, &wave->c_um},
+                                                     {kAlpha, &wave->alpha},
+                                                     {kFrequency, &wave->frequency_Hz},
+                                                     {kWavelength, &wave->wavelength_mm}};
+  for (const auto& [key, field] : numbers) {
+    if (const auto entry = Find(table, prefix, key)) *field = Number(*entry);
+  }
+
+  try {
+    wave->Validate();
+  } catch (const std::invalid_argument& error) {
+    std::string message = error.what();
+    const std::string own_prefix = std::string(kWaveform) + ": ";
+    if (message.compare(0, own_prefix.size(), own_prefix) == 0) message.erase(0, own_prefix.size());
+    // The field names of WaveformConfig are the keys of [waveform].
+    std::uint32_t line = TableLine(table);
+    for (const char* key : {kC0, kC1, kC2, kC, kAlpha, kFrequency, kWavelength}) {
+      if (message.compare(0, std::string(key).size() + 1, std::string(key) + " ") != 0) continue;
+      if (const auto entry = Find(table, prefix, key)) line = entry->line;
+    }
+    Fail(line, own_prefix + message);
+  }
+}
+
+// 1 to kMaxLinks positive link lengths [mm].
+void ScenarioReader::ReadLinkLengths(const Entry& entry, ScenarioConfig* config) const {
+  const toml::array* lengths = entry.node->as_array();
+  if (lengths == nullptr) FailType(entry, "an array of link lengths in mm");
+  if (lengths->empty() || lengths->size() > static_cast<std::size_t>(kMaxLinks)) {
+    Fail(entry.line, entry.name + " must hold 1 to " + std::to_string(kMaxLinks) +
+                         " lengths (got " + std::to_string(lengths->size()) + ")");
+  }
+  for (std::size_t i = 0; i < lengths->size(); ++i) {
+    Entry length;
+    length.name = entry.name + "[" + std::to_string(i) + "]";
+    length.node = lengths->get(i);
+    length.line = length.node->source().begin.line > 0 ? length.node->source().begin.line
+                                                       : entry.line;
+    const double value = Number(length);
+    RequireAbove(length, value, 0.0);
+    config->link_lengths_mm.push_back(value);
+  }
+}
+
+// The references' fade-in, in [0, cycles] wave periods.
+void ScenarioReader::ReadStartRamp(const toml::table& table, ScenarioConfig* config) const {
+  const auto entry = Find(table, std::string(kWaveform) + ".", kStartRamp);
+  if (!entry) return;
+  const double cycles = Number(*entry);
+  if (cycles < 0.0 || cycles > config->cycles) {
+    Fail(entry->line, entry->name + " must be in [0, cycles] = [0, " +
+                          std::to_string(config->cycles) + "] (got " + FormatNumber(cycles) + ")");
+  }
+  config->start_ramp_cycles = cycles;
+}
+
+ScenarioConfig ScenarioReader::Read(const toml::table& root) const {
+  RejectUnknownKeys(
+      root, "",
+      {kModel, kLinkLengths, kSegmentsPerLink, kPlants, kActuation, kCycles, kTimestep,
+       kController, kWaveform, kFluid, kOutput});
+
+  ScenarioConfig config;
+  config.source = source_;
+
+  if (const auto entry = Find(root, "", kLinkLengths)) ReadLinkLengths(*entry, &config);
+  if (const auto entry = Find(root, "", kSegmentsPerLink)) {
+    config.segments_per_link = Integer(*entry, 1, kMaxSegmentsPerLink);
+  }
+  if (const auto entry = Find(root, "", kPlants)) {
+    config.plants = *ParsePlantAssignment(Choice(*entry, {"uniform", "table2"}));
+  }
+  const std::optional<Entry> model = Find(root, "", kModel);
+  if (!model && !config.GeneratesModel()) {
+    Fail(0, std::string(kModel) + " is required (or " + kLinkLengths + ")");
+  }
+  if (model) {
+    namespace fs = std::filesystem;
+    fs::path path(String(*model));
+    if (path.is_relative()) path = fs::path(source_).parent_path() / path;
+    path = fs::absolute(path).lexically_normal();
+    std::error_code ignored;
+    if (!fs::is_regular_file(path, ignored) || !std::ifstream(path).good()) {
+      Fail(model->line, std::string(kModel) + ": cannot open '" + path.string() + "'");
+    }
+    config.model_path = path.string();
+  }
+
+  if (const auto entry = Find(root, "", kActuation)) {
+    config.actuation = Choice(*entry, {kDistributed, kSingle});
+  }
+  if (const auto entry = Find(root, "", kCycles)) config.cycles = Integer(*entry, 1, INT_MAX);
+  if (const auto entry = Find(root, "", kTimestep)) {
+    const double timestep_s = Number(*entry);
+    RequireAbove(*entry, timestep_s, 0.0);
+    RequireAtMost(*entry, timestep_s, kMaxTimestep_s);
+    config.timestep_s = timestep_s;
+  }
+
+  const toml::table* controller = Table(root, kController);
+  if (controller != nullptr) {
+    ReadController(*controller, &config);
+  } else {
+    config.pid.sample_period_s = 1.0 / config.sample_rate_Hz;
+    config.fractional.sample_period_s = config.pid.sample_period_s;
+  }
+  // The controller is sampled every k physics steps, k a whole number.
+  if (config.timestep_s) {
+    const double steps_per_sample = 1.0 / (config.sample_rate_Hz * *config.timestep_s);
+    const double whole = std::round(steps_per_sample);
+    if (whole < 1.0 ||
+        std::abs(steps_per_sample - whole) > kWholeStepsTolerance * steps_per_sample) {
+      std::optional<Entry> where;
+      if (controller != nullptr) {
+        where = Find(*controller, std::string(kController) + ".", kSampleRate);
+      }
+      if (!where) where = Find(root, "", kTimestep);
+      Fail(where->line, std::string(kController) + "." + kSampleRate +
+                            " must make the sample period a whole number of timesteps (1 / (" +
+                            FormatNumber(config.sample_rate_Hz) + " Hz x " +
+                            FormatNumber(*config.timestep_s) +
+                            " s) = " + FormatNumber(steps_per_sample) + ")");
+    }
+  }
+
+  if (const toml::table* waveform = Table(root, kWaveform)) {
+    ReadWaveform(*waveform, &config.waveform);
+    ReadStartRamp(*waveform, &config);
+  }
+
+  if (const toml::table* fluid = Table(root, kFluid)) {
+    const std::string prefix = std::string(kFluid) + ".";
+    RejectUnknownKeys(*fluid, prefix, {kViscosity});
+    if (const auto entry = Find(*fluid, prefix, kViscosity)) {
+      const double viscosity_Pa_s = Number(*entry);
+      RequireAbove(*entry, viscosity_Pa_s, 0.0);
+      config.viscosity_Pa_s = viscosity_Pa_s;
+    }
+  }
+
+  if (const toml::table* output = Table(root, kOutput)) {
+    const std::string prefix = std::string(kOutput) + ".";
+    RejectUnknownKeys(*output, prefix, {kDir, kSamplesPerCycle});
+    if (const auto entry = Find(*output, prefix, kDir)) config.output_dir = String(*entry);
+    if (const auto entry = Find(*output, prefix, kSamplesPerCycle)) {
+      config.samples_per_cycle = Integer(*entry, 1, INT_MAX);
+    }
+  }
+  return config;
+}
+
+}  // namespace
+
+ScenarioConfig ParseScenario(const std::string& toml_text, const std::string& source) {
+  const ScenarioReader reader(source);
+  toml::table root;
+  try {
+    root = toml::parse(toml_text, source);
+  } catch (const toml::parse_error& error) {
+    const toml::source_position& where = error.source().begin;
+    std::string message = source + ":" + std::to_string(where.line) + ":" +
+                          std::to_string(where.column) + ": " + std::string(error.description());
+    throw std::runtime_error(OneLine(std::move(message)));
+  }
+  return reader.Read(root);
+}
+
+ScenarioConfig LoadScenario(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw std::runtime_error(path + ": cannot open the scenario file");
+  std::ostringstream text;
+  text << file.rdbuf();
+  if (file.bad()) throw std::runtime_error(path + ": cannot read the scenario file");
+  return ParseScenario(text.str(), path);
+}
+
+}  // namespace ipmc

@@ -1,0 +1,58 @@
+// Owns one mjModel/mjData pair with the ipmc_swim coupling attached.
+#pragma once
+
+#include <mujoco/mujoco.h>
+
+#include <memory>
+#include <string>
+
+#include "plugin/actuators/ipmc_actuators.h"
+
+namespace ipmc {
+
+struct ModelDeleter {
+  void operator()(mjModel* m) const { mj_deleteModel(m); }
+};
+struct DataDeleter {
+  void operator()(mjData* d) const { mj_deleteData(d); }
+};
+using ModelPtr = std::unique_ptr<mjModel, ModelDeleter>;
+using DataPtr = std::unique_ptr<mjData, DataDeleter>;
+
+// Loads an MJCF file. Throws std::runtime_error "PATH: reason" if the
+// file is missing or MuJoCo rejects it.
+ModelPtr LoadModelFile(const std::string& path);
+// Loads MJCF text (written to a private temporary file for MuJoCo's parser).
+ModelPtr LoadModelString(const std::string& xml);
+
+class Simulation {
+ public:
+  // Takes ownership of m, makes its data and attaches the coupling, with
+  // `overrides` imposed over the model's fields. Errors from the model's
+  // ipmc_* fields are prefixed with `source` (the file).
+  Simulation(ModelPtr m, const std::string& source,
+             const IpmcActuatorsOverrides& overrides = {});
+  ~Simulation();
+  Simulation(const Simulation&) = delete;
+  Simulation& operator=(const Simulation&) = delete;
+
+  mjModel* model() { return model_.get(); }
+  const mjModel* model() const { return model_.get(); }
+  mjData* data() { return data_.get(); }
+  const mjData* data() const { return data_.get(); }
+  const std::string& source() const { return source_; }
+
+  // One mj_step; throws std::runtime_error naming the time if the state
+  // stops being finite or MuJoCo reports a bad acceleration.
+  void Step();
+
+ private:
+  ModelPtr model_;
+  DataPtr data_;
+  std::string source_;
+};
+
+// Index helpers that throw std::runtime_error naming the missing object.
+int RequireId(const mjModel* m, mjtObj type, const std::string& name, const std::string& source);
+
+}  // namespace ipmc

@@ -1,0 +1,86 @@
+#include "sim/core/swim_meter.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "plugin/coupling.h"
+
+namespace ipmc {
+namespace {
+
+constexpr double kMToMm = 1e3;
+constexpr int kRootBody = 1;
+
+}  // namespace
+
+SwimMeter::SwimMeter(const mjModel* m) {
+  for (int q = 1;; ++q) {
+    const int id = mj_name2id(m, mjOBJ_SITE, ("tip" + std::to_string(q)).c_str());
+    if (id < 0) break;
+    tip_sites_.push_back(id);
+  }
+}
+
+BodyPose SwimMeter::Pose(const mjData* d) const {
+  BodyPose pose;
+  pose.t_s = d->time;
+  pose.com_x_mm = d->subtree_com[3 * kRootBody] * kMToMm;
+  pose.com_y_mm = d->subtree_com[3 * kRootBody + 1] * kMToMm;
+  pose.head_x_mm = d->xpos[3 * kRootBody] * kMToMm;
+  pose.head_y_mm = d->xpos[3 * kRootBody + 1] * kMToMm;
+  const mjtNum* xmat = d->xmat + 9 * kRootBody;
+  pose.yaw_rad = std::atan2(xmat[3], xmat[0]);
+  for (int site : tip_sites_) {
+    pose.tip_x_mm.push_back(d->site_xpos[3 * site] * kMToMm);
+    pose.tip_y_mm.push_back(d->site_xpos[3 * site + 1] * kMToMm);
+  }
+  return pose;
+}
+
+void SwimMeter::Start(const mjData* d) {
+  run_start_ = cycle_start_ = Pose(d);
+  metrics_ = SwimMetrics();
+}
+
+void SwimMeter::Observe(const mjModel* m, const mjData* d) {
+  if (tip_sites_.empty()) return;
+  mjtNum velocity[6];  // [angular; linear], world frame
+  mj_objectVelocity(m, d, mjOBJ_SITE, tip_sites_.back(), velocity, 0);
+  metrics_.peak_lateral_tip_speed_mm_s =
+      std::max(metrics_.peak_lateral_tip_speed_mm_s, std::abs(velocity[4]) * kMToMm);
+}
+
+void SwimMeter::EndCycle(const mjData* d) {
+  const BodyPose end = Pose(d);
+  metrics_.per_cycle.push_back({-(end.com_x_mm - cycle_start_.com_x_mm),
+                                end.com_y_mm - cycle_start_.com_y_mm,
+                                -(end.head_x_mm - cycle_start_.head_x_mm),
+                                end.head_y_mm - cycle_start_.head_y_mm});
+  cycle_start_ = end;
+}
+
+SwimMetrics SwimMeter::Finish(const mjModel* m, const mjData* d) const {
+  SwimMetrics metrics = metrics_;
+  const BodyPose end = Pose(d);
+  const double elapsed_s = end.t_s - run_start_.t_s;
+  if (elapsed_s > 0.0) {
+    metrics.mean_speed_along_mm_s = -(end.com_x_mm - run_start_.com_x_mm) / elapsed_s;
+  }
+  const CouplingContext* coupling = FindCoupling(d);
+  if (!coupling || !coupling->drag) return metrics;
+  double body_length_m = 0.0;
+  for (const Segment& segment : coupling->drag->Segments(m, d)) body_length_m += segment.length_m;
+  metrics.body_length_mm = body_length_m * kMToMm;
+  const RftDragConfig& fluid = coupling->drag->config();
+  const int width_id = mj_name2id(m, mjOBJ_NUMERIC, "ipmc_strip_width_m");
+  const double width_m = width_id >= 0 ? m->numeric_data[m->numeric_adr[width_id]]
+                                       : 2.0 * fluid.equivalent_radius_m;
+  const double rho_over_mu = fluid.fluid_density_kg_m3 / fluid.viscosity_Pa_s;
+  metrics.reynolds_tip = rho_over_mu * metrics.peak_lateral_tip_speed_mm_s / kMToMm * width_m;
+  metrics.reynolds_swim =
+      rho_over_mu * std::abs(metrics.mean_speed_along_mm_s) / kMToMm * body_length_m;
+  return metrics;
+}
+
+}  // namespace ipmc

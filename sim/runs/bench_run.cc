@@ -1,0 +1,124 @@
+#include "sim/runs/bench_run.h"
+
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+
+#include "ipmc_swim/ipmc_swim.h"
+#include "plugin/coupling.h"
+#include "sim/core/link_sensors.h"
+
+namespace ipmc {
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586;
+
+void RequirePositive(double value, const char* field) {
+  if (!(value > 0.0) || !std::isfinite(value)) {
+    std::ostringstream msg;
+    msg << "bench: " << field << " must be finite and > 0 (got " << value << ")";
+    throw std::invalid_argument(msg.str());
+  }
+}
+
+}  // namespace
+
+void BenchSignal::Validate() const {
+  if (!std::isfinite(amplitude_V) || std::abs(amplitude_V) > 100.0) {
+    std::ostringstream msg;
+    msg << "bench: amplitude_V must be finite and within [-100, 100] V (got " << amplitude_V << ")";
+    throw std::invalid_argument(msg.str());
+  }
+  RequirePositive(duration_s, "duration_s");
+  RequirePositive(sample_rate_Hz, "sample_rate_Hz");
+  if (kind == Kind::kSine) {
+    RequirePositive(frequency_Hz, "frequency_Hz");
+  } else {
+    RequirePositive(start_Hz, "start_Hz");
+    if (!(end_Hz > start_Hz) || !(end_Hz < 0.5 * sample_rate_Hz)) {
+      std::ostringstream msg;
+      msg << "bench: end_Hz must be in (start_Hz, sample_rate_Hz / 2) = (" << start_Hz << ", "
+          << 0.5 * sample_rate_Hz << ") (got " << end_Hz << ")";
+      throw std::invalid_argument(msg.str());
+    }
+  }
+  if (driven_links.empty()) throw std::invalid_argument("bench: driven_links is empty");
+}
+
+double BenchSignal::VoltageAt(double t_s) const {
+  if (kind == Kind::kSine) return amplitude_V * std::sin(kTwoPi * frequency_Hz * t_s);
+  const double sweep_Hz_s = (end_Hz - start_Hz) / duration_s;
+  return amplitude_V * std::sin(kTwoPi * (start_Hz * t_s + 0.5 * sweep_Hz_s * t_s * t_s));
+}
+
+BenchRecord RunBench(Simulation& sim, const BenchSignal& signal, double record_from_s) {
+  signal.Validate();
+  mjModel* m = sim.model();
+  mjData* d = sim.data();
+  const LinkSensors sensors(m, d, sim.source());
+  const IpmcActuators& actuators = *FindCoupling(d)->actuators;
+  const int links = sensors.Links();
+  for (int link : signal.driven_links) {
+    if (link < 1 || link > links) {
+      throw std::invalid_argument("bench: driven link " + std::to_string(link) +
+                                  " is outside [1, " + std::to_string(links) + "]");
+    }
+  }
+  const double dt = m->opt.timestep;
+  const double steps_per_sample_real = 1.0 / (signal.sample_rate_Hz * dt);
+  const long steps_per_sample = std::lround(steps_per_sample_real);
+  if (steps_per_sample < 1 || std::abs(steps_per_sample_real - steps_per_sample) > 1e-6) {
+    std::ostringstream msg;
+    msg << "bench: sample_rate_Hz " << signal.sample_rate_Hz
+        << " must divide the model's step rate " << 1.0 / dt << " Hz";
+    throw std::invalid_argument(msg.str());
+  }
+  const long steps = std::lround(signal.duration_s / dt);
+  BenchRecord record;
+  record.voltage_V.resize(links);
+  record.relative_mm.resize(links);
+  record.tip_lateral_mm.resize(links);
+  record.free_mm.resize(links);
+  std::vector<double> volts(links, 0.0);
+  for (long step = 0; step < steps; ++step) {
+    if (step % steps_per_sample == 0) {
+      const double voltage = signal.VoltageAt(d->time);
+      for (int link : signal.driven_links) volts[link - 1] = voltage;
+      SetVoltages(d, volts.data(), links);
+      if (d->time >= record_from_s) {
+        record.t_s.push_back(d->time);
+        for (int q = 0; q < links; ++q) {
+          record.voltage_V[q].push_back(actuators.Voltages_V()[q]);
+          record.relative_mm[q].push_back(sensors.RelativeDeflection_mm(d, q));
+          record.tip_lateral_mm[q].push_back(sensors.TipLateral_mm(d, q));
+          record.free_mm[q].push_back(actuators.FreeTipDeflection_mm(q));
+        }
+      }
+    }
+    sim.Step();
+  }
+  return record;
+}
+
+std::string BenchCsv(const BenchRecord& record) {
+  std::ostringstream csv;
+  csv << std::setprecision(10) << "time_s";
+  const size_t links = record.voltage_V.size();
+  for (size_t q = 1; q <= links; ++q) {
+    csv << ",voltage" << q << "_V,relative" << q << "_mm,tip" << q << "_lateral_mm,free" << q
+        << "_mm";
+  }
+  csv << "\n";
+  for (size_t i = 0; i < record.t_s.size(); ++i) {
+    csv << record.t_s[i];
+    for (size_t q = 0; q < links; ++q) {
+      csv << "," << record.voltage_V[q][i] << "," << record.relative_mm[q][i] << ","
+          << record.tip_lateral_mm[q][i] << "," << record.free_mm[q][i];
+    }
+    csv << "\n";
+  }
+  return csv.str();
+}
+
+}  // namespace ipmc

@@ -1,0 +1,48 @@
+// Test-bench experiments (paper section 4.1): a voltage signal on chosen
+// links of a (usually clamped) flagellum, recorded like the bench's data
+// acquisition at a fixed rate (default 1 kHz): voltages, the links'
+// relative tip deflections, the tips' lateral positions (the laser), and
+// the links' free deflections from their models.
+//
+//   sine:  V(t) = A sin(2 pi f t)
+//   chirp: V(t) = A sin(2 pi (f0 t + (f1 - f0) t^2 / (2 T)))  (linear sweep)
+// The paper's chirp: A = 3 V, f0 = 0.1 Hz, f1 = 200 Hz, T = 200 s.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "sim/core/simulation.h"
+
+namespace ipmc {
+
+struct BenchSignal {
+  enum class Kind { kSine, kChirp };
+  Kind kind = Kind::kSine;
+  double amplitude_V = 3.0;      // finite, |A| <= 100
+  double frequency_Hz = 1.0;     // sine; > 0
+  double start_Hz = 0.1;         // chirp f0; > 0
+  double end_Hz = 200.0;         // chirp f1; > f0, below half the sample rate
+  double duration_s = 200.0;     // > 0
+  double sample_rate_Hz = 1000;  // > 0, a whole number of time steps
+  std::vector<int> driven_links = {1};  // 1-based
+  void Validate() const;         // std::invalid_argument naming the field
+  double VoltageAt(double t_s) const;
+};
+
+struct BenchRecord {
+  std::vector<double> t_s;
+  std::vector<std::vector<double>> voltage_V;        // [link][sample]
+  std::vector<std::vector<double>> relative_mm;      // L_q sin(theta_q)
+  std::vector<std::vector<double>> tip_lateral_mm;   // laser
+  std::vector<std::vector<double>> free_mm;          // delta_free_q
+};
+
+// Runs `signal` from t = 0 (the state as reset) for its duration and keeps
+// the samples from `record_from_s` on. Throws on a bad signal, a model
+// without IPMC actuators, or divergence.
+BenchRecord RunBench(Simulation& sim, const BenchSignal& signal, double record_from_s = 0.0);
+
+std::string BenchCsv(const BenchRecord& record);
+
+}  // namespace ipmc

@@ -1,0 +1,169 @@
+#include "sim/runs/closed_loop_run.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+
+#include "ipmc_swim/ipmc_swim.h"
+#include "plugin/coupling.h"
+#include "sim/core/model_generator.h"
+#include "sim/core/link_sensors.h"
+
+namespace ipmc {
+namespace {
+
+// Segment pitches of the model at rest (hinge anchors and the last tip
+// along x) and the IPMC links' lengths.
+LinkGeometry ModelGeometry(const mjModel* m, const mjData* d, const std::string& source) {
+  LinkGeometry geometry;
+  std::vector<double> hinge_x_mm;
+  for (int q = 1;; ++q) {
+    const int joint = mj_name2id(m, mjOBJ_JOINT, ("j" + std::to_string(q)).c_str());
+    if (joint < 0) break;
+    hinge_x_mm.push_back(d->xanchor[3 * joint] * 1e3);
+  }
+  const int last_tip =
+      mj_name2id(m, mjOBJ_SITE, ("tip" + std::to_string(hinge_x_mm.size())).c_str());
+  if (hinge_x_mm.empty() || last_tip < 0) {
+    throw std::runtime_error(source + ": closed-loop runs need hinges j1..jN and sites tip1..tipN");
+  }
+  hinge_x_mm.push_back(d->site_xpos[3 * last_tip] * 1e3);
+  for (size_t q = 0; q + 1 < hinge_x_mm.size(); ++q) {
+    geometry.pitch_mm.push_back(hinge_x_mm[q + 1] - hinge_x_mm[q]);
+  }
+  for (double length_m : FindCoupling(d)->actuators->LinkLengths_m()) {
+    geometry.length_mm.push_back(length_m * 1e3);
+  }
+  return geometry;
+}
+
+long StepsPerSample(double sample_rate_Hz, double dt_s, const std::string& source) {
+  const double ratio = 1.0 / (sample_rate_Hz * dt_s);
+  const long steps = std::lround(ratio);
+  if (steps < 1 || std::abs(ratio - steps) > 1e-6) {
+    std::ostringstream msg;
+    msg << source << ": controller.sample_rate_Hz " << sample_rate_Hz
+        << " must divide the step rate " << 1.0 / dt_s << " Hz";
+    throw std::runtime_error(msg.str());
+  }
+  return steps;
+}
+
+
+void OverrideViscosity(mjModel* m, double viscosity_Pa_s, const std::string& source) {
+  const int id = mj_name2id(m, mjOBJ_NUMERIC, "ipmc_rft_viscosity_Pa_s");
+  if (id < 0) throw std::runtime_error(source + ": fluid.viscosity_Pa_s needs a model with RFT drag");
+  m->numeric_data[m->numeric_adr[id]] = viscosity_Pa_s;
+}
+
+}  // namespace
+
+double StartRamp(double t_s, double ramp_s) {
+  if (t_s >= ramp_s) return 1.0;
+  return 0.5 * (1.0 - std::cos(3.141592653589793 * t_s / ramp_s));
+}
+
+ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserver& observer) {
+  std::string source = scenario.model_path;
+  ModelPtr model;
+  if (!scenario.GeneratesModel()) {
+    model = LoadModelFile(scenario.model_path);
+  } else {
+    FlagellumSpec spec;
+    if (!scenario.link_lengths_mm.empty()) spec.link_lengths_mm = scenario.link_lengths_mm;
+    if (scenario.segments_per_link > 0) spec.segments_per_link = scenario.segments_per_link;
+    source = scenario.source + " (generated flagellum)";
+    model = LoadModelString(GenerateFlagellumMjcf(spec));
+  }
+  if (scenario.timestep_s) model->opt.timestep = *scenario.timestep_s;
+  if (scenario.viscosity_Pa_s) OverrideViscosity(model.get(), *scenario.viscosity_Pa_s, scenario.source);
+  IpmcActuatorsOverrides overrides;
+  overrides.plants = scenario.plants;
+  Simulation sim(std::move(model), source, overrides);
+  return RunClosedLoop(sim, scenario, observer);
+}
+
+ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
+                               const SampleObserver& observer) {
+  scenario.waveform.Validate();
+  mjModel* m = sim.model();
+  mjData* d = sim.data();
+  const LinkSensors sensors(m, d, sim.source());
+  const int links = sensors.Links();
+  const LinkGeometry geometry = ModelGeometry(m, d, sim.source());
+  if (static_cast<int>(geometry.pitch_mm.size()) != links) {
+    throw std::runtime_error(sim.source() + ": ipmc_links must drive hinges j1..jN in order");
+  }
+  const bool single = scenario.actuation == "single";
+  const int driven = single ? 1 : links;
+  std::vector<LinkController> controllers;
+  for (int q = 0; q < driven; ++q) controllers.emplace_back(scenario);
+
+  const double dt = m->opt.timestep;
+  const double period_s = 1.0 / std::abs(scenario.waveform.frequency_Hz);
+  const long steps_per_sample = StepsPerSample(scenario.sample_rate_Hz, dt, scenario.source);
+  const double sample_period_s = steps_per_sample * dt;
+  const long steps_per_cycle = std::lround(period_s / dt);
+  const long samples_per_cycle = steps_per_cycle / steps_per_sample;
+  const long record_every =
+      std::max<long>(1, samples_per_cycle / std::max(1, scenario.samples_per_cycle));
+  const bool pid = scenario.controller == ControllerKind::kPid;
+  const bool clamped = pid ? scenario.pid.clamp_enabled : scenario.fractional.clamp_enabled;
+  const double v_max = pid ? scenario.pid.v_max : scenario.fractional.v_max;
+
+  ClosedLoopResult result;
+  result.controller = pid ? "pid" : "fractional";
+  result.actuation = scenario.actuation;
+  result.period_s = period_s;
+  result.timestep_s = dt;
+  result.links.resize(links);
+  std::vector<double> sum_v2(links, 0.0);
+  std::vector<long> saturated(links, 0);
+  std::vector<double> volts(links, 0.0), reference(links, 0.0), measured(links, 0.0);
+  long samples = 0;
+
+  SwimMeter meter(m);
+  meter.Start(d);
+  for (int cycle = 0; cycle < scenario.cycles; ++cycle) {
+    for (long step = 0; step < steps_per_cycle; ++step) {
+      if (step % steps_per_sample == 0) {
+        const double t = d->time;
+        const DiscreteWave wave = DiscretiseWave(scenario.waveform, geometry, t);
+        const double ramp = StartRamp(t, scenario.start_ramp_cycles * period_s);
+        for (int q = 0; q < links; ++q) {
+          reference[q] = ramp * wave.relative_deflection_mm[q];
+          measured[q] = sensors.RelativeDeflection_mm(d, q);
+          const double error = reference[q] - measured[q];
+          LinkTracking& track = result.links[q];
+          track.iae_mm_s += std::abs(error) * sample_period_s;
+          track.itae_mm_s2 += t * std::abs(error) * sample_period_s;
+          track.max_abs_error_mm = std::max(track.max_abs_error_mm, std::abs(error));
+          track.max_abs_reference_mm = std::max(track.max_abs_reference_mm, std::abs(reference[q]));
+          volts[q] = q < driven ? controllers[q].Update(error) : 0.0;
+          sum_v2[q] += volts[q] * volts[q];
+          track.peak_voltage_V = std::max(track.peak_voltage_V, std::abs(volts[q]));
+          if (clamped && q < driven && std::abs(volts[q]) >= v_max * (1.0 - 1e-12)) ++saturated[q];
+        }
+        SetVoltages(d, volts.data(), links);
+        if (samples % record_every == 0) {
+          result.samples.push_back({meter.Pose(d), reference, measured, volts});
+          if (observer) observer(m, d, result.samples.back());
+        }
+        ++samples;
+      }
+      sim.Step();
+      meter.Observe(m, d);
+    }
+    meter.EndCycle(d);
+  }
+  for (int q = 0; q < links; ++q) {
+    result.links[q].rms_voltage_V = std::sqrt(sum_v2[q] / std::max<long>(1, samples));
+    result.links[q].saturated_fraction = static_cast<double>(saturated[q]) / std::max<long>(1, samples);
+  }
+  result.swim = meter.Finish(m, d);
+  return result;
+}
+
+}  // namespace ipmc

@@ -1,0 +1,160 @@
+#include "sim/runs/gait_run.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "plugin/coupling.h"
+
+namespace ipmc {
+namespace {
+
+struct Servo {
+  int actuator;
+  int joint;
+  int qpos_adr;
+  int dof_adr;
+};
+
+std::vector<Servo> FindServos(const mjModel* m) {
+  std::vector<Servo> servos;
+  for (int a = 0; a < m->nu; ++a) {
+    const char* name = mj_id2name(m, mjOBJ_ACTUATOR, a);
+    if (!name || std::string(name).rfind("servo_", 0) != 0) continue;
+    const int joint = m->actuator_trnid[2 * a];
+    servos.push_back({a, joint, m->jnt_qposadr[joint], m->jnt_dofadr[joint]});
+  }
+  return servos;
+}
+
+// Rotational drag of the whole body about one end, xi_n L^3 / 3 [N m s].
+double RotationalDragScale(const CouplingContext* coupling, const mjModel* m, const mjData* d) {
+  if (!coupling || !coupling->drag) return 0.0;
+  double length = 0.0;
+  for (const Segment& s : coupling->drag->Segments(m, d)) length += s.length_m;
+  return coupling->drag->coefficients().normal_N_s_m2 * length * length * length / 3.0;
+}
+
+void SetServoGains(mjModel* m, const std::vector<Servo>& servos, double kp, double kv) {
+  for (const Servo& servo : servos) {
+    mjtNum* gain = m->actuator_gainprm + mjNGAIN * servo.actuator;
+    mjtNum* bias = m->actuator_biasprm + mjNBIAS * servo.actuator;
+    gain[0] = kp;
+    bias[0] = 0.0;
+    bias[1] = -kp;
+    bias[2] = -kv;
+  }
+}
+
+// ctrl such that kp ctrl - kp q - kv qd = kp (q_ref - q) + kv (qd_ref - qd)
+// + k q_ref + c qd_ref.
+void SetServoTargets(const mjModel* m, mjData* d, const std::vector<Servo>& servos,
+                     const JointReference& ref, double kp, double kv) {
+  for (size_t j = 0; j < servos.size(); ++j) {
+    const Servo& servo = servos[j];
+    const double k = m->jnt_stiffness[servo.joint];
+    const double c = m->dof_damping[servo.dof_adr];
+    const double q = ref.angle_rad[j], qd = ref.velocity_rad_s[j];
+    d->ctrl[servo.actuator] = q + ((kv + c) * qd + k * q) / kp;
+  }
+}
+
+double HingeInertiaMax(const mjModel* m, mjData* d, const std::vector<Servo>& servos) {
+  mj_forward(m, d);
+  double inertia = 0.0;
+  for (const Servo& servo : servos) {
+    inertia = std::max(inertia, d->qM[m->dof_Madr[servo.dof_adr]]);
+  }
+  return inertia;
+}
+
+GaitSample Sample(const SwimMeter& meter, const mjData* d, const std::vector<Servo>& servos,
+                  const JointReference& ref) {
+  GaitSample s;
+  s.pose = meter.Pose(d);
+  s.q_ref_rad = ref.angle_rad;
+  for (const Servo& servo : servos) s.q_rad.push_back(d->qpos[servo.qpos_adr]);
+  return s;
+}
+
+}  // namespace
+
+void GaitRunOptions::Validate() const {
+  if (cycles < 1) throw std::invalid_argument("gait run: cycles must be >= 1");
+  if (samples_per_cycle < 1) throw std::invalid_argument("gait run: samples_per_cycle must be >= 1");
+  if (!(servo_time_constant_steps >= 2.0)) {
+    throw std::invalid_argument("gait run: servo_time_constant_steps must be >= 2");
+  }
+  if (!(servo_damping_over_drag > 0.0)) {
+    throw std::invalid_argument("gait run: servo_damping_over_drag must be > 0");
+  }
+}
+
+GaitRunResult RunGait(Simulation& sim, const Gait& gait, const GaitRunOptions& options) {
+  options.Validate();
+  mjModel* m = sim.model();
+  mjData* d = sim.data();
+  const std::vector<Servo> servos = FindServos(m);
+  if (static_cast<int>(servos.size()) != gait.Joints()) {
+    throw std::runtime_error(sim.source() + ": gait drives " + std::to_string(gait.Joints()) +
+                             " joints but the model has " + std::to_string(servos.size()) +
+                             " servo_* actuators");
+  }
+  const CouplingContext* coupling = FindCoupling(d);
+  SwimMeter meter(m);
+
+  // Start at the gait's pose, root at rest.
+  mj_resetData(m, d);
+  const JointReference start = gait.At(0.0);
+  for (size_t j = 0; j < servos.size(); ++j) {
+    d->qpos[servos[j].qpos_adr] = start.angle_rad[j];
+    d->qvel[servos[j].dof_adr] = start.velocity_rad_s[j];
+  }
+  const double dt = m->opt.timestep;
+  const double servo_time_s = options.servo_time_constant_steps * dt;
+  const double kv = std::max(
+      options.servo_damping_over_drag * RotationalDragScale(coupling, m, d),
+      4.0 * HingeInertiaMax(m, d, servos) / servo_time_s);
+  const double kp = kv / servo_time_s;
+  SetServoGains(m, servos, kp, kv);
+  mj_forward(m, d);
+
+  GaitRunResult result;
+  result.gait = gait.Describe();
+  result.period_s = gait.Period_s();
+  result.timestep_s = dt;
+  const long steps_per_cycle = std::lround(gait.Period_s() / dt);
+  const long sample_every =
+      std::max<long>(1, steps_per_cycle / options.samples_per_cycle);
+  const long settle_steps = steps_per_cycle / 20;
+
+  meter.Start(d);
+  result.samples.push_back(Sample(meter, d, servos, start));
+  for (int cycle = 0; cycle < options.cycles; ++cycle) {
+    for (long step = 1; step <= steps_per_cycle; ++step) {
+      // The servo aims at the reference at the end of the step.
+      const double t_end = (cycle * steps_per_cycle + step) * dt;
+      const JointReference ref = gait.At(t_end);
+      SetServoTargets(m, d, servos, ref, kp, kv);
+      sim.Step();
+      d->time = t_end;  // avoid drift from summing dt
+      if (cycle > 0 || step > settle_steps) {
+        for (size_t j = 0; j < servos.size(); ++j) {
+          const double error = std::abs(d->qpos[servos[j].qpos_adr] - ref.angle_rad[j]);
+          result.max_tracking_error_rad = std::max(result.max_tracking_error_rad, error);
+          result.max_reference_rad =
+              std::max(result.max_reference_rad, std::abs(ref.angle_rad[j]));
+        }
+      }
+      meter.Observe(m, d);
+      if (step % sample_every == 0 || step == steps_per_cycle) {
+        result.samples.push_back(Sample(meter, d, servos, ref));
+      }
+    }
+    meter.EndCycle(d);
+  }
+  result.swim = meter.Finish(m, d);
+  return result;
+}
+
+}  // namespace ipmc

@@ -1,0 +1,93 @@
+# Fails when a source file includes a header of a layer it must not depend
+# on: the folders are the layers and the dependencies run one way (see
+# docs/ARCHITECTURE.md). Run by CTest as
+#   cmake -DSOURCE_DIR=<project> -P tests/check_layers.cmake
+# Each layer lists the layers its files may include (its own is implied).
+set(layers
+  sim/io
+  controllers/linear
+  controllers
+  plugin/include
+  plugin/mjcf
+  plugin/fluid
+  plugin/actuators
+  plugin
+  sim/core
+  sim/runs
+  sim/identify
+  sim/batch
+  renders
+  sim/cli
+  sim)
+set(allowed_sim/io "")
+set(allowed_controllers/linear sim/io)
+set(allowed_controllers controllers/linear sim/io)
+set(allowed_plugin/include "")
+set(allowed_plugin/mjcf "")
+set(allowed_plugin/fluid plugin/mjcf)
+set(allowed_plugin/actuators plugin/include plugin/mjcf controllers/linear sim/io)
+set(allowed_plugin plugin/include plugin/mjcf plugin/fluid plugin/actuators controllers/linear)
+set(below_sim sim/io controllers/linear controllers plugin/include plugin/mjcf plugin/fluid
+  plugin/actuators plugin)
+set(allowed_sim/core ${below_sim})
+set(allowed_sim/runs sim/core ${below_sim})
+set(allowed_sim/identify sim/core ${below_sim})
+set(allowed_sim/batch sim/runs sim/core ${below_sim})
+set(allowed_renders sim/runs sim/core ${below_sim})
+set(allowed_sim/cli renders sim/batch sim/identify sim/runs sim/core ${below_sim})
+set(allowed_sim plugin/include)
+
+# The layer of a path relative to the project: its longest listed prefix.
+function(layer_of path out)
+  set(best "")
+  foreach(layer ${layers})
+    string(LENGTH "${layer}" n)
+    string(SUBSTRING "${path}" 0 ${n} head)
+    string(LENGTH "${best}" best_n)
+    if(head STREQUAL layer AND n GREATER best_n)
+      string(SUBSTRING "${path}/" ${n} 1 next)
+      if(next STREQUAL "/")
+        set(best "${layer}")
+      endif()
+    endif()
+  endforeach()
+  set(${out} "${best}" PARENT_SCOPE)
+endfunction()
+
+set(violations "")
+set(checked 0)
+foreach(top plugin controllers sim renders)
+  file(GLOB_RECURSE sources RELATIVE ${SOURCE_DIR} ${SOURCE_DIR}/${top}/*.h ${SOURCE_DIR}/${top}/*.cc)
+  foreach(source ${sources})
+    get_filename_component(dir ${source} DIRECTORY)
+    layer_of("${dir}" from)
+    if(from STREQUAL "")
+      list(APPEND violations "${source}: its folder is not a listed layer")
+      continue()
+    endif()
+    file(STRINGS ${SOURCE_DIR}/${source} lines REGEX "^#include \"")
+    foreach(line ${lines})
+      string(REGEX REPLACE "^#include \"([^\"]+)\".*" "\\1" header "${line}")
+      if(header MATCHES "^ipmc_swim/")
+        set(to plugin/include)
+      else()
+        get_filename_component(header_dir ${header} DIRECTORY)
+        layer_of("${header_dir}" to)
+      endif()
+      math(EXPR checked "${checked} + 1")
+      if(to STREQUAL "" OR to STREQUAL from)
+        continue()
+      endif()
+      list(FIND allowed_${from} ${to} found)
+      if(found EQUAL -1)
+        list(APPEND violations "${source}: includes ${header} (layer ${to}), which ${from} must not depend on")
+      endif()
+    endforeach()
+  endforeach()
+endforeach()
+
+if(violations)
+  list(JOIN violations "\n  " text)
+  message(FATAL_ERROR "layering: includes that cross a layer the wrong way:\n  ${text}")
+endif()
+message(STATUS "layering: ${checked} includes checked, none crosses a layer the wrong way")
