@@ -32,6 +32,7 @@
 #include "sim/identify/controller_design.h"
 #include "sim/identify/levy.h"
 #include "sim/runs/output.h"
+#include "sim/core/data_paths.h"
 #include "sim/core/simulation.h"
 #include "sim/identify/welch.h"
 
@@ -593,7 +594,7 @@ int RunPipeline(const IdentifyArgs::Pipeline& args) {
   signal.Validate();
 
   const std::string model_path = args.model_path.empty()
-                                     ? std::string(IPMC_SWIM_MODELS_DIR) + "/flagellum3_clamped.xml"
+                                     ? ModelsDir() + "/flagellum3_clamped.xml"
                                      : args.model_path;
   const bool drive_each = args.drive == kDriveEach;
   // One simulation per run, made (and attached) before the threads start.

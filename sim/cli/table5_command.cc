@@ -20,6 +20,7 @@
 #include "sim/runs/closed_loop_run.h"
 #include "sim/core/mujoco_warnings.h"
 #include "sim/runs/output.h"
+#include "sim/core/data_paths.h"
 #include "sim/core/simulation.h"
 #include "sim/core/waveform.h"
 
@@ -233,7 +234,7 @@ Table5Values PaperTable5() {
   return paper;
 }
 
-std::string PaperScenarioPath() { return std::string(IPMC_SWIM_SCENARIOS_DIR) + "/paper.toml"; }
+std::string PaperScenarioPath() { return ScenariosDir() + "/paper.toml"; }
 
 ScenarioConfig Table5Scenario(const ScenarioConfig& setting, ControllerKind controller,
                               const Table5Reading& reading) {
