@@ -7,6 +7,7 @@
 
 #include "ipmc_swim/ipmc_swim.h"
 #include "plugin/coupling.h"
+#include "sim/core/step_count.h"
 #include "sim/core/link_sensors.h"
 
 namespace ipmc {
@@ -66,6 +67,7 @@ BenchRecord RunBench(Simulation& sim, const BenchSignal& signal, double record_f
     }
   }
   const double dt = m->opt.timestep;
+  CheckedStepCount(1.0 / signal.sample_rate_Hz, dt, 1, "bench: one sample (sample_rate_Hz)");
   const double steps_per_sample_real = 1.0 / (signal.sample_rate_Hz * dt);
   const long steps_per_sample = std::lround(steps_per_sample_real);
   if (steps_per_sample < 1 || std::abs(steps_per_sample_real - steps_per_sample) > 1e-6) {
@@ -74,7 +76,7 @@ BenchRecord RunBench(Simulation& sim, const BenchSignal& signal, double record_f
         << " must divide the model's step rate " << 1.0 / dt << " Hz";
     throw std::invalid_argument(msg.str());
   }
-  const long steps = std::lround(signal.duration_s / dt);
+  const long steps = CheckedStepCount(signal.duration_s, dt, steps_per_sample, "bench: the experiment (duration_s)");
   BenchRecord record;
   record.voltage_V.resize(links);
   record.relative_mm.resize(links);

@@ -8,6 +8,7 @@
 
 #include "ipmc_swim/ipmc_swim.h"
 #include "plugin/coupling.h"
+#include "sim/core/step_count.h"
 #include "sim/core/model_generator.h"
 #include "sim/core/link_sensors.h"
 
@@ -103,9 +104,13 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
 
   const double dt = m->opt.timestep;
   const double period_s = 1.0 / std::abs(scenario.waveform.frequency_Hz);
+  CheckedStepCount(1.0 / scenario.sample_rate_Hz, dt, 1,
+                   scenario.source + ": one controller sample (controller.sample_rate_Hz)");
   const long steps_per_sample = StepsPerSample(scenario.sample_rate_Hz, dt, scenario.source);
   const double sample_period_s = steps_per_sample * dt;
-  const long steps_per_cycle = std::lround(period_s / dt);
+  // At least one controller sample per wave cycle.
+  const long steps_per_cycle = CheckedStepCount(
+      period_s, dt, steps_per_sample, scenario.source + ": one wave cycle (waveform.frequency_Hz)");
   const long samples_per_cycle = steps_per_cycle / steps_per_sample;
   const long record_every =
       std::max<long>(1, samples_per_cycle / std::max(1, scenario.samples_per_cycle));
