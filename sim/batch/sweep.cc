@@ -174,6 +174,7 @@ struct PointScenario {
   std::optional<ScenarioConfig> scenario;
   std::string error;   // relocated: names the sweep file or the base
   bool fatal = false;  // an unknown or ill-typed override: stops the sweep
+  std::string text;    // the TOML read
 };
 
 // One point of the sweep file: its overrides and their printed values
@@ -478,6 +479,7 @@ PointScenario SweepReader::ReadScenario(const std::vector<const Override*>& over
   for (;;) {
     std::ostringstream text;
     text << root;
+    point.text = text.str();
     try {
       point.scenario = ParseScenario(text.str(), base_path_);
       return point;
@@ -639,6 +641,7 @@ SweepPlan SweepReader::Read(const std::string& toml_text) {
     point.values = std::move(points[index].printed);
     point.scenario = std::move(read.scenario);
     point.error = std::move(read.error);
+    point.scenario_toml = std::move(read.text);
     plan.points.push_back(std::move(point));
   }
   return plan;
@@ -855,24 +858,32 @@ SweepTable RunSweep(const SweepPlan& plan, const SweepOptions& options) {
   for (const SweepPoint& point : plan.points) {
     if (point.index % shard.count == shard.index - 1) todo.push_back(&point);
   }
+  SweepTable table;
+  table.columns = SweepColumns(plan);
+  table.rows.resize(todo.size());
   // Rows go in index order; runs start longest first, so that the last
-  // runs to finish are short ones.
-  std::vector<size_t> schedule(todo.size());
-  for (size_t k = 0; k < todo.size(); ++k) schedule[k] = k;
+  // runs to finish are short ones. Finished points keep their rows.
+  std::vector<size_t> schedule;
+  for (size_t k = 0; k < todo.size(); ++k) {
+    if (options.finished != nullptr && options.finished->count(todo[k]->index) > 0) {
+      table.rows[k] = options.finished->at(todo[k]->index);
+    } else {
+      schedule.push_back(k);
+    }
+  }
   std::stable_sort(schedule.begin(), schedule.end(), [&](size_t a, size_t b) {
     return EstimatedSteps(*todo[a]) > EstimatedSteps(*todo[b]);
   });
 
-  SweepTable table;
-  table.columns = SweepColumns(plan);
-  table.rows.resize(todo.size());
   std::atomic<size_t> next{0};
   std::mutex progress_mutex;
   int done = 0;
   std::exception_ptr callback_failure;
+  std::atomic<bool> stopped{false};  // by a failed callback: no point starts after it
   const auto start = std::chrono::steady_clock::now();
   auto work = [&] {
-    for (size_t slot = next++; slot < todo.size(); slot = next++) {
+    for (size_t slot = next++; slot < schedule.size(); slot = next++) {
+      if (stopped || (options.stop_requested && options.stop_requested())) break;
       const size_t k = schedule[slot];
       std::string error;
       table.rows[k] = RunPoint(plan, *todo[k], &error);
@@ -881,20 +892,22 @@ SweepTable RunSweep(const SweepPlan& plan, const SweepOptions& options) {
       if (!options.on_point_done || callback_failure) continue;
       SweepProgress progress;
       progress.done = done;
-      progress.total = static_cast<int>(todo.size());
+      progress.total = static_cast<int>(schedule.size());
       progress.point = todo[k]->index;
       progress.ok = table.rows[k][plan.keys.size() + 1] == kOk;
       progress.error = error;
       progress.elapsed_s =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      progress.row = &table.rows[k];
       try {
         options.on_point_done(progress);
       } catch (...) {
         callback_failure = std::current_exception();
+        stopped = true;
       }
     }
   };
-  const size_t threads = std::min<size_t>(options.jobs, todo.size());
+  const size_t threads = std::min<size_t>(options.jobs, schedule.size());
   if (threads <= 1) {
     work();
   } else {
@@ -904,6 +917,10 @@ SweepTable RunSweep(const SweepPlan& plan, const SweepOptions& options) {
     for (std::thread& thread : pool) thread.join();
   }
   if (callback_failure) std::rethrow_exception(callback_failure);
+  // A stopped sweep: the points that did not run have no row.
+  table.rows.erase(std::remove_if(table.rows.begin(), table.rows.end(),
+                                  [](const std::vector<std::string>& row) { return row.empty(); }),
+                   table.rows.end());
   return table;
 }
 
@@ -983,7 +1000,7 @@ SweepTable LoadSweepTableCsv(const std::string& path) {
 }
 
 SweepTable MergeSweepTables(const std::vector<SweepTable>& tables,
-                            const std::vector<std::string>& sources) {
+                            const std::vector<std::string>& sources, bool allow_missing) {
   if (tables.empty() || tables.size() != sources.size()) {
     throw std::invalid_argument("merge: needs one or more tables, each with its file name");
   }
@@ -1019,7 +1036,7 @@ SweepTable MergeSweepTables(const std::vector<SweepTable>& tables,
   }
   long expected = 0;
   for (const auto& [index, row] : rows) {
-    if (index != expected) {
+    if (index != expected && !allow_missing) {
       std::string files;
       for (const std::string& source : sources) files += (files.empty() ? "" : ", ") + source;
       throw std::runtime_error("merge: point " + std::to_string(expected) +

@@ -58,6 +58,7 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -73,6 +74,7 @@ struct SweepPoint {
   std::vector<std::string> values;         // one per SweepPlan::keys, as printed
   std::optional<ScenarioConfig> scenario;  // absent if the overrides make a bad scenario,
   std::string error;                       // ... and then the reason (one line)
+  std::string scenario_toml;               // the base with the overrides, as read
 };
 
 struct SweepPlan {
@@ -104,6 +106,7 @@ struct SweepProgress {
   bool ok = true;
   std::string error;
   double elapsed_s = 0.0;
+  const std::vector<std::string>* row = nullptr;  // the point's row, as in the table
 };
 
 struct SweepOptions {
@@ -111,6 +114,12 @@ struct SweepOptions {
   SweepShard shard;
   // Called after each point, one call at a time, from the worker threads.
   std::function<void(const SweepProgress&)> on_point_done;
+  // Rows of points that finished before (by point index): not run again,
+  // copied into the table as they are.
+  const std::map<int, std::vector<std::string>>* finished = nullptr;
+  // Asked, from the worker threads, before each point starts; once it
+  // returns true no further point starts.
+  std::function<bool()> stop_requested;
 };
 
 struct SweepTable {
@@ -123,7 +132,10 @@ std::vector<std::string> SweepColumns(const SweepPlan& plan);
 
 // Runs the shard's points on options.jobs threads (RunScenario per point),
 // the longest runs (cycles / frequency / time step) first. The rows, in
-// index order, do not depend on the number of jobs. Throws
+// index order, do not depend on the number of jobs. Points in
+// options.finished are not run; progress counts only the points run. If
+// stop_requested stopped the sweep, the table holds the points finished
+// by then (fewer rows than the shard has points). Throws
 // std::invalid_argument for bad options only.
 SweepTable RunSweep(const SweepPlan& plan, const SweepOptions& options);
 
@@ -142,10 +154,12 @@ SweepTable LoadSweepTableCsv(const std::string& path);
 
 // Joins the tables of a sweep's shards into one, ordered by point index.
 // Throws std::runtime_error (one line, naming the file) if the headers
-// differ, a point appears twice, or points are missing below the highest
-// index (a missing tail of the sweep cannot be told from a shorter sweep).
+// differ, a point appears twice, or (unless allow_missing) points are
+// missing below the highest index (a missing tail of the sweep cannot be
+// told from a shorter sweep).
 SweepTable MergeSweepTables(const std::vector<SweepTable>& tables,
-                            const std::vector<std::string>& sources);
+                            const std::vector<std::string>& sources,
+                            bool allow_missing = false);
 
 // Writes PREFIX.csv and PREFIX.json, each atomically (creating PREFIX's
 // directory if needed).

@@ -5,18 +5,24 @@
 #include <algorithm>
 #include <charconv>
 #include <cstdio>
+#include <filesystem>
 #include <stdexcept>
 #include <string>
-#include <thread>
 #include <vector>
 
+#include "sim/batch/cpu_affinity.h"
+#include "sim/batch/journal.h"
 #include "sim/batch/sweep.h"
+#include "sim/cli/interrupt.h"
+#include "sim/cli/slurm_command.h"
 
 namespace ipmc {
 namespace {
 
 constexpr char kSweepCommand[] = "sweep";
 constexpr char kMergeCommand[] = "merge";
+// The shell's exit code for a process stopped by SIGINT (128 + 2).
+constexpr int kInterruptedExitCode = 130;
 
 constexpr int kBarWidth = 30;
 // Result columns shown on stdout (all are in the files).
@@ -129,22 +135,50 @@ void PrintSummary(const SweepTable& table) {
 }
 
 int RunSweepFile(const SweepArgs& args) {
+  if (!args.status_dir.empty()) {
+    if (!args.sweep_path.empty()) throw std::invalid_argument("sweep: --status takes no sweep file");
+    return RunSweepStatus(args.status_dir);
+  }
+  if (args.sweep_path.empty()) throw std::invalid_argument("sweep: needs a sweep file");
+  if (!args.slurm.dir.empty()) return RunSlurmSubmission(args);
+  if (args.out_prefix.empty()) {
+    throw std::invalid_argument("sweep: --out PREFIX is required (or --slurm DIR)");
+  }
   const SweepShard shard = ParseSweepShard(args.shard);
   if (args.jobs < 1) {
     throw std::invalid_argument("sweep: --jobs must be >= 1 (got " + std::to_string(args.jobs) +
                                 ")");
   }
   const SweepPlan plan = LoadSweep(args.sweep_path);
+  SweepJournal journal(args.out_prefix + ".journal", plan);
+  const ShardRecord record = CountRecorded(plan, shard, journal);
+  if (record.recorded > 0) {
+    std::fprintf(stderr, "resuming from %s: %d of %d points done before\n", journal.path().c_str(),
+                 record.recorded, record.points);
+  }
   ProgressReport progress(isatty(STDERR_FILENO) == 1);
   SweepOptions options;
   options.jobs = args.jobs;
   options.shard = shard;
   options.on_point_done = [&](const SweepProgress& p) { progress(p); };
-  progress.Start(static_cast<int>(std::count_if(
-      plan.points.begin(), plan.points.end(),
-      [&](const SweepPoint& point) { return point.index % shard.count == shard.index - 1; })));
-  const SweepTable table = RunSweep(plan, options);
+  progress.Start(record.points - record.recorded);
+  JournaledSweep run;
+  {
+    const InterruptAtBoundary interrupt(
+        "interrupted: finishing the points that are running, then stopping (Ctrl-C again stops "
+        "at once; finished points stay in " + journal.path() + ")");
+    options.stop_requested = [&] { return interrupt.Requested(); };
+    run = RunJournaledSweep(plan, options, &journal);
+  }
   progress.Finish();
+  if (!run.Complete()) {
+    std::fprintf(stderr,
+                 "stopped: %zu of %d points done, recorded in %s; run the same command again to "
+                 "resume\n",
+                 run.table.rows.size(), record.points, journal.path().c_str());
+    return kInterruptedExitCode;
+  }
+  const SweepTable& table = run.table;
   WriteSweepTable(args.out_prefix, table);
 
   PrintSummary(table);
@@ -167,6 +201,15 @@ int RunSweepFile(const SweepArgs& args) {
 }
 
 int RunMergeTables(const SweepArgs& args) {
+  if (args.merge_partial) return RunPartialMerge(args);
+  for (const std::string& path : args.merge_tables) {
+    std::error_code error;
+    if (!std::filesystem::exists(path, error)) {
+      throw std::runtime_error("merge: " + path +
+                               " does not exist (a shard that did not finish? --partial merges "
+                               "the tables that exist)");
+    }
+  }
   std::vector<SweepTable> tables;
   for (const std::string& path : args.merge_tables) tables.push_back(LoadSweepTableCsv(path));
   const SweepTable merged = MergeSweepTables(tables, args.merge_tables);
@@ -179,16 +222,20 @@ int RunMergeTables(const SweepArgs& args) {
 }  // namespace
 
 void AddSweepCommands(CLI::App& app, SweepArgs& args) {
-  args.jobs = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  args.jobs = AvailableCpus();
   CLI::App* sweep = app.add_subcommand(
       kSweepCommand, "Run a scenario over a grid or list of overrides (a sweep file, TOML)");
-  sweep->add_option("sweep", args.sweep_path, "Sweep file")->required();
-  sweep->add_option("--jobs", args.jobs, "Points run in parallel (default: hardware threads)")
+  sweep->add_option("sweep", args.sweep_path, "Sweep file");
+  sweep->add_option("--jobs", args.jobs,
+                    "Points run in parallel (default: the CPUs this process may use)")
       ->capture_default_str();
   sweep->add_option("--shard", args.shard,
                     "Run part i of n: the points with index % n == i - 1")
       ->capture_default_str();
-  sweep->add_option("--out", args.out_prefix, "Writes PREFIX.csv and PREFIX.json")->required();
+  sweep->add_option("--out", args.out_prefix,
+                    "Writes PREFIX.csv and PREFIX.json; records each point in PREFIX.journal "
+                    "(resume)");
+  AddSlurmOptions(sweep, args);
 
   CLI::App* merge =
       app.add_subcommand(kMergeCommand, "Join the tables (CSV) of a sweep's shards into one");
@@ -196,6 +243,9 @@ void AddSweepCommands(CLI::App& app, SweepArgs& args) {
       ->required();
   merge->add_option("--out", args.merge_out_prefix, "Writes PREFIX.csv and PREFIX.json")
       ->required();
+  merge->add_flag("--partial", args.merge_partial,
+                  "Merge the tables that exist (and the journals of those that do not); list "
+                  "the missing points");
 }
 
 int RunSweepCommand(const CLI::App& app, const SweepArgs& args) {
