@@ -16,11 +16,11 @@
 #include "sim/core/model_generator.h"
 #include "sim/core/scenario.h"
 #include "tests/test_util.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc::testing {
 namespace {
 
-constexpr double kPi = 3.141592653589793;
 
 // ---------------------------------------------------- the chain's shape ---
 

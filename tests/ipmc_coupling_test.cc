@@ -12,11 +12,11 @@
 #include "sim/runs/bench_run.h"
 #include "plugin/actuators/ipmc_link_model.h"
 #include "tests/test_util.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc::testing {
 namespace {
 
-constexpr double kPi = 3.141592653589793;
 
 struct Phasor {
   double amplitude;

@@ -4,7 +4,6 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
-#include <iomanip>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
@@ -12,6 +11,8 @@
 #include <thread>
 #include <vector>
 
+#include "sim/io/columns.h"
+#include "sim/io/csv.h"
 #include "sim/io/files.h"
 #include "sim/io/numbers.h"
 #include "controllers/fractional_integrator.h"
@@ -36,7 +37,6 @@ constexpr char kPidLabel[] = "PID";
 // Links whose length differs from the paper geometry's by more than this
 // [mm] cannot use the paper's projection of the wave.
 constexpr double kLengthTolerance_mm = 1e-6;
-constexpr double kPi = 3.14159265358979323846;
 
 [[noreturn]] void ThrowOption(const std::string& option, const std::string& requirement,
                               const std::string& got) {
@@ -155,12 +155,6 @@ std::vector<Row> Rows(const Table5Values& here, const Table5Values& paper) {
     }
   }
   return rows;
-}
-
-std::string FullPrecision(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.17g", value);
-  return buffer;
 }
 
 std::string StartDescription(const Table5Reading& reading) {
@@ -286,18 +280,18 @@ Table5Values RunTable5(const ScenarioConfig& setting, const Table5Reading& readi
 }
 
 std::string Table5Csv(const Table5Values& here, const Table5Values& paper) {
-  std::ostringstream csv;
-  csv << "index,link,controller,here,paper,relative_error\n";
+  CsvWriter csv;
+  csv.Row({columns::kIndex, columns::kLink, columns::kController, columns::kHere, columns::kPaper,
+           columns::kRelativeError});
   for (const Row& row : Rows(here, paper)) {
     for (const bool is_pid : {false, true}) {
       const double value = is_pid ? row.pid_here : row.fractional_here;
       const double printed = is_pid ? row.pid_paper : row.fractional_paper;
-      csv << row.index << "," << row.link << "," << (is_pid ? kPidLabel : kFractionalLabel) << ","
-          << FullPrecision(value) << "," << FullPrecision(printed) << ","
-          << FullPrecision(RelativeError(value, printed)) << "\n";
+      csv.Add(row.index).AddInteger(row.link).Add(is_pid ? kPidLabel : kFractionalLabel);
+      csv.Add(value).Add(printed).Add(RelativeError(value, printed)).EndRow();
     }
   }
-  return csv.str();
+  return csv.Text();
 }
 
 nlohmann::json Table5Json(const Table5Values& here, const Table5Values& paper,

@@ -7,7 +7,10 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
+
+#include "sim/io/error.h"
 
 namespace ipmc {
 
@@ -37,6 +40,15 @@ void EnsureDirectory(const std::string& dir) {
   if (error || !std::filesystem::is_directory(dir)) {
     throw std::runtime_error(dir + ": cannot create output directory");
   }
+}
+
+std::string ReadTextFile(const std::string& path, const std::string& what) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw InputError(InputProblem::kUnreadable, {path}, "", "cannot open the " + what);
+  std::ostringstream text;
+  text << file.rdbuf();
+  if (file.bad()) throw InputError(InputProblem::kUnreadable, {path}, "", "cannot read the " + what);
+  return text.str();
 }
 
 }  // namespace ipmc

@@ -1,5 +1,6 @@
-// Output files are written whole or not at all: each goes to a temporary
-// file in the same directory and is renamed into place.
+// Files: outputs are written whole or not at all (each goes to a
+// temporary file in the same directory and is renamed into place); inputs
+// are read whole.
 #pragma once
 
 #include <string>
@@ -12,5 +13,9 @@ void WriteFileAtomically(const std::string& path, const std::string& content);
 
 // Creates `dir` (and parents) if needed; throws naming the directory.
 void EnsureDirectory(const std::string& dir);
+
+// The whole content of `path`. Throws InputError (sim/io/error.h)
+// "PATH: cannot open the WHAT" or "PATH: cannot read the WHAT".
+std::string ReadTextFile(const std::string& path, const std::string& what);
 
 }  // namespace ipmc

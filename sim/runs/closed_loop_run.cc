@@ -10,6 +10,7 @@
 #include "plugin/coupling.h"
 #include "sim/core/model_generator.h"
 #include "sim/core/link_sensors.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc {
 namespace {
@@ -62,7 +63,7 @@ void OverrideViscosity(mjModel* m, double viscosity_Pa_s, const std::string& sou
 
 double StartRamp(double t_s, double ramp_s) {
   if (t_s >= ramp_s) return 1.0;
-  return 0.5 * (1.0 - std::cos(3.141592653589793 * t_s / ramp_s));
+  return 0.5 * (1.0 - std::cos(kPi * t_s / ramp_s));
 }
 
 ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserver& observer) {
