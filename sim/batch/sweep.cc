@@ -38,7 +38,7 @@
 #include "sim/io/error.h"
 #include "sim/io/files.h"
 #include "sim/io/numbers.h"
-#include "sim/io/toml_names.h"
+#include "sim/io/toml.h"
 #include "sim/runs/closed_loop_run.h"
 #include "sim/runs/output.h"
 
@@ -85,18 +85,6 @@ std::string ValueText(const toml::node& node, bool in_array = false) {
   std::ostringstream text;  // dates, times, tables: TOML's own text
   node.visit([&](const auto& value) { text << value; });
   return OneLine(text.str());
-}
-
-// TOML syntax errors as one line, "SOURCE:LINE:COLUMN: description".
-toml::table ParseToml(const std::string& text, const std::string& source) {
-  try {
-    return toml::parse(text, source);
-  } catch (const toml::parse_error& error) {
-    const toml::source_position& where = error.source().begin;
-    throw std::runtime_error(OneLine(source + ":" + std::to_string(where.line) + ":" +
-                                     std::to_string(where.column) + ": " +
-                                     std::string(error.description())));
-  }
 }
 
 // One replaced (or added) key of the base scenario.
@@ -932,8 +920,7 @@ SweepTable MergeSweepTables(const std::vector<SweepTable>& tables,
 }
 
 void WriteSweepTable(const std::string& prefix, const SweepTable& table) {
-  const fs::path directory = fs::path(prefix).parent_path();
-  if (!directory.empty()) EnsureDirectory(directory.string());
+  EnsureParentDirectory(prefix);
   const std::string json = SweepTableJson(table).dump(2) + "\n";
   WriteFileAtomically(prefix + ".csv", SweepTableCsv(table));
   WriteFileAtomically(prefix + ".json", json);

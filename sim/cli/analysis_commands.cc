@@ -14,6 +14,7 @@
 
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
+#include "sim/io/error.h"
 #include "sim/io/files.h"
 #include "controllers/closed_loop.h"
 #include "sim/io/numbers.h"
@@ -25,6 +26,7 @@
 #include "controllers/reference_model.h"
 #include "controllers/linear/state_space.h"
 #include "plugin/actuators/ipmc_link_model.h"
+#include "sim/identify/controller_design.h"
 #include "sim/runs/output.h"
 
 namespace ipmc {
@@ -44,14 +46,6 @@ constexpr char kNone[] = "none";
 // The controllers are compared at the reference model's crossover.
 constexpr double kDesignFrequency_rad_s = 5.0;
 
-// Time-domain realisation of s^-0.5 (plant) and s^-lambda (fractional
-// controller): two Oustaloup pairs per decade over ten decades, so the
-// approximation is far below the other errors over any horizon of interest
-// (1/w_b = 1e5 s).
-constexpr int kAccurateOustaloupPairs = 20;
-constexpr double kAccurateBandLow_rad_s = 1e-5;
-constexpr double kAccurateBandHigh_rad_s = 1e5;
-
 constexpr double kSettlingBand = 0.02;
 // bode.csv and step.csv: 12 significant digits.
 constexpr int kCsvDigits = 12;
@@ -60,24 +54,8 @@ constexpr double kMaxStepSamples = 1e6;
 // The Oustaloup bound of FractionalIntegrator::Config.
 constexpr int kMaxOustaloupPairs = 64;
 
-std::string Short(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%g", value);
-  return buffer;
-}
-
-[[noreturn]] void ThrowOption(const std::string& command, const std::string& option,
-                              const std::string& requirement, const std::string& got) {
-  throw std::invalid_argument(command + ": " + option + " must be " + requirement + ", got " +
-                              got);
-}
-
-void RequireFinitePositive(const std::string& command, const std::string& option,
-                           double value) {
-  if (!std::isfinite(value) || !(value > 0)) {
-    ThrowOption(command, option, "finite and > 0", FormatDouble(value));
-  }
-}
+// Gains and bands in descriptions: printf's %g.
+std::string Short(double value) { return FormatDouble(value, 6); }
 
 void RequireLink(const std::string& command, const std::string& option, int link) {
   if (link < 1 || link > 3) ThrowOption(command, option, "1, 2 or 3", std::to_string(link));
@@ -337,16 +315,8 @@ double MetricsHorizon_s(const StepArgs& args) {
   return std::max(args.horizon_s, std::min(args.max_horizon_s, budget_s));
 }
 
-StateSpace AccurateLinkPlant(const std::string& plant, int link) {
-  IpmcLinkParams params = PaperLinkParams(link, PlantKind(plant));
-  params.integrator.w_low_rad_s = kAccurateBandLow_rad_s;
-  params.integrator.w_high_rad_s = kAccurateBandHigh_rad_s;
-  params.integrator.n = kAccurateOustaloupPairs;
-  return LinkStateSpace(params);
-}
-
 ClosedLoopResponse SimulateLink(const StepArgs& args, int link) {
-  const StateSpace plant = AccurateLinkPlant(args.plant, link);
+  const StateSpace plant = AccurateLinkPlant(PaperLinkParams(link, PlantKind(args.plant)));
   StepSimulation simulation;
   simulation.horizon_s = args.horizon_s;
   simulation.max_horizon_s = MetricsHorizon_s(args);

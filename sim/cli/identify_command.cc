@@ -24,6 +24,7 @@
 
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
+#include "sim/io/error.h"
 #include "sim/io/files.h"
 #include "sim/io/numbers.h"
 #include "controllers/linear/frequency_response.h"
@@ -80,18 +81,6 @@ std::string Format(const char* format, ...) {
   if (length > 0) std::vsnprintf(text.data(), text.size() + 1, format, args);
   va_end(args);
   return text;
-}
-
-[[noreturn]] void ThrowOption(const std::string& command, const std::string& option,
-                              const std::string& requirement, const std::string& got) {
-  throw std::invalid_argument(command + ": " + option + " must be " + requirement + ", got " +
-                              got);
-}
-
-void RequireFinitePositive(const std::string& command, const std::string& option, double value) {
-  if (!std::isfinite(value) || !(value > 0)) {
-    ThrowOption(command, option, "finite and > 0", FormatDouble(value));
-  }
 }
 
 void RequirePhaseMargin(const std::string& command, double value) {

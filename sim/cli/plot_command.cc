@@ -2,7 +2,6 @@
 
 #include <fcntl.h>
 #include <spawn.h>
-#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -16,7 +15,6 @@
 #include <fstream>
 #include <map>
 #include <optional>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -26,6 +24,7 @@
 
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
+#include "sim/io/error.h"
 #include "sim/io/files.h"
 #include "sim/io/numbers.h"
 #include "sim/runs/output.h"
@@ -94,21 +93,6 @@ class ScratchDir {
   fs::path path_;
 };
 
-// A file removed when the object goes, unless released.
-class RemoveOnExit {
- public:
-  explicit RemoveOnExit(std::string path) : path_(std::move(path)) {}
-  ~RemoveOnExit() {
-    if (!path_.empty()) std::remove(path_.c_str());
-  }
-  RemoveOnExit(const RemoveOnExit&) = delete;
-  RemoveOnExit& operator=(const RemoveOnExit&) = delete;
-  void Release() { path_.clear(); }
-
- private:
-  std::string path_;
-};
-
 // A gnuplot string literal: single quotes, in which only '' is special.
 std::string Quote(const std::string& text) {
   std::string quoted = "'";
@@ -129,13 +113,6 @@ std::string Num(double value) { return FormatDouble(value, 10); }
 // Data values for gnuplot: non-finite values become its missing-value
 // marker (the preamble declares "NaN" missing).
 std::string DataValue(double value) { return std::isfinite(value) ? Num(value) : "NaN"; }
-
-void WriteScratchFile(const fs::path& path, const std::string& content) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << content;
-  out.flush();
-  if (!out) throw std::runtime_error(path.string() + ": write failed");
-}
 
 // Column-wise data as a whitespace-separated table.
 std::string DataTable(const std::vector<std::vector<double>>& series) {
@@ -252,7 +229,7 @@ Figure BodeFigure(const CsvTable& table, const PlotArgs& args, const ScratchDir&
     series.push_back(table.Numbers(columns::PhaseDeg(curve)));
   }
   const fs::path data = scratch.File("bode.dat");
-  WriteScratchFile(data, DataTable(series));
+  WriteFileAtomically(data.string(), DataTable(series));
 
   auto plot_line = [&](int offset) {
     std::string line = "plot ";
@@ -291,7 +268,7 @@ Figure StepFigure(const CsvTable& table, const PlotArgs&, const ScratchDir& scra
   }
   if (links.empty()) table.Column(columns::StepOutput(1));
   const fs::path data = scratch.File("step.dat");
-  WriteScratchFile(data, DataTable(series));
+  WriteFileAtomically(data.string(), DataTable(series));
 
   // The reference model last, dashed on top of the links.
   std::string plot = "plot ";
@@ -328,7 +305,7 @@ Figure TrackingFigure(const CsvTable& table, const PlotArgs&, const ScratchDir& 
     series.push_back(table.Numbers(columns::Measured(q)));
   }
   const fs::path data = scratch.File("tracking.dat");
-  WriteScratchFile(data, DataTable(series));
+  WriteFileAtomically(data.string(), DataTable(series));
 
   std::string commands = "set multiplot layout " + std::to_string(links.size()) +
                          ",1 title " + Quote(title) + "\n" +
@@ -491,7 +468,7 @@ Figure WaveformFigure(const CsvTable& table, const PlotArgs& args, const Scratch
                  "\n\n";
   }
   const fs::path data = scratch.File("waveform.dat");
-  WriteScratchFile(data, data_text);
+  WriteFileAtomically(data.string(), data_text);
 
   std::string plot = "plot ";
   for (size_t k = 0; k < instants.size(); ++k) {
@@ -562,7 +539,7 @@ Figure SurfaceFigure(const CsvTable& table, const PlotArgs& args, const ScratchD
   if (!(along_max > 0.0)) along_max = 1.0;
 
   const fs::path realised = scratch.File("surface_realised.dat");
-  WriteScratchFile(realised, SurfaceData(body.realised, body.t_s, samples));
+  WriteFileAtomically(realised.string(), SurfaceData(body.realised, body.t_s, samples));
   std::string commands = "set view 60,30\nset xyplane at " + Num(-1.1 * lateral_max) + "\n" +
                          "set xrange [0:" + Num(along_max) + "]\n" +
                          "set yrange [" + Num(body.t_s[samples.front()]) + ":" +
@@ -580,7 +557,7 @@ Figure SurfaceFigure(const CsvTable& table, const PlotArgs& args, const ScratchD
   figure.height_px = 560;
   if (with_ideal) {
     const fs::path ideal = scratch.File("surface_ideal.dat");
-    WriteScratchFile(ideal, SurfaceData(body.ideal, body.t_s, samples));
+    WriteFileAtomically(ideal.string(), SurfaceData(body.ideal, body.t_s, samples));
     figure.width_px = 1400;
     figure.commands = "set multiplot layout 1,2 title " + Quote(title) + "\n" + commands +
                       splot(ideal, "ideal (from the references)") +
@@ -676,7 +653,7 @@ Figure SweepFigure(const CsvTable& table, const PlotArgs& args, const ScratchDir
     data_text += "\n\n";
   }
   const fs::path data = scratch.File("sweep.dat");
-  WriteScratchFile(data, data_text);
+  WriteFileAtomically(data.string(), data_text);
 
   std::string commands = "set title " + Quote(title) + "\n" + "set xlabel " +
                          Quote(args.x_column) + "\nset ylabel " + Quote(args.y_column) + "\n" +
@@ -708,12 +685,6 @@ Figure SweepFigure(const CsvTable& table, const PlotArgs& args, const ScratchDir
 // ---------------------------------------------------------------------------
 // Options.
 
-[[noreturn]] void ThrowOption(const std::string& option, const std::string& requirement,
-                              const std::string& got) {
-  throw std::invalid_argument(std::string(kPlotCommand) + ": " + option + " must be " +
-                              requirement + ", got " + got);
-}
-
 // Refuses options that KIND does not use, so that none is silently
 // ignored.
 void ValidateOptions(const CLI::App& command, const PlotArgs& args) {
@@ -732,29 +703,29 @@ void ValidateOptions(const CLI::App& command, const PlotArgs& args) {
                                                 {"--height-px", args.height_px}};
   for (const auto& [option, size] : sizes) {
     if (command.count(option) > 0 && (size < kMinImagePx || size > kMaxImagePx)) {
-      ThrowOption(option,
+      ThrowOption(kPlotCommand, option,
                   "in [" + std::to_string(kMinImagePx) + ", " + std::to_string(kMaxImagePx) + "]",
                   std::to_string(size));
     }
   }
-  if (args.out_path.empty()) ThrowOption("--out", "a file name", "nothing");
-  if (args.kind == kBode && args.curves.empty()) ThrowOption("--curves", "non-empty", "nothing");
+  if (args.out_path.empty()) ThrowOption(kPlotCommand, "--out", "a file name", "nothing");
+  if (args.kind == kBode && args.curves.empty()) ThrowOption(kPlotCommand, "--curves", "non-empty", "nothing");
   if (args.instants < 1 || args.instants > kMaxInstants) {
-    ThrowOption("--instants", "in [1, " + std::to_string(kMaxInstants) + "]",
+    ThrowOption(kPlotCommand, "--instants", "in [1, " + std::to_string(kMaxInstants) + "]",
                 std::to_string(args.instants));
   }
   for (double t : args.times_s) {
-    if (!std::isfinite(t)) ThrowOption("--times-s", "finite", FormatDouble(t));
+    if (!std::isfinite(t)) ThrowOption(kPlotCommand, "--times-s", "finite", FormatDouble(t));
   }
   if (args.times_s.size() > static_cast<size_t>(kMaxInstants)) {
-    ThrowOption("--times-s", "at most " + std::to_string(kMaxInstants) + " times",
+    ThrowOption(kPlotCommand, "--times-s", "at most " + std::to_string(kMaxInstants) + " times",
                 std::to_string(args.times_s.size()));
   }
   if (!std::isfinite(args.period_s) || args.period_s < 0) {
-    ThrowOption("--period-s", "finite and > 0", FormatDouble(args.period_s));
+    ThrowOption(kPlotCommand, "--period-s", "finite and > 0", FormatDouble(args.period_s));
   }
   if (args.max_lines < kMinSurfaceLines) {
-    ThrowOption("--max-lines", ">= " + std::to_string(kMinSurfaceLines),
+    ThrowOption(kPlotCommand, "--max-lines", ">= " + std::to_string(kMinSurfaceLines),
                 std::to_string(args.max_lines));
   }
   if (args.kind == kSweep && (args.x_column.empty() || args.y_column.empty())) {
@@ -767,24 +738,9 @@ void RenderPng(const Figure& figure, const PlotArgs& args, const ScratchDir& scr
   const int height = args.height_px > 0 ? args.height_px : figure.height_px;
   const std::string size = std::to_string(width) + "," + std::to_string(height);
 
-  const fs::path out_dir = fs::path(args.out_path).parent_path();
-  if (!out_dir.empty()) EnsureDirectory(out_dir.string());
-  std::string temp = args.out_path + ".tmp.XXXXXX";
-  const int fd = mkstemp(temp.data());
-  if (fd < 0) {
-    throw std::runtime_error(args.out_path + ": cannot create file (" + std::strerror(errno) +
-                             ")");
-  }
-  RemoveOnExit temp_guard(temp);
-  // mkstemp makes the file private; give it the mode of a new file.
-  const mode_t mask = umask(0);
-  umask(mask);
-  const int chmod_error = fchmod(fd, 0666 & ~mask) == 0 ? 0 : errno;
-  close(fd);
-  if (chmod_error != 0) {
-    throw std::runtime_error(args.out_path + ": cannot set permissions (" +
-                             std::strerror(chmod_error) + ")");
-  }
+  EnsureParentDirectory(args.out_path);
+  PendingFile png(args.out_path);
+  const std::string& temp = png.temp_path();
 
   // pngcairo where this gnuplot has it (antialiased), else libgd's png.
   const std::string script =
@@ -799,17 +755,13 @@ void RenderPng(const Figure& figure, const PlotArgs& args, const ScratchDir& scr
       "set grid back lt 1 lc rgb 'gray85' lw 1\n" +
       figure.commands + "unset output\n";
   const fs::path script_path = scratch.File("plot.gp");
-  WriteScratchFile(script_path, script);
+  WriteFileAtomically(script_path.string(), script);
   RunGnuplot(script_path, scratch.File("gnuplot.log"), args.input_path);
   if (!IsPng(temp)) {
     throw std::runtime_error("plot: gnuplot wrote no PNG drawing " + args.input_path + ": " +
                              LastLine(scratch.File("gnuplot.log"), script_path));
   }
-  if (std::rename(temp.c_str(), args.out_path.c_str()) != 0) {
-    throw std::runtime_error(args.out_path + ": cannot rename into place (" +
-                             std::strerror(errno) + ")");
-  }
-  temp_guard.Release();
+  png.Commit();
 }
 
 int RunPlot(const CLI::App& command, const PlotArgs& args) {

@@ -1,7 +1,10 @@
 #include "sim/io/error.h"
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
+
+#include "sim/io/numbers.h"
 
 namespace ipmc {
 namespace {
@@ -36,6 +39,12 @@ FieldError::FieldError(const std::string& message, std::string field, std::strin
 void ThrowOption(const std::string& who, const std::string& option, const std::string& allowed,
                  const std::string& got) {
   throw FieldError(who + ": " + option + " must be " + allowed + ", got " + got, option, allowed);
+}
+
+void RequireFinitePositive(const std::string& who, const std::string& option, double value) {
+  if (!std::isfinite(value) || !(value > 0)) {
+    ThrowOption(who, option, "finite and > 0", FormatDouble(value));
+  }
 }
 
 }  // namespace ipmc

@@ -82,5 +82,7 @@ class FieldError : public std::invalid_argument {
 // every command's option checks.
 [[noreturn]] void ThrowOption(const std::string& who, const std::string& option,
                               const std::string& allowed, const std::string& got);
+// ThrowOption(who, option, "finite and > 0", value) unless it is.
+void RequireFinitePositive(const std::string& who, const std::string& option, double value);
 
 }  // namespace ipmc
