@@ -10,11 +10,11 @@
 #include <stdexcept>
 
 #include "sim/core/simulation.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc {
 namespace {
 
-constexpr double kPi = 3.141592653589793;
 // Room in the scene for what mjv_updateScene adds besides the model's geoms
 // and sites (decor: frames, labels, lights' markers).
 constexpr int kSceneMargin = 100;

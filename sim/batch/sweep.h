@@ -139,7 +139,7 @@ std::vector<std::string> SweepColumns(const SweepPlan& plan);
 // std::invalid_argument for bad options only.
 SweepTable RunSweep(const SweepPlan& plan, const SweepOptions& options);
 
-// CSV (RFC 4180: cells with commas or quotes are quoted; "\n" line ends).
+// CSV (sim/io/csv.h: RFC 4180, "\n" line ends).
 std::string SweepTableCsv(const SweepTable& table);
 // {"columns": [...], "points": [{column: value, ...}, ...]}: point is an
 // integer, status and error strings, results numbers (null when empty),
@@ -147,8 +147,8 @@ std::string SweepTableCsv(const SweepTable& table);
 // The same table gives the same JSON, whether it was run or merged.
 nlohmann::ordered_json SweepTableJson(const SweepTable& table);
 
-// Reads a table written by SweepTableCsv; throws std::runtime_error
-// "SOURCE:LINE: ..." if it is not one.
+// Reads a table written by SweepTableCsv; throws InputError
+// (sim/io/error.h) "SOURCE:LINE: ..." if it is not one.
 SweepTable ParseSweepTableCsv(const std::string& csv_text, const std::string& source);
 SweepTable LoadSweepTableCsv(const std::string& path);
 

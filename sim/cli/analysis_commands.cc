@@ -6,13 +6,15 @@
 #include <cstdio>
 #include <filesystem>
 #include <functional>
-#include <iomanip>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "sim/io/columns.h"
+#include "sim/io/csv.h"
+#include "sim/io/error.h"
 #include "sim/io/files.h"
 #include "controllers/closed_loop.h"
 #include "sim/io/numbers.h"
@@ -24,6 +26,7 @@
 #include "controllers/reference_model.h"
 #include "controllers/linear/state_space.h"
 #include "plugin/actuators/ipmc_link_model.h"
+#include "sim/identify/controller_design.h"
 #include "sim/runs/output.h"
 
 namespace ipmc {
@@ -43,38 +46,16 @@ constexpr char kNone[] = "none";
 // The controllers are compared at the reference model's crossover.
 constexpr double kDesignFrequency_rad_s = 5.0;
 
-// Time-domain realisation of s^-0.5 (plant) and s^-lambda (fractional
-// controller): two Oustaloup pairs per decade over ten decades, so the
-// approximation is far below the other errors over any horizon of interest
-// (1/w_b = 1e5 s).
-constexpr int kAccurateOustaloupPairs = 20;
-constexpr double kAccurateBandLow_rad_s = 1e-5;
-constexpr double kAccurateBandHigh_rad_s = 1e5;
-
 constexpr double kSettlingBand = 0.02;
+// bode.csv and step.csv: 12 significant digits.
+constexpr int kCsvDigits = 12;
 // Samples per link in a step run (memory: three doubles per sample).
 constexpr double kMaxStepSamples = 1e6;
 // The Oustaloup bound of FractionalIntegrator::Config.
 constexpr int kMaxOustaloupPairs = 64;
 
-std::string Short(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%g", value);
-  return buffer;
-}
-
-[[noreturn]] void ThrowOption(const std::string& command, const std::string& option,
-                              const std::string& requirement, const std::string& got) {
-  throw std::invalid_argument(command + ": " + option + " must be " + requirement + ", got " +
-                              got);
-}
-
-void RequireFinitePositive(const std::string& command, const std::string& option,
-                           double value) {
-  if (!std::isfinite(value) || !(value > 0)) {
-    ThrowOption(command, option, "finite and > 0", FormatDouble(value));
-  }
-}
+// Gains and bands in descriptions: printf's %g.
+std::string Short(double value) { return FormatDouble(value, 6); }
 
 void RequireLink(const std::string& command, const std::string& option, int link) {
   if (link < 1 || link > 3) ThrowOption(command, option, "1, 2 or 3", std::to_string(link));
@@ -225,21 +206,21 @@ void ValidateBode(const CLI::App& command, const BodeArgs& args) {
 std::string BodeCsv(const FrequencyFunction& plant, const FrequencyFunction& controller,
                     const FrequencyFunction& loop, const FrequencyGrid& grid) {
   const ReferenceModel model;
-  const BodeData columns[] = {
+  const BodeData curves[] = {
       ComputeBode(plant, grid), ComputeBode(controller, grid), ComputeBode(loop, grid),
       ComputeBode([&model](double w) { return model.OpenLoop({0.0, w}); }, grid)};
-  std::ostringstream csv;
-  csv << std::setprecision(12);
-  csv << "w_rad_s,plant_db,plant_deg,controller_db,controller_deg,open_loop_db,open_loop_deg,"
-         "reference_open_loop_db,reference_open_loop_deg\n";
-  for (std::size_t i = 0; i < columns[0].w_rad_s.size(); ++i) {
-    csv << columns[0].w_rad_s[i];
-    for (const BodeData& column : columns) {
-      csv << "," << column.magnitude_db[i] << "," << column.phase_deg[i];
-    }
-    csv << "\n";
+  const char* names[] = {columns::kPlantCurve, columns::kControllerCurve,
+                         columns::kOpenLoopCurve, columns::kReferenceOpenLoopCurve};
+  CsvWriter csv(kCsvDigits);
+  csv.Add(columns::kFrequency);
+  for (const char* name : names) csv.Add(columns::MagnitudeDb(name)).Add(columns::PhaseDeg(name));
+  csv.EndRow();
+  for (std::size_t i = 0; i < curves[0].w_rad_s.size(); ++i) {
+    csv.Add(curves[0].w_rad_s[i]);
+    for (const BodeData& curve : curves) csv.Add(curve.magnitude_db[i]).Add(curve.phase_deg[i]);
+    csv.EndRow();
   }
-  return csv.str();
+  return csv.Text();
 }
 
 int RunBode(const CLI::App& command, const BodeArgs& args) {
@@ -334,16 +315,8 @@ double MetricsHorizon_s(const StepArgs& args) {
   return std::max(args.horizon_s, std::min(args.max_horizon_s, budget_s));
 }
 
-StateSpace AccurateLinkPlant(const std::string& plant, int link) {
-  IpmcLinkParams params = PaperLinkParams(link, PlantKind(plant));
-  params.integrator.w_low_rad_s = kAccurateBandLow_rad_s;
-  params.integrator.w_high_rad_s = kAccurateBandHigh_rad_s;
-  params.integrator.n = kAccurateOustaloupPairs;
-  return LinkStateSpace(params);
-}
-
 ClosedLoopResponse SimulateLink(const StepArgs& args, int link) {
-  const StateSpace plant = AccurateLinkPlant(args.plant, link);
+  const StateSpace plant = AccurateLinkPlant(PaperLinkParams(link, PlantKind(args.plant)));
   StepSimulation simulation;
   simulation.horizon_s = args.horizon_s;
   simulation.max_horizon_s = MetricsHorizon_s(args);
@@ -411,19 +384,18 @@ std::size_t HorizonPoints(const std::vector<double>& time_s, double horizon_s,
 std::string StepCsv(const std::vector<double>& time_s, const std::vector<double>& reference,
                     const std::vector<int>& links,
                     const std::vector<ClosedLoopResponse>& responses) {
-  std::ostringstream csv;
-  csv << std::setprecision(12);
-  csv << "time_s,reference_model";
-  for (int link : links) csv << ",y_link" << link;
-  for (int link : links) csv << ",u_link" << link;
-  csv << "\n";
+  CsvWriter csv(kCsvDigits);
+  csv.Add(columns::kTime).Add(columns::kReferenceModel);
+  for (int link : links) csv.Add(columns::StepOutput(link));
+  for (int link : links) csv.Add(columns::StepVoltage(link));
+  csv.EndRow();
   for (std::size_t i = 0; i < reference.size(); ++i) {
-    csv << time_s[i] << "," << reference[i];
-    for (const ClosedLoopResponse& r : responses) csv << "," << r.output[i];
-    for (const ClosedLoopResponse& r : responses) csv << "," << r.control[i];
-    csv << "\n";
+    csv.Add(time_s[i]).Add(reference[i]);
+    for (const ClosedLoopResponse& r : responses) csv.Add(r.output[i]);
+    for (const ClosedLoopResponse& r : responses) csv.Add(r.control[i]);
+    csv.EndRow();
   }
-  return csv.str();
+  return csv.Text();
 }
 
 int RunStep(const CLI::App& command, const StepArgs& args) {

@@ -22,6 +22,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "sim/io/columns.h"
+#include "sim/io/csv.h"
+#include "sim/io/error.h"
 #include "sim/io/files.h"
 #include "sim/io/numbers.h"
 #include "controllers/linear/frequency_response.h"
@@ -48,10 +51,7 @@ constexpr char kPipelineCommand[] = "pipeline";
 
 constexpr char kDriveEach[] = "each";
 constexpr char kDriveFirst[] = "first";
-constexpr char kTimeColumn[] = "time_s";
 
-constexpr double kPi = 3.141592653589793;
-constexpr double kTwoPi = 2 * kPi;
 // The time_s column must give the sample rate to this relative tolerance.
 constexpr double kSampleRateTolerance = 1e-3;
 // The bench records at the data-acquisition board's rate.
@@ -82,18 +82,6 @@ std::string Format(const char* format, ...) {
   if (length > 0) std::vsnprintf(text.data(), text.size() + 1, format, args);
   va_end(args);
   return text;
-}
-
-[[noreturn]] void ThrowOption(const std::string& command, const std::string& option,
-                              const std::string& requirement, const std::string& got) {
-  throw std::invalid_argument(command + ": " + option + " must be " + requirement + ", got " +
-                              got);
-}
-
-void RequireFinitePositive(const std::string& command, const std::string& option, double value) {
-  if (!std::isfinite(value) || !(value > 0)) {
-    ThrowOption(command, option, "finite and > 0", FormatDouble(value));
-  }
 }
 
 void RequirePhaseMargin(const std::string& command, double value) {
@@ -139,92 +127,6 @@ PidTuningOptions TuningOptions(const std::string& command, double crossover_rad_
   options.horizon_s = horizon_s;
   options.sample_period_s = 1.0 / sample_rate_hz;
   return options;
-}
-
-// ------------------------------------------------------------------ CSV ---
-
-std::string Trim(const std::string& text) {
-  const auto first = text.find_first_not_of(" \t\r");
-  if (first == std::string::npos) return "";
-  const auto last = text.find_last_not_of(" \t\r");
-  return text.substr(first, last - first + 1);
-}
-
-std::vector<std::string> SplitFields(const std::string& line) {
-  std::vector<std::string> fields;
-  std::string field;
-  std::istringstream stream(line);
-  while (std::getline(stream, field, ',')) fields.push_back(Trim(field));
-  if (!line.empty() && line.back() == ',') fields.emplace_back();
-  return fields;
-}
-
-struct CsvData {
-  std::vector<std::vector<double>> columns;  // as requested
-  std::optional<std::vector<double>> time_s;
-};
-
-// Reads the named columns (and time_s if present) of a CSV file with a
-// header row. Throws std::invalid_argument naming the file, line and
-// column on any malformed or non-finite cell.
-CsvData ReadCsvColumns(const std::string& path, const std::vector<std::string>& names) {
-  std::ifstream in(path);
-  if (!in) throw std::invalid_argument(path + ": cannot open file");
-  std::string line;
-  if (!std::getline(in, line)) throw std::invalid_argument(path + ": empty file (no header row)");
-  const std::vector<std::string> header = SplitFields(line);
-  const auto find = [&](const std::string& name) -> int {
-    const auto it = std::find(header.begin(), header.end(), name);
-    return it == header.end() ? -1 : static_cast<int>(it - header.begin());
-  };
-  std::vector<int> index;
-  for (const std::string& name : names) {
-    const int i = find(name);
-    if (i < 0) {
-      std::string available;
-      for (const std::string& h : header) available += (available.empty() ? "" : ", ") + h;
-      throw std::invalid_argument(path + ": no column '" + name + "' (columns: " + available +
-                                  ")");
-    }
-    index.push_back(i);
-  }
-  const int time_index = find(kTimeColumn);
-
-  CsvData data;
-  data.columns.resize(names.size());
-  if (time_index >= 0) data.time_s.emplace();
-  const auto parse = [&](const std::string& field, long line_number,
-                         const std::string& column) {
-    const char* begin = field.c_str();
-    char* end = nullptr;
-    const double value = std::strtod(begin, &end);
-    const std::string where = path + ":" + std::to_string(line_number) + ": column " + column;
-    if (field.empty() || end != begin + field.size()) {
-      throw std::invalid_argument(where + ": '" + field + "' is not a number");
-    }
-    if (!std::isfinite(value)) {
-      throw std::invalid_argument(where + ": value is not finite (" + field + ")");
-    }
-    return value;
-  };
-  long line_number = 1;
-  while (std::getline(in, line)) {
-    ++line_number;
-    if (Trim(line).empty()) continue;
-    const std::vector<std::string> fields = SplitFields(line);
-    if (fields.size() != header.size()) {
-      throw std::invalid_argument(path + ":" + std::to_string(line_number) + ": expected " +
-                                  std::to_string(header.size()) + " fields (as the header), got " +
-                                  std::to_string(fields.size()));
-    }
-    for (std::size_t c = 0; c < names.size(); ++c) {
-      data.columns[c].push_back(parse(fields[index[c]], line_number, names[c]));
-    }
-    if (time_index >= 0) {
-      data.time_s->push_back(parse(fields[time_index], line_number, kTimeColumn));
-    }
-  }
-  return data;
 }
 
 // --------------------------------------------------------- formatting ---
@@ -296,21 +198,25 @@ std::string ResponseCsv(const FrequencyResponseEstimate& e, const LinkIdentifica
   const std::vector<double> measured_deg = UnwrappedPhaseDeg(e.response);
   const std::vector<double> p1_deg = UnwrappedPhaseDeg(p1);
   const std::vector<double> p2_deg = UnwrappedPhaseDeg(p2);
-  std::ostringstream csv;
-  csv << std::setprecision(10);
-  csv << "w_rad_s,frequency_Hz,coherence,measured_re_mm_per_V,measured_im_mm_per_V,measured_db,"
-         "measured_deg,p1_db,p1_deg,p2_db,p2_deg,in_band\n";
+  CsvWriter csv(10);
+  csv.Add(columns::kFrequency).Add(columns::kFrequencyHz).Add(columns::kCoherence);
+  csv.Add(columns::kMeasuredRe).Add(columns::kMeasuredIm);
+  for (const char* curve : {columns::kMeasuredCurve, columns::kP1Curve, columns::kP2Curve}) {
+    csv.Add(columns::MagnitudeDb(curve)).Add(columns::PhaseDeg(curve));
+  }
+  csv.Add(columns::kInBand).EndRow();
   for (std::size_t i = 0; i < e.w_rad_s.size(); ++i) {
     const double w = e.w_rad_s[i];
     const bool in_band =
         w >= id.g1.indices.w_first_rad_s && w <= id.g1.indices.w_last_rad_s;
-    csv << w << "," << e.frequency_Hz[i] << "," << e.coherence[i] << "," << e.response[i].real()
-        << "," << e.response[i].imag() << "," << 20 * std::log10(std::abs(e.response[i])) << ","
-        << measured_deg[i] << "," << 20 * std::log10(std::abs(p1[i])) << "," << p1_deg[i] << ","
-        << 20 * std::log10(std::abs(p2[i])) << "," << p2_deg[i] << "," << (in_band ? 1 : 0)
-        << "\n";
+    csv.Add(w).Add(e.frequency_Hz[i]).Add(e.coherence[i]);
+    csv.Add(e.response[i].real()).Add(e.response[i].imag());
+    csv.Add(20 * std::log10(std::abs(e.response[i]))).Add(measured_deg[i]);
+    csv.Add(20 * std::log10(std::abs(p1[i]))).Add(p1_deg[i]);
+    csv.Add(20 * std::log10(std::abs(p2[i]))).Add(p2_deg[i]);
+    csv.AddInteger(in_band ? 1 : 0).EndRow();
   }
-  return csv.str();
+  return csv.Text();
 }
 
 nlohmann::json IndicesJson(const FitIndices& i) {
@@ -365,11 +271,11 @@ int RunIdentify(const IdentifyArgs::Identify& args) {
   if (args.input_column == args.output_column) {
     ThrowOption(name, "--output", "a column other than --input", args.output_column);
   }
-  const CsvData data = ReadCsvColumns(args.data_path, {args.input_column, args.output_column});
-  const std::vector<double>& input = data.columns[0];
-  const std::vector<double>& output = data.columns[1];
-  if (data.time_s && data.time_s->size() >= 2) {
-    const std::vector<double>& t = *data.time_s;
+  const CsvTable data = CsvTable::Read(args.data_path);
+  const std::vector<double> input = data.FiniteNumbers(args.input_column);
+  const std::vector<double> output = data.FiniteNumbers(args.output_column);
+  if (data.Has(columns::kTime) && data.Rows() >= 2) {
+    const std::vector<double> t = data.FiniteNumbers(columns::kTime);
     const double spacing = (t.back() - t.front()) / (t.size() - 1);
     if (!(spacing > 0) ||
         std::abs(spacing * args.sample_rate_hz - 1.0) > kSampleRateTolerance) {
@@ -641,8 +547,9 @@ int RunPipeline(const IdentifyArgs::Pipeline& args) {
     const int driven = drive_each ? q : 0;
     PipelineLink result;
     result.link = q + 1;
-    result.measured = drive_each ? Format("relative%d_mm (link %d driven)", q + 1, q + 1)
-                                 : Format("tip%d_lateral_mm (link 1 driven)", q + 1);
+    result.measured = drive_each
+                          ? columns::Relative(q + 1) + Format(" (link %d driven)", q + 1)
+                          : columns::TipLateral(q + 1) + " (link 1 driven)";
     const std::vector<double>& clean =
         drive_each ? record.relative_mm[q] : record.tip_lateral_mm[q];
     std::vector<std::vector<double>> inputs(args.repeats, record.voltage_V[driven]);

@@ -41,9 +41,10 @@
 // report). Prints the Markdown report; --out DIR also writes
 // DIR/report.md and DIR/response_link<q>.csv.
 //
-// Bad option values and bad data throw std::invalid_argument with one line
-// naming the option, file or column; nothing is written unless the command
-// succeeded, and each file is written atomically.
+// Bad option values throw std::invalid_argument with one line naming the
+// option; bad data (read by sim/io/csv.h) throws InputError
+// (sim/io/error.h) naming the file, line and column. Nothing is written
+// unless the command succeeded, and each file is written atomically.
 #pragma once
 
 #include <string>
@@ -95,8 +96,9 @@ struct IdentifyArgs {
 void AddIdentifyCommands(CLI::App& app, IdentifyArgs& args);
 
 // Runs the subcommand app parsed; returns its exit code, or -1 if none of
-// these was chosen. Throws std::invalid_argument for bad options or data
-// and std::runtime_error for simulation or output failures.
+// these was chosen. Throws std::invalid_argument for bad options,
+// InputError for bad data and std::runtime_error for simulation or output
+// failures.
 int RunIdentifyCommand(const CLI::App& app, const IdentifyArgs& args);
 
 }  // namespace ipmc

@@ -4,11 +4,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
-#include <sstream>
 #include <stdexcept>
 #include <vector>
 
+#include "sim/io/error.h"
 #include "sim/io/files.h"
+#include "sim/io/numbers.h"
 #include "renders/offscreen_renderer.h"
 #include "renders/video.h"
 #include "sim/runs/closed_loop_run.h"
@@ -22,30 +23,22 @@ constexpr char kRenderCommand[] = "render";
 // Trails longer than this would only slow the renderer down.
 constexpr int kMaxTrailFrames = 10000;
 
-[[noreturn]] void ThrowOption(const std::string& option, const std::string& requirement,
-                              double value) {
-  std::ostringstream msg;
-  msg << "render: " << option << " must be " << requirement << " (got " << value << ")";
-  throw std::invalid_argument(msg.str());
-}
-
 void Validate(const RenderArgs& args) {
-  if (args.width <= 0 || args.width % 2 != 0) ThrowOption("--width", "positive and even", args.width);
-  if (args.height <= 0 || args.height % 2 != 0) {
-    ThrowOption("--height", "positive and even", args.height);
-  }
-  if (!(args.fps > 0.0 && args.fps <= 1000.0)) ThrowOption("--fps", "in (0, 1000]", args.fps);
-  if (args.frames_per_cycle < 1) ThrowOption("--frames-per-cycle", ">= 1", args.frames_per_cycle);
-  if (args.start_cycle < 1) ThrowOption("--start-cycle", ">= 1", args.start_cycle);
-  if (args.cycles < 0) ThrowOption("--cycles", ">= 1", args.cycles);
-  if (args.trail_frames > kMaxTrailFrames) {
-    ThrowOption("--trail-frames", "<= " + std::to_string(kMaxTrailFrames), args.trail_frames);
-  }
-}
-
-void EnsureParentDirectory(const std::string& path) {
-  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
-  if (!parent.empty()) EnsureDirectory(parent.string());
+  const auto require = [](bool ok, const char* option, const std::string& allowed,
+                          const std::string& got) {
+    if (!ok) ThrowOption(kRenderCommand, option, allowed, got);
+  };
+  require(args.width > 0 && args.width % 2 == 0, "--width", "positive and even",
+          std::to_string(args.width));
+  require(args.height > 0 && args.height % 2 == 0, "--height", "positive and even",
+          std::to_string(args.height));
+  require(args.fps > 0.0 && args.fps <= 1000.0, "--fps", "in (0, 1000]", FormatShortest(args.fps));
+  require(args.frames_per_cycle >= 1, "--frames-per-cycle", ">= 1",
+          std::to_string(args.frames_per_cycle));
+  require(args.start_cycle >= 1, "--start-cycle", ">= 1", std::to_string(args.start_cycle));
+  require(args.cycles >= 0, "--cycles", ">= 1", std::to_string(args.cycles));
+  require(args.trail_frames <= kMaxTrailFrames, "--trail-frames",
+          "<= " + std::to_string(kMaxTrailFrames), std::to_string(args.trail_frames));
 }
 
 std::string FramePath(const std::string& dir, int index) {

@@ -3,9 +3,9 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <charconv>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -13,6 +13,8 @@
 #include "sim/batch/cpu_affinity.h"
 #include "sim/batch/journal.h"
 #include "sim/batch/sweep.h"
+#include "sim/io/columns.h"
+#include "sim/io/numbers.h"
 #include "sim/cli/interrupt.h"
 #include "sim/cli/slurm_command.h"
 
@@ -26,7 +28,7 @@ constexpr int kInterruptedExitCode = 130;
 
 constexpr int kBarWidth = 30;
 // Result columns shown on stdout (all are in the files).
-constexpr const char* kShownResults[] = {"mean_speed_along_mm_s", "last_cycle_com_along_mm"};
+constexpr const char* kShownResults[] = {columns::kMeanSpeedAlong, columns::kLastCycleComAlong};
 
 // "m:ss", or "h:mm:ss" from an hour on.
 std::string Clock(double seconds) {
@@ -94,29 +96,27 @@ class ProgressReport {
 };
 
 // A number cell at 6 significant digits; other cells as they are.
+// (The table writes numbers without a '+'; a cell with one is text.)
 std::string Readable(const std::string& cell) {
-  double value = 0.0;
-  const char* end = cell.data() + cell.size();
-  const std::from_chars_result result = std::from_chars(cell.data(), end, value);
-  if (cell.empty() || result.ec != std::errc() || result.ptr != end) return cell;
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.6g", value);
-  return buffer;
+  const std::optional<double> value = cell.empty() || cell[0] == '+' ? std::nullopt
+                                                                     : ParseDouble(cell);
+  return value ? FormatDouble(*value, 6) : cell;
 }
 
 // The swept values, status and speed of each row, aligned.
 void PrintSummary(const SweepTable& table) {
-  const std::vector<std::string>& columns = table.columns;
-  const size_t status = std::find(columns.begin(), columns.end(), "status") - columns.begin();
+  const std::vector<std::string>& names = table.columns;
+  const size_t status =
+      std::find(names.begin(), names.end(), columns::kStatus) - names.begin();
   std::vector<size_t> shown;
-  for (size_t c = 0; c <= status && c < columns.size(); ++c) shown.push_back(c);
+  for (size_t c = 0; c <= status && c < names.size(); ++c) shown.push_back(c);
   for (const char* name : kShownResults) {
-    const auto it = std::find(columns.begin(), columns.end(), name);
-    if (it != columns.end()) shown.push_back(it - columns.begin());
+    const auto it = std::find(names.begin(), names.end(), name);
+    if (it != names.end()) shown.push_back(it - names.begin());
   }
   std::vector<size_t> width;
   for (size_t c : shown) {
-    size_t w = columns[c].size();
+    size_t w = names[c].size();
     for (const auto& row : table.rows) w = std::max(w, Readable(row[c]).size());
     width.push_back(w);
   }
@@ -130,7 +130,7 @@ void PrintSummary(const SweepTable& table) {
     while (!line.empty() && line.back() == ' ') line.pop_back();
     std::printf("%s\n", line.c_str());
   };
-  print_row([&](size_t c) { return columns[c]; });
+  print_row([&](size_t c) { return names[c]; });
   for (const auto& row : table.rows) print_row([&](size_t c) { return Readable(row[c]); });
 }
 
@@ -185,7 +185,7 @@ int RunSweepFile(const SweepArgs& args) {
   const size_t status = plan.keys.size() + 1;
   int failed = 0;
   for (const auto& row : table.rows) {
-    if (row[status] != "ok") {
+    if (row[status] != columns::kStatusOk) {
       ++failed;
       std::fprintf(stderr, "point %s failed: %s\n", row[0].c_str(), row[status + 1].c_str());
     }

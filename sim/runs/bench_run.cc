@@ -1,7 +1,6 @@
 #include "sim/runs/bench_run.h"
 
 #include <cmath>
-#include <iomanip>
 #include <sstream>
 #include <stdexcept>
 
@@ -9,11 +8,13 @@
 #include "plugin/coupling.h"
 #include "sim/core/step_count.h"
 #include "sim/core/link_sensors.h"
+#include "sim/io/columns.h"
+#include "sim/io/csv.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc {
 namespace {
 
-constexpr double kTwoPi = 6.283185307179586;
 
 void RequirePositive(double value, const char* field) {
   if (!(value > 0.0) || !std::isfinite(value)) {
@@ -104,23 +105,24 @@ BenchRecord RunBench(Simulation& sim, const BenchSignal& signal, double record_f
 }
 
 std::string BenchCsv(const BenchRecord& record) {
-  std::ostringstream csv;
-  csv << std::setprecision(10) << "time_s";
+  CsvWriter csv(10);
   const size_t links = record.voltage_V.size();
+  csv.Add(columns::kTime);
   for (size_t q = 1; q <= links; ++q) {
-    csv << ",voltage" << q << "_V,relative" << q << "_mm,tip" << q << "_lateral_mm,free" << q
-        << "_mm";
+    const int link = static_cast<int>(q);
+    csv.Add(columns::Voltage(link)).Add(columns::Relative(link)).Add(columns::TipLateral(link));
+    csv.Add(columns::Free(link));
   }
-  csv << "\n";
+  csv.EndRow();
   for (size_t i = 0; i < record.t_s.size(); ++i) {
-    csv << record.t_s[i];
+    csv.Add(record.t_s[i]);
     for (size_t q = 0; q < links; ++q) {
-      csv << "," << record.voltage_V[q][i] << "," << record.relative_mm[q][i] << ","
-          << record.tip_lateral_mm[q][i] << "," << record.free_mm[q][i];
+      csv.Add(record.voltage_V[q][i]).Add(record.relative_mm[q][i]);
+      csv.Add(record.tip_lateral_mm[q][i]).Add(record.free_mm[q][i]);
     }
-    csv << "\n";
+    csv.EndRow();
   }
-  return csv.str();
+  return csv.Text();
 }
 
 }  // namespace ipmc

@@ -11,6 +11,7 @@
 #include "sim/core/step_count.h"
 #include "sim/core/model_generator.h"
 #include "sim/core/link_sensors.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc {
 namespace {
@@ -63,7 +64,7 @@ void OverrideViscosity(mjModel* m, double viscosity_Pa_s, const std::string& sou
 
 double StartRamp(double t_s, double ramp_s) {
   if (t_s >= ramp_s) return 1.0;
-  return 0.5 * (1.0 - std::cos(3.141592653589793 * t_s / ramp_s));
+  return 0.5 * (1.0 - std::cos(kPi * t_s / ramp_s));
 }
 
 ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserver& observer) {
