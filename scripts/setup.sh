@@ -11,6 +11,7 @@ IPMC_PACKAGES=(
   libgtest-dev libbenchmark-dev
   libstb-dev libfftw3-dev ffmpeg gnuplot-nox
   slurm-wlm munge
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
 )
 
 ipmc_missing_packages() {

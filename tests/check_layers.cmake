@@ -18,6 +18,7 @@ set(layers
   sim/batch
   renders
   sim/cli
+  sim/python
   sim)
 set(allowed_sim/io "")
 set(allowed_controllers/linear sim/io)
@@ -35,6 +36,7 @@ set(allowed_sim/identify sim/core ${below_sim})
 set(allowed_sim/batch sim/runs sim/core ${below_sim})
 set(allowed_renders sim/runs sim/core ${below_sim})
 set(allowed_sim/cli renders sim/batch sim/identify sim/runs sim/core ${below_sim})
+set(allowed_sim/python sim/batch sim/identify sim/runs sim/core ${below_sim})
 set(allowed_sim plugin/include)
 
 # The layer of a path relative to the project: its longest listed prefix.

@@ -157,6 +157,8 @@ class SweepReader {
   }
 
   SweepPlan Read(const std::string& toml_text);
+  // One scenario: the base (none if base_path is empty) with `overrides`.
+  ScenarioConfig ReadOne(const std::string& base_path, const toml::table& overrides);
 
  private:
   void ReadBase(const toml::table& root);
@@ -419,7 +421,8 @@ ScenarioError SweepReader::Locate(const std::string& message, const std::string&
   }
   if (origin != nullptr) {
     error.in_sweep = true;
-    error.message = source_ + ":" + std::to_string(origin->line) + ": " + rest;
+    const std::string line = origin->line > 0 ? ":" + std::to_string(origin->line) : "";
+    error.message = source_ + line + ": " + rest;
   } else if (const toml::key* key = FindKey(base_, error.key)) {
     error.in_base = true;
     error.message = base_path_ + ":" + std::to_string(key->source().begin.line) + ": " + rest;
@@ -601,6 +604,23 @@ SweepPlan SweepReader::Read(const std::string& toml_text) {
   return plan;
 }
 
+ScenarioConfig SweepReader::ReadOne(const std::string& base_path, const toml::table& overrides) {
+  base_path_ = base_path.empty() ? source_ : base_path;
+  if (!base_path.empty()) {
+    const std::string text = ReadTextFile(base_path_, "scenario file");
+    base_ = ParseToml(text, base_path_);
+    ParseScenario(text, base_path_);  // the base must be a scenario by itself
+  }
+  std::vector<Override> entries;
+  FlattenOverrides(overrides, "", &entries);
+  std::vector<const Override*> pointers;
+  for (const Override& entry : entries) pointers.push_back(&entry);
+  RejectRepeatedKeys(pointers);
+  PointScenario point = ReadScenario(pointers);
+  if (!point.scenario) throw std::runtime_error(point.error);
+  return std::move(*point.scenario);
+}
+
 // The number of IPMC links of each model the points use (as the run
 // counts them); a model that does not load counts none, and its points
 // fail when they run.
@@ -720,6 +740,11 @@ SweepPlan ParseSweep(const std::string& toml_text, const std::string& source) {
 
 SweepPlan LoadSweep(const std::string& path) {
   return ParseSweep(ReadTextFile(path, "sweep file"), path);
+}
+
+ScenarioConfig ScenarioWithOverrides(const std::string& base_path, const toml::table& overrides,
+                                     const std::string& source) {
+  return SweepReader(source).ReadOne(base_path, overrides);
 }
 
 SweepShard ParseSweepShard(const std::string& text) {

@@ -64,6 +64,7 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
+#include <toml++/toml.h>
 
 #include "sim/core/scenario.h"
 
@@ -90,6 +91,16 @@ struct SweepPlan {
 // line) as described above.
 SweepPlan ParseSweep(const std::string& toml_text, const std::string& source);
 SweepPlan LoadSweep(const std::string& path);
+
+// One scenario: the scenario file `base_path` with `overrides` applied as
+// a sweep's [set] applies them (dotted keys, nested tables standing for
+// the dotted keys under them, a changed kind dropping the base's keys of
+// the other kind). With an empty base_path the overrides are the whole
+// scenario and relative paths resolve from the working directory. Throws
+// std::runtime_error with one line: errors in the base name the base file
+// and line, errors in an override name `source` and the key.
+ScenarioConfig ScenarioWithOverrides(const std::string& base_path, const toml::table& overrides,
+                                     const std::string& source);
 
 // Part i of n (1 <= i <= n) of a sweep: the points with index % n == i - 1.
 struct SweepShard {

@@ -33,6 +33,7 @@
 #include "plugin/actuators/ipmc_link_model.h"
 #include "sim/runs/bench_run.h"
 #include "sim/identify/controller_design.h"
+#include "sim/identify/identify_run.h"
 #include "sim/identify/levy.h"
 #include "sim/runs/output.h"
 #include "sim/core/data_paths.h"
@@ -52,8 +53,8 @@ constexpr char kPipelineCommand[] = "pipeline";
 constexpr char kDriveEach[] = "each";
 constexpr char kDriveFirst[] = "first";
 
-// The time_s column must give the sample rate to this relative tolerance.
-constexpr double kSampleRateTolerance = 1e-3;
+constexpr double kPi = 3.141592653589793;
+constexpr double kTwoPi = 2 * kPi;
 // The bench records at the data-acquisition board's rate.
 constexpr double kBenchSampleRate_Hz = 1000.0;
 // Paper's eq. 12 and eq. 14, for comparison.
@@ -64,7 +65,6 @@ constexpr double kPaperFractionalOrder = 0.62;
 constexpr double kMaxDuration_s = 1e4;
 constexpr int kMaxRepeats = 100;
 constexpr double kMaxAmplitude_V = 100.0;  // as BenchSignal
-constexpr double kMaxTuningSamples = 1e7;
 
 double Seconds(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -90,61 +90,93 @@ void RequirePhaseMargin(const std::string& command, double value) {
   }
 }
 
-LevyOptions BandOptions(const std::string& command, const std::vector<double>& band) {
-  if (band.size() != 2) {
-    ThrowOption(command, "--band-rad-s", "two values LOW,HIGH",
-                std::to_string(band.size()) + " values");
-  }
-  if (!std::isfinite(band[0]) || !std::isfinite(band[1]) || !(band[0] > 0) ||
-      !(band[1] > band[0])) {
-    ThrowOption(command, "--band-rad-s", "0 < LOW < HIGH",
-                FormatDouble(band[0]) + "," + FormatDouble(band[1]));
-  }
-  LevyOptions options;
-  options.w_low_rad_s = band[0];
-  options.w_high_rad_s = band[1];
-  return options;
+// ------------------------------------------------------------------ CSV ---
+
+std::string Trim(const std::string& text) {
+  const auto first = text.find_first_not_of(" \t\r");
+  if (first == std::string::npos) return "";
+  const auto last = text.find_last_not_of(" \t\r");
+  return text.substr(first, last - first + 1);
 }
 
-// Tuning options for a horizon and controller rate given on the command line.
-PidTuningOptions TuningOptions(const std::string& command, double crossover_rad_s,
-                               double reference_order, double horizon_s, double sample_rate_hz) {
-  RequireFinitePositive(command, "--horizon-s", horizon_s);
-  RequireFinitePositive(command, "--sample-rate-hz", sample_rate_hz);
-  const double samples = horizon_s * sample_rate_hz;
-  if (std::abs(samples - std::round(samples)) > 1e-9 * samples || samples < 2 ||
-      samples > kMaxTuningSamples) {
-    ThrowOption(command, "--horizon-s x --sample-rate-hz",
-                "a whole number of samples in [2, " + FormatDouble(kMaxTuningSamples) + "]",
-                FormatDouble(samples));
+std::vector<std::string> SplitFields(const std::string& line) {
+  std::vector<std::string> fields;
+  std::string field;
+  std::istringstream stream(line);
+  while (std::getline(stream, field, ',')) fields.push_back(Trim(field));
+  if (!line.empty() && line.back() == ',') fields.emplace_back();
+  return fields;
+}
+
+struct CsvData {
+  std::vector<std::vector<double>> columns;  // as requested
+  std::optional<std::vector<double>> time_s;
+};
+
+// Reads the named columns (and time_s if present) of a CSV file with a
+// header row. Throws std::invalid_argument naming the file, line and
+// column on any malformed or non-finite cell.
+CsvData ReadCsvColumns(const std::string& path, const std::vector<std::string>& names) {
+  std::ifstream in(path);
+  if (!in) throw std::invalid_argument(path + ": cannot open file");
+  std::string line;
+  if (!std::getline(in, line)) throw std::invalid_argument(path + ": empty file (no header row)");
+  const std::vector<std::string> header = SplitFields(line);
+  const auto find = [&](const std::string& name) -> int {
+    const auto it = std::find(header.begin(), header.end(), name);
+    return it == header.end() ? -1 : static_cast<int>(it - header.begin());
+  };
+  std::vector<int> index;
+  for (const std::string& name : names) {
+    const int i = find(name);
+    if (i < 0) {
+      std::string available;
+      for (const std::string& h : header) available += (available.empty() ? "" : ", ") + h;
+      throw std::invalid_argument(path + ": no column '" + name + "' (columns: " + available +
+                                  ")");
+    }
+    index.push_back(i);
   }
-  if (!std::isfinite(reference_order) || !(reference_order > 0) || reference_order > 2) {
-    ThrowOption(command, "--reference-order", "in (0, 2]", FormatDouble(reference_order));
+  const int time_index = find(kTimeColumn);
+
+  CsvData data;
+  data.columns.resize(names.size());
+  if (time_index >= 0) data.time_s.emplace();
+  const auto parse = [&](const std::string& field, long line_number,
+                         const std::string& column) {
+    const char* begin = field.c_str();
+    char* end = nullptr;
+    const double value = std::strtod(begin, &end);
+    const std::string where = path + ":" + std::to_string(line_number) + ": column " + column;
+    if (field.empty() || end != begin + field.size()) {
+      throw std::invalid_argument(where + ": '" + field + "' is not a number");
+    }
+    if (!std::isfinite(value)) {
+      throw std::invalid_argument(where + ": value is not finite (" + field + ")");
+    }
+    return value;
+  };
+  long line_number = 1;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (Trim(line).empty()) continue;
+    const std::vector<std::string> fields = SplitFields(line);
+    if (fields.size() != header.size()) {
+      throw std::invalid_argument(path + ":" + std::to_string(line_number) + ": expected " +
+                                  std::to_string(header.size()) + " fields (as the header), got " +
+                                  std::to_string(fields.size()));
+    }
+    for (std::size_t c = 0; c < names.size(); ++c) {
+      data.columns[c].push_back(parse(fields[index[c]], line_number, names[c]));
+    }
+    if (time_index >= 0) {
+      data.time_s->push_back(parse(fields[time_index], line_number, kTimeColumn));
+    }
   }
-  PidTuningOptions options;
-  options.reference.crossover_rad_s = crossover_rad_s;
-  options.reference.order = reference_order;
-  options.horizon_s = horizon_s;
-  options.sample_period_s = 1.0 / sample_rate_hz;
-  return options;
+  return data;
 }
 
 // --------------------------------------------------------- formatting ---
-
-std::vector<double> UnwrappedPhaseDeg(const std::vector<Complex>& values) {
-  std::vector<double> phase(values.size());
-  double offset = 0;
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    const double raw = std::arg(values[i]) * 180 / kPi;
-    if (i > 0) {
-      const double previous = phase[i - 1] - offset;
-      if (raw - previous > 180) offset -= 360;
-      if (raw - previous < -180) offset += 360;
-    }
-    phase[i] = raw + offset;
-  }
-  return phase;
-}
 
 std::string StabilityText(const LinkModelFit& fit) { return fit.stable ? "stable" : "UNSTABLE"; }
 
@@ -189,56 +221,6 @@ double MeanCoherenceInBand(const FrequencyResponseEstimate& e, const FitIndices&
   return count > 0 ? sum / count : 0.0;
 }
 
-std::string ResponseCsv(const FrequencyResponseEstimate& e, const LinkIdentification& id) {
-  std::vector<Complex> p1, p2;
-  for (double w : e.w_rad_s) {
-    p1.push_back(FittedResponse(id.g1.params, w));
-    p2.push_back(FittedResponse(id.g2.params, w));
-  }
-  const std::vector<double> measured_deg = UnwrappedPhaseDeg(e.response);
-  const std::vector<double> p1_deg = UnwrappedPhaseDeg(p1);
-  const std::vector<double> p2_deg = UnwrappedPhaseDeg(p2);
-  CsvWriter csv(10);
-  csv.Add(columns::kFrequency).Add(columns::kFrequencyHz).Add(columns::kCoherence);
-  csv.Add(columns::kMeasuredRe).Add(columns::kMeasuredIm);
-  for (const char* curve : {columns::kMeasuredCurve, columns::kP1Curve, columns::kP2Curve}) {
-    csv.Add(columns::MagnitudeDb(curve)).Add(columns::PhaseDeg(curve));
-  }
-  csv.Add(columns::kInBand).EndRow();
-  for (std::size_t i = 0; i < e.w_rad_s.size(); ++i) {
-    const double w = e.w_rad_s[i];
-    const bool in_band =
-        w >= id.g1.indices.w_first_rad_s && w <= id.g1.indices.w_last_rad_s;
-    csv.Add(w).Add(e.frequency_Hz[i]).Add(e.coherence[i]);
-    csv.Add(e.response[i].real()).Add(e.response[i].imag());
-    csv.Add(20 * std::log10(std::abs(e.response[i]))).Add(measured_deg[i]);
-    csv.Add(20 * std::log10(std::abs(p1[i]))).Add(p1_deg[i]);
-    csv.Add(20 * std::log10(std::abs(p2[i]))).Add(p2_deg[i]);
-    csv.AddInteger(in_band ? 1 : 0).EndRow();
-  }
-  return csv.Text();
-}
-
-nlohmann::json IndicesJson(const FitIndices& i) {
-  return {{"J", i.levy_cost},         {"MSE", i.mse},
-          {"MAD", i.mad},             {"MD", i.max_deviation},
-          {"R2", i.r_squared},        {"points", i.points},
-          {"w_first_rad_s", i.w_first_rad_s}, {"w_last_rad_s", i.w_last_rad_s}};
-}
-
-nlohmann::json FitJson(const LinkModelFit& fit) {
-  nlohmann::json json = {{"a0_mm_per_V", fit.params.a0_mm_per_V},
-                         {"b1", fit.params.b1},
-                         {"stable", fit.stable},
-                         {"indices", IndicesJson(fit.indices)}};
-  if (fit.params.kind == IpmcModelKind::kG1) {
-    json["b2_s2"] = fit.params.b2_s2;
-  } else {
-    json["alpha"] = fit.params.alpha;
-  }
-  return json;
-}
-
 void PrintIndicesTable(const LinkIdentification& id) {
   std::printf("Table 3 indices on P = s^-0.5 G (complex response, band points):\n");
   std::printf("%-5s %12s %12s %12s %12s %9s\n", "model", "J", "MSE", "MAD", "MD", "R^2");
@@ -265,44 +247,14 @@ std::string FitBandToData(LevyOptions& levy, const FrequencyResponseEstimate& e)
 // ------------------------------------------------------------ identify ---
 
 int RunIdentify(const IdentifyArgs::Identify& args) {
-  const std::string name = kIdentifyCommand;
-  RequireFinitePositive(name, "--sample-rate-hz", args.sample_rate_hz);
-  const LevyOptions levy = BandOptions(name, args.band_rad_s);
-  if (args.input_column == args.output_column) {
-    ThrowOption(name, "--output", "a column other than --input", args.output_column);
-  }
-  const CsvTable data = CsvTable::Read(args.data_path);
-  const std::vector<double> input = data.FiniteNumbers(args.input_column);
-  const std::vector<double> output = data.FiniteNumbers(args.output_column);
-  if (data.Has(columns::kTime) && data.Rows() >= 2) {
-    const std::vector<double> t = data.FiniteNumbers(columns::kTime);
-    const double spacing = (t.back() - t.front()) / (t.size() - 1);
-    if (!(spacing > 0) ||
-        std::abs(spacing * args.sample_rate_hz - 1.0) > kSampleRateTolerance) {
-      throw std::invalid_argument(
-          name + ": --sample-rate-hz " + FormatDouble(args.sample_rate_hz) +
-          " disagrees with the time_s column of " + args.data_path + " (mean spacing " +
-          FormatDouble(spacing) + " s, i.e. " + FormatDouble(1.0 / spacing) + " Hz)");
-    }
-  }
-  WelchOptions welch;
-  welch.sample_rate_Hz = args.sample_rate_hz;
-  FrequencyResponseEstimate estimate;
-  try {
-    estimate = EstimateFrequencyResponse(input, output, welch);
-  } catch (const std::invalid_argument& error) {
-    throw std::invalid_argument(args.data_path + ": " + error.what());
-  }
-  if (levy.w_low_rad_s < estimate.w_rad_s.front()) {
-    // Welch's first bin is 2 pi fs / L with L = N / 4.5.
-    const double needed_s = 4.5 * kTwoPi / levy.w_low_rad_s;
-    throw std::invalid_argument(Format(
-        "%s: --band-rad-s low end %.4g rad/s is below the first Welch bin %.4g rad/s of this "
-        "%.4g s record (8 sections with 50 %% overlap reach it from about %.4g s of data)",
-        name.c_str(), levy.w_low_rad_s, estimate.w_rad_s.front(),
-        input.size() / args.sample_rate_hz, needed_s));
-  }
-  const LinkIdentification id = IdentifyLinkModels(estimate, levy);
+  args.Validate();
+  const CsvData data = ReadCsvColumns(args.data_path, {args.input_column, args.output_column});
+  const std::vector<double>& input = data.columns[0];
+  const RecordIdentification result = IdentifyRecord(
+      args, input, data.columns[1], data.time_s ? &*data.time_s : nullptr);
+  const LevyOptions& levy = result.levy;
+  const FrequencyResponseEstimate& estimate = result.estimate;
+  const LinkIdentification& id = result.id;
 
   std::printf("%s: input %s, output %s, %zu samples at %g Hz (%.6g s)\n", args.data_path.c_str(),
               args.input_column.c_str(), args.output_column.c_str(), input.size(),
@@ -318,19 +270,7 @@ int RunIdentify(const IdentifyArgs::Identify& args) {
   PrintIndicesTable(id);
 
   if (!args.out_dir.empty()) {
-    const nlohmann::json json = {
-        {"data", args.data_path},
-        {"input", args.input_column},
-        {"output", args.output_column},
-        {"sample_rate_Hz", args.sample_rate_hz},
-        {"band_rad_s", {levy.w_low_rad_s, levy.w_high_rad_s}},
-        {"welch",
-         {{"records", estimate.records},
-          {"sections", estimate.sections_per_record},
-          {"section_samples", estimate.section_samples},
-          {"section_step", estimate.section_step}}},
-        {"g1", FitJson(id.g1)},
-        {"g2", FitJson(id.g2)}};
+    const nlohmann::json json = IdentificationJson(args, result);
     EnsureDirectory(args.out_dir);
     const std::filesystem::path dir(args.out_dir);
     WriteFileAtomically((dir / "response.csv").string(), ResponseCsv(estimate, id));
@@ -342,23 +282,6 @@ int RunIdentify(const IdentifyArgs::Identify& args) {
 }
 
 // -------------------------------------------------------------- design ---
-
-struct FractionalResult {
-  FractionalIntegratorDesign design;
-  StabilityMargins margins;
-};
-
-FractionalResult DesignFractional(const FrequencyFunction& plant, double crossover_rad_s,
-                                  double phase_margin_deg) {
-  FractionalResult result;
-  result.design = DesignFractionalIntegrator(plant, crossover_rad_s, phase_margin_deg);
-  const double gain = result.design.gain;
-  const double order = result.design.order;
-  result.margins = ComputeMargins([&](double w) {
-    return gain * std::polar(std::pow(w, -order), -order * kPi / 2) * plant(w);
-  });
-  return result;
-}
 
 std::string MarginsText(const StabilityMargins& m) {
   std::string text = m.gain_crossover_rad_s
@@ -376,23 +299,8 @@ std::string PidText(const PidGains& g) {
 }
 
 int RunDesign(const IdentifyArgs::Design& args) {
-  const std::string name = kDesignCommand;
-  if (args.link < 1 || args.link > 3) {
-    ThrowOption(name, "--link", "1, 2 or 3", std::to_string(args.link));
-  }
-  if (args.plant != "g1" && args.plant != "g2") {
-    ThrowOption(name, "--plant", "g1 or g2", args.plant);
-  }
-  RequireFinitePositive(name, "--crossover-rad-s", args.crossover_rad_s);
-  RequirePhaseMargin(name, args.phase_margin_deg);
-  const PidTuningOptions tuning = TuningOptions(name, args.crossover_rad_s, args.reference_order,
-                                                args.horizon_s, args.sample_rate_hz);
-  const IpmcLinkParams params =
-      PaperLinkParams(args.link, args.plant == "g2" ? IpmcModelKind::kG2 : IpmcModelKind::kG1);
-  const FrequencyFunction plant = [params](double w) { return LinkResponseExact(params, w); };
-
-  const FractionalResult fractional =
-      DesignFractional(plant, args.crossover_rad_s, args.phase_margin_deg);
+  const LinkDesign result = DesignLink(args);
+  const FractionalResult& fractional = result.fractional;
   std::printf("plant: link %d, P = s^-0.5 %s (Table 2%s)\n", args.link,
               args.plant == "g2" ? "G2" : "G1",
               args.link == 3 && args.plant == "g1" ? ", eq. 7" : "");
@@ -406,12 +314,8 @@ int RunDesign(const IdentifyArgs::Design& args) {
               d.gain, d.order, kPaperFractionalGain, kPaperFractionalOrder);
   std::printf("  open loop (exact): %s\n", MarginsText(fractional.margins).c_str());
 
-  const Clock::time_point start = Clock::now();
-  const StateSpace accurate = AccurateLinkPlant(params);
-  const PidStepCost cost(accurate, tuning);
-  const double paper_cost = cost(kPaperPid);
-  const PidTuningResult tuned = TunePid(accurate, tuning);
-  const double tuning_s = Seconds(start);
+  const PidTuningResult& tuned = result.tuned;
+  const double paper_cost = result.paper_cost;
   std::printf("PID tuned by Nelder-Mead against 1/((s/%g)^%g + 1), J of eq. 11 over %g s, loop "
               "sampled at %g Hz (linear, no clamp):\n",
               args.crossover_rad_s, args.reference_order, args.horizon_s, args.sample_rate_hz);
@@ -424,13 +328,9 @@ int RunDesign(const IdentifyArgs::Design& args) {
   std::printf("  paper (eq. 12): %s, J = %.6f\n", PidText(kPaperPid).c_str(), paper_cost);
   std::printf("  tuned:          %s, J = %.6f (%.1f %% of the paper's)\n",
               PidText(tuned.gains).c_str(), tuned.cost, 100 * tuned.cost / paper_cost);
-  const PidGains g = tuned.gains;
-  const StabilityMargins pid_margins = ComputeMargins([&](double w) {
-    return (g.kp + g.ki / Complex(0, w) + g.kd * Complex(0, w)) * plant(w);
-  });
   std::printf("  tuned open loop (exact plant, continuous PID): %s\n",
-              MarginsText(pid_margins).c_str());
-  std::printf("  tuning time %.2f s\n", tuning_s);
+              MarginsText(result.pid_margins).c_str());
+  std::printf("  tuning time %.2f s\n", result.tuning_s);
   return 0;
 }
 

@@ -52,26 +52,17 @@
 
 #include <CLI/CLI.hpp>
 
+#include "sim/identify/identify_run.h"
+
 namespace ipmc {
 
 struct IdentifyArgs {
-  struct Identify {
-    std::string data_path;
-    std::string input_column;
-    std::string output_column;
-    double sample_rate_hz = 1000.0;
-    std::vector<double> band_rad_s = {0.2, 50.0};
+  // The computations are in sim/identify/identify_run.h.
+  struct Identify : IdentifySpec {
     std::string out_dir;
   } identify;
 
-  struct Design {
-    int link = 3;
-    std::string plant = "g1";
-    double crossover_rad_s = 5.0;
-    double phase_margin_deg = 75.0;
-    double reference_order = 1.16;
-    double horizon_s = 2.0;
-    double sample_rate_hz = 10000.0;
+  struct Design : DesignSpec {
   } design;
 
   struct Pipeline {

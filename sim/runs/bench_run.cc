@@ -54,7 +54,8 @@ double BenchSignal::VoltageAt(double t_s) const {
   return amplitude_V * std::sin(kTwoPi * (start_Hz * t_s + 0.5 * sweep_Hz_s * t_s * t_s));
 }
 
-BenchRecord RunBench(Simulation& sim, const BenchSignal& signal, double record_from_s) {
+BenchRecord RunBench(Simulation& sim, const BenchSignal& signal, double record_from_s,
+                     const BenchProgress& progress) {
   signal.Validate();
   mjModel* m = sim.model();
   mjData* d = sim.data();
@@ -98,6 +99,7 @@ BenchRecord RunBench(Simulation& sim, const BenchSignal& signal, double record_f
           record.free_mm[q].push_back(actuators.FreeTipDeflection_mm(q));
         }
       }
+      if (progress) progress(d->time);
     }
     sim.Step();
   }

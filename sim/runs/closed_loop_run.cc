@@ -16,9 +16,18 @@
 namespace ipmc {
 namespace {
 
-// Segment pitches of the model at rest (hinge anchors and the last tip
-// along x) and the IPMC links' lengths.
-LinkGeometry ModelGeometry(const mjModel* m, const mjData* d, const std::string& source) {
+void OverrideViscosity(mjModel* m, double viscosity_Pa_s, const std::string& source) {
+  const int id = mj_name2id(m, mjOBJ_NUMERIC, "ipmc_rft_viscosity_Pa_s");
+  if (id < 0) throw std::runtime_error(source + ": fluid.viscosity_Pa_s needs a model with RFT drag");
+  m->numeric_data[m->numeric_adr[id]] = viscosity_Pa_s;
+}
+
+}  // namespace
+
+LinkGeometry ModelLinkGeometry(const Simulation& sim) {
+  const mjModel* m = sim.model();
+  const mjData* d = sim.data();
+  const std::string& source = sim.source();
   LinkGeometry geometry;
   std::vector<double> hinge_x_mm;
   for (int q = 1;; ++q) {
@@ -53,21 +62,24 @@ long StepsPerSample(double sample_rate_Hz, double dt_s, const std::string& sourc
   return steps;
 }
 
-
-void OverrideViscosity(mjModel* m, double viscosity_Pa_s, const std::string& source) {
-  const int id = mj_name2id(m, mjOBJ_NUMERIC, "ipmc_rft_viscosity_Pa_s");
-  if (id < 0) throw std::runtime_error(source + ": fluid.viscosity_Pa_s needs a model with RFT drag");
-  m->numeric_data[m->numeric_adr[id]] = viscosity_Pa_s;
-}
-
-}  // namespace
-
 double StartRamp(double t_s, double ramp_s) {
   if (t_s >= ramp_s) return 1.0;
   return 0.5 * (1.0 - std::cos(kPi * t_s / ramp_s));
 }
 
-ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserver& observer) {
+std::vector<double> LinkReferences_mm(const ScenarioConfig& scenario,
+                                      const LinkGeometry& geometry, double t_s) {
+  const double period_s = 1.0 / std::abs(scenario.waveform.frequency_Hz);
+  const DiscreteWave wave = DiscretiseWave(scenario.waveform, geometry, t_s);
+  const double ramp = StartRamp(t_s, scenario.start_ramp_cycles * period_s);
+  std::vector<double> reference(wave.relative_deflection_mm.size());
+  for (size_t q = 0; q < reference.size(); ++q) {
+    reference[q] = ramp * wave.relative_deflection_mm[q];
+  }
+  return reference;
+}
+
+std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenario) {
   std::string source = scenario.model_path;
   ModelPtr model;
   if (!scenario.GeneratesModel()) {
@@ -83,8 +95,12 @@ ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserve
   if (scenario.viscosity_Pa_s) OverrideViscosity(model.get(), *scenario.viscosity_Pa_s, scenario.source);
   IpmcActuatorsOverrides overrides;
   overrides.plants = scenario.plants;
-  Simulation sim(std::move(model), source, overrides);
-  return RunClosedLoop(sim, scenario, observer);
+  return std::make_unique<Simulation>(std::move(model), source, overrides);
+}
+
+ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserver& observer) {
+  const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(scenario);
+  return RunClosedLoop(*sim, scenario, observer);
 }
 
 ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
@@ -94,7 +110,7 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
   mjData* d = sim.data();
   const LinkSensors sensors(m, d, sim.source());
   const int links = sensors.Links();
-  const LinkGeometry geometry = ModelGeometry(m, d, sim.source());
+  const LinkGeometry geometry = ModelLinkGeometry(sim);
   if (static_cast<int>(geometry.pitch_mm.size()) != links) {
     throw std::runtime_error(sim.source() + ": ipmc_links must drive hinges j1..jN in order");
   }
@@ -136,10 +152,8 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
     for (long step = 0; step < steps_per_cycle; ++step) {
       if (step % steps_per_sample == 0) {
         const double t = d->time;
-        const DiscreteWave wave = DiscretiseWave(scenario.waveform, geometry, t);
-        const double ramp = StartRamp(t, scenario.start_ramp_cycles * period_s);
+        reference = LinkReferences_mm(scenario, geometry, t);
         for (int q = 0; q < links; ++q) {
-          reference[q] = ramp * wave.relative_deflection_mm[q];
           measured[q] = sensors.RelativeDeflection_mm(d, q);
           const double error = reference[q] - measured[q];
           LinkTracking& track = result.links[q];
