@@ -69,6 +69,7 @@ void WriteGaitOutputs(const std::string& dir, const GaitRunResult& result,
   nlohmann::json summary = GaitSummaryJson(result);
   summary["inputs"] = inputs;
   WriteFileAtomically(dir + "/timeseries.csv", GaitSamplesCsv(result));
+  WriteFileAtomically(dir + "/states.csv", RecordedStatesCsv(result.states));
   WriteFileAtomically(dir + "/summary.json", summary.dump(2) + "\n");
 }
 
@@ -124,6 +125,7 @@ void WriteClosedLoopOutputs(const std::string& dir, const ClosedLoopResult& resu
   nlohmann::json summary = ClosedLoopSummaryJson(result);
   summary["inputs"] = inputs;
   WriteFileAtomically(dir + "/timeseries.csv", ClosedLoopSamplesCsv(result));
+  WriteFileAtomically(dir + "/states.csv", RecordedStatesCsv(result.states));
   WriteFileAtomically(dir + "/summary.json", summary.dump(2) + "\n");
 }
 
