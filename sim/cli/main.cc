@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -169,12 +170,19 @@ void PrintSwimMetrics(const ipmc::SwimMetrics& swim);
 struct RunArgs {
   std::string scenario_path;
   std::string out_dir;
+  std::string video_path;
+  ipmc::FilmConfig film;
+  CLI::App* command = nullptr;
 };
 
 void AddRunCommand(CLI::App& app, RunArgs& args) {
   CLI::App* cmd = app.add_subcommand("run", "Run a closed-loop scenario file (TOML)");
   cmd->add_option("scenario", args.scenario_path, "Scenario file")->required();
   cmd->add_option("--out", args.out_dir, "Output directory (overrides output.dir)");
+  cmd->add_option("--video", args.video_path,
+                  "Also film the run into this MP4 (from its recorded states; see `render`)");
+  ipmc::AddVideoOptions(cmd, args.film, "Video (with --video)");
+  args.command = cmd;
 }
 
 void PrintClosedLoopResult(const ipmc::ClosedLoopResult& r) {
@@ -191,14 +199,26 @@ void PrintClosedLoopResult(const ipmc::ClosedLoopResult& r) {
   PrintSwimMetrics(r.swim);
 }
 
+// A path made absolute, so that a run's outputs name their inputs from
+// anywhere (render reads them back).
+std::string AbsolutePath(const std::string& path) {
+  return std::filesystem::absolute(path).lexically_normal().string();
+}
+
 int RunScenarioCommand(const RunArgs& args) {
-  const ipmc::ScenarioConfig scenario = ipmc::LoadScenario(args.scenario_path);
-  const ipmc::ClosedLoopResult result = ipmc::RunScenario(scenario);
-  PrintClosedLoopResult(result);
-  const std::string dir = args.out_dir.empty() ? scenario.output_dir : args.out_dir;
-  if (!dir.empty()) {
-    ipmc::WriteClosedLoopOutputs(dir, result, {{"scenario", args.scenario_path}});
+  if (args.video_path.empty() && ipmc::AnyVideoOptionGiven(args.command)) {
+    throw std::invalid_argument("run: video options need --video FILE.mp4");
   }
+  const ipmc::ScenarioConfig scenario = ipmc::LoadScenario(args.scenario_path);
+  const std::string dir = args.out_dir.empty() ? scenario.output_dir : args.out_dir;
+  // The results are printed and written before the film is made.
+  ipmc::RunScenarioFilmed(scenario, args.film, args.video_path,
+                          [&](const ipmc::ClosedLoopResult& result) {
+                            PrintClosedLoopResult(result);
+                            if (dir.empty()) return;
+                            ipmc::WriteClosedLoopOutputs(
+                                dir, result, {{"scenario", AbsolutePath(args.scenario_path)}});
+                          });
   return 0;
 }
 
@@ -273,7 +293,7 @@ int RunGaitCommand(const GaitArgs& args) {
   const ipmc::GaitRunResult result = ipmc::RunGait(sim, *gait, args.run);
   PrintGaitResult(result);
   if (!args.out_dir.empty()) {
-    nlohmann::json inputs = {{"model", args.model_path},   {"gait", args.gait},
+    nlohmann::json inputs = {{"model", AbsolutePath(args.model_path)}, {"gait", args.gait},
                              {"frequency_Hz", args.frequency_Hz},
                              {"amplitude_rad", args.amplitude_rad},
                              {"phase_lag_rad", args.phase_lag_rad},

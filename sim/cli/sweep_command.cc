@@ -1,6 +1,5 @@
 #include "sim/cli/sweep_command.h"
 
-#include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -17,6 +16,7 @@
 #include "sim/io/numbers.h"
 #include "sim/cli/interrupt.h"
 #include "sim/cli/slurm_command.h"
+#include "sim/io/progress_bar.h"
 
 namespace ipmc {
 namespace {
@@ -26,42 +26,19 @@ constexpr char kMergeCommand[] = "merge";
 // The shell's exit code for a process stopped by SIGINT (128 + 2).
 constexpr int kInterruptedExitCode = 130;
 
-constexpr int kBarWidth = 30;
 // Result columns shown on stdout (all are in the files).
 constexpr const char* kShownResults[] = {columns::kMeanSpeedAlong, columns::kLastCycleComAlong};
-
-// "m:ss", or "h:mm:ss" from an hour on.
-std::string Clock(double seconds) {
-  const long total = std::max(0L, static_cast<long>(seconds + 0.5));
-  char buffer[32];
-  if (total >= 3600) {
-    std::snprintf(buffer, sizeof(buffer), "%ld:%02ld:%02ld", total / 3600, total / 60 % 60,
-                  total % 60);
-  } else {
-    std::snprintf(buffer, sizeof(buffer), "%ld:%02ld", total / 60, total % 60);
-  }
-  return buffer;
-}
 
 // Progress on stderr: a bar redrawn in place on a terminal, else one line
 // per point (for logs and pipes).
 class ProgressReport {
  public:
-  explicit ProgressReport(bool terminal) : terminal_(terminal) {}
+  explicit ProgressReport(bool terminal) : bar_("sweep", "runs", terminal) {}
 
-  // Draws the empty bar, so that a long first run does not look like a hang.
-  void Start(int total) {
-    if (terminal_ && total > 0) {
-      const std::string line = "[" + std::string(kBarWidth, '-') + "] 0/" +
-                               std::to_string(total) + " runs";
-      last_width_ = line.size() + 1;
-      std::fprintf(stderr, "\r%s", line.c_str());
-      std::fflush(stderr);
-    }
-  }
+  void Start(int total) { bar_.Start(total); }
 
   void operator()(const SweepProgress& p) {
-    if (!terminal_) {
+    if (!bar_.terminal()) {
       if (p.ok) {
         std::fprintf(stderr, "run %d/%d done (point %d)\n", p.done, p.total, p.point);
       } else {
@@ -70,28 +47,14 @@ class ProgressReport {
       }
       return;
     }
-    const int filled = p.total > 0 ? kBarWidth * p.done / p.total : kBarWidth;
-    const double remaining_s = p.elapsed_s / p.done * (p.total - p.done);
-    std::string line = "\r[" + std::string(filled, '#') + std::string(kBarWidth - filled, '-') +
-                       "] " + std::to_string(p.done) + "/" + std::to_string(p.total) +
-                       " runs, " + Clock(p.elapsed_s) + " elapsed, ETA " + Clock(remaining_s);
     if (!p.ok) ++failed_;
-    if (failed_ > 0) line += ", " + std::to_string(failed_) + " failed";
-    const size_t width = line.size();
-    if (width < last_width_) line += std::string(last_width_ - width, ' ');
-    last_width_ = width;
-    std::fputs(line.c_str(), stderr);
-    std::fflush(stderr);
+    bar_.Update(p.done, failed_ > 0 ? std::to_string(failed_) + " failed" : "");
   }
 
-  // Ends the bar's line.
-  void Finish() const {
-    if (terminal_ && last_width_ > 0) std::fputc('\n', stderr);
-  }
+  void Finish() { bar_.Finish(); }
 
  private:
-  bool terminal_;
-  size_t last_width_ = 0;
+  ProgressBar bar_;
   int failed_ = 0;
 };
 
@@ -156,7 +119,7 @@ int RunSweepFile(const SweepArgs& args) {
     std::fprintf(stderr, "resuming from %s: %d of %d points done before\n", journal.path().c_str(),
                  record.recorded, record.points);
   }
-  ProgressReport progress(isatty(STDERR_FILENO) == 1);
+  ProgressReport progress(StderrIsTerminal());
   SweepOptions options;
   options.jobs = args.jobs;
   options.shard = shard;

@@ -79,8 +79,8 @@ std::vector<double> LinkReferences_mm(const ScenarioConfig& scenario,
   return reference;
 }
 
-std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenario) {
-  std::string source = scenario.model_path;
+ModelPtr LoadScenarioModel(const ScenarioConfig& scenario, std::string* source) {
+  *source = scenario.model_path;
   ModelPtr model;
   if (!scenario.GeneratesModel()) {
     model = LoadModelFile(scenario.model_path);
@@ -88,11 +88,17 @@ std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenari
     FlagellumSpec spec;
     if (!scenario.link_lengths_mm.empty()) spec.link_lengths_mm = scenario.link_lengths_mm;
     if (scenario.segments_per_link > 0) spec.segments_per_link = scenario.segments_per_link;
-    source = scenario.source + " (generated flagellum)";
+    *source = scenario.source + " (generated flagellum)";
     model = LoadModelString(GenerateFlagellumMjcf(spec));
   }
   if (scenario.timestep_s) model->opt.timestep = *scenario.timestep_s;
   if (scenario.viscosity_Pa_s) OverrideViscosity(model.get(), *scenario.viscosity_Pa_s, scenario.source);
+  return model;
+}
+
+std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenario) {
+  std::string source;
+  ModelPtr model = LoadScenarioModel(scenario, &source);
   IpmcActuatorsOverrides overrides;
   overrides.plants = scenario.plants;
   return std::make_unique<Simulation>(std::move(model), source, overrides);
@@ -141,6 +147,7 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
   result.period_s = period_s;
   result.timestep_s = dt;
   result.links.resize(links);
+  result.states = RecordedStates::For(m);
   std::vector<double> sum_v2(links, 0.0);
   std::vector<long> saturated(links, 0);
   std::vector<double> volts(links, 0.0), reference(links, 0.0), measured(links, 0.0);
@@ -169,6 +176,7 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
         SetVoltages(d, volts.data(), links);
         if (samples % record_every == 0) {
           result.samples.push_back({meter.Pose(d), reference, measured, volts});
+          result.states.Record(d);
           if (observer) observer(m, d, result.samples.back());
         }
         ++samples;

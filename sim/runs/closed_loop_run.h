@@ -22,6 +22,7 @@
 #include "sim/core/scenario.h"
 #include "sim/core/simulation.h"
 #include "sim/core/swim_meter.h"
+#include "sim/runs/recorded_states.h"
 
 namespace ipmc {
 
@@ -48,6 +49,7 @@ struct ClosedLoopResult {
   std::vector<LinkTracking> links;
   SwimMetrics swim;
   std::vector<ClosedLoopSample> samples;
+  RecordedStates states;  // the model's qpos at every recorded sample
 };
 
 // Called with every recorded sample (output.samples_per_cycle per cycle),
@@ -78,9 +80,13 @@ class LinkController {
 // for t < T_r = ramp_s, then 1.
 double StartRamp(double t_s, double ramp_s);
 
-// The scenario's model (its file, or the generated flagellum) with the
-// scenario's time step, viscosity and plants imposed, attached. Throws
-// std::runtime_error naming the file on bad input.
+// The scenario's model (its file, or the generated flagellum it names) with
+// its overrides applied (time step, viscosity); *source is set to the name
+// used in messages. Throws std::runtime_error naming the file on bad input.
+ModelPtr LoadScenarioModel(const ScenarioConfig& scenario, std::string* source);
+
+// The scenario's model (LoadScenarioModel) with the scenario's plants
+// imposed, attached.
 std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenario);
 
 // Loads the scenario's model (LoadScenarioSimulation) and runs it. Throws

@@ -130,7 +130,9 @@ GaitRunResult RunGait(Simulation& sim, const Gait& gait, const GaitRunOptions& o
   const long settle_steps = steps_per_cycle / 20;
 
   meter.Start(d);
+  result.states = RecordedStates::For(m);
   result.samples.push_back(Sample(meter, d, servos, start));
+  result.states.Record(d);
   for (int cycle = 0; cycle < options.cycles; ++cycle) {
     for (long step = 1; step <= steps_per_cycle; ++step) {
       // The servo aims at the reference at the end of the step.
@@ -150,6 +152,7 @@ GaitRunResult RunGait(Simulation& sim, const Gait& gait, const GaitRunOptions& o
       meter.Observe(m, d);
       if (step % sample_every == 0 || step == steps_per_cycle) {
         result.samples.push_back(Sample(meter, d, servos, ref));
+        result.states.Record(d);
       }
     }
     meter.EndCycle(d);

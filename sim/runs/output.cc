@@ -34,11 +34,13 @@ void AddTips(CsvWriter& csv, const BodyPose& p, size_t tips) {
 }
 
 // DIR/timeseries.csv and DIR/summary.json (with the inputs).
-void WriteRunOutputs(const std::string& dir, const std::string& csv, nlohmann::json summary,
-                     const nlohmann::json& inputs) {
+// summary.json last: a run folder with a summary is complete.
+void WriteRunOutputs(const std::string& dir, const std::string& csv, const std::string& states_csv,
+                     nlohmann::json summary, const nlohmann::json& inputs) {
   EnsureDirectory(dir);
   summary["inputs"] = inputs;
   WriteFileAtomically(dir + "/timeseries.csv", csv);
+  WriteFileAtomically(dir + "/states.csv", states_csv);
   WriteFileAtomically(dir + "/summary.json", summary.dump(2) + "\n");
 }
 
@@ -93,7 +95,8 @@ nlohmann::json GaitSummaryJson(const GaitRunResult& result) {
 
 void WriteGaitOutputs(const std::string& dir, const GaitRunResult& result,
                       const nlohmann::json& inputs) {
-  WriteRunOutputs(dir, GaitSamplesCsv(result), GaitSummaryJson(result), inputs);
+  WriteRunOutputs(dir, GaitSamplesCsv(result), RecordedStatesCsv(result.states),
+                  GaitSummaryJson(result), inputs);
 }
 
 std::string ClosedLoopSamplesCsv(const ClosedLoopResult& result) {
@@ -142,7 +145,8 @@ nlohmann::json ClosedLoopSummaryJson(const ClosedLoopResult& result) {
 
 void WriteClosedLoopOutputs(const std::string& dir, const ClosedLoopResult& result,
                             const nlohmann::json& inputs) {
-  WriteRunOutputs(dir, ClosedLoopSamplesCsv(result), ClosedLoopSummaryJson(result), inputs);
+  WriteRunOutputs(dir, ClosedLoopSamplesCsv(result), RecordedStatesCsv(result.states),
+                  ClosedLoopSummaryJson(result), inputs);
 }
 
 }  // namespace ipmc
