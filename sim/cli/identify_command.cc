@@ -22,10 +22,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "sim/io/columns.h"
-#include "sim/io/csv.h"
-#include "sim/io/error.h"
 #include "sim/io/files.h"
+#include "sim/core/data_paths.h"
 #include "sim/io/numbers.h"
 #include "controllers/linear/frequency_response.h"
 #include "controllers/reference_model.h"
@@ -36,7 +34,6 @@
 #include "sim/identify/identify_run.h"
 #include "sim/identify/levy.h"
 #include "sim/runs/output.h"
-#include "sim/core/data_paths.h"
 #include "sim/core/simulation.h"
 #include "sim/identify/welch.h"
 
@@ -52,9 +49,8 @@ constexpr char kPipelineCommand[] = "pipeline";
 
 constexpr char kDriveEach[] = "each";
 constexpr char kDriveFirst[] = "first";
+constexpr char kTimeColumn[] = "time_s";
 
-constexpr double kPi = 3.141592653589793;
-constexpr double kTwoPi = 2 * kPi;
 // The bench records at the data-acquisition board's rate.
 constexpr double kBenchSampleRate_Hz = 1000.0;
 // Paper's eq. 12 and eq. 14, for comparison.
@@ -82,6 +78,18 @@ std::string Format(const char* format, ...) {
   if (length > 0) std::vsnprintf(text.data(), text.size() + 1, format, args);
   va_end(args);
   return text;
+}
+
+[[noreturn]] void ThrowOption(const std::string& command, const std::string& option,
+                              const std::string& requirement, const std::string& got) {
+  throw std::invalid_argument(command + ": " + option + " must be " + requirement + ", got " +
+                              got);
+}
+
+void RequireFinitePositive(const std::string& command, const std::string& option, double value) {
+  if (!std::isfinite(value) || !(value > 0)) {
+    ThrowOption(command, option, "finite and > 0", FormatDouble(value));
+  }
 }
 
 void RequirePhaseMargin(const std::string& command, double value) {
@@ -447,9 +455,8 @@ int RunPipeline(const IdentifyArgs::Pipeline& args) {
     const int driven = drive_each ? q : 0;
     PipelineLink result;
     result.link = q + 1;
-    result.measured = drive_each
-                          ? columns::Relative(q + 1) + Format(" (link %d driven)", q + 1)
-                          : columns::TipLateral(q + 1) + " (link 1 driven)";
+    result.measured = drive_each ? Format("relative%d_mm (link %d driven)", q + 1, q + 1)
+                                 : Format("tip%d_lateral_mm (link 1 driven)", q + 1);
     const std::vector<double>& clean =
         drive_each ? record.relative_mm[q] : record.tip_lateral_mm[q];
     std::vector<std::vector<double>> inputs(args.repeats, record.voltage_V[driven]);

@@ -21,8 +21,6 @@ using Clock = std::chrono::steady_clock;
 constexpr char kIdentifyCommand[] = "identify";
 constexpr char kDesignCommand[] = "design";
 
-constexpr double kPi = 3.141592653589793;
-constexpr double kTwoPi = 2 * kPi;
 // The time_s column must give the sample rate to this relative tolerance.
 constexpr double kSampleRateTolerance = 1e-3;
 constexpr double kMaxTuningSamples = 1e7;
