@@ -64,8 +64,8 @@ def count_instructions(cli, scenario, cycles, work):
     """The program's main() and run()'s binding on `scenario` cut to `cycles`."""
     text = pathlib.Path(scenario).read_text()
     text = re.sub(r"^cycles = \d+", f"cycles = {cycles}", text, flags=re.M)
-    text = re.sub(r'^model = "(.*)"', lambda m: f'model = "{pathlib.Path(scenario).parent / m.group(1)}"',
-                  text, flags=re.M)
+    folder = pathlib.Path(scenario).resolve().parent  # the model is relative to it
+    text = re.sub(r'^model = "(.*)"', lambda m: f'model = "{folder / m.group(1)}"', text, flags=re.M)
     cut = os.path.join(work, "cut.toml")
     pathlib.Path(cut).write_text(text)
     program = instructions([cli, "run", cut, "--out", os.path.join(work, "cg_cli")], "main")
