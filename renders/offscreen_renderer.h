@@ -22,16 +22,19 @@
 // cylinder of smaller radius) that thick instead, so the bending reads at
 // a glance; the caller's model, and so the physics, keeps its geometry.
 // The root body (the head, standing for the electrode clamp) is drawn
-// dark and 2.5 times as thick. Sites are hidden.
+// dark and 2.5 times as thick. Sites are hidden. Seen from straight above,
+// boxes are drawn flat (10 um along the view), so that the perspective
+// shows no sides off the image centre: each box shows its footprint.
 //
 // Decor, from the bottom up (all under the body's lowest face, so the body
 // covers them): a light background, grid lines, the ghost, the trails.
 // Each decor point is moved along its camera ray to its layer's height, so
 // it is drawn where its point of the plane z = 0 (the body's mid-plane)
 // would be: the grid is a true ruler at the body's plane.
-//   Grid: minor lines (1 px GL lines) every 0.1, 0.2, 0.5, 1, 2, 5, ... mm, the finest at
-//   least 10 px apart, and darker major lines every 5 minor ones (2 for a
-//   spacing of 5 x 10^k). Top-down views also get a scale bar one major
+//   Grid: minor lines (1 px GL lines) every millimetre (or, where that is
+//   closer than 8 px or wider than 80 px, every 0.1, 0.2, 0.5, 2, 5, 10,
+//   ... mm), and darker major lines every 5 minor ones (2 for a spacing of
+//   5 x 10^k). Top-down views also get a scale bar one major
 //   spacing long (bottom right).
 //   Ghost: the polyline `ghost_m` (world points, e.g. the ideal wave in
 //   the head's frame) as pale capsules as thick as the drawn strip.

@@ -307,6 +307,26 @@ FilmSummary FilmRun(const FilmedRun& run, const FilmConfig& config, const std::s
   return summary;
 }
 
+ClosedLoopResult RunScenarioAndFilm(
+    const ScenarioConfig& scenario, const FilmConfig& config, const std::string& video_path,
+    const std::function<void(const ClosedLoopResult&)>& before_filming,
+    const FilmProgress& progress, FilmSummary* summary) {
+  config.Validate();
+  if (!config.png_dir.empty()) EnsureDirectory(config.png_dir);
+  ModelPtr model;  // the run's own model, copied at t = 0
+  const auto observer = [&](const mjModel* m, const mjData*, const ClosedLoopSample&) {
+    if (model) return;
+    CheckFilmFits(m, config);
+    model.reset(mj_copyModel(nullptr, m));
+  };
+  const ClosedLoopResult result = RunScenario(scenario, observer);
+  if (before_filming) before_filming(result);
+  const FilmSummary film =
+      FilmRun(ClosedLoopFilm(model.get(), result, scenario), config, video_path, progress);
+  if (summary) *summary = film;
+  return result;
+}
+
 FilmedRun ClosedLoopFilm(const mjModel* m, const ClosedLoopResult& result,
                          const ScenarioConfig& scenario) {
   FilmedRun run;
