@@ -321,6 +321,9 @@ void OffscreenRenderer::ValidateCamera(const CameraSetup& cam) {
   for (double v : cam.lookat_m) {
     if (!std::isfinite(v)) fail("lookat_m", "finite", v);
   }
+  for (double v : cam.follow_offset_m) {
+    if (!std::isfinite(v)) fail("follow_offset_m", "finite", v);
+  }
 }
 
 OffscreenRenderer::OffscreenRenderer(const mjModel* m, int width, int height,
@@ -518,6 +521,7 @@ std::vector<unsigned char> OffscreenRenderer::Frame(const mjData* d, const Frame
   c.camera.distance = distance;
   for (int i = 0; i < 3; ++i) {
     c.camera.lookat[i] = cam.follow ? s->subtree_com[3 * root_body_ + i] : cam.lookat_m[i];
+    if (cam.follow && i < 2) c.camera.lookat[i] += cam.follow_offset_m[i];
   }
   // Clipping planes around the body: the depth buffer resolves the decor
   // layers (a few tenths of a millimetre apart) at any distance.

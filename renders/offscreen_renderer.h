@@ -76,6 +76,7 @@ namespace ipmc {
 struct CameraSetup {
   bool follow = true;               // look at the swimmer's centre of mass
   double lookat_m[3] = {0, 0, 0};   // when !follow
+  double follow_offset_m[2] = {0, 0};  // when follow: added to the centre of mass (x, y)
   double body_fill = 0.6;           // rest length / image width, in (0, 10]; used if view_width_m == 0
   double view_width_m = 0.0;        // > 0: the image width at the look-at point [m]
   double azimuth_deg = 90.0;        // 90 with elevation -90: +x right, +y up
@@ -149,6 +150,7 @@ class OffscreenRenderer {
   int width() const { return width_; }
   int height() const { return height_; }
   double body_length_m() const { return body_length_m_; }
+  double strip_thickness_m() const { return strip_thickness_m_; }  // as drawn
   // The scene of the last frame (scene().camera[0..1]: the OpenGL cameras).
   const mjvScene& scene() const;
 
