@@ -44,6 +44,14 @@ constexpr int kStacks = 4;
 // nearly orthographic: from above, the strip's 3 mm tall sides show as
 // less than a third of a pixel.
 constexpr float kFovy_deg = 3.0f;
+// Multisampling of the offscreen buffer (MuJoCo's default is 4): without
+// it a frame costs about half the CPU time (llvmpipe shades every sample;
+// 29 against 52 ms per 640x480 frame, encoding included), and the H.264
+// encoding softens the strip's stepped edges anyway; lines are drawn
+// smooth by GL either way.
+constexpr int kMultisamples = 0;
+// Half-height along the view of boxes seen from straight above.
+constexpr float kFlatBoxHalfHeight_m = 1e-5f;
 constexpr double kMinElevation_deg = -90.0, kMaxElevation_deg = -5.0;
 // Default drawn strip thickness, relative to the body's rest length.
 constexpr double kStripThicknessPerLength = 0.02;
@@ -62,7 +70,7 @@ constexpr float kGridMinor[3] = {0.855f, 0.860f, 0.870f};
 constexpr float kGridMajor[3] = {0.700f, 0.715f, 0.735f};
 constexpr float kGhost[3] = {0.780f, 0.815f, 0.900f};
 constexpr float kClamp[3] = {0.20f, 0.20f, 0.24f};
-constexpr float kScaleBar[3] = {0.15f, 0.15f, 0.18f};
+constexpr float kScaleBar[3] = {0.15f, 0.15f, 0.15f};
 // Trail colours per tip (tip1, tip2, tip3, then repeated); the oldest part
 // of a trail is this far from the background towards its colour.
 constexpr float kTrailColors[][3] = {
@@ -70,8 +78,11 @@ constexpr float kTrailColors[][3] = {
 constexpr float kTrailOldestStrength = 0.15f;
 // Trails: half their width relative to the body length (0.1 mm for 32 mm).
 constexpr double kTrailRadiusPerLength = 0.003;
-// Grid: the finest spacing at least this many pixels; line widths [px].
-constexpr double kMinGridSpacing_px = 10.0;
+// Grid: 1 mm spacing unless that is closer than kMinGridSpacing_px or
+// wider than kMaxGridSpacing_px; line widths [px].
+constexpr double kPreferredGridSpacing_m = 1e-3;
+constexpr double kMinGridSpacing_px = 8.0;
+constexpr double kMaxGridSpacing_px = 80.0;
 constexpr double kMinorLine_px = 1.0;
 constexpr double kMajorLine_px = 2.0;
 constexpr int kMaxGridLines = 400;
@@ -136,18 +147,29 @@ void OnRayAtHeight(const double eye[3], double x, double y, double z, mjtNum out
   out[2] = z;
 }
 
-// The grid's minor spacing [m]: 1, 2 or 5 times a power of ten, the finest
-// at least min_m; *major_every: 5, or 2 for 5 x 10^k.
-double GridSpacing(double min_m, int* major_every) {
-  const double decade = std::pow(10.0, std::floor(std::log10(min_m)));
-  for (double factor : {1.0, 2.0, 5.0, 10.0}) {
-    if (factor * decade >= min_m * (1.0 - 1e-12)) {
-      *major_every = factor == 5.0 ? 2 : 5;
-      return factor * decade;
-    }
+// The series 1, 2, 5 x 10^k [m]: the value at or above `at_least_m`.
+double NextInSeries(double at_least_m) {
+  const double decade = std::pow(10.0, std::floor(std::log10(at_least_m)));
+  for (double factor : {1.0, 2.0, 5.0}) {
+    if (factor * decade >= at_least_m * (1.0 - 1e-12)) return factor * decade;
   }
-  *major_every = 5;
   return 10.0 * decade;
+}
+
+// The grid's minor spacing [m] for px_per_m: 1 mm while that is 8 to 80 px,
+// else the coarsest of 1, 2, 5 x 10^k above 8 px (or the finest below
+// 80 px); *major_every: 5, or 2 for 5 x 10^k.
+double GridSpacing(double px_per_m, int* major_every) {
+  double spacing = kPreferredGridSpacing_m;
+  if (spacing * px_per_m < kMinGridSpacing_px) {
+    spacing = NextInSeries(kMinGridSpacing_px / px_per_m);
+  } else if (spacing * px_per_m > kMaxGridSpacing_px) {
+    spacing = NextInSeries(kMaxGridSpacing_px / px_per_m);
+    if (spacing * px_per_m > kMaxGridSpacing_px) spacing = NextInSeries(0.45 * spacing);
+  }
+  const double leading = spacing / std::pow(10.0, std::floor(std::log10(spacing) + 1e-9));
+  *major_every = std::abs(leading - 5.0) < 1e-6 ? 2 : 5;
+  return spacing;
 }
 
 std::string FormatLength(double metres) {
@@ -300,6 +322,9 @@ void OffscreenRenderer::ValidateCamera(const CameraSetup& cam) {
   for (double v : cam.lookat_m) {
     if (!std::isfinite(v)) fail("lookat_m", "finite", v);
   }
+  for (double v : cam.follow_offset_m) {
+    if (!std::isfinite(v)) fail("follow_offset_m", "finite", v);
+  }
 }
 
 OffscreenRenderer::OffscreenRenderer(const mjModel* m, int width, int height,
@@ -335,6 +360,7 @@ OffscreenRenderer::OffscreenRenderer(const mjModel* m, int width, int height,
     std::fill_n(copy->light_specular + 3 * l, 3, kModelLightSpecular);
   }
   copy->vis.global.fovy = kFovy_deg;
+  copy->vis.quality.offsamples = kMultisamples;
   copy->vis.quality.numslices = kSlices;
   copy->vis.quality.numstacks = kStacks;
 
@@ -496,6 +522,7 @@ std::vector<unsigned char> OffscreenRenderer::Frame(const mjData* d, const Frame
   c.camera.distance = distance;
   for (int i = 0; i < 3; ++i) {
     c.camera.lookat[i] = cam.follow ? s->subtree_com[3 * root_body_ + i] : cam.lookat_m[i];
+    if (cam.follow && i < 2) c.camera.lookat[i] += cam.follow_offset_m[i];
   }
   // Clipping planes around the body: the depth buffer resolves the decor
   // layers (a few tenths of a millimetre apart) at any distance.
@@ -503,9 +530,20 @@ std::vector<unsigned char> OffscreenRenderer::Frame(const mjData* d, const Frame
   m->vis.map.zfar = static_cast<float>(50.0 * distance / m->stat.extent);
 
   mjv_updateScene(m, s, &c.option, &c.perturb, &c.camera, mjCAT_ALL, &c.scene.scn);
+  const bool top_down = cam.elevation_deg <= kMinElevation_deg + 1e-9;
   for (int g = 0; g < c.scene.scn.ngeom; ++g) {
     mjvGeom& geom = c.scene.scn.geoms[g];
-    if (geom.objtype == mjOBJ_GEOM) geom.emission = std::max(geom.emission, kBodyEmission);
+    if (geom.objtype != mjOBJ_GEOM) continue;
+    geom.emission = std::max(geom.emission, kBodyEmission);
+    // From straight above, a box's extent along the view (the strip's
+    // 3 mm width) cannot be seen, but the perspective would show its sides
+    // off the image centre (up to a few pixels, varying as the links
+    // turn): flattened, each box shows exactly its footprint.
+    if (top_down && geom.type == mjGEOM_BOX) {
+      for (int k = 0; k < 3; ++k) {
+        if (std::abs(geom.mat[6 + k]) > 0.99f) geom.size[k] = std::min(geom.size[k], kFlatBoxHalfHeight_m);
+      }
+    }
   }
   AddDecor(setup);
 
@@ -561,9 +599,10 @@ void OffscreenRenderer::AddBackgroundAndGrid(const double eye[3], double px_per_
   int major_every = 5;
   const double sine = std::max(0.3, std::abs(std::sin(c.camera.elevation * kDegToRad)));
   double half_extent = 0.75 * width_m / sine;
-  double spacing = GridSpacing(kMinGridSpacing_px / px_per_m, &major_every);
+  double spacing = GridSpacing(px_per_m, &major_every);
   while (4.0 * half_extent / spacing + 4.0 > kMaxGridLines) {
-    spacing = GridSpacing(1.01 * spacing, &major_every);  // the next coarser spacing
+    spacing = NextInSeries(1.01 * spacing);  // the next coarser spacing
+    major_every = spacing / std::pow(10.0, std::floor(std::log10(spacing) + 1e-9)) > 4.0 ? 2 : 5;
   }
   const long first_x = static_cast<long>(std::floor((lookat[0] - half_extent) / spacing));
   const long last_x = static_cast<long>(std::ceil((lookat[0] + half_extent) / spacing));
@@ -638,7 +677,7 @@ void OffscreenRenderer::DrawScaleBar(const FrameSetup& setup) {
   if (!setup.grid || setup.camera.elevation_deg > kMinElevation_deg + 1e-9) return;
   const double px_per_m = PixelsPerMetre(setup.camera);
   int major_every = 5;
-  const double spacing = GridSpacing(kMinGridSpacing_px / px_per_m, &major_every);
+  const double spacing = GridSpacing(px_per_m, &major_every);
   const double bar_m = spacing * major_every;
   const int length_px = static_cast<int>(std::lround(bar_m * px_per_m));
   if (length_px + 2 * kScaleBarMargin_px > width_) return;

@@ -22,16 +22,19 @@
 // cylinder of smaller radius) that thick instead, so the bending reads at
 // a glance; the caller's model, and so the physics, keeps its geometry.
 // The root body (the head, standing for the electrode clamp) is drawn
-// dark and 2.5 times as thick. Sites are hidden.
+// dark and 2.5 times as thick. Sites are hidden. Seen from straight above,
+// boxes are drawn flat (10 um along the view), so that the perspective
+// shows no sides off the image centre: each box shows its footprint.
 //
 // Decor, from the bottom up (all under the body's lowest face, so the body
 // covers them): a light background, grid lines, the ghost, the trails.
 // Each decor point is moved along its camera ray to its layer's height, so
 // it is drawn where its point of the plane z = 0 (the body's mid-plane)
 // would be: the grid is a true ruler at the body's plane.
-//   Grid: minor lines (1 px GL lines) every 0.1, 0.2, 0.5, 1, 2, 5, ... mm, the finest at
-//   least 10 px apart, and darker major lines every 5 minor ones (2 for a
-//   spacing of 5 x 10^k). Top-down views also get a scale bar one major
+//   Grid: minor lines (1 px GL lines) every millimetre (or, where that is
+//   closer than 8 px or wider than 80 px, every 0.1, 0.2, 0.5, 2, 5, 10,
+//   ... mm), and darker major lines every 5 minor ones (2 for a spacing of
+//   5 x 10^k). Top-down views also get a scale bar one major
 //   spacing long (bottom right).
 //   Ghost: the polyline `ghost_m` (world points, e.g. the ideal wave in
 //   the head's frame) as pale capsules as thick as the drawn strip.
@@ -73,6 +76,7 @@ namespace ipmc {
 struct CameraSetup {
   bool follow = true;               // look at the swimmer's centre of mass
   double lookat_m[3] = {0, 0, 0};   // when !follow
+  double follow_offset_m[2] = {0, 0};  // when follow: added to the centre of mass (x, y)
   double body_fill = 0.6;           // rest length / image width, in (0, 10]; used if view_width_m == 0
   double view_width_m = 0.0;        // > 0: the image width at the look-at point [m]
   double azimuth_deg = 90.0;        // 90 with elevation -90: +x right, +y up
@@ -146,6 +150,7 @@ class OffscreenRenderer {
   int width() const { return width_; }
   int height() const { return height_; }
   double body_length_m() const { return body_length_m_; }
+  double strip_thickness_m() const { return strip_thickness_m_; }  // as drawn
   // The scene of the last frame (scene().camera[0..1]: the OpenGL cameras).
   const mjvScene& scene() const;
 

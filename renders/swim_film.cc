@@ -225,18 +225,26 @@ FilmSummary FilmRun(const FilmedRun& run, const FilmConfig& config, const std::s
   setup.overlay.rows.push_back({"playback", Speedup(speedup)});
   for (const auto& row : run.overlay_rows) setup.overlay.rows.push_back(row);
 
+  // The overlay's band at the top of the image, as a fraction of its height.
+  const double aspect = static_cast<double>(config.width) / config.height;
+  const int overlay_lines = 3 + static_cast<int>(setup.overlay.rows.size());
+  const double band = std::min(0.5, (overlay_lines + 1.5) * renderer.overlay_line_height_px() /
+                                        static_cast<double>(config.height));
   CameraSetup& camera = setup.camera;
   camera.elevation_deg = config.elevation_deg;
   camera.azimuth_deg = config.azimuth_deg;
   if (config.camera == FilmCamera::kFollow) {
+    // The centre of mass in the middle of the image below the band.
     camera.follow = true;
     camera.body_fill = kFollowBodyFill;
     camera.view_width_m = config.view_mm * 1e-3;
+    const double view_m = config.width / renderer.PixelsPerMetre(camera);
+    camera.follow_offset_m[1] = 0.5 * band * view_m / aspect;
   } else {
-    // The body over every frame (and the ghost), framed below the overlay.
+    // The body over every frame (and the ghost), framed below the band.
     double lo[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
     double hi[2] = {-lo[0], -lo[1]};
-    const double ghost_half = 0.5 * renderer.body_length_m() * 0.02;
+    const double ghost_half = 0.5 * renderer.strip_thickness_m();  // the ghost is as thick
     for (int k = 0; k < frames; ++k) {
       mju_copy(d->qpos, qpos[k].data(), m->nq);
       const std::array<double, 4> box = renderer.DrawnBounds(d);
@@ -254,10 +262,6 @@ FilmSummary FilmRun(const FilmedRun& run, const FilmConfig& config, const std::s
         }
       }
     }
-    const double aspect = static_cast<double>(config.width) / config.height;
-    const int overlay_lines = 3 + static_cast<int>(setup.overlay.rows.size());
-    const double band = std::min(
-        0.5, (overlay_lines + 1.5) * renderer.overlay_line_height_px() / static_cast<double>(config.height));
     const double margin = kFitMargin * std::max(hi[0] - lo[0], hi[1] - lo[1]);
     double view_m = config.view_mm * 1e-3;
     if (view_m <= 0.0) {
@@ -305,6 +309,26 @@ FilmSummary FilmRun(const FilmedRun& run, const FilmConfig& config, const std::s
   summary.view_width_mm = config.width / summary.pixels_per_mm;
   summary.speedup = speedup;
   return summary;
+}
+
+ClosedLoopResult RunScenarioAndFilm(
+    const ScenarioConfig& scenario, const FilmConfig& config, const std::string& video_path,
+    const std::function<void(const ClosedLoopResult&)>& before_filming,
+    const FilmProgress& progress, FilmSummary* summary) {
+  config.Validate();
+  if (!config.png_dir.empty()) EnsureDirectory(config.png_dir);
+  ModelPtr model;  // the run's own model, copied at t = 0
+  const auto observer = [&](const mjModel* m, const mjData*, const ClosedLoopSample&) {
+    if (model) return;
+    CheckFilmFits(m, config);
+    model.reset(mj_copyModel(nullptr, m));
+  };
+  const ClosedLoopResult result = RunScenario(scenario, observer);
+  if (before_filming) before_filming(result);
+  const FilmSummary film =
+      FilmRun(ClosedLoopFilm(model.get(), result, scenario), config, video_path, progress);
+  if (summary) *summary = film;
+  return result;
 }
 
 FilmedRun ClosedLoopFilm(const mjModel* m, const ClosedLoopResult& result,

@@ -131,6 +131,16 @@ void CheckFilmFits(const mjModel* m, const FilmConfig& config);
 FilmSummary FilmRun(const FilmedRun& run, const FilmConfig& config, const std::string& out_path,
                     const FilmProgress& progress = {});
 
+// Runs the scenario once (RunScenario), hands the result to
+// `before_filming` (if set), and films the run from its recorded states
+// into video_path; the frame size is checked against the model as the run
+// starts, so a bad size does not wait for the run. Returns the run's
+// result; *summary (if given) gets the film's.
+ClosedLoopResult RunScenarioAndFilm(
+    const ScenarioConfig& scenario, const FilmConfig& config, const std::string& video_path,
+    const std::function<void(const ClosedLoopResult&)>& before_filming = {},
+    const FilmProgress& progress = {}, FilmSummary* summary = nullptr);
+
 // The ghost of a closed-loop scenario: its travelling wave y(x, t)
 // (sim/core/waveform.h), times the references' start ramp.
 std::function<double(double x_m, double t_s)> ScenarioIdealShape(const ScenarioConfig& scenario);

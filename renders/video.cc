@@ -136,7 +136,7 @@ Mp4Writer::Mp4Writer(const std::string& path, int width, int height, double fps)
   std::ostringstream command;
   command.precision(12);
   command << "ffmpeg -nostdin -y -loglevel error -f rawvideo -pix_fmt rgb24 -s " << width << "x"
-          << height << " -r " << fps << " -i - -c:v libx264 -pix_fmt yuv420p -f mp4 "
+          << height << " -r " << fps << " -i - -c:v libx264 -preset veryfast -pix_fmt yuv420p -f mp4 "
           << ShellQuote(output_.temp_path()) << " 2>" << ShellQuote(log_path_);
   pipe_ = popen(command.str().c_str(), "w");
   if (!pipe_) {

@@ -3,14 +3,12 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <map>
 #include <memory>
 #include <stdexcept>
 #include <vector>
 
 #include "sim/core/scenario.h"
 #include "sim/core/simulation.h"
-#include "sim/io/files.h"
 #include "sim/io/progress_bar.h"
 
 namespace ipmc {
@@ -24,18 +22,28 @@ constexpr const char* kVideoOptions[] = {
     "--view-mm",   "--center-mm",     "--elevation-deg", "--azimuth-deg",
     "--strip-thickness-mm", "--no-grid", "--no-ghost",   "--png-dir"};
 
-// Films `run` with a progress bar on stderr and prints where it went.
-void FilmWithProgress(const FilmedRun& run, const FilmConfig& film, const std::string& out_path) {
-  ProgressBar bar("rendering", "frames", StderrIsTerminal(), /*quarter_lines=*/true);
-  bool started = false;
-  const FilmSummary summary = FilmRun(run, film, out_path, [&](int done, int total) {
-    if (!started) {
-      bar.Start(total);
-      started = true;
-    }
-    bar.Update(done);
-  });
-  bar.Finish();
+// A progress bar on stderr for a film.
+class FilmProgressBar {
+ public:
+  FilmProgressBar() : bar_("rendering", "frames", StderrIsTerminal(), /*quarter_lines=*/true) {}
+  FilmProgress Callback() {
+    return [this](int done, int total) {
+      if (!started_) {
+        bar_.Start(total);
+        started_ = true;
+      }
+      bar_.Update(done);
+    };
+  }
+  void Finish() { bar_.Finish(); }
+
+ private:
+  ProgressBar bar_;
+  bool started_ = false;
+};
+
+void PrintFilmSummary(const FilmSummary& summary, const FilmConfig& film,
+                      const std::string& out_path) {
   std::printf("%d frames (%dx%d, cycles %d to %d, %.3g x real time, %.4g px/mm) at %g fps "
               "written to %s\n",
               summary.frames, film.width, film.height, summary.first_cycle, summary.last_cycle,
@@ -50,7 +58,10 @@ int RunRender(const RenderArgs& args) {
   args.film.Validate();
   if (std::filesystem::is_directory(args.input_path)) {
     const RunRecording recording = LoadRunRecording(args.input_path);
-    FilmWithProgress(recording.View(), args.film, args.out_path);
+    FilmProgressBar bar;
+    const FilmSummary summary = FilmRun(recording.View(), args.film, args.out_path, bar.Callback());
+    bar.Finish();
+    PrintFilmSummary(summary, args.film, args.out_path);
     return 0;
   }
   ScenarioConfig scenario = LoadScenario(args.input_path);
@@ -83,11 +94,13 @@ void AddVideoOptions(CLI::App* cmd, FilmConfig& film, const std::string& group) 
   g->add_option("--cycles", film.cycles, "Cycles filmed (default: to the run's last)");
   g->add_option("--trail-frames", film.trail_frames,
                 "Frames of tip trail kept (default: one cycle; 0: none)");
-  static const std::map<std::string, FilmCamera> kCameras = {{"fixed", FilmCamera::kFixed},
-                                                             {"follow", FilmCamera::kFollow}};
-  g->add_option("--camera", film.camera,
-                "fixed: still, framing the whole swim over a mm grid; follow: on the centre of mass")
-      ->transform(CLI::CheckedTransformer(kCameras))
+  g->add_option_function<std::string>(
+       "--camera",
+       [&film](const std::string& camera) {
+         film.camera = camera == "follow" ? FilmCamera::kFollow : FilmCamera::kFixed;
+       },
+       "fixed: still, framing the whole swim over a mm grid; follow: on the centre of mass")
+      ->check(CLI::IsMember({"fixed", "follow"}))
       ->default_str("fixed");
   g->add_option("--view-mm", film.view_mm,
                 "Image width at the body's plane [mm] (default: fit the swim, or 1/0.6 body "
@@ -125,17 +138,12 @@ ClosedLoopResult RunScenarioFilmed(
     if (before_filming) before_filming(result);
     return result;
   }
-  film.Validate();
-  if (!film.png_dir.empty()) EnsureDirectory(film.png_dir);
-  ModelPtr model;  // the run's own model, copied at t = 0
-  const auto observer = [&](const mjModel* m, const mjData*, const ClosedLoopSample&) {
-    if (model) return;
-    CheckFilmFits(m, film);
-    model.reset(mj_copyModel(nullptr, m));
-  };
-  const ClosedLoopResult result = RunScenario(scenario, observer);
-  if (before_filming) before_filming(result);
-  FilmWithProgress(ClosedLoopFilm(model.get(), result, scenario), film, video_path);
+  FilmProgressBar bar;
+  FilmSummary summary;
+  const ClosedLoopResult result = RunScenarioAndFilm(scenario, film, video_path, before_filming,
+                                                     bar.Callback(), &summary);
+  bar.Finish();
+  PrintFilmSummary(summary, film, video_path);
   return result;
 }
 
