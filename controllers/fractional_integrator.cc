@@ -1,4 +1,3 @@
-#include "sim/io/numbers.h"
 #include "controllers/fractional_integrator.h"
 #include "controllers/paper_eq15.h"
 
@@ -11,6 +10,9 @@
 
 #include <unsupported/Eigen/MatrixFunctions>
 
+#include "sim/io/error.h"
+#include "sim/io/numbers.h"
+
 namespace ipmc {
 namespace {
 
@@ -18,8 +20,9 @@ constexpr int kMaxOustaloupN = 64;
 
 [[noreturn]] void ThrowField(const char* field, const std::string& rule,
                              const std::string& got) {
-  throw std::invalid_argument(std::string("FractionalIntegrator.Config.") +
-                              field + " must be " + rule + ", got " + got);
+  throw FieldError(std::string("FractionalIntegrator.Config.") + field +
+                       " must be " + rule + ", got " + got,
+                   field, rule);
 }
 
 }  // namespace
