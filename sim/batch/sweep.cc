@@ -8,7 +8,6 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <climits>
 #include <cmath>
@@ -26,11 +25,10 @@
 #include <sstream>
 #include <stdexcept>
 #include <string_view>
-#include <thread>
 #include <utility>
 
+#include "sim/core/fan_out.h"
 #include "sim/core/link_sensors.h"
-#include "sim/core/mujoco_warnings.h"
 #include "sim/core/simulation.h"
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
@@ -734,43 +732,33 @@ SweepTable RunSweep(const SweepPlan& plan, const SweepOptions& options) {
   SweepTable table;
   table.columns = SweepColumns(plan);
   table.rows.resize(todo.size());
-  std::atomic<size_t> next{0};
   std::mutex progress_mutex;
   int done = 0;
   std::exception_ptr callback_failure;
   const auto start = std::chrono::steady_clock::now();
-  auto work = [&] {
-    for (size_t slot = next++; slot < todo.size(); slot = next++) {
-      const size_t k = schedule[slot];
-      std::string error;
-      table.rows[k] = RunPoint(plan, *todo[k], &error);
-      std::lock_guard<std::mutex> lock(progress_mutex);
-      ++done;
-      if (!options.on_point_done || callback_failure) continue;
-      SweepProgress progress;
-      progress.done = done;
-      progress.total = static_cast<int>(todo.size());
-      progress.point = todo[k]->index;
-      progress.ok = table.rows[k][plan.keys.size() + 1] == columns::kStatusOk;
-      progress.error = error;
-      progress.elapsed_s =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      try {
-        options.on_point_done(progress);
-      } catch (...) {
-        callback_failure = std::current_exception();
-      }
+  FanOut(todo.size(), options.jobs, [&](size_t slot) {
+    const size_t k = schedule[slot];
+    std::string error;
+    table.rows[k] = RunPoint(plan, *todo[k], &error);
+    std::lock_guard<std::mutex> lock(progress_mutex);
+    ++done;
+    if (!options.on_point_done || callback_failure) return;
+    SweepProgress progress;
+    progress.done = done;
+    progress.total = static_cast<int>(todo.size());
+    progress.point = todo[k]->index;
+    progress.ok = table.rows[k][plan.keys.size() + 1] == columns::kStatusOk;
+    progress.error = error;
+    progress.elapsed_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    // A failing progress report does not stop the runs: it is rethrown
+    // when they are done, and no further report is made.
+    try {
+      options.on_point_done(progress);
+    } catch (...) {
+      callback_failure = std::current_exception();
     }
-  };
-  const size_t threads = std::min<size_t>(options.jobs, todo.size());
-  if (threads <= 1) {
-    work();
-  } else {
-    const SerialisedMujocoWarnings warnings;
-    std::vector<std::thread> pool;
-    for (size_t t = 0; t < threads; ++t) pool.emplace_back(work);
-    for (std::thread& thread : pool) thread.join();
-  }
+  });
   if (callback_failure) std::rethrow_exception(callback_failure);
   return table;
 }

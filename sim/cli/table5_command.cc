@@ -2,13 +2,11 @@
 
 #include <cmath>
 #include <cstdio>
-#include <exception>
 #include <filesystem>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "sim/io/columns.h"
@@ -20,7 +18,7 @@
 #include "controllers/pid.h"
 #include "plugin/coupling.h"
 #include "sim/runs/closed_loop_run.h"
-#include "sim/core/mujoco_warnings.h"
+#include "sim/core/fan_out.h"
 #include "sim/runs/output.h"
 #include "sim/core/simulation.h"
 #include "sim/core/waveform.h"
@@ -242,29 +240,13 @@ Table5Values RunTable5(const ScenarioConfig& setting, const Table5Reading& readi
   const ScenarioConfig fractional = Table5Scenario(setting, ControllerKind::kFractional, reading);
   const ScenarioConfig pid = Table5Scenario(setting, ControllerKind::kPid, reading);
   Table5Values values;
-  if (jobs == 1) {
-    values.fractional = RunController(fractional, reading.loop);
-    values.pid = RunController(pid, reading.loop);
-    return values;
-  }
-  const SerialisedMujocoWarnings warnings;
-  std::exception_ptr fractional_failure;
-  std::thread fractional_run([&]() {
-    try {
+  FanOut(2, jobs, [&](std::size_t run) {
+    if (run == 0) {
       values.fractional = RunController(fractional, reading.loop);
-    } catch (...) {
-      fractional_failure = std::current_exception();
+    } else {
+      values.pid = RunController(pid, reading.loop);
     }
   });
-  std::exception_ptr pid_failure;
-  try {
-    values.pid = RunController(pid, reading.loop);
-  } catch (...) {
-    pid_failure = std::current_exception();
-  }
-  fractional_run.join();
-  if (fractional_failure) std::rethrow_exception(fractional_failure);
-  if (pid_failure) std::rethrow_exception(pid_failure);
   return values;
 }
 
@@ -345,10 +327,7 @@ int RunTable5Command(const CLI::App& app, const Table5Args& args) {
                                                                         : setting.start_ramp_cycles;
   reading.loop = args.loop == kTransferFunction ? Table5Loop::kTransferFunction
                                                 : Table5Loop::kMultibody;
-  reading.Validate();
-  if (args.jobs != 1 && args.jobs != 2) ThrowOption(kCommand, "--jobs", "1 or 2", std::to_string(args.jobs));
-
-  const Table5Values here = RunTable5(setting, reading, args.jobs);
+  const Table5Values here = RunTable5(setting, reading, args.jobs);  // validates first
   const Table5Values paper = PaperTable5();
   if (!args.out_dir.empty()) {
     const std::string csv = Table5Csv(here, paper);

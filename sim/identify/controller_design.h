@@ -64,6 +64,14 @@ FractionalIntegratorDesign DesignFractionalIntegrator(const FrequencyFunction& p
                                                       double crossover_rad_s,
                                                       double phase_margin_deg);
 
+// The design and the margins of its exact open loop K s^-lambda P.
+struct FractionalLoopDesign {
+  FractionalIntegratorDesign design;
+  StabilityMargins margins;
+};
+FractionalLoopDesign DesignFractionalLoop(const FrequencyFunction& plant, double crossover_rad_s,
+                                          double phase_margin_deg);
+
 // ----------------------------------------------------------- Nelder-Mead ---
 
 // Unconstrained minimisation of f: R^n -> R by NLopt's Nelder-Mead simplex
@@ -175,5 +183,17 @@ constexpr double kAccurateBandHigh_rad_s = 1e5;
 // kAccurateOustaloupPairs pairs on [kAccurateBandLow_rad_s,
 // kAccurateBandHigh_rad_s].
 StateSpace AccurateLinkPlant(IpmcLinkParams params);
+
+// The PID tuned for the link `params` (on its AccurateLinkPlant), J at the
+// paper's gains (eq. 12, PidGains{}) for comparison, and the margins of
+// the tuned continuous PID's open loop (Kp + Ki/s + Kd s) P with P =
+// `plant` (the link's exact or fitted response).
+struct PidLoopDesign {
+  PidTuningResult tuned;
+  double paper_cost = 0;
+  StabilityMargins margins;
+};
+PidLoopDesign DesignPidLoop(const IpmcLinkParams& params, const FrequencyFunction& plant,
+                            const PidTuningOptions& tuning);
 
 }  // namespace ipmc
