@@ -136,6 +136,9 @@ class SweepReader {
   void ReadBase(const toml::table& root);
   void RejectUnknownKeys(const toml::table& root) const;
   std::vector<std::string> SplitKey(const std::string& key, std::uint32_t line) const;
+  // The override of dotted key `name`, declared by `key`.
+  Override OverrideAt(const std::string& name, const toml::key& key,
+                      const toml::node* value) const;
   void FlattenOverrides(const toml::table& table, const std::string& prefix,
                         std::vector<Override>* overrides) const;
   void FlattenGrid(const toml::table& table, const std::string& prefix,
@@ -184,8 +187,8 @@ void SweepReader::RejectUnknownKeys(const toml::table& root) const {
 void SweepReader::ReadBase(const toml::table& root) {
   const auto it = root.find(kBase);
   if (it == root.end()) {
-    Fail(0, std::string(kBase) + " is required (the scenario file to sweep)", InputProblem::kMissing,
-         kBase);
+    Fail(0, std::string(kBase) + " is required (the scenario file to sweep)",
+         InputProblem::kMissing, kBase);
   }
   const std::uint32_t line = it->first.source().begin.line;
   const toml::value<std::string>* base = it->second.as_string();
@@ -219,55 +222,63 @@ std::vector<std::string> SweepReader::SplitKey(const std::string& key,
   }
 }
 
-void SweepReader::FlattenOverrides(const toml::table& table, const std::string& prefix,
-                                   std::vector<Override>* overrides) const {
+// Calls leaf(dotted name, key, value) for every value under `table` that
+// is not a table, a nested table standing for the dotted keys under it.
+template <typename Leaf>
+void ForEachLeaf(const toml::table& table, const std::string& prefix, const Leaf& leaf) {
   for (auto&& [key, node] : table) {
     const std::string name = prefix + std::string(key.str());
     if (const toml::table* nested = node.as_table()) {
-      FlattenOverrides(*nested, name + ".", overrides);
-      continue;
+      ForEachLeaf(*nested, name + ".", leaf);
+    } else {
+      leaf(name, key, node);
     }
-    Override entry;
-    entry.key = name;
-    entry.line = key.source().begin.line;
-    entry.column = key.source().begin.column;
-    entry.path = SplitKey(name, entry.line);
-    entry.value = &node;
-    overrides->push_back(std::move(entry));
   }
+}
+
+Override SweepReader::OverrideAt(const std::string& name, const toml::key& key,
+                                 const toml::node* value) const {
+  Override entry;
+  entry.key = name;
+  entry.line = key.source().begin.line;
+  entry.column = key.source().begin.column;
+  entry.path = SplitKey(name, entry.line);
+  entry.value = value;
+  return entry;
+}
+
+void SweepReader::FlattenOverrides(const toml::table& table, const std::string& prefix,
+                                   std::vector<Override>* overrides) const {
+  ForEachLeaf(table, prefix, [&](const std::string& name, const toml::key& key,
+                                 const toml::node& node) {
+    overrides->push_back(OverrideAt(name, key, &node));
+  });
 }
 
 void SweepReader::FlattenGrid(const toml::table& table, const std::string& prefix,
                               std::vector<Axis>* axes) const {
-  for (auto&& [key, node] : table) {
-    const std::string name = prefix + std::string(key.str());
-    if (const toml::table* nested = node.as_table()) {
-      FlattenGrid(*nested, name + ".", axes);
-      continue;
-    }
+  ForEachLeaf(table, prefix, [&](const std::string& name, const toml::key& key,
+                                 const toml::node& node) {
+    const std::string grid_key = std::string(kGrid) + "." + name;
     const std::uint32_t line = key.source().begin.line;
     const toml::array* values = node.as_array();
     if (values == nullptr) {
-      Fail(line, std::string(kGrid) + "." + name + " must be an array of values (got " +
-                     TypeName(node) + ")",
-           InputProblem::kWrongType, std::string(kGrid) + "." + name);
+      Fail(line, grid_key + " must be an array of values (got " + TypeName(node) + ")",
+           InputProblem::kWrongType, grid_key);
     }
-    if (values->empty()) Fail(line, std::string(kGrid) + "." + name + " must not be empty");
+    if (values->empty()) Fail(line, grid_key + " must not be empty");
     Axis axis;
-    axis.key.key = name;
-    axis.key.line = line;
-    axis.key.column = key.source().begin.column;
-    axis.key.path = SplitKey(name, line);
+    axis.key = OverrideAt(name, key, nullptr);
     for (const toml::node& value : *values) {
       if (value.is_table()) {
-        Fail(line, std::string(kGrid) + "." + name +
+        Fail(line, grid_key +
                        " must hold values, not tables (use [[point]] to change several keys "
                        "together)");
       }
       axis.values.push_back(&value);
     }
     axes->push_back(std::move(axis));
-  }
+  });
 }
 
 // A key given twice, or a key inside another given key (which would
@@ -700,7 +711,9 @@ std::vector<std::string> SweepColumns(const SweepPlan& plan) {
   names.push_back(columns::kStatus);
   names.push_back(columns::kError);
   for (int q = 1; q <= plan.links; ++q) {
-    for (const char* result : columns::kLinkResults) names.push_back(columns::LinkResult(q, result));
+    for (const char* result : columns::kLinkResults) {
+      names.push_back(columns::LinkResult(q, result));
+    }
   }
   names.insert(names.end(), std::begin(columns::kSwimResults), std::end(columns::kSwimResults));
   return names;

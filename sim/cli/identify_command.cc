@@ -1,5 +1,7 @@
 #include "sim/cli/identify_command.h"
 
+#include "sim/cli/command.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -339,7 +341,7 @@ int RunDesign(const IdentifyArgs::Design& args) {
   const PidTuningOptions tuning = TuningOptions(name, args.crossover_rad_s, args.reference_order,
                                                 args.horizon_s, args.sample_rate_hz);
   const IpmcLinkParams params =
-      PaperLinkParams(args.link, args.plant == "g2" ? IpmcModelKind::kG2 : IpmcModelKind::kG1);
+      PaperLinkParams(args.link, PlantKind(args.plant));
   const FrequencyFunction plant = [params](double w) { return LinkResponseExact(params, w); };
 
   const FractionalLoopDesign fractional =
@@ -678,8 +680,9 @@ std::string IndicesSection(const std::vector<PipelineLink>& results) {
   return text;
 }
 
-std::string TimingSection(const std::vector<PipelineLink>& results, const IdentifyArgs::Pipeline& args,
-                          std::size_t runs, double bench_s, double tuning_s) {
+std::string TimingSection(const std::vector<PipelineLink>& results,
+                          const IdentifyArgs::Pipeline& args, std::size_t runs, double bench_s,
+                          double tuning_s) {
   std::string text = "\n## Timing\n\n";
   text += FormatText("Bench simulation: %.2f s wall for %zu run%s of %g s%s. "
                      "Welch and Levy (with the alpha sweep) per link:",
@@ -728,63 +731,52 @@ int RunPipeline(const IdentifyArgs::Pipeline& args) {
 
 void AddIdentifyCommands(CLI::App& app, IdentifyArgs& args) {
   IdentifyArgs::Identify& i = args.identify;
-  CLI::App* identify = app.add_subcommand(
-      kIdentifyCommand, "Frequency response (Welch) and Levy fits of G1 and G2 from bench data");
+  CLI::App* identify = AddCommand(
+      app, kIdentifyCommand,
+      "Frequency response (Welch) and Levy fits of G1 and G2 from bench data");
   identify->add_option("data", i.data_path, "CSV file with a header row")->required();
   identify->add_option("--input", i.input_column, "Input column, e.g. voltage1_V")->required();
   identify->add_option("--output", i.output_column, "Output column, e.g. relative3_mm")
       ->required();
-  identify->add_option("--sample-rate-hz", i.sample_rate_hz, "Sample rate [Hz]")
-      ->capture_default_str();
+  identify->add_option("--sample-rate-hz", i.sample_rate_hz, "Sample rate [Hz]");
   identify->add_option("--band-rad-s", i.band_rad_s, "Identification band LOW,HIGH [rad/s]")
-      ->delimiter(',')->capture_default_str();
+      ->delimiter(',');
   identify->add_option("--out", i.out_dir, "Directory for response.csv and identification.json");
 
   IdentifyArgs::Design& d = args.design;
-  CLI::App* design = app.add_subcommand(
-      kDesignCommand, "Fractional integrator (analytic) and PID (Nelder-Mead) for one link");
-  design->add_option("--link", d.link, "Link 1..3 (Table 2)")->capture_default_str();
-  design->add_option("--plant", d.plant, "g1 (eq. 5) | g2 (eq. 6)")
-      ->check(CLI::IsMember({"g1", "g2"}))->capture_default_str();
-  design->add_option("--crossover-rad-s", d.crossover_rad_s, "Gain crossover w_c [rad/s]")
-      ->capture_default_str();
-  design->add_option("--phase-margin-deg", d.phase_margin_deg, "Phase margin [deg]")
-      ->capture_default_str();
+  CLI::App* design = AddCommand(
+      app, kDesignCommand, "Fractional integrator (analytic) and PID (Nelder-Mead) for one link");
+  design->add_option("--link", d.link, "Link 1..3 (Table 2)");
+  AddPlantOption(design, d.plant);
+  design->add_option("--crossover-rad-s", d.crossover_rad_s, "Gain crossover w_c [rad/s]");
+  design->add_option("--phase-margin-deg", d.phase_margin_deg, "Phase margin [deg]");
   design->add_option("--reference-order", d.reference_order,
-                     "Reference model order gamma, in (0, 2]")->capture_default_str();
-  design->add_option("--horizon-s", d.horizon_s, "Horizon of J (eq. 11) [s]")
-      ->capture_default_str();
-  design->add_option("--sample-rate-hz", d.sample_rate_hz, "PID rate in the tuning loop [Hz]")
-      ->capture_default_str();
+                     "Reference model order gamma, in (0, 2]");
+  design->add_option("--horizon-s", d.horizon_s, "Horizon of J (eq. 11) [s]");
+  design->add_option("--sample-rate-hz", d.sample_rate_hz, "PID rate in the tuning loop [Hz]");
 
   IdentifyArgs::Pipeline& p = args.pipeline;
-  CLI::App* pipeline = app.add_subcommand(
-      kPipelineCommand,
+  CLI::App* pipeline = AddCommand(
+      app, kPipelineCommand,
       "Bench chirp on the simulated clamped flagellum, identification and design, as a report");
   pipeline->add_option("--model", p.model_path,
                        "MJCF model with IPMC actuators (default models/flagellum3_clamped.xml)");
   pipeline->add_option("--drive", p.drive,
                        "each: each link in turn, its relative deflection | first: link 1, every "
                        "tip (the paper)")
-      ->check(CLI::IsMember({kDriveEach, kDriveFirst}))->capture_default_str();
-  pipeline->add_option("--duration-s", p.duration_s, "Chirp duration [s]")->capture_default_str();
-  pipeline->add_option("--amplitude-v", p.amplitude_v, "Chirp amplitude [V]")
-      ->capture_default_str();
-  pipeline->add_option("--f0-hz", p.f0_hz, "Chirp start frequency [Hz]")->capture_default_str();
-  pipeline->add_option("--f1-hz", p.f1_hz, "Chirp end frequency [Hz]")->capture_default_str();
-  pipeline->add_option("--repeats", p.repeats, "Records per link (differ by the noise only)")
-      ->capture_default_str();
-  pipeline->add_option("--noise-mm", p.noise_mm, "Measurement noise standard deviation [mm]")
-      ->capture_default_str();
-  pipeline->add_option("--seed", p.seed, "Noise seed")->capture_default_str();
+      ->check(CLI::IsMember({kDriveEach, kDriveFirst}));
+  pipeline->add_option("--duration-s", p.duration_s, "Chirp duration [s]");
+  pipeline->add_option("--amplitude-v", p.amplitude_v, "Chirp amplitude [V]");
+  pipeline->add_option("--f0-hz", p.f0_hz, "Chirp start frequency [Hz]");
+  pipeline->add_option("--f1-hz", p.f1_hz, "Chirp end frequency [Hz]");
+  pipeline->add_option("--repeats", p.repeats, "Records per link (differ by the noise only)");
+  pipeline->add_option("--noise-mm", p.noise_mm, "Measurement noise standard deviation [mm]");
+  pipeline->add_option("--seed", p.seed, "Noise seed");
   pipeline->add_option("--band-rad-s", p.band_rad_s, "Identification band LOW,HIGH [rad/s]")
-      ->delimiter(',')->capture_default_str();
-  pipeline->add_option("--crossover-rad-s", p.crossover_rad_s, "Design crossover w_c [rad/s]")
-      ->capture_default_str();
-  pipeline->add_option("--phase-margin-deg", p.phase_margin_deg, "Design phase margin [deg]")
-      ->capture_default_str();
-  pipeline->add_option("--horizon-s", p.horizon_s, "Horizon of J (eq. 11) [s]")
-      ->capture_default_str();
+      ->delimiter(',');
+  pipeline->add_option("--crossover-rad-s", p.crossover_rad_s, "Design crossover w_c [rad/s]");
+  pipeline->add_option("--phase-margin-deg", p.phase_margin_deg, "Design phase margin [deg]");
+  pipeline->add_option("--horizon-s", p.horizon_s, "Horizon of J (eq. 11) [s]");
   pipeline->add_option("--out", p.out_dir, "Directory for report.md and response_link<q>.csv");
 }
 

@@ -1,5 +1,7 @@
 #include "sim/cli/render_command.h"
 
+#include "sim/cli/command.h"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -125,21 +127,19 @@ int RunRender(const RenderArgs& args) {
 }  // namespace
 
 void AddRenderCommand(CLI::App& app, RenderArgs& args) {
-  CLI::App* cmd = app.add_subcommand(kRenderCommand, "Run a scenario and film the swimmer (MP4)");
+  CLI::App* cmd = AddCommand(app, kRenderCommand, "Run a scenario and film the swimmer (MP4)");
   cmd->add_option("scenario", args.scenario_path, "Scenario file (TOML)")->required();
   cmd->add_option("--out", args.out_path, "MP4 file to write")->required();
-  cmd->add_option("--width", args.width, "Frame width [px], even, at most the model's offwidth")
-      ->capture_default_str();
-  cmd->add_option("--height", args.height, "Frame height [px], even, at most the model's offheight")
-      ->capture_default_str();
-  cmd->add_option("--fps", args.fps, "Video frame rate [1/s]")->capture_default_str();
-  cmd->add_option("--frames-per-cycle", args.frames_per_cycle, "Frames per wave cycle")
-      ->capture_default_str();
-  cmd->add_option("--start-cycle", args.start_cycle, "First cycle filmed (1 = the first)")
-      ->capture_default_str();
-  cmd->add_option("--cycles", args.cycles, "Cycles filmed (default: to the scenario's last)");
+  cmd->add_option("--width", args.width, "Frame width [px], even, at most the model's offwidth");
+  cmd->add_option("--height", args.height, "Frame height [px], even, at most the model's offheight");
+  cmd->add_option("--fps", args.fps, "Video frame rate [1/s]");
+  cmd->add_option("--frames-per-cycle", args.frames_per_cycle, "Frames per wave cycle");
+  cmd->add_option("--start-cycle", args.start_cycle, "First cycle filmed (1 = the first)");
+  cmd->add_option("--cycles", args.cycles, "Cycles filmed (default: to the scenario's last)")
+      ->default_str("");
   cmd->add_option("--trail-frames", args.trail_frames,
-                  "Frames of tip trail kept (default: one cycle; 0: none)");
+                  "Frames of tip trail kept (default: one cycle; 0: none)")
+      ->default_str("");
   cmd->add_option("--png-dir", args.png_dir, "Also write every frame as DIR/frame_NNNNN.png");
 }
 

@@ -1,5 +1,7 @@
 #include "sim/cli/table5_command.h"
 
+#include "sim/cli/command.h"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -293,26 +295,21 @@ nlohmann::json Table5Json(const Table5Values& here, const Table5Values& paper,
 }
 
 void AddTable5Command(CLI::App& app, Table5Args& args) {
-  CLI::App* cmd = app.add_subcommand(
-      kCommand, "Table 5: IAE and ITAE per link, C_I (eq. 15) and PID (eq. 12), beside the paper");
+  CLI::App* cmd = AddCommand(
+      app, kCommand, "Table 5: IAE and ITAE per link, C_I (eq. 15) and PID (eq. 12), beside the paper");
   cmd->add_option("--plants", args.plants,
                   "uniform (every link eq. 7's plant) | table2 (Table 2's row per link)")
-      ->check(CLI::IsMember({"uniform", "table2"}))
-      ->capture_default_str();
+      ->check(CLI::IsMember({"uniform", "table2"}));
   cmd->add_option("--cycles", args.cycles,
                   "Horizon in wave periods, [1, " + std::to_string(kMaxTable5Cycles) +
-                      "] (default: the scenario's)")
-      ->capture_default_str();
+                      "] (default: the scenario's)");
   cmd->add_option("--start-ramp-cycles", args.start_ramp_cycles,
                   "References' fade-in in wave periods, [0, --cycles]; 0: a step start "
-                  "(default: the scenario's)")
-      ->capture_default_str();
+                  "(default: the scenario's)");
   cmd->add_option("--loop", args.loop,
                   "multibody (the MuJoCo run) | transfer-function (each link's plant alone)")
-      ->check(CLI::IsMember({kMultibody, kTransferFunction}))
-      ->capture_default_str();
-  cmd->add_option("--jobs", args.jobs, "Threads: 1, or 2 (one per controller)")
-      ->capture_default_str();
+      ->check(CLI::IsMember({kMultibody, kTransferFunction}));
+  cmd->add_option("--jobs", args.jobs, "Threads: 1, or 2 (one per controller)");
   cmd->add_option("--out", args.out_dir, "Directory for table5.csv and table5.json");
 }
 

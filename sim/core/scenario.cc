@@ -85,7 +85,6 @@ constexpr char kDistributed[] = "distributed";
 constexpr char kSingle[] = "single";
 
 constexpr double kMaxTimestep_s = 1e-3;
-constexpr int kMaxOustaloupN = 64;
 // Relative tolerance on "a whole number of timesteps per controller sample".
 constexpr double kWholeStepsTolerance = 1e-9;
 
@@ -233,7 +232,8 @@ class ScenarioReader {
         if (!allowed.empty()) allowed += " or ";
         allowed += Quoted(choice);
       }
-      FailValue(entry, entry.name + " must be " + allowed + " (got " + Quoted(value) + ")", allowed);
+      FailValue(entry, entry.name + " must be " + allowed + " (got " + Quoted(value) + ")",
+                allowed);
     }
     return value;
   }
@@ -375,7 +375,7 @@ void ScenarioReader::ReadController(const toml::table& table, ScenarioConfig* co
     RequireAtMost(*entry, fractional.order, 1.0);
   }
   if (const auto entry = Find(table, prefix, kOustaloupN)) {
-    fractional.oustaloup_n = Integer(*entry, 1, kMaxOustaloupN);
+    fractional.oustaloup_n = Integer(*entry, 1, kMaxOustaloupPairs);
   }
   if (const auto entry = Find(table, prefix, kBand)) {
     const toml::array* band = entry->node->as_array();

@@ -189,8 +189,7 @@ NelderMeadResult MinimizeNelderMead(const std::function<double(const Eigen::Vect
 // ---------------------------------------------------------- PID tuning ---
 
 std::vector<PidGains> DefaultPidStarts() {
-  return {{8.12, 53.36, 0.61}, {1.0, 10.0, 0.1}, {20.0, 200.0, 2.0}, {2.0, 100.0, 1.0},
-          {30.0, 20.0, 0.05}};
+  return {PidGains{}, {1.0, 10.0, 0.1}, {20.0, 200.0, 2.0}, {2.0, 100.0, 1.0}, {30.0, 20.0, 0.05}};
 }
 
 void PidTuningOptions::Validate() const {

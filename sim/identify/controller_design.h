@@ -41,6 +41,7 @@
 #include <Eigen/Dense>
 
 #include "controllers/linear/frequency_response.h"
+#include "controllers/pid.h"
 #include "controllers/reference_model.h"
 #include "controllers/linear/state_space.h"
 #include "plugin/actuators/ipmc_link_model.h"
@@ -106,10 +107,11 @@ NelderMeadResult MinimizeNelderMead(const std::function<double(const Eigen::Vect
 
 // ---------------------------------------------------------- PID tuning ---
 
+// Defaults: the paper's eq. 12, PidController::Config's.
 struct PidGains {
-  double kp = 8.12;   // [V/mm]
-  double ki = 53.36;  // [V/(mm s)]
-  double kd = 0.61;   // [V s/mm]
+  double kp = PidController::Config{}.kp;  // [V/mm]
+  double ki = PidController::Config{}.ki;  // [V/(mm s)]
+  double kd = PidController::Config{}.kd;  // [V s/mm]
 };
 
 // Deterministic starts of the default tuning: the paper's eq. 12 and four
