@@ -1,5 +1,7 @@
 #include "sim/cli/plot_command.h"
 
+#include "sim/cli/command.h"
+
 #include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -785,7 +787,7 @@ int RunPlot(const CLI::App& command, const PlotArgs& args) {
 }  // namespace
 
 void AddPlotCommand(CLI::App& app, PlotArgs& args) {
-  CLI::App* cmd = app.add_subcommand(kPlotCommand, "Draw one of the paper's figures (gnuplot PNG)");
+  CLI::App* cmd = AddCommand(app, kPlotCommand, "Draw one of the paper's figures (gnuplot PNG)");
   cmd->add_option("kind", args.kind,
                   "bode (Fig. 9/10) | step (Fig. 11) | tracking (Fig. 12a) | waveform (Fig. 12b) "
                   "| surface (Fig. 13) | sweep")
@@ -797,19 +799,22 @@ void AddPlotCommand(CLI::App& app, PlotArgs& args) {
       ->required();
   cmd->add_option("-o,--out", args.out_path, "PNG file to write")->required();
   cmd->add_option("--title", args.title, "Figure title (default: what is drawn and INPUT)");
-  cmd->add_option("--width-px", args.width_px, "Image width [px] (default: the kind's)");
-  cmd->add_option("--height-px", args.height_px, "Image height [px] (default: the kind's)");
+  cmd->add_option("--width-px", args.width_px, "Image width [px] (default: the kind's)")
+      ->default_str("");
+  cmd->add_option("--height-px", args.height_px, "Image height [px] (default: the kind's)")
+      ->default_str("");
   cmd->add_option("--curves", args.curves,
                   "bode: curves to draw, of plant, controller, open_loop, reference_open_loop")
-      ->delimiter(',')->capture_default_str();
-  cmd->add_option("--instants", args.instants,
-                  "waveform: number of instants over the last wave period")->capture_default_str();
-  cmd->add_option("--times-s", args.times_s, "waveform: instants [s] (nearest samples)")
       ->delimiter(',');
+  cmd->add_option("--instants", args.instants,
+                  "waveform: number of instants over the last wave period");
+  cmd->add_option("--times-s", args.times_s, "waveform: instants [s] (nearest samples)")
+      ->delimiter(',')
+      ->default_str("");
   cmd->add_option("--period-s", args.period_s,
-                  "waveform: wave period [s] (default: period_s of summary.json beside INPUT)");
-  cmd->add_option("--max-lines", args.max_lines, "surface: most body lines drawn")
-      ->capture_default_str();
+                  "waveform: wave period [s] (default: period_s of summary.json beside INPUT)")
+      ->default_str("");
+  cmd->add_option("--max-lines", args.max_lines, "surface: most body lines drawn");
   cmd->add_option("--x", args.x_column,
                   "sweep: column on the x axis (NAME[i]: element i of an array column)");
   cmd->add_option("--y", args.y_column, "sweep: column on the y axis");
