@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
+#include <iterator>
+#include <vector>
 
 #include "ipmc_swim/ipmc_swim.h"
 #include "plugin/mjcf/custom_fields.h"
@@ -74,6 +76,15 @@ bool Attach(const mjModel* m, mjData* d) { return AttachWithOverrides(m, d, {});
 
 bool AttachWithOverrides(const mjModel* m, mjData* d, const IpmcActuatorsOverrides& overrides) {
   if (!HasCustomFieldWithPrefix(m, "ipmc_")) return false;
+  std::vector<std::string> known(std::begin(kRftDragFields), std::end(kRftDragFields));
+  known.insert(known.end(), IpmcActuatorFields().begin(), IpmcActuatorFields().end());
+  known.push_back(kStripWidthField);
+  RequireKnownCustomFields(m, "ipmc_", known);
+  if (const std::optional<double> width_m = FindCustomScalar(m, kStripWidthField);
+      width_m && !(*width_m > 0)) {
+    throw std::invalid_argument(std::string(kStripWidthField) + " must be finite and > 0 m (got " +
+                                std::to_string(*width_m) + ")");
+  }
   auto context = std::make_unique<CouplingContext>();
   context->model = m;
   if (std::optional<RftDragConfig> drag = RftDragConfig::FromModel(m)) {

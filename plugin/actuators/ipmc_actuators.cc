@@ -19,6 +19,13 @@ constexpr char kAttrActuation[] = "ipmc_actuation";
 constexpr char kAttrBand[] = "ipmc_integrator_band_rad_s";
 constexpr char kAttrPairs[] = "ipmc_integrator_pairs";
 constexpr char kAttrRelTol[] = "ipmc_cvode_rel_tol";
+// The per-link overrides of Table 2's parameters.
+constexpr char kAttrA0[] = "ipmc_a0_mm_per_V";
+constexpr char kAttrB1[] = "ipmc_b1";
+constexpr char kAttrB2[] = "ipmc_b2_s2";
+constexpr char kAttrAlpha[] = "ipmc_alpha";
+// The bound of the Oustaloup realisation's pairs (ipmc_integrator_pairs).
+constexpr int kMaxIntegratorPairs = 100;
 constexpr double kMmToM = 1e-3;
 
 [[noreturn]] void Fail(const std::string& message) {
@@ -214,6 +221,14 @@ std::optional<IpmcActuatorsConfig> IpmcActuatorsConfig::FromModel(
   IpmcActuatorsConfig config;
   config.joints = SplitWords(*joints);
   if (config.joints.empty()) Fail(std::string(kAttrLinks) + " must name at least one hinge");
+  for (size_t q = 0; q < config.joints.size(); ++q) {
+    for (size_t r = 0; r < q; ++r) {
+      if (config.joints[r] == config.joints[q]) {
+        Fail(std::string(kAttrLinks) + " names '" + config.joints[q] +
+             "' twice (each link drives its own hinge)");
+      }
+    }
+  }
   const int segments = SegmentsPerLink(m);
   for (const std::string& joint : config.joints) {
     config.chains.push_back(FindChain(m, joint, segments, config.joints));
@@ -225,12 +240,12 @@ std::optional<IpmcActuatorsConfig> IpmcActuatorsConfig::FromModel(
     config.links.push_back(AssignedLinkParams(config.plants, static_cast<int>(q) + 1, kind,
                                               config.chains[q].length_m));
   }
-  OverridePerLink(m, "ipmc_a0_mm_per_V", config.links,
+  OverridePerLink(m, kAttrA0, config.links,
                   [](IpmcLinkParams& p, double v) { p.a0_mm_per_V = v; });
-  OverridePerLink(m, "ipmc_b1", config.links, [](IpmcLinkParams& p, double v) { p.b1 = v; });
-  OverridePerLink(m, "ipmc_b2_s2", config.links,
+  OverridePerLink(m, kAttrB1, config.links, [](IpmcLinkParams& p, double v) { p.b1 = v; });
+  OverridePerLink(m, kAttrB2, config.links,
                   [](IpmcLinkParams& p, double v) { p.b2_s2 = v; });
-  OverridePerLink(m, "ipmc_alpha", config.links,
+  OverridePerLink(m, kAttrAlpha, config.links,
                   [](IpmcLinkParams& p, double v) { p.alpha = v; });
   if (auto band = FindCustomVector(m, kAttrBand)) {
     if (band->size() != 2) Fail(std::string(kAttrBand) + " must hold two values [w_b, w_h] in rad/s");
@@ -239,8 +254,8 @@ std::optional<IpmcActuatorsConfig> IpmcActuatorsConfig::FromModel(
       p.integrator.w_high_rad_s = (*band)[1];
     }
   }
-  if (auto pairs = FindCustomScalar(m, kAttrPairs)) {
-    for (IpmcLinkParams& p : config.links) p.integrator.n = static_cast<int>(*pairs);
+  if (auto pairs = FindCustomInteger(m, kAttrPairs, 1, kMaxIntegratorPairs)) {
+    for (IpmcLinkParams& p : config.links) p.integrator.n = *pairs;
   }
   if (auto rel_tol = FindCustomScalar(m, kAttrRelTol)) config.cvode.rel_tol = *rel_tol;
   try {
@@ -256,6 +271,13 @@ std::optional<IpmcActuatorsConfig> IpmcActuatorsConfig::FromModel(
     }
   }
   return config;
+}
+
+const std::vector<std::string>& IpmcActuatorFields() {
+  static const std::vector<std::string> fields = {
+      kAttrLinks, kAttrSegments, kAttrPlants, kAttrModel, kAttrActuation, kAttrBand,
+      kAttrPairs, kAttrRelTol,   kAttrA0,     kAttrB1,    kAttrB2,        kAttrAlpha};
+  return fields;
 }
 
 IpmcActuators::IpmcActuators(IpmcActuatorsConfig config) : config_(std::move(config)) {

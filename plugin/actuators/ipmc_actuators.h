@@ -125,6 +125,9 @@ struct IpmcActuatorsConfig {
       const mjModel* m, const IpmcActuatorsOverrides& overrides = {});
 };
 
+// The custom fields IpmcActuatorsConfig::FromModel reads.
+const std::vector<std::string>& IpmcActuatorFields();
+
 class IpmcActuators {
  public:
   explicit IpmcActuators(IpmcActuatorsConfig config);

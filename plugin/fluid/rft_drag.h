@@ -50,6 +50,10 @@ constexpr char kAttrXiNormal[] = "ipmc_rft_xi_normal_N_s_m2";
 constexpr char kAttrXiTangential[] = "ipmc_rft_xi_tangential_N_s_m2";
 constexpr char kAttrFluidDensity[] = "ipmc_rft_fluid_density_kg_m3";
 constexpr char kAttrGeoms[] = "ipmc_rft_geoms";
+// All of the above.
+inline const char* const kRftDragFields[] = {
+    kAttrViscosity, kAttrCoefficients, kAttrEquivalentRadius, kAttrWavelength,
+    kAttrXiNormal,  kAttrXiTangential, kAttrFluidDensity,     kAttrGeoms};
 
 struct DragCoefficients {
   double normal_N_s_m2 = 0.0;

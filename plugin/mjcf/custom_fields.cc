@@ -1,5 +1,6 @@
 #include "plugin/mjcf/custom_fields.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -45,6 +46,37 @@ std::optional<double> FindCustomScalar(const mjModel* m, const std::string& name
                                 std::to_string(values->size()) + ")");
   }
   return values->front();
+}
+
+std::optional<int> FindCustomInteger(const mjModel* m, const std::string& name, int min,
+                                     int max) {
+  const std::optional<double> value = FindCustomScalar(m, name);
+  if (!value) return std::nullopt;
+  if (*value != std::floor(*value) || *value < min || *value > max) {
+    std::ostringstream msg;
+    msg.precision(17);
+    msg << "custom numeric '" << name << "' must be a whole number in [" << min << ", " << max
+        << "] (got " << *value << ")";
+    throw std::invalid_argument(msg.str());
+  }
+  return static_cast<int>(*value);
+}
+
+void RequireKnownCustomFields(const mjModel* m, const std::string& prefix,
+                              const std::vector<std::string>& known) {
+  const auto check = [&](int count, mjtObj type) {
+    for (int i = 0; i < count; ++i) {
+      const char* name = mj_id2name(m, type, i);
+      if (name == nullptr || std::string(name).rfind(prefix, 0) != 0) continue;
+      if (std::find(known.begin(), known.end(), name) != known.end()) continue;
+      std::string list;
+      for (const std::string& field : known) list += (list.empty() ? "" : ", ") + field;
+      throw std::invalid_argument("unknown custom field '" + std::string(name) + "' (known: " +
+                                  list + ")");
+    }
+  };
+  check(m->nnumeric, mjOBJ_NUMERIC);
+  check(m->ntext, mjOBJ_TEXT);
 }
 
 std::optional<std::string> FindCustomText(const mjModel* m, const std::string& name) {

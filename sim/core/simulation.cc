@@ -2,7 +2,11 @@
 
 #include <unistd.h>
 
+#include <cerrno>
 #include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <utility>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -14,21 +18,62 @@
 namespace ipmc {
 namespace {
 
-std::string FirstLine(const char* text) {
-  std::string line(text);
-  const size_t end = line.find('\n');
-  return end == std::string::npos ? line : line.substr(0, end);
+// MuJoCo's load error on one line: "XML parse error 13:\nError=..." keeps
+// its reason.
+std::string LoadError(const char* text) {
+  std::string line;
+  std::istringstream lines(text);
+  for (std::string part; std::getline(lines, part);) {
+    while (!part.empty() && (part.back() == ' ' || part.back() == '\r')) part.pop_back();
+    if (part.empty()) continue;
+    if (!line.empty()) line += line.back() == ':' ? " " : "; ";
+    line += part;
+  }
+  return line.empty() ? "MuJoCo could not load it (no reason given)" : line;
+}
+
+// MuJoCo's bad-state warnings: when one fires, mj_step has already reset
+// the data to the model's initial state, so the state alone no longer
+// shows the divergence.
+constexpr std::pair<mjtWarning, const char*> kBadStateWarnings[] = {
+    {mjWARN_BADQPOS, "joint positions (qpos)"},
+    {mjWARN_BADQVEL, "joint velocities (qvel)"},
+    {mjWARN_BADQACC, "accelerations (qacc)"},
+    {mjWARN_BADCTRL, "controls (ctrl)"}};
+
+// What diverged in `d`, or "" if nothing did: a bad-state warning, or a
+// non-finite position, velocity or applied force.
+std::string Diverged(const mjModel* m, const mjData* d) {
+  for (const auto& [warning, what] : kBadStateWarnings) {
+    if (d->warning[warning].number > 0) return what;
+  }
+  for (int i = 0; i < m->nq; ++i) {
+    if (!std::isfinite(d->qpos[i])) return "joint positions (qpos)";
+  }
+  for (int i = 0; i < m->nv; ++i) {
+    if (!std::isfinite(d->qvel[i])) return "joint velocities (qvel)";
+    if (!std::isfinite(d->qfrc_passive[i])) return "passive forces (drag, qfrc_passive)";
+    if (!std::isfinite(d->qfrc_actuator[i])) return "actuator torques (qfrc_actuator)";
+  }
+  return "";
 }
 
 }  // namespace
 
 ModelPtr LoadModelFile(const std::string& path) {
+  std::error_code status;
+  if (std::filesystem::is_directory(path, status)) {
+    throw std::runtime_error(path + ": is a directory, not a model file (MJCF)");
+  }
   if (!std::ifstream(path).good()) {
-    throw std::runtime_error(path + ": cannot open model file");
+    throw std::runtime_error(path + ": cannot open model file (" + std::strerror(errno) + ")");
+  }
+  if (std::filesystem::file_size(path, status) == 0 && !status) {
+    throw std::runtime_error(path + ": empty model file (MJCF expected)");
   }
   char error[1024] = "";
   mjModel* m = mj_loadXML(path.c_str(), nullptr, error, sizeof(error));
-  if (!m) throw std::runtime_error(path + ": " + FirstLine(error));
+  if (!m) throw std::runtime_error(path + ": " + LoadError(error));
   return ModelPtr(m);
 }
 
@@ -44,7 +89,7 @@ ModelPtr LoadModelString(const std::string& xml) {
   char error[1024] = "";
   mjModel* m = mj_loadXML(name, nullptr, error, sizeof(error));
   std::remove(name);
-  if (!m) throw std::runtime_error(std::string("inline model: ") + FirstLine(error));
+  if (!m) throw std::runtime_error(std::string("inline model: ") + LoadError(error));
   return ModelPtr(m);
 }
 
@@ -62,17 +107,19 @@ Simulation::Simulation(ModelPtr m, const std::string& source,
 Simulation::~Simulation() { Detach(data_.get()); }
 
 void Simulation::Step() {
+  const double time_s = data_->time;
   mj_step(model_.get(), data_.get());
-  const mjData* d = data_.get();
-  bool finite = true;
-  for (int i = 0; i < model_->nq && finite; ++i) finite = std::isfinite(d->qpos[i]);
-  for (int i = 0; i < model_->nv && finite; ++i) finite = std::isfinite(d->qvel[i]);
-  if (!finite || d->warning[mjWARN_BADQACC].number > 0) {
-    std::ostringstream msg;
-    msg << source_ << ": simulation diverged at t = " << d->time
-        << " s (reduce option timestep, now " << model_->opt.timestep << " s)";
-    throw std::runtime_error(msg.str());
-  }
+  CheckState(time_s);
+}
+
+void Simulation::CheckState(double step_start_s) const {
+  const std::string what = Diverged(model_.get(), data_.get());
+  if (what.empty()) return;
+  std::ostringstream msg;
+  msg << source_ << ": simulation diverged at t = " << step_start_s << " s: " << what
+      << " not finite or beyond MuJoCo's limit (reduce option timestep, now "
+      << model_->opt.timestep << " s, or the inputs' size)";
+  throw std::runtime_error(msg.str());
 }
 
 int RequireId(const mjModel* m, mjtObj type, const std::string& name, const std::string& source) {

@@ -42,11 +42,16 @@ class Simulation {
   const mjData* data() const { return data_.get(); }
   const std::string& source() const { return source_; }
 
-  // One mj_step; throws std::runtime_error naming the time if the state
-  // stops being finite or MuJoCo reports a bad acceleration.
+  // One mj_step; throws std::runtime_error naming the time and what
+  // diverged if MuJoCo reports a bad state (and resets it) or a position,
+  // velocity or force stops being finite.
   void Step();
 
  private:
+  // Throws std::runtime_error naming the step's start time and what
+  // diverged, if the state did (sim/core/simulation.cc, Diverged).
+  void CheckState(double step_start_s) const;
+
   ModelPtr model_;
   DataPtr data_;
   std::string source_;

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
 #include "plugin/coupling.h"
+#include "plugin/mjcf/custom_fields.h"
 
 namespace ipmc {
 namespace {
@@ -73,7 +75,7 @@ SwimMetrics SwimMeter::Finish(const mjModel* m, const mjData* d) const {
   for (const Segment& segment : coupling->drag->Segments(m, d)) body_length_m += segment.length_m;
   metrics.body_length_mm = body_length_m * kMToMm;
   const RftDragConfig& fluid = coupling->drag->config();
-  const int width_id = mj_name2id(m, mjOBJ_NUMERIC, "ipmc_strip_width_m");
+  const int width_id = mj_name2id(m, mjOBJ_NUMERIC, kStripWidthField);
   const double width_m = width_id >= 0 ? m->numeric_data[m->numeric_adr[width_id]]
                                        : 2.0 * fluid.equivalent_radius_m;
   const double rho_over_mu = fluid.fluid_density_kg_m3 / fluid.viscosity_Pa_s;
@@ -81,6 +83,25 @@ SwimMetrics SwimMeter::Finish(const mjModel* m, const mjData* d) const {
   metrics.reynolds_swim =
       rho_over_mu * std::abs(metrics.mean_speed_along_mm_s) / kMToMm * body_length_m;
   return metrics;
+}
+
+void RequireFiniteMetrics(const SwimMetrics& swim, const std::string& what) {
+  const auto require = [&](double value, const std::string& name) {
+    if (!std::isfinite(value)) {
+      throw std::runtime_error(what + ": " + name + " is not finite (the run diverged)");
+    }
+  };
+  for (std::size_t k = 0; k < swim.per_cycle.size(); ++k) {
+    const Displacement_mm& c = swim.per_cycle[k];
+    const std::string cycle = "cycle " + std::to_string(k + 1) + "'s displacement";
+    for (double value : {c.com_along, c.com_across, c.head_along, c.head_across}) {
+      require(value, cycle);
+    }
+  }
+  require(swim.mean_speed_along_mm_s, "the mean speed");
+  require(swim.peak_lateral_tip_speed_mm_s, "the peak tip speed");
+  require(swim.reynolds_tip, "the Reynolds number");
+  require(swim.reynolds_swim, "the Reynolds number");
 }
 
 }  // namespace ipmc

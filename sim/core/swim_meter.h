@@ -10,6 +10,7 @@
 
 #include <mujoco/mujoco.h>
 
+#include <string>
 #include <vector>
 
 namespace ipmc {
@@ -32,6 +33,11 @@ struct SwimMetrics {
   double reynolds_swim = 0.0;                // rho |U| L_body / mu
   double body_length_mm = 0.0;               // sum of the drag segments
 };
+
+// Throws std::runtime_error "WHAT: METRIC is not finite" for the first
+// metric (per-cycle displacement, speed, Reynolds number) that is not: a
+// run must not report a number it did not compute.
+void RequireFiniteMetrics(const SwimMetrics& swim, const std::string& what);
 
 class SwimMeter {
  public:
