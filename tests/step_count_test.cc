@@ -9,6 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "sim/core/step_count.h"
 #include "tests/cli_util.h"
@@ -35,9 +36,9 @@ void ExpectRefused(double interval_s, double timestep_s, long min_steps, const s
 }
 
 TEST(StepCountTest, RefusesZeroStepsHugeCountsAndBadTimeSteps) {
-  ExpectRefused(1e-300, 5e-4, 1, "allowed [1, 1e+09]");
-  ExpectRefused(1e300, 5e-4, 1, "allowed [1, 1e+09]");
-  ExpectRefused(1e-3, 5e-4, 3, "allowed [3, 1e+09]");  // fewer steps than one controller sample
+  ExpectRefused(1e-300, 5e-4, 1, "allowed [1, 1e+15]");
+  ExpectRefused(1e300, 5e-4, 1, "allowed [1, 1e+15]");
+  ExpectRefused(1e-3, 5e-4, 3, "allowed [3, 1e+15]");  // fewer steps than one controller sample
   ExpectRefused(1.0, 0.0, 1, "time step must be finite and > 0");
   ExpectRefused(1.0, std::nan(""), 1, "time step must be finite and > 0");
   ExpectRefused(std::nan(""), 5e-4, 1, "finite time > 0");
@@ -74,6 +75,31 @@ TEST(StepCountTest, CommandsRefuseRunsWithoutStepsAndLeaveNoOutput) {
   EXPECT_NE(bench.output.find("bench: the experiment (duration_s)"), std::string::npos) << bench.output;
   EXPECT_FALSE(fs::exists(dir / "b.csv"));
   fs::remove_all(dir);
+}
+
+// The run size limits of sim/core/step_count.h: refused with the estimate
+// beyond 1e8 steps or 2 GB of samples unless allowed; never beyond 1e15.
+TEST(StepCountTest, RunSizeIsRefusedWithItsEstimateUnlessAllowed) {
+  EXPECT_NO_THROW(CheckRunSize(1e8, 2e9, false, "run"));
+  EXPECT_NO_THROW(CheckRunSize(1e12, 1e12, true, "run"));
+  for (const auto& [steps, bytes] : {std::pair{1.01e8, 1.0}, std::pair{1.0, 2.01e9}}) {
+    try {
+      CheckRunSize(steps, bytes, false, "x.toml: the run");
+      ADD_FAILURE() << steps << " steps, " << bytes << " bytes accepted";
+    } catch (const std::invalid_argument& e) {
+      const std::string message = e.what();
+      EXPECT_EQ(message.rfind("x.toml: the run needs ", 0), 0u) << message;
+      EXPECT_NE(message.find("--allow-long"), std::string::npos) << message;
+    }
+  }
+  // 1e9 steps at 6 us: 6000 s = 100 min.
+  try {
+    CheckRunSize(1e9, 1e3, false, "run");
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("about 100 min"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(CheckRunSize(2e15, 1.0, true, "run"), std::invalid_argument);
+  EXPECT_THROW(CheckRunSize(std::nan(""), 1.0, true, "run"), std::invalid_argument);
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 #include "sim/core/model_generator.h"
 
+#include <cctype>
+
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -89,6 +91,17 @@ void FlagellumSpec::Validate() const {
     throw std::invalid_argument("flagellum spec: link_lengths_mm must list at least one link");
   }
   for (double length : link_lengths_mm) RequirePositive(length, "link_lengths_mm");
+  if (link_lengths_mm.size() > kMaxGeneratedLinks) {
+    throw std::invalid_argument("flagellum spec: link_lengths_mm must list at most " +
+                                std::to_string(kMaxGeneratedLinks) + " links (got " +
+                                std::to_string(link_lengths_mm.size()) + ")");
+  }
+  for (char c : name) {
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.') {
+      throw std::invalid_argument("flagellum spec: name must hold only letters, digits, '_', "
+                                  "'-' and '.' (got '" + name + "')");
+    }
+  }
   RequireNonNegative(gap_mm, "gap_mm");
   RequirePositive(width_mm, "width_mm");
   RequirePositive(thickness_um, "thickness_um");

@@ -29,6 +29,11 @@
 
 namespace ipmc {
 
+// Most links a generated flagellum may have: each link nests a body in the
+// one before, and MuJoCo 2.2's XML reader refuses the nesting of 100 links
+// ("XML parse error 18"); 90 still load.
+constexpr std::size_t kMaxGeneratedLinks = 64;
+
 struct FlagellumSpec {
   std::vector<double> link_lengths_mm = {10.0, 10.0, 10.0};
   int segments_per_link = 1;            // [1, kMaxSegmentsPerLink]

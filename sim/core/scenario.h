@@ -73,6 +73,9 @@ struct ScenarioConfig {
   std::optional<double> viscosity_Pa_s;
   std::string output_dir;   // empty: no files
   int samples_per_cycle = 200;
+  // Not a file key: the command line's --allow-long, which lifts the run
+  // size limits of sim/core/step_count.h.
+  bool allow_long_run = false;
 
   bool GeneratesModel() const { return !link_lengths_mm.empty() || segments_per_link > 0; }
 };

@@ -26,4 +26,56 @@ long CheckedStepCount(double interval_s, double timestep_s, long min_steps, cons
   return static_cast<long>(steps);
 }
 
+namespace {
+
+constexpr double kBeyondAnyMachine = 1e15;
+
+std::string Duration(double seconds) {
+  std::ostringstream text;
+  text.precision(3);
+  if (seconds < 120) {
+    text << seconds << " s";
+  } else if (seconds < 7200) {
+    text << seconds / 60 << " min";
+  } else if (seconds < 2 * 86400) {
+    text << seconds / 3600 << " h";
+  } else {
+    text << seconds / 86400 << " days";
+  }
+  return text.str();
+}
+
+std::string Bytes(double bytes) {
+  std::ostringstream text;
+  text.precision(3);
+  if (bytes < 1e6) {
+    text << bytes / 1e3 << " kB";
+  } else if (bytes < 1e9) {
+    text << bytes / 1e6 << " MB";
+  } else {
+    text << bytes / 1e9 << " GB";
+  }
+  return text.str();
+}
+
+}  // namespace
+
+void CheckRunSize(double steps, double recorded_bytes, bool allowed, const std::string& what) {
+  const bool too_long = steps > kMaxRunSteps || recorded_bytes > kMaxRunRecordBytes;
+  const bool impossible = !(steps <= kBeyondAnyMachine) || !(recorded_bytes <= kBeyondAnyMachine);
+  if (!impossible && (!too_long || allowed)) return;
+  std::ostringstream msg;
+  msg.precision(3);
+  msg << what << " needs " << steps << " steps (about " << Duration(steps * kMeasuredStepCost_s)
+      << " at " << kMeasuredStepCost_s * 1e6 << " us a step) and " << Bytes(recorded_bytes)
+      << " of recorded samples; ";
+  if (impossible) {
+    msg << "no machine runs that (shorten the run or lengthen the time step)";
+  } else {
+    msg << "the limit is " << kMaxRunSteps << " steps and " << Bytes(kMaxRunRecordBytes)
+        << " (pass --allow-long to run it anyway)";
+  }
+  throw std::invalid_argument(msg.str());
+}
+
 }  // namespace ipmc

@@ -7,14 +7,39 @@
 
 namespace ipmc {
 
-// Most steps one interval (a wave cycle, a bench experiment) may take:
-// 1e9 steps of this model take hours at the measured ~10 us per step.
-constexpr double kMaxStepsPerInterval = 1e9;
+// Most steps one interval (a wave cycle, a bench experiment) may take: a
+// count no machine runs (the practical limit is CheckRunSize's).
+constexpr double kMaxStepsPerInterval = 1e15;
 
 // round(interval_s / timestep_s), at least `min_steps`. Throws
 // std::invalid_argument naming `what` (e.g. "scenario.toml: one wave cycle")
 // when the time step is not finite and > 0, the interval is not finite and
 // > 0, or the count is outside [min_steps, kMaxStepsPerInterval].
 long CheckedStepCount(double interval_s, double timestep_s, long min_steps, const std::string& what);
+
+// Most physics steps, and bytes of recorded samples, one run may take
+// unless the user allows more (`--allow-long`): 1e8 coupled steps take
+// about 10 min at kMeasuredStepCost_s, and a run's samples stay in memory.
+constexpr double kMaxRunSteps = 1e8;
+constexpr double kMaxRunRecordBytes = 2e9;
+// One coupled step of the three-link paper model [s], as closed_loop_bench
+// measures it on a 2-core laptop-class machine; for estimates only.
+constexpr double kMeasuredStepCost_s = 6e-6;
+
+// Throws std::invalid_argument naming `what` ("scenario.toml: the run")
+// with the estimate (steps, wall time at kMeasuredStepCost_s, memory of
+// the recorded samples) if the run exceeds either limit and is not
+// `allowed`. Throws anyway for more than 1e15 steps or 1e15 bytes, which
+// no machine runs or holds.
+void CheckRunSize(double steps, double recorded_bytes, bool allowed, const std::string& what);
+
+// Memory of one recorded sample of a run [bytes], roughly: the state (nq
+// positions), the pose, and a few values per link.
+inline double RecordedSampleBytes(int nq, int links) {
+  constexpr double kPoseValues = 16;
+  constexpr double kValuesPerLink = 3;
+  constexpr double kVectorOverhead = 4 * 24;
+  return (nq + kPoseValues + kValuesPerLink * links) * sizeof(double) + kVectorOverhead;
+}
 
 }  // namespace ipmc

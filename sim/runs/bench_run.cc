@@ -79,6 +79,10 @@ BenchRecord RunBench(Simulation& sim, const BenchSignal& signal, double record_f
     throw std::invalid_argument(msg.str());
   }
   const long steps = CheckedStepCount(signal.duration_s, dt, steps_per_sample, "bench: the experiment (duration_s)");
+  // Per sample: the time and four values of every link.
+  CheckRunSize(static_cast<double>(steps), (1.0 + 4.0 * links) * sizeof(double) * steps /
+                                               steps_per_sample,
+               signal.allow_long, "bench: the experiment (--duration-s)");
   BenchRecord record;
   record.voltage_V.resize(links);
   record.relative_mm.resize(links);

@@ -27,6 +27,7 @@ struct BenchSignal {
   double duration_s = 200.0;     // > 0
   double sample_rate_Hz = 1000;  // > 0, a whole number of time steps
   std::vector<int> driven_links = {1};  // 1-based
+  bool allow_long = false;       // lift the run size limits (sim/core/step_count.h)
   void Validate() const;         // std::invalid_argument naming the field
   double VoltageAt(double t_s) const;
 };

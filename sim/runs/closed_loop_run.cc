@@ -137,6 +137,10 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
   const long samples_per_cycle = steps_per_cycle / steps_per_sample;
   const long record_every =
       std::max<long>(1, samples_per_cycle / std::max(1, scenario.samples_per_cycle));
+  const double recorded = static_cast<double>(scenario.cycles) * samples_per_cycle / record_every;
+  CheckRunSize(static_cast<double>(scenario.cycles) * steps_per_cycle,
+               recorded * RecordedSampleBytes(m->nq, links), scenario.allow_long_run,
+               scenario.source + ": the run (cycles x waveform.frequency_Hz)");
   const bool pid = scenario.controller == ControllerKind::kPid;
   const bool clamped = pid ? scenario.pid.clamp_enabled : scenario.fractional.clamp_enabled;
   const double v_max = pid ? scenario.pid.v_max : scenario.fractional.v_max;
@@ -191,6 +195,7 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
     result.links[q].saturated_fraction = static_cast<double>(saturated[q]) / std::max<long>(1, samples);
   }
   result.swim = meter.Finish(m, d);
+  RequireFiniteMetrics(result.swim, sim.source());
   return result;
 }
 

@@ -127,6 +127,10 @@ GaitRunResult RunGait(Simulation& sim, const Gait& gait, const GaitRunOptions& o
   const long steps_per_cycle = CheckedStepCount(gait.Period_s(), dt, 1, "gait: one cycle (the gait's period)");
   const long sample_every =
       std::max<long>(1, steps_per_cycle / options.samples_per_cycle);
+  CheckRunSize(static_cast<double>(options.cycles) * steps_per_cycle,
+               static_cast<double>(options.cycles) * steps_per_cycle / sample_every *
+                   RecordedSampleBytes(m->nq, static_cast<int>(servos.size())),
+               options.allow_long, "gait: the run (--cycles x the gait's period)");
   const long settle_steps = steps_per_cycle / 20;
 
   meter.Start(d);
@@ -153,11 +157,13 @@ GaitRunResult RunGait(Simulation& sim, const Gait& gait, const GaitRunOptions& o
       if (step % sample_every == 0 || step == steps_per_cycle) {
         result.samples.push_back(Sample(meter, d, servos, ref));
         result.states.Record(d);
+        if (options.on_sample) options.on_sample(d->time);
       }
     }
     meter.EndCycle(d);
   }
   result.swim = meter.Finish(m, d);
+  RequireFiniteMetrics(result.swim, sim.source());
   return result;
 }
 

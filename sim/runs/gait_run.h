@@ -11,6 +11,7 @@
 // integrator treats implicitly. Swim metrics and frames: sim/core/swim_meter.h.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,10 @@ struct GaitRunOptions {
   int samples_per_cycle = 200;
   double servo_time_constant_steps = 10.0;
   double servo_damping_over_drag = 100.0;
+  bool allow_long = false;  // lift the run size limits (sim/core/step_count.h)
+  // Called with the time at every recorded sample (progress); an exception
+  // it throws ends the run.
+  std::function<void(double t_s)> on_sample;
   void Validate() const;
 };
 

@@ -33,15 +33,16 @@ void AddTips(CsvWriter& csv, const BodyPose& p, size_t tips) {
   for (size_t k = 0; k < tips; ++k) csv.Add(p.tip_x_mm[k]).Add(p.tip_y_mm[k]);
 }
 
-// DIR/timeseries.csv and DIR/summary.json (with the inputs).
-// summary.json last: a run folder with a summary is complete.
+// DIR/timeseries.csv, DIR/states.csv and DIR/summary.json (with the
+// inputs), together or not at all; summary.json last: a run folder with a
+// summary is complete.
 void WriteRunOutputs(const std::string& dir, const std::string& csv, const std::string& states_csv,
                      nlohmann::json summary, const nlohmann::json& inputs) {
   EnsureDirectory(dir);
   summary["inputs"] = inputs;
-  WriteFileAtomically(dir + "/timeseries.csv", csv);
-  WriteFileAtomically(dir + "/states.csv", states_csv);
-  WriteFileAtomically(dir + "/summary.json", summary.dump(2) + "\n");
+  WriteFilesTogether({{dir + "/timeseries.csv", csv},
+                      {dir + "/states.csv", states_csv},
+                      {dir + "/summary.json", summary.dump(2) + "\n"}});
 }
 
 }  // namespace
