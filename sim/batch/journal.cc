@@ -254,6 +254,13 @@ SweepJournal::~SweepJournal() {
   if (fd_ >= 0) close(fd_);
 }
 
+void SweepJournal::Remove() {
+  if (fd_ >= 0) close(fd_);
+  fd_ = -1;
+  std::remove(path_.c_str());
+  rows_.clear();
+}
+
 void SweepJournal::Record(const std::vector<std::string>& row) {
   const int point = std::stoi(row.at(0));
   const nlohmann::ordered_json json = {{kPointKey, point}, {kRowKey, row}};

@@ -70,6 +70,8 @@ class SweepJournal {
   // Appends a finished point's row (row[0] is its index) and returns once
   // it is on the disk. Throws std::runtime_error naming the path.
   void Record(const std::vector<std::string>& row);
+  // Closes and deletes the journal (a sweep with nothing worth resuming).
+  void Remove();
 
  private:
   std::string path_;

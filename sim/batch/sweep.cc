@@ -641,7 +641,7 @@ std::vector<std::string> RunPoint(const SweepPlan& plan, const SweepPoint& point
       const LinkTracking& link = result->links[q];
       for (double value : {link.iae_mm_s, link.itae_mm_s2, link.rms_voltage_V,
                            link.saturated_fraction}) {
-        row.push_back(FormatDouble(value));
+        row.push_back(FormatShortest(value));
       }
     } else {
       row.insert(row.end(), std::size(columns::kLinkResults), "");
@@ -652,7 +652,7 @@ std::vector<std::string> RunPoint(const SweepPlan& plan, const SweepPoint& point
     const double last_cycle = swim.per_cycle.empty() ? 0.0 : swim.per_cycle.back().com_along;
     for (double value : {last_cycle, swim.mean_speed_along_mm_s, swim.reynolds_tip,
                          swim.reynolds_swim}) {
-      row.push_back(FormatDouble(value));
+      row.push_back(FormatShortest(value));
     }
   } else {
     row.insert(row.end(), std::size(columns::kSwimResults), "");
@@ -849,7 +849,7 @@ nlohmann::ordered_json SweepTableJson(const SweepTable& table) {
 
 SweepTable ParseSweepTableCsv(const std::string& csv_text, const std::string& source) {
   const CsvTable csv = CsvTable::Parse(csv_text, source);
-  StatusColumn(csv.columns(), source);
+  const size_t status = StatusColumn(csv.columns(), source);
   SweepTable table;
   table.columns = csv.columns();
   std::set<long> indices;
@@ -865,6 +865,17 @@ SweepTable ParseSweepTableCsv(const std::string& csv_text, const std::string& so
     if (!indices.insert(*index).second) {
       throw InputError(InputProblem::kBadValue, where, columns::kPoint,
                        "point " + row[0] + " appears twice");
+    }
+    // The results after status and error: numbers in a point that ran.
+    if (row[status] == columns::kStatusOk) {
+      for (size_t c = status + 2; c < row.size(); ++c) {
+        const std::optional<double> value = ParseDouble(row[c]);
+        if (!value || !std::isfinite(*value)) {
+          throw InputError(InputProblem::kBadValue, where, table.columns[c],
+                           table.columns[c] + " must be a finite number (got '" + row[c] + "')",
+                           "a finite number");
+        }
+      }
     }
     table.rows.push_back(row);
   }
@@ -929,8 +940,7 @@ SweepTable MergeSweepTables(const std::vector<SweepTable>& tables,
 void WriteSweepTable(const std::string& prefix, const SweepTable& table) {
   EnsureParentDirectory(prefix);
   const std::string json = SweepTableJson(table).dump(2) + "\n";
-  WriteFileAtomically(prefix + ".csv", SweepTableCsv(table));
-  WriteFileAtomically(prefix + ".json", json);
+  WriteFilesTogether({{prefix + ".csv", SweepTableCsv(table)}, {prefix + ".json", json}});
 }
 
 }  // namespace ipmc

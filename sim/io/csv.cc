@@ -187,7 +187,9 @@ CsvWriter& CsvWriter::Add(const std::string& field) {
   return *this;
 }
 
-CsvWriter& CsvWriter::Add(double value) { return Add(FormatDouble(value, digits_)); }
+CsvWriter& CsvWriter::Add(double value) {
+  return Add(digits_ >= kRoundTripDigits ? FormatShortest(value) : FormatDouble(value, digits_));
+}
 
 CsvWriter& CsvWriter::AddInteger(long long value) { return Add(std::to_string(value)); }
 

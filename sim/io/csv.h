@@ -80,7 +80,8 @@ std::string CsvField(const std::string& text);
 //   csv.Add(t).Add(x).EndRow();
 class CsvWriter {
  public:
-  // Numbers are written with `significant_digits` (default: exact).
+  // Numbers are written with `significant_digits`; by default (or with
+  // kRoundTripDigits) in the shortest text that reads back exactly.
   explicit CsvWriter(int significant_digits = kRoundTripDigits) : digits_(significant_digits) {}
 
   CsvWriter& Add(const std::string& field);

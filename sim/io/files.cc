@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <random>
 #include <sstream>
 #include <stdexcept>
@@ -80,25 +81,97 @@ void PendingFile::Commit() {
   committed_ = true;
 }
 
-void WriteFileAtomically(const std::string& path, const std::string& content) {
-  PendingFile file(path);
+namespace {
+
+// Writes `content` to the pending file's temporary; throws naming the
+// file's path and the reason.
+void WritePending(const PendingFile& file, const std::string& content) {
+  const std::string& path = file.path();
   const int fd = open(file.temp_path().c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
-  if (fd < 0) throw std::runtime_error(path + ": cannot open for writing (" + std::strerror(errno) + ")");
+  if (fd < 0) {
+    throw std::runtime_error(path + ": cannot open for writing (" + std::strerror(errno) + ")");
+  }
   const bool written = WriteAll(fd, content);
   const int write_errno = errno;
   const bool closed = close(fd) == 0;
   if (!written || !closed) {
-    throw std::runtime_error(path + ": write failed (" + std::strerror(written ? errno : write_errno) + ")");
+    throw std::runtime_error(path + ": write failed (" +
+                             std::strerror(written ? errno : write_errno) + ")");
   }
+}
+
+}  // namespace
+
+void WriteFileAtomically(const std::string& path, const std::string& content) {
+  PendingFile file(path);
+  WritePending(file, content);
   file.Commit();
+}
+
+void WriteFilesTogether(const std::vector<std::pair<std::string, std::string>>& files) {
+  std::vector<std::unique_ptr<PendingFile>> pending;
+  for (const auto& [path, content] : files) {
+    pending.push_back(std::make_unique<PendingFile>(path));
+    WritePending(*pending.back(), content);
+  }
+  for (std::size_t i = 0; i < pending.size(); ++i) {
+    try {
+      pending[i]->Commit();
+    } catch (...) {
+      std::error_code error;  // the ones already in place go: none or all
+      for (std::size_t j = 0; j < i; ++j) std::filesystem::remove(pending[j]->path(), error);
+      throw;
+    }
+  }
+}
+
+void RefuseOverwritingInputs(const std::string& who, const std::string& option,
+                             const std::string& output, const std::vector<std::string>& inputs) {
+  for (const std::string& input : inputs) {
+    std::error_code error;
+    const bool same = std::filesystem::equivalent(output, input, error);
+    if (same || std::filesystem::path(output).lexically_normal() ==
+                    std::filesystem::path(input).lexically_normal()) {
+      throw std::invalid_argument(who + ": " + option + " " + output +
+                                  " would overwrite the input " + input);
+    }
+  }
 }
 
 void EnsureDirectory(const std::string& dir) {
   std::error_code error;
   std::filesystem::create_directories(dir, error);
   if (error || !std::filesystem::is_directory(dir)) {
-    throw std::runtime_error(dir + ": cannot create output directory");
+    const std::string reason = error ? error.message()
+                                     : std::string("a file of that name is in the way");
+    throw std::runtime_error(dir + ": cannot create output directory (" + reason + ")");
   }
+}
+
+void RequireWritableDirectory(const std::string& dir) {
+  // The nearest folder that exists must be one and take a new file; the
+  // missing ones below it are made when the outputs are written.
+  std::filesystem::path existing = std::filesystem::path(dir).lexically_normal();
+  std::error_code error;
+  while (!existing.empty() && !std::filesystem::exists(existing, error)) {
+    existing = existing.parent_path();
+  }
+  if (existing.empty()) existing = ".";
+  if (!std::filesystem::is_directory(existing, error)) {
+    throw std::runtime_error(dir + ": cannot create output directory (" + existing.string() +
+                             " is not a directory)");
+  }
+  try {
+    const PendingFile probe((existing / ".ipmc_swim_probe").string());
+  } catch (const std::runtime_error&) {
+    throw std::runtime_error(dir + ": cannot write in the output directory (" +
+                             std::strerror(errno) + ")");
+  }
+}
+
+void RequireWritableParent(const std::string& path) {
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  RequireWritableDirectory(parent.empty() ? "." : parent.string());
 }
 
 void EnsureParentDirectory(const std::string& path) {
@@ -107,6 +180,10 @@ void EnsureParentDirectory(const std::string& path) {
 }
 
 std::string ReadTextFile(const std::string& path, const std::string& what) {
+  std::error_code status;
+  if (std::filesystem::is_directory(path, status)) {
+    throw InputError(InputProblem::kUnreadable, {path}, "", "is a directory, not the " + what);
+  }
   std::ifstream file(path, std::ios::binary);
   if (!file) throw InputError(InputProblem::kUnreadable, {path}, "", "cannot open the " + what);
   std::ostringstream text;

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace ipmc {
 
@@ -37,8 +39,28 @@ class PendingFile {
 // the path on failure.
 void WriteFileAtomically(const std::string& path, const std::string& content);
 
-// Creates `dir` (and parents) if needed; throws naming the directory.
+// Writes each (path, content) pair atomically, and all of them or none:
+// every temporary is written before the first is renamed into place (a
+// table's CSV and JSON appear together). Throws std::runtime_error naming
+// the path that failed and the reason.
+void WriteFilesTogether(const std::vector<std::pair<std::string, std::string>>& files);
+
+// Throws std::invalid_argument "WHO: OPTION PATH would overwrite the
+// input PATH" if `output` is (or names the same file as) one of `inputs`.
+void RefuseOverwritingInputs(const std::string& who, const std::string& option,
+                             const std::string& output, const std::vector<std::string>& inputs);
+
+// Creates `dir` (and parents) if needed; throws naming the directory and
+// the reason.
 void EnsureDirectory(const std::string& dir);
+// Whether `dir` can be made and written, before a run's work rather than
+// after it: a probe file is created and removed in the nearest folder of
+// `dir` that exists (nothing is left, nothing is created). Throws
+// std::runtime_error "DIR: cannot write in the output directory (REASON)"
+// or "DIR: cannot create output directory (...)".
+void RequireWritableDirectory(const std::string& dir);
+// The same for the directory of an output file PATH (its parent, or ".").
+void RequireWritableParent(const std::string& path);
 // The same for the directory `path` is in, if it names one.
 void EnsureParentDirectory(const std::string& path);
 

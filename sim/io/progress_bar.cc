@@ -26,9 +26,10 @@ std::string Clock(double seconds) {
 
 bool StderrIsTerminal() { return isatty(STDERR_FILENO) == 1; }
 
-ProgressBar::ProgressBar(std::string what, std::string unit, bool terminal, bool quarter_lines)
+ProgressBar::ProgressBar(std::string what, std::string unit, bool terminal, bool quarter_lines,
+                         double quiet_s)
     : what_(std::move(what)), unit_(std::move(unit)), terminal_(terminal),
-      quarter_lines_(quarter_lines) {}
+      quarter_lines_(quarter_lines), quiet_s_(quiet_s) {}
 
 double ProgressBar::elapsed_s() const {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
@@ -46,7 +47,7 @@ void ProgressBar::Start(int total) {
 void ProgressBar::Update(int done, const std::string& note) {
   const double elapsed = elapsed_s();
   if (!terminal_) {
-    if (!quarter_lines_ || total_ <= 0) return;
+    if (!quarter_lines_ || total_ <= 0 || elapsed < quiet_s_) return;
     const int quarters = 4 * done / total_;
     if (quarters > quarters_shown_) {
       quarters_shown_ = quarters;

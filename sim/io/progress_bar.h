@@ -22,7 +22,10 @@ class ProgressBar {
  public:
   // `what` names the job in plain lines ("rendering"), `unit` the steps
   // ("frames").
-  ProgressBar(std::string what, std::string unit, bool terminal, bool quarter_lines = false);
+  // With `quiet_s`, the plain lines start only once the job has taken
+  // that long, so that short jobs print nothing.
+  ProgressBar(std::string what, std::string unit, bool terminal, bool quarter_lines = false,
+              double quiet_s = 0.0);
 
   // Draws the empty bar (so that a long first step does not look like a
   // hang) and starts the clock.
@@ -40,6 +43,7 @@ class ProgressBar {
 
   std::string what_, unit_;
   bool terminal_, quarter_lines_;
+  double quiet_s_;
   int total_ = 0;
   int quarters_shown_ = 0;
   size_t last_width_ = 0;
