@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <cstdint>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -97,6 +98,39 @@ std::string LastLine(const std::string& path) {
     if (line.find_first_not_of(" \t\r") != std::string::npos) last = line;
   }
   return last;
+}
+
+// Whether `path` is a whole MP4: top-level boxes (4-byte big-endian size,
+// 4-byte type) that tile the file exactly, among them "ftyp" and "moov"
+// (ffmpeg writes moov last; a full disk can leave a file without it, and
+// ffmpeg may still exit 0).
+bool IsCompleteMp4(const std::string& path) {
+  std::ifstream file(path, std::ios::binary | std::ios::ate);
+  if (!file) return false;
+  const std::uint64_t length = static_cast<std::uint64_t>(file.tellg());
+  file.seekg(0);
+  bool ftyp = false, moov = false;
+  std::uint64_t offset = 0;
+  while (offset + 8 <= length) {
+    unsigned char header[16];
+    file.seekg(static_cast<std::streamoff>(offset));
+    if (!file.read(reinterpret_cast<char*>(header), 8)) return false;
+    std::uint64_t size = (std::uint64_t{header[0]} << 24) | (std::uint64_t{header[1]} << 16) |
+                         (std::uint64_t{header[2]} << 8) | header[3];
+    const std::string type(reinterpret_cast<const char*>(header) + 4, 4);
+    if (size == 1) {  // 64-bit size after the type
+      if (!file.read(reinterpret_cast<char*>(header + 8), 8)) return false;
+      size = 0;
+      for (int i = 8; i < 16; ++i) size = (size << 8) | header[i];
+    } else if (size == 0) {  // to the end of the file
+      size = length - offset;
+    }
+    if (size < 8 || offset + size > length) return false;
+    ftyp = ftyp || type == "ftyp";
+    moov = moov || type == "moov";
+    offset += size;
+  }
+  return offset == length && ftyp && moov;
 }
 
 }  // namespace
@@ -189,6 +223,9 @@ void Mp4Writer::Finish() {
   const int status = ClosePipe();
   if (status != 0) {
     Fail(status < 0 ? "ffmpeg did not finish" : "ffmpeg failed with exit code " + std::to_string(status));
+  }
+  if (!IsCompleteMp4(output_.temp_path())) {
+    Fail("ffmpeg wrote an incomplete video (a full disk or a file size limit?)");
   }
   RemoveFile(log_path_);
   finished_ = true;

@@ -1,10 +1,12 @@
 #include "sim/identify/identify_run.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <complex>
 #include <cstdio>
 #include <stdexcept>
+#include <utility>
 
 #include "controllers/reference_model.h"
 #include "sim/io/columns.h"
@@ -115,6 +117,14 @@ RecordIdentification IdentifyRecord(const IdentifySpec& spec, const std::vector<
           name + ": --sample-rate-hz " + FormatDouble(spec.sample_rate_hz) +
           " disagrees with the time_s column of " + spec.data_path + " (mean spacing " +
           FormatDouble(spacing) + " s, i.e. " + FormatDouble(1.0 / spacing) + " Hz)");
+    }
+  }
+  for (const auto& [column, values] : {std::pair{spec.input_column, &input},
+                                        std::pair{spec.output_column, &output}}) {
+    const auto [low, high] = std::minmax_element(values->begin(), values->end());
+    if (values->empty() || *low == *high) {
+      throw std::invalid_argument(spec.data_path + ": column " + column +
+                                  " is constant: no frequency response to identify");
     }
   }
   WelchOptions welch;
