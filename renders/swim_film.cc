@@ -22,6 +22,9 @@ namespace ipmc {
 namespace {
 
 constexpr int kMaxTrailFrames = 10000;
+// A wave cycle filmed in more frames than this is a mistake (1e4 frames
+// are 7 min at 25 fps) and would hold its samples in memory.
+constexpr int kMaxFramesPerCycle = 10000;
 constexpr double kMaxView_mm = 10000.0;
 constexpr double kMaxStripThickness_mm = 10.0;
 // Fixed camera: margin around the filmed body, relative to its larger side.
@@ -131,7 +134,10 @@ void FilmConfig::Validate() const {
   if (width <= 0 || width % 2 != 0) ThrowOption("--width", "positive and even", width);
   if (height <= 0 || height % 2 != 0) ThrowOption("--height", "positive and even", height);
   if (!(fps > 0.0 && fps <= 1000.0)) ThrowOption("--fps", "in (0, 1000]", fps);
-  if (frames_per_cycle < 1) ThrowOption("--frames-per-cycle", ">= 1", frames_per_cycle);
+  if (frames_per_cycle < 1 || frames_per_cycle > kMaxFramesPerCycle) {
+    ThrowOption("--frames-per-cycle", "in [1, " + std::to_string(kMaxFramesPerCycle) + "]",
+                frames_per_cycle);
+  }
   if (start_cycle < 1) ThrowOption("--start-cycle", ">= 1", start_cycle);
   if (cycles < 0) ThrowOption("--cycles", ">= 1", cycles);
   if (trail_frames > kMaxTrailFrames) {
@@ -314,16 +320,17 @@ FilmSummary FilmRun(const FilmedRun& run, const FilmConfig& config, const std::s
 ClosedLoopResult RunScenarioAndFilm(
     const ScenarioConfig& scenario, const FilmConfig& config, const std::string& video_path,
     const std::function<void(const ClosedLoopResult&)>& before_filming,
-    const FilmProgress& progress, FilmSummary* summary) {
+    const FilmProgress& progress, FilmSummary* summary, const SampleObserver& observer) {
   config.Validate();
   if (!config.png_dir.empty()) EnsureDirectory(config.png_dir);
   ModelPtr model;  // the run's own model, copied at t = 0
-  const auto observer = [&](const mjModel* m, const mjData*, const ClosedLoopSample&) {
+  const auto copy_model = [&](const mjModel* m, const mjData* d, const ClosedLoopSample& sample) {
+    if (observer) observer(m, d, sample);
     if (model) return;
     CheckFilmFits(m, config);
     model.reset(mj_copyModel(nullptr, m));
   };
-  const ClosedLoopResult result = RunScenario(scenario, observer);
+  const ClosedLoopResult result = RunScenario(scenario, copy_model);
   if (before_filming) before_filming(result);
   const FilmSummary film =
       FilmRun(ClosedLoopFilm(model.get(), result, scenario), config, video_path, progress);

@@ -135,11 +135,13 @@ FilmSummary FilmRun(const FilmedRun& run, const FilmConfig& config, const std::s
 // `before_filming` (if set), and films the run from its recorded states
 // into video_path; the frame size is checked against the model as the run
 // starts, so a bad size does not wait for the run. Returns the run's
-// result; *summary (if given) gets the film's.
+// result; *summary (if given) gets the film's; `observer` (if set) sees
+// every recorded sample of the run.
 ClosedLoopResult RunScenarioAndFilm(
     const ScenarioConfig& scenario, const FilmConfig& config, const std::string& video_path,
     const std::function<void(const ClosedLoopResult&)>& before_filming = {},
-    const FilmProgress& progress = {}, FilmSummary* summary = nullptr);
+    const FilmProgress& progress = {}, FilmSummary* summary = nullptr,
+    const SampleObserver& observer = {});
 
 // The ghost of a closed-loop scenario: its travelling wave y(x, t)
 // (sim/core/waveform.h), times the references' start ramp.

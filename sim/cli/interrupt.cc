@@ -14,17 +14,23 @@ namespace {
 
 // How often the watcher looks whether it should end [ns].
 constexpr long kPollInterval_ns = 100'000'000;
-// The shell's exit code for a process ended by SIGINT (128 + 2).
-constexpr int kInterruptedExitCode = 130;
-
 sigset_t InterruptSet() {
   sigset_t set;
   sigemptyset(&set);
   sigaddset(&set, SIGINT);
+  sigaddset(&set, SIGTERM);
   return set;
 }
 
 }  // namespace
+
+std::string Interrupted::SignalName() const {
+  return signal_ == SIGTERM ? "SIGTERM" : signal_ == SIGINT ? "SIGINT" : std::to_string(signal_);
+}
+
+void InterruptAtBoundary::ThrowIfRequested(const std::string& what) const {
+  if (Requested()) throw Interrupted(signal_, what);
+}
 
 InterruptAtBoundary::InterruptAtBoundary(std::string message) : message_(std::move(message)) {
   const sigset_t set = InterruptSet();
@@ -43,12 +49,13 @@ void InterruptAtBoundary::Watch() {
   const sigset_t set = InterruptSet();
   const timespec interval = {0, kPollInterval_ns};
   while (!finished_) {
-    if (sigtimedwait(&set, nullptr, &interval) != SIGINT) continue;  // timeout or EINTR
-    if (requested_) {
+    const int received = sigtimedwait(&set, nullptr, &interval);
+    if (received != SIGINT && received != SIGTERM) continue;  // timeout or EINTR
+    if (Requested()) {
       std::fputs("\ninterrupted again: stopping now\n", stderr);
-      std::_Exit(kInterruptedExitCode);
+      std::_Exit(128 + received);
     }
-    requested_ = true;
+    signal_ = received;
     std::fprintf(stderr, "\n%s\n", message_.c_str());
   }
 }

@@ -1,22 +1,41 @@
-// Ctrl-C at a point boundary. While an InterruptAtBoundary lives, SIGINT
-// does not kill the process: the first one makes Requested() true (the
-// work stops starting new pieces and finishes those running) and prints
-// `message` on stderr; a second one ends the process at once with exit
-// code 130, as the default action would.
+// Stopping at a safe point on SIGINT (Ctrl-C) or SIGTERM (kill, a cluster's
+// time limit). While an InterruptAtBoundary lives, neither signal kills the
+// process: the first one makes Requested() true and prints `message` on
+// stderr; the work checks Requested() at its safe points (a sweep between
+// points, a run at each recorded sample, a film at each frame), stops
+// there, and its unwinding removes the temporaries of unfinished outputs.
+// A second signal ends the process at once with the shell's code for it
+// (128 + signal), as the default action would.
 //
-// SIGINT is blocked in the constructing thread, and so in every thread it
-// starts afterwards (they inherit the mask); a watcher thread takes the
-// signal with sigtimedwait, so there is no signal handler and no global
-// state. Construct it before starting any worker thread.
+// Both signals are blocked in the constructing thread, and so in every
+// thread it starts afterwards (they inherit the mask); a watcher thread
+// takes them with sigtimedwait, so there is no signal handler and no
+// global state. Construct it before starting any worker thread.
 #pragma once
 
 #include <signal.h>
 
 #include <atomic>
+#include <stdexcept>
 #include <string>
 #include <thread>
 
 namespace ipmc {
+
+// What a command throws at the safe point where it stops; main prints
+// "ipmc-swim: interrupted by SIG...: WHAT" and exits with ExitCode().
+class Interrupted : public std::runtime_error {
+ public:
+  Interrupted(int signal, const std::string& what) : std::runtime_error(what), signal_(signal) {}
+  int signal() const { return signal_; }
+  // The shell's exit code for a process the signal stopped: 128 + signal.
+  int ExitCode() const { return 128 + signal_; }
+  // "SIGINT" or "SIGTERM".
+  std::string SignalName() const;
+
+ private:
+  int signal_;
+};
 
 class InterruptAtBoundary {
  public:
@@ -25,14 +44,18 @@ class InterruptAtBoundary {
   InterruptAtBoundary(const InterruptAtBoundary&) = delete;
   InterruptAtBoundary& operator=(const InterruptAtBoundary&) = delete;
 
-  bool Requested() const { return requested_; }
+  bool Requested() const { return signal_ != 0; }
+  // The signal that requested the stop (SIGINT or SIGTERM), 0 if none.
+  int signal() const { return signal_; }
+  // Throws Interrupted(signal(), what) if a stop was requested.
+  void ThrowIfRequested(const std::string& what) const;
 
  private:
   void Watch();
 
   std::string message_;
   sigset_t previous_mask_;
-  std::atomic<bool> requested_{false};
+  std::atomic<int> signal_{0};
   std::atomic<bool> finished_{false};
   std::thread watcher_;
 };

@@ -13,6 +13,8 @@
 
 #include "sim/cli/analysis_commands.h"
 #include "sim/cli/command.h"
+#include "sim/cli/interrupt.h"
+#include "sim/cli/run_watch.h"
 #include "sim/io/files.h"
 #include "sim/runs/bench_run.h"
 #include "sim/runs/closed_loop_run.h"
@@ -43,6 +45,13 @@ void PrintMujocoWarnings() {
   for (const std::string& warning : MujocoWarnings()) {
     std::cerr << "ipmc-swim: MuJoCo warning: " << warning << "\n";
   }
+}
+
+// --allow-long: lifts the run size limits (sim/core/step_count.h).
+void AddAllowLongFlag(CLI::App* cmd, bool& allow) {
+  cmd->add_flag("--allow-long", allow,
+                "Run even beyond 1e8 steps or 2 GB of recorded samples (refused otherwise, with "
+                "the estimate)");
 }
 
 struct GenerateArgs {
@@ -83,7 +92,7 @@ void AddGenerateCommand(CLI::App& app, GenerateArgs& args) {
 }
 
 struct GaitArgs {
-  std::string model_path;
+  std::string model_path = ipmc::ModelsDir() + "/flagellum3.xml";
   std::string gait = "sine";
   double frequency_Hz = 0.01;
   double amplitude_rad = 0.3;
@@ -97,7 +106,7 @@ struct GaitArgs {
 
 void AddGaitCommand(CLI::App& app, GaitArgs& args) {
   CLI::App* cmd = ipmc::AddCommand(app, "gait", "Run a prescribed joint-space gait and measure the swim");
-  cmd->add_option("--model", args.model_path, "MJCF model")->required();
+  cmd->add_option("--model", args.model_path, "MJCF model with servo_* actuators");
   cmd->add_option("--gait", args.gait, "sine | square | csv")
       ->check(CLI::IsMember({"sine", "square", "csv"}));
   cmd->add_option("--frequency-hz", args.frequency_Hz, "Gait frequency [Hz]");
@@ -113,6 +122,7 @@ void AddGaitCommand(CLI::App& app, GaitArgs& args) {
   cmd->add_option("--cycles", args.run.cycles, "Number of gait cycles");
   cmd->add_option("--samples-per-cycle", args.run.samples_per_cycle, "Time-series samples per cycle");
   cmd->add_option("--out", args.out_dir, "Directory for timeseries.csv and summary.json");
+  AddAllowLongFlag(cmd, args.run.allow_long);
 }
 
 struct BenchArgs {
@@ -137,14 +147,20 @@ void AddBenchCommand(CLI::App& app, BenchArgs& args) {
   cmd->add_option("--links", b.driven_links, "Driven links, 1-based")->delimiter(',');
   cmd->add_option("--sample-rate-hz", b.sample_rate_Hz, "Voltage update and recording rate [Hz]");
   cmd->add_option("--out", args.out_path, "CSV file to write")->required();
+  AddAllowLongFlag(cmd, b.allow_long);
 }
 
 int RunBenchCommand(BenchArgs args) {
   args.bench.kind = args.signal == "chirp" ? ipmc::BenchSignal::Kind::kChirp
                                            : ipmc::BenchSignal::Kind::kSine;
   args.bench.Validate();
+  ipmc::RefuseOverwritingInputs("bench", "--out", args.out_path, {args.model_path});
+  ipmc::RequireWritableParent(args.out_path);
   ipmc::Simulation sim(ipmc::LoadModelFile(args.model_path), args.model_path);
-  const ipmc::BenchRecord record = ipmc::RunBench(sim, args.bench);
+  ipmc::RunWatch watch("bench", args.bench.duration_s);
+  const ipmc::BenchRecord record =
+      ipmc::RunBench(sim, args.bench, 0.0, [&](double t_s) { watch.At(t_s); });
+  watch.Finish();
   ipmc::WriteFileAtomically(args.out_path, ipmc::BenchCsv(record));
   std::printf("%zu samples at %g Hz written to %s\n", record.t_s.size(),
               args.bench.sample_rate_Hz, args.out_path.c_str());
@@ -163,6 +179,7 @@ struct RunArgs {
   std::string out_dir;
   std::string video_path;
   ipmc::FilmConfig film;
+  bool allow_long = false;
   CLI::App* command = nullptr;
 };
 
@@ -172,6 +189,7 @@ void AddRunCommand(CLI::App& app, RunArgs& args) {
   cmd->add_option("--out", args.out_dir, "Output directory (overrides output.dir)");
   cmd->add_option("--video", args.video_path,
                   "Also film the run into this MP4 (from its recorded states; see `render`)");
+  AddAllowLongFlag(cmd, args.allow_long);
   ipmc::AddVideoOptions(cmd, args.film, "Video (with --video)");
   args.command = cmd;
 }
@@ -190,6 +208,11 @@ void PrintClosedLoopResult(const ipmc::ClosedLoopResult& r) {
   PrintSwimMetrics(r.swim);
 }
 
+// Where a run's outputs went (sim/runs/output.h).
+void PrintWritten(const std::string& dir) {
+  std::printf("wrote %s/timeseries.csv, states.csv and summary.json\n", dir.c_str());
+}
+
 // A path made absolute, so that a run's outputs name their inputs from
 // anywhere (render reads them back).
 std::string AbsolutePath(const std::string& path) {
@@ -200,8 +223,21 @@ int RunScenarioCommand(const RunArgs& args) {
   if (args.video_path.empty() && ipmc::AnyVideoOptionGiven(args.command)) {
     throw std::invalid_argument("run: video options need --video FILE.mp4");
   }
-  const ipmc::ScenarioConfig scenario = ipmc::LoadScenario(args.scenario_path);
+  ipmc::ScenarioConfig scenario = ipmc::LoadScenario(args.scenario_path);
+  scenario.allow_long_run = args.allow_long;
   const std::string dir = args.out_dir.empty() ? scenario.output_dir : args.out_dir;
+  // Output locations are checked before the run, not after it.
+  if (!dir.empty()) {
+    for (const char* file : {"timeseries.csv", "summary.json", "states.csv"}) {
+      ipmc::RefuseOverwritingInputs("run", "--out", (std::filesystem::path(dir) / file).string(),
+                                    {args.scenario_path});
+    }
+    ipmc::RequireWritableDirectory(dir);
+  }
+  if (!args.video_path.empty()) {
+    ipmc::RefuseOverwritingInputs("run", "--video", args.video_path, {args.scenario_path});
+    ipmc::RequireWritableParent(args.video_path);
+  }
   // The results are printed and written before the film is made.
   ipmc::RunScenarioFilmed(scenario, args.film, args.video_path,
                           [&](const ipmc::ClosedLoopResult& result) {
@@ -209,6 +245,7 @@ int RunScenarioCommand(const RunArgs& args) {
                             if (dir.empty()) return;
                             ipmc::WriteClosedLoopOutputs(
                                 dir, result, {{"scenario", AbsolutePath(args.scenario_path)}});
+                            PrintWritten(dir);
                           });
   return 0;
 }
@@ -279,9 +316,20 @@ int RunGenerate(const GenerateArgs& args) {
 }
 
 int RunGaitCommand(const GaitArgs& args) {
+  if (!args.out_dir.empty()) {
+    for (const char* file : {"timeseries.csv", "summary.json", "states.csv"}) {
+      const std::string output = (std::filesystem::path(args.out_dir) / file).string();
+      ipmc::RefuseOverwritingInputs("gait", "--out", output, {args.model_path, args.csv_path});
+    }
+    ipmc::RequireWritableDirectory(args.out_dir);
+  }
   ipmc::Simulation sim(ipmc::LoadModelFile(args.model_path), args.model_path);
   const std::unique_ptr<ipmc::Gait> gait = MakeGait(args, CountServos(sim.model()));
-  const ipmc::GaitRunResult result = ipmc::RunGait(sim, *gait, args.run);
+  ipmc::RunWatch watch("gait", args.run.cycles * gait->Period_s());
+  ipmc::GaitRunOptions options = args.run;
+  options.on_sample = [&](double t_s) { watch.At(t_s); };
+  const ipmc::GaitRunResult result = ipmc::RunGait(sim, *gait, options);
+  watch.Finish();
   PrintGaitResult(result);
   if (!args.out_dir.empty()) {
     nlohmann::json inputs = {{"model", AbsolutePath(args.model_path)}, {"gait", args.gait},
@@ -290,6 +338,7 @@ int RunGaitCommand(const GaitArgs& args) {
                              {"phase_lag_rad", args.phase_lag_rad},
                              {"cycles", args.run.cycles}, {"csv", args.csv_path}};
     ipmc::WriteGaitOutputs(args.out_dir, result, inputs);
+    PrintWritten(args.out_dir);
   }
   return 0;
 }
@@ -320,6 +369,17 @@ int main(int argc, char** argv) {
   ipmc::AddSweepCommands(app, sweep);
   ipmc::Table5Args table5;
   ipmc::AddTable5Command(app, table5);
+  std::string commands;
+  bool known = false;
+  for (const CLI::App* command : app.get_subcommands({})) {
+    commands += (commands.empty() ? "" : ", ") + command->get_name();
+    known = known || (argc > 1 && command->get_name() == argv[1]);
+  }
+  if (argc > 1 && argv[1][0] != '-' && !known) {
+    std::cerr << "ipmc-swim: error: unknown command '" << argv[1] << "' (commands: " << commands
+              << ")\n";
+    return 2;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -345,6 +405,9 @@ int main(int argc, char** argv) {
     if (int s = ipmc::RunTable5Command(app, table5); s >= 0) status = s;
     PrintMujocoWarnings();
     return status;
+  } catch (const ipmc::Interrupted& stop) {
+    std::cerr << "ipmc-swim: interrupted by " << stop.SignalName() << ": " << stop.what() << "\n";
+    return stop.ExitCode();
   } catch (const std::exception& e) {
     std::cerr << "ipmc-swim: error: " << e.what() << "\n";
     return 1;

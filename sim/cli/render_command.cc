@@ -11,6 +11,10 @@
 
 #include "sim/core/scenario.h"
 #include "sim/core/simulation.h"
+#include "sim/cli/interrupt.h"
+#include "sim/cli/run_watch.h"
+#include "sim/io/files.h"
+#include "sim/io/numbers.h"
 #include "sim/io/progress_bar.h"
 
 namespace ipmc {
@@ -24,10 +28,13 @@ constexpr const char* kVideoOptions[] = {
     "--view-mm",   "--center-mm",     "--elevation-deg", "--azimuth-deg",
     "--strip-thickness-mm", "--no-grid", "--no-ghost",   "--png-dir"};
 
-// A progress bar on stderr for a film.
+// A progress bar on stderr for a film, which a SIGINT or SIGTERM stops
+// at the next frame (the unfinished video is removed).
 class FilmProgressBar {
  public:
-  FilmProgressBar() : bar_("rendering", "frames", StderrIsTerminal(), /*quarter_lines=*/true) {}
+  explicit FilmProgressBar(const InterruptAtBoundary& interrupt)
+      : bar_("rendering", "frames", StderrIsTerminal(), /*quarter_lines=*/true),
+        interrupt_(interrupt) {}
   FilmProgress Callback() {
     return [this](int done, int total) {
       if (!started_) {
@@ -35,14 +42,25 @@ class FilmProgressBar {
         started_ = true;
       }
       bar_.Update(done);
+      interrupt_.ThrowIfRequested(FormatText("stopped at frame %d of %d; %s", done, total,
+                                             kept_.c_str()));
     };
   }
   void Finish() { bar_.Finish(); }
+  // What a stop keeps, for its message.
+  void SetKept(std::string kept) { kept_ = std::move(kept); }
 
  private:
   ProgressBar bar_;
+  const InterruptAtBoundary& interrupt_;
   bool started_ = false;
+  std::string kept_ = "the video was not written";
 };
+
+// The simulated time a closed-loop scenario reaches [s].
+double ScenarioDuration_s(const ScenarioConfig& scenario) {
+  return scenario.cycles / std::abs(scenario.waveform.frequency_Hz);
+}
 
 void PrintFilmSummary(const FilmSummary& summary, const FilmConfig& film,
                       const std::string& out_path) {
@@ -58,9 +76,15 @@ void PrintFilmSummary(const FilmSummary& summary, const FilmConfig& film,
 
 int RunRender(const RenderArgs& args) {
   args.film.Validate();
+  const std::filesystem::path input(args.input_path);
+  RefuseOverwritingInputs(kRenderCommand, "--out", args.out_path,
+                          {args.input_path, (input / "states.csv").string(),
+                           (input / "summary.json").string()});
+  RequireWritableParent(args.out_path);
   if (std::filesystem::is_directory(args.input_path)) {
     const RunRecording recording = LoadRunRecording(args.input_path);
-    FilmProgressBar bar;
+    const InterruptAtBoundary interrupt("interrupted: stopping at the next frame (again: at once)");
+    FilmProgressBar bar(interrupt);
     const FilmSummary summary = FilmRun(recording.View(), args.film, args.out_path, bar.Callback());
     bar.Finish();
     PrintFilmSummary(summary, args.film, args.out_path);
@@ -135,15 +159,24 @@ bool AnyVideoOptionGiven(const CLI::App* cmd) {
 ClosedLoopResult RunScenarioFilmed(
     const ScenarioConfig& scenario, const FilmConfig& film, const std::string& video_path,
     const std::function<void(const ClosedLoopResult&)>& before_filming) {
-  if (video_path.empty()) {
-    const ClosedLoopResult result = RunScenario(scenario);
+  RunWatch watch("running", ScenarioDuration_s(scenario));
+  const SampleObserver observer = [&](const mjModel*, const mjData* d, const ClosedLoopSample&) {
+    watch.At(d->time);
+  };
+  const auto report = [&](const ClosedLoopResult& result) {
+    watch.Finish();
     if (before_filming) before_filming(result);
+  };
+  if (video_path.empty()) {
+    const ClosedLoopResult result = RunScenario(scenario, observer);
+    report(result);
     return result;
   }
-  FilmProgressBar bar;
+  FilmProgressBar bar(watch.interrupt());
+  bar.SetKept("the video was not written; the run's results above are kept");
   FilmSummary summary;
-  const ClosedLoopResult result = RunScenarioAndFilm(scenario, film, video_path, before_filming,
-                                                     bar.Callback(), &summary);
+  const ClosedLoopResult result = RunScenarioAndFilm(scenario, film, video_path, report,
+                                                     bar.Callback(), &summary, observer);
   bar.Finish();
   PrintFilmSummary(summary, film, video_path);
   return result;

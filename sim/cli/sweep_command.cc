@@ -3,6 +3,7 @@
 #include "sim/cli/command.h"
 
 #include <algorithm>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -17,6 +18,7 @@
 #include "sim/io/numbers.h"
 #include "sim/cli/interrupt.h"
 #include "sim/cli/slurm_command.h"
+#include "sim/io/files.h"
 #include "sim/io/progress_bar.h"
 
 namespace ipmc {
@@ -24,8 +26,6 @@ namespace {
 
 constexpr char kSweepCommand[] = "sweep";
 constexpr char kMergeCommand[] = "merge";
-// The shell's exit code for a process stopped by SIGINT (128 + 2).
-constexpr int kInterruptedExitCode = 130;
 
 // Result columns shown on stdout (all are in the files).
 constexpr const char* kShownResults[] = {columns::kMeanSpeedAlong, columns::kLastCycleComAlong};
@@ -113,6 +113,10 @@ int RunSweepFile(const SweepArgs& args) {
     throw std::invalid_argument("sweep: --jobs must be >= 1 (got " + std::to_string(args.jobs) +
                                 ")");
   }
+  for (const char* suffix : {".csv", ".json", ".journal"}) {
+    RefuseOverwritingInputs("sweep", "--out", args.out_prefix + suffix, {args.sweep_path});
+  }
+  RequireWritableParent(args.out_prefix);
   const SweepPlan plan = LoadSweep(args.sweep_path);
   SweepJournal journal(args.out_prefix + ".journal", plan);
   const ShardRecord record = CountRecorded(plan, shard, journal);
@@ -127,25 +131,26 @@ int RunSweepFile(const SweepArgs& args) {
   options.on_point_done = [&](const SweepProgress& p) { progress(p); };
   progress.Start(record.points - record.recorded);
   JournaledSweep run;
+  int stop_signal = 0;
   {
     const InterruptAtBoundary interrupt(
         "interrupted: finishing the points that are running, then stopping (Ctrl-C again stops "
         "at once; finished points stay in " + journal.path() + ")");
     options.stop_requested = [&] { return interrupt.Requested(); };
     run = RunJournaledSweep(plan, options, &journal);
+    stop_signal = interrupt.signal();
   }
   progress.Finish();
   if (!run.Complete()) {
+    const Interrupted stop(stop_signal != 0 ? stop_signal : SIGINT, "");
     std::fprintf(stderr,
-                 "stopped: %zu of %d points done, recorded in %s; run the same command again to "
-                 "resume\n",
-                 run.table.rows.size(), record.points, journal.path().c_str());
-    return kInterruptedExitCode;
+                 "ipmc-swim: interrupted by %s: stopped: %zu of %d points done, recorded in %s; "
+                 "run the same command again to resume\n",
+                 stop.SignalName().c_str(), run.table.rows.size(), record.points,
+                 journal.path().c_str());
+    return stop.ExitCode();
   }
   const SweepTable& table = run.table;
-  WriteSweepTable(args.out_prefix, table);
-
-  PrintSummary(table);
   const size_t status = plan.keys.size() + 1;
   int failed = 0;
   for (const auto& row : table.rows) {
@@ -154,6 +159,14 @@ int RunSweepFile(const SweepArgs& args) {
       std::fprintf(stderr, "point %s failed: %s\n", row[0].c_str(), row[status + 1].c_str());
     }
   }
+  if (!table.rows.empty() && failed == static_cast<int>(table.rows.size())) {
+    // One fixed error, most likely: no table, and no journal to resume.
+    journal.Remove();
+    throw std::runtime_error("sweep: every point failed (the first: " +
+                             table.rows.front()[status + 1] + "); nothing written");
+  }
+  WriteSweepTable(args.out_prefix, table);
+  PrintSummary(table);
   std::string scope = std::to_string(table.rows.size()) + " points";
   if (shard.count > 1) {
     scope += " (shard " + args.shard + " of " + std::to_string(plan.points.size()) + ")";
@@ -165,6 +178,10 @@ int RunSweepFile(const SweepArgs& args) {
 }
 
 int RunMergeTables(const SweepArgs& args) {
+  for (const char* suffix : {".csv", ".json"}) {
+    RefuseOverwritingInputs("merge", "--out", args.merge_out_prefix + suffix, args.merge_tables);
+  }
+  RequireWritableParent(args.merge_out_prefix);
   if (args.merge_partial) return RunPartialMerge(args);
   for (const std::string& path : args.merge_tables) {
     std::error_code error;
