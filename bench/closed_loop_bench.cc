@@ -18,6 +18,7 @@
 #include "ipmc_swim/ipmc_swim.h"
 #include "sim/core/scenario.h"
 #include "sim/core/simulation.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc {
 namespace {
@@ -66,7 +67,7 @@ void BM_CoupledSteps(benchmark::State& state, int segments) {
     double volts[3] = {0, 0, 0};
     for (long i = 0; i < kSteps; ++i) {
       if (i % steps_per_sample == 0) {
-        const double v = 3.0 * std::sin(2 * 3.141592653589793 * sim.data()->time);
+        const double v = 3.0 * std::sin(ipmc::kTwoPi * sim.data()->time);
         for (double& volt : volts) volt = v;
         SetVoltages(sim.data(), volts, 3);
       }

@@ -2,6 +2,8 @@
 
 #include <mutex>
 #include <shared_mutex>
+#include <stdexcept>
+#include <string>
 #include <unordered_map>
 
 #include "ipmc_swim/ipmc_swim.h"
@@ -48,6 +50,15 @@ void InstallCallbacksOnce(Registry& registry) {
   registry.callbacks_installed = true;
 }
 
+CouplingContext& RequireCoupling(const mjData* d, const char* function) {
+  CouplingContext* context = FindMutableCoupling(d);
+  if (!context) {
+    throw std::invalid_argument(std::string("ipmc::") + function +
+                                ": d is not attached (call ipmc::Attach first)");
+  }
+  return *context;
+}
+
 }  // namespace
 
 CouplingContext* FindMutableCoupling(const mjData* d) {
@@ -70,6 +81,7 @@ bool AttachWithOverrides(const mjModel* m, mjData* d, const IpmcActuatorsOverrid
   }
   if (std::optional<IpmcActuatorsConfig> actuators = IpmcActuatorsConfig::FromModel(m, overrides)) {
     context->actuators = std::make_unique<IpmcActuators>(std::move(*actuators));
+    context->actuators->ResetState(d);  // at rest at d->time
   }
   Registry& registry = GetRegistry();
   std::unique_lock<std::shared_mutex> lock(registry.mutex);
@@ -89,6 +101,30 @@ int SetVoltages(const mjData* d, const double* voltage_V, int count) {
   if (!context || !context->actuators) return 0;
   context->actuators->SetVoltages(d, std::vector<double>(voltage_V, voltage_V + count));
   return context->actuators->Links();
+}
+
+CouplingState SaveState(const mjData* d) {
+  CouplingContext& context = RequireCoupling(d, "SaveState");
+  if (!context.actuators) return {};
+  return context.actuators->SaveState();
+}
+
+void RestoreState(const mjData* d, const CouplingState& state) {
+  CouplingContext& context = RequireCoupling(d, "RestoreState");
+  if (context.actuators) {
+    context.actuators->RestoreState(d, state);
+    return;
+  }
+  if (!state.actuator_state.empty() || !state.voltage_V.empty() || !state.curvature_1_m.empty()) {
+    throw std::invalid_argument(
+        "ipmc::RestoreState: actuator_state, voltage_V and curvature_1_m must be empty: d's model "
+        "has no IPMC actuators");
+  }
+}
+
+void ResetState(const mjData* d) {
+  CouplingContext& context = RequireCoupling(d, "ResetState");
+  if (context.actuators) context.actuators->ResetState(d);
 }
 
 const char* Version() { return "0.1.0"; }

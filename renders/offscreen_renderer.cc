@@ -11,11 +11,12 @@
 #include <stdexcept>
 
 #include "sim/core/simulation.h"
+#include "sim/io/numbers.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc {
 namespace {
 
-constexpr double kPi = 3.141592653589793;
 constexpr double kDegToRad = kPi / 180.0;
 // Room in the scene for what mjv_updateScene adds besides the model's geoms
 // and sites (decor: frames, labels, lights' markers).

@@ -2,14 +2,17 @@
 // 8-bit RGB, rows from top to bottom (width x height x 3 bytes), as
 // OffscreenRenderer::Frame returns them.
 //
-// Like every output of ipmc-swim, a file is written whole or not at all:
-// PNGs go through WriteFileAtomically; the video is encoded into
-// OUT.tmp.mp4 and renamed to OUT when ffmpeg has finished successfully.
+// Like every output of ipmc-swim, a file is written whole or not at all
+// (sim/io/files.h): PNGs go through WriteFileAtomically; the video is
+// encoded into OUT.tmp.mp4 (a PendingFile) and renamed to OUT when ffmpeg
+// has finished successfully.
 #pragma once
 
 #include <cstdio>
 #include <string>
 #include <vector>
+
+#include "sim/io/files.h"
 
 namespace ipmc {
 
@@ -52,10 +55,13 @@ class Mp4Writer {
  private:
   // Closes the pipe and returns ffmpeg's exit status (-1 if it was killed).
   int ClosePipe();
-  // Removes the temporary files and throws "OUT: what (ffmpeg's message)".
+  // Removes ffmpeg's log and throws "OUT: what (ffmpeg's message)"; the
+  // unfinished video goes with the writer.
   [[noreturn]] void Fail(const std::string& what);
 
-  std::string path_, temp_path_, log_path_;
+  std::string path_;
+  PendingFile output_;  // OUT.tmp.mp4, which ffmpeg writes
+  std::string log_path_;
   int width_, height_;
   int frames_ = 0;
   FILE* pipe_ = nullptr;

@@ -16,11 +16,14 @@
 #include "sim/core/model_generator.h"
 #include "sim/core/scenario.h"
 #include "tests/test_util.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc::testing {
 namespace {
 
-constexpr double kPi = 3.141592653589793;
+// Fails on any MuJoCo warning the test does not expect.
+class FlexibleLink : public MujocoWarnings {};
+class LinkPlants : public MujocoWarnings {};
 
 // ---------------------------------------------------- the chain's shape ---
 
@@ -79,7 +82,7 @@ double StaticTipDeflectionUnderUniformMoment_m(int segments, double moment_N_m) 
   return d->site_xpos[3 * tip + 1];
 }
 
-TEST(FlexibleLink, UniformMomentBendsTheStripIntoItsArc) {
+TEST_F(FlexibleLink, UniformMomentBendsTheStripIntoItsArc) {
   FlagellumSpec spec;
   const double L_m = 10e-3;
   const double width_m = spec.width_mm * 1e-3, thickness_m = spec.thickness_um * 1e-6;
@@ -152,7 +155,7 @@ Amplitudes SingleActuation(int segments) {
   return a;
 }
 
-TEST(FlexibleLink, SingleActuationGainsFollowTheArcsKinematics) {
+TEST_F(FlexibleLink, SingleActuationGainsFollowTheArcsKinematics) {
   // Link 1 bends into its arc; the passive links go on straight along its
   // last sub-segment, which lies at kappa (L - l / 2) (the root hinge's
   // share is l / 2). Small angles, gap g between the links:
@@ -184,7 +187,7 @@ TEST(FlexibleLink, SingleActuationGainsFollowTheArcsKinematics) {
 
 // -------------------------------------------------------- the generator ---
 
-TEST(FlexibleLink, GeneratorWritesEachLinkAsItsSubSegments) {
+TEST_F(FlexibleLink, GeneratorWritesEachLinkAsItsSubSegments) {
   FlagellumSpec spec;
   spec.segments_per_link = 3;
   auto sim = MakeSimulation(spec);
@@ -209,7 +212,7 @@ TEST(FlexibleLink, GeneratorWritesEachLinkAsItsSubSegments) {
 
 // -------------------------------------------- plants and their lengths ---
 
-TEST(LinkPlants, TenMillimetreLinksGiveTable2Exactly) {
+TEST_F(LinkPlants, TenMillimetreLinksGiveTable2Exactly) {
   for (IpmcModelKind kind : {IpmcModelKind::kG1, IpmcModelKind::kG2}) {
     for (int link = 1; link <= 3; ++link) {
       const IpmcLinkParams table = PaperLinkParams(link, kind);
@@ -225,7 +228,7 @@ TEST(LinkPlants, TenMillimetreLinksGiveTable2Exactly) {
   }
 }
 
-TEST(LinkPlants, HalfTheLengthQuartersTheGainAndQuadruplesTheMode) {
+TEST_F(LinkPlants, HalfTheLengthQuartersTheGainAndQuadruplesTheMode) {
   const IpmcLinkParams eq7 = PaperLinkParams(3, IpmcModelKind::kG1);
   const IpmcLinkParams half = ScaleLinkToLength(eq7, 5e-3);
   EXPECT_NEAR(half.a0_mm_per_V, eq7.a0_mm_per_V / 4, 1e-15);
@@ -239,7 +242,7 @@ TEST(LinkPlants, HalfTheLengthQuartersTheGainAndQuadruplesTheMode) {
   ExpectInvalidArgument([&] { ScaleLinkToLength(eq7, 0.0); }, "length_m must be finite and > 0");
 }
 
-TEST(LinkPlants, GeneratedLinksOfOtherLengthsGetScaledPlants) {
+TEST_F(LinkPlants, GeneratedLinksOfOtherLengthsGetScaledPlants) {
   FlagellumSpec spec;
   spec.link_lengths_mm = {5.0, 10.0, 15.0};
   auto sim = MakeSimulation(spec);
@@ -251,7 +254,7 @@ TEST(LinkPlants, GeneratedLinksOfOtherLengthsGetScaledPlants) {
   EXPECT_NEAR(actuators.link_params()[2].a0_mm_per_V, a0 * 2.25, 1e-12);
 }
 
-TEST(LinkPlants, AScenarioChoosesThePlantsOverTheModel) {
+TEST_F(LinkPlants, AScenarioChoosesThePlantsOverTheModel) {
   const std::string models = std::string(IPMC_SWIM_SOURCE_DIR) + "/models/";
   IpmcActuatorsOverrides table2;
   table2.plants = PlantAssignment::kTable2;
@@ -270,7 +273,7 @@ TEST(LinkPlants, AScenarioChoosesThePlantsOverTheModel) {
 
 // ---------------------------------------------------------- bad input ---
 
-TEST(FlexibleLink, BadSettingsNameTheFieldAndItsRange) {
+TEST_F(FlexibleLink, BadSettingsNameTheFieldAndItsRange) {
   FlagellumSpec spec;
   spec.segments_per_link = 0;
   ExpectInvalidArgument([&] { spec.Validate(); },

@@ -17,11 +17,11 @@
 #include "controllers/linear/oustaloup.h"
 #include "controllers/linear/state_space.h"
 #include "plugin/actuators/ipmc_link_model.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 template <typename Exception>
 void ExpectThrowNaming(const std::function<void()>& f,
@@ -250,6 +250,43 @@ TEST(IpmcActuatorBankTest, ResetZeroesTheStateAndKeepsTheVoltages) {
   for (int q = 0; q < 3; ++q) {
     EXPECT_NEAR(again[q], first[q], 1e-7 * std::abs(first[q]));
   }
+}
+
+// A bank restarted mid-run and a new bank set to the same (time, state,
+// voltages) continue with identical numbers; without the restart the
+// first would keep CVODE's internal steps past that time and differ.
+TEST(IpmcActuatorBankTest, RestartedAndSetBanksContinueIdentically) {
+  auto original = IpmcActuatorBank::Create(PaperLinks(IpmcModelKind::kG1));
+  auto unrestarted = IpmcActuatorBank::Create(PaperLinks(IpmcModelKind::kG1));
+  for (int i = 1; i <= 1000; ++i) {
+    if (i % 10 == 1) {
+      const double v = 3.0 * std::sin(2 * kPi * 3.0 * i * 1e-4);
+      original->SetVoltages({v, -v, 0.5 * v});
+      unrestarted->SetVoltages({v, -v, 0.5 * v});
+    }
+    original->AdvanceTo(i * 1e-4 + 3e-5);  // off the voltage instants
+    unrestarted->AdvanceTo(i * 1e-4 + 3e-5);
+  }
+  original->Restart();
+  auto copy = IpmcActuatorBank::Create(PaperLinks(IpmcModelKind::kG1));
+  copy->SetVoltages(original->Voltages_V());
+  copy->SetState(original->Time_s(), original->State());
+  bool unrestarted_differs = false;
+  for (int i = 1001; i <= 1500; ++i) {
+    original->AdvanceTo(i * 1e-4 + 3e-5);
+    copy->AdvanceTo(i * 1e-4 + 3e-5);
+    unrestarted->AdvanceTo(i * 1e-4 + 3e-5);
+    ASSERT_EQ(original->FreeTipDeflection_mm(), copy->FreeTipDeflection_mm()) << "step " << i;
+    unrestarted_differs |= unrestarted->State() != original->State();
+  }
+  EXPECT_TRUE(unrestarted_differs);
+  ExpectThrowNaming<std::invalid_argument>(
+      [&] { copy->SetState(NAN, copy->State()); }, {"t_s"});
+  ExpectThrowNaming<std::invalid_argument>(
+      [&] { copy->SetState(1.0, Eigen::VectorXd::Zero(3)); }, {"state", "values"});
+  Eigen::VectorXd bad = copy->State();
+  bad[2] = INFINITY;
+  ExpectThrowNaming<std::invalid_argument>([&] { copy->SetState(1.0, bad); }, {"finite"});
 }
 
 TEST(IpmcActuatorBankTest, BadInputsNameTheField) {

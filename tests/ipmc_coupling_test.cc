@@ -1,6 +1,7 @@
 // The IPMC link models coupled to the clamped flagellum: the multibody
-// follows the links' free deflection, and single actuation drags the
-// passive links along.
+// follows the links' free deflection, single actuation drags the passive
+// links along, and a clamped deflection is reported through MuJoCo's
+// warnings.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -10,13 +11,16 @@
 
 #include "ipmc_swim/ipmc_swim.h"
 #include "sim/runs/bench_run.h"
+#include "plugin/coupling.h"
 #include "plugin/actuators/ipmc_link_model.h"
 #include "tests/test_util.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc::testing {
 namespace {
 
-constexpr double kPi = 3.141592653589793;
+// Fails on any MuJoCo warning the test does not expect.
+class IpmcCoupling : public MujocoWarnings {};
 
 struct Phasor {
   double amplitude;
@@ -49,7 +53,7 @@ BenchRecord RunSine(const FlagellumSpec& spec, double w_rad_s, int driven, int p
   return RunBench(*sim, signal, (periods - record_periods) / signal.frequency_Hz);
 }
 
-TEST(IpmcCoupling, ClampedLinksFollowTheirTransferFunctions) {
+TEST_F(IpmcCoupling, ClampedLinksFollowTheirTransferFunctions) {
   FlagellumSpec spec;
   spec.clamped = true;
   spec.plants = "table2";  // each link its own Table 2 row
@@ -75,7 +79,7 @@ TEST(IpmcCoupling, ClampedLinksFollowTheirTransferFunctions) {
   }
 }
 
-TEST(IpmcCoupling, SingleActuationMovesThePassiveLinksWithLinkOne) {
+TEST_F(IpmcCoupling, SingleActuationMovesThePassiveLinksWithLinkOne) {
   FlagellumSpec spec;
   spec.clamped = true;
   spec.actuation = "single";
@@ -98,6 +102,27 @@ TEST(IpmcCoupling, SingleActuationMovesThePassiveLinksWithLinkOne) {
   EXPECT_NEAR(k2, 2.05, 0.01);
   EXPECT_NEAR(k3, 31.0 / 20.5, 0.01);
   EXPECT_LT(std::abs(lag3_deg), 0.5);
+}
+
+// 50 V held on link 1 of the clamped flagellum: the s^-0.5 factor grows
+// the free deflection a0 V 2 sqrt(t / pi) past the 10 mm link's reach
+// after about 0.2 s (a0 = 0.376 mm/V). The clamp is reported through
+// mju_warning, once.
+TEST_F(IpmcCoupling, ClampedDeflectionWarnsOnceThroughMujoco) {
+  ExpectWarning("exceeds the link's reach", 1);
+  FlagellumSpec spec;
+  spec.clamped = true;
+  auto sim = MakeSimulation(spec);
+  mjModel* m = sim->model();
+  mjData* d = sim->data();
+  const double volts[3] = {50.0, 0.0, 0.0};
+  SetVoltages(d, volts, 3);
+  const IpmcActuators& actuators = *FindCoupling(d)->actuators;
+  for (int step = 0; step < 20000 && actuators.ClampCount() < 10; ++step) mj_step(m, d);
+  EXPECT_GE(actuators.ClampCount(), 10);
+  EXPECT_EQ(Count("exceeds the link's reach"), 1);  // the first clamp only
+  EXPECT_EQ(Count("ipmc link 1:"), 1);
+  for (const std::string& warning : Received()) std::printf("warning: %s\n", warning.c_str());
 }
 
 }  // namespace

@@ -21,6 +21,8 @@
 #include <sunmatrix/sunmatrix_band.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
+#include "plugin/actuators/serial_kernels.h"
+
 namespace ipmc {
 namespace {
 
@@ -99,222 +101,6 @@ bool SolveShiftedQuasiTriangular(const Eigen::MatrixXd& t, double gamma,
   }
   return true;
 }
-
-// Serial vector kernels compiled with the project. They replace the
-// kernels of the N_Vector that CVODE integrates (and, through N_VClone, of
-// every work vector CVODE creates from it). The Debian 12 SUNDIALS 6.4
-// libraries are built without optimisation, and for the bank's short
-// vectors (tens of states) these kernels are most of CVODE's cost. Each
-// computes exactly what the corresponding N_V*_Serial operation defines;
-// element-wise loops read x[i] before writing z[i], so aliased arguments
-// behave as in SUNDIALS.
-namespace serial_kernels {
-
-inline double* Data(N_Vector v) { return NV_DATA_S(v); }
-inline sunindextype Length(N_Vector v) { return NV_LENGTH_S(v); }
-
-void LinearSum(realtype a, N_Vector x, realtype b, N_Vector y, N_Vector z) {
-  const double* xd = Data(x);
-  const double* yd = Data(y);
-  double* zd = Data(z);
-  for (sunindextype i = 0, n = Length(z); i < n; ++i) {
-    zd[i] = a * xd[i] + b * yd[i];
-  }
-}
-
-void Const(realtype c, N_Vector z) {
-  double* zd = Data(z);
-  for (sunindextype i = 0, n = Length(z); i < n; ++i) zd[i] = c;
-}
-
-void Prod(N_Vector x, N_Vector y, N_Vector z) {
-  const double* xd = Data(x);
-  const double* yd = Data(y);
-  double* zd = Data(z);
-  for (sunindextype i = 0, n = Length(z); i < n; ++i) zd[i] = xd[i] * yd[i];
-}
-
-void Div(N_Vector x, N_Vector y, N_Vector z) {
-  const double* xd = Data(x);
-  const double* yd = Data(y);
-  double* zd = Data(z);
-  for (sunindextype i = 0, n = Length(z); i < n; ++i) zd[i] = xd[i] / yd[i];
-}
-
-void Scale(realtype c, N_Vector x, N_Vector z) {
-  const double* xd = Data(x);
-  double* zd = Data(z);
-  for (sunindextype i = 0, n = Length(z); i < n; ++i) zd[i] = c * xd[i];
-}
-
-void Abs(N_Vector x, N_Vector z) {
-  const double* xd = Data(x);
-  double* zd = Data(z);
-  for (sunindextype i = 0, n = Length(z); i < n; ++i) zd[i] = std::abs(xd[i]);
-}
-
-void Inv(N_Vector x, N_Vector z) {
-  const double* xd = Data(x);
-  double* zd = Data(z);
-  for (sunindextype i = 0, n = Length(z); i < n; ++i) zd[i] = 1.0 / xd[i];
-}
-
-void AddConst(N_Vector x, realtype b, N_Vector z) {
-  const double* xd = Data(x);
-  double* zd = Data(z);
-  for (sunindextype i = 0, n = Length(z); i < n; ++i) zd[i] = xd[i] + b;
-}
-
-realtype DotProd(N_Vector x, N_Vector y) {
-  const double* xd = Data(x);
-  const double* yd = Data(y);
-  double sum = 0;
-  for (sunindextype i = 0, n = Length(x); i < n; ++i) sum += xd[i] * yd[i];
-  return sum;
-}
-
-realtype MaxNorm(N_Vector x) {
-  const double* xd = Data(x);
-  double max = 0;
-  for (sunindextype i = 0, n = Length(x); i < n; ++i) {
-    max = std::max(max, std::abs(xd[i]));
-  }
-  return max;
-}
-
-realtype WSqrSum(N_Vector x, N_Vector w) {
-  const double* xd = Data(x);
-  const double* wd = Data(w);
-  double sum = 0;
-  for (sunindextype i = 0, n = Length(x); i < n; ++i) {
-    const double p = xd[i] * wd[i];
-    sum += p * p;
-  }
-  return sum;
-}
-
-realtype WSqrSumMask(N_Vector x, N_Vector w, N_Vector id) {
-  const double* xd = Data(x);
-  const double* wd = Data(w);
-  const double* idd = Data(id);
-  double sum = 0;
-  for (sunindextype i = 0, n = Length(x); i < n; ++i) {
-    if (idd[i] <= 0) continue;
-    const double p = xd[i] * wd[i];
-    sum += p * p;
-  }
-  return sum;
-}
-
-realtype WrmsNorm(N_Vector x, N_Vector w) {
-  return std::sqrt(WSqrSum(x, w) / static_cast<double>(Length(x)));
-}
-
-realtype WrmsNormMask(N_Vector x, N_Vector w, N_Vector id) {
-  return std::sqrt(WSqrSumMask(x, w, id) / static_cast<double>(Length(x)));
-}
-
-realtype Min(N_Vector x) {
-  const double* xd = Data(x);
-  double min = xd[0];
-  for (sunindextype i = 1, n = Length(x); i < n; ++i) min = std::min(min, xd[i]);
-  return min;
-}
-
-realtype Wl2Norm(N_Vector x, N_Vector w) { return std::sqrt(WSqrSum(x, w)); }
-
-realtype L1Norm(N_Vector x) {
-  const double* xd = Data(x);
-  double sum = 0;
-  for (sunindextype i = 0, n = Length(x); i < n; ++i) sum += std::abs(xd[i]);
-  return sum;
-}
-
-void Compare(realtype c, N_Vector x, N_Vector z) {
-  const double* xd = Data(x);
-  double* zd = Data(z);
-  for (sunindextype i = 0, n = Length(z); i < n; ++i) {
-    zd[i] = std::abs(xd[i]) >= c ? 1.0 : 0.0;
-  }
-}
-
-booleantype InvTest(N_Vector x, N_Vector z) {
-  const double* xd = Data(x);
-  double* zd = Data(z);
-  booleantype ok = SUNTRUE;
-  for (sunindextype i = 0, n = Length(z); i < n; ++i) {
-    if (xd[i] == 0.0) {
-      ok = SUNFALSE;
-    } else {
-      zd[i] = 1.0 / xd[i];
-    }
-  }
-  return ok;
-}
-
-// z = sum_k c[k] X[k]
-int LinearCombination(int count, realtype* c, N_Vector* x, N_Vector z) {
-  double* zd = Data(z);
-  const sunindextype n = Length(z);
-  for (sunindextype i = 0; i < n; ++i) {
-    double sum = 0;
-    for (int k = 0; k < count; ++k) sum += c[k] * Data(x[k])[i];
-    zd[i] = sum;
-  }
-  return 0;
-}
-
-// Z[k] = a[k] x + Y[k]
-int ScaleAddMulti(int count, realtype* a, N_Vector x, N_Vector* y,
-                  N_Vector* z) {
-  const double* xd = Data(x);
-  const sunindextype n = Length(x);
-  for (sunindextype i = 0; i < n; ++i) {
-    const double xi = xd[i];
-    for (int k = 0; k < count; ++k) Data(z[k])[i] = a[k] * xi + Data(y[k])[i];
-  }
-  return 0;
-}
-
-// Z[k] = c[k] X[k]
-int ScaleVectorArray(int count, realtype* c, N_Vector* x, N_Vector* z) {
-  for (int k = 0; k < count; ++k) Scale(c[k], x[k], z[k]);
-  return 0;
-}
-
-void Install(N_Vector v) {
-  N_Vector_Ops ops = v->ops;
-  ops->nvlinearsum = LinearSum;
-  ops->nvconst = Const;
-  ops->nvprod = Prod;
-  ops->nvdiv = Div;
-  ops->nvscale = Scale;
-  ops->nvabs = Abs;
-  ops->nvinv = Inv;
-  ops->nvaddconst = AddConst;
-  ops->nvdotprod = DotProd;
-  ops->nvmaxnorm = MaxNorm;
-  ops->nvwrmsnorm = WrmsNorm;
-  ops->nvwrmsnormmask = WrmsNormMask;
-  ops->nvmin = Min;
-  ops->nvwl2norm = Wl2Norm;
-  ops->nvl1norm = L1Norm;
-  ops->nvcompare = Compare;
-  ops->nvinvtest = InvTest;
-  ops->nvlinearcombination = LinearCombination;
-  ops->nvscaleaddmulti = ScaleAddMulti;
-  ops->nvscalevectorarray = ScaleVectorArray;
-  // Serial: the local reductions are the global ones.
-  ops->nvdotprodlocal = DotProd;
-  ops->nvmaxnormlocal = MaxNorm;
-  ops->nvminlocal = Min;
-  ops->nvl1normlocal = L1Norm;
-  ops->nvinvtestlocal = InvTest;
-  ops->nvwsqrsumlocal = WSqrSum;
-  ops->nvwsqrsummasklocal = WSqrSumMask;
-}
-
-}  // namespace serial_kernels
 
 std::string FlagName(int flag) {
   char* name = CVodeGetReturnFlagName(flag);
@@ -762,6 +548,28 @@ void IpmcActuatorBank::Reset(double t0_s) {
   impl_->time_s = t0_s;
   impl_->reinit_pending = true;
 }
+
+void IpmcActuatorBank::SetState(double t_s, const Eigen::VectorXd& state) {
+  if (!std::isfinite(t_s)) {
+    std::ostringstream out;
+    out << "ipmc actuator: SetState needs a finite t_s (got " << t_s << ")";
+    throw std::invalid_argument(out.str());
+  }
+  if (state.size() != impl_->states) {
+    std::ostringstream out;
+    out << "ipmc actuator: state needs " << impl_->states << " values (got "
+        << state.size() << ")";
+    throw std::invalid_argument(out.str());
+  }
+  if (!state.allFinite()) {
+    throw std::invalid_argument("ipmc actuator: state values must be finite");
+  }
+  impl_->state = state;  // keeps the storage y_vector wraps
+  impl_->time_s = t_s;
+  impl_->reinit_pending = true;
+}
+
+void IpmcActuatorBank::Restart() { impl_->reinit_pending = true; }
 
 const Eigen::VectorXd& IpmcActuatorBank::State() const {
   return impl_->state;

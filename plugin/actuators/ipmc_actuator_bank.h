@@ -40,7 +40,7 @@
 // changed every 1 ms, default options): about 1.8 us per AdvanceTo, of
 // which most is the restart after each change; 0.15 us with held voltages.
 // The bank replaces the serial N_Vector kernels of the vectors CVODE uses
-// with equivalent loops compiled with the project (see the .cc file).
+// with equivalent loops compiled with the project (plugin/actuators/serial_kernels.h).
 #ifndef IPMC_SWIM_PLUGIN_IPMC_ACTUATOR_BANK_H_
 #define IPMC_SWIM_PLUGIN_IPMC_ACTUATOR_BANK_H_
 
@@ -113,6 +113,19 @@ class IpmcActuatorBank {
 
   // Zero state at time t0_s (finite); the held voltages are kept.
   void Reset(double t0_s = 0);
+
+  // x = `state` at time t_s, the held voltages kept. Throws
+  // std::invalid_argument unless t_s is finite and `state` holds States()
+  // finite values.
+  void SetState(double t_s, const Eigen::VectorXd& state);
+
+  // Makes the next AdvanceTo restart CVODE at Time_s() from State(), as a
+  // voltage change does, discarding its internal steps past Time_s(). From
+  // a restart the integration depends only on (Time_s(), State(),
+  // Voltages_V()) and the times asked for, so two banks of the same links
+  // set to the same triple (SetState, SetVoltages) give identical numbers.
+  // Reset, SetState and a voltage change imply it.
+  void Restart();
 
   // The augmented Oustaloup state x at Time_s(), links in order.
   const Eigen::VectorXd& State() const;

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "plugin/mjcf/custom_fields.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc {
 namespace {
@@ -18,7 +19,6 @@ constexpr char kAttrActuation[] = "ipmc_actuation";
 constexpr char kAttrBand[] = "ipmc_integrator_band_rad_s";
 constexpr char kAttrPairs[] = "ipmc_integrator_pairs";
 constexpr char kAttrRelTol[] = "ipmc_cvode_rel_tol";
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kMmToM = 1e-3;
 
 [[noreturn]] void Fail(const std::string& message) {
@@ -270,11 +270,84 @@ IpmcActuators::IpmcActuators(IpmcActuatorsConfig config) : config_(std::move(con
 
 void IpmcActuators::AdvanceTo(const mjData* d) {
   if (d->time < bank_->Time_s()) {
-    bank_->Reset(d->time);  // mjData was reset or rewound
-    bank_->SetVoltages(voltage_V_);
+    // mj_resetData, an earlier d->time or an older mjData copied into d,
+    // without RestoreState or ResetState: the link models cannot go back,
+    // so they restart from rest, and the program hears of it.
+    const double from_s = bank_->Time_s();
+    ResetState(d);
+    char message[320];
+    std::snprintf(message, sizeof(message),
+                  "ipmc: d->time went back from %.9g s to %.9g s without ipmc::RestoreState or "
+                  "ipmc::ResetState; the IPMC link models restart from rest (0 V) at %.9g s",
+                  from_s, d->time, d->time);
+    mju_warning(message);
   } else if (d->time > bank_->Time_s()) {
     bank_->AdvanceTo(d->time);
   }
+}
+
+CouplingState IpmcActuators::SaveState() {
+  bank_->Restart();
+  CouplingState state;
+  state.time_s = bank_->Time_s();
+  const Eigen::VectorXd& x = bank_->State();
+  state.actuator_state.assign(x.data(), x.data() + x.size());
+  state.voltage_V = voltage_V_;
+  state.curvature_1_m = curvature_1_m_;
+  state.clamp_count = clamp_count_;
+  return state;
+}
+
+void IpmcActuators::RestoreState(const mjData* d, const CouplingState& state) {
+  const auto require_size = [](const char* field, size_t got, size_t needed, const char* what) {
+    if (got != needed) {
+      Fail(std::string("RestoreState: ") + field + " must hold " + std::to_string(needed) +
+           " values, " + what + " (got " + std::to_string(got) + ")");
+    }
+  };
+  const auto require_finite = [](const char* field, const std::vector<double>& values) {
+    for (size_t i = 0; i < values.size(); ++i) {
+      if (!std::isfinite(values[i])) {
+        Fail(std::string("RestoreState: ") + field + "[" + std::to_string(i) + "] must be finite");
+      }
+    }
+  };
+  require_size("actuator_state", state.actuator_state.size(),
+               static_cast<size_t>(bank_->States()), "the link models' states");
+  require_size("voltage_V", state.voltage_V.size(), voltage_V_.size(), "one per link");
+  require_size("curvature_1_m", state.curvature_1_m.size(), curvature_1_m_.size(), "one per link");
+  require_finite("actuator_state", state.actuator_state);
+  require_finite("voltage_V", state.voltage_V);
+  require_finite("curvature_1_m", state.curvature_1_m);
+  if (state.clamp_count < 0) {
+    Fail("RestoreState: clamp_count must be >= 0 (got " + std::to_string(state.clamp_count) + ")");
+  }
+  if (!std::isfinite(state.time_s) || state.time_s > d->time) {
+    char message[200];
+    std::snprintf(message, sizeof(message),
+                  "RestoreState: time_s must be finite and <= d->time = %.17g s (got %.17g s); "
+                  "copy the saved mjData into d first",
+                  d->time, state.time_s);
+    Fail(message);
+  }
+  voltage_V_ = state.voltage_V;
+  if (config_.actuation == Actuation::kSingle) {
+    for (size_t q = 1; q < voltage_V_.size(); ++q) voltage_V_[q] = 0.0;
+  }
+  bank_->SetVoltages(voltage_V_);
+  bank_->SetState(state.time_s, Eigen::Map<const Eigen::VectorXd>(
+                                    state.actuator_state.data(),
+                                    static_cast<Eigen::Index>(state.actuator_state.size())));
+  curvature_1_m_ = state.curvature_1_m;
+  clamp_count_ = state.clamp_count;
+}
+
+void IpmcActuators::ResetState(const mjData* d) {
+  voltage_V_.assign(voltage_V_.size(), 0.0);
+  bank_->SetVoltages(voltage_V_);
+  bank_->Reset(d->time);
+  curvature_1_m_.assign(curvature_1_m_.size(), 0.0);
+  clamp_count_ = 0;
 }
 
 void IpmcActuators::SetVoltages(const mjData* d, const std::vector<double>& voltage_V) {
@@ -302,10 +375,12 @@ void IpmcActuators::ApplyFreeShape(const mjModel* m, mjData* d, int q, double de
     kappa_1_m = shape.Curvature_1_m(deflection_mm * kMmToM, curvature_1_m_[q], &clamped);
   }
   if (clamped && clamp_count_++ == 0) {
-    std::fprintf(stderr,
-                 "warning: ipmc link %d: free deflection %.3g mm exceeds its reach %.3g mm; "
-                 "clamped\n",
-                 q + 1, deflection_mm, shape.Reach_m() / kMmToM);
+    char message[200];
+    std::snprintf(message, sizeof(message),
+                  "ipmc link %d: free deflection %.6g mm at t = %.6g s exceeds the link's reach "
+                  "%.6g mm; clamped (reported once per coupling)",
+                  q + 1, deflection_mm, d->time, shape.Reach_m() / kMmToM);
+    mju_warning(message);
   }
   curvature_1_m_[q] = kappa_1_m;
   for (size_t i = 0; i < chain.joints.size(); ++i) {

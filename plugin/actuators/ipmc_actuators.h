@@ -19,7 +19,8 @@
 // the midpoint rule of the arc's integral of sin(kappa s) ds, so the free
 // shape converges to the arc as 1/n^2. For n = 1 this is the rigid link's
 // theta0 = asin(delta_free_q / L_q). A deflection beyond the chain's reach
-// is clamped to it (for n = 1, theta0 = +-pi/2) with a warning.
+// is clamped to it (for n = 1, theta0 = +-pi/2); the first clamp of a
+// coupling is reported through mju_warning.
 // delta_free_q is the output of the link's model P_q(s) = s^-0.5 G_q(s)
 // (plugin/actuators/ipmc_link_model.h) driven by its voltage, integrated by CVODE
 // (plugin/actuators/ipmc_actuator_bank.h) in mjcb_control.
@@ -52,6 +53,7 @@
 #include <string>
 #include <vector>
 
+#include "ipmc_swim/ipmc_swim.h"
 #include "plugin/actuators/ipmc_actuator_bank.h"
 #include "plugin/actuators/ipmc_link_model.h"
 
@@ -144,6 +146,19 @@ class IpmcActuators {
   // into d->ctrl. Called from mjcb_control.
   void Update(const mjModel* m, mjData* d);
 
+  // The state the next Update depends on (ipmc_swim.h: SaveState). Makes
+  // the bank restart at the saved time, so that this coupling and every
+  // one restored from the result continue identically.
+  CouplingState SaveState();
+  // Sets the state saved by SaveState from a coupling of the same model.
+  // Throws std::invalid_argument naming the field on a wrong size, a
+  // non-finite value, a negative clamp_count or time_s > d->time; changes
+  // nothing then.
+  void RestoreState(const mjData* d, const CouplingState& state);
+  // The state of a new coupling at d->time: zero link states and
+  // voltages, zero curvatures, no clamps counted.
+  void ResetState(const mjData* d);
+
   // The links' free tip deflections at the last update [mm].
   std::vector<double> FreeTipDeflection_mm() const { return bank_->FreeTipDeflection_mm(); }
   double FreeTipDeflection_mm(int link) const { return bank_->FreeTipDeflection_mm(link); }
@@ -153,6 +168,8 @@ class IpmcActuators {
   long ClampCount() const { return clamp_count_; }
 
  private:
+  // Advances the bank to d->time; an earlier d->time resets the state
+  // (ResetState) and is reported through mju_warning.
   void AdvanceTo(const mjData* d);
   // Writes link q's active moments k_i theta0_i into d->ctrl.
   void ApplyFreeShape(const mjModel* m, mjData* d, int q, double deflection_mm);
@@ -160,10 +177,11 @@ class IpmcActuators {
   IpmcActuatorsConfig config_;
   std::vector<double> length_m_;
   std::vector<ChainShape> shapes_;
+  // The state (CouplingState) besides the bank's:
   std::vector<double> curvature_1_m_;  // last kappa of each link (Newton's start)
-  std::vector<double> voltage_V_;
-  std::unique_ptr<IpmcActuatorBank> bank_;
+  std::vector<double> voltage_V_;      // held voltages, passive links at 0 V
   long clamp_count_ = 0;
+  std::unique_ptr<IpmcActuatorBank> bank_;
 };
 
 }  // namespace ipmc

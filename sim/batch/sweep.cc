@@ -2,8 +2,6 @@
 // point's scenario is built at the TOML level and read by ParseScenario
 // before anything runs, then the points run on a pool of threads, each
 // writing only its own row.
-#include "sim/io/toml_names.h"
-#include "sim/io/files.h"
 #include "sim/batch/sweep.h"
 
 #include <mujoco/mujoco.h>
@@ -13,6 +11,7 @@
 #include <atomic>
 #include <charconv>
 #include <chrono>
+#include <climits>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -23,6 +22,7 @@
 #include <iterator>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -30,11 +30,17 @@
 #include <thread>
 #include <utility>
 
-#include "sim/runs/closed_loop_run.h"
 #include "sim/core/link_sensors.h"
 #include "sim/core/mujoco_warnings.h"
-#include "sim/runs/output.h"
 #include "sim/core/simulation.h"
+#include "sim/io/columns.h"
+#include "sim/io/csv.h"
+#include "sim/io/error.h"
+#include "sim/io/files.h"
+#include "sim/io/numbers.h"
+#include "sim/io/toml.h"
+#include "sim/runs/closed_loop_run.h"
+#include "sim/runs/output.h"
 
 namespace ipmc {
 namespace {
@@ -47,16 +53,6 @@ constexpr char kSet[] = "set";
 constexpr char kGrid[] = "grid";
 constexpr char kPoint[] = "point";
 
-// Table columns.
-constexpr char kPointColumn[] = "point";
-constexpr char kStatusColumn[] = "status";
-constexpr char kErrorColumn[] = "error";
-constexpr char kOk[] = "ok";
-constexpr char kError[] = "error";
-constexpr const char* kLinkColumns[] = {"iae_mm_s", "itae_mm_s2", "rms_voltage_V",
-                                        "clamped_fraction"};
-constexpr const char* kSwimColumns[] = {"last_cycle_com_along_mm", "mean_speed_along_mm_s",
-                                        "reynolds_tip", "reynolds_swim"};
 
 // The scenario reader's words for a key of the other kind of its table
 // ("controller.kp applies only to kind = \"pid\" (kind is ...)", or
@@ -65,27 +61,6 @@ constexpr char kOtherKindMessage[] = " applies only to ";
 
 // A grid this large is a mistake in the sweep file, not a plan.
 constexpr double kMaxPoints = 1e6;
-
-std::string OneLine(std::string text) {
-  std::replace_if(
-      text.begin(), text.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
-  return text;
-}
-
-// The shortest decimal that reads back as `value`.
-std::string Shortest(double value) {
-  char buffer[64];
-  const std::to_chars_result result =
-      std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::general);
-  return std::string(buffer, result.ptr);
-}
-
-// Results: max_digits10 significant digits, so every double reads back exactly.
-std::string FullPrecision(double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), "%.17g", value);
-  return buffer;
-}
 
 std::string TypeName(const toml::node& node) { return TomlTypeName(node.type()); }
 
@@ -97,7 +72,7 @@ std::string ValueText(const toml::node& node, bool in_array = false) {
     return in_array ? nlohmann::json(text->get()).dump() : OneLine(text->get());
   }
   if (const auto* integer = node.as_integer()) return std::to_string(integer->get());
-  if (const auto* number = node.as_floating_point()) return Shortest(number->get());
+  if (const auto* number = node.as_floating_point()) return FormatShortest(number->get());
   if (const auto* boolean = node.as_boolean()) return boolean->get() ? "true" : "false";
   if (const auto* array = node.as_array()) {
     std::string joined = "[";
@@ -110,27 +85,6 @@ std::string ValueText(const toml::node& node, bool in_array = false) {
   std::ostringstream text;  // dates, times, tables: TOML's own text
   node.visit([&](const auto& value) { text << value; });
   return OneLine(text.str());
-}
-
-std::string ReadTextFile(const std::string& path, const std::string& what) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw std::runtime_error(path + ": cannot open the " + what);
-  std::ostringstream text;
-  text << file.rdbuf();
-  if (file.bad()) throw std::runtime_error(path + ": cannot read the " + what);
-  return text.str();
-}
-
-// TOML syntax errors as one line, "SOURCE:LINE:COLUMN: description".
-toml::table ParseToml(const std::string& text, const std::string& source) {
-  try {
-    return toml::parse(text, source);
-  } catch (const toml::parse_error& error) {
-    const toml::source_position& where = error.source().begin;
-    throw std::runtime_error(OneLine(source + ":" + std::to_string(where.line) + ":" +
-                                     std::to_string(where.column) + ": " +
-                                     std::string(error.description())));
-  }
 }
 
 // One replaced (or added) key of the base scenario.
@@ -174,6 +128,7 @@ struct PointScenario {
   std::optional<ScenarioConfig> scenario;
   std::string error;   // relocated: names the sweep file or the base
   bool fatal = false;  // an unknown or ill-typed override: stops the sweep
+  std::string text;    // the TOML read
 };
 
 // One point of the sweep file: its overrides and their printed values
@@ -202,6 +157,8 @@ class SweepReader {
   }
 
   SweepPlan Read(const std::string& toml_text);
+  // One scenario: the base (none if base_path is empty) with `overrides`.
+  ScenarioConfig ReadOne(const std::string& base_path, const toml::table& overrides);
 
  private:
   void ReadBase(const toml::table& root);
@@ -464,7 +421,8 @@ ScenarioError SweepReader::Locate(const std::string& message, const std::string&
   }
   if (origin != nullptr) {
     error.in_sweep = true;
-    error.message = source_ + ":" + std::to_string(origin->line) + ": " + rest;
+    const std::string line = origin->line > 0 ? ":" + std::to_string(origin->line) : "";
+    error.message = source_ + line + ": " + rest;
   } else if (const toml::key* key = FindKey(base_, error.key)) {
     error.in_base = true;
     error.message = base_path_ + ":" + std::to_string(key->source().begin.line) + ": " + rest;
@@ -478,6 +436,7 @@ PointScenario SweepReader::ReadScenario(const std::vector<const Override*>& over
   for (;;) {
     std::ostringstream text;
     text << root;
+    point.text = text.str();
     try {
       point.scenario = ParseScenario(text.str(), base_path_);
       return point;
@@ -517,8 +476,8 @@ std::vector<PointOverrides> SweepReader::ReadGrid(const toml::table& grid,
   }
   RejectRepeatedKeys(all_keys);
   if (count > kMaxPoints) {
-    Fail(grid_line, "the grid has " + Shortest(count) + " points (at most " +
-                        Shortest(kMaxPoints) + ")");
+    Fail(grid_line, "the grid has " + FormatShortest(count) + " points (at most " +
+                        FormatShortest(kMaxPoints) + ")");
   }
   for (const Axis& axis : axes) {
     for (const toml::node* value : axis.values) {
@@ -639,9 +598,27 @@ SweepPlan SweepReader::Read(const std::string& toml_text) {
     point.values = std::move(points[index].printed);
     point.scenario = std::move(read.scenario);
     point.error = std::move(read.error);
+    point.scenario_toml = std::move(read.text);
     plan.points.push_back(std::move(point));
   }
   return plan;
+}
+
+ScenarioConfig SweepReader::ReadOne(const std::string& base_path, const toml::table& overrides) {
+  base_path_ = base_path.empty() ? source_ : base_path;
+  if (!base_path.empty()) {
+    const std::string text = ReadTextFile(base_path_, "scenario file");
+    base_ = ParseToml(text, base_path_);
+    ParseScenario(text, base_path_);  // the base must be a scenario by itself
+  }
+  std::vector<Override> entries;
+  FlattenOverrides(overrides, "", &entries);
+  std::vector<const Override*> pointers;
+  for (const Override& entry : entries) pointers.push_back(&entry);
+  RejectRepeatedKeys(pointers);
+  PointScenario point = ReadScenario(pointers);
+  if (!point.scenario) throw std::runtime_error(point.error);
+  return std::move(*point.scenario);
 }
 
 // The number of IPMC links of each model the points use (as the run
@@ -687,17 +664,17 @@ std::vector<std::string> RunPoint(const SweepPlan& plan, const SweepPoint& point
       *error = OneLine(failure.what());
     }
   }
-  row.push_back(result ? kOk : kError);
+  row.push_back(result ? columns::kStatusOk : columns::kStatusError);
   row.push_back(result ? "" : *error);
   for (int q = 0; q < plan.links; ++q) {
     if (result && q < static_cast<int>(result->links.size())) {
       const LinkTracking& link = result->links[q];
       for (double value : {link.iae_mm_s, link.itae_mm_s2, link.rms_voltage_V,
                            link.saturated_fraction}) {
-        row.push_back(FullPrecision(value));
+        row.push_back(FormatDouble(value));
       }
     } else {
-      row.insert(row.end(), std::size(kLinkColumns), "");
+      row.insert(row.end(), std::size(columns::kLinkResults), "");
     }
   }
   if (result) {
@@ -705,95 +682,51 @@ std::vector<std::string> RunPoint(const SweepPlan& plan, const SweepPoint& point
     const double last_cycle = swim.per_cycle.empty() ? 0.0 : swim.per_cycle.back().com_along;
     for (double value : {last_cycle, swim.mean_speed_along_mm_s, swim.reynolds_tip,
                          swim.reynolds_swim}) {
-      row.push_back(FullPrecision(value));
+      row.push_back(FormatDouble(value));
     }
   } else {
-    row.insert(row.end(), std::size(kSwimColumns), "");
+    row.insert(row.end(), std::size(columns::kSwimResults), "");
   }
   return row;
 }
 
 // The status column of a table, checked.
-size_t StatusColumn(const std::vector<std::string>& columns, const std::string& source) {
-  const auto status = std::find(columns.begin(), columns.end(), kStatusColumn);
-  if (columns.empty() || columns.front() != kPointColumn || status == columns.end() ||
-      status + 1 == columns.end() || *(status + 1) != kErrorColumn) {
-    throw std::runtime_error(source +
-                             ":1: not a sweep table (expected columns point, ..., status, error, ...)");
+size_t StatusColumn(const std::vector<std::string>& names, const std::string& source) {
+  const auto status = std::find(names.begin(), names.end(), columns::kStatus);
+  if (names.empty() || names.front() != columns::kPoint || status == names.end() ||
+      status + 1 == names.end() || *(status + 1) != columns::kError) {
+    throw InputError(InputProblem::kSyntax, {source, 1}, "",
+                     "not a sweep table (expected columns point, ..., status, error, ...)");
   }
-  return static_cast<size_t>(status - columns.begin());
+  return static_cast<size_t>(status - names.begin());
 }
 
-bool ParseDouble(const std::string& text, double* value) {
-  const char* end = text.data() + text.size();
-  const std::from_chars_result result = std::from_chars(text.data(), end, *value);
-  return result.ec == std::errc() && result.ptr == end;
-}
-
-bool ParseIndex(const std::string& text, long* value) {
-  const char* end = text.data() + text.size();
-  const std::from_chars_result result = std::from_chars(text.data(), end, *value);
-  return !text.empty() && text[0] != '-' && result.ec == std::errc() && result.ptr == end;
+// A point index: a whole number >= 0 without a sign.
+std::optional<long> PointIndex(const std::string& text) {
+  if (text.empty() || text[0] == '-' || text[0] == '+') return std::nullopt;
+  return ParseInteger(text);
 }
 
 nlohmann::ordered_json NumberJson(const std::string& text) {
-  double value = 0.0;
-  if (!ParseDouble(text, &value) || !std::isfinite(value)) return nullptr;
-  return value;
+  const std::optional<double> value = ParseDouble(text);
+  if (!value || !std::isfinite(*value)) return nullptr;
+  return *value;
 }
 
 nlohmann::ordered_json SweptValueJson(const std::string& text) {
   if (text.empty()) return nullptr;
   if (text == "true") return true;
   if (text == "false") return false;
-  long integer = 0;
-  if (text[0] == '-' ? ParseIndex(text.substr(1), &integer) : ParseIndex(text, &integer)) {
-    return text[0] == '-' ? -integer : integer;
-  }
-  double value = 0.0;
-  if (ParseDouble(text, &value) && std::isfinite(value)) return value;
+  // The table writes numbers without a '+' (ValueText): one with it was a string.
+  if (text[0] == '+') return text;
+  if (const std::optional<long> integer = ParseInteger(text)) return *integer;
+  const std::optional<double> value = ParseDouble(text);
+  if (value && std::isfinite(*value)) return *value;
   if (text.front() == '[') {
     nlohmann::ordered_json array = nlohmann::ordered_json::parse(text, nullptr, false);
     if (!array.is_discarded()) return array;
   }
   return text;
-}
-
-std::string CsvCell(const std::string& text) {
-  if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
-  std::string quoted = "\"";
-  for (char c : text) {
-    if (c == '"') quoted += '"';
-    quoted += c;
-  }
-  return quoted + "\"";
-}
-
-// One CSV record (no line breaks inside cells: the tables have none).
-std::vector<std::string> SplitCsvLine(const std::string& line, const std::string& where) {
-  std::vector<std::string> cells(1);
-  bool quoted = false;
-  for (size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (quoted) {
-      if (c != '"') {
-        cells.back() += c;
-      } else if (i + 1 < line.size() && line[i + 1] == '"') {
-        cells.back() += '"';
-        ++i;
-      } else {
-        quoted = false;
-      }
-    } else if (c == ',') {
-      cells.emplace_back();
-    } else if (c == '"' && cells.back().empty()) {
-      quoted = true;
-    } else {
-      cells.back() += c;
-    }
-  }
-  if (quoted) throw std::runtime_error(where + ": unterminated quoted cell");
-  return cells;
 }
 
 }  // namespace
@@ -809,35 +742,37 @@ SweepPlan LoadSweep(const std::string& path) {
   return ParseSweep(ReadTextFile(path, "sweep file"), path);
 }
 
+ScenarioConfig ScenarioWithOverrides(const std::string& base_path, const toml::table& overrides,
+                                     const std::string& source) {
+  return SweepReader(source).ReadOne(base_path, overrides);
+}
+
 SweepShard ParseSweepShard(const std::string& text) {
-  SweepShard shard;
   const std::string::size_type slash = text.find('/');
-  const char* begin = text.data();
-  const char* end = begin + text.size();
-  bool valid = slash != std::string::npos;
-  if (valid) {
-    const auto index = std::from_chars(begin, begin + slash, shard.index);
-    const auto count = std::from_chars(begin + slash + 1, end, shard.count);
-    valid = index.ec == std::errc() && index.ptr == begin + slash && count.ec == std::errc() &&
-            count.ptr == end && shard.count >= 1 && shard.index >= 1 &&
-            shard.index <= shard.count;
+  std::optional<long> index, count;
+  if (slash != std::string::npos) {
+    index = ParseInteger(std::string_view(text).substr(0, slash));
+    count = ParseInteger(std::string_view(text).substr(slash + 1));
   }
-  if (!valid) {
+  if (!index || !count || *count < 1 || *index < 1 || *index > *count || *count > INT_MAX) {
     throw std::invalid_argument("sweep: --shard must be i/n with 1 <= i <= n (got '" + text + "')");
   }
+  SweepShard shard;
+  shard.index = static_cast<int>(*index);
+  shard.count = static_cast<int>(*count);
   return shard;
 }
 
 std::vector<std::string> SweepColumns(const SweepPlan& plan) {
-  std::vector<std::string> columns = {kPointColumn};
-  columns.insert(columns.end(), plan.keys.begin(), plan.keys.end());
-  columns.push_back(kStatusColumn);
-  columns.push_back(kErrorColumn);
+  std::vector<std::string> names = {columns::kPoint};
+  names.insert(names.end(), plan.keys.begin(), plan.keys.end());
+  names.push_back(columns::kStatus);
+  names.push_back(columns::kError);
   for (int q = 1; q <= plan.links; ++q) {
-    for (const char* name : kLinkColumns) columns.push_back("link" + std::to_string(q) + "_" + name);
+    for (const char* result : columns::kLinkResults) names.push_back(columns::LinkResult(q, result));
   }
-  columns.insert(columns.end(), std::begin(kSwimColumns), std::end(kSwimColumns));
-  return columns;
+  names.insert(names.end(), std::begin(columns::kSwimResults), std::end(columns::kSwimResults));
+  return names;
 }
 
 SweepTable RunSweep(const SweepPlan& plan, const SweepOptions& options) {
@@ -855,24 +790,32 @@ SweepTable RunSweep(const SweepPlan& plan, const SweepOptions& options) {
   for (const SweepPoint& point : plan.points) {
     if (point.index % shard.count == shard.index - 1) todo.push_back(&point);
   }
+  SweepTable table;
+  table.columns = SweepColumns(plan);
+  table.rows.resize(todo.size());
   // Rows go in index order; runs start longest first, so that the last
-  // runs to finish are short ones.
-  std::vector<size_t> schedule(todo.size());
-  for (size_t k = 0; k < todo.size(); ++k) schedule[k] = k;
+  // runs to finish are short ones. Finished points keep their rows.
+  std::vector<size_t> schedule;
+  for (size_t k = 0; k < todo.size(); ++k) {
+    if (options.finished != nullptr && options.finished->count(todo[k]->index) > 0) {
+      table.rows[k] = options.finished->at(todo[k]->index);
+    } else {
+      schedule.push_back(k);
+    }
+  }
   std::stable_sort(schedule.begin(), schedule.end(), [&](size_t a, size_t b) {
     return EstimatedSteps(*todo[a]) > EstimatedSteps(*todo[b]);
   });
 
-  SweepTable table;
-  table.columns = SweepColumns(plan);
-  table.rows.resize(todo.size());
   std::atomic<size_t> next{0};
   std::mutex progress_mutex;
   int done = 0;
   std::exception_ptr callback_failure;
+  std::atomic<bool> stopped{false};  // by a failed callback: no point starts after it
   const auto start = std::chrono::steady_clock::now();
   auto work = [&] {
-    for (size_t slot = next++; slot < todo.size(); slot = next++) {
+    for (size_t slot = next++; slot < schedule.size(); slot = next++) {
+      if (stopped || (options.stop_requested && options.stop_requested())) break;
       const size_t k = schedule[slot];
       std::string error;
       table.rows[k] = RunPoint(plan, *todo[k], &error);
@@ -881,20 +824,22 @@ SweepTable RunSweep(const SweepPlan& plan, const SweepOptions& options) {
       if (!options.on_point_done || callback_failure) continue;
       SweepProgress progress;
       progress.done = done;
-      progress.total = static_cast<int>(todo.size());
+      progress.total = static_cast<int>(schedule.size());
       progress.point = todo[k]->index;
-      progress.ok = table.rows[k][plan.keys.size() + 1] == kOk;
+      progress.ok = table.rows[k][plan.keys.size() + 1] == columns::kStatusOk;
       progress.error = error;
       progress.elapsed_s =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      progress.row = &table.rows[k];
       try {
         options.on_point_done(progress);
       } catch (...) {
         callback_failure = std::current_exception();
+        stopped = true;
       }
     }
   };
-  const size_t threads = std::min<size_t>(options.jobs, todo.size());
+  const size_t threads = std::min<size_t>(options.jobs, schedule.size());
   if (threads <= 1) {
     work();
   } else {
@@ -904,21 +849,18 @@ SweepTable RunSweep(const SweepPlan& plan, const SweepOptions& options) {
     for (std::thread& thread : pool) thread.join();
   }
   if (callback_failure) std::rethrow_exception(callback_failure);
+  // A stopped sweep: the points that did not run have no row.
+  table.rows.erase(std::remove_if(table.rows.begin(), table.rows.end(),
+                                  [](const std::vector<std::string>& row) { return row.empty(); }),
+                   table.rows.end());
   return table;
 }
 
 std::string SweepTableCsv(const SweepTable& table) {
-  std::string csv;
-  auto add_row = [&](const std::vector<std::string>& cells) {
-    for (size_t c = 0; c < cells.size(); ++c) {
-      if (c > 0) csv += ',';
-      csv += CsvCell(cells[c]);
-    }
-    csv += '\n';
-  };
-  add_row(table.columns);
-  for (const std::vector<std::string>& row : table.rows) add_row(row);
-  return csv;
+  CsvWriter csv;
+  csv.Row(table.columns);
+  for (const std::vector<std::string>& row : table.rows) csv.Row(row);
+  return csv.Text();
 }
 
 nlohmann::ordered_json SweepTableJson(const SweepTable& table) {
@@ -928,9 +870,8 @@ nlohmann::ordered_json SweepTableJson(const SweepTable& table) {
     nlohmann::ordered_json point = nlohmann::ordered_json::object();
     for (size_t c = 0; c < table.columns.size() && c < row.size(); ++c) {
       nlohmann::ordered_json& cell = point[table.columns[c]];
-      long index = 0;
-      if (c == 0 && ParseIndex(row[c], &index)) {
-        cell = index;
+      if (const std::optional<long> index = PointIndex(row[c]); c == 0 && index) {
+        cell = *index;
       } else if (c == status || c == status + 1) {
         cell = row[c];
       } else if (c < status) {
@@ -945,36 +886,26 @@ nlohmann::ordered_json SweepTableJson(const SweepTable& table) {
 }
 
 SweepTable ParseSweepTableCsv(const std::string& csv_text, const std::string& source) {
+  const CsvTable csv = CsvTable::Parse(csv_text, source);
+  StatusColumn(csv.columns(), source);
   SweepTable table;
-  std::istringstream lines(csv_text);
-  std::string line;
-  int line_number = 0;
+  table.columns = csv.columns();
   std::set<long> indices;
-  while (std::getline(lines, line)) {
-    ++line_number;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    const std::string where = source + ":" + std::to_string(line_number);
-    if (line_number == 1) {
-      table.columns = SplitCsvLine(line, where);
-      StatusColumn(table.columns, source);
-      continue;
+  for (size_t r = 0; r < csv.Rows(); ++r) {
+    const std::vector<std::string>& row = csv.Row(r);
+    const InputLocation where{source, static_cast<std::uint32_t>(csv.Line(r))};
+    const std::optional<long> index = PointIndex(row[0]);
+    if (!index) {
+      throw InputError(InputProblem::kBadValue, where, columns::kPoint,
+                       "point must be a whole number >= 0 (got '" + row[0] + "')",
+                       "a whole number >= 0");
     }
-    if (line.empty()) continue;
-    std::vector<std::string> row = SplitCsvLine(line, where);
-    if (row.size() != table.columns.size()) {
-      throw std::runtime_error(where + ": expected " + std::to_string(table.columns.size()) +
-                               " cells, got " + std::to_string(row.size()));
+    if (!indices.insert(*index).second) {
+      throw InputError(InputProblem::kBadValue, where, columns::kPoint,
+                       "point " + row[0] + " appears twice");
     }
-    long index = 0;
-    if (!ParseIndex(row[0], &index)) {
-      throw std::runtime_error(where + ": point must be a whole number >= 0 (got '" + row[0] + "')");
-    }
-    if (!indices.insert(index).second) {
-      throw std::runtime_error(where + ": point " + row[0] + " appears twice");
-    }
-    table.rows.push_back(std::move(row));
+    table.rows.push_back(row);
   }
-  if (line_number == 0) throw std::runtime_error(source + ": empty file, not a sweep table");
   return table;
 }
 
@@ -983,7 +914,7 @@ SweepTable LoadSweepTableCsv(const std::string& path) {
 }
 
 SweepTable MergeSweepTables(const std::vector<SweepTable>& tables,
-                            const std::vector<std::string>& sources) {
+                            const std::vector<std::string>& sources, bool allow_missing) {
   if (tables.empty() || tables.size() != sources.size()) {
     throw std::invalid_argument("merge: needs one or more tables, each with its file name");
   }
@@ -1006,11 +937,9 @@ SweepTable MergeSweepTables(const std::vector<SweepTable>& tables,
                                ours + ")");
     }
     for (const std::vector<std::string>& row : table.rows) {
-      long index = 0;
-      if (row.empty() || !ParseIndex(row[0], &index)) {
-        throw std::runtime_error(sources[t] + ": a row without a point index");
-      }
-      const auto [it, added] = rows.emplace(index, std::make_pair(&row, t));
+      const std::optional<long> index = row.empty() ? std::nullopt : PointIndex(row[0]);
+      if (!index) throw std::runtime_error(sources[t] + ": a row without a point index");
+      const auto [it, added] = rows.emplace(*index, std::make_pair(&row, t));
       if (!added) {
         throw std::runtime_error(sources[t] + ": point " + row[0] + " is also in " +
                                  sources[it->second.second]);
@@ -1019,7 +948,7 @@ SweepTable MergeSweepTables(const std::vector<SweepTable>& tables,
   }
   long expected = 0;
   for (const auto& [index, row] : rows) {
-    if (index != expected) {
+    if (index != expected && !allow_missing) {
       std::string files;
       for (const std::string& source : sources) files += (files.empty() ? "" : ", ") + source;
       throw std::runtime_error("merge: point " + std::to_string(expected) +
@@ -1033,8 +962,7 @@ SweepTable MergeSweepTables(const std::vector<SweepTable>& tables,
 }
 
 void WriteSweepTable(const std::string& prefix, const SweepTable& table) {
-  const fs::path directory = fs::path(prefix).parent_path();
-  if (!directory.empty()) EnsureDirectory(directory.string());
+  EnsureParentDirectory(prefix);
   const std::string json = SweepTableJson(table).dump(2) + "\n";
   WriteFileAtomically(prefix + ".csv", SweepTableCsv(table));
   WriteFileAtomically(prefix + ".json", json);

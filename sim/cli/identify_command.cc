@@ -23,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "sim/io/files.h"
+#include "sim/core/data_paths.h"
 #include "sim/io/numbers.h"
 #include "controllers/linear/frequency_response.h"
 #include "controllers/reference_model.h"
@@ -30,6 +31,7 @@
 #include "plugin/actuators/ipmc_link_model.h"
 #include "sim/runs/bench_run.h"
 #include "sim/identify/controller_design.h"
+#include "sim/identify/identify_run.h"
 #include "sim/identify/levy.h"
 #include "sim/runs/output.h"
 #include "sim/core/simulation.h"
@@ -49,10 +51,6 @@ constexpr char kDriveEach[] = "each";
 constexpr char kDriveFirst[] = "first";
 constexpr char kTimeColumn[] = "time_s";
 
-constexpr double kPi = 3.141592653589793;
-constexpr double kTwoPi = 2 * kPi;
-// The time_s column must give the sample rate to this relative tolerance.
-constexpr double kSampleRateTolerance = 1e-3;
 // The bench records at the data-acquisition board's rate.
 constexpr double kBenchSampleRate_Hz = 1000.0;
 // Paper's eq. 12 and eq. 14, for comparison.
@@ -63,7 +61,6 @@ constexpr double kPaperFractionalOrder = 0.62;
 constexpr double kMaxDuration_s = 1e4;
 constexpr int kMaxRepeats = 100;
 constexpr double kMaxAmplitude_V = 100.0;  // as BenchSignal
-constexpr double kMaxTuningSamples = 1e7;
 
 double Seconds(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -99,45 +96,6 @@ void RequirePhaseMargin(const std::string& command, double value) {
   if (!std::isfinite(value) || !(value > 0) || !(value < 180)) {
     ThrowOption(command, "--phase-margin-deg", "in (0, 180)", FormatDouble(value));
   }
-}
-
-LevyOptions BandOptions(const std::string& command, const std::vector<double>& band) {
-  if (band.size() != 2) {
-    ThrowOption(command, "--band-rad-s", "two values LOW,HIGH",
-                std::to_string(band.size()) + " values");
-  }
-  if (!std::isfinite(band[0]) || !std::isfinite(band[1]) || !(band[0] > 0) ||
-      !(band[1] > band[0])) {
-    ThrowOption(command, "--band-rad-s", "0 < LOW < HIGH",
-                FormatDouble(band[0]) + "," + FormatDouble(band[1]));
-  }
-  LevyOptions options;
-  options.w_low_rad_s = band[0];
-  options.w_high_rad_s = band[1];
-  return options;
-}
-
-// Tuning options for a horizon and controller rate given on the command line.
-PidTuningOptions TuningOptions(const std::string& command, double crossover_rad_s,
-                               double reference_order, double horizon_s, double sample_rate_hz) {
-  RequireFinitePositive(command, "--horizon-s", horizon_s);
-  RequireFinitePositive(command, "--sample-rate-hz", sample_rate_hz);
-  const double samples = horizon_s * sample_rate_hz;
-  if (std::abs(samples - std::round(samples)) > 1e-9 * samples || samples < 2 ||
-      samples > kMaxTuningSamples) {
-    ThrowOption(command, "--horizon-s x --sample-rate-hz",
-                "a whole number of samples in [2, " + FormatDouble(kMaxTuningSamples) + "]",
-                FormatDouble(samples));
-  }
-  if (!std::isfinite(reference_order) || !(reference_order > 0) || reference_order > 2) {
-    ThrowOption(command, "--reference-order", "in (0, 2]", FormatDouble(reference_order));
-  }
-  PidTuningOptions options;
-  options.reference.crossover_rad_s = crossover_rad_s;
-  options.reference.order = reference_order;
-  options.horizon_s = horizon_s;
-  options.sample_period_s = 1.0 / sample_rate_hz;
-  return options;
 }
 
 // ------------------------------------------------------------------ CSV ---
@@ -228,21 +186,6 @@ CsvData ReadCsvColumns(const std::string& path, const std::vector<std::string>& 
 
 // --------------------------------------------------------- formatting ---
 
-std::vector<double> UnwrappedPhaseDeg(const std::vector<Complex>& values) {
-  std::vector<double> phase(values.size());
-  double offset = 0;
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    const double raw = std::arg(values[i]) * 180 / kPi;
-    if (i > 0) {
-      const double previous = phase[i - 1] - offset;
-      if (raw - previous > 180) offset -= 360;
-      if (raw - previous < -180) offset += 360;
-    }
-    phase[i] = raw + offset;
-  }
-  return phase;
-}
-
 std::string StabilityText(const LinkModelFit& fit) { return fit.stable ? "stable" : "UNSTABLE"; }
 
 std::string DescribeG1(const LinkModelFit& fit) {
@@ -286,52 +229,6 @@ double MeanCoherenceInBand(const FrequencyResponseEstimate& e, const FitIndices&
   return count > 0 ? sum / count : 0.0;
 }
 
-std::string ResponseCsv(const FrequencyResponseEstimate& e, const LinkIdentification& id) {
-  std::vector<Complex> p1, p2;
-  for (double w : e.w_rad_s) {
-    p1.push_back(FittedResponse(id.g1.params, w));
-    p2.push_back(FittedResponse(id.g2.params, w));
-  }
-  const std::vector<double> measured_deg = UnwrappedPhaseDeg(e.response);
-  const std::vector<double> p1_deg = UnwrappedPhaseDeg(p1);
-  const std::vector<double> p2_deg = UnwrappedPhaseDeg(p2);
-  std::ostringstream csv;
-  csv << std::setprecision(10);
-  csv << "w_rad_s,frequency_Hz,coherence,measured_re_mm_per_V,measured_im_mm_per_V,measured_db,"
-         "measured_deg,p1_db,p1_deg,p2_db,p2_deg,in_band\n";
-  for (std::size_t i = 0; i < e.w_rad_s.size(); ++i) {
-    const double w = e.w_rad_s[i];
-    const bool in_band =
-        w >= id.g1.indices.w_first_rad_s && w <= id.g1.indices.w_last_rad_s;
-    csv << w << "," << e.frequency_Hz[i] << "," << e.coherence[i] << "," << e.response[i].real()
-        << "," << e.response[i].imag() << "," << 20 * std::log10(std::abs(e.response[i])) << ","
-        << measured_deg[i] << "," << 20 * std::log10(std::abs(p1[i])) << "," << p1_deg[i] << ","
-        << 20 * std::log10(std::abs(p2[i])) << "," << p2_deg[i] << "," << (in_band ? 1 : 0)
-        << "\n";
-  }
-  return csv.str();
-}
-
-nlohmann::json IndicesJson(const FitIndices& i) {
-  return {{"J", i.levy_cost},         {"MSE", i.mse},
-          {"MAD", i.mad},             {"MD", i.max_deviation},
-          {"R2", i.r_squared},        {"points", i.points},
-          {"w_first_rad_s", i.w_first_rad_s}, {"w_last_rad_s", i.w_last_rad_s}};
-}
-
-nlohmann::json FitJson(const LinkModelFit& fit) {
-  nlohmann::json json = {{"a0_mm_per_V", fit.params.a0_mm_per_V},
-                         {"b1", fit.params.b1},
-                         {"stable", fit.stable},
-                         {"indices", IndicesJson(fit.indices)}};
-  if (fit.params.kind == IpmcModelKind::kG1) {
-    json["b2_s2"] = fit.params.b2_s2;
-  } else {
-    json["alpha"] = fit.params.alpha;
-  }
-  return json;
-}
-
 void PrintIndicesTable(const LinkIdentification& id) {
   std::printf("Table 3 indices on P = s^-0.5 G (complex response, band points):\n");
   std::printf("%-5s %12s %12s %12s %12s %9s\n", "model", "J", "MSE", "MAD", "MD", "R^2");
@@ -358,44 +255,14 @@ std::string FitBandToData(LevyOptions& levy, const FrequencyResponseEstimate& e)
 // ------------------------------------------------------------ identify ---
 
 int RunIdentify(const IdentifyArgs::Identify& args) {
-  const std::string name = kIdentifyCommand;
-  RequireFinitePositive(name, "--sample-rate-hz", args.sample_rate_hz);
-  const LevyOptions levy = BandOptions(name, args.band_rad_s);
-  if (args.input_column == args.output_column) {
-    ThrowOption(name, "--output", "a column other than --input", args.output_column);
-  }
+  args.Validate();
   const CsvData data = ReadCsvColumns(args.data_path, {args.input_column, args.output_column});
   const std::vector<double>& input = data.columns[0];
-  const std::vector<double>& output = data.columns[1];
-  if (data.time_s && data.time_s->size() >= 2) {
-    const std::vector<double>& t = *data.time_s;
-    const double spacing = (t.back() - t.front()) / (t.size() - 1);
-    if (!(spacing > 0) ||
-        std::abs(spacing * args.sample_rate_hz - 1.0) > kSampleRateTolerance) {
-      throw std::invalid_argument(
-          name + ": --sample-rate-hz " + FormatDouble(args.sample_rate_hz) +
-          " disagrees with the time_s column of " + args.data_path + " (mean spacing " +
-          FormatDouble(spacing) + " s, i.e. " + FormatDouble(1.0 / spacing) + " Hz)");
-    }
-  }
-  WelchOptions welch;
-  welch.sample_rate_Hz = args.sample_rate_hz;
-  FrequencyResponseEstimate estimate;
-  try {
-    estimate = EstimateFrequencyResponse(input, output, welch);
-  } catch (const std::invalid_argument& error) {
-    throw std::invalid_argument(args.data_path + ": " + error.what());
-  }
-  if (levy.w_low_rad_s < estimate.w_rad_s.front()) {
-    // Welch's first bin is 2 pi fs / L with L = N / 4.5.
-    const double needed_s = 4.5 * kTwoPi / levy.w_low_rad_s;
-    throw std::invalid_argument(Format(
-        "%s: --band-rad-s low end %.4g rad/s is below the first Welch bin %.4g rad/s of this "
-        "%.4g s record (8 sections with 50 %% overlap reach it from about %.4g s of data)",
-        name.c_str(), levy.w_low_rad_s, estimate.w_rad_s.front(),
-        input.size() / args.sample_rate_hz, needed_s));
-  }
-  const LinkIdentification id = IdentifyLinkModels(estimate, levy);
+  const RecordIdentification result = IdentifyRecord(
+      args, input, data.columns[1], data.time_s ? &*data.time_s : nullptr);
+  const LevyOptions& levy = result.levy;
+  const FrequencyResponseEstimate& estimate = result.estimate;
+  const LinkIdentification& id = result.id;
 
   std::printf("%s: input %s, output %s, %zu samples at %g Hz (%.6g s)\n", args.data_path.c_str(),
               args.input_column.c_str(), args.output_column.c_str(), input.size(),
@@ -411,19 +278,7 @@ int RunIdentify(const IdentifyArgs::Identify& args) {
   PrintIndicesTable(id);
 
   if (!args.out_dir.empty()) {
-    const nlohmann::json json = {
-        {"data", args.data_path},
-        {"input", args.input_column},
-        {"output", args.output_column},
-        {"sample_rate_Hz", args.sample_rate_hz},
-        {"band_rad_s", {levy.w_low_rad_s, levy.w_high_rad_s}},
-        {"welch",
-         {{"records", estimate.records},
-          {"sections", estimate.sections_per_record},
-          {"section_samples", estimate.section_samples},
-          {"section_step", estimate.section_step}}},
-        {"g1", FitJson(id.g1)},
-        {"g2", FitJson(id.g2)}};
+    const nlohmann::json json = IdentificationJson(args, result);
     EnsureDirectory(args.out_dir);
     const std::filesystem::path dir(args.out_dir);
     WriteFileAtomically((dir / "response.csv").string(), ResponseCsv(estimate, id));
@@ -435,23 +290,6 @@ int RunIdentify(const IdentifyArgs::Identify& args) {
 }
 
 // -------------------------------------------------------------- design ---
-
-struct FractionalResult {
-  FractionalIntegratorDesign design;
-  StabilityMargins margins;
-};
-
-FractionalResult DesignFractional(const FrequencyFunction& plant, double crossover_rad_s,
-                                  double phase_margin_deg) {
-  FractionalResult result;
-  result.design = DesignFractionalIntegrator(plant, crossover_rad_s, phase_margin_deg);
-  const double gain = result.design.gain;
-  const double order = result.design.order;
-  result.margins = ComputeMargins([&](double w) {
-    return gain * std::polar(std::pow(w, -order), -order * kPi / 2) * plant(w);
-  });
-  return result;
-}
 
 std::string MarginsText(const StabilityMargins& m) {
   std::string text = m.gain_crossover_rad_s
@@ -469,23 +307,8 @@ std::string PidText(const PidGains& g) {
 }
 
 int RunDesign(const IdentifyArgs::Design& args) {
-  const std::string name = kDesignCommand;
-  if (args.link < 1 || args.link > 3) {
-    ThrowOption(name, "--link", "1, 2 or 3", std::to_string(args.link));
-  }
-  if (args.plant != "g1" && args.plant != "g2") {
-    ThrowOption(name, "--plant", "g1 or g2", args.plant);
-  }
-  RequireFinitePositive(name, "--crossover-rad-s", args.crossover_rad_s);
-  RequirePhaseMargin(name, args.phase_margin_deg);
-  const PidTuningOptions tuning = TuningOptions(name, args.crossover_rad_s, args.reference_order,
-                                                args.horizon_s, args.sample_rate_hz);
-  const IpmcLinkParams params =
-      PaperLinkParams(args.link, args.plant == "g2" ? IpmcModelKind::kG2 : IpmcModelKind::kG1);
-  const FrequencyFunction plant = [params](double w) { return LinkResponseExact(params, w); };
-
-  const FractionalResult fractional =
-      DesignFractional(plant, args.crossover_rad_s, args.phase_margin_deg);
+  const LinkDesign result = DesignLink(args);
+  const FractionalResult& fractional = result.fractional;
   std::printf("plant: link %d, P = s^-0.5 %s (Table 2%s)\n", args.link,
               args.plant == "g2" ? "G2" : "G1",
               args.link == 3 && args.plant == "g1" ? ", eq. 7" : "");
@@ -499,12 +322,8 @@ int RunDesign(const IdentifyArgs::Design& args) {
               d.gain, d.order, kPaperFractionalGain, kPaperFractionalOrder);
   std::printf("  open loop (exact): %s\n", MarginsText(fractional.margins).c_str());
 
-  const Clock::time_point start = Clock::now();
-  const StateSpace accurate = AccurateLinkPlant(params);
-  const PidStepCost cost(accurate, tuning);
-  const double paper_cost = cost(kPaperPid);
-  const PidTuningResult tuned = TunePid(accurate, tuning);
-  const double tuning_s = Seconds(start);
+  const PidTuningResult& tuned = result.tuned;
+  const double paper_cost = result.paper_cost;
   std::printf("PID tuned by Nelder-Mead against 1/((s/%g)^%g + 1), J of eq. 11 over %g s, loop "
               "sampled at %g Hz (linear, no clamp):\n",
               args.crossover_rad_s, args.reference_order, args.horizon_s, args.sample_rate_hz);
@@ -517,13 +336,9 @@ int RunDesign(const IdentifyArgs::Design& args) {
   std::printf("  paper (eq. 12): %s, J = %.6f\n", PidText(kPaperPid).c_str(), paper_cost);
   std::printf("  tuned:          %s, J = %.6f (%.1f %% of the paper's)\n",
               PidText(tuned.gains).c_str(), tuned.cost, 100 * tuned.cost / paper_cost);
-  const PidGains g = tuned.gains;
-  const StabilityMargins pid_margins = ComputeMargins([&](double w) {
-    return (g.kp + g.ki / Complex(0, w) + g.kd * Complex(0, w)) * plant(w);
-  });
   std::printf("  tuned open loop (exact plant, continuous PID): %s\n",
-              MarginsText(pid_margins).c_str());
-  std::printf("  tuning time %.2f s\n", tuning_s);
+              MarginsText(result.pid_margins).c_str());
+  std::printf("  tuning time %.2f s\n", result.tuning_s);
   return 0;
 }
 
@@ -593,7 +408,7 @@ int RunPipeline(const IdentifyArgs::Pipeline& args) {
   signal.Validate();
 
   const std::string model_path = args.model_path.empty()
-                                     ? std::string(IPMC_SWIM_MODELS_DIR) + "/flagellum3_clamped.xml"
+                                     ? ModelsDir() + "/flagellum3_clamped.xml"
                                      : args.model_path;
   const bool drive_each = args.drive == kDriveEach;
   // One simulation per run, made (and attached) before the threads start.

@@ -25,6 +25,7 @@
 #include "sim/cli/sweep_command.h"
 #include "sim/cli/table5_command.h"
 #include "sim/cli/render_command.h"
+#include "sim/core/data_paths.h"
 #include "sim/core/simulation.h"
 
 namespace {
@@ -121,7 +122,7 @@ void AddGaitCommand(CLI::App& app, GaitArgs& args) {
 }
 
 struct BenchArgs {
-  std::string model_path = std::string(IPMC_SWIM_MODELS_DIR) + "/flagellum3_clamped.xml";
+  std::string model_path = ipmc::ModelsDir() + "/flagellum3_clamped.xml";
   std::string signal = "sine";
   ipmc::BenchSignal bench;
   std::string out_path;
@@ -306,6 +307,7 @@ int RunGaitCommand(const GaitArgs& args) {
 
 int main(int argc, char** argv) {
   CLI::App app{"ipmc-swim: an IPMC flagellum swimming in Stokes flow (MuJoCo 2.2)"};
+  app.set_version_flag("--version", std::string("ipmc-swim ") + ipmc::ProgramVersion());
   app.require_subcommand(1);
   GenerateArgs generate;
   GaitArgs gait;
@@ -330,6 +332,8 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::cerr << "ipmc-swim: error: " << e.what() << " (see --help)\n";

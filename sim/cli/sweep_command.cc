@@ -2,14 +2,20 @@
 
 
 #include <algorithm>
-#include <charconv>
 #include <cstdio>
+#include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
-#include <thread>
 #include <vector>
 
+#include "sim/batch/cpu_affinity.h"
+#include "sim/batch/journal.h"
 #include "sim/batch/sweep.h"
+#include "sim/io/columns.h"
+#include "sim/io/numbers.h"
+#include "sim/cli/interrupt.h"
+#include "sim/cli/slurm_command.h"
 #include "sim/io/progress_bar.h"
 
 namespace ipmc {
@@ -17,9 +23,11 @@ namespace {
 
 constexpr char kSweepCommand[] = "sweep";
 constexpr char kMergeCommand[] = "merge";
+// The shell's exit code for a process stopped by SIGINT (128 + 2).
+constexpr int kInterruptedExitCode = 130;
 
 // Result columns shown on stdout (all are in the files).
-constexpr const char* kShownResults[] = {"mean_speed_along_mm_s", "last_cycle_com_along_mm"};
+constexpr const char* kShownResults[] = {columns::kMeanSpeedAlong, columns::kLastCycleComAlong};
 
 // Progress on stderr: a bar redrawn in place on a terminal, else one line
 // per point (for logs and pipes).
@@ -51,29 +59,27 @@ class ProgressReport {
 };
 
 // A number cell at 6 significant digits; other cells as they are.
+// (The table writes numbers without a '+'; a cell with one is text.)
 std::string Readable(const std::string& cell) {
-  double value = 0.0;
-  const char* end = cell.data() + cell.size();
-  const std::from_chars_result result = std::from_chars(cell.data(), end, value);
-  if (cell.empty() || result.ec != std::errc() || result.ptr != end) return cell;
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.6g", value);
-  return buffer;
+  const std::optional<double> value = cell.empty() || cell[0] == '+' ? std::nullopt
+                                                                     : ParseDouble(cell);
+  return value ? FormatDouble(*value, 6) : cell;
 }
 
 // The swept values, status and speed of each row, aligned.
 void PrintSummary(const SweepTable& table) {
-  const std::vector<std::string>& columns = table.columns;
-  const size_t status = std::find(columns.begin(), columns.end(), "status") - columns.begin();
+  const std::vector<std::string>& names = table.columns;
+  const size_t status =
+      std::find(names.begin(), names.end(), columns::kStatus) - names.begin();
   std::vector<size_t> shown;
-  for (size_t c = 0; c <= status && c < columns.size(); ++c) shown.push_back(c);
+  for (size_t c = 0; c <= status && c < names.size(); ++c) shown.push_back(c);
   for (const char* name : kShownResults) {
-    const auto it = std::find(columns.begin(), columns.end(), name);
-    if (it != columns.end()) shown.push_back(it - columns.begin());
+    const auto it = std::find(names.begin(), names.end(), name);
+    if (it != names.end()) shown.push_back(it - names.begin());
   }
   std::vector<size_t> width;
   for (size_t c : shown) {
-    size_t w = columns[c].size();
+    size_t w = names[c].size();
     for (const auto& row : table.rows) w = std::max(w, Readable(row[c]).size());
     width.push_back(w);
   }
@@ -87,34 +93,62 @@ void PrintSummary(const SweepTable& table) {
     while (!line.empty() && line.back() == ' ') line.pop_back();
     std::printf("%s\n", line.c_str());
   };
-  print_row([&](size_t c) { return columns[c]; });
+  print_row([&](size_t c) { return names[c]; });
   for (const auto& row : table.rows) print_row([&](size_t c) { return Readable(row[c]); });
 }
 
 int RunSweepFile(const SweepArgs& args) {
+  if (!args.status_dir.empty()) {
+    if (!args.sweep_path.empty()) throw std::invalid_argument("sweep: --status takes no sweep file");
+    return RunSweepStatus(args.status_dir);
+  }
+  if (args.sweep_path.empty()) throw std::invalid_argument("sweep: needs a sweep file");
+  if (!args.slurm.dir.empty()) return RunSlurmSubmission(args);
+  if (args.out_prefix.empty()) {
+    throw std::invalid_argument("sweep: --out PREFIX is required (or --slurm DIR)");
+  }
   const SweepShard shard = ParseSweepShard(args.shard);
   if (args.jobs < 1) {
     throw std::invalid_argument("sweep: --jobs must be >= 1 (got " + std::to_string(args.jobs) +
                                 ")");
   }
   const SweepPlan plan = LoadSweep(args.sweep_path);
+  SweepJournal journal(args.out_prefix + ".journal", plan);
+  const ShardRecord record = CountRecorded(plan, shard, journal);
+  if (record.recorded > 0) {
+    std::fprintf(stderr, "resuming from %s: %d of %d points done before\n", journal.path().c_str(),
+                 record.recorded, record.points);
+  }
   ProgressReport progress(StderrIsTerminal());
   SweepOptions options;
   options.jobs = args.jobs;
   options.shard = shard;
   options.on_point_done = [&](const SweepProgress& p) { progress(p); };
-  progress.Start(static_cast<int>(std::count_if(
-      plan.points.begin(), plan.points.end(),
-      [&](const SweepPoint& point) { return point.index % shard.count == shard.index - 1; })));
-  const SweepTable table = RunSweep(plan, options);
+  progress.Start(record.points - record.recorded);
+  JournaledSweep run;
+  {
+    const InterruptAtBoundary interrupt(
+        "interrupted: finishing the points that are running, then stopping (Ctrl-C again stops "
+        "at once; finished points stay in " + journal.path() + ")");
+    options.stop_requested = [&] { return interrupt.Requested(); };
+    run = RunJournaledSweep(plan, options, &journal);
+  }
   progress.Finish();
+  if (!run.Complete()) {
+    std::fprintf(stderr,
+                 "stopped: %zu of %d points done, recorded in %s; run the same command again to "
+                 "resume\n",
+                 run.table.rows.size(), record.points, journal.path().c_str());
+    return kInterruptedExitCode;
+  }
+  const SweepTable& table = run.table;
   WriteSweepTable(args.out_prefix, table);
 
   PrintSummary(table);
   const size_t status = plan.keys.size() + 1;
   int failed = 0;
   for (const auto& row : table.rows) {
-    if (row[status] != "ok") {
+    if (row[status] != columns::kStatusOk) {
       ++failed;
       std::fprintf(stderr, "point %s failed: %s\n", row[0].c_str(), row[status + 1].c_str());
     }
@@ -130,6 +164,15 @@ int RunSweepFile(const SweepArgs& args) {
 }
 
 int RunMergeTables(const SweepArgs& args) {
+  if (args.merge_partial) return RunPartialMerge(args);
+  for (const std::string& path : args.merge_tables) {
+    std::error_code error;
+    if (!std::filesystem::exists(path, error)) {
+      throw std::runtime_error("merge: " + path +
+                               " does not exist (a shard that did not finish? --partial merges "
+                               "the tables that exist)");
+    }
+  }
   std::vector<SweepTable> tables;
   for (const std::string& path : args.merge_tables) tables.push_back(LoadSweepTableCsv(path));
   const SweepTable merged = MergeSweepTables(tables, args.merge_tables);
@@ -142,16 +185,20 @@ int RunMergeTables(const SweepArgs& args) {
 }  // namespace
 
 void AddSweepCommands(CLI::App& app, SweepArgs& args) {
-  args.jobs = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  args.jobs = AvailableCpus();
   CLI::App* sweep = app.add_subcommand(
       kSweepCommand, "Run a scenario over a grid or list of overrides (a sweep file, TOML)");
-  sweep->add_option("sweep", args.sweep_path, "Sweep file")->required();
-  sweep->add_option("--jobs", args.jobs, "Points run in parallel (default: hardware threads)")
+  sweep->add_option("sweep", args.sweep_path, "Sweep file");
+  sweep->add_option("--jobs", args.jobs,
+                    "Points run in parallel (default: the CPUs this process may use)")
       ->capture_default_str();
   sweep->add_option("--shard", args.shard,
                     "Run part i of n: the points with index % n == i - 1")
       ->capture_default_str();
-  sweep->add_option("--out", args.out_prefix, "Writes PREFIX.csv and PREFIX.json")->required();
+  sweep->add_option("--out", args.out_prefix,
+                    "Writes PREFIX.csv and PREFIX.json; records each point in PREFIX.journal "
+                    "(resume)");
+  AddSlurmOptions(sweep, args);
 
   CLI::App* merge =
       app.add_subcommand(kMergeCommand, "Join the tables (CSV) of a sweep's shards into one");
@@ -159,6 +206,9 @@ void AddSweepCommands(CLI::App& app, SweepArgs& args) {
       ->required();
   merge->add_option("--out", args.merge_out_prefix, "Writes PREFIX.csv and PREFIX.json")
       ->required();
+  merge->add_flag("--partial", args.merge_partial,
+                  "Merge the tables that exist (and the journals of those that do not); list "
+                  "the missing points");
 }
 
 int RunSweepCommand(const CLI::App& app, const SweepArgs& args) {

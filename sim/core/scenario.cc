@@ -2,13 +2,11 @@
 // against its list of keys; each value is checked for type, finiteness and
 // range before it reaches a Config, and the Configs' own Validate() runs
 // last as a backstop. Every error is one line, "FILE:LINE: key ...".
-#include "sim/io/toml_names.h"
 #include "sim/core/scenario.h"
 
 #include <toml++/toml.h>
 
 #include <algorithm>
-#include <charconv>
 #include <climits>
 #include <cmath>
 #include <cstdint>
@@ -16,12 +14,16 @@
 #include <fstream>
 #include <initializer_list>
 #include <optional>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
+
+#include "sim/io/error.h"
+#include "sim/io/files.h"
+#include "sim/io/numbers.h"
+#include "sim/io/toml.h"
 
 namespace ipmc {
 namespace {
@@ -86,22 +88,6 @@ constexpr int kMaxOustaloupN = 64;
 constexpr double kWholeStepsTolerance = 1e-9;
 
 using KeyList = std::initializer_list<const char*>;
-
-// The shortest decimal that reads back as `value` ("0.001", "1000", not
-// "0.0010000000000000002" or "1e+03").
-std::string FormatNumber(double value) {
-  char buffer[64];
-  const std::to_chars_result result =
-      std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::general);
-  return std::string(buffer, result.ptr);
-}
-
-// Messages are one line even for keys or parser messages with line breaks.
-std::string OneLine(std::string text) {
-  std::replace_if(
-      text.begin(), text.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
-  return text;
-}
 
 std::string TypeName(toml::node_type type) { return TomlTypeName(type); }
 
@@ -193,7 +179,7 @@ class ScenarioReader {
                              ? static_cast<double>(entry.node->as_integer()->get())
                              : entry.node->as_floating_point()->get();
     if (!std::isfinite(value)) {
-      Fail(entry.line, entry.name + " must be finite (got " + FormatNumber(value) + ")");
+      Fail(entry.line, entry.name + " must be finite (got " + FormatShortest(value) + ")");
     }
     return value;
   }
@@ -246,20 +232,20 @@ class ScenarioReader {
 
   void RequireAtLeast(const Entry& entry, double value, double minimum) const {
     if (!(value >= minimum)) {
-      Fail(entry.line, entry.name + " must be >= " + FormatNumber(minimum) + " (got " +
-                           FormatNumber(value) + ")");
+      Fail(entry.line, entry.name + " must be >= " + FormatShortest(minimum) + " (got " +
+                           FormatShortest(value) + ")");
     }
   }
   void RequireAbove(const Entry& entry, double value, double minimum) const {
     if (!(value > minimum)) {
-      Fail(entry.line, entry.name + " must be > " + FormatNumber(minimum) + " (got " +
-                           FormatNumber(value) + ")");
+      Fail(entry.line, entry.name + " must be > " + FormatShortest(minimum) + " (got " +
+                           FormatShortest(value) + ")");
     }
   }
   void RequireAtMost(const Entry& entry, double value, double maximum) const {
     if (!(value <= maximum)) {
-      Fail(entry.line, entry.name + " must be <= " + FormatNumber(maximum) + " (got " +
-                           FormatNumber(value) + ")");
+      Fail(entry.line, entry.name + " must be <= " + FormatShortest(maximum) + " (got " +
+                           FormatShortest(value) + ")");
     }
   }
 
@@ -385,8 +371,8 @@ void ScenarioReader::ReadController(const toml::table& table, ScenarioConfig* co
       RequireAbove(corner, corners[i], 0.0);
     }
     if (!(corners[0] < corners[1])) {
-      Fail(entry->line, entry->name + " must have w_b < w_h (got [" + FormatNumber(corners[0]) +
-                            ", " + FormatNumber(corners[1]) + "])");
+      Fail(entry->line, entry->name + " must have w_b < w_h (got [" + FormatShortest(corners[0]) +
+                            ", " + FormatShortest(corners[1]) + "])");
     }
     fractional.w_low_rad_s = corners[0];
     fractional.w_high_rad_s = corners[1];
@@ -501,7 +487,7 @@ void ScenarioReader::ReadStartRamp(const toml::table& table, ScenarioConfig* con
   const double cycles = Number(*entry);
   if (cycles < 0.0 || cycles > config->cycles) {
     Fail(entry->line, entry->name + " must be in [0, cycles] = [0, " +
-                          std::to_string(config->cycles) + "] (got " + FormatNumber(cycles) + ")");
+                          std::to_string(config->cycles) + "] (got " + FormatShortest(cycles) + ")");
   }
   config->start_ramp_cycles = cycles;
 }
@@ -569,9 +555,9 @@ ScenarioConfig ScenarioReader::Read(const toml::table& root) const {
       if (!where) where = Find(root, "", kTimestep);
       Fail(where->line, std::string(kController) + "." + kSampleRate +
                             " must make the sample period a whole number of timesteps (1 / (" +
-                            FormatNumber(config.sample_rate_Hz) + " Hz x " +
-                            FormatNumber(*config.timestep_s) +
-                            " s) = " + FormatNumber(steps_per_sample) + ")");
+                            FormatShortest(config.sample_rate_Hz) + " Hz x " +
+                            FormatShortest(*config.timestep_s) +
+                            " s) = " + FormatShortest(steps_per_sample) + ")");
     }
   }
 
@@ -605,25 +591,11 @@ ScenarioConfig ScenarioReader::Read(const toml::table& root) const {
 
 ScenarioConfig ParseScenario(const std::string& toml_text, const std::string& source) {
   const ScenarioReader reader(source);
-  toml::table root;
-  try {
-    root = toml::parse(toml_text, source);
-  } catch (const toml::parse_error& error) {
-    const toml::source_position& where = error.source().begin;
-    std::string message = source + ":" + std::to_string(where.line) + ":" +
-                          std::to_string(where.column) + ": " + std::string(error.description());
-    throw std::runtime_error(OneLine(std::move(message)));
-  }
-  return reader.Read(root);
+  return reader.Read(ParseToml(toml_text, source));
 }
 
 ScenarioConfig LoadScenario(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw std::runtime_error(path + ": cannot open the scenario file");
-  std::ostringstream text;
-  text << file.rdbuf();
-  if (file.bad()) throw std::runtime_error(path + ": cannot read the scenario file");
-  return ParseScenario(text.str(), path);
+  return ParseScenario(ReadTextFile(path, "scenario file"), path);
 }
 
 }  // namespace ipmc

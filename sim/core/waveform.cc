@@ -20,7 +20,6 @@
 namespace ipmc {
 namespace {
 
-constexpr double kTwoPi = 6.283185307179586;
 constexpr double kMmPerUm = 1e-3;
 
 // The march samples each chord search at least kMinMarchSteps times, and

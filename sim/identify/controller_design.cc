@@ -24,10 +24,6 @@ constexpr double kDivergedOutput = 1e6;
 // Horizon and sample period must agree to this relative slack.
 constexpr double kHorizonSlack = 1e-9;
 
-constexpr int kAccuratePairs = 20;
-constexpr double kAccurateBandLow_rad_s = 1e-5;
-constexpr double kAccurateBandHigh_rad_s = 1e5;
-
 [[noreturn]] void Throw(const std::string& where, const std::string& message) {
   throw std::invalid_argument(where + ": " + message);
 }
@@ -304,7 +300,7 @@ PidTuningResult TunePid(const StateSpace& plant, const PidTuningOptions& options
 StateSpace AccurateLinkPlant(IpmcLinkParams params) {
   params.integrator.w_low_rad_s = kAccurateBandLow_rad_s;
   params.integrator.w_high_rad_s = kAccurateBandHigh_rad_s;
-  params.integrator.n = kAccuratePairs;
+  params.integrator.n = kAccurateOustaloupPairs;
   return LinkStateSpace(params);
 }
 

@@ -163,9 +163,17 @@ struct PidTuningResult {
 // where J is not finite (the loop diverges).
 PidTuningResult TunePid(const StateSpace& plant, const PidTuningOptions& options = {});
 
-// P = s^-0.5 G for `params` with the s^-0.5 block realised by 20
-// Oustaloup pairs on [1e-5, 1e5] rad/s (error far below the tuning's
-// other errors over any horizon of interest; 1/w_b = 1e5 s).
+// Time-domain realisation of s^-0.5 (plant) and s^-lambda (fractional
+// controller) in the tuning and the step responses: two Oustaloup pairs
+// per decade over ten decades, so the approximation is far below the
+// other errors over any horizon of interest (1/w_b = 1e5 s).
+constexpr int kAccurateOustaloupPairs = 20;
+constexpr double kAccurateBandLow_rad_s = 1e-5;
+constexpr double kAccurateBandHigh_rad_s = 1e5;
+
+// P = s^-0.5 G for `params` with the s^-0.5 block realised by
+// kAccurateOustaloupPairs pairs on [kAccurateBandLow_rad_s,
+// kAccurateBandHigh_rad_s].
 StateSpace AccurateLinkPlant(IpmcLinkParams params);
 
 }  // namespace ipmc

@@ -85,12 +85,30 @@ double StartRamp(double t_s, double ramp_s);
 // used in messages. Throws std::runtime_error naming the file on bad input.
 ModelPtr LoadScenarioModel(const ScenarioConfig& scenario, std::string* source);
 
-// Loads the scenario's model (LoadScenarioModel) and runs it. Throws std::runtime_error naming the file on bad input or
-// divergence.
+// The scenario's model (LoadScenarioModel) with the scenario's plants
+// imposed, attached.
+std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenario);
+
+// Loads the scenario's model (LoadScenarioSimulation) and runs it. Throws
+// std::runtime_error naming the file on bad input or divergence.
 ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserver& observer = {});
 
 // Runs on an existing simulation (its time step and fluid as they are).
 ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
                                const SampleObserver& observer = {});
+
+// The segment pitches of a model at rest (hinges j1..jN and the last tip)
+// and its IPMC links' lengths, which the references are projected on.
+// Throws std::runtime_error naming the model if it lacks them.
+LinkGeometry ModelLinkGeometry(const Simulation& sim);
+
+// Every link's reference at t [mm]: the discretised wave faded in by the
+// start ramp.
+std::vector<double> LinkReferences_mm(const ScenarioConfig& scenario,
+                                      const LinkGeometry& geometry, double t_s);
+
+// Physics steps per controller sample; throws std::runtime_error naming
+// `source` unless the sample period is a whole number of steps dt_s.
+long StepsPerSample(double sample_rate_Hz, double dt_s, const std::string& source);
 
 }  // namespace ipmc

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "plugin/coupling.h"
+#include "sim/core/step_count.h"
 
 namespace ipmc {
 namespace {
@@ -123,7 +124,7 @@ GaitRunResult RunGait(Simulation& sim, const Gait& gait, const GaitRunOptions& o
   result.gait = gait.Describe();
   result.period_s = gait.Period_s();
   result.timestep_s = dt;
-  const long steps_per_cycle = std::lround(gait.Period_s() / dt);
+  const long steps_per_cycle = CheckedStepCount(gait.Period_s(), dt, 1, "gait: one cycle (the gait's period)");
   const long sample_every =
       std::max<long>(1, steps_per_cycle / options.samples_per_cycle);
   const long settle_steps = steps_per_cycle / 20;

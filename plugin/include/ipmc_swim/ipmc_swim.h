@@ -8,9 +8,36 @@
 // ipmc_* motors' ctrl (mjcb_control). Attach/Detach may be called for many
 // (model, data) pairs; stepping different pairs from different threads is
 // safe. Call Attach before starting threads that step.
+//
+// State. The drag has none. The IPMC actuators' state lives in the
+// coupling, outside mjData: the link models' integrated state x and its
+// time t_x, the held voltages, each link's last curvature (where the next
+// step's root-finding starts) and the count of clamped deflections. Each
+// step advances x from t_x to d->time. MuJoCo's own functions do not see
+// this state:
+//  - mj_resetData, mj_resetDataKeyframe, or assigning an earlier d->time:
+//    the next step (or SetVoltages) finds d->time < t_x. Call ResetState
+//    (start from rest) or RestoreState (go back to a saved state) after
+//    rewinding. Without either, the coupling does what ResetState does and
+//    reports the rewind through mju_warning: a rewind the program did not
+//    declare may be a copy of an older mjData whose actuator state is lost.
+//  - mj_copyData(dst, m, src): dst has no coupling until attached, and an
+//    attached dst keeps its own coupling state. To continue src in dst:
+//    Attach(m, dst), mj_copyData(dst, m, src), RestoreState(dst,
+//    SaveState(src)).
+//  - mj_deleteData: Detach first.
+// Attach (also on an attached d) gives the state of ResetState at
+// d->time.
+//
+// Warnings (a clamped free deflection, an undeclared rewind) go through
+// mju_warning: MuJoCo prints them to stdout and appends them to
+// MUJOCO_LOG.TXT unless the program sets mju_user_warning. Each names the
+// link or the times; mju_user_warning is called from the thread that steps.
 #pragma once
 
 #include <mujoco/mujoco.h>
+
+#include <vector>
 
 namespace ipmc {
 
@@ -30,6 +57,36 @@ bool Detach(const mjData* d);
 // Returns that number, or 0 if d has no IPMC actuators. Throws
 // std::invalid_argument on a wrong count or a non-finite voltage.
 int SetVoltages(const mjData* d, const double* voltage_V, int count);
+
+// Everything the coupling's next step depends on besides mjData. Empty
+// vectors and zeros for a coupling without IPMC actuators.
+struct CouplingState {
+  double time_s = 0;                  // t_x: the time of actuator_state [s]
+  std::vector<double> actuator_state; // x: the links' stacked model states [mm, V]
+  std::vector<double> voltage_V;      // held voltage of each link [V]
+  std::vector<double> curvature_1_m;  // each link's last curvature [1/m]
+  long clamp_count = 0;               // clamped deflections so far (only the first warns)
+};
+
+// The coupling state of d. Also makes d's link models restart their
+// integration at time_s, as a voltage change does, so that d and every
+// mjData restored from the result step bit-identically; d's own later
+// values change within the integration tolerance (ipmc_cvode_rel_tol).
+// Call from the thread that steps d. Throws std::invalid_argument if d is
+// not attached.
+CouplingState SaveState(const mjData* d);
+
+// Sets the coupling of d to `state`, saved from a coupling of the same
+// model, after the mjData saved with it was copied into d (time_s <=
+// d->time). Throws std::invalid_argument with a one-line message naming
+// the field if d is not attached, a vector has the wrong size, a value is
+// not finite, clamp_count < 0 or time_s > d->time; d is unchanged then.
+void RestoreState(const mjData* d, const CouplingState& state);
+
+// The state Attach gives, at d->time: the link models at rest, 0 V on
+// every link, no clamps counted. Call after mj_resetData. Throws
+// std::invalid_argument if d is not attached.
+void ResetState(const mjData* d);
 
 // Library version, "MAJOR.MINOR.PATCH".
 const char* Version();
