@@ -110,8 +110,8 @@ py::object Sweep(const py::object& path_arg, const py::object& jobs_arg,
                  const py::object& progress_callback) {
   const std::string path = PathText(path_arg, "sweep");
   SweepOptions options;
-  options.jobs = jobs_arg.is_none() ? std::max(1, static_cast<int>(std::thread::hardware_concurrency()))
-                                    : jobs_arg.cast<int>();
+  const int threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  options.jobs = jobs_arg.is_none() ? threads : jobs_arg.cast<int>();
   options.shard = ParseSweepShard(shard_text);
   if (options.jobs < 1) {
     throw std::invalid_argument("sweep: --jobs must be >= 1 (got " + std::to_string(options.jobs) +

@@ -49,7 +49,9 @@ class PythonSimulation {
   }
 
   void Step(long steps) {
-    if (steps < 0) throw std::invalid_argument("step: n must be >= 0 (got " + std::to_string(steps) + ")");
+    if (steps < 0) {
+      throw std::invalid_argument("step: n must be >= 0 (got " + std::to_string(steps) + ")");
+    }
     std::lock_guard<std::mutex> lock(mutex_);
     for (long k = 0; k < steps; ++k) {
       sim_->Step();
@@ -193,7 +195,8 @@ class PythonSimulation {
  private:
   void RequireActuators(const char* call) const {
     if (!sensors_) {
-      throw std::invalid_argument(sim_->source() + ": " + call + " needs a model with IPMC actuators");
+      throw std::invalid_argument(sim_->source() + ": " + call +
+                                  " needs a model with IPMC actuators");
     }
   }
   const ScenarioConfig& RequireScenario(const char* call) const {

@@ -43,14 +43,15 @@ void InsertToml(const py::handle& value, const std::string& key, Insert&& insert
   } else if (py::isinstance<py::sequence>(value) || py::hasattr(value, "tolist")) {
     insert(TomlArray(value, key));
   } else {
-    throw py::type_error(key + ": a scenario value must be a bool, number, string, list or dict (got " +
-                         TypeName(value) + ")");
+    throw py::type_error(key + ": a scenario value must be a bool, number, string, list or dict " +
+                         "(got " + TypeName(value) + ")");
   }
 }
 
 toml::array TomlArray(const py::handle& sequence, const std::string& key) {
-  const py::object items = py::hasattr(sequence, "tolist") ? sequence.attr("tolist")()
-                                                            : py::reinterpret_borrow<py::object>(sequence);
+  const py::object items = py::hasattr(sequence, "tolist")
+                               ? sequence.attr("tolist")()
+                               : py::reinterpret_borrow<py::object>(sequence);
   toml::array array;
   size_t index = 0;
   for (const py::handle item : items) {

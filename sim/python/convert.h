@@ -70,9 +70,9 @@ class Options {
     try {
       *value = options_[key.c_str()].cast<T>();
     } catch (const py::cast_error&) {
+      const py::handle type = py::type::of(options_[key.c_str()]);
       throw py::type_error(function_ + "(): " + key + " has the wrong type (got " +
-                           std::string(py::str(py::type::of(options_[key.c_str()]).attr("__name__"))) +
-                           ")");
+                           std::string(py::str(type.attr("__name__"))) + ")");
     }
     return true;
   }

@@ -9,7 +9,7 @@ highest frequency beside them:
     PYTHONPATH=build/sim/python /usr/bin/python3 sim/python/examples/frequency_study.py \\
         --out out/frequency_study.png
 
-(2 cycles at 0.005, 0.01, 0.02 and 0.04 Hz; about 20 s on 2 cores.)
+(2 cycles at 0.005, 0.01, 0.02 and 0.04 Hz; 24 s of CPU time.)
 """
 
 import argparse
