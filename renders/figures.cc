@@ -25,7 +25,7 @@ namespace fs = std::filesystem;
 
 constexpr int kMaxInstants = 12;
 constexpr int kMinMapRows = 2;
-constexpr int kMapColumns = 61;  // x samples along the body in the x-t map
+constexpr int kMapColumns = 91;  // x samples along the body in the x-t map
 
 // Colours: measured or realised (blue), reference (black, dashed), voltage
 // (red), the clamp's limits (grey), its intervals (pale red), fits.
@@ -49,6 +49,11 @@ std::string Format(const char* format, double value) {
   char text[64];
   std::snprintf(text, sizeof(text), format, value);
   return text;
+}
+
+// "speed [mm/s]" -> "speed": a label as words in a title.
+std::string WithoutUnit(const std::string& label) {
+  return label.substr(0, label.find(" ["));
 }
 
 // A tic step of 1, 2 or 5 x 10^k that cuts `span` into about `count`.
@@ -738,7 +743,7 @@ double LateralAt(const std::vector<Point2>& shape, double x) {
   return NAN;
 }
 
-// Rows "x t y", one block per sample, for pm3d.
+// Rows "x t y", one block per sample, for a map drawn `with image`.
 std::string MapData(const std::vector<std::vector<Point2>>& shapes, const std::vector<double>& t_s,
                     const std::vector<size_t>& samples, double length_mm, double* y_max) {
   std::string text;
@@ -776,33 +781,37 @@ Figure SurfaceFigure(const CsvTable& table, const std::string& input, const Figu
   if (!(y_max > 0.0)) y_max = 1.0;
   SetTitle(report, options, "Lateral deflection along the body over time",
            RunDescription(summary));
+  // Each sample of the map is a pixel of `with image` centred on its
+  // (x, t); the axes end at the body's ends and the record's. NaN (beyond
+  // the bent body's end) must stay a blank pixel, not a missing one, or
+  // the rest of its row would shift.
   const std::string common =
-      "set view map\nset pm3d map corners2color c1\nset pm3d noborder\nunset surface\n"
+      "unset datafile missing\nunset grid\nunset key\nset tics out front\n"
       "set palette defined (-1 '#2166ac', -0.5 '#92c5de', 0 '#f7f7f7', 0.5 '#f4a582', 1 '#b2182b')\n"
       "set cbrange [" + N(-y_max) + ":" + N(y_max) + "]\n"
       "set xrange [0:" + N(length_mm) + "]\n"
       "set yrange [" + N(body.t_s[samples.front()]) + ":" + N(body.t_s[samples.back()]) + "]\n"
       "set xlabel 'x along the body from the head [mm]'\n"
-      "set ylabel " + Q(AxisLabel(columns::kTime)) + "\n" + "unset key\nset grid front\n";
+      "set ylabel " + Q(AxisLabel(columns::kTime)) + "\n";
   Figure figure;
   figure.height_in = 4.6;
+  const double H = figure.height_in;
+  const double top = 1.0 - 1.0 / H, bottom = 0.8 / H;
   std::string commands = "set multiplot title " + Heading(report) + "\n" + common;
-  const std::string colorbox =
-      "set colorbox user origin screen 0.905, screen 0.14 size screen 0.022, screen 0.7\n"
-      "set cblabel 'lateral deflection y [mm]'\n";
+  const std::string colour_bar = "set cblabel 'lateral deflection y [mm]'\nset cbtics out\n";
   if (with_ideal) {
-    figure.width_in = 10.0;
-    commands += PanelBox(0.07, 0.44, 0.14, 0.84) + "unset colorbox\nset title 'ideal (references)'\n"
-                "splot " + ideal + " using 1:2:3 with pm3d\n" +
-                PanelBox(0.50, 0.87, 0.14, 0.84) + colorbox +
+    figure.width_in = 9.0;
+    commands += PanelBox(0.08, 0.45, bottom, top) + "unset colorbox\nset title 'ideal (references)'\n"
+                "plot " + ideal + " using 1:2:3 with image\n" +
+                PanelBox(0.50, 0.87, bottom, top) + "set colorbox user origin screen 0.895, screen " +
+                N(bottom) + " size screen 0.02, screen " + N(top - bottom) + "\n" + colour_bar +
                 "set title 'realised (tips)'\nset ylabel ''\nset format y ''\n"
-                "splot " + realised + " using 1:2:3 with pm3d\n";
+                "plot " + realised + " using 1:2:3 with image\n";
   } else {
-    figure.width_in = 7.0;
-    commands += PanelBox(0.11, 0.84, 0.14, 0.84) +
-                "set colorbox user origin screen 0.87, screen 0.14 size screen 0.03, screen 0.7\n"
-                "set cblabel 'lateral deflection y [mm]'\n"
-                "set title 'realised (tips)'\nsplot " + realised + " using 1:2:3 with pm3d\n";
+    figure.width_in = 6.5;
+    commands += PanelBox(0.12, 0.80, bottom, top) + "set colorbox user origin screen 0.84, screen " +
+                N(bottom) + " size screen 0.03, screen " + N(top - bottom) + "\n" + colour_bar +
+                "set title 'realised (tips)'\nplot " + realised + " using 1:2:3 with image\n";
   }
   figure.commands = commands + "unset multiplot\n";
   return figure;
@@ -820,65 +829,72 @@ Figure TrajectoryFigure(const CsvTable& table, const std::string& input, const F
   const std::vector<double> head_x = table.Numbers(columns::kHeadX);
   const std::vector<double> head_y = table.Numbers(columns::kHeadY);
   const size_t n = t.size();
-  // Positions relative to the centre of mass at the start; the swimming
-  // axis is -x (head first), so "along" is -dx.
-  std::vector<double> cx(n), cy(n), hx(n), hy(n), along(n), across(n), head_along(n);
+  // Each point relative to its own start, in the swimming frame of
+  // sim/core/swim_meter.h: "along" is -x (head first), "across" +y. The
+  // head and the centre of mass are half a body apart, many times their
+  // displacement, so each path starts at the origin.
+  std::vector<double> com_along(n), com_across(n), head_along(n), head_across(n);
   for (size_t i = 0; i < n; ++i) {
-    cx[i] = com_x[i] - com_x[0];
-    cy[i] = com_y[i] - com_y[0];
-    hx[i] = head_x[i] - com_x[0];
-    hy[i] = head_y[i] - com_y[0];
-    along[i] = -cx[i];
-    across[i] = cy[i];
+    com_along[i] = -(com_x[i] - com_x[0]);
+    com_across[i] = com_y[i] - com_y[0];
     head_along[i] = -(head_x[i] - head_x[0]);
+    head_across[i] = head_y[i] - head_y[0];
   }
-  const std::string data =
-      scratch.Data("trajectory.dat", GnuplotTable({t, cx, cy, hx, hy, along, across, head_along}));
-  // The start of every cycle.
+  const std::string data = scratch.Data(
+      "trajectory.dat", GnuplotTable({t, com_along, com_across, head_along, head_across}));
+  // The start of every cycle, on both paths.
   const double period = Period(options, summary);
   std::string markers;
-  std::vector<double> cycle_starts;
+  std::string cycle_lines;
   if (period > 0.0) {
     for (int k = 0; k * period <= t.back() + 1e-9 * period; ++k) {
       const size_t i = NearestSample(t, k * period);
-      markers += GnuplotValue(cx[i]) + " " + GnuplotValue(cy[i]) + "\n";
-      cycle_starts.push_back(k * period);
+      markers += GnuplotValue(com_along[i]) + " " + GnuplotValue(com_across[i]) + " " +
+                 GnuplotValue(head_along[i]) + " " + GnuplotValue(head_across[i]) + "\n";
+      cycle_lines += "set arrow from " + N(k * period) + ", graph 0 to " + N(k * period) +
+                     ", graph 1 nohead dt 3 lc rgb 'gray60'\n";
     }
   }
-  const std::string marker_data = scratch.Data("cycles.dat", markers.empty() ? "NaN NaN\n" : markers);
-  if (!summary.is_null() && summary.contains("per_cycle") && summary["per_cycle"].is_array() &&
+  const std::string marker_data =
+      scratch.Data("cycles.dat", markers.empty() ? "NaN NaN NaN NaN\n" : markers);
+  if (summary.is_object() && summary.contains("per_cycle") && summary["per_cycle"].is_array() &&
       !summary["per_cycle"].empty()) {
     report.notes.push_back(
         "last cycle: " +
         Format("%.4g", JsonNumber(summary["per_cycle"].back(), "com_along_mm", NAN)) +
         " mm along the axis");
   }
-  SetTitle(report, options, "Swimming of the centre of mass and the head",
+  SetTitle(report, options, "Swimming: net displacement and path in the plane",
            RunDescription(summary));
-  std::string cycle_lines;
-  for (double start : cycle_starts) {
-    cycle_lines += "set arrow from " + N(start) + ", graph 0 to " + N(start) +
-                   ", graph 1 nohead dt 3 lc rgb 'gray60'\n";
-  }
   Figure figure;
-  figure.width_in = 10.0;
-  figure.height_in = 4.6;
+  figure.width_in = 7.5;
+  figure.height_in = 7.0;
+  const double H = figure.height_in;
+  const std::string cycle_key = markers.empty() ? "notitle" : "title 'start of a cycle'";
   figure.commands =
-      "set multiplot title " + Heading(report) + "\n" + PanelBox(0.07, 0.42, 0.13, 0.80) +
-      "set size ratio -1\nset title 'path in the plane (from the centre of mass at the start)'\n"
-      "set xlabel 'x [mm] (swimming axis: -x, head first)'\nset ylabel 'y [mm]'\n"
-      "set key at screen 0.07, screen 0.88 left bottom horizontal samplen 2\n"
+      "set multiplot title " + Heading(report) + "\n" +
+      StackedPanel(H, 0.95, 2.45) + cycle_lines +
+      "set title 'displacement against time' offset 0,-0.4\n"
+      "set xlabel " + Q(AxisLabel(columns::kTime)) + " offset 0,0.3\n"
+      "set ylabel 'displacement [mm]'\n"
+      "set key left top samplen 3 box opaque\n"
+      "plot " + data + " using 1:2 with lines lw 2.5 lc " + Rgb(kBlue) +
+      " title 'centre of mass, along', '' using 1:3 with lines lw 1.5 dt (6,4) lc " + Rgb(kBlue) +
+      " title 'centre of mass, across', '' using 1:4 with lines lw 1.2 lc " + Rgb(kOrange) +
+      " title 'head, along'\n"
+      "unset arrow\n"
+      "set title 'path in the plane (each from its start)' offset 0,-0.4\n"
+
+      "set xlabel 'along the swimming axis [mm] (head first)' offset 0,0.3\n"
+      "set ylabel 'across [mm]'\n"
+      "set key noopaque nobox at screen 0.98, screen " + N(1.0 - 4.35 / H) +
+      " right top vertical samplen 2\n" +
+      StackedPanel(H, 4.35, 2.05, 0.12, 0.72) +
       "plot " + data + " using 4:5 with lines lw 1 lc " + Rgb(kOrange) + " title 'head', " + data +
       " using 2:3 with lines lw 2.5 lc " + Rgb(kBlue) + " title 'centre of mass', " + marker_data +
-      " using 1:2 with points pt 7 ps 1.1 lc rgb 'black' title 'start of a cycle'\n"
-      "set size noratio\n" + PanelBox(0.52, 0.98, 0.13, 0.80) +
-      "set title 'net displacement against time'\n" + cycle_lines +
-      "set xlabel " + Q(AxisLabel(columns::kTime)) + "\nset ylabel 'displacement [mm]'\n"
-      "set key at screen 0.98, screen 0.88 right bottom horizontal samplen 2\n"
-      "plot " + data + " using 1:6 with lines lw 2.5 lc " + Rgb(kBlue) +
-      " title 'centre of mass, along', '' using 1:7 with lines lw 1.5 dt 2 lc " + Rgb(kBlue) +
-      " title 'across', '' using 1:8 with lines lw 1 lc " + Rgb(kOrange) +
-      " title 'head, along'\nunset multiplot\n";
+      " using 1:2 with points pt 7 ps 0.9 lc rgb 'black' " + cycle_key + ", " + marker_data +
+      " using 3:4 with points pt 7 ps 0.9 lc rgb 'black' notitle\n"
+      "unset multiplot\n";
   return figure;
 }
 
@@ -897,47 +913,74 @@ Figure IdentificationFigure(const CsvTable& table, const std::string& input,
     series.push_back(table.Numbers(columns::MagnitudeDb(curve)));
     series.push_back(table.Numbers(columns::PhaseDeg(curve)));
   }
+  // The measured phase unwrapped onto G1's (within +-180 deg of it): Welch
+  // gives it modulo 360 deg, and past the band, where the coherence falls,
+  // its jumps would set the scale.
+  for (size_t i = 0; i < w.size(); ++i) {
+    series[3][i] = series[4][i] + std::remainder(series[3][i] - series[4][i], 360.0);
+  }
   // Measured points inside and outside the band, apart.
   std::vector<double> db_in(w.size(), NAN), deg_in(w.size(), NAN);
   double band_low = 0.0, band_high = 0.0;
+  double phase_low = 1e300, phase_high = -1e300;
   for (size_t i = 0; i < w.size(); ++i) {
     if (in_band[i] == 0.0) continue;
     db_in[i] = series[2][i];
     deg_in[i] = series[3][i];
     band_low = band_low == 0.0 ? w[i] : std::min(band_low, w[i]);
     band_high = std::max(band_high, w[i]);
+    for (int c : {3, 5, 7}) {
+      phase_low = std::min(phase_low, series[c][i]);
+      phase_high = std::max(phase_high, series[c][i]);
+    }
   }
   series.push_back(db_in);
   series.push_back(deg_in);
   const std::string data = scratch.Data("identification.dat", GnuplotTable(series));
   const std::string output = JsonText(about, "output"), in = JsonText(about, "input");
   SetTitle(report, options, "Identified frequency response: Welch H1 and the Levy fits G1, G2",
-           !output.empty() && !in.empty() ? output + " per " + in : "");
+           !output.empty() && !in.empty()
+               ? WithoutUnit(AxisLabel(output)) + " per " + WithoutUnit(AxisLabel(in))
+               : "");
+  const bool has_band = band_high > band_low;
+  // The band, and a factor kBandMargin beyond it on either side: the
+  // figure is about the fit (as Fig. 7), not the response far outside.
+  constexpr double kBandMargin = 3.0;
   const std::string band =
-      band_high > band_low
-          ? "set object 1 rect from " + N(band_low) + ", graph 0 to " + N(band_high) +
-                ", graph 1 back fc " + Rgb(kBandShade) + " fs solid 1.0 noborder\n"
-          : "";
+      has_band ? "set object 1 rect from " + N(band_low) + ", graph 0 to " + N(band_high) +
+                     ", graph 1 back fc " + Rgb(kBandShade) + " fs solid 1.0 noborder\n" +
+                     "set xrange [" + N(band_low / kBandMargin) + ":" +
+                     N(band_high * kBandMargin) + "]\n"
+               : "";
+  const double phase_step = has_band && phase_high - phase_low > 200.0 ? 90.0 : 45.0;
+  // The phase axis spans the band's phases in whole steps.
+  const std::string phase_range =
+      has_band ? "set yrange [" + N(phase_step * (std::floor(phase_low / phase_step) - 0.5)) + ":" +
+                     N(phase_step * (std::ceil(phase_high / phase_step) + 0.5)) + "]\n"
+               : "";
   auto panel = [&](int measured, int in_band_column, int g1, int g2) {
     return "plot " + data + " using 1:" + std::to_string(measured) +
            " with points pt 7 ps 0.35 lc rgb 'gray60' title 'measured', '' using 1:" +
            std::to_string(in_band_column) + " with points pt 7 ps 0.45 lc " + Rgb(kBlue) +
            " title 'measured, in the fits'' band', '' using 1:" + std::to_string(g1) +
            " with lines lw 2 lc " + Rgb(kRed) + " title 'G1 (eq. 5)', '' using 1:" +
-           std::to_string(g2) + " with lines lw 2 dt 2 lc " + Rgb(kGreen) + " title 'G2 (eq. 6)'\n";
+           std::to_string(g2) + " with lines lw 2 dt (6,4) lc " + Rgb(kGreen) +
+           " title 'G2 (eq. 6)'\n";
   };
   Figure figure;
-  figure.width_in = 7.5;
-  figure.height_in = 7.5;
+  figure.width_in = 7.0;
+  figure.height_in = 7.0;
+  const double H = figure.height_in;
   figure.commands =
       "set multiplot title " + Heading(report) + "\n" + "set logscale x\nset mxtics 10\n" + band +
-      PanelBox(0.12, 0.97, 0.60, 0.89) +
+      StackedPanel(H, 0.85, 2.4) +
       "set format x ''\nset ylabel 'magnitude [dB]'\n"
-      "set key at screen 0.97, screen 0.895 right bottom horizontal samplen 2\n" +
-      panel(3, 9, 5, 7) + "set key off\n" + PanelBox(0.12, 0.97, 0.30, 0.585) +
-      "set ylabel 'phase [deg]'\n" + panel(4, 10, 6, 8) + PanelBox(0.12, 0.97, 0.08, 0.285) +
-      "set format x '%g'\nset xlabel " + Q(AxisLabel(columns::kFrequency)) + "\n" +
-      "set ylabel 'coherence'\nset yrange [0:1.05]\nset ytics 0.25\n"
+      "set key left bottom opaque box samplen 2 spacing 1.1\n" +
+      panel(3, 9, 5, 7) + "set key off\n" + StackedPanel(H, 3.45, 1.7) + phase_range +
+      "set ylabel 'phase [deg]'\nset ytics " + N(phase_step) + "\n" + panel(4, 10, 6, 8) +
+      StackedPanel(H, 5.35, 1.0) + "set format x '%g'\nset xlabel " +
+      Q(AxisLabel(columns::kFrequency)) + "\n" +
+      "set ylabel 'coherence'\nset yrange [0:1.05]\nset ytics 0.5\n"
       "plot " + data + " using 1:2 with lines lw 1.5 lc " + Rgb(kGrey) + " notitle\n"
       "unset multiplot\n";
   return figure;
@@ -1118,6 +1161,28 @@ constexpr LabelEntry kLinkResultLabels[] = {
     {"clamped_fraction", "fraction of samples at the clamp"},
 };
 
+// Numbered columns PREFIX<q>SUFFIX (sim/io/columns.h): "<noun> q label".
+struct NumberedLabel {
+  const char* prefix;
+  const char* suffix;
+  const char* noun;
+  const char* label;
+};
+constexpr NumberedLabel kNumberedLabels[] = {
+    {"reference", "_mm", "link", "reference deflection [mm]"},
+    {"measured", "_mm", "link", "measured deflection [mm]"},
+    {"voltage", "_V", "link", "voltage [V]"},
+    {"relative", "_mm", "link", "relative tip deflection [mm]"},
+    {"free", "_mm", "link", "free tip deflection [mm]"},
+    {"tip", "_lateral_mm", "link", "tip lateral position [mm]"},
+    {"tip", "_x_mm", "tip", "x [mm]"},
+    {"tip", "_y_mm", "tip", "y [mm]"},
+    {"y_link", "", "link", "step response [mm]"},
+    {"u_link", "", "link", "voltage in the step [V]"},
+    {"q_ref", "_rad", "joint", "reference angle [rad]"},
+    {"q", "_rad", "joint", "angle [rad]"},
+};
+
 // Unit suffixes of names not in the tables, longest first.
 constexpr LabelEntry kUnitSuffixes[] = {
     {"_um_per_mm", "um/mm"}, {"_mm_s2", "mm/s^2"}, {"_rad_s", "rad/s"}, {"_kg_m3", "kg/m^3"},
@@ -1216,6 +1281,16 @@ std::string AxisLabel(const std::string& column) {
     const std::optional<long> index = ParseInteger(column.substr(open + 1, column.size() - open - 2));
     if (base == "link_lengths_mm" && index) return "link " + std::to_string(*index + 1) + " length [mm]";
     return AxisLabel(base) + " (element " + column.substr(open + 1, column.size() - open - 2) + ")";
+  }
+  for (const NumberedLabel& entry : kNumberedLabels) {
+    const std::string prefix = entry.prefix, suffix = entry.suffix;
+    if (column.size() <= prefix.size() + suffix.size() || column.rfind(prefix, 0) != 0 ||
+        column.compare(column.size() - suffix.size(), suffix.size(), suffix) != 0) {
+      continue;
+    }
+    const std::optional<long> q = ParseInteger(
+        column.substr(prefix.size(), column.size() - prefix.size() - suffix.size()));
+    if (q && *q > 0) return std::string(entry.noun) + " " + std::to_string(*q) + " " + entry.label;
   }
   // "link<q>_<result>" of a sweep table.
   if (column.rfind("link", 0) == 0) {
