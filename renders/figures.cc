@@ -359,31 +359,49 @@ Figure StepFigure(const CsvTable& table, const std::string& input, const FigureO
   Figure figure;
   figure.width_in = 7.0;
   figure.height_in = voltages.empty() ? 4.5 : 6.0;
-  const double split = voltages.empty() ? 0.1 : 0.42;
+  const double split = voltages.empty() ? 0.12 : 0.44;
   figure.commands = "set multiplot title " + Heading(report) + "\n" +
-                    PanelBox(0.11, 0.97, split + (voltages.empty() ? 0.0 : 0.03), 0.88) +
-                    "set ylabel 'tip deflection [mm] (1 mm step)'\n"
-                    "set key right bottom\n" +
+                    PanelBox(0.12, 0.97, split + (voltages.empty() ? 0.0 : 0.03), 0.88) +
+                    "set ylabel 'tip deflection [mm]'\n"
+                    "set key right bottom opaque box\n" +
                     (voltages.empty() ? "set xlabel " + Q(AxisLabel(columns::kTime)) + "\n"
                                       : std::string("set format x ''\n")) +
                     plot;
   if (!voltages.empty()) {
     std::string lower = "plot ";
+    // Without a clamp the derivative's kick at t = 0 is orders of
+    // magnitude above the rest; the axis spans the voltages after the
+    // first kKickFraction of the record, and the kick is named instead.
+    constexpr double kKickFraction = 0.02;
+    const std::vector<double>& t = series[0];
+    double v_peak = 0.0, v_rest = 0.0;
     for (size_t k = 0; k < voltages.size(); ++k) {
       const size_t at = std::find(links.begin(), links.end(), voltages[k]) - links.begin();
-      lower += (k ? ", " : "") + data + " using 1:" + std::to_string(3 + links.size() + k) +
+      const size_t column = 1 + links.size() + 1 + k;
+      lower += (k ? ", " : "") + data + " using 1:" + std::to_string(column + 1) +
                " with lines lw 1.5 lc " + Rgb(kSeries[at % kSeriesCount]) + " notitle";
+      for (size_t i = 0; i < t.size(); ++i) {
+        const double v = std::abs(series[column][i]);
+        if (!std::isfinite(v)) continue;
+        v_peak = std::max(v_peak, v);
+        if (t[i] >= t.front() + kKickFraction * (t.back() - t.front())) v_rest = std::max(v_rest, v);
+      }
     }
     const bool clamp = about.contains("clamp_enabled") && about["clamp_enabled"].is_boolean() &&
                        about["clamp_enabled"].get<bool>();
+    std::string range;
     if (clamp) {
       const double v_max = JsonNumber(about, "v_max_V", 0);
       lower += ", " + N(v_max) + " with lines dt 2 lc rgb 'gray30' title 'clamp', " + N(-v_max) +
                " with lines dt 2 lc rgb 'gray30' notitle";
+    } else if (v_rest > 0.0 && v_peak > 2.0 * v_rest) {
+      range = "set yrange [" + N(-1.2 * v_rest) + ":" + N(1.2 * v_rest) + "]\n"
+              "set label " + Q(Format("peak %.3g V at the start, off the scale", v_peak)) +
+              " at graph 0.97, graph 0.12 right front\n";
     }
-    figure.commands += "unset key\nset key right top\n" + PanelBox(0.11, 0.97, 0.09, split) +
-                       "set format x '%g'\nset xlabel " + Q(AxisLabel(columns::kTime)) + "\n" +
-                       "set ylabel 'voltage [V]'\n" + lower + "\n";
+    figure.commands += "set key right top nobox noopaque\n" + PanelBox(0.12, 0.97, 0.11, split) +
+                       range + "set format x '%g'\nset xlabel " + Q(AxisLabel(columns::kTime)) +
+                       "\n" + "set ylabel 'voltage [V]'\n" + lower + "\n";
   }
   figure.commands += "unset multiplot\n";
   return figure;
@@ -461,7 +479,7 @@ Figure LinkTrackingFigure(const CsvTable& table, const std::vector<int>& links,
     commands += StackedPanel(H, top + kLinkHeading, kDeflection) + "set title " +
                 Q(panel_title) + " offset 0,-0.4\nset format x ''\nunset xlabel\n"
                 "set ylabel 'deflection [mm]'\nset ytics " + N(NiceStep(2.0 * deflection_max, 4)) +
-                "\nset key at screen 0.12, screen " + key_y + " left top horizontal samplen 3\n" +
+                "\nset key at screen 0.12, screen " + key_y + " left top horizontal samplen 4\n" +
                 "plot " + data + " using 1:2 with lines lw 2 dt 2 lc rgb 'black' " +
                 (k == 0 ? "title 'reference'" : "notitle") + ", '' using 1:3 with lines lw 1.6 lc " +
                 Rgb(kBlue) + " " + (k == 0 ? "title 'measured'" : "notitle") + "\n" +
@@ -470,7 +488,7 @@ Figure LinkTrackingFigure(const CsvTable& table, const std::vector<int>& links,
                 (last ? "set format x '%g'\nset xlabel " + Q(AxisLabel(columns::kTime)) + "\n"
                       : std::string()) +
                 "set ylabel 'voltage [V]'\n"
-                "set key at screen 0.12, screen " + voltage_key_y + " left top horizontal samplen 3\n" +
+                "set key at screen 0.12, screen " + voltage_key_y + " left top horizontal samplen 4\n" +
                 (clamp ? "set yrange [" + N(-1.2 * v_max) + ":" + N(1.2 * v_max) + "]\nset ytics " +
                              N(v_max / 2) + "\n"
                        : std::string("set autoscale y\n")) +
@@ -702,14 +720,14 @@ Figure WaveformFigure(const CsvTable& table, const std::string& input, const Fig
   const double margin = 0.03 * (x_high - x_low);
   Figure figure;
   figure.width_in = 7.5;
-  figure.height_in = 4.2;
+  figure.height_in = 4.4;
   figure.commands = "set title " + Heading(report) + "\n" +
-                    "set xlabel 'x along the body from the head [mm]'\n"
+                    "set xlabel 'x along the body from the head [mm]' offset 0,0.4\n"
                     "set ylabel 'y lateral [mm]'\n"
                     "set xrange [" + N(x_low - margin) + ":" + N(x_high + margin) + "]\n" +
                     "set yrange [" + N(-1.15 * std::max(y_max, 1e-3)) + ":" +
                     N(1.15 * std::max(y_max, 1e-3)) + "]\n" +
-                    "set key outside bottom center horizontal maxrows 2 samplen 2\n"
+                    "set key outside bottom center horizontal maxrows 2 samplen 4 spacing 1.1\n"
                     "set xzeroaxis lt 1 lc rgb 'gray40'\n" + plot + "\n";
   return figure;
 }
