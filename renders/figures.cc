@@ -518,8 +518,8 @@ Figure JointTrackingFigure(const CsvTable& table, const std::vector<int>& joints
   const int n = static_cast<int>(joints.size());
   Figure figure;
   figure.width_in = 7.5;
-  figure.height_in = 0.8 + 1.8 * n;
-  const double top = 1.0 - 0.55 / figure.height_in, bottom = 0.45 / figure.height_in;
+  figure.height_in = 1.15 + 1.8 * n;
+  const double top = 1.0 - 0.95 / figure.height_in, bottom = 0.5 / figure.height_in;
   const double block = (top - bottom) / n;
   std::string commands = "set multiplot title " + heading + "\n";
   for (int k = 0; k < n; ++k) {
@@ -533,8 +533,9 @@ Figure JointTrackingFigure(const CsvTable& table, const std::vector<int>& joints
     commands += PanelBox(0.12, 0.97, block_top - block + 0.02, block_top - 0.015) +
                 (last ? "set format x '%g'\nset xlabel " + Q(AxisLabel(columns::kTime)) + "\n"
                       : std::string("set format x ''\nunset xlabel\n")) +
-                "set ylabel " + Q("joint " + std::to_string(j) + " [rad]") + "\n" +
-                (k == 0 ? "set key at screen 0.97, screen " + N(top + 0.005) + " right bottom horizontal\n"
+                "set ylabel " + Q(AxisLabel(columns::JointAngle(j))) + "\n" +
+                (k == 0 ? "set key at screen 0.5, screen " + N(1.0 - 0.6 / figure.height_in) +
+                              " center top horizontal samplen 4\n"
                         : std::string("set key off\n")) +
                 "plot " + data + " using 1:2 with lines lw 2 dt 2 lc rgb 'black' title "
                 "'reference', '' using 1:3 with lines lw 1.8 lc " + Rgb(kBlue) + " title 'measured'\n";
@@ -578,6 +579,41 @@ struct BodyRecord {
   std::vector<std::vector<Point2>> ideal;  // empty without reference columns
 };
 
+// A gait's ideal body: segment k keeps the realised body's mean length
+// from point k-1 to tip k and turns from segment k-1 (the head's axis for
+// k = 1) by the reference angle of joint k, the hinge at its root; joints
+// without a reference column stay straight.
+std::vector<std::vector<Point2>> GaitIdeal(const CsvTable& table,
+                                           const std::vector<std::vector<Point2>>& realised) {
+  const size_t samples = realised.size();
+  const size_t tips = realised.front().size() - 1;
+  std::vector<double> segment_mm(tips, 0.0);
+  std::vector<std::vector<double>> reference(tips);
+  for (size_t k = 0; k < tips; ++k) {
+    const int joint = static_cast<int>(k) + 1;
+    if (table.Has(columns::JointReference(joint))) {
+      reference[k] = table.Numbers(columns::JointReference(joint));
+    }
+    for (size_t i = 0; i < samples; ++i) {
+      const std::vector<Point2>& p = realised[i];
+      segment_mm[k] += std::hypot(p[k + 1].x - p[k].x, p[k + 1].y - p[k].y) / samples;
+    }
+  }
+  std::vector<std::vector<Point2>> ideal(samples);
+  for (size_t i = 0; i < samples; ++i) {
+    Point2 point;
+    double direction = 0.0;
+    ideal[i].push_back(point);
+    for (size_t k = 0; k < tips; ++k) {
+      if (!reference[k].empty()) direction += reference[k][i];
+      point.x += segment_mm[k] * std::cos(direction);
+      point.y += segment_mm[k] * std::sin(direction);
+      ideal[i].push_back(point);
+    }
+  }
+  return ideal;
+}
+
 BodyRecord ReadBodyRecord(const CsvTable& table) {
   RequireRows(table, 1);
   BodyRecord body;
@@ -601,7 +637,10 @@ BodyRecord ReadBodyRecord(const CsvTable& table) {
       body.realised[i].push_back({c * dx + s * dy, -s * dx + c * dy});
     }
   }
-  if (!table.Has(columns::Reference(1))) return body;
+  if (!table.Has(columns::Reference(1))) {
+    if (table.Has(columns::JointReference(1))) body.ideal = GaitIdeal(table, body.realised);
+    return body;
+  }
 
   // Per segment k (point k-1 to tip k): mean length, and the length L_k
   // that maps the measured deflection onto the realised turn angle.
