@@ -422,6 +422,19 @@ std::string StackedPanel(double height_in, double top_in, double tall_in, double
   return PanelBox(left, right, 1.0 - (top_in + tall_in) / height_in, 1.0 - top_in / height_in);
 }
 
+// A number of link q's entry in summary.json's "links".
+std::optional<double> LinkSummaryNumber(const nlohmann::json& summary, int q, const char* key) {
+  if (!summary.is_object() || !summary.contains("links") || !summary["links"].is_array()) {
+    return std::nullopt;
+  }
+  for (const nlohmann::json& link : summary["links"]) {
+    if (JsonNumber(link, "link", 0) == q && link.contains(key) && link[key].is_number()) {
+      return link[key].get<double>();
+    }
+  }
+  return std::nullopt;
+}
+
 // Closed loop: per link, deflection above and voltage below.
 Figure LinkTrackingFigure(const CsvTable& table, const std::vector<int>& links,
                           const nlohmann::json& summary, const FigureScratch& scratch,
@@ -469,8 +482,11 @@ Figure LinkTrackingFigure(const CsvTable& table, const std::vector<int>& links,
     const bool last = k + 1 == n;
     std::string panel_title = "link " + std::to_string(q);
     if (clamp) {
-      panel_title += Format(": voltage at the clamp in %.1f %% of the recorded samples",
-                            100.0 * static_cast<double>(at_clamp) / std::max<size_t>(1, t.size()));
+      // The run's own fraction (every step, summary.json) if it is there,
+      // else that of the recorded samples.
+      const double fraction = LinkSummaryNumber(summary, q, "saturated_fraction").value_or(
+          static_cast<double>(at_clamp) / std::max<size_t>(1, t.size()));
+      panel_title += Format(": voltage at the clamp %.1f %% of the time", 100.0 * fraction);
     }
     double deflection_max = 0.0;
     for (size_t i = 0; i < t.size(); ++i) {
@@ -479,7 +495,7 @@ Figure LinkTrackingFigure(const CsvTable& table, const std::vector<int>& links,
     commands += StackedPanel(H, top + kLinkHeading, kDeflection) + "set title " +
                 Q(panel_title) + " offset 0,-0.4\nset format x ''\nunset xlabel\n"
                 "set ylabel 'deflection [mm]'\nset ytics " + N(NiceStep(2.0 * deflection_max, 4)) +
-                "\nset key at screen 0.12, screen " + key_y + " left top horizontal samplen 4\n" +
+                "\nset key at screen 0.545, screen " + key_y + " center top horizontal samplen 4\n" +
                 "plot " + data + " using 1:2 with lines lw 2 dt 2 lc rgb 'black' " +
                 (k == 0 ? "title 'reference'" : "notitle") + ", '' using 1:3 with lines lw 1.6 lc " +
                 Rgb(kBlue) + " " + (k == 0 ? "title 'measured'" : "notitle") + "\n" +
@@ -488,7 +504,7 @@ Figure LinkTrackingFigure(const CsvTable& table, const std::vector<int>& links,
                 (last ? "set format x '%g'\nset xlabel " + Q(AxisLabel(columns::kTime)) + "\n"
                       : std::string()) +
                 "set ylabel 'voltage [V]'\n"
-                "set key at screen 0.12, screen " + voltage_key_y + " left top horizontal samplen 4\n" +
+                "set key at screen 0.545, screen " + voltage_key_y + " center top horizontal samplen 4\n" +
                 (clamp ? "set yrange [" + N(-1.2 * v_max) + ":" + N(1.2 * v_max) + "]\nset ytics " +
                              N(v_max / 2) + "\n"
                        : std::string("set autoscale y\n")) +
@@ -1300,7 +1316,7 @@ void FigureOptions::Validate(FigureKind kind) const {
          std::to_string(times_s.size()));
   }
   if (!std::isfinite(period_s) || period_s < 0) {
-    fail("--period-s", "finite and > 0", FormatDouble(period_s));
+    fail("--period-s", "finite and >= 0 (0: period_s of summary.json)", FormatDouble(period_s));
   }
   if (max_lines < kMinMapRows) {
     fail("--max-lines", ">= " + std::to_string(kMinMapRows), std::to_string(max_lines));
