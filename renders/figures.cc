@@ -52,9 +52,7 @@ std::string Format(const char* format, double value) {
 }
 
 // "speed [mm/s]" -> "speed": a label as words in a title.
-std::string WithoutUnit(const std::string& label) {
-  return label.substr(0, label.find(" ["));
-}
+std::string WithoutUnit(const std::string& label) { return label.substr(0, label.find(" [")); }
 
 // A tic step of 1, 2 or 5 x 10^k that cuts `span` into about `count`.
 double NiceStep(double span, int count) {
@@ -90,8 +88,9 @@ nlohmann::json SideJson(const std::string& input, const std::string& name) {
 }
 
 std::string JsonText(const nlohmann::json& json, const char* key) {
-  return json.is_object() && json.contains(key) && json[key].is_string() ? json[key].get<std::string>()
-                                                                         : "";
+  return json.is_object() && json.contains(key) && json[key].is_string()
+             ? json[key].get<std::string>()
+             : "";
 }
 
 double JsonNumber(const nlohmann::json& json, const char* key, double otherwise) {
@@ -106,7 +105,9 @@ std::string RunDescription(const nlohmann::json& summary) {
   std::string what;
   const std::string controller = JsonText(summary, "controller");
   if (!controller.empty()) {
-    what = controller == "pid" ? "PID" : controller == "fractional" ? "fractional integrator" : controller;
+    what = controller == "pid"          ? "PID"
+           : controller == "fractional" ? "fractional integrator"
+                                        : controller;
     if (summary.contains("clamp_enabled") && summary["clamp_enabled"].is_boolean()) {
       what += summary["clamp_enabled"].get<bool>()
                   ? ", clamp +-" + Format("%g", JsonNumber(summary, "v_max_V", 0.0)) + " V"
@@ -230,8 +231,8 @@ Figure BodeFigure(const CsvTable& table, const std::string& input, const FigureO
 
   // Margins of the open loop, if it is drawn.
   Margins margins;
-  const auto open_loop = std::find(options.curves.begin(), options.curves.end(),
-                                   std::string(columns::kOpenLoopCurve));
+  const auto open_loop =
+      std::find(options.curves.begin(), options.curves.end(), std::string(columns::kOpenLoopCurve));
   const bool has_loop = open_loop != options.curves.end();
   std::string margin_text;
   if (has_loop) {
@@ -252,7 +253,8 @@ Figure BodeFigure(const CsvTable& table, const std::string& input, const FigureO
   const std::string controller = JsonText(about, "controller");
   const int link = static_cast<int>(JsonNumber(about, "link", 0));
   std::string what = "Bode diagram";
-  if (!controller.empty()) what += " of the " + std::string(controller == "pid" ? "PID" : controller) + " controller";
+  if (!controller.empty())
+    what += " of the " + std::string(controller == "pid" ? "PID" : controller) + " controller";
   if (link > 0) what += " with link " + std::to_string(link) + "'s plant";
   SetTitle(report, options, what, margin_text);
 
@@ -264,8 +266,8 @@ Figure BodeFigure(const CsvTable& table, const std::string& input, const FigureO
       const bool loop = curve == columns::kOpenLoopCurve;
       line += (k ? ", " : "") + data + " using 1:" + std::to_string(2 + 2 * k + offset) +
               " with lines lw " + (loop ? "2.5" : "1.8") + " lc " +
-              Rgb(reference ? "#000000" : kSeries[k % kSeriesCount]) +
-              (reference ? " dt 2" : "") + " title " + Q(BodeLabel(curve, about));
+              Rgb(reference ? "#000000" : kSeries[k % kSeriesCount]) + (reference ? " dt 2" : "") +
+              " title " + Q(BodeLabel(curve, about));
     }
     return line + "\n";
   };
@@ -275,24 +277,30 @@ Figure BodeFigure(const CsvTable& table, const std::string& input, const FigureO
   std::string magnitude_marks, phase_marks;
   if (margins.crossover_rad_s) {
     const std::string wc = N(*margins.crossover_rad_s);
-    magnitude_marks += "set arrow from " + wc + ", graph 0 to " + wc +
-                       ", graph 1 nohead dt 3 lc rgb 'gray40'\n";
+    magnitude_marks +=
+        "set arrow from " + wc + ", graph 0 to " + wc + ", graph 1 nohead dt 3 lc rgb 'gray40'\n";
     phase_marks += "set arrow from " + wc + ", graph 0 to " + wc +
                    ", graph 1 nohead dt 3 lc rgb 'gray40'\n"
-                   "set arrow from " + wc + ", -180 to " + wc + ", " +
-                   N(*margins.phase_at_crossover_deg) + " nohead lw 3 lc " + Rgb(kRed) + " front\n"
-                   "set label " + Q("Pm " + Format("%.1f", *margins.phase_margin_deg) + " deg") +
-                   " at " + wc + ", " + N(0.5 * (-180.0 + *margins.phase_at_crossover_deg)) +
+                   "set arrow from " +
+                   wc + ", -180 to " + wc + ", " + N(*margins.phase_at_crossover_deg) +
+                   " nohead lw 3 lc " + Rgb(kRed) +
+                   " front\n"
+                   "set label " +
+                   Q("Pm " + Format("%.1f", *margins.phase_margin_deg) + " deg") + " at " + wc +
+                   ", " + N(0.5 * (-180.0 + *margins.phase_at_crossover_deg)) +
                    " offset 1,0 front tc " + Rgb(kRed) + "\n";
   }
   if (margins.phase_crossover_rad_s) {
     const std::string w180 = N(*margins.phase_crossover_rad_s);
     magnitude_marks += "set arrow from " + w180 + ", graph 0 to " + w180 +
                        ", graph 1 nohead dt 3 lc rgb 'gray40'\n"
-                       "set arrow from " + w180 + ", " + N(*margins.magnitude_at_phase_crossover_db) +
-                       " to " + w180 + ", 0 nohead lw 3 lc " + Rgb(kRed) + " front\n"
-                       "set label " + Q("Gm " + Format("%.2f", *margins.gain_margin_db) + " dB") +
-                       " at " + w180 + ", " + N(0.5 * *margins.magnitude_at_phase_crossover_db) +
+                       "set arrow from " +
+                       w180 + ", " + N(*margins.magnitude_at_phase_crossover_db) + " to " + w180 +
+                       ", 0 nohead lw 3 lc " + Rgb(kRed) +
+                       " front\n"
+                       "set label " +
+                       Q("Gm " + Format("%.2f", *margins.gain_margin_db) + " dB") + " at " + w180 +
+                       ", " + N(0.5 * *margins.magnitude_at_phase_crossover_db) +
                        " offset 1,0 front tc " + Rgb(kRed) + "\n";
     phase_marks += "set arrow from " + w180 + ", graph 0 to " + w180 +
                    ", graph 1 nohead dt 3 lc rgb 'gray40'\n";
@@ -310,10 +318,10 @@ Figure BodeFigure(const CsvTable& table, const std::string& input, const FigureO
       PanelBox(0.11, 0.97, 0.53, 1.0 - 1.0 / H) +
       "set ylabel 'magnitude [dB]'\nset format y '%g'\nunset xlabel\nset format x ''\n" +
       "set arrow from graph 0, first 0 to graph 1, first 0 nohead lc rgb 'gray30'\n" +
-      magnitude_marks + plot(0) +
-      "unset arrow\nunset label\nunset title\nunset key\n" + PanelBox(0.11, 0.97, 0.09, 0.50) +
-      "set format x '%g'\nset xlabel " + Q(AxisLabel(columns::kFrequency)) + "\n" +
-      "set ylabel 'phase [deg]'\nset ytics " + N(phase_step) + "\n" +
+      magnitude_marks + plot(0) + "unset arrow\nunset label\nunset title\nunset key\n" +
+      PanelBox(0.11, 0.97, 0.09, 0.50) + "set format x '%g'\nset xlabel " +
+      Q(AxisLabel(columns::kFrequency)) + "\n" + "set ylabel 'phase [deg]'\nset ytics " +
+      N(phase_step) + "\n" +
       "set arrow from graph 0, first -180 to graph 1, first -180 nohead lc rgb 'gray30'\n" +
       phase_marks + plot(1) + "unset multiplot\n";
   return figure;
@@ -352,8 +360,8 @@ Figure StepFigure(const CsvTable& table, const std::string& input, const FigureO
   std::string plot = "plot ";
   for (size_t k = 0; k < links.size(); ++k) {
     plot += data + " using 1:" + std::to_string(3 + k) + " with lines lw 2 lc " +
-            Rgb(kSeries[k % kSeriesCount]) + " title " +
-            Q("link " + std::to_string(links[k])) + ", ";
+            Rgb(kSeries[k % kSeriesCount]) + " title " + Q("link " + std::to_string(links[k])) +
+            ", ";
   }
   plot += data + " using 1:2 with lines lw 2.5 dt 2 lc rgb 'black' title 'reference model'\n";
   Figure figure;
@@ -384,7 +392,8 @@ Figure StepFigure(const CsvTable& table, const std::string& input, const FigureO
         const double v = std::abs(series[column][i]);
         if (!std::isfinite(v)) continue;
         v_peak = std::max(v_peak, v);
-        if (t[i] >= t.front() + kKickFraction * (t.back() - t.front())) v_rest = std::max(v_rest, v);
+        if (t[i] >= t.front() + kKickFraction * (t.back() - t.front()))
+          v_rest = std::max(v_rest, v);
       }
     }
     const bool clamp = about.contains("clamp_enabled") && about["clamp_enabled"].is_boolean() &&
@@ -395,8 +404,10 @@ Figure StepFigure(const CsvTable& table, const std::string& input, const FigureO
       lower += ", " + N(v_max) + " with lines dt 2 lc rgb 'gray30' title 'clamp', " + N(-v_max) +
                " with lines dt 2 lc rgb 'gray30' notitle";
     } else if (v_rest > 0.0 && v_peak > 2.0 * v_rest) {
-      range = "set yrange [" + N(-1.2 * v_rest) + ":" + N(1.2 * v_rest) + "]\n"
-              "set label " + Q(Format("peak %.3g V at the start, off the scale", v_peak)) +
+      range = "set yrange [" + N(-1.2 * v_rest) + ":" + N(1.2 * v_rest) +
+              "]\n"
+              "set label " +
+              Q(Format("peak %.3g V at the start, off the scale", v_peak)) +
               " at graph 0.97, graph 0.12 right front\n";
     }
     figure.commands += "set key right top nobox noopaque\n" + PanelBox(0.12, 0.97, 0.11, split) +
@@ -475,36 +486,39 @@ Figure LinkTrackingFigure(const CsvTable& table, const std::vector<int>& links,
         ++at_clamp;
       }
     }
-    const std::string data = scratch.Data(
-        "tracking" + std::to_string(q) + ".dat",
-        GnuplotTable({t, reference, measured, voltage, shade_low, shade_high}));
+    const std::string data =
+        scratch.Data("tracking" + std::to_string(q) + ".dat",
+                     GnuplotTable({t, reference, measured, voltage, shade_low, shade_high}));
     const double top = kHead + k * kBlock;
     const bool last = k + 1 == n;
     std::string panel_title = "link " + std::to_string(q);
     if (clamp) {
       // The run's own fraction (every step, summary.json) if it is there,
       // else that of the recorded samples.
-      const double fraction = LinkSummaryNumber(summary, q, "saturated_fraction").value_or(
-          static_cast<double>(at_clamp) / std::max<size_t>(1, t.size()));
+      const double fraction =
+          LinkSummaryNumber(summary, q, "saturated_fraction")
+              .value_or(static_cast<double>(at_clamp) / std::max<size_t>(1, t.size()));
       panel_title += Format(": voltage at the clamp %.1f %% of the time", 100.0 * fraction);
     }
     double deflection_max = 0.0;
     for (size_t i = 0; i < t.size(); ++i) {
       deflection_max = std::max({deflection_max, std::abs(reference[i]), std::abs(measured[i])});
     }
-    commands += StackedPanel(H, top + kLinkHeading, kDeflection) + "set title " +
-                Q(panel_title) + " offset 0,-0.4\nset format x ''\nunset xlabel\n"
-                "set ylabel 'deflection [mm]'\nset ytics " + N(NiceStep(2.0 * deflection_max, 4)) +
-                "\nset key at screen 0.545, screen " + key_y + " center top horizontal samplen 4\n" +
-                "plot " + data + " using 1:2 with lines lw 2 dt 2 lc rgb 'black' " +
-                (k == 0 ? "title 'reference'" : "notitle") + ", '' using 1:3 with lines lw 1.6 lc " +
-                Rgb(kBlue) + " " + (k == 0 ? "title 'measured'" : "notitle") + "\n" +
-                "unset title\n" +
+    commands += StackedPanel(H, top + kLinkHeading, kDeflection) + "set title " + Q(panel_title) +
+                " offset 0,-0.4\nset format x ''\nunset xlabel\n"
+                "set ylabel 'deflection [mm]'\nset ytics " +
+                N(NiceStep(2.0 * deflection_max, 4)) + "\nset key at screen 0.545, screen " +
+                key_y + " center top horizontal samplen 4\n" + "plot " + data +
+                " using 1:2 with lines lw 2 dt 2 lc rgb 'black' " +
+                (k == 0 ? "title 'reference'" : "notitle") +
+                ", '' using 1:3 with lines lw 1.6 lc " + Rgb(kBlue) + " " +
+                (k == 0 ? "title 'measured'" : "notitle") + "\n" + "unset title\n" +
                 StackedPanel(H, top + kLinkHeading + kDeflection + kGap, kVoltage) +
                 (last ? "set format x '%g'\nset xlabel " + Q(AxisLabel(columns::kTime)) + "\n"
                       : std::string()) +
                 "set ylabel 'voltage [V]'\n"
-                "set key at screen 0.545, screen " + voltage_key_y + " center top horizontal samplen 4\n" +
+                "set key at screen 0.545, screen " +
+                voltage_key_y + " center top horizontal samplen 4\n" +
                 (clamp ? "set yrange [" + N(-1.2 * v_max) + ":" + N(1.2 * v_max) + "]\nset ytics " +
                              N(v_max / 2) + "\n"
                        : std::string("set autoscale y\n")) +
@@ -520,7 +534,8 @@ Figure LinkTrackingFigure(const CsvTable& table, const std::vector<int>& links,
                              ", " + N(-v_max) + " with lines dt 2 lc rgb 'gray30' notitle, "
                        : std::string()) +
                 data + " using 1:4 with lines lw 1.5 lc " + Rgb(kRed) + " " +
-                (k == 0 ? "title 'voltage'" : "notitle") + "\n"
+                (k == 0 ? "title 'voltage'" : "notitle") +
+                "\n"
                 "set autoscale y\nset ytics autofreq\n";
   }
   figure.commands = commands + "unset multiplot\n";
@@ -540,10 +555,10 @@ Figure JointTrackingFigure(const CsvTable& table, const std::vector<int>& joints
   std::string commands = "set multiplot title " + heading + "\n";
   for (int k = 0; k < n; ++k) {
     const int j = joints[k];
-    const std::string data = scratch.Data(
-        "joint" + std::to_string(j) + ".dat",
-        GnuplotTable({t, table.Numbers(columns::JointReference(j)),
-                      table.Numbers(columns::JointAngle(j))}));
+    const std::string data =
+        scratch.Data("joint" + std::to_string(j) + ".dat",
+                     GnuplotTable({t, table.Numbers(columns::JointReference(j)),
+                                   table.Numbers(columns::JointAngle(j))}));
     const double block_top = top - k * block;
     const bool last = k + 1 == n;
     commands += PanelBox(0.12, 0.97, block_top - block + 0.02, block_top - 0.015) +
@@ -553,8 +568,10 @@ Figure JointTrackingFigure(const CsvTable& table, const std::vector<int>& joints
                 (k == 0 ? "set key at screen 0.5, screen " + N(1.0 - 0.6 / figure.height_in) +
                               " center top horizontal samplen 4\n"
                         : std::string("set key off\n")) +
-                "plot " + data + " using 1:2 with lines lw 2 dt 2 lc rgb 'black' title "
-                "'reference', '' using 1:3 with lines lw 1.8 lc " + Rgb(kBlue) + " title 'measured'\n";
+                "plot " + data +
+                " using 1:2 with lines lw 2 dt 2 lc rgb 'black' title "
+                "'reference', '' using 1:3 with lines lw 1.8 lc " +
+                Rgb(kBlue) + " title 'measured'\n";
   }
   figure.commands = commands + "unset multiplot\n";
   return figure;
@@ -769,8 +786,9 @@ Figure WaveformFigure(const CsvTable& table, const std::string& input, const Fig
     }
   }
   if (with_ideal) {
-    plot += ", NaN with lines lw 2 lc rgb 'black' title 'realised (solid)', NaN with lines lw 1.5 "
-            "dt 2 lc rgb 'black' title 'ideal (dashed)'";
+    plot +=
+        ", NaN with lines lw 2 lc rgb 'black' title 'realised (solid)', NaN with lines lw 1.5 "
+        "dt 2 lc rgb 'black' title 'ideal (dashed)'";
   }
   const double margin = 0.03 * (x_high - x_low);
   Figure figure;
@@ -779,11 +797,13 @@ Figure WaveformFigure(const CsvTable& table, const std::string& input, const Fig
   figure.commands = "set title " + Heading(report) + "\n" +
                     "set xlabel 'x along the body from the head [mm]' offset 0,0.4\n"
                     "set ylabel 'y lateral [mm]'\n"
-                    "set xrange [" + N(x_low - margin) + ":" + N(x_high + margin) + "]\n" +
-                    "set yrange [" + N(-1.15 * std::max(y_max, 1e-3)) + ":" +
-                    N(1.15 * std::max(y_max, 1e-3)) + "]\n" +
+                    "set xrange [" +
+                    N(x_low - margin) + ":" + N(x_high + margin) + "]\n" + "set yrange [" +
+                    N(-1.15 * std::max(y_max, 1e-3)) + ":" + N(1.15 * std::max(y_max, 1e-3)) +
+                    "]\n" +
                     "set key outside bottom center horizontal maxrows 2 samplen 4 spacing 1.1\n"
-                    "set xzeroaxis lt 1 lc rgb 'gray40'\n" + plot + "\n";
+                    "set xzeroaxis lt 1 lc rgb 'gray40'\n" +
+                    plot + "\n";
   return figure;
 }
 
@@ -797,8 +817,8 @@ std::vector<size_t> Thinned(size_t samples, int count) {
     return chosen;
   }
   for (int k = 0; k < count; ++k) {
-    chosen.push_back(static_cast<size_t>(std::lround(
-        static_cast<double>(k) * static_cast<double>(samples - 1) / (count - 1))));
+    chosen.push_back(static_cast<size_t>(
+        std::lround(static_cast<double>(k) * static_cast<double>(samples - 1) / (count - 1))));
   }
   return chosen;
 }
@@ -846,26 +866,34 @@ Figure SurfaceFigure(const CsvTable& table, const std::string& input, const Figu
   }
   if (!(length_mm > 0.0)) length_mm = 1.0;
   double y_max = 0.0;
-  const std::string realised =
-      scratch.Data("map_realised.dat", MapData(body.realised, body.t_s, samples, length_mm, &y_max));
+  const std::string realised = scratch.Data(
+      "map_realised.dat", MapData(body.realised, body.t_s, samples, length_mm, &y_max));
   const std::string ideal =
-      with_ideal ? scratch.Data("map_ideal.dat", MapData(body.ideal, body.t_s, samples, length_mm, &y_max))
-                 : "";
+      with_ideal
+          ? scratch.Data("map_ideal.dat", MapData(body.ideal, body.t_s, samples, length_mm, &y_max))
+          : "";
   if (!(y_max > 0.0)) y_max = 1.0;
-  SetTitle(report, options, "Lateral deflection along the body over time",
-           RunDescription(summary));
+  SetTitle(report, options, "Lateral deflection along the body over time", RunDescription(summary));
   // Each sample of the map is a pixel of `with image` centred on its
   // (x, t); the axes end at the body's ends and the record's. NaN (beyond
   // the bent body's end) must stay a blank pixel, not a missing one, or
   // the rest of its row would shift.
   const std::string common =
       "unset datafile missing\nunset grid\nunset key\nset tics out front\n"
-      "set palette defined (-1 '#2166ac', -0.5 '#92c5de', 0 '#f7f7f7', 0.5 '#f4a582', 1 '#b2182b')\n"
-      "set cbrange [" + N(-y_max) + ":" + N(y_max) + "]\n"
-      "set xrange [0:" + N(length_mm) + "]\n"
-      "set yrange [" + N(body.t_s[samples.front()]) + ":" + N(body.t_s[samples.back()]) + "]\n"
+      "set palette defined (-1 '#2166ac', -0.5 '#92c5de', 0 '#f7f7f7', 0.5 '#f4a582', 1 "
+      "'#b2182b')\n"
+      "set cbrange [" +
+      N(-y_max) + ":" + N(y_max) +
+      "]\n"
+      "set xrange [0:" +
+      N(length_mm) +
+      "]\n"
+      "set yrange [" +
+      N(body.t_s[samples.front()]) + ":" + N(body.t_s[samples.back()]) +
+      "]\n"
       "set xlabel 'x along the body from the head [mm]'\n"
-      "set ylabel " + Q(AxisLabel(columns::kTime)) + "\n";
+      "set ylabel " +
+      Q(AxisLabel(columns::kTime)) + "\n";
   Figure figure;
   figure.height_in = 4.6;
   const double H = figure.height_in;
@@ -874,16 +902,20 @@ Figure SurfaceFigure(const CsvTable& table, const std::string& input, const Figu
   const std::string colour_bar = "set cblabel 'lateral deflection y [mm]'\nset cbtics out\n";
   if (with_ideal) {
     figure.width_in = 9.0;
-    commands += PanelBox(0.08, 0.45, bottom, top) + "unset colorbox\nset title 'ideal (references)'\n"
-                "plot " + ideal + " using 1:2:3 with image\n" +
-                PanelBox(0.50, 0.87, bottom, top) + "set colorbox user origin screen 0.895, screen " +
-                N(bottom) + " size screen 0.02, screen " + N(top - bottom) + "\n" + colour_bar +
+    commands += PanelBox(0.08, 0.45, bottom, top) +
+                "unset colorbox\nset title 'ideal (references)'\n"
+                "plot " +
+                ideal + " using 1:2:3 with image\n" + PanelBox(0.50, 0.87, bottom, top) +
+                "set colorbox user origin screen 0.895, screen " + N(bottom) +
+                " size screen 0.02, screen " + N(top - bottom) + "\n" + colour_bar +
                 "set title 'realised (tips)'\nset ylabel ''\nset format y ''\n"
-                "plot " + realised + " using 1:2:3 with image\n";
+                "plot " +
+                realised + " using 1:2:3 with image\n";
   } else {
     figure.width_in = 6.5;
-    commands += PanelBox(0.12, 0.80, bottom, top) + "set colorbox user origin screen 0.84, screen " +
-                N(bottom) + " size screen 0.03, screen " + N(top - bottom) + "\n" + colour_bar +
+    commands += PanelBox(0.12, 0.80, bottom, top) +
+                "set colorbox user origin screen 0.84, screen " + N(bottom) +
+                " size screen 0.03, screen " + N(top - bottom) + "\n" + colour_bar +
                 "set title 'realised (tips)'\nplot " + realised + " using 1:2:3 with image\n";
   }
   figure.commands = commands + "unset multiplot\n";
@@ -892,8 +924,9 @@ Figure SurfaceFigure(const CsvTable& table, const std::string& input, const Figu
 
 // ------------------------------------------------------------ trajectory ---
 
-Figure TrajectoryFigure(const CsvTable& table, const std::string& input, const FigureOptions& options,
-                        const FigureScratch& scratch, FigureReport& report) {
+Figure TrajectoryFigure(const CsvTable& table, const std::string& input,
+                        const FigureOptions& options, const FigureScratch& scratch,
+                        FigureReport& report) {
   RequireRows(table, 2);
   const nlohmann::json summary = SideJson(input, "summary.json");
   const std::vector<double> t = table.Numbers(columns::kTime);
@@ -945,13 +978,15 @@ Figure TrajectoryFigure(const CsvTable& table, const std::string& input, const F
   const double H = figure.height_in;
   const std::string cycle_key = markers.empty() ? "notitle" : "title 'start of a cycle'";
   figure.commands =
-      "set multiplot title " + Heading(report) + "\n" +
-      StackedPanel(H, 0.95, 2.45) + cycle_lines +
+      "set multiplot title " + Heading(report) + "\n" + StackedPanel(H, 0.95, 2.45) + cycle_lines +
       "set title 'displacement against time' offset 0,-0.4\n"
-      "set xlabel " + Q(AxisLabel(columns::kTime)) + " offset 0,0.3\n"
+      "set xlabel " +
+      Q(AxisLabel(columns::kTime)) +
+      " offset 0,0.3\n"
       "set ylabel 'displacement [mm]'\n"
       "set key left top samplen 3 box opaque\n"
-      "plot " + data + " using 1:2 with lines lw 2.5 lc " + Rgb(kBlue) +
+      "plot " +
+      data + " using 1:2 with lines lw 2.5 lc " + Rgb(kBlue) +
       " title 'centre of mass, along', '' using 1:3 with lines lw 1.5 dt (6,4) lc " + Rgb(kBlue) +
       " title 'centre of mass, across', '' using 1:4 with lines lw 1.2 lc " + Rgb(kOrange) +
       " title 'head, along'\n"
@@ -960,11 +995,11 @@ Figure TrajectoryFigure(const CsvTable& table, const std::string& input, const F
 
       "set xlabel 'along the swimming axis [mm] (head first)' offset 0,0.3\n"
       "set ylabel 'across [mm]'\n"
-      "set key noopaque nobox at screen 0.98, screen " + N(1.0 - 4.35 / H) +
-      " right top vertical samplen 2\n" +
-      StackedPanel(H, 4.35, 2.05, 0.12, 0.72) +
-      "plot " + data + " using 4:5 with lines lw 1 lc " + Rgb(kOrange) + " title 'head', " + data +
-      " using 2:3 with lines lw 2.5 lc " + Rgb(kBlue) + " title 'centre of mass', " + marker_data +
+      "set key noopaque nobox at screen 0.98, screen " +
+      N(1.0 - 4.35 / H) + " right top vertical samplen 2\n" +
+      StackedPanel(H, 4.35, 2.05, 0.12, 0.72) + "plot " + data + " using 4:5 with lines lw 1 lc " +
+      Rgb(kOrange) + " title 'head', " + data + " using 2:3 with lines lw 2.5 lc " + Rgb(kBlue) +
+      " title 'centre of mass', " + marker_data +
       " using 1:2 with points pt 7 ps 0.9 lc rgb 'black' " + cycle_key + ", " + marker_data +
       " using 3:4 with points pt 7 ps 0.9 lc rgb 'black' notitle\n"
       "unset multiplot\n";
@@ -1019,12 +1054,12 @@ Figure IdentificationFigure(const CsvTable& table, const std::string& input,
   // The band, and a factor kBandMargin beyond it on either side: the
   // figure is about the fit (as Fig. 7), not the response far outside.
   constexpr double kBandMargin = 3.0;
-  const std::string band =
-      has_band ? "set object 1 rect from " + N(band_low) + ", graph 0 to " + N(band_high) +
-                     ", graph 1 back fc " + Rgb(kBandShade) + " fs solid 1.0 noborder\n" +
-                     "set xrange [" + N(band_low / kBandMargin) + ":" +
-                     N(band_high * kBandMargin) + "]\n"
-               : "";
+  const std::string band = has_band ? "set object 1 rect from " + N(band_low) + ", graph 0 to " +
+                                          N(band_high) + ", graph 1 back fc " + Rgb(kBandShade) +
+                                          " fs solid 1.0 noborder\n" + "set xrange [" +
+                                          N(band_low / kBandMargin) + ":" +
+                                          N(band_high * kBandMargin) + "]\n"
+                                    : "";
   const double phase_step = has_band && phase_high - phase_low > 200.0 ? 90.0 : 45.0;
   // The phase axis spans the band's phases in whole steps.
   const std::string phase_range =
@@ -1036,26 +1071,27 @@ Figure IdentificationFigure(const CsvTable& table, const std::string& input,
            " with points pt 7 ps 0.35 lc rgb 'gray60' title 'measured', '' using 1:" +
            std::to_string(in_band_column) + " with points pt 7 ps 0.45 lc " + Rgb(kBlue) +
            " title 'measured, in the fits'' band', '' using 1:" + std::to_string(g1) +
-           " with lines lw 2 lc " + Rgb(kRed) + " title 'G1 (eq. 5)', '' using 1:" +
-           std::to_string(g2) + " with lines lw 2 dt (6,4) lc " + Rgb(kGreen) +
-           " title 'G2 (eq. 6)'\n";
+           " with lines lw 2 lc " + Rgb(kRed) +
+           " title 'G1 (eq. 5)', '' using 1:" + std::to_string(g2) +
+           " with lines lw 2 dt (6,4) lc " + Rgb(kGreen) + " title 'G2 (eq. 6)'\n";
   };
   Figure figure;
   figure.width_in = 7.0;
   figure.height_in = 7.0;
   const double H = figure.height_in;
-  figure.commands =
-      "set multiplot title " + Heading(report) + "\n" + "set logscale x\nset mxtics 10\n" + band +
-      StackedPanel(H, 0.85, 2.4) +
-      "set format x ''\nset ylabel 'magnitude [dB]'\n"
-      "set key left bottom opaque box samplen 2 spacing 1.1\n" +
-      panel(3, 9, 5, 7) + "set key off\n" + StackedPanel(H, 3.45, 1.7) + phase_range +
-      "set ylabel 'phase [deg]'\nset ytics " + N(phase_step) + "\n" + panel(4, 10, 6, 8) +
-      StackedPanel(H, 5.35, 1.0) + "set format x '%g'\nset xlabel " +
-      Q(AxisLabel(columns::kFrequency)) + "\n" +
-      "set ylabel 'coherence'\nset yrange [0:1.05]\nset ytics 0.5\n"
-      "plot " + data + " using 1:2 with lines lw 1.5 lc " + Rgb(kGrey) + " notitle\n"
-      "unset multiplot\n";
+  figure.commands = "set multiplot title " + Heading(report) + "\n" +
+                    "set logscale x\nset mxtics 10\n" + band + StackedPanel(H, 0.85, 2.4) +
+                    "set format x ''\nset ylabel 'magnitude [dB]'\n"
+                    "set key left bottom opaque box samplen 2 spacing 1.1\n" +
+                    panel(3, 9, 5, 7) + "set key off\n" + StackedPanel(H, 3.45, 1.7) + phase_range +
+                    "set ylabel 'phase [deg]'\nset ytics " + N(phase_step) + "\n" +
+                    panel(4, 10, 6, 8) + StackedPanel(H, 5.35, 1.0) +
+                    "set format x '%g'\nset xlabel " + Q(AxisLabel(columns::kFrequency)) + "\n" +
+                    "set ylabel 'coherence'\nset yrange [0:1.05]\nset ytics 0.5\n"
+                    "plot " +
+                    data + " using 1:2 with lines lw 1.5 lc " + Rgb(kGrey) +
+                    " notitle\n"
+                    "unset multiplot\n";
   return figure;
 }
 
@@ -1154,8 +1190,7 @@ Figure SweepFigure(const CsvTable& table, const std::string&, const FigureOption
   SetTitle(report, options, what, "");
   std::string commands = "set title " + Heading(report) + "\n" + "set xlabel " +
                          Q(AxisLabel(options.x_column)) + "\nset ylabel " +
-                         Q(AxisLabel(options.y_column)) + "\n" +
-                         "set key outside right top\n";
+                         Q(AxisLabel(options.y_column)) + "\n" + "set key outside right top\n";
   if (options.log_x) commands += "set logscale x\n";
   if (options.log_y) commands += "set logscale y\n";
   if (!numeric_x) {
@@ -1258,17 +1293,28 @@ constexpr NumberedLabel kNumberedLabels[] = {
 
 // Unit suffixes of names not in the tables, longest first.
 constexpr LabelEntry kUnitSuffixes[] = {
-    {"_um_per_mm", "um/mm"}, {"_mm_s2", "mm/s^2"}, {"_rad_s", "rad/s"}, {"_kg_m3", "kg/m^3"},
-    {"_Pa_s", "Pa s"},       {"_mm_s", "mm/s"},    {"_mm", "mm"},       {"_um", "um"},
-    {"_Hz", "Hz"},           {"_rad", "rad"},      {"_deg", "deg"},     {"_db", "dB"},
-    {"_V", "V"},             {"_s", "s"},
+    {"_um_per_mm", "um/mm"},
+    {"_mm_s2", "mm/s^2"},
+    {"_rad_s", "rad/s"},
+    {"_kg_m3", "kg/m^3"},
+    {"_Pa_s", "Pa s"},
+    {"_mm_s", "mm/s"},
+    {"_mm", "mm"},
+    {"_um", "um"},
+    {"_Hz", "Hz"},
+    {"_rad", "rad"},
+    {"_deg", "deg"},
+    {"_db", "dB"},
+    {"_V", "V"},
+    {"_s", "s"},
 };
 
 std::string SpelledOut(std::string name) {
   std::string unit;
   for (const LabelEntry& suffix : kUnitSuffixes) {
     const std::string tail = suffix.column;
-    if (name.size() > tail.size() && name.compare(name.size() - tail.size(), tail.size(), tail) == 0) {
+    if (name.size() > tail.size() &&
+        name.compare(name.size() - tail.size(), tail.size(), tail) == 0) {
       name.erase(name.size() - tail.size());
       unit = suffix.label;
       break;
@@ -1282,9 +1328,8 @@ std::string SpelledOut(std::string name) {
 }  // namespace
 
 const std::vector<std::string>& FigureKindNames() {
-  static const std::vector<std::string> names = {"bode",       "step",           "tracking",
-                                                 "waveform",   "surface",        "trajectory",
-                                                 "identification", "sweep"};
+  static const std::vector<std::string> names = {
+      "bode", "step", "tracking", "waveform", "surface", "trajectory", "identification", "sweep"};
   return names;
 }
 
@@ -1335,9 +1380,8 @@ FigureReport DrawFigureOf(FigureKind kind, const std::string& input, const Figur
   FigureReport report;
   using Builder = Figure (*)(const CsvTable&, const std::string&, const FigureOptions&,
                              const FigureScratch&, FigureReport&);
-  const Builder builders[] = {BodeFigure,       StepFigure,          TrackingFigure,
-                              WaveformFigure,   SurfaceFigure,       TrajectoryFigure,
-                              IdentificationFigure, SweepFigure};
+  const Builder builders[] = {BodeFigure,    StepFigure,       TrackingFigure,       WaveformFigure,
+                              SurfaceFigure, TrajectoryFigure, IdentificationFigure, SweepFigure};
   const Figure figure = builders[static_cast<int>(kind)](table, input, options, scratch, report);
   DrawFigure(figure, scratch, out_path, input, options.size);
   return report;
@@ -1351,8 +1395,10 @@ std::string AxisLabel(const std::string& column) {
   const size_t open = column.find('[');
   if (open != std::string::npos && column.back() == ']') {
     const std::string base = column.substr(0, open);
-    const std::optional<long> index = ParseInteger(column.substr(open + 1, column.size() - open - 2));
-    if (base == "link_lengths_mm" && index) return "link " + std::to_string(*index + 1) + " length [mm]";
+    const std::optional<long> index =
+        ParseInteger(column.substr(open + 1, column.size() - open - 2));
+    if (base == "link_lengths_mm" && index)
+      return "link " + std::to_string(*index + 1) + " length [mm]";
     return AxisLabel(base) + " (element " + column.substr(open + 1, column.size() - open - 2) + ")";
   }
   for (const NumberedLabel& entry : kNumberedLabels) {
@@ -1361,15 +1407,16 @@ std::string AxisLabel(const std::string& column) {
         column.compare(column.size() - suffix.size(), suffix.size(), suffix) != 0) {
       continue;
     }
-    const std::optional<long> q = ParseInteger(
-        column.substr(prefix.size(), column.size() - prefix.size() - suffix.size()));
+    const std::optional<long> q =
+        ParseInteger(column.substr(prefix.size(), column.size() - prefix.size() - suffix.size()));
     if (q && *q > 0) return std::string(entry.noun) + " " + std::to_string(*q) + " " + entry.label;
   }
   // "link<q>_<result>" of a sweep table.
   if (column.rfind("link", 0) == 0) {
     const size_t underscore = column.find('_');
-    const std::optional<long> link =
-        underscore == std::string::npos ? std::nullopt : ParseInteger(column.substr(4, underscore - 4));
+    const std::optional<long> link = underscore == std::string::npos
+                                         ? std::nullopt
+                                         : ParseInteger(column.substr(4, underscore - 4));
     if (link) {
       const std::string result = column.substr(underscore + 1);
       for (const LabelEntry& entry : kLinkResultLabels) {

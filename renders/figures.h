@@ -49,7 +49,16 @@
 
 namespace ipmc {
 
-enum class FigureKind { kBode, kStep, kTracking, kWaveform, kSurface, kTrajectory, kIdentification, kSweep };
+enum class FigureKind {
+  kBode,
+  kStep,
+  kTracking,
+  kWaveform,
+  kSurface,
+  kTrajectory,
+  kIdentification,
+  kSweep
+};
 
 // The kinds' names, as the command line spells them.
 const std::vector<std::string>& FigureKindNames();
@@ -62,8 +71,8 @@ struct FigureOptions {
   // bode
   std::vector<std::string> curves = {"plant", "controller", "open_loop", "reference_open_loop"};
   // waveform
-  int instants = 4;                // in [1, 12], spread over the last period
-  std::vector<double> times_s;     // or these instants (at most 12)
+  int instants = 4;             // in [1, 12], spread over the last period
+  std::vector<double> times_s;  // or these instants (at most 12)
   // waveform, trajectory: the wave period [s]; 0: period_s of summary.json
   // beside the input (waveform: else the whole record; trajectory: else no
   // cycle markers)

@@ -187,7 +187,8 @@ void DrawFigure(const Figure& figure, const FigureScratch& scratch, const std::s
   EnsureParentDirectory(out_path);
   PendingFile output(out_path);
   const std::string script = "set encoding utf8\n" + Terminal(format, width_in, height_in) +
-                             "set output " + GnuplotQuote(output.temp_path()) + "\n"
+                             "set output " + GnuplotQuote(output.temp_path()) +
+                             "\n"
                              "set datafile missing 'NaN'\n"
                              "set grid back lt 1 lc rgb 'gray88' lw 1\n"
                              "set border lw 1\n" +

@@ -82,7 +82,6 @@ fs::path ShortScenario(const fs::path& dir, const std::string& name, double freq
   return path;
 }
 
-
 std::string RunOrDescribe(const std::string& args) {
   const CommandResult result = RunCli(args);
   return result.exit_code == 0 ? "" : "ipmc-swim " + args + ": " + result.output;
@@ -115,8 +114,9 @@ std::string SweepTable(const fs::path& dir, std::string& failure) {
         << summary["per_cycle"].back()["com_along_mm"].get<double>() << "\n";
     table += row.str();
   }
-  table += "4,1,distributed,error,\"m.xml: simulation diverged at t = 0.26 s (reduce "
-           "option \"\"timestep\"\", now 0.02 s)\",,\n";
+  table +=
+      "4,1,distributed,error,\"m.xml: simulation diverged at t = 0.26 s (reduce "
+      "option \"\"timestep\"\", now 0.02 s)\",,\n";
   return table;
 }
 
@@ -140,8 +140,8 @@ struct ProgramOutputs {
     return Made(InputsDir() / "bode" / "bode.csv", failure);
   }
   fs::path step_csv() const {
-    static const std::string failure = RunOrDescribe("step --controller pid --no-clamp --out " +
-                                                     Quoted(InputsDir() / "step"));
+    static const std::string failure =
+        RunOrDescribe("step --controller pid --no-clamp --out " + Quoted(InputsDir() / "step"));
     return Made(InputsDir() / "step" / "step.csv", failure);
   }
   fs::path timeseries_csv() const {
@@ -216,10 +216,8 @@ std::string SvgText(const fs::path& svg) {
       text += ' ';
     }
   }
-  for (const auto& [entity, character] :
-       std::vector<std::pair<std::string, std::string>>{{"&apos;", "'"}, {"&quot;", "\""},
-                                                        {"&lt;", "<"}, {"&gt;", ">"},
-                                                        {"&amp;", "&"}}) {
+  for (const auto& [entity, character] : std::vector<std::pair<std::string, std::string>>{
+           {"&apos;", "'"}, {"&quot;", "\""}, {"&lt;", "<"}, {"&gt;", ">"}, {"&amp;", "&"}}) {
     for (size_t at = text.find(entity); at != std::string::npos; at = text.find(entity, at)) {
       text.replace(at, entity.size(), character);
       at += character.size();
@@ -346,8 +344,7 @@ TEST_F(PlotCli, BodeMarginsAgreeWithTheBodeCommand) {
   double pm_deg = 0.0, wc_rad_s = 0.0;
   const size_t at = printed.find("Pm = ");
   ASSERT_NE(at, std::string::npos) << printed;
-  ASSERT_EQ(std::sscanf(printed.c_str() + at, "Pm = %lf deg (at %lf rad/s)", &pm_deg, &wc_rad_s),
-            2)
+  ASSERT_EQ(std::sscanf(printed.c_str() + at, "Pm = %lf deg (at %lf rad/s)", &pm_deg, &wc_rad_s), 2)
       << printed;
   EXPECT_NE(printed.find("Gm = inf"), std::string::npos) << printed;
   const CommandResult bode = RunCli("bode --controller pid");
@@ -420,9 +417,9 @@ TEST(PlotCliFailure, GnuplotFailureLeavesNoFile) {
 // waveform and the map draw the ideal body from the joint references.
 TEST(PlotGait, TrackingWaveformSurface) {
   const fs::path dir = FreshDir("gait");
-  const CommandResult gait = RunCli("gait --model '" + std::string(IPMC_SWIM_SOURCE_DIR) +
-                                    "/models/flagellum3.xml' --frequency-hz 1 --cycles 1 --out " +
-                                    Quoted(dir / "run"));
+  const CommandResult gait =
+      RunCli("gait --model '" + std::string(IPMC_SWIM_SOURCE_DIR) +
+             "/models/flagellum3.xml' --frequency-hz 1 --cycles 1 --out " + Quoted(dir / "run"));
   ASSERT_EQ(gait.exit_code, 0) << gait.output;
   const std::string csv = Quoted(dir / "run" / "timeseries.csv");
   ExpectFigure("tracking " + csv, dir / "tracking.svg");
@@ -440,10 +437,9 @@ TEST(PlotIdentification, MeasuredResponseCoherenceAndFits) {
       RunCli("bench --signal chirp --links 1 --duration-s 10 --f0-hz 0.5 --f1-hz 20 --out " +
              Quoted(dir / "chirp.csv"));
   ASSERT_EQ(bench.exit_code, 0) << bench.output;
-  const CommandResult identify =
-      RunCli("identify " + Quoted(dir / "chirp.csv") +
-             " --input voltage1_V --output relative1_mm --band-rad-s 3,50 --out " +
-             Quoted(dir / "id"));
+  const CommandResult identify = RunCli(
+      "identify " + Quoted(dir / "chirp.csv") +
+      " --input voltage1_V --output relative1_mm --band-rad-s 3,50 --out " + Quoted(dir / "id"));
   ASSERT_EQ(identify.exit_code, 0) << identify.output;
   ExpectFigure("identification " + Quoted(dir / "id" / "response.csv"), dir / "fig7.svg");
   const std::string text = SvgText(dir / "fig7.svg");

@@ -17,11 +17,11 @@ constexpr int kMaxImagePx = 10000;
 // ignored, and image sizes out of range.
 void ValidateOptions(const CLI::App& command, const PlotArgs& args) {
   const std::pair<const char*, std::vector<const char*>> option_kinds[] = {
-      {"--curves", {"bode"}},           {"--instants", {"waveform"}},
-      {"--times-s", {"waveform"}},      {"--period-s", {"waveform", "trajectory"}},
-      {"--max-lines", {"surface"}},     {"--x", {"sweep"}},
-      {"--y", {"sweep"}},               {"--group", {"sweep"}},
-      {"--log-x", {"sweep"}},           {"--log-y", {"sweep"}}};
+      {"--curves", {"bode"}},       {"--instants", {"waveform"}},
+      {"--times-s", {"waveform"}},  {"--period-s", {"waveform", "trajectory"}},
+      {"--max-lines", {"surface"}}, {"--x", {"sweep"}},
+      {"--y", {"sweep"}},           {"--group", {"sweep"}},
+      {"--log-x", {"sweep"}},       {"--log-y", {"sweep"}}};
   for (const auto& [option, kinds] : option_kinds) {
     if (command.count(option) == 0) continue;
     bool applies = false;
@@ -36,12 +36,12 @@ void ValidateOptions(const CLI::App& command, const PlotArgs& args) {
     }
   }
   const std::pair<const char*, int> sizes[] = {{"--width-px", args.figure.size.width_px},
-                                                {"--height-px", args.figure.size.height_px}};
+                                               {"--height-px", args.figure.size.height_px}};
   for (const auto& [option, size] : sizes) {
     if (command.count(option) > 0 && (size < kMinImagePx || size > kMaxImagePx)) {
       throw std::invalid_argument(std::string(kPlotCommand) + ": " + option + " must be in [" +
-                                  std::to_string(kMinImagePx) + ", " +
-                                  std::to_string(kMaxImagePx) + "], got " + std::to_string(size));
+                                  std::to_string(kMinImagePx) + ", " + std::to_string(kMaxImagePx) +
+                                  "], got " + std::to_string(size));
     }
   }
 }
@@ -80,9 +80,11 @@ void AddPlotCommand(CLI::App& app, PlotArgs& args) {
                   "Image height [px] at 150 px/in (default: the kind's)");
   cmd->add_option("--curves", f.curves,
                   "bode: curves to draw, of plant, controller, open_loop, reference_open_loop")
-      ->delimiter(',')->capture_default_str();
+      ->delimiter(',')
+      ->capture_default_str();
   cmd->add_option("--instants", f.instants,
-                  "waveform: number of instants over the last wave period")->capture_default_str();
+                  "waveform: number of instants over the last wave period")
+      ->capture_default_str();
   cmd->add_option("--times-s", f.times_s, "waveform: instants [s] (nearest samples)")
       ->delimiter(',');
   cmd->add_option("--period-s", f.period_s,
