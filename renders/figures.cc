@@ -1,6 +1,7 @@
 #include "renders/figures.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -1182,15 +1183,16 @@ Figure SweepFigure(const CsvTable& table, const std::string&, const FigureOption
   }
   const std::string data = scratch.Data("sweep.dat", text);
 
-  std::string what = AxisLabel(options.y_column);
-  const size_t unit = what.find(" [");
-  what = (unit == std::string::npos ? what : what.substr(0, unit)) + " against " +
-         AxisLabel(options.x_column).substr(0, AxisLabel(options.x_column).find(" ["));
-  if (grouped) what += ", by " + AxisLabel(options.group_column);
-  SetTitle(report, options, what, "");
+  std::string what = WithoutUnit(AxisLabel(options.y_column)) + " against " +
+                     WithoutUnit(AxisLabel(options.x_column));
+  what[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(what[0])));
+  SetTitle(report, options, what,
+           grouped ? "one curve per " + WithoutUnit(AxisLabel(options.group_column)) : "");
+  // The key below the axes, so that it covers no point.
   std::string commands = "set title " + Heading(report) + "\n" + "set xlabel " +
                          Q(AxisLabel(options.x_column)) + "\nset ylabel " +
-                         Q(AxisLabel(options.y_column)) + "\n" + "set key outside right top\n";
+                         Q(AxisLabel(options.y_column)) + "\n" +
+                         "set key below horizontal samplen 3 spacing 1.1\n";
   if (options.log_x) commands += "set logscale x\n";
   if (options.log_y) commands += "set logscale y\n";
   if (!numeric_x) {
@@ -1210,8 +1212,8 @@ Figure SweepFigure(const CsvTable& table, const std::string&, const FigureOption
             Rgb(kSeries[k % kSeriesCount]) + " title " + Q(label);
   }
   Figure figure;
-  figure.width_in = 7.5;
-  figure.height_in = 4.5;
+  figure.width_in = 7.0;
+  figure.height_in = 5.0;
   figure.commands = commands + plot + "\n";
   return figure;
 }
