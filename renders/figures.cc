@@ -1192,7 +1192,7 @@ Figure SweepFigure(const CsvTable& table, const std::string&, const FigureOption
   std::string commands = "set title " + Heading(report) + "\n" + "set xlabel " +
                          Q(AxisLabel(options.x_column)) + "\nset ylabel " +
                          Q(AxisLabel(options.y_column)) + "\n" +
-                         "set key below horizontal samplen 3 spacing 1.1\n";
+                         "set key below horizontal reverse Left samplen 3 spacing 1.1\n";
   if (options.log_x) commands += "set logscale x\n";
   if (options.log_y) commands += "set logscale y\n";
   if (!numeric_x) {
@@ -1204,9 +1204,19 @@ Figure SweepFigure(const CsvTable& table, const std::string&, const FigureOption
   } else {
     commands += "set offsets graph 0.03, graph 0.03, graph 0.05, graph 0.05\n";
   }
+  // Numeric group values carry the group column's unit in the key.
+  std::string group_unit;
+  if (grouped) {
+    const std::string group_label = AxisLabel(options.group_column);
+    const size_t open = group_label.find(" [");
+    if (open != std::string::npos && group_label.back() == ']') {
+      group_unit = " " + group_label.substr(open + 2, group_label.size() - open - 3);
+    }
+  }
   std::string plot = "plot ";
   for (size_t k = 0; k < groups.size(); ++k) {
-    const std::string label = grouped ? groups[k] : AxisLabel(options.y_column);
+    const std::string label = grouped ? groups[k] + (ParseDouble(groups[k]) ? group_unit : "")
+                                      : AxisLabel(options.y_column);
     plot += (k ? ", " : "") + data + " index " + std::to_string(k) + " using 1:2 with " +
             (numeric_x ? "linespoints lw 2" : "points") + " pt 7 ps 1.1 lc " +
             Rgb(kSeries[k % kSeriesCount]) + " title " + Q(label);
@@ -1238,7 +1248,7 @@ constexpr LabelEntry kLabels[] = {
     {"yaw_rad", "head yaw [rad]"},
     {"coherence", "coherence"},
     {"mean_speed_along_mm_s", "mean speed along the swimming axis [mm/s]"},
-    {"last_cycle_com_along_mm", "swim in the last cycle, centre of mass [mm]"},
+    {"last_cycle_com_along_mm", "centre of mass swim in the last cycle [mm]"},
     {"reynolds_tip", "Reynolds number, tip"},
     {"reynolds_swim", "Reynolds number, swimming"},
     {"actuation", "actuation"},
