@@ -241,7 +241,7 @@ Figure BodeFigure(const CsvTable& table, const std::string& input, const FigureO
     margins = MarginsOnGrid(w, series[1 + 2 * k], series[2 + 2 * k]);
     margin_text = margins.gain_margin_db
                       ? "Gm = " + Format("%.2f", *margins.gain_margin_db) + " dB (at " +
-                            Format("%.3g", *margins.phase_crossover_rad_s) + " rad/s)"
+                            Format("%.4g", *margins.phase_crossover_rad_s) + " rad/s)"
                       : "Gm = inf (the phase does not reach -180 deg)";
     margin_text += ", ";
     margin_text += margins.phase_margin_deg
@@ -289,7 +289,7 @@ Figure BodeFigure(const CsvTable& table, const std::string& input, const FigureO
                    "set label " +
                    Q("Pm " + Format("%.1f", *margins.phase_margin_deg) + " deg") + " at " + wc +
                    ", " + N(0.5 * (-180.0 + *margins.phase_at_crossover_deg)) +
-                   " offset 1,0 front tc " + Rgb(kRed) + "\n";
+                   " offset 1,0 front boxed tc " + Rgb(kRed) + "\n";
   }
   if (margins.phase_crossover_rad_s) {
     const std::string w180 = N(*margins.phase_crossover_rad_s);
@@ -302,20 +302,20 @@ Figure BodeFigure(const CsvTable& table, const std::string& input, const FigureO
                        "set label " +
                        Q("Gm " + Format("%.2f", *margins.gain_margin_db) + " dB") + " at " + w180 +
                        ", " + N(0.5 * *margins.magnitude_at_phase_crossover_db) +
-                       " offset 1,0 front tc " + Rgb(kRed) + "\n";
+                       " offset 1,0 front boxed tc " + Rgb(kRed) + "\n";
     phase_marks += "set arrow from " + w180 + ", graph 0 to " + w180 +
                    ", graph 1 nohead dt 3 lc rgb 'gray40'\n";
   }
   const double span = phase_high - phase_low;
-  const double phase_step = span <= 200 ? 30 : span <= 400 ? 45 : 90;
+  const double phase_step = span <= 400 ? 45 : 90;
   Figure figure;
   figure.width_in = 7.5;
   figure.height_in = 7.0;
   const double H = figure.height_in;
   figure.commands =
       "set multiplot title " + Heading(report) + "\n" + "set logscale x\nset mxtics 10\n" +
-      "set key at screen 0.5, screen " + N(1.0 - 0.5 / H) +
-      " center top vertical maxrows 2 samplen 3 spacing 1.1\n" +
+      "set style textbox opaque noborder margins 1, 1\n" + "set key at screen 0.5, screen " +
+      N(1.0 - 0.5 / H) + " center top vertical maxrows 2 samplen 3 spacing 1.1\n" +
       PanelBox(0.11, 0.97, 0.53, 1.0 - 1.0 / H) +
       "set ylabel 'magnitude [dB]'\nset format y '%g'\nunset xlabel\nset format x ''\n" +
       "set arrow from graph 0, first 0 to graph 1, first 0 nohead lc rgb 'gray30'\n" +

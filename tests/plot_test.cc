@@ -334,30 +334,41 @@ TEST(AxisLabel, TableNumberedColumnsAndUnitSuffixes) {
   EXPECT_EQ(ipmc::AxisLabel("fluid.density_kg_m3"), "fluid density [kg/m^3]");
 }
 
+// The number after `label` in `text`; fails the test if there is none.
+double NumberAfter(const std::string& text, const std::string& label) {
+  const size_t at = text.find(label);
+  double value = 0.0;
+  EXPECT_TRUE(at != std::string::npos &&
+              std::sscanf(text.c_str() + at + label.size(), "%lf", &value) == 1)
+      << label << " not in " << text;
+  return value;
+}
+
 // The margins the Bode figure marks, found on bode.csv's grid, agree with
-// those the bode command searches for on the exact response (54.14 deg at
-// 31.117 rad/s for the PID and link 3). The figure prints Pm to 0.1 deg
+// those the bode command searches for on the exact response: for the PID
+// and link 3 a phase margin of 54.14 deg at 31.117 rad/s and no finite
+// gain margin, for the fractional integrator also a gain margin of
+// 7.88 dB at 20.649 rad/s. The figure prints Pm to 0.1 deg, Gm to 0.01 dB
 // and w to 4 digits; the grid's interpolation error is below that.
 TEST_F(PlotCli, BodeMarginsAgreeWithTheBodeCommand) {
-  const std::string printed =
-      ExpectFigure("bode " + Quoted(outputs.bode_csv()), FreshDir("margins") / "bode.png");
-  double pm_deg = 0.0, wc_rad_s = 0.0;
-  const size_t at = printed.find("Pm = ");
-  ASSERT_NE(at, std::string::npos) << printed;
-  ASSERT_EQ(std::sscanf(printed.c_str() + at, "Pm = %lf deg (at %lf rad/s)", &pm_deg, &wc_rad_s), 2)
-      << printed;
-  EXPECT_NE(printed.find("Gm = inf"), std::string::npos) << printed;
-  const CommandResult bode = RunCli("bode --controller pid");
-  ASSERT_EQ(bode.exit_code, 0) << bode.output;
-  double exact_pm_deg = 0.0, exact_wc_rad_s = 0.0;
-  const size_t pm_at = bode.output.find("phase margin: ");
-  const size_t wc_at = bode.output.find("gain crossover: ");
-  ASSERT_NE(pm_at, std::string::npos) << bode.output;
-  ASSERT_NE(wc_at, std::string::npos) << bode.output;
-  ASSERT_EQ(std::sscanf(bode.output.c_str() + pm_at, "phase margin: %lf", &exact_pm_deg), 1);
-  ASSERT_EQ(std::sscanf(bode.output.c_str() + wc_at, "gain crossover: %lf", &exact_wc_rad_s), 1);
-  EXPECT_NEAR(pm_deg, exact_pm_deg, 0.1);
-  EXPECT_NEAR(wc_rad_s, exact_wc_rad_s, 2e-3 * exact_wc_rad_s);
+  const fs::path dir = FreshDir("margins");
+  const std::string pid = ExpectFigure("bode " + Quoted(outputs.bode_csv()), dir / "pid.png");
+  const CommandResult pid_exact = RunCli("bode --controller pid");
+  ASSERT_EQ(pid_exact.exit_code, 0) << pid_exact.output;
+  EXPECT_NEAR(NumberAfter(pid, "Pm = "), NumberAfter(pid_exact.output, "phase margin: "), 0.1);
+  const double wc_rad_s = NumberAfter(pid_exact.output, "gain crossover: ");
+  EXPECT_NEAR(NumberAfter(pid, "deg (at "), wc_rad_s, 2e-3 * wc_rad_s);
+  EXPECT_NE(pid.find("Gm = inf"), std::string::npos) << pid;
+
+  const CommandResult fractional =
+      RunCli("bode --controller fractional --out " + Quoted(dir / "fractional"));
+  ASSERT_EQ(fractional.exit_code, 0) << fractional.output;
+  const std::string figure =
+      ExpectFigure("bode " + Quoted(dir / "fractional" / "bode.csv"), dir / "fractional.png");
+  EXPECT_NEAR(NumberAfter(figure, "Pm = "), NumberAfter(fractional.output, "phase margin: "), 0.1);
+  EXPECT_NEAR(NumberAfter(figure, "Gm = "), NumberAfter(fractional.output, "gain margin: "), 0.02);
+  const double w180_rad_s = NumberAfter(fractional.output, "dB at ");
+  EXPECT_NEAR(NumberAfter(figure, "dB (at "), w180_rad_s, 2e-3 * w180_rad_s);
 }
 
 TEST_F(PlotCli, UnknownExtensionIsRefusedAndLeavesNothing) {
