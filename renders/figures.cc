@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +18,7 @@
 
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
+#include "sim/io/error.h"
 #include "sim/io/numbers.h"
 
 namespace ipmc {
@@ -74,8 +76,9 @@ std::string PanelBox(double left, double right, double bottom, double top) {
 
 void RequireRows(const CsvTable& table, size_t rows) {
   if (table.Rows() < rows) {
-    throw std::invalid_argument(table.source() + ": needs at least " + std::to_string(rows) +
-                                " data rows, has " + std::to_string(table.Rows()));
+    throw InputError(InputProblem::kMissing, {table.source()}, "",
+                     "needs at least " + std::to_string(rows) + " data rows, has " +
+                         std::to_string(table.Rows()));
   }
 }
 
@@ -593,9 +596,10 @@ Figure TrackingFigure(const CsvTable& table, const std::string& input, const Fig
     SetTitle(report, options, "Joint angles, reference and measured", RunDescription(summary));
     return JointTrackingFigure(table, joints, scratch, Heading(report));
   }
-  throw std::invalid_argument(table.source() + ": no column '" + columns::Reference(1) +
-                              "' (plot tracking needs reference<q>_mm and measured<q>_mm of a "
-                              "closed-loop run, or q_ref<j>_rad and q<j>_rad of a gait)");
+  throw InputError(InputProblem::kMissing, {table.source()}, columns::Reference(1),
+                   "no column '" + columns::Reference(1) +
+                       "' (plot tracking needs reference<q>_mm and measured<q>_mm of a "
+                       "closed-loop run, or q_ref<j>_rad and q<j>_rad of a gait)");
 }
 
 // ------------------------------------------------------ body in the head ---
@@ -1109,8 +1113,9 @@ class SweepAxis {
       const std::string index = spec.substr(open + 1, spec.size() - open - 2);
       const std::optional<long> value = ParseInteger(index);
       if (!value || *value < 0) {
-        throw std::invalid_argument(table.source() + ": column " + spec +
-                                    ": the element index must be a whole number >= 0");
+        throw FieldError(
+            table.source() + ": column " + spec + ": the element index must be a whole number >= 0",
+            "--x", "a whole number >= 0 in NAME[i]");
       }
       element_ = *value;
     }
@@ -1123,8 +1128,9 @@ class SweepAxis {
     if (element_ < 0) return text;
     const nlohmann::json array = nlohmann::json::parse(text, nullptr, false);
     if (!array.is_array() || element_ >= static_cast<long>(array.size())) {
-      throw std::invalid_argument(table.source() + ": column " + name_ + ": '" + text +
-                                  "' has no element " + std::to_string(element_));
+      throw InputError(
+          InputProblem::kBadValue, {table.source(), static_cast<std::uint32_t>(table.Line(row))},
+          name_, "column " + name_ + ": '" + text + "' has no element " + std::to_string(element_));
     }
     const nlohmann::json& value = array[element_];
     return value.is_string() ? value.get<std::string>() : value.dump();
@@ -1151,8 +1157,8 @@ Figure SweepFigure(const CsvTable& table, const std::string&, const FigureOption
     if (!has_status || table.Text(r, status_column) == columns::kStatusOk) rows.push_back(r);
   }
   if (rows.empty()) {
-    throw std::invalid_argument(table.source() + ": no row with status " + columns::kStatusOk +
-                                " to plot");
+    throw InputError(InputProblem::kBadValue, {table.source()}, columns::kStatus,
+                     std::string("no row with status ") + columns::kStatusOk + " to plot");
   }
   bool numeric_x = true;
   for (size_t r : rows) numeric_x = numeric_x && ParseDouble(x_axis.Text(table, r)).has_value();
@@ -1351,7 +1357,7 @@ FigureKind FigureKindOf(const std::string& name) {
   if (at == names.end()) {
     std::string all;
     for (const std::string& kind : names) all += (all.empty() ? "" : ", ") + kind;
-    throw std::invalid_argument("plot: unknown figure kind '" + name + "' (kinds: " + all + ")");
+    throw FieldError("plot: unknown figure kind '" + name + "' (kinds: " + all + ")", "kind", all);
   }
   return static_cast<FigureKind>(at - names.begin());
 }
@@ -1359,7 +1365,8 @@ FigureKind FigureKindOf(const std::string& name) {
 void FigureOptions::Validate(FigureKind kind) const {
   const auto fail = [](const std::string& option, const std::string& requirement,
                        const std::string& got) {
-    throw std::invalid_argument("plot: " + option + " must be " + requirement + ", got " + got);
+    throw FieldError("plot: " + option + " must be " + requirement + ", got " + got, option,
+                     requirement);
   };
   if (kind == FigureKind::kBode && curves.empty()) fail("--curves", "non-empty", "nothing");
   if (instants < 1 || instants > kMaxInstants) {
@@ -1379,7 +1386,8 @@ void FigureOptions::Validate(FigureKind kind) const {
     fail("--max-lines", ">= " + std::to_string(kMinMapRows), std::to_string(max_lines));
   }
   if (kind == FigureKind::kSweep && (x_column.empty() || y_column.empty())) {
-    throw std::invalid_argument("plot: plot sweep needs --x and --y");
+    throw FieldError("plot: plot sweep needs --x and --y", x_column.empty() ? "--x" : "--y",
+                     "a column of the sweep table");
   }
 }
 

@@ -62,7 +62,7 @@ enum class FigureKind {
 
 // The kinds' names, as the command line spells them.
 const std::vector<std::string>& FigureKindNames();
-// Throws std::invalid_argument naming the kinds there are.
+// Throws FieldError naming the kinds there are.
 FigureKind FigureKindOf(const std::string& name);
 
 struct FigureOptions {
@@ -83,7 +83,7 @@ struct FigureOptions {
   std::string x_column, y_column, group_column;
   bool log_x = false, log_y = false;
 
-  // Throws std::invalid_argument "plot: --option must be ..., got ...".
+  // Throws FieldError "plot: --option must be ..., got ...".
   void Validate(FigureKind kind) const;
 };
 
@@ -95,10 +95,10 @@ struct FigureReport {
 };
 
 // Draws figure `kind` of the CSV at `input` into out_path. Throws
-// std::invalid_argument for a bad option or an unknown output format,
-// InputError / std::invalid_argument naming the file and the column for
-// input without the needed columns, std::runtime_error if gnuplot fails;
-// nothing is written then.
+// FieldError (sim/io/error.h) for a bad option or an unknown output
+// format, InputError naming the file and the column for input without the
+// needed columns or rows, std::runtime_error if gnuplot fails; nothing is
+// written then.
 FigureReport DrawFigureOf(FigureKind kind, const std::string& input, const FigureOptions& options,
                           const std::string& out_path);
 

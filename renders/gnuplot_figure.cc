@@ -13,6 +13,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "sim/io/error.h"
 #include "sim/io/files.h"
 #include "sim/io/numbers.h"
 
@@ -154,8 +155,8 @@ FigureFormat FigureFormatOf(const std::string& path) {
   if (extension == ".pdf") return FigureFormat::kPdf;
   if (extension == ".svg") return FigureFormat::kSvg;
   if (extension == ".png") return FigureFormat::kPng;
-  throw std::invalid_argument(path + ": unknown figure format '" + extension +
-                              "' (allowed: .pdf, .svg, .png)");
+  throw FieldError(path + ": unknown figure format '" + extension + "' (allowed: .pdf, .svg, .png)",
+                   "--out", ".pdf, .svg, .png");
 }
 
 FigureScratch::FigureScratch() {

@@ -9,7 +9,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <charconv>
 #include <chrono>
 #include <climits>
 #include <cmath>
@@ -27,11 +26,10 @@
 #include <sstream>
 #include <stdexcept>
 #include <string_view>
-#include <thread>
 #include <utility>
 
+#include "sim/core/fan_out.h"
 #include "sim/core/link_sensors.h"
-#include "sim/core/mujoco_warnings.h"
 #include "sim/core/simulation.h"
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
@@ -53,11 +51,6 @@ constexpr char kSet[] = "set";
 constexpr char kGrid[] = "grid";
 constexpr char kPoint[] = "point";
 
-
-// The scenario reader's words for a key of the other kind of its table
-// ("controller.kp applies only to kind = \"pid\" (kind is ...)", or
-// "controller.gain applies only to realisation = \"oustaloup\" ...").
-constexpr char kOtherKindMessage[] = " applies only to ";
 
 // A grid this large is a mistake in the sweep file, not a plan.
 constexpr double kMaxPoints = 1e6;
@@ -105,30 +98,13 @@ struct Axis {
   std::vector<const toml::node*> values;
 };
 
-// Is `message` (from the scenario reader, without its location) about a
-// key the scenario does not have, or a value of the wrong TOML type? The
-// reader words these "unknown key '...'" and "... must be a(n) ... (got
-// <type>)" with a TOML type name; range errors end "(got <value>)".
-bool IsKeyOrTypeError(const std::string& message) {
-  if (message.rfind("unknown key '", 0) == 0) return true;
-  if (message.find(" must be a") == std::string::npos) return false;
-  for (const char* type : {"string", "integer", "float", "boolean", "array", "table", "date",
-                           "time", "date-time"}) {
-    const std::string ending = std::string("(got ") + type + ")";
-    if (message.size() >= ending.size() &&
-        message.compare(message.size() - ending.size(), ending.size(), ending) == 0) {
-      return true;
-    }
-  }
-  return false;
-}
-
 // The outcome of reading one point's scenario.
 struct PointScenario {
   std::optional<ScenarioConfig> scenario;
-  std::string error;   // relocated: names the sweep file or the base
-  bool fatal = false;  // an unknown or ill-typed override: stops the sweep
-  std::string text;    // the TOML read
+  std::string error;  // relocated: names the sweep file or the base
+  // An unknown or ill-typed override, which stops the sweep.
+  std::optional<InputError> fatal;
+  std::string text;  // the TOML read
 };
 
 // One point of the sweep file: its overrides and their printed values
@@ -138,10 +114,9 @@ struct PointOverrides {
   std::vector<std::string> printed;
 };
 
-// A scenario reader's error, moved to where its key came from.
-struct ScenarioError {
-  std::string message;   // "FILE:LINE: ..." naming the sweep file or the base
-  std::string key;       // the dotted key on the reported line, if any
+// Where a scenario reader's error belongs.
+struct ErrorOrigin {
+  InputLocation where;    // the sweep file's line or the base's
   bool in_sweep = false;  // the key is an override
   bool in_base = false;   // the key is the base's own
 };
@@ -150,10 +125,11 @@ class SweepReader {
  public:
   explicit SweepReader(std::string source) : source_(std::move(source)) {}
 
-  [[noreturn]] void Fail(std::uint32_t line, const std::string& message) const {
-    std::string text = source_;
-    if (line > 0) text += ":" + std::to_string(line);
-    throw std::runtime_error(OneLine(text + ": " + message));
+  // An error in the sweep file itself, at `line` (0: none), about `key`.
+  [[noreturn]] void Fail(std::uint32_t line, const std::string& message,
+                         InputProblem problem = InputProblem::kBadValue,
+                         const std::string& key = "") const {
+    throw InputError(problem, {source_, line}, key, message);
   }
 
   SweepPlan Read(const std::string& toml_text);
@@ -164,6 +140,9 @@ class SweepReader {
   void ReadBase(const toml::table& root);
   void RejectUnknownKeys(const toml::table& root) const;
   std::vector<std::string> SplitKey(const std::string& key, std::uint32_t line) const;
+  // The override of dotted key `name`, declared by `key`.
+  Override OverrideAt(const std::string& name, const toml::key& key,
+                      const toml::node* value) const;
   void FlattenOverrides(const toml::table& table, const std::string& prefix,
                         std::vector<Override>* overrides) const;
   void FlattenGrid(const toml::table& table, const std::string& prefix,
@@ -177,12 +156,12 @@ class SweepReader {
                                          std::vector<std::string>* keys) const;
   toml::table WithOverrides(const std::vector<const Override*>& overrides) const;
   PointScenario ReadScenario(const std::vector<const Override*>& overrides) const;
-  ScenarioError Locate(const std::string& message, const std::string& text,
-                       const std::vector<const Override*>& overrides) const;
+  ErrorOrigin Locate(const InputError& error,
+                    const std::vector<const Override*>& overrides) const;
   // Reads the base with `overrides`; stops the sweep on a fatal error.
   PointScenario Check(const std::vector<const Override*>& overrides) const {
     PointScenario point = ReadScenario(overrides);
-    if (point.fatal) throw std::runtime_error(point.error);
+    if (point.fatal) throw *point.fatal;
     return point;
   }
 
@@ -204,24 +183,30 @@ void SweepReader::RejectUnknownKeys(const toml::table& root) const {
   }
   if (unknown != nullptr) {
     Fail(unknown->source().begin.line,
-         "unknown key '" + std::string(unknown->str()) + "' (allowed: base, set, grid, point)");
+         "unknown key '" + std::string(unknown->str()) + "' (allowed: base, set, grid, point)",
+         InputProblem::kUnknownKey, std::string(unknown->str()));
   }
 }
 
 void SweepReader::ReadBase(const toml::table& root) {
   const auto it = root.find(kBase);
-  if (it == root.end()) Fail(0, std::string(kBase) + " is required (the scenario file to sweep)");
+  if (it == root.end()) {
+    Fail(0, std::string(kBase) + " is required (the scenario file to sweep)",
+         InputProblem::kMissing, kBase);
+  }
   const std::uint32_t line = it->first.source().begin.line;
   const toml::value<std::string>* base = it->second.as_string();
   if (base == nullptr) {
-    Fail(line, std::string(kBase) + " must be a string (got " + TypeName(it->second) + ")");
+    Fail(line, std::string(kBase) + " must be a string (got " + TypeName(it->second) + ")",
+         InputProblem::kWrongType, kBase);
   }
   fs::path path(base->get());
   if (path.is_relative()) path = fs::path(source_).parent_path() / path;
   base_path_ = path.lexically_normal().string();
   std::error_code ignored;
   if (!fs::is_regular_file(base_path_, ignored) || !std::ifstream(base_path_).good()) {
-    Fail(line, std::string(kBase) + ": cannot open '" + base_path_ + "'");
+    Fail(line, std::string(kBase) + ": cannot open '" + base_path_ + "'", InputProblem::kUnreadable,
+         kBase);
   }
   const std::string text = ReadTextFile(base_path_, "scenario file");
   base_ = ParseToml(text, base_path_);
@@ -241,54 +226,63 @@ std::vector<std::string> SweepReader::SplitKey(const std::string& key,
   }
 }
 
-void SweepReader::FlattenOverrides(const toml::table& table, const std::string& prefix,
-                                   std::vector<Override>* overrides) const {
+// Calls leaf(dotted name, key, value) for every value under `table` that
+// is not a table, a nested table standing for the dotted keys under it.
+template <typename Leaf>
+void ForEachLeaf(const toml::table& table, const std::string& prefix, const Leaf& leaf) {
   for (auto&& [key, node] : table) {
     const std::string name = prefix + std::string(key.str());
     if (const toml::table* nested = node.as_table()) {
-      FlattenOverrides(*nested, name + ".", overrides);
-      continue;
+      ForEachLeaf(*nested, name + ".", leaf);
+    } else {
+      leaf(name, key, node);
     }
-    Override entry;
-    entry.key = name;
-    entry.line = key.source().begin.line;
-    entry.column = key.source().begin.column;
-    entry.path = SplitKey(name, entry.line);
-    entry.value = &node;
-    overrides->push_back(std::move(entry));
   }
+}
+
+Override SweepReader::OverrideAt(const std::string& name, const toml::key& key,
+                                 const toml::node* value) const {
+  Override entry;
+  entry.key = name;
+  entry.line = key.source().begin.line;
+  entry.column = key.source().begin.column;
+  entry.path = SplitKey(name, entry.line);
+  entry.value = value;
+  return entry;
+}
+
+void SweepReader::FlattenOverrides(const toml::table& table, const std::string& prefix,
+                                   std::vector<Override>* overrides) const {
+  ForEachLeaf(table, prefix, [&](const std::string& name, const toml::key& key,
+                                 const toml::node& node) {
+    overrides->push_back(OverrideAt(name, key, &node));
+  });
 }
 
 void SweepReader::FlattenGrid(const toml::table& table, const std::string& prefix,
                               std::vector<Axis>* axes) const {
-  for (auto&& [key, node] : table) {
-    const std::string name = prefix + std::string(key.str());
-    if (const toml::table* nested = node.as_table()) {
-      FlattenGrid(*nested, name + ".", axes);
-      continue;
-    }
+  ForEachLeaf(table, prefix, [&](const std::string& name, const toml::key& key,
+                                 const toml::node& node) {
+    const std::string grid_key = std::string(kGrid) + "." + name;
     const std::uint32_t line = key.source().begin.line;
     const toml::array* values = node.as_array();
     if (values == nullptr) {
-      Fail(line, std::string(kGrid) + "." + name + " must be an array of values (got " +
-                     TypeName(node) + ")");
+      Fail(line, grid_key + " must be an array of values (got " + TypeName(node) + ")",
+           InputProblem::kWrongType, grid_key);
     }
-    if (values->empty()) Fail(line, std::string(kGrid) + "." + name + " must not be empty");
+    if (values->empty()) Fail(line, grid_key + " must not be empty");
     Axis axis;
-    axis.key.key = name;
-    axis.key.line = line;
-    axis.key.column = key.source().begin.column;
-    axis.key.path = SplitKey(name, line);
+    axis.key = OverrideAt(name, key, nullptr);
     for (const toml::node& value : *values) {
       if (value.is_table()) {
-        Fail(line, std::string(kGrid) + "." + name +
+        Fail(line, grid_key +
                        " must hold values, not tables (use [[point]] to change several keys "
                        "together)");
       }
       axis.values.push_back(&value);
     }
     axes->push_back(std::move(axis));
-  }
+  });
 }
 
 // A key given twice, or a key inside another given key (which would
@@ -337,19 +331,6 @@ toml::table SweepReader::WithOverrides(const std::vector<const Override*>& overr
   return root;
 }
 
-// Lines of a TOML document and the dotted keys on them.
-void CollectKeyLines(const toml::table& table, const std::string& prefix,
-                     std::map<std::uint32_t, std::string>* keys) {
-  for (auto&& [key, node] : table) {
-    const std::string name = prefix + std::string(key.str());
-    keys->emplace(key.source().begin.line, name);
-    if (const toml::table* nested = node.as_table()) {
-      keys->emplace(nested->source().begin.line, name);
-      CollectKeyLines(*nested, name + ".", keys);
-    }
-  }
-}
-
 // The table holding a dotted key, if the key is there, and its last part.
 template <typename Table>
 Table* ParentOf(Table* root, const std::string& dotted, std::string* last) {
@@ -384,50 +365,36 @@ bool EraseKey(toml::table* root, const std::string& dotted) {
   return parent != nullptr && parent->erase(last) > 0;
 }
 
-// The scenario reader's message "BASE:LINE: rest" locates the line in the
-// serialised text, which nobody has seen. Moves it to the line the key
-// came from: the override's line in the sweep file (the key itself, or
-// the first override under a table the message is about), else the key's
-// line in the base; without a line, "BASE: rest".
-ScenarioError SweepReader::Locate(const std::string& message, const std::string& text,
-                                  const std::vector<const Override*>& overrides) const {
-  ScenarioError error;
-  error.message = OneLine(message);
-  const std::string prefix = base_path_ + ":";
-  if (message.compare(0, prefix.size(), prefix) != 0) return error;
-  std::uint32_t line = 0;
-  const char* begin = message.data() + prefix.size();
-  const char* end = message.data() + message.size();
-  const std::from_chars_result number = std::from_chars(begin, end, line);
-  if (number.ec != std::errc() || end - number.ptr < 2 || number.ptr[0] != ':' ||
-      number.ptr[1] != ' ') {
-    return error;  // no line, or TOML syntax (line:column), which cannot come from us
-  }
-  const std::string rest = OneLine(std::string(number.ptr + 2, end));
+// The scenario reader's errors name lines of the serialised base with the
+// overrides, which nobody has seen. Moves one to where its key came from:
+// the override's line in the sweep file (the key itself, or the first
+// override under a table the error is about), else the key's line in the
+// base; without a key, "BASE: ...". An error of another file, or a TOML
+// syntax error (which cannot come from the serialised text), stays where
+// it is.
+ErrorOrigin SweepReader::Locate(const InputError& error,
+                                const std::vector<const Override*>& overrides) const {
+  ErrorOrigin origin;
+  origin.where = error.where();
+  if (error.where().file != base_path_ || error.where().column > 0) return origin;
+  origin.where = {base_path_};
+  if (error.where().line == 0 || error.key().empty()) return origin;
 
-  std::map<std::uint32_t, std::string> keys;
-  CollectKeyLines(ParseToml(text, base_path_), "", &keys);
-  const auto found = keys.find(line);
-  error.message = base_path_ + ": " + rest;
-  if (found == keys.end()) return error;
-  error.key = found->second;
-
-  const Override* origin = nullptr;
+  const Override* from = nullptr;
   for (const Override* entry : overrides) {
-    if (entry->key == error.key) origin = entry;
+    if (entry->key == error.key()) from = entry;
   }
   for (const Override* entry : overrides) {
-    if (origin == nullptr && entry->key.rfind(error.key + ".", 0) == 0) origin = entry;
+    if (from == nullptr && entry->key.rfind(error.key() + ".", 0) == 0) from = entry;
   }
-  if (origin != nullptr) {
-    error.in_sweep = true;
-    const std::string line = origin->line > 0 ? ":" + std::to_string(origin->line) : "";
-    error.message = source_ + line + ": " + rest;
-  } else if (const toml::key* key = FindKey(base_, error.key)) {
-    error.in_base = true;
-    error.message = base_path_ + ":" + std::to_string(key->source().begin.line) + ": " + rest;
+  if (from != nullptr) {
+    origin.in_sweep = true;
+    origin.where = {source_, from->line};
+  } else if (const toml::key* key = FindKey(base_, error.key())) {
+    origin.in_base = true;
+    origin.where = {base_path_, key->source().begin.line};
   }
-  return error;
+  return origin;
 }
 
 PointScenario SweepReader::ReadScenario(const std::vector<const Override*>& overrides) const {
@@ -440,18 +407,20 @@ PointScenario SweepReader::ReadScenario(const std::vector<const Override*>& over
     try {
       point.scenario = ParseScenario(text.str(), base_path_);
       return point;
-    } catch (const std::runtime_error& failure) {
-      const ScenarioError error = Locate(failure.what(), text.str(), overrides);
+    } catch (const InputError& failure) {
+      const ErrorOrigin origin = Locate(failure, overrides);
       // A base key of the other kind of its table (the override changed
       // the kind): dropped, and read again.
-      if (error.in_base && error.message.find(kOtherKindMessage) != std::string::npos &&
-          EraseKey(&root, error.key)) {
+      if (origin.in_base && failure.problem() == InputProblem::kOtherKind &&
+          EraseKey(&root, failure.key())) {
         continue;
       }
-      point.error = error.message;
-      const std::string::size_type rest = point.error.find(": ");
-      point.fatal = error.in_sweep && rest != std::string::npos &&
-                    IsKeyOrTypeError(point.error.substr(rest + 2));
+      const InputError located(failure.problem(), origin.where, failure.key(), failure.message(),
+                               failure.allowed());
+      point.error = located.what();
+      const bool key_or_type = failure.problem() == InputProblem::kUnknownKey ||
+                               failure.problem() == InputProblem::kWrongType;
+      if (origin.in_sweep && key_or_type) point.fatal = located;
       return point;
     }
   }
@@ -551,7 +520,8 @@ SweepPlan SweepReader::Read(const std::string& toml_text) {
   auto line_of = [&](const char* key) { return root.find(key)->first.source().begin.line; };
   auto fail_type = [&](const char* key, const std::string& expected) {
     Fail(line_of(key), std::string(key) + " must be " + expected + " (got " +
-                           TypeName(*root.get(key)) + ")");
+                           TypeName(*root.get(key)) + ")",
+         InputProblem::kWrongType, key);
   };
   std::vector<Override> fixed;
   if (root.contains(kSet)) {
@@ -769,7 +739,9 @@ std::vector<std::string> SweepColumns(const SweepPlan& plan) {
   names.push_back(columns::kStatus);
   names.push_back(columns::kError);
   for (int q = 1; q <= plan.links; ++q) {
-    for (const char* result : columns::kLinkResults) names.push_back(columns::LinkResult(q, result));
+    for (const char* result : columns::kLinkResults) {
+      names.push_back(columns::LinkResult(q, result));
+    }
   }
   names.insert(names.end(), std::begin(columns::kSwimResults), std::end(columns::kSwimResults));
   return names;
@@ -807,47 +779,37 @@ SweepTable RunSweep(const SweepPlan& plan, const SweepOptions& options) {
     return EstimatedSteps(*todo[a]) > EstimatedSteps(*todo[b]);
   });
 
-  std::atomic<size_t> next{0};
   std::mutex progress_mutex;
   int done = 0;
   std::exception_ptr callback_failure;
   std::atomic<bool> stopped{false};  // by a failed callback: no point starts after it
   const auto start = std::chrono::steady_clock::now();
-  auto work = [&] {
-    for (size_t slot = next++; slot < schedule.size(); slot = next++) {
-      if (stopped || (options.stop_requested && options.stop_requested())) break;
-      const size_t k = schedule[slot];
-      std::string error;
-      table.rows[k] = RunPoint(plan, *todo[k], &error);
-      std::lock_guard<std::mutex> lock(progress_mutex);
-      ++done;
-      if (!options.on_point_done || callback_failure) continue;
-      SweepProgress progress;
-      progress.done = done;
-      progress.total = static_cast<int>(schedule.size());
-      progress.point = todo[k]->index;
-      progress.ok = table.rows[k][plan.keys.size() + 1] == columns::kStatusOk;
-      progress.error = error;
-      progress.elapsed_s =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      progress.row = &table.rows[k];
-      try {
-        options.on_point_done(progress);
-      } catch (...) {
-        callback_failure = std::current_exception();
-        stopped = true;
-      }
+  // A failing progress report (the journal's record) stops the sweep: no
+  // point starts after it, and it is rethrown when the running ones are done.
+  FanOut(schedule.size(), options.jobs, [&](size_t slot) {
+    if (stopped || (options.stop_requested && options.stop_requested())) return;
+    const size_t k = schedule[slot];
+    std::string error;
+    table.rows[k] = RunPoint(plan, *todo[k], &error);
+    std::lock_guard<std::mutex> lock(progress_mutex);
+    ++done;
+    if (!options.on_point_done || callback_failure) return;
+    SweepProgress progress;
+    progress.done = done;
+    progress.total = static_cast<int>(schedule.size());
+    progress.point = todo[k]->index;
+    progress.ok = table.rows[k][plan.keys.size() + 1] == columns::kStatusOk;
+    progress.error = error;
+    progress.elapsed_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    progress.row = &table.rows[k];
+    try {
+      options.on_point_done(progress);
+    } catch (...) {
+      callback_failure = std::current_exception();
+      stopped = true;
     }
-  };
-  const size_t threads = std::min<size_t>(options.jobs, schedule.size());
-  if (threads <= 1) {
-    work();
-  } else {
-    const SerialisedMujocoWarnings warnings;
-    std::vector<std::thread> pool;
-    for (size_t t = 0; t < threads; ++t) pool.emplace_back(work);
-    for (std::thread& thread : pool) thread.join();
-  }
+  });
   if (callback_failure) std::rethrow_exception(callback_failure);
   // A stopped sweep: the points that did not run have no row.
   table.rows.erase(std::remove_if(table.rows.begin(), table.rows.end(),
@@ -932,17 +894,20 @@ SweepTable MergeSweepTables(const std::vector<SweepTable>& tables,
       }
       const std::string theirs = c < table.columns.size() ? "'" + table.columns[c] + "'" : "none";
       const std::string ours = c < merged.columns.size() ? "'" + merged.columns[c] + "'" : "none";
-      throw std::runtime_error(sources[t] + ": columns differ from " + sources.front() +
-                               "'s (column " + std::to_string(c + 1) + ": " + theirs + " vs " +
-                               ours + ")");
+      throw InputError(InputProblem::kSyntax, {sources[t]}, "",
+                       "columns differ from " + sources.front() + "'s (column " +
+                           std::to_string(c + 1) + ": " + theirs + " vs " + ours + ")");
     }
     for (const std::vector<std::string>& row : table.rows) {
       const std::optional<long> index = row.empty() ? std::nullopt : PointIndex(row[0]);
-      if (!index) throw std::runtime_error(sources[t] + ": a row without a point index");
+      if (!index) {
+        throw InputError(InputProblem::kMissing, {sources[t]}, columns::kPoint,
+                         "a row without a point index");
+      }
       const auto [it, added] = rows.emplace(*index, std::make_pair(&row, t));
       if (!added) {
-        throw std::runtime_error(sources[t] + ": point " + row[0] + " is also in " +
-                                 sources[it->second.second]);
+        throw InputError(InputProblem::kBadValue, {sources[t]}, columns::kPoint,
+                         "point " + row[0] + " is also in " + sources[it->second.second]);
       }
     }
   }

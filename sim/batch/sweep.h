@@ -40,8 +40,11 @@
 // Errors:
 //  - a malformed sweep file, an unknown key or a value of the wrong type
 //    (as the scenario reader judges it), or a base that is not a valid
-//    scenario by itself stops the sweep before any run: std::runtime_error
-//    with one line "FILE:LINE: key ..." naming the sweep file (or the base);
+//    scenario by itself stops the sweep before any run: InputError
+//    (sim/io/error.h, a std::runtime_error) with one line "FILE:LINE: key
+//    ..." naming the sweep file (or the base); the scenario reader's errors
+//    are classified and relocated by their problem and key, not by their
+//    text;
 //  - any other bad scenario (a value out of range, a combination the
 //    scenario reader refuses) and any failure of the run (e.g. divergence)
 //    is recorded in that point's row, and the other points still run.
@@ -87,8 +90,8 @@ struct SweepPlan {
 };
 
 // Reads a sweep and builds every point's scenario (no run yet). Loads each
-// point's model once to count its links. Throws std::runtime_error (one
-// line) as described above.
+// point's model once to count its links. Throws InputError (one line) as
+// described above.
 SweepPlan ParseSweep(const std::string& toml_text, const std::string& source);
 SweepPlan LoadSweep(const std::string& path);
 
@@ -164,10 +167,10 @@ SweepTable ParseSweepTableCsv(const std::string& csv_text, const std::string& so
 SweepTable LoadSweepTableCsv(const std::string& path);
 
 // Joins the tables of a sweep's shards into one, ordered by point index.
-// Throws std::runtime_error (one line, naming the file) if the headers
-// differ, a point appears twice, or (unless allow_missing) points are
-// missing below the highest index (a missing tail of the sweep cannot be
-// told from a shorter sweep).
+// Throws InputError (one line, naming the file) if the headers differ or a
+// point appears twice, and std::runtime_error if (unless allow_missing)
+// points are missing below the highest index (a missing tail of the sweep
+// cannot be told from a shorter sweep).
 SweepTable MergeSweepTables(const std::vector<SweepTable>& tables,
                             const std::vector<std::string>& sources,
                             bool allow_missing = false);

@@ -1,5 +1,7 @@
 #include "sim/cli/analysis_commands.h"
 
+#include "sim/cli/command.h"
+
 #include <complex>
 #include <cstdio>
 #include <filesystem>
@@ -11,6 +13,7 @@
 
 #include "controllers/linear/frequency_response.h"
 #include "sim/io/files.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc {
 namespace {
@@ -26,11 +29,8 @@ constexpr char kFractionalEq15[] = "fractional-eq15";
 constexpr char kFractionalOustaloup[] = "fractional-oustaloup";
 constexpr char kNone[] = "none";
 
-std::string Short(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%g", value);
-  return buffer;
-}
+// Gains and bands in descriptions: printf's %g.
+std::string Short(double value) { return FormatDouble(value, 6); }
 
 // The options given on the command line.
 OptionGiven GivenOn(const CLI::App& command) {
@@ -178,6 +178,15 @@ int RunStep(const CLI::App& command, const StepArgs& args) {
   return 0;
 }
 
+// --kp, --ki, --kd (PID) and --gain, --order (fractional integrator).
+void AddGainOptions(CLI::App* command, ControllerGains& gains) {
+  command->add_option("--kp", gains.kp, "PID proportional gain [V/mm]");
+  command->add_option("--ki", gains.ki, "PID integral gain [V/(mm s)]");
+  command->add_option("--kd", gains.kd, "PID derivative gain [V s/mm]");
+  command->add_option("--gain", gains.gain, "Fractional integrator gain K");
+  command->add_option("--order", gains.order, "Fractional integrator order lambda, in (0, 1]");
+}
+
 }  // namespace
 
 void AddAnalysisCommands(CLI::App& app, AnalysisArgs& args) {
@@ -185,57 +194,38 @@ void AddAnalysisCommands(CLI::App& app, AnalysisArgs& args) {
                                                      kFractionalOustaloup, kNone};
   BodeArgs& b = args.bode;
   CLI::App* bode =
-      app.add_subcommand(kBodeCommand, "Frequency response and margins of one link's open loop");
+      AddCommand(app, kBodeCommand, "Frequency response and margins of one link's open loop");
   bode->add_option("--controller", b.controller,
                    "pid (eq. 12) | fractional (eq. 14, exact) | fractional-eq15 | "
                    "fractional-oustaloup | none")
       ->required()->check(CLI::IsMember(bode_controllers));
-  bode->add_option("--link", b.link, "Link 1..3 (Table 2)")->capture_default_str();
-  bode->add_option("--plant", b.plant, "g1 (eq. 5) | g2 (eq. 6)")
-      ->check(CLI::IsMember({"g1", "g2"}))->capture_default_str();
-  bode->add_option("--kp", b.gains.kp, "PID proportional gain [V/mm]")->capture_default_str();
-  bode->add_option("--ki", b.gains.ki, "PID integral gain [V/(mm s)]")->capture_default_str();
-  bode->add_option("--kd", b.gains.kd, "PID derivative gain [V s/mm]")->capture_default_str();
-  bode->add_option("--gain", b.gains.gain, "Fractional integrator gain K")->capture_default_str();
-  bode->add_option("--order", b.gains.order, "Fractional integrator order lambda, in (0, 1]")
-      ->capture_default_str();
-  bode->add_option("--n", b.oustaloup_n, "fractional-oustaloup: Oustaloup pairs")
-      ->capture_default_str();
+  bode->add_option("--link", b.link, "Link 1..3 (Table 2)");
+  AddPlantOption(bode, b.plant);
+  AddGainOptions(bode, b.gains);
+  bode->add_option("--n", b.oustaloup_n, "fractional-oustaloup: Oustaloup pairs");
   bode->add_option("--band-rad-s", b.band_rad_s, "fractional-oustaloup: band LOW,HIGH [rad/s]")
-      ->delimiter(',')->capture_default_str();
-  bode->add_option("--w-min", b.w_min_rad_s, "bode.csv: lowest frequency [rad/s]")
-      ->capture_default_str();
-  bode->add_option("--w-max", b.w_max_rad_s, "bode.csv: highest frequency [rad/s]")
-      ->capture_default_str();
-  bode->add_option("--points-per-decade", b.points_per_decade, "bode.csv: grid density")
-      ->capture_default_str();
+      ->delimiter(',');
+  bode->add_option("--w-min", b.w_min_rad_s, "bode.csv: lowest frequency [rad/s]");
+  bode->add_option("--w-max", b.w_max_rad_s, "bode.csv: highest frequency [rad/s]");
+  bode->add_option("--points-per-decade", b.points_per_decade, "bode.csv: grid density");
   bode->add_option("--out", b.out_dir, "Directory for bode.csv");
 
   StepArgs& s = args.step;
   CLI::App* step =
-      app.add_subcommand(kStepCommand, "Closed-loop unit step of each link against the reference model");
+      AddCommand(app, kStepCommand, "Closed-loop unit step of each link against the reference model");
   step->add_option("--controller", s.controller, "pid (eq. 12) | fractional (eq. 14)")
       ->required()->check(CLI::IsMember({kPid, kFractional}));
   step->add_option("--links", s.links, "Links to simulate, e.g. 1,2,3")
-      ->delimiter(',')->capture_default_str();
-  step->add_option("--plant", s.plant, "g1 (eq. 5) | g2 (eq. 6)")
-      ->check(CLI::IsMember({"g1", "g2"}))->capture_default_str();
-  step->add_option("--kp", s.gains.kp, "PID proportional gain [V/mm]")->capture_default_str();
-  step->add_option("--ki", s.gains.ki, "PID integral gain [V/(mm s)]")->capture_default_str();
-  step->add_option("--kd", s.gains.kd, "PID derivative gain [V s/mm]")->capture_default_str();
-  step->add_option("--gain", s.gains.gain, "Fractional integrator gain K")->capture_default_str();
-  step->add_option("--order", s.gains.order, "Fractional integrator order lambda, in (0, 1]")
-      ->capture_default_str();
-  step->add_option("--horizon-s", s.horizon_s, "Horizon of step.csv and of J (eq. 11) [s]")
-      ->capture_default_str();
+      ->delimiter(',');
+  AddPlantOption(step, s.plant);
+  AddGainOptions(step, s.gains);
+  step->add_option("--horizon-s", s.horizon_s, "Horizon of step.csv and of J (eq. 11) [s]");
   step->add_option("--max-horizon-s", s.max_horizon_s,
                    "Longest record for the step metrics [s]: each link's simulation goes on "
-                   "past --horizon-s until its metrics are determined")
-      ->capture_default_str();
-  step->add_option("--sample-rate-hz", s.sample_rate_hz, "Controller sample rate [Hz]")
-      ->capture_default_str();
+                   "past --horizon-s until its metrics are determined");
+  step->add_option("--sample-rate-hz", s.sample_rate_hz, "Controller sample rate [Hz]");
   step->add_flag("--no-clamp", s.no_clamp, "No output clamp (the paper's linear setting)");
-  step->add_option("--v-max", s.v_max, "Output clamp [V]")->capture_default_str();
+  step->add_option("--v-max", s.v_max, "Output clamp [V]");
   step->add_option("--out", s.out_dir, "Directory for step.csv");
 }
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "sim/cli/analysis_commands.h"
+#include "sim/cli/command.h"
 #include "sim/io/files.h"
 #include "sim/runs/bench_run.h"
 #include "sim/runs/closed_loop_run.h"
@@ -50,40 +51,34 @@ struct GenerateArgs {
 };
 
 void AddGenerateCommand(CLI::App& app, GenerateArgs& args) {
-  CLI::App* cmd = app.add_subcommand("generate", "Write the MJCF of an N-link flagellum");
+  CLI::App* cmd = ipmc::AddCommand(app, "generate", "Write the MJCF of an N-link flagellum");
   FlagellumSpec& s = args.spec;
   cmd->add_option("--links-mm", s.link_lengths_mm, "Link lengths [mm], one per link")
-      ->delimiter(',')->capture_default_str();
-  cmd->add_option("--gap-mm", s.gap_mm, "Gap between links [mm]")->capture_default_str();
-  cmd->add_option("--width-mm", s.width_mm, "Strip width [mm]")->capture_default_str();
-  cmd->add_option("--thickness-um", s.thickness_um, "Strip thickness [um]")->capture_default_str();
-  cmd->add_option("--head-mm", s.head_length_mm, "Head (clamp) length [mm], 0 for none")
-      ->capture_default_str();
-  cmd->add_option("--density", s.density_kg_m3, "Density [kg/m^3]")->capture_default_str();
-  cmd->add_option("--modulus-pa", s.bending_modulus_Pa, "Bending modulus E [Pa]")
-      ->capture_default_str();
-  cmd->add_option("--hinge-damping-ratio", s.hinge_damping_ratio, "Hinge damping ratio zeta_h")
-      ->capture_default_str();
+      ->delimiter(',');
+  cmd->add_option("--gap-mm", s.gap_mm, "Gap between links [mm]");
+  cmd->add_option("--width-mm", s.width_mm, "Strip width [mm]");
+  cmd->add_option("--thickness-um", s.thickness_um, "Strip thickness [um]");
+  cmd->add_option("--head-mm", s.head_length_mm, "Head (clamp) length [mm], 0 for none");
+  cmd->add_option("--density", s.density_kg_m3, "Density [kg/m^3]");
+  cmd->add_option("--modulus-pa", s.bending_modulus_Pa, "Bending modulus E [Pa]");
+  cmd->add_option("--hinge-damping-ratio", s.hinge_damping_ratio, "Hinge damping ratio zeta_h");
   cmd->add_flag("--clamped", s.clamped, "Weld the root (test bench)");
-  cmd->add_option("--timestep-s", s.timestep_s, "Time step [s]")->capture_default_str();
-  cmd->add_option("--integrator", s.integrator, "Euler | implicit | RK4")->capture_default_str();
-  cmd->add_option("--viscosity-pa-s", s.viscosity_Pa_s, "Viscosity [Pa s]")->capture_default_str();
-  cmd->add_option("--coefficients", s.coefficients, "gray_hancock | lighthill | direct")
-      ->capture_default_str();
-  cmd->add_option("--wavelength-mm", s.wavelength_mm, "Wavelength for the RFT coefficients [mm]")
-      ->capture_default_str();
-  cmd->add_option("--xi-normal", s.xi_normal_N_s_m2, "Direct xi_n [N s/m^2]");
-  cmd->add_option("--xi-tangential", s.xi_tangential_N_s_m2, "Direct xi_t [N s/m^2]");
+  cmd->add_option("--timestep-s", s.timestep_s, "Time step [s]");
+  cmd->add_option("--integrator", s.integrator, "Euler | implicit | RK4");
+  cmd->add_option("--viscosity-pa-s", s.viscosity_Pa_s, "Viscosity [Pa s]");
+  cmd->add_option("--coefficients", s.coefficients, "gray_hancock | lighthill | direct");
+  cmd->add_option("--wavelength-mm", s.wavelength_mm, "Wavelength for the RFT coefficients [mm]");
+  cmd->add_option("--xi-normal", s.xi_normal_N_s_m2, "Direct xi_n [N s/m^2]")
+      ->default_str("");
+  cmd->add_option("--xi-tangential", s.xi_tangential_N_s_m2, "Direct xi_t [N s/m^2]")
+      ->default_str("");
   cmd->add_option("--segments-per-link", s.segments_per_link,
-                  "Rigid sub-segments per link (1: rigid links)")
-      ->capture_default_str();
+                  "Rigid sub-segments per link (1: rigid links)");
   cmd->add_option("--plants", s.plants,
-                  "uniform (every link eq. 7's plant) | table2 (Table 2's row per link)")
-      ->capture_default_str();
-  cmd->add_option("--ipmc-model", s.ipmc_model, "IPMC link model: g1 (eq. 5) | g2 (eq. 6)")
-      ->capture_default_str();
-  cmd->add_option("--actuation", s.actuation, "distributed | single")->capture_default_str();
-  cmd->add_option("--name", s.name, "Model name")->capture_default_str();
+                  "uniform (every link eq. 7's plant) | table2 (Table 2's row per link)");
+  cmd->add_option("--ipmc-model", s.ipmc_model, "IPMC link model: g1 (eq. 5) | g2 (eq. 6)");
+  cmd->add_option("--actuation", s.actuation, "distributed | single");
+  cmd->add_option("--name", s.name, "Model name");
   cmd->add_option("-o,--out", args.out_path, "Output MJCF file (default: stdout)");
 }
 
@@ -101,23 +96,22 @@ struct GaitArgs {
 };
 
 void AddGaitCommand(CLI::App& app, GaitArgs& args) {
-  CLI::App* cmd = app.add_subcommand("gait", "Run a prescribed joint-space gait and measure the swim");
+  CLI::App* cmd = ipmc::AddCommand(app, "gait", "Run a prescribed joint-space gait and measure the swim");
   cmd->add_option("--model", args.model_path, "MJCF model")->required();
   cmd->add_option("--gait", args.gait, "sine | square | csv")
-      ->check(CLI::IsMember({"sine", "square", "csv"}))->capture_default_str();
-  cmd->add_option("--frequency-hz", args.frequency_Hz, "Gait frequency [Hz]")->capture_default_str();
-  cmd->add_option("--amplitude-rad", args.amplitude_rad, "Joint amplitude [rad]")
-      ->capture_default_str();
+      ->check(CLI::IsMember({"sine", "square", "csv"}));
+  cmd->add_option("--frequency-hz", args.frequency_Hz, "Gait frequency [Hz]");
+  cmd->add_option("--amplitude-rad", args.amplitude_rad, "Joint amplitude [rad]");
   cmd->add_option("--phase-lag-rad", args.phase_lag_rad,
-                  "Sine: phase lag between consecutive joints [rad]; > 0 sends the wave to the tail")
-      ->capture_default_str();
+                  "Sine: phase lag between consecutive joints [rad]; > 0 sends the wave to the tail");
   cmd->add_option("--amplitudes-rad", args.amplitudes_rad, "Sine: per-joint amplitudes [rad]")
-      ->delimiter(',');
-  cmd->add_option("--phases-rad", args.phases_rad, "Sine: per-joint phases [rad]")->delimiter(',');
+      ->delimiter(',')
+      ->default_str("");
+  cmd->add_option("--phases-rad", args.phases_rad, "Sine: per-joint phases [rad]")->delimiter(',')
+      ->default_str("");
   cmd->add_option("--csv", args.csv_path, "CSV gait: time_s, q_1..q_n [rad]");
-  cmd->add_option("--cycles", args.run.cycles, "Number of gait cycles")->capture_default_str();
-  cmd->add_option("--samples-per-cycle", args.run.samples_per_cycle, "Time-series samples per cycle")
-      ->capture_default_str();
+  cmd->add_option("--cycles", args.run.cycles, "Number of gait cycles");
+  cmd->add_option("--samples-per-cycle", args.run.samples_per_cycle, "Time-series samples per cycle");
   cmd->add_option("--out", args.out_dir, "Directory for timeseries.csv and summary.json");
 }
 
@@ -129,22 +123,19 @@ struct BenchArgs {
 };
 
 void AddBenchCommand(CLI::App& app, BenchArgs& args) {
-  CLI::App* cmd = app.add_subcommand(
-      "bench", "Voltage experiment on the test bench, recorded like the laser meter");
+  CLI::App* cmd = ipmc::AddCommand(
+      app, "bench", "Voltage experiment on the test bench, recorded like the laser meter");
   ipmc::BenchSignal& b = args.bench;
-  cmd->add_option("--model", args.model_path, "MJCF model with IPMC actuators")
-      ->capture_default_str();
+  cmd->add_option("--model", args.model_path, "MJCF model with IPMC actuators");
   cmd->add_option("--signal", args.signal, "sine | chirp")
-      ->check(CLI::IsMember({"sine", "chirp"}))->capture_default_str();
-  cmd->add_option("--amplitude-v", b.amplitude_V, "Voltage amplitude [V]")->capture_default_str();
-  cmd->add_option("--frequency-hz", b.frequency_Hz, "Sine frequency [Hz]")->capture_default_str();
-  cmd->add_option("--f0-hz", b.start_Hz, "Chirp start frequency [Hz]")->capture_default_str();
-  cmd->add_option("--f1-hz", b.end_Hz, "Chirp end frequency [Hz]")->capture_default_str();
-  cmd->add_option("--duration-s", b.duration_s, "Duration [s]")->capture_default_str();
-  cmd->add_option("--links", b.driven_links, "Driven links, 1-based")->delimiter(',')
-      ->capture_default_str();
-  cmd->add_option("--sample-rate-hz", b.sample_rate_Hz, "Voltage update and recording rate [Hz]")
-      ->capture_default_str();
+      ->check(CLI::IsMember({"sine", "chirp"}));
+  cmd->add_option("--amplitude-v", b.amplitude_V, "Voltage amplitude [V]");
+  cmd->add_option("--frequency-hz", b.frequency_Hz, "Sine frequency [Hz]");
+  cmd->add_option("--f0-hz", b.start_Hz, "Chirp start frequency [Hz]");
+  cmd->add_option("--f1-hz", b.end_Hz, "Chirp end frequency [Hz]");
+  cmd->add_option("--duration-s", b.duration_s, "Duration [s]");
+  cmd->add_option("--links", b.driven_links, "Driven links, 1-based")->delimiter(',');
+  cmd->add_option("--sample-rate-hz", b.sample_rate_Hz, "Voltage update and recording rate [Hz]");
   cmd->add_option("--out", args.out_path, "CSV file to write")->required();
 }
 
@@ -176,7 +167,7 @@ struct RunArgs {
 };
 
 void AddRunCommand(CLI::App& app, RunArgs& args) {
-  CLI::App* cmd = app.add_subcommand("run", "Run a closed-loop scenario file (TOML)");
+  CLI::App* cmd = ipmc::AddCommand(app, "run", "Run a closed-loop scenario file (TOML)");
   cmd->add_option("scenario", args.scenario_path, "Scenario file")->required();
   cmd->add_option("--out", args.out_dir, "Output directory (overrides output.dir)");
   cmd->add_option("--video", args.video_path,

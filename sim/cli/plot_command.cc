@@ -5,6 +5,9 @@
 #include <string>
 #include <utility>
 
+#include "sim/cli/command.h"
+#include "sim/io/error.h"
+
 namespace ipmc {
 namespace {
 
@@ -31,17 +34,20 @@ void ValidateOptions(const CLI::App& command, const PlotArgs& args) {
       names += (names.empty() ? "" : ", ") + std::string(kind);
     }
     if (!applies) {
-      throw std::invalid_argument(std::string(kPlotCommand) + ": " + option + " applies to plot " +
-                                  names + " only, not " + args.kind);
+      throw FieldError(std::string(kPlotCommand) + ": " + option + " applies to plot " + names +
+                           " only, not " + args.kind,
+                       option, "plot " + names);
     }
   }
   const std::pair<const char*, int> sizes[] = {{"--width-px", args.figure.size.width_px},
                                                {"--height-px", args.figure.size.height_px}};
   for (const auto& [option, size] : sizes) {
     if (command.count(option) > 0 && (size < kMinImagePx || size > kMaxImagePx)) {
-      throw std::invalid_argument(std::string(kPlotCommand) + ": " + option + " must be in [" +
-                                  std::to_string(kMinImagePx) + ", " + std::to_string(kMaxImagePx) +
-                                  "], got " + std::to_string(size));
+      const std::string range =
+          "[" + std::to_string(kMinImagePx) + ", " + std::to_string(kMaxImagePx) + "]";
+      throw FieldError(std::string(kPlotCommand) + ": " + option + " must be in " + range +
+                           ", got " + std::to_string(size),
+                       option, range);
     }
   }
 }
@@ -60,8 +66,8 @@ int RunPlot(const CLI::App& command, const PlotArgs& args) {
 
 void AddPlotCommand(CLI::App& app, PlotArgs& args) {
   FigureOptions& f = args.figure;
-  CLI::App* cmd = app.add_subcommand(
-      kPlotCommand, "Draw a figure with gnuplot (PDF, SVG or PNG by the extension of --out)");
+  CLI::App* cmd = AddCommand(
+      app, kPlotCommand, "Draw a figure with gnuplot (PDF, SVG or PNG by the extension of --out)");
   cmd->add_option("kind", args.kind,
                   "bode (Fig. 9/10) | step (Fig. 11) | tracking (Fig. 12a) | waveform (Fig. 12b) "
                   "| surface (Fig. 13) | trajectory | identification (Fig. 7) | sweep")
@@ -75,23 +81,24 @@ void AddPlotCommand(CLI::App& app, PlotArgs& args) {
       ->required();
   cmd->add_option("--title", f.title, "Figure title (default: what is shown)");
   cmd->add_option("--width-px", f.size.width_px,
-                  "Image width [px] at 150 px/in (default: the kind's)");
+                  "Image width [px] at 150 px/in (default: the kind's)")
+      ->default_str("");
   cmd->add_option("--height-px", f.size.height_px,
-                  "Image height [px] at 150 px/in (default: the kind's)");
+                  "Image height [px] at 150 px/in (default: the kind's)")
+      ->default_str("");
   cmd->add_option("--curves", f.curves,
                   "bode: curves to draw, of plant, controller, open_loop, reference_open_loop")
-      ->delimiter(',')
-      ->capture_default_str();
-  cmd->add_option("--instants", f.instants,
-                  "waveform: number of instants over the last wave period")
-      ->capture_default_str();
-  cmd->add_option("--times-s", f.times_s, "waveform: instants [s] (nearest samples)")
       ->delimiter(',');
+  cmd->add_option("--instants", f.instants,
+                  "waveform: number of instants over the last wave period");
+  cmd->add_option("--times-s", f.times_s, "waveform: instants [s] (nearest samples)")
+      ->delimiter(',')
+      ->default_str("");
   cmd->add_option("--period-s", f.period_s,
                   "waveform, trajectory: wave period [s] (default: period_s of summary.json "
-                  "beside INPUT)");
-  cmd->add_option("--max-lines", f.max_lines, "surface: most time rows in the x-t map")
-      ->capture_default_str();
+                  "beside INPUT)")
+      ->default_str("");
+  cmd->add_option("--max-lines", f.max_lines, "surface: most time rows in the x-t map");
   cmd->add_option("--x", f.x_column,
                   "sweep: column on the x axis (NAME[i]: element i of an array column)");
   cmd->add_option("--y", f.y_column, "sweep: column on the y axis");

@@ -7,9 +7,9 @@
 //
 // KIND: bode | step | tracking | waveform | surface | trajectory |
 // identification | sweep. An option that does not apply to KIND is
-// refused. Errors throw std::invalid_argument (bad options, an unknown
-// output format, missing or non-numeric columns; the message names INPUT
-// and the column) or std::runtime_error (gnuplot missing or failing,
+// refused. Errors throw FieldError (bad options, an unknown output
+// format), InputError (missing or non-numeric columns; the message names
+// INPUT and the column) or std::runtime_error (gnuplot missing or failing,
 // I/O); no FILE is left behind then.
 #pragma once
 

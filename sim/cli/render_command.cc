@@ -1,5 +1,7 @@
 #include "sim/cli/render_command.h"
 
+#include "sim/cli/command.h"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -148,8 +150,8 @@ ClosedLoopResult RunScenarioFilmed(
 }
 
 void AddRenderCommand(CLI::App& app, RenderArgs& args) {
-  CLI::App* cmd = app.add_subcommand(
-      kRenderCommand, "Film a run from its output directory, or run a scenario and film it (MP4)");
+  CLI::App* cmd = AddCommand(
+      app, kRenderCommand, "Film a run from its output directory, or run a scenario and film it (MP4)");
   cmd->add_option("input", args.input_path,
                   "A run's output directory (states.csv, summary.json) or a scenario file (TOML)")
       ->required();

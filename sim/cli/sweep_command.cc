@@ -1,5 +1,6 @@
 #include "sim/cli/sweep_command.h"
 
+#include "sim/cli/command.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -186,24 +187,23 @@ int RunMergeTables(const SweepArgs& args) {
 
 void AddSweepCommands(CLI::App& app, SweepArgs& args) {
   args.jobs = AvailableCpus();
-  CLI::App* sweep = app.add_subcommand(
-      kSweepCommand, "Run a scenario over a grid or list of overrides (a sweep file, TOML)");
+  CLI::App* sweep = AddCommand(
+      app, kSweepCommand, "Run a scenario over a grid or list of overrides (a sweep file, TOML)");
   sweep->add_option("sweep", args.sweep_path, "Sweep file");
   sweep->add_option("--jobs", args.jobs,
-                    "Points run in parallel (default: the CPUs this process may use)")
-      ->capture_default_str();
+                    "Points run in parallel (default: the CPUs this process may use)");
   sweep->add_option("--shard", args.shard,
-                    "Run part i of n: the points with index % n == i - 1")
-      ->capture_default_str();
+                    "Run part i of n: the points with index % n == i - 1");
   sweep->add_option("--out", args.out_prefix,
                     "Writes PREFIX.csv and PREFIX.json; records each point in PREFIX.journal "
                     "(resume)");
   AddSlurmOptions(sweep, args);
 
   CLI::App* merge =
-      app.add_subcommand(kMergeCommand, "Join the tables (CSV) of a sweep's shards into one");
+      AddCommand(app, kMergeCommand, "Join the tables (CSV) of a sweep's shards into one");
   merge->add_option("tables", args.merge_tables, "Shard tables (PREFIX.csv of each sweep --shard)")
-      ->required();
+      ->required()
+      ->default_str("");
   merge->add_option("--out", args.merge_out_prefix, "Writes PREFIX.csv and PREFIX.json")
       ->required();
   merge->add_flag("--partial", args.merge_partial,

@@ -1,14 +1,14 @@
 #include "sim/cli/table5_command.h"
 
+#include "sim/cli/command.h"
+
 #include <cmath>
 #include <cstdio>
-#include <exception>
 #include <filesystem>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "sim/io/columns.h"
@@ -20,7 +20,7 @@
 #include "controllers/pid.h"
 #include "plugin/coupling.h"
 #include "sim/runs/closed_loop_run.h"
-#include "sim/core/mujoco_warnings.h"
+#include "sim/core/fan_out.h"
 #include "sim/runs/output.h"
 #include "sim/core/data_paths.h"
 #include "sim/core/simulation.h"
@@ -243,29 +243,13 @@ Table5Values RunTable5(const ScenarioConfig& setting, const Table5Reading& readi
   const ScenarioConfig fractional = Table5Scenario(setting, ControllerKind::kFractional, reading);
   const ScenarioConfig pid = Table5Scenario(setting, ControllerKind::kPid, reading);
   Table5Values values;
-  if (jobs == 1) {
-    values.fractional = RunController(fractional, reading.loop);
-    values.pid = RunController(pid, reading.loop);
-    return values;
-  }
-  const SerialisedMujocoWarnings warnings;
-  std::exception_ptr fractional_failure;
-  std::thread fractional_run([&]() {
-    try {
+  FanOut(2, jobs, [&](std::size_t run) {
+    if (run == 0) {
       values.fractional = RunController(fractional, reading.loop);
-    } catch (...) {
-      fractional_failure = std::current_exception();
+    } else {
+      values.pid = RunController(pid, reading.loop);
     }
   });
-  std::exception_ptr pid_failure;
-  try {
-    values.pid = RunController(pid, reading.loop);
-  } catch (...) {
-    pid_failure = std::current_exception();
-  }
-  fractional_run.join();
-  if (fractional_failure) std::rethrow_exception(fractional_failure);
-  if (pid_failure) std::rethrow_exception(pid_failure);
   return values;
 }
 
@@ -312,26 +296,21 @@ nlohmann::json Table5Json(const Table5Values& here, const Table5Values& paper,
 }
 
 void AddTable5Command(CLI::App& app, Table5Args& args) {
-  CLI::App* cmd = app.add_subcommand(
-      kCommand, "Table 5: IAE and ITAE per link, C_I (eq. 15) and PID (eq. 12), beside the paper");
+  CLI::App* cmd = AddCommand(
+      app, kCommand, "Table 5: IAE and ITAE per link, C_I (eq. 15) and PID (eq. 12), beside the paper");
   cmd->add_option("--plants", args.plants,
                   "uniform (every link eq. 7's plant) | table2 (Table 2's row per link)")
-      ->check(CLI::IsMember({"uniform", "table2"}))
-      ->capture_default_str();
+      ->check(CLI::IsMember({"uniform", "table2"}));
   cmd->add_option("--cycles", args.cycles,
                   "Horizon in wave periods, [1, " + std::to_string(kMaxTable5Cycles) +
-                      "] (default: the scenario's)")
-      ->capture_default_str();
+                      "] (default: the scenario's)");
   cmd->add_option("--start-ramp-cycles", args.start_ramp_cycles,
                   "References' fade-in in wave periods, [0, --cycles]; 0: a step start "
-                  "(default: the scenario's)")
-      ->capture_default_str();
+                  "(default: the scenario's)");
   cmd->add_option("--loop", args.loop,
                   "multibody (the MuJoCo run) | transfer-function (each link's plant alone)")
-      ->check(CLI::IsMember({kMultibody, kTransferFunction}))
-      ->capture_default_str();
-  cmd->add_option("--jobs", args.jobs, "Threads: 1, or 2 (one per controller)")
-      ->capture_default_str();
+      ->check(CLI::IsMember({kMultibody, kTransferFunction}));
+  cmd->add_option("--jobs", args.jobs, "Threads: 1, or 2 (one per controller)");
   cmd->add_option("--out", args.out_dir, "Directory for table5.csv and table5.json");
 }
 
@@ -346,10 +325,7 @@ int RunTable5Command(const CLI::App& app, const Table5Args& args) {
                                                                         : setting.start_ramp_cycles;
   reading.loop = args.loop == kTransferFunction ? Table5Loop::kTransferFunction
                                                 : Table5Loop::kMultibody;
-  reading.Validate();
-  if (args.jobs != 1 && args.jobs != 2) ThrowOption(kCommand, "--jobs", "1 or 2", std::to_string(args.jobs));
-
-  const Table5Values here = RunTable5(setting, reading, args.jobs);
+  const Table5Values here = RunTable5(setting, reading, args.jobs);  // validates first
   const Table5Values paper = PaperTable5();
   if (!args.out_dir.empty()) {
     const std::string csv = Table5Csv(here, paper);

@@ -3,13 +3,13 @@
 #include <chrono>
 #include <cmath>
 #include <complex>
-#include <cstdarg>
 #include <cstdio>
-#include <iomanip>
-#include <sstream>
 #include <stdexcept>
 
 #include "controllers/reference_model.h"
+#include "sim/io/columns.h"
+#include "sim/io/csv.h"
+#include "sim/io/error.h"
 #include "sim/io/numbers.h"
 
 namespace ipmc {
@@ -24,38 +24,6 @@ constexpr char kDesignCommand[] = "design";
 // The time_s column must give the sample rate to this relative tolerance.
 constexpr double kSampleRateTolerance = 1e-3;
 constexpr double kMaxTuningSamples = 1e7;
-
-std::string Format(const char* format, ...) __attribute__((format(printf, 1, 2)));
-std::string Format(const char* format, ...) {
-  va_list args;
-  va_start(args, format);
-  va_list copy;
-  va_copy(copy, args);
-  const int length = std::vsnprintf(nullptr, 0, format, copy);
-  va_end(copy);
-  std::string text(length > 0 ? length : 0, '\0');
-  if (length > 0) std::vsnprintf(text.data(), text.size() + 1, format, args);
-  va_end(args);
-  return text;
-}
-
-[[noreturn]] void ThrowOption(const std::string& command, const std::string& option,
-                              const std::string& requirement, const std::string& got) {
-  throw std::invalid_argument(command + ": " + option + " must be " + requirement + ", got " +
-                              got);
-}
-
-void RequireFinitePositive(const std::string& command, const std::string& option, double value) {
-  if (!std::isfinite(value) || !(value > 0)) {
-    ThrowOption(command, option, "finite and > 0", FormatDouble(value));
-  }
-}
-
-void RequirePhaseMargin(const std::string& command, double value) {
-  if (!std::isfinite(value) || !(value > 0) || !(value < 180)) {
-    ThrowOption(command, "--phase-margin-deg", "in (0, 180)", FormatDouble(value));
-  }
-}
 
 std::vector<double> UnwrappedPhaseDeg(const std::vector<Complex>& values) {
   std::vector<double> phase(values.size());
@@ -97,6 +65,12 @@ double Seconds(Clock::time_point start) {
 }
 
 }  // namespace
+
+void RequirePhaseMargin(const std::string& command, double value) {
+  if (!std::isfinite(value) || !(value > 0) || !(value < 180)) {
+    ThrowOption(command, "--phase-margin-deg", "in (0, 180)", FormatDouble(value));
+  }
+}
 
 // --------------------------------------------------------------- identify ---
 
@@ -153,7 +127,7 @@ RecordIdentification IdentifyRecord(const IdentifySpec& spec, const std::vector<
   if (result.levy.w_low_rad_s < result.estimate.w_rad_s.front()) {
     // Welch's first bin is 2 pi fs / L with L = N / 4.5.
     const double needed_s = 4.5 * kTwoPi / result.levy.w_low_rad_s;
-    throw std::invalid_argument(Format(
+    throw std::invalid_argument(FormatText(
         "%s: --band-rad-s low end %.4g rad/s is below the first Welch bin %.4g rad/s of this "
         "%.4g s record (8 sections with 50 %% overlap reach it from about %.4g s of data)",
         name.c_str(), result.levy.w_low_rad_s, result.estimate.w_rad_s.front(),
@@ -188,36 +162,28 @@ std::string ResponseCsv(const FrequencyResponseEstimate& e, const LinkIdentifica
   const std::vector<double> measured_deg = UnwrappedPhaseDeg(e.response);
   const std::vector<double> p1_deg = UnwrappedPhaseDeg(p1);
   const std::vector<double> p2_deg = UnwrappedPhaseDeg(p2);
-  std::ostringstream csv;
-  csv << std::setprecision(10);
-  csv << "w_rad_s,frequency_Hz,coherence,measured_re_mm_per_V,measured_im_mm_per_V,measured_db,"
-         "measured_deg,p1_db,p1_deg,p2_db,p2_deg,in_band\n";
+  CsvWriter csv(10);
+  csv.Add(columns::kFrequency).Add(columns::kFrequencyHz).Add(columns::kCoherence);
+  csv.Add(columns::kMeasuredRe).Add(columns::kMeasuredIm);
+  for (const char* curve : {columns::kMeasuredCurve, columns::kP1Curve, columns::kP2Curve}) {
+    csv.Add(columns::MagnitudeDb(curve)).Add(columns::PhaseDeg(curve));
+  }
+  csv.Add(columns::kInBand).EndRow();
   for (std::size_t i = 0; i < e.w_rad_s.size(); ++i) {
     const double w = e.w_rad_s[i];
     const bool in_band =
         w >= id.g1.indices.w_first_rad_s && w <= id.g1.indices.w_last_rad_s;
-    csv << w << "," << e.frequency_Hz[i] << "," << e.coherence[i] << "," << e.response[i].real()
-        << "," << e.response[i].imag() << "," << 20 * std::log10(std::abs(e.response[i])) << ","
-        << measured_deg[i] << "," << 20 * std::log10(std::abs(p1[i])) << "," << p1_deg[i] << ","
-        << 20 * std::log10(std::abs(p2[i])) << "," << p2_deg[i] << "," << (in_band ? 1 : 0)
-        << "\n";
+    csv.Add(w).Add(e.frequency_Hz[i]).Add(e.coherence[i]);
+    csv.Add(e.response[i].real()).Add(e.response[i].imag());
+    csv.Add(20 * std::log10(std::abs(e.response[i]))).Add(measured_deg[i]);
+    csv.Add(20 * std::log10(std::abs(p1[i]))).Add(p1_deg[i]);
+    csv.Add(20 * std::log10(std::abs(p2[i]))).Add(p2_deg[i]);
+    csv.AddInteger(in_band ? 1 : 0).EndRow();
   }
-  return csv.str();
+  return csv.Text();
 }
 
 // ----------------------------------------------------------------- design ---
-
-FractionalResult DesignFractional(const FrequencyFunction& plant, double crossover_rad_s,
-                                  double phase_margin_deg) {
-  FractionalResult result;
-  result.design = DesignFractionalIntegrator(plant, crossover_rad_s, phase_margin_deg);
-  const double gain = result.design.gain;
-  const double order = result.design.order;
-  result.margins = ComputeMargins([&](double w) {
-    return gain * std::polar(std::pow(w, -order), -order * kPi / 2) * plant(w);
-  });
-  return result;
-}
 
 PidTuningOptions TuningOptions(const std::string& command, double crossover_rad_s,
                                double reference_order, double horizon_s, double sample_rate_hz) {
@@ -258,18 +224,13 @@ LinkDesign DesignLink(const DesignSpec& spec) {
       PaperLinkParams(spec.link, spec.plant == "g2" ? IpmcModelKind::kG2 : IpmcModelKind::kG1);
   const IpmcLinkParams params = result.params;
   const FrequencyFunction plant = [params](double w) { return LinkResponseExact(params, w); };
-  result.fractional = DesignFractional(plant, spec.crossover_rad_s, spec.phase_margin_deg);
-
+  result.fractional = DesignFractionalLoop(plant, spec.crossover_rad_s, spec.phase_margin_deg);
   const Clock::time_point start = Clock::now();
-  const StateSpace accurate = AccurateLinkPlant(params);
-  const PidStepCost cost(accurate, result.tuning);
-  result.paper_cost = cost(PidGains{});
-  result.tuned = TunePid(accurate, result.tuning);
+  const PidLoopDesign pid = DesignPidLoop(params, plant, result.tuning);
   result.tuning_s = Seconds(start);
-  const PidGains g = result.tuned.gains;
-  result.pid_margins = ComputeMargins([&](double w) {
-    return (g.kp + g.ki / Complex(0, w) + g.kd * Complex(0, w)) * plant(w);
-  });
+  result.paper_cost = pid.paper_cost;
+  result.tuned = pid.tuned;
+  result.pid_margins = pid.margins;
   return result;
 }
 

@@ -69,14 +69,8 @@ LevyOptions BandOptions(const std::string& command, const std::vector<double>& b
 
 // ----------------------------------------------------------------- design ---
 
-// The analytic fractional integrator for a crossover and phase margin,
-// with the margins of its exact open loop on `plant`.
-struct FractionalResult {
-  FractionalIntegratorDesign design;
-  StabilityMargins margins;
-};
-FractionalResult DesignFractional(const FrequencyFunction& plant, double crossover_rad_s,
-                                  double phase_margin_deg);
+// --phase-margin-deg in (0, 180); throws std::invalid_argument naming it.
+void RequirePhaseMargin(const std::string& command, double value);
 
 // Tuning options for a reference model, horizon and loop rate given as
 // `command`'s options; throws std::invalid_argument naming the option.
@@ -96,7 +90,7 @@ struct DesignSpec {
 struct LinkDesign {
   IpmcLinkParams params;         // the plant designed for
   PidTuningOptions tuning;
-  FractionalResult fractional;
+  FractionalLoopDesign fractional;
   double paper_cost = 0;         // J of eq. 11 at eq. 12's gains (PidGains{})
   PidTuningResult tuned;
   StabilityMargins pid_margins;  // tuned PID, continuous, on the exact plant

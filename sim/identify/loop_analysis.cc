@@ -42,14 +42,9 @@ constexpr double kAccurateBandHigh_rad_s = 1e5;
 constexpr double kSettlingBand = 0.02;
 // Samples per link in a step run (memory: three doubles per sample).
 constexpr double kMaxStepSamples = 1e6;
-// The Oustaloup bound of FractionalIntegrator::Config.
-constexpr int kMaxOustaloupPairs = 64;
 
-std::string Short(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%g", value);
-  return buffer;
-}
+// Gains and bands in descriptions: printf's %g.
+std::string Short(double value) { return FormatDouble(value, 6); }
 
 [[noreturn]] void ThrowOption(const std::string& command, const std::string& option,
                               const std::string& requirement, const std::string& got) {

@@ -25,17 +25,20 @@
 #include <vector>
 
 #include "controllers/closed_loop.h"
+#include "controllers/fractional_integrator.h"
 #include "controllers/linear/frequency_response.h"
+#include "controllers/pid.h"
 
 namespace ipmc {
 
-// Gains of the two controller families (defaults: eq. 12 and eq. 14).
+// Gains of the two controller families (defaults: eq. 12 and eq. 14, the
+// controllers' own defaults).
 struct ControllerGains {
-  double kp = 8.12;   // [V/mm]
-  double ki = 53.36;  // [V/(mm s)]
-  double kd = 0.61;   // [V s/mm]
-  double gain = 15.62;  // K [V/(mm s^lambda)]
-  double order = 0.62;  // lambda
+  double kp = PidController::Config{}.kp;               // [V/mm]
+  double ki = PidController::Config{}.ki;               // [V/(mm s)]
+  double kd = PidController::Config{}.kd;               // [V s/mm]
+  double gain = FractionalIntegrator::Config{}.gain;    // K [V/(mm s^lambda)]
+  double order = FractionalIntegrator::Config{}.order;  // lambda
 };
 
 // Whether the caller gave an option explicitly ("--kp"): an option the

@@ -111,7 +111,9 @@ std::string ReadTextFile(const std::string& path, const std::string& what) {
   if (!file) throw InputError(InputProblem::kUnreadable, {path}, "", "cannot open the " + what);
   std::ostringstream text;
   text << file.rdbuf();
-  if (file.bad()) throw InputError(InputProblem::kUnreadable, {path}, "", "cannot read the " + what);
+  if (file.bad()) {
+    throw InputError(InputProblem::kUnreadable, {path}, "", "cannot read the " + what);
+  }
   return text.str();
 }
 

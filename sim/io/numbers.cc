@@ -1,6 +1,7 @@
 #include "sim/io/numbers.h"
 
 #include <charconv>
+#include <cstdarg>
 #include <cstdio>
 #include <system_error>
 
@@ -44,6 +45,19 @@ std::string FormatShortest(double value) {
   const std::to_chars_result result =
       std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::general);
   return std::string(buffer, result.ptr);
+}
+
+std::string FormatText(const char* format, ...) {
+  va_list args;
+  va_start(args, format);
+  va_list copy;
+  va_copy(copy, args);
+  const int length = std::vsnprintf(nullptr, 0, format, copy);
+  va_end(copy);
+  std::string text(length > 0 ? length : 0, '\0');
+  if (length > 0) std::vsnprintf(text.data(), text.size() + 1, format, args);
+  va_end(args);
+  return text;
 }
 
 }  // namespace ipmc

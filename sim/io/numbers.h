@@ -8,7 +8,8 @@
 // Writing: FormatDouble(v, d) is printf's "%.*g" with d significant
 // digits (the default 17, max_digits10, reads back exactly; the same as a
 // stream at that precision); FormatShortest(v) is the shortest text that
-// reads back exactly ("0.001", "1000", "1e+20").
+// reads back exactly ("0.001", "1000", "1e+20"). FormatText is printf into
+// a string, for reports and tables.
 #pragma once
 
 #include <limits>
@@ -33,5 +34,6 @@ std::optional<long> ParseInteger(std::string_view text);
 
 std::string FormatDouble(double value, int significant_digits = kRoundTripDigits);
 std::string FormatShortest(double value);
+std::string FormatText(const char* format, ...) __attribute__((format(printf, 1, 2)));
 
 }  // namespace ipmc

@@ -52,7 +52,8 @@ std::string GaitSamplesCsv(const GaitRunResult& result) {
   const size_t tips = result.samples.empty() ? 0 : result.samples.front().pose.tip_x_mm.size();
   AddPoseColumns(csv);
   for (size_t j = 1; j <= joints; ++j) {
-    csv.Add(columns::JointReference(static_cast<int>(j))).Add(columns::JointAngle(static_cast<int>(j)));
+    const int joint = static_cast<int>(j);
+    csv.Add(columns::JointReference(joint)).Add(columns::JointAngle(joint));
   }
   AddTipColumns(csv, tips);
   csv.EndRow();
