@@ -14,11 +14,14 @@ fi
 bin="$root/build/sim/ipmc-swim"
 out="$root/out/default"
 "$bin" run "$root/scenarios/paper.toml" --out "$out" --video "$out/swim.mp4"
-for kind in tracking waveform surface; do
-  "$bin" plot "$kind" "$out/timeseries.csv" --out "$out/$kind.png"
-done
 "$bin" bode --controller pid --out "$out/bode" > /dev/null
-"$bin" plot bode "$out/bode/bode.csv" --out "$out/bode.png"
 "$bin" step --controller pid --no-clamp --out "$out/step" > /dev/null
-"$bin" plot step "$out/step/step.csv" --out "$out/step.png"
+# Each figure as PDF (for a paper) and PNG (for a screen).
+for format in pdf png; do
+  for kind in tracking waveform surface trajectory; do
+    "$bin" plot "$kind" "$out/timeseries.csv" --out "$out/$kind.$format"
+  done
+  "$bin" plot bode "$out/bode/bode.csv" --out "$out/bode.$format"
+  "$bin" plot step "$out/step/step.csv" --out "$out/step.$format"
+done
 echo "ipmc-swim: results, video and figures in $out"

@@ -164,8 +164,10 @@ TEST(AnalysisCli, BodeCsvColumns) {
     EXPECT_NEAR(row[5], row[1] + row[3], 1e-9);
     EXPECT_NEAR(row[6], row[2] + row[4], 1e-9);
   }
-  // No temporary files are left beside the output.
-  EXPECT_EQ(std::distance(fs::directory_iterator(dir / "out"), fs::directory_iterator()), 1);
+  // No temporary files are left beside the output: bode.csv and what its
+  // curves are (bode.json, for the figure's title and legend) only.
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir / "out"), fs::directory_iterator()), 2);
+  EXPECT_TRUE(fs::exists(dir / "out" / "bode.json"));
 }
 
 // DESIGN.md, links 3/2/1: PID overshoot 9.0 / 20.3 / 25.3 %; the sampled

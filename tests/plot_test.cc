@@ -1,10 +1,16 @@
-// The plot subcommand: every figure kind draws a PNG from the program's own
-// outputs (bode.csv, step.csv, a closed-loop timeseries.csv, a sweep
-// table), generated here by running ipmc-swim; a missing column, an option
-// of another kind or a failing gnuplot gives one line and no file.
+// The plot subcommand: every figure kind draws from the program's own
+// outputs (bode.csv, step.csv, closed-loop and gait timeseries.csv, an
+// identification's response.csv, a sweep table), generated here by running
+// ipmc-swim, into the format of --out's extension; titles name what is
+// shown and no path, axes are labelled from the table of column labels,
+// the Bode margins agree with the bode command's; a missing column, an
+// unknown extension, an option of another kind or a failing gnuplot gives
+// one line and no file.
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +20,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "renders/figures.h"
 #include "tests/cli_util.h"
 
 namespace {
@@ -28,6 +35,7 @@ using ipmc::testing::RunCli;
 // from a blank or truncated one.
 constexpr std::uintmax_t kMinFigureBytes = 10 * 1024;
 constexpr char kPngSignature[] = "\x89PNG\r\n\x1a\n";
+constexpr char kPngEnd[] = "IEND\xae\x42\x60\x82";  // the last chunk and its CRC
 
 fs::path FreshDir(const std::string& name) { return ipmc::testing::FreshDir("plot_" + name); }
 
@@ -74,12 +82,6 @@ fs::path ShortScenario(const fs::path& dir, const std::string& name, double freq
   return path;
 }
 
-// The program's outputs, made once for all tests.
-struct ProgramOutputs {
-  fs::path bode_csv, step_csv, timeseries_csv, sweep_csv;
-  std::string failure;  // empty if every run succeeded
-};
-
 std::string RunOrDescribe(const std::string& args) {
   const CommandResult result = RunCli(args);
   return result.exit_code == 0 ? "" : "ipmc-swim " + args + ": " + result.output;
@@ -112,29 +114,52 @@ std::string SweepTable(const fs::path& dir, std::string& failure) {
         << summary["per_cycle"].back()["com_along_mm"].get<double>() << "\n";
     table += row.str();
   }
-  table += "4,1,distributed,error,\"m.xml: simulation diverged at t = 0.26 s (reduce "
-           "option \"\"timestep\"\", now 0.02 s)\",,\n";
+  table +=
+      "4,1,distributed,error,\"m.xml: simulation diverged at t = 0.26 s (reduce "
+      "option \"\"timestep\"\", now 0.02 s)\",,\n";
   return table;
 }
 
-const ProgramOutputs& Outputs() {
-  static const ProgramOutputs outputs = [] {
-    ProgramOutputs o;
-    const fs::path dir = FreshDir("inputs");
-    o.failure += RunOrDescribe("bode --controller pid --out " + Quoted(dir / "bode"));
-    o.failure += RunOrDescribe("step --controller pid --no-clamp --out " + Quoted(dir / "step"));
-    const fs::path scenario = ShortScenario(dir, "closed_loop", 0.5, 2, "distributed");
-    o.failure += RunOrDescribe("run " + Quoted(scenario) + " --out " + Quoted(dir / "run"));
-    const std::string sweep = SweepTable(dir, o.failure);
-    WriteText(dir / "sweep.csv", sweep);
-    o.bode_csv = dir / "bode" / "bode.csv";
-    o.step_csv = dir / "step" / "step.csv";
-    o.timeseries_csv = dir / "run" / "timeseries.csv";
-    o.sweep_csv = dir / "sweep.csv";
-    return o;
-  }();
-  return outputs;
+// Each output is made the first time a test asks for it (CTest runs every
+// test in a process of its own, so a test makes only what it uses); a
+// failure to make it fails the test that asked.
+fs::path Made(const fs::path& path, const std::string& failure) {
+  EXPECT_TRUE(failure.empty()) << failure;
+  return path;
 }
+
+fs::path InputsDir() {
+  static const fs::path dir = FreshDir("inputs");
+  return dir;
+}
+
+struct ProgramOutputs {
+  fs::path bode_csv() const {
+    static const std::string failure =
+        RunOrDescribe("bode --controller pid --out " + Quoted(InputsDir() / "bode"));
+    return Made(InputsDir() / "bode" / "bode.csv", failure);
+  }
+  fs::path step_csv() const {
+    static const std::string failure =
+        RunOrDescribe("step --controller pid --no-clamp --out " + Quoted(InputsDir() / "step"));
+    return Made(InputsDir() / "step" / "step.csv", failure);
+  }
+  fs::path timeseries_csv() const {
+    static const std::string failure = [] {
+      const fs::path scenario = ShortScenario(InputsDir(), "closed_loop", 0.5, 2, "distributed");
+      return RunOrDescribe("run " + Quoted(scenario) + " --out " + Quoted(InputsDir() / "run"));
+    }();
+    return Made(InputsDir() / "run" / "timeseries.csv", failure);
+  }
+  fs::path sweep_csv() const {
+    static const std::string failure = [] {
+      std::string made;
+      WriteText(InputsDir() / "sweep.csv", SweepTable(InputsDir(), made));
+      return made;
+    }();
+    return Made(InputsDir() / "sweep.csv", failure);
+  }
+};
 
 // Files in `dir` whose name contains ".tmp." (an unfinished output).
 int LeftoverTemporaries(const fs::path& dir) {
@@ -145,15 +170,60 @@ int LeftoverTemporaries(const fs::path& dir) {
   return count;
 }
 
-// Runs "plot ARGS --out OUT" and checks that OUT is a PNG of a figure.
-void ExpectFigure(const std::string& args, const fs::path& out) {
+bool EndsWith(const std::string& text, const std::string& tail) {
+  return text.size() >= tail.size() &&
+         text.compare(text.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+// Runs "plot ARGS --out OUT" and checks that OUT is a whole file of the
+// format its extension names (PNG: signature to IEND; PDF: %PDF- to
+// %%EOF; SVG: an XML document whose root is <svg>); returns the output.
+std::string ExpectFigure(const std::string& args, const fs::path& out) {
   const CommandResult result = RunCli("plot " + args + " --out " + Quoted(out));
-  ASSERT_EQ(result.exit_code, 0) << result.output;
-  ASSERT_TRUE(fs::exists(out)) << result.output;
+  EXPECT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_TRUE(fs::exists(out)) << result.output;
+  if (!fs::exists(out)) return result.output;
   EXPECT_GT(fs::file_size(out), kMinFigureBytes) << out;
-  const std::string head = ReadText(out).substr(0, 8);
-  EXPECT_EQ(head, std::string(kPngSignature, 8)) << out << " is not a PNG";
+  const std::string bytes = ReadText(out);
+  std::string extension = out.extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (extension == ".png") {
+    EXPECT_EQ(bytes.substr(0, 8), std::string(kPngSignature, 8)) << out << " is not a PNG";
+    EXPECT_TRUE(EndsWith(bytes, std::string(kPngEnd, 8))) << out << " does not end with IEND";
+  } else if (extension == ".pdf") {
+    EXPECT_EQ(bytes.rfind("%PDF-", 0), 0u) << out << " is not a PDF";
+    EXPECT_NE(bytes.find("%%EOF", bytes.size() - 16), std::string::npos) << out << " is cut";
+  } else {
+    EXPECT_EQ(bytes.rfind("<?xml", 0), 0u) << out << " is not XML";
+    EXPECT_NE(bytes.find("<svg"), std::string::npos) << out << " is not an SVG";
+    EXPECT_NE(bytes.find("</svg>", bytes.size() - 16), std::string::npos) << out << " is cut";
+  }
   EXPECT_EQ(LeftoverTemporaries(out.parent_path()), 0);
+  return result.output;
+}
+
+// The text of an SVG with its markup removed and the entities that
+// gnuplot writes decoded, as the reader sees it.
+std::string SvgText(const fs::path& svg) {
+  const std::string bytes = ReadText(svg);
+  std::string text;
+  bool in_tag = false;
+  for (char c : bytes) {
+    if (c == '<') in_tag = true;
+    if (!in_tag) text += c;
+    if (c == '>') {
+      in_tag = false;
+      text += ' ';
+    }
+  }
+  for (const auto& [entity, character] : std::vector<std::pair<std::string, std::string>>{
+           {"&apos;", "'"}, {"&quot;", "\""}, {"&lt;", "<"}, {"&gt;", ">"}, {"&amp;", "&"}}) {
+    for (size_t at = text.find(entity); at != std::string::npos; at = text.find(entity, at)) {
+      text.replace(at, entity.size(), character);
+      at += character.size();
+    }
+  }
+  return text;
 }
 
 // A refused plot: non-zero exit, one line naming each of `needles`, no
@@ -173,71 +243,175 @@ void ExpectRefused(const std::string& args, const fs::path& out,
   }
 }
 
-// Tests that need the program's outputs; they stop if making them failed.
+// Tests that use the program's outputs (each made on first use).
 class PlotCli : public ::testing::Test {
  protected:
-  void SetUp() override { ASSERT_TRUE(outputs.failure.empty()) << outputs.failure; }
-  const ProgramOutputs& outputs = Outputs();
+  const ProgramOutputs outputs{};
 };
 
 TEST_F(PlotCli, BodeOfEveryCurveAndOfTheControllerAlone) {
   const fs::path dir = FreshDir("bode");
-  ExpectFigure("bode " + Quoted(outputs.bode_csv), dir / "bode.png");
-  ExpectFigure("bode " + Quoted(outputs.bode_csv) + " --curves controller --title 'Fig. 9'",
+  ExpectFigure("bode " + Quoted(outputs.bode_csv()), dir / "bode.png");
+  ExpectFigure("bode " + Quoted(outputs.bode_csv()) + " --curves controller --title 'Fig. 9'",
                dir / "controller.png");
 }
 
 TEST_F(PlotCli, Step) {
-  ExpectFigure("step " + Quoted(outputs.step_csv), FreshDir("step") / "step.png");
+  ExpectFigure("step " + Quoted(outputs.step_csv()), FreshDir("step") / "step.png");
 }
 
 TEST_F(PlotCli, Tracking) {
-  ExpectFigure("tracking " + Quoted(outputs.timeseries_csv), FreshDir("tracking") / "t.png");
+  ExpectFigure("tracking " + Quoted(outputs.timeseries_csv()), FreshDir("tracking") / "t.png");
 }
 
 // Default instants (the last period from summary.json) and chosen ones.
 TEST_F(PlotCli, Waveform) {
   const fs::path dir = FreshDir("waveform");
-  ExpectFigure("waveform " + Quoted(outputs.timeseries_csv), dir / "default.png");
-  ExpectFigure("waveform " + Quoted(outputs.timeseries_csv) + " --times-s 2.5,3,3.5",
+  ExpectFigure("waveform " + Quoted(outputs.timeseries_csv()), dir / "default.png");
+  ExpectFigure("waveform " + Quoted(outputs.timeseries_csv()) + " --times-s 2.5,3,3.5",
                dir / "chosen.png");
 }
 
 TEST_F(PlotCli, SurfaceIntoANewDirectory) {
-  ExpectFigure("surface " + Quoted(outputs.timeseries_csv) + " --max-lines 40",
+  ExpectFigure("surface " + Quoted(outputs.timeseries_csv()) + " --max-lines 40",
                FreshDir("surface") / "new" / "surface.png");
+}
+
+TEST_F(PlotCli, Trajectory) {
+  ExpectFigure("trajectory " + Quoted(outputs.timeseries_csv()), FreshDir("trajectory") / "t.png");
+}
+
+// One figure in each format, the extension in either case.
+TEST_F(PlotCli, FormatFollowsTheExtension) {
+  const fs::path dir = FreshDir("formats");
+  for (const char* name : {"tracking.pdf", "tracking.svg", "tracking.png", "upper.PDF"}) {
+    ExpectFigure("tracking " + Quoted(outputs.timeseries_csv()), dir / name);
+  }
+}
+
+// The default title says what is drawn and of which run (summary.json
+// beside the input: PID, the clamp, the actuation), never where the
+// input is; the caller's title replaces it.
+TEST_F(PlotCli, TitleSaysWhatIsShownNotWhere) {
+  const fs::path dir = FreshDir("title");
+  const std::string printed =
+      ExpectFigure("tracking " + Quoted(outputs.timeseries_csv()), dir / "tracking.svg");
+  const std::string text = SvgText(dir / "tracking.svg");
+  for (const char* shown : {"Tracking of each link's relative tip deflection",
+                            "PID, clamp +-6 V, distributed actuation", "link 3"}) {
+    EXPECT_NE(text.find(shown), std::string::npos) << shown << " not in " << text;
+  }
+  const std::string folder = outputs.timeseries_csv().parent_path().string();
+  EXPECT_EQ(text.find(folder), std::string::npos) << text;
+  EXPECT_EQ(text.find("timeseries.csv"), std::string::npos) << text;
+  const std::string title_line = printed.substr(printed.find('\n') + 1);
+  EXPECT_EQ(title_line.find('/'), std::string::npos) << printed;
+  ExpectFigure("tracking " + Quoted(outputs.timeseries_csv()) + " --title 'Fig. 12a'",
+               dir / "own.svg");
+  EXPECT_NE(SvgText(dir / "own.svg").find("Fig. 12a"), std::string::npos);
+}
+
+// Sweep axes carry the labels of the table, not the raw column names.
+TEST_F(PlotCli, SweepAxesLabelledFromTheTable) {
+  const fs::path out = FreshDir("labels") / "sweep.svg";
+  ExpectFigure("sweep " + Quoted(outputs.sweep_csv()) +
+                   " --x waveform.frequency_Hz --y mean_speed_along_mm_s --group actuation",
+               out);
+  const std::string text = SvgText(out);
+  for (const char* column : {"mean_speed_along_mm_s", "waveform.frequency_Hz", "actuation"}) {
+    EXPECT_NE(text.find(ipmc::AxisLabel(column)), std::string::npos) << column << ": " << text;
+  }
+  EXPECT_EQ(text.find("mean_speed_along_mm_s"), std::string::npos) << text;
+  EXPECT_EQ(text.find("frequency_Hz"), std::string::npos) << text;
+}
+
+TEST(AxisLabel, TableNumberedColumnsAndUnitSuffixes) {
+  EXPECT_EQ(ipmc::AxisLabel("mean_speed_along_mm_s"), "mean speed along the swimming axis [mm/s]");
+  EXPECT_EQ(ipmc::AxisLabel("voltage2_V"), "link 2 voltage [V]");
+  EXPECT_EQ(ipmc::AxisLabel("q3_rad"), "joint 3 angle [rad]");
+  EXPECT_EQ(ipmc::AxisLabel("link3_iae_mm_s"), "link 3 IAE [mm s]");
+  EXPECT_EQ(ipmc::AxisLabel("link_lengths_mm[1]"), "link 2 length [mm]");
+  EXPECT_EQ(ipmc::AxisLabel("fluid.density_kg_m3"), "fluid density [kg/m^3]");
+}
+
+// The number after `label` in `text`; fails the test if there is none.
+double NumberAfter(const std::string& text, const std::string& label) {
+  const size_t at = text.find(label);
+  double value = 0.0;
+  EXPECT_TRUE(at != std::string::npos &&
+              std::sscanf(text.c_str() + at + label.size(), "%lf", &value) == 1)
+      << label << " not in " << text;
+  return value;
+}
+
+// The margins the Bode figure marks, found on bode.csv's grid, agree with
+// those the bode command searches for on the exact response: for the PID
+// and link 3 a phase margin of 54.14 deg at 31.117 rad/s and no finite
+// gain margin, for the fractional integrator also a gain margin of
+// 7.88 dB at 20.649 rad/s. The figure prints Pm to 0.1 deg, Gm to 0.01 dB
+// and w to 4 digits; the grid's interpolation error is below that.
+TEST_F(PlotCli, BodeMarginsAgreeWithTheBodeCommand) {
+  const fs::path dir = FreshDir("margins");
+  const std::string pid = ExpectFigure("bode " + Quoted(outputs.bode_csv()), dir / "pid.png");
+  const CommandResult pid_exact = RunCli("bode --controller pid");
+  ASSERT_EQ(pid_exact.exit_code, 0) << pid_exact.output;
+  EXPECT_NEAR(NumberAfter(pid, "Pm = "), NumberAfter(pid_exact.output, "phase margin: "), 0.1);
+  const double wc_rad_s = NumberAfter(pid_exact.output, "gain crossover: ");
+  EXPECT_NEAR(NumberAfter(pid, "deg (at "), wc_rad_s, 2e-3 * wc_rad_s);
+  EXPECT_NE(pid.find("Gm = inf"), std::string::npos) << pid;
+
+  const CommandResult fractional =
+      RunCli("bode --controller fractional --out " + Quoted(dir / "fractional"));
+  ASSERT_EQ(fractional.exit_code, 0) << fractional.output;
+  const std::string figure =
+      ExpectFigure("bode " + Quoted(dir / "fractional" / "bode.csv"), dir / "fractional.png");
+  EXPECT_NEAR(NumberAfter(figure, "Pm = "), NumberAfter(fractional.output, "phase margin: "), 0.1);
+  EXPECT_NEAR(NumberAfter(figure, "Gm = "), NumberAfter(fractional.output, "gain margin: "), 0.02);
+  const double w180_rad_s = NumberAfter(fractional.output, "dB at ");
+  EXPECT_NEAR(NumberAfter(figure, "dB (at "), w180_rad_s, 2e-3 * w180_rad_s);
+}
+
+TEST_F(PlotCli, UnknownExtensionIsRefusedAndLeavesNothing) {
+  const fs::path dir = FreshDir("extension");
+  for (const char* name : {"tracking.jpg", "tracking"}) {
+    ExpectRefused("tracking " + Quoted(outputs.timeseries_csv()), dir / name,
+                  {(dir / name).string(), "unknown figure format", ".pdf, .svg, .png"});
+  }
+  EXPECT_TRUE(fs::is_empty(dir));
 }
 
 // Numeric x with one curve per actuation, and a categorical x; the failed
 // point (no metrics) is skipped.
 TEST_F(PlotCli, SweepNumericAndCategorical) {
   const fs::path dir = FreshDir("sweep");
-  ExpectFigure("sweep " + Quoted(outputs.sweep_csv) +
+  ExpectFigure("sweep " + Quoted(outputs.sweep_csv()) +
                    " --x waveform.frequency_Hz --y mean_speed_along_mm_s --group actuation --log-x",
                dir / "numeric.png");
-  ExpectFigure("sweep " + Quoted(outputs.sweep_csv) +
+  ExpectFigure("sweep " + Quoted(outputs.sweep_csv()) +
                    " --x actuation --y last_cycle_com_along_mm --group waveform.frequency_Hz",
                dir / "categorical.png");
 }
 
 TEST_F(PlotCli, MissingColumnNamesTheFileAndTheColumn) {
   const fs::path dir = FreshDir("missing");
-  std::string step = ReadText(outputs.step_csv);
+  std::string step = ReadText(outputs.step_csv());
   step.replace(step.find("reference_model"), std::strlen("reference_model"), "model");
   const fs::path edited = dir / "step.csv";
   WriteText(edited, step);
   ExpectRefused("step " + Quoted(edited), dir / "step.png", {edited.string(), "reference_model"});
-  ExpectRefused("sweep " + Quoted(outputs.sweep_csv) + " --x waveform.frequency_Hz --y speed",
-                dir / "sweep.png", {outputs.sweep_csv.string(), "'speed'"});
-  ExpectRefused("tracking " + Quoted(outputs.bode_csv), dir / "tracking.png",
-                {outputs.bode_csv.string(), "reference1_mm"});
+  ExpectRefused("sweep " + Quoted(outputs.sweep_csv()) + " --x waveform.frequency_Hz --y speed",
+                dir / "sweep.png", {outputs.sweep_csv().string(), "'speed'"});
+  ExpectRefused("tracking " + Quoted(outputs.bode_csv()), dir / "tracking.png",
+                {outputs.bode_csv().string(), "reference1_mm"});
+  ExpectRefused("trajectory " + Quoted(outputs.bode_csv()), dir / "trajectory.png",
+                {outputs.bode_csv().string(), "time_s"});
 }
 
 TEST_F(PlotCli, OptionOfAnotherKindIsRefused) {
   const fs::path dir = FreshDir("option");
-  ExpectRefused("bode " + Quoted(outputs.bode_csv) + " --x w_rad_s", dir / "bode.png",
+  ExpectRefused("bode " + Quoted(outputs.bode_csv()) + " --x w_rad_s", dir / "bode.png",
                 {"--x", "sweep"});
-  ExpectRefused("sweep " + Quoted(outputs.sweep_csv) + " --x actuation", dir / "sweep.png",
+  ExpectRefused("sweep " + Quoted(outputs.sweep_csv()) + " --x actuation", dir / "sweep.png",
                 {"--y"});
 }
 
@@ -248,6 +422,42 @@ TEST(PlotCliFailure, GnuplotFailureLeavesNoFile) {
   WriteText(dir / "negative.csv", "point,a,status,error,m\n1,1,ok,,-1\n2,2,ok,,-2\n");
   ExpectRefused("sweep " + Quoted(dir / "negative.csv") + " --x a --y m --log-y",
                 dir / "negative.png", {"gnuplot failed", "negative.csv"});
+}
+
+// A gait's outputs (one 1 Hz cycle): tracking draws the joints, the
+// waveform and the map draw the ideal body from the joint references.
+TEST(PlotGait, TrackingWaveformSurface) {
+  const fs::path dir = FreshDir("gait");
+  const CommandResult gait =
+      RunCli("gait --model '" + std::string(IPMC_SWIM_SOURCE_DIR) +
+             "/models/flagellum3.xml' --frequency-hz 1 --cycles 1 --out " + Quoted(dir / "run"));
+  ASSERT_EQ(gait.exit_code, 0) << gait.output;
+  const std::string csv = Quoted(dir / "run" / "timeseries.csv");
+  ExpectFigure("tracking " + csv, dir / "tracking.svg");
+  EXPECT_NE(SvgText(dir / "tracking.svg").find(ipmc::AxisLabel("q1_rad")), std::string::npos);
+  ExpectFigure("waveform " + csv, dir / "waveform.svg");
+  EXPECT_NE(SvgText(dir / "waveform.svg").find("ideal (dashed)"), std::string::npos);
+  ExpectFigure("surface " + csv, dir / "surface.png");
+}
+
+// Fig. 7 from a short chirp on the bench (10 s, 0.5 to 20 Hz) identified
+// over 3 to 50 rad/s: the measured response, the coherence and both fits.
+TEST(PlotIdentification, MeasuredResponseCoherenceAndFits) {
+  const fs::path dir = FreshDir("identification");
+  const CommandResult bench =
+      RunCli("bench --signal chirp --links 1 --duration-s 10 --f0-hz 0.5 --f1-hz 20 --out " +
+             Quoted(dir / "chirp.csv"));
+  ASSERT_EQ(bench.exit_code, 0) << bench.output;
+  const CommandResult identify = RunCli(
+      "identify " + Quoted(dir / "chirp.csv") +
+      " --input voltage1_V --output relative1_mm --band-rad-s 3,50 --out " + Quoted(dir / "id"));
+  ASSERT_EQ(identify.exit_code, 0) << identify.output;
+  ExpectFigure("identification " + Quoted(dir / "id" / "response.csv"), dir / "fig7.svg");
+  const std::string text = SvgText(dir / "fig7.svg");
+  for (const char* shown : {"coherence", "G1 (eq. 5)", "G2 (eq. 6)", "in the fits' band",
+                            "link 1 relative tip deflection per link 1 voltage"}) {
+    EXPECT_NE(text.find(shown), std::string::npos) << shown << " not in " << text;
+  }
 }
 
 }  // namespace

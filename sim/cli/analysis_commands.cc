@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "controllers/linear/frequency_response.h"
 #include "sim/io/files.h"
 #include "sim/io/numbers.h"
@@ -46,6 +48,14 @@ int RunBode(const CLI::App& command, const BodeArgs& args) {
     const std::string csv = BodeCsv(ComputeBodeColumns(analysis, args));
     EnsureDirectory(args.out_dir);
     WriteFileAtomically((std::filesystem::path(args.out_dir) / "bode.csv").string(), csv);
+    // What the curves are, for the figure's title and legend.
+    const nlohmann::json about = {{"controller", args.controller},
+                                  {"controller_description", analysis.controller_description},
+                                  {"plant", args.plant},
+                                  {"plant_description", analysis.plant_description},
+                                  {"link", args.link}};
+    WriteFileAtomically((std::filesystem::path(args.out_dir) / "bode.json").string(),
+                        about.dump(2) + "\n");
   }
 
   std::printf("open loop L = C x P, controller %s, plant %s (exact fractional response)\n",
@@ -116,6 +126,13 @@ int RunStep(const CLI::App& command, const StepArgs& args) {
     const std::string csv = StepCsv(analysis);
     EnsureDirectory(args.out_dir);
     WriteFileAtomically((std::filesystem::path(args.out_dir) / "step.csv").string(), csv);
+    const nlohmann::json about = {{"controller", args.controller},
+                                  {"controller_description", analysis.controller_description},
+                                  {"plant", args.plant},
+                                  {"clamp_enabled", !args.no_clamp},
+                                  {"v_max_V", args.v_max}};
+    WriteFileAtomically((std::filesystem::path(args.out_dir) / "step.json").string(),
+                        about.dump(2) + "\n");
   }
 
   std::printf("unit step (1 mm), controller %s: %s\n", args.controller.c_str(),

@@ -148,6 +148,8 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
   ClosedLoopResult result;
   result.controller = pid ? "pid" : "fractional";
   result.actuation = scenario.actuation;
+  result.clamp_enabled = clamped;
+  result.v_max_V = v_max;
   result.period_s = period_s;
   result.timestep_s = dt;
   result.links.resize(links);

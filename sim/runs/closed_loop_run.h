@@ -44,6 +44,8 @@ struct ClosedLoopSample {
 struct ClosedLoopResult {
   std::string controller;
   std::string actuation;
+  bool clamp_enabled = false;  // the voltages clamped to +-v_max_V
+  double v_max_V = 0.0;
   double period_s = 0.0;
   double timestep_s = 0.0;
   std::vector<LinkTracking> links;

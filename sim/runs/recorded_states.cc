@@ -2,42 +2,18 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
-#include <fstream>
-#include <iomanip>
-#include <sstream>
 #include <stdexcept>
+
+#include "sim/io/columns.h"
+#include "sim/io/csv.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc {
 namespace {
 
-constexpr char kTimeColumn[] = "time_s";
-
 std::string JointName(const mjModel* m, int joint) {
   const char* name = mj_id2name(m, mjOBJ_JOINT, joint);
   return name && *name ? name : "joint" + std::to_string(joint);
-}
-
-// The cells of one CSV line (no quoting: the file holds names and numbers).
-std::vector<std::string> Cells(const std::string& line) {
-  std::vector<std::string> cells;
-  std::string cell;
-  std::istringstream in(line);
-  while (std::getline(in, cell, ',')) {
-    while (!cell.empty() && (cell.back() == '\r' || cell.back() == ' ')) cell.pop_back();
-    cells.push_back(cell);
-  }
-  return cells;
-}
-
-double ParseNumber(const std::string& cell, const std::string& path, int line, const std::string& column) {
-  char* end = nullptr;
-  const double value = std::strtod(cell.c_str(), &end);
-  if (cell.empty() || end != cell.c_str() + cell.size() || !std::isfinite(value)) {
-    throw std::runtime_error(path + ":" + std::to_string(line) + ": column " + column +
-                             ": not a finite number ('" + cell + "')");
-  }
-  return value;
 }
 
 // Rescales the quaternions of ball and free joints to unit length.
@@ -105,56 +81,41 @@ std::vector<double> RecordedStates::StateAt(const mjModel* m, double t) const {
 }
 
 std::string RecordedStatesCsv(const RecordedStates& states) {
-  std::ostringstream csv;
-  csv << std::setprecision(17) << kTimeColumn;
-  for (const std::string& column : states.columns) csv << "," << column;
-  csv << "\n";
+  CsvWriter csv;
+  std::vector<std::string> header = {columns::kTime};
+  header.insert(header.end(), states.columns.begin(), states.columns.end());
+  csv.Row(header);
   for (size_t k = 0; k < states.t_s.size(); ++k) {
-    csv << states.t_s[k];
-    for (double value : states.qpos[k]) csv << "," << value;
-    csv << "\n";
+    csv.Add(states.t_s[k]);
+    for (double value : states.qpos[k]) csv.Add(value);
+    csv.EndRow();
   }
-  return csv.str();
+  return csv.Text();
 }
 
 RecordedStates ReadRecordedStates(const std::string& path, const mjModel* m) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot open the recorded states");
-  std::string line;
-  if (!std::getline(in, line)) throw std::runtime_error(path + ": empty file (no header row)");
-  const std::vector<std::string> header = Cells(line);
+  const CsvTable table = CsvTable::Read(path);
   RecordedStates states = RecordedStates::For(m);
-  // File column of time and of each qpos coordinate.
-  const auto find = [&](const std::string& name) {
-    const auto it = std::find(header.begin(), header.end(), name);
-    if (it == header.end()) {
-      throw std::runtime_error(path + ": no column " + name + " (the model's joints: is it the run's model?)");
+  if (!table.Has(columns::kTime)) table.Column(columns::kTime);  // throws naming the columns
+  for (const std::string& column : states.columns) {
+    if (!table.Has(column)) {
+      throw std::runtime_error(path + ": no column " + column +
+                               " (the model's joints: is it the run's model?)");
     }
-    return static_cast<size_t>(it - header.begin());
-  };
-  const size_t time_column = find(kTimeColumn);
-  std::vector<size_t> source;
-  for (const std::string& column : states.columns) source.push_back(find(column));
-
-  for (int number = 2; std::getline(in, line); ++number) {
-    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    const std::vector<std::string> cells = Cells(line);
-    if (cells.size() != header.size()) {
-      throw std::runtime_error(path + ":" + std::to_string(number) + ": " +
-                               std::to_string(cells.size()) + " cells, the header has " +
-                               std::to_string(header.size()));
+  }
+  states.t_s = table.FiniteNumbers(columns::kTime);
+  for (size_t k = 1; k < states.t_s.size(); ++k) {
+    if (!(states.t_s[k] > states.t_s[k - 1])) {
+      throw std::runtime_error(path + ":" + std::to_string(table.Line(k)) + ": " +
+                               columns::kTime + " must increase (" +
+                               FormatDouble(states.t_s[k]) + " after " +
+                               FormatDouble(states.t_s[k - 1]) + ")");
     }
-    const double t = ParseNumber(cells[time_column], path, number, kTimeColumn);
-    if (!states.t_s.empty() && !(t > states.t_s.back())) {
-      throw std::runtime_error(path + ":" + std::to_string(number) + ": time_s must increase (" +
-                               cells[time_column] + " after " + std::to_string(states.t_s.back()) + ")");
-    }
-    std::vector<double> q(source.size());
-    for (size_t i = 0; i < source.size(); ++i) {
-      q[i] = ParseNumber(cells[source[i]], path, number, states.columns[i]);
-    }
-    states.t_s.push_back(t);
-    states.qpos.push_back(std::move(q));
+  }
+  states.qpos.assign(states.t_s.size(), std::vector<double>(states.columns.size()));
+  for (size_t i = 0; i < states.columns.size(); ++i) {
+    const std::vector<double> values = table.FiniteNumbers(states.columns[i]);
+    for (size_t k = 0; k < values.size(); ++k) states.qpos[k][i] = values[k];
   }
   if (states.empty()) throw std::runtime_error(path + ": no recorded state (header only)");
   return states;

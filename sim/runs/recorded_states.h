@@ -45,10 +45,10 @@ std::vector<std::string> QposColumns(const mjModel* m);
 // CSV text of the record (full precision).
 std::string RecordedStatesCsv(const RecordedStates& states);
 
-// Reads DIR/states.csv for model m: columns are matched by name and put in
-// m's qpos order. Throws std::runtime_error "PATH: reason" naming a
-// missing column, a malformed number (with its line) or times that do not
-// increase.
+// Reads DIR/states.csv for model m (sim/io/csv.h): columns are matched by
+// name and put in m's qpos order. Throws std::runtime_error (InputError
+// for the CSV itself) naming the file and a missing column, a malformed or
+// non-finite number (with its line) or times that do not increase.
 RecordedStates ReadRecordedStates(const std::string& path, const mjModel* m);
 
 }  // namespace ipmc

@@ -1,0 +1,111 @@
+// The paper's figures, and the swim's, drawn with gnuplot
+// (renders/gnuplot_figure.h: PDF, SVG or PNG by the output's extension)
+// from the program's own CSV outputs. Columns are found by name
+// (sim/io/columns.h); a JSON file the same command writes beside the CSV
+// (summary.json, bode.json, step.json, identification.json), when there,
+// says what is drawn for the title and legend. Titles say what is shown
+// (controller, link, clamp, scenario), never a path; axis labels come from
+// one table of column names (AxisLabel).
+//
+// Kinds and their input:
+//  - bode (Fig. 9, 10), bode.csv of `bode --out`: magnitude and phase of
+//    plant, controller, open loop and the reference model's open loop
+//    against w; the open loop's gain crossover, phase and gain margins
+//    marked as MATLAB's `margin` does (found on the CSV's grid by linear
+//    interpolation in log w: the phase margin as a bar from -180 deg to the
+//    phase at the crossover, the gain margin as a bar from the magnitude to
+//    0 dB at the phase crossover closest to 0 dB), and named in the title.
+//  - step (Fig. 11), step.csv of `step --out`: each link's unit step and
+//    the reference model's; below, each link's voltage with the clamp.
+//  - tracking (Fig. 12a), timeseries.csv: per link, reference and measured
+//    relative tip deflection and, below, the voltage with the clamp limits
+//    and the intervals at the clamp shaded; for a gait run, per joint the
+//    reference and measured angle.
+//  - waveform (Fig. 12b), timeseries.csv: the body in the head's frame at a
+//    few instants, realised and (closed loop) ideal.
+//  - surface (Fig. 13), timeseries.csv: the lateral deflection y(x, t) in
+//    the head's frame as an x-t colour map, ideal beside realised with a
+//    shared colour bar (realised alone for a gait run).
+//  - trajectory, timeseries.csv: the centre of mass's and the head's path
+//    in the plane with a marker at the start of every cycle, and the net
+//    displacement along and across the swimming axis against time.
+//  - identification (Fig. 7), response.csv of `identify --out`: the
+//    measured frequency response (Welch's H1) with its coherence and the
+//    fitted G1 and G2 over the fit's band.
+//  - sweep, a sweep table: --y against --x, one curve per --group.
+//
+// The ideal body of waveform and surface is the discretised wave as the
+// realised body would draw it: segment k keeps the realised body's mean
+// length from point k-1 to tip k and turns from segment k-1 (the head's
+// axis for k = 1) by asin(reference_k / L_k), L_k the length that maps the
+// measured deflection onto the realised turn angle (least squares); the
+// tips stand in for the hinges.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "renders/gnuplot_figure.h"
+
+namespace ipmc {
+
+enum class FigureKind {
+  kBode,
+  kStep,
+  kTracking,
+  kWaveform,
+  kSurface,
+  kTrajectory,
+  kIdentification,
+  kSweep
+};
+
+// The kinds' names, as the command line spells them.
+const std::vector<std::string>& FigureKindNames();
+// Throws FieldError naming the kinds there are.
+FigureKind FigureKindOf(const std::string& name);
+
+struct FigureOptions {
+  std::string title;  // empty: what is shown
+  FigureSize size;    // 0: the kind's own
+  // bode
+  std::vector<std::string> curves = {"plant", "controller", "open_loop", "reference_open_loop"};
+  // waveform
+  int instants = 4;             // in [1, 12], spread over the last period
+  std::vector<double> times_s;  // or these instants (at most 12)
+  // waveform, trajectory: the wave period [s]; 0: period_s of summary.json
+  // beside the input (waveform: else the whole record; trajectory: else no
+  // cycle markers)
+  double period_s = 0.0;
+  // surface: most time rows in the map, >= 2
+  int max_lines = 100;
+  // sweep
+  std::string x_column, y_column, group_column;
+  bool log_x = false, log_y = false;
+
+  // Throws FieldError "plot: --option must be ..., got ...".
+  void Validate(FigureKind kind) const;
+};
+
+struct FigureReport {
+  std::string title;                     // on one line
+  std::vector<std::string> title_lines;  // as drawn
+  // What the figure found besides drawing (e.g. the margins marked).
+  std::vector<std::string> notes;
+};
+
+// Draws figure `kind` of the CSV at `input` into out_path. Throws
+// FieldError (sim/io/error.h) for a bad option or an unknown output
+// format, InputError naming the file and the column for input without the
+// needed columns or rows, std::runtime_error if gnuplot fails; nothing is
+// written then.
+FigureReport DrawFigureOf(FigureKind kind, const std::string& input, const FigureOptions& options,
+                          const std::string& out_path);
+
+// The axis label, with its unit, of a column of the program's CSV files
+// ("mean_speed_along_mm_s" -> "mean speed along the swimming axis
+// [mm/s]"); an array element "NAME[i]" of a sweep table too. Columns not
+// in the table are spelled out from their name and unit suffix.
+std::string AxisLabel(const std::string& column);
+
+}  // namespace ipmc
