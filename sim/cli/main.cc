@@ -221,6 +221,7 @@ bool IsRunSummary(const std::string& path) {
 ipmc::ScenarioConfig ScenarioWithOptions(const RunArgs& args) {
   constexpr char kSource[] = "--set";
   std::vector<std::string> options;  // as given, by line
+  std::vector<std::string> quoted;   // the same with VALUE as a TOML string
   std::string text;
   for (const std::string& set : args.sets) {
     const std::string::size_type equals = set.find('=');
@@ -228,28 +229,31 @@ ipmc::ScenarioConfig ScenarioWithOptions(const RunArgs& args) {
       ipmc::ThrowOption("run", "--set", "KEY=VALUE (one line)", "'" + set + "'");
     }
     options.push_back("--set " + set);
+    quoted.push_back("--set '" + set.substr(0, equals + 1) + "\"" + set.substr(equals + 1) + "\"'");
     text += set.substr(0, equals) + " = " + set.substr(equals + 1) + "\n";
   }
   if (args.command->count("--cycles") > 0) {
     options.push_back("--cycles " + std::to_string(args.cycles));
+    quoted.push_back(options.back());
     text += "cycles = " + std::to_string(args.cycles) + "\n";
   }
-  const auto option_of = [&](const ipmc::InputError& error) -> const std::string* {
+  // The option an error is about: its line, if the error is in the options.
+  const auto line_of = [&](const ipmc::InputError& error) -> std::size_t {
     const std::uint32_t line = error.where().line;
-    if (error.where().file != kSource || line < 1 || line > options.size()) return nullptr;
-    return &options[line - 1];
+    return error.where().file == kSource && line <= options.size() ? line : 0;
   };
   try {
     return ipmc::ScenarioWithOverrides(args.scenario_path, ipmc::ParseToml(text, kSource),
                                        kSource);
   } catch (const ipmc::InputError& error) {
-    const std::string* option = option_of(error);
-    if (option == nullptr) throw;
+    const std::size_t line = line_of(error);
+    if (line == 0) throw;
+    const std::string& option = options[line - 1];
     const std::string hint = error.problem() == ipmc::InputProblem::kSyntax
-                                 ? " (VALUE is TOML: strings in quotes, e.g. kind='\"pid\"')"
+                                 ? " (VALUE is TOML: quote strings, " + quoted[line - 1] + ")"
                                  : "";
-    throw ipmc::FieldError("run: " + *option + ": " + error.message() + hint,
-                           option->substr(0, option->find(' ')), error.allowed());
+    throw ipmc::FieldError("run: " + option + ": " + error.message() + hint,
+                           option.substr(0, option.find(' ')), error.allowed());
   }
 }
 

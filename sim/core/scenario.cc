@@ -548,10 +548,8 @@ ScenarioConfig ScenarioReader::Read(const toml::table& root) const {
     path = fs::absolute(path).lexically_normal();
     std::error_code ignored;
     if (!fs::is_regular_file(path, ignored) || !std::ifstream(path).good()) {
-      const std::string relative =
-          fs::path(String(*model)).is_relative() ? " (relative to the scenario file's folder)" : "";
       Fail(InputProblem::kUnreadable, model->line, model->key,
-           std::string(kModel) + ": cannot open '" + path.string() + "'" + relative);
+           std::string(kModel) + ": cannot open '" + path.string() + "'");
     }
     config.model_path = path.string();
   }
