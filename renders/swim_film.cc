@@ -386,8 +386,13 @@ RunRecording LoadRunRecording(const std::string& dir) {
   RunRecording recording;
   const nlohmann::json inputs = field(summary, "inputs", "inputs");
   if (summary.contains("controller")) {
-    const std::string scenario_path = field(inputs, "scenario", "inputs.scenario").get<std::string>();
-    const ScenarioConfig scenario = LoadScenario(scenario_path);
+    // The scenario as run (with its overrides), or, in older summaries, its file.
+    const ScenarioConfig scenario =
+        inputs.contains("resolved_scenario")
+            ? ParseScenario(field(inputs, "resolved_scenario", "inputs.resolved_scenario")
+                                .get<std::string>(),
+                            summary_path + " (inputs.resolved_scenario)")
+            : LoadScenario(field(inputs, "scenario", "inputs.scenario").get<std::string>());
     std::string source;
     recording.model = LoadScenarioModel(scenario, &source);
     recording.overlay_rows = ClosedLoopOverlayRows(scenario);

@@ -7,7 +7,7 @@ IPMC_PACKAGES=(
   build-essential cmake pkg-config
   libmujoco-dev libqhull-dev libgl-dev libosmesa6-dev
   libeigen3-dev libsundials-dev libnlopt-cxx-dev libboost-math-dev
-  libcli11-dev libtomlplusplus-dev nlohmann-json3-dev
+  libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libssl-dev
   libgtest-dev libbenchmark-dev
   libstb-dev libfftw3-dev ffmpeg gnuplot-nox
   slurm-wlm munge

@@ -29,7 +29,9 @@
 #include <utility>
 
 #include "sim/core/fan_out.h"
+#include "sim/core/data_paths.h"
 #include "sim/core/link_sensors.h"
+#include "sim/core/scenario_keys.h"
 #include "sim/core/simulation.h"
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
@@ -102,6 +104,7 @@ struct Axis {
 struct PointScenario {
   std::optional<ScenarioConfig> scenario;
   std::string error;  // relocated: names the sweep file or the base
+  std::optional<InputError> failure;  // the same error with its parts
   // An unknown or ill-typed override, which stops the sweep.
   std::optional<InputError> fatal;
   std::string text;  // the TOML read
@@ -170,11 +173,15 @@ class SweepReader {
   toml::table base_;
 };
 
+// The keys of the key table (sim/core/scenario_keys.h).
 void SweepReader::RejectUnknownKeys(const toml::table& root) const {
-  const std::initializer_list<const char*> allowed = {kBase, kSet, kGrid, kPoint};
+  const std::vector<KeySpec>& allowed = SweepFileKeys();
+  std::string names;
+  for (const KeySpec& spec : allowed) names += (names.empty() ? "" : ", ") + std::string(spec.name);
   const toml::key* unknown = nullptr;
   for (auto&& [key, node] : root) {
-    if (std::any_of(allowed.begin(), allowed.end(), [&](const char* k) { return key == k; })) {
+    if (std::any_of(allowed.begin(), allowed.end(),
+                    [&](const KeySpec& spec) { return key == spec.name; })) {
       continue;
     }
     if (unknown == nullptr || key.source().begin.line < unknown->source().begin.line) {
@@ -183,7 +190,7 @@ void SweepReader::RejectUnknownKeys(const toml::table& root) const {
   }
   if (unknown != nullptr) {
     Fail(unknown->source().begin.line,
-         "unknown key '" + std::string(unknown->str()) + "' (allowed: base, set, grid, point)",
+         "unknown key '" + std::string(unknown->str()) + "' (allowed: " + names + ")",
          InputProblem::kUnknownKey, std::string(unknown->str()));
   }
 }
@@ -418,6 +425,7 @@ PointScenario SweepReader::ReadScenario(const std::vector<const Override*>& over
       const InputError located(failure.problem(), origin.where, failure.key(), failure.message(),
                                failure.allowed());
       point.error = located.what();
+      point.failure = located;
       const bool key_or_type = failure.problem() == InputProblem::kUnknownKey ||
                                failure.problem() == InputProblem::kWrongType;
       if (origin.in_sweep && key_or_type) point.fatal = located;
@@ -587,7 +595,7 @@ ScenarioConfig SweepReader::ReadOne(const std::string& base_path, const toml::ta
   for (const Override& entry : entries) pointers.push_back(&entry);
   RejectRepeatedKeys(pointers);
   PointScenario point = ReadScenario(pointers);
-  if (!point.scenario) throw std::runtime_error(point.error);
+  if (!point.scenario) throw *point.failure;
   return std::move(*point.scenario);
 }
 
@@ -811,6 +819,18 @@ SweepTable RunSweep(const SweepPlan& plan, const SweepOptions& options) {
     }
   });
   if (callback_failure) std::rethrow_exception(callback_failure);
+  table.program_version = ProgramVersion();
+  std::map<std::string, std::string> model_sha256;  // by model path; "" for generated
+  for (size_t k = 0; k < todo.size(); ++k) {
+    const SweepPoint& point = *todo[k];
+    if (table.rows[k].empty() || !point.scenario) continue;
+    const ScenarioConfig& scenario = *point.scenario;
+    const std::string model = scenario.GeneratesModel() ? "" : scenario.model_path;
+    if (scenario.GeneratesModel() || model_sha256.count(model) == 0) {
+      model_sha256[model] = ScenarioModelSha256(scenario);
+    }
+    table.provenance[point.index] = {ResolvedScenarioToml(scenario), model_sha256[model]};
+  }
   // A stopped sweep: the points that did not run have no row.
   table.rows.erase(std::remove_if(table.rows.begin(), table.rows.end(),
                                   [](const std::vector<std::string>& row) { return row.empty(); }),
@@ -844,7 +864,18 @@ nlohmann::ordered_json SweepTableJson(const SweepTable& table) {
     }
     points.push_back(std::move(point));
   }
-  return {{"columns", table.columns}, {"points", std::move(points)}};
+  nlohmann::ordered_json json = {{"columns", table.columns}, {"points", std::move(points)}};
+  if (!table.program_version.empty()) json["program_version"] = table.program_version;
+  if (!table.provenance.empty()) {
+    nlohmann::ordered_json provenance = nlohmann::ordered_json::array();
+    for (const auto& [index, point] : table.provenance) {
+      provenance.push_back({{"point", index},
+                            {"resolved_scenario", point.resolved_scenario},
+                            {"model_sha256", point.model_sha256}});
+    }
+    json["provenance"] = std::move(provenance);
+  }
+  return json;
 }
 
 SweepTable ParseSweepTableCsv(const std::string& csv_text, const std::string& source) {
@@ -882,8 +913,40 @@ SweepTable ParseSweepTableCsv(const std::string& csv_text, const std::string& so
   return table;
 }
 
+// The program version and provenance of the table's JSON (SweepTableJson).
+void ReadSweepTableProvenance(const std::string& json_path, SweepTable* table) {
+  const nlohmann::ordered_json json =
+      nlohmann::ordered_json::parse(ReadTextFile(json_path, "sweep table"), nullptr, false);
+  const auto fail = [&](const std::string& key) {
+    throw InputError(InputProblem::kSyntax, {json_path}, key,
+                     "not a sweep table's JSON (" + key + " missing or malformed)");
+  };
+  if (!json.is_object()) fail("columns");
+  if (json.contains("program_version")) {
+    if (!json["program_version"].is_string()) fail("program_version");
+    table->program_version = json["program_version"].get<std::string>();
+  }
+  if (!json.contains("provenance")) return;
+  if (!json["provenance"].is_array()) fail("provenance");
+  for (const nlohmann::ordered_json& point : json["provenance"]) {
+    if (!point.is_object() || !point.contains("point") || !point["point"].is_number_integer() ||
+        !point.contains("resolved_scenario") || !point["resolved_scenario"].is_string() ||
+        !point.contains("model_sha256") || !point["model_sha256"].is_string()) {
+      fail("provenance");
+    }
+    table->provenance[point["point"].get<int>()] = {point["resolved_scenario"].get<std::string>(),
+                                                    point["model_sha256"].get<std::string>()};
+  }
+}
+
 SweepTable LoadSweepTableCsv(const std::string& path) {
-  return ParseSweepTableCsv(ReadTextFile(path, "sweep table"), path);
+  SweepTable table = ParseSweepTableCsv(ReadTextFile(path, "sweep table"), path);
+  const fs::path json = fs::path(path).replace_extension(".json");
+  std::error_code ignored;
+  if (fs::path(path).extension() == ".csv" && fs::is_regular_file(json, ignored)) {
+    ReadSweepTableProvenance(json.string(), &table);
+  }
+  return table;
 }
 
 SweepTable MergeSweepTables(const std::vector<SweepTable>& tables,
@@ -909,6 +972,14 @@ SweepTable MergeSweepTables(const std::vector<SweepTable>& tables,
                        "columns differ from " + sources.front() + "'s (column " +
                            std::to_string(c + 1) + ": " + theirs + " vs " + ours + ")");
     }
+    if (!table.program_version.empty()) {
+      if (!merged.program_version.empty() && merged.program_version != table.program_version) {
+        throw InputError(InputProblem::kBadValue, {sources[t]}, "program_version",
+                         "made by ipmc-swim " + table.program_version + ", the tables before by " +
+                             merged.program_version + " (merge tables of one program)");
+      }
+      merged.program_version = table.program_version;
+    }
     for (const std::vector<std::string>& row : table.rows) {
       const std::optional<long> index = row.empty() ? std::nullopt : PointIndex(row[0]);
       if (!index) {
@@ -916,6 +987,10 @@ SweepTable MergeSweepTables(const std::vector<SweepTable>& tables,
                          "a row without a point index");
       }
       const auto [it, added] = rows.emplace(*index, std::make_pair(&row, t));
+      const int point = static_cast<int>(*index);
+      if (added && table.provenance.count(point) > 0) {
+        merged.provenance[point] = table.provenance.at(point);
+      }
       if (!added) {
         throw InputError(InputProblem::kBadValue, {sources[t]}, columns::kPoint,
                          "point " + row[0] + " is also in " + sources[it->second.second]);

@@ -100,8 +100,9 @@ SweepPlan LoadSweep(const std::string& path);
 // the dotted keys under them, a changed kind dropping the base's keys of
 // the other kind). With an empty base_path the overrides are the whole
 // scenario and relative paths resolve from the working directory. Throws
-// std::runtime_error with one line: errors in the base name the base file
-// and line, errors in an override name `source` and the key.
+// InputError (sim/io/error.h) with one line: errors in the base name the
+// base file and line, errors in an override `source`, the override's line
+// and the key.
 ScenarioConfig ScenarioWithOverrides(const std::string& base_path, const toml::table& overrides,
                                      const std::string& source);
 
@@ -136,9 +137,22 @@ struct SweepOptions {
   std::function<bool()> stop_requested;
 };
 
+// Where a row's result comes from: the point's scenario as run (every key,
+// defaults filled in: ResolvedScenarioToml, sim/core/scenario.h) and the
+// SHA-256 of its model's bytes (ScenarioModelSha256, sim/runs/closed_loop_run.h).
+struct PointProvenance {
+  std::string resolved_scenario;
+  std::string model_sha256;
+};
+
 struct SweepTable {
   std::vector<std::string> columns;
   std::vector<std::vector<std::string>> rows;  // cells as printed, by point index
+  // The program that made the rows ("" if unknown: a table read from a CSV
+  // without its JSON) and, by point index, each row's provenance (none
+  // for a point whose scenario was refused).
+  std::string program_version;
+  std::map<int, PointProvenance> provenance;
 };
 
 // The table's columns for a plan.
@@ -155,20 +169,26 @@ SweepTable RunSweep(const SweepPlan& plan, const SweepOptions& options);
 
 // CSV (sim/io/csv.h: RFC 4180, "\n" line ends).
 std::string SweepTableCsv(const SweepTable& table);
-// {"columns": [...], "points": [{column: value, ...}, ...]}: point is an
+// {"columns": [...], "points": [{column: value, ...}, ...],
+//  "program_version": "...", "provenance": [{"point": i,
+//  "resolved_scenario": "...", "model_sha256": "..."}, ...]}: point is an
 // integer, status and error strings, results numbers (null when empty),
-// swept values numbers, booleans, arrays or strings as their text reads.
-// The same table gives the same JSON, whether it was run or merged.
+// swept values numbers, booleans, arrays or strings as their text reads;
+// program_version and provenance only when known. The same table gives
+// the same JSON, whether it was run or merged.
 nlohmann::ordered_json SweepTableJson(const SweepTable& table);
 
 // Reads a table written by SweepTableCsv; throws InputError
 // (sim/io/error.h) "SOURCE:LINE: ..." if it is not one.
 SweepTable ParseSweepTableCsv(const std::string& csv_text, const std::string& source);
+// The same from PREFIX.csv, with program_version and provenance from
+// PREFIX.json beside it if there is one (InputError if it is not a
+// table's JSON).
 SweepTable LoadSweepTableCsv(const std::string& path);
 
-// Joins the tables of a sweep's shards into one, ordered by point index.
-// Throws InputError (one line, naming the file) if the headers differ or a
-// point appears twice, and std::runtime_error if (unless allow_missing)
+// Joins the tables of a sweep's shards into one, ordered by point index,
+// with their provenance. Throws InputError (one line, naming the file) if
+// the headers or the program versions differ or a point appears twice, and std::runtime_error if (unless allow_missing)
 // points are missing below the highest index (a missing tail of the sweep
 // cannot be told from a shorter sweep).
 SweepTable MergeSweepTables(const std::vector<SweepTable>& tables,

@@ -15,7 +15,10 @@
 #include "sim/cli/command.h"
 #include "sim/cli/interrupt.h"
 #include "sim/cli/run_watch.h"
+#include "sim/batch/sweep.h"
+#include "sim/io/error.h"
 #include "sim/io/files.h"
+#include "sim/io/toml.h"
 #include "sim/runs/bench_run.h"
 #include "sim/runs/closed_loop_run.h"
 #include "sim/core/gait.h"
@@ -25,6 +28,7 @@
 #include "sim/runs/output.h"
 #include "sim/cli/plot_command.h"
 #include "sim/core/scenario.h"
+#include "sim/cli/keys_command.h"
 #include "sim/cli/sweep_command.h"
 #include "sim/cli/table5_command.h"
 #include "sim/cli/render_command.h"
@@ -176,6 +180,8 @@ void PrintSwimMetrics(const ipmc::SwimMetrics& swim);
 
 struct RunArgs {
   std::string scenario_path;
+  std::vector<std::string> sets;  // --set KEY=VALUE, in order
+  int cycles = 0;                 // --cycles, if given
   std::string out_dir;
   std::string video_path;
   ipmc::FilmConfig film;
@@ -185,12 +191,20 @@ struct RunArgs {
 
 void AddRunCommand(CLI::App& app, RunArgs& args) {
   CLI::App* cmd = ipmc::AddCommand(app, "run", "Run a closed-loop scenario file (TOML)");
-  cmd->add_option("scenario", args.scenario_path, "Scenario file")->required();
+  cmd->add_option("scenario", args.scenario_path,
+                  "Scenario file (TOML), or a run's summary.json to run it again")
+      ->required();
+  cmd->add_option("--set", args.sets,
+                  "KEY=VALUE: set a scenario key (dotted, as in sweep files; VALUE is TOML: "
+                  "strings in quotes); repeatable; see `ipmc-swim keys`")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  cmd->add_option("--cycles", args.cycles, "Wave periods to run (= --set cycles=N)");
   cmd->add_option("--out", args.out_dir, "Output directory (overrides output.dir)");
   cmd->add_option("--video", args.video_path,
                   "Also film the run into this MP4 (from its recorded states; see `render`)");
   AddAllowLongFlag(cmd, args.allow_long);
-  ipmc::AddVideoOptions(cmd, args.film, "Video (with --video)");
+  ipmc::AddVideoOptions(cmd, args.film, "Video (with --video)", "--film-cycles");
   args.command = cmd;
 }
 
@@ -219,13 +233,73 @@ std::string AbsolutePath(const std::string& path) {
   return std::filesystem::absolute(path).lexically_normal().string();
 }
 
+bool IsRunSummary(const std::string& path) {
+  return std::filesystem::path(path).extension() == ".json";
+}
+
+// The scenario file with the --set and --cycles overrides, read as a
+// sweep's [set] (ScenarioWithOverrides). The overrides are one TOML
+// document, line k the k-th option, so that an error's line names the
+// option it came from.
+ipmc::ScenarioConfig ScenarioWithOptions(const RunArgs& args) {
+  constexpr char kSource[] = "--set";
+  std::vector<std::string> options;  // as given, by line
+  std::vector<std::string> quoted;   // the same with VALUE as a TOML string
+  std::string text;
+  for (const std::string& set : args.sets) {
+    const std::string::size_type equals = set.find('=');
+    if (equals == std::string::npos || equals == 0 || set.find('\n') != std::string::npos) {
+      ipmc::ThrowOption("run", "--set", "KEY=VALUE (one line)", "'" + set + "'");
+    }
+    options.push_back("--set " + set);
+    quoted.push_back("--set '" + set.substr(0, equals + 1) + "\"" + set.substr(equals + 1) + "\"'");
+    text += set.substr(0, equals) + " = " + set.substr(equals + 1) + "\n";
+  }
+  if (args.command->count("--cycles") > 0) {
+    options.push_back("--cycles " + std::to_string(args.cycles));
+    quoted.push_back(options.back());
+    text += "cycles = " + std::to_string(args.cycles) + "\n";
+  }
+  // The option an error is about: its line, if the error is in the options.
+  const auto line_of = [&](const ipmc::InputError& error) -> std::size_t {
+    const std::uint32_t line = error.where().line;
+    return error.where().file == kSource && line <= options.size() ? line : 0;
+  };
+  try {
+    return ipmc::ScenarioWithOverrides(args.scenario_path, ipmc::ParseToml(text, kSource),
+                                       kSource);
+  } catch (const ipmc::InputError& error) {
+    const std::size_t line = line_of(error);
+    if (line == 0) throw;
+    const std::string& option = options[line - 1];
+    const std::string hint = error.problem() == ipmc::InputProblem::kSyntax
+                                 ? " (VALUE is TOML: quote strings, " + quoted[line - 1] + ")"
+                                 : "";
+    throw ipmc::FieldError("run: " + option + ": " + error.message() + hint,
+                           option.substr(0, option.find(' ')), error.allowed());
+  }
+}
+
 int RunScenarioCommand(const RunArgs& args) {
   if (args.video_path.empty() && ipmc::AnyVideoOptionGiven(args.command)) {
     throw std::invalid_argument("run: video options need --video FILE.mp4");
   }
-  ipmc::ScenarioConfig scenario = ipmc::LoadScenario(args.scenario_path);
+  const bool rerun = IsRunSummary(args.scenario_path);
+  const bool overridden = !args.sets.empty() || args.command->count("--cycles") > 0;
+  if (rerun && overridden) {
+    throw std::invalid_argument(
+        "run: --set and --cycles apply to scenario files, not to a run's summary.json");
+  }
+  ipmc::ScenarioConfig scenario =
+      rerun ? ipmc::ScenarioOfSummary(args.scenario_path)
+            : overridden ? ScenarioWithOptions(args) : ipmc::LoadScenario(args.scenario_path);
   scenario.allow_long_run = args.allow_long;
-  const std::string dir = args.out_dir.empty() ? scenario.output_dir : args.out_dir;
+  nlohmann::json inputs = {{"scenario", AbsolutePath(args.scenario_path)}};
+  if (rerun) inputs = {{"rerun_of", AbsolutePath(args.scenario_path)}};
+  if (!args.sets.empty()) inputs["set"] = args.sets;
+  if (args.command->count("--cycles") > 0) inputs["cycles"] = args.cycles;
+  // A re-run writes only where --out says, never over the run it repeats.
+  const std::string dir = args.out_dir.empty() && !rerun ? scenario.output_dir : args.out_dir;
   // Output locations are checked before the run, not after it.
   if (!dir.empty()) {
     for (const char* file : {"timeseries.csv", "summary.json", "states.csv"}) {
@@ -243,8 +317,7 @@ int RunScenarioCommand(const RunArgs& args) {
                           [&](const ipmc::ClosedLoopResult& result) {
                             PrintClosedLoopResult(result);
                             if (dir.empty()) return;
-                            ipmc::WriteClosedLoopOutputs(
-                                dir, result, {{"scenario", AbsolutePath(args.scenario_path)}});
+                            ipmc::WriteClosedLoopOutputs(dir, result, scenario, inputs);
                             PrintWritten(dir);
                           });
   return 0;
@@ -369,6 +442,8 @@ int main(int argc, char** argv) {
   ipmc::AddSweepCommands(app, sweep);
   ipmc::Table5Args table5;
   ipmc::AddTable5Command(app, table5);
+  ipmc::KeysArgs keys;
+  ipmc::AddKeysCommand(app, keys);
   std::string commands;
   bool known = false;
   for (const CLI::App* command : app.get_subcommands({})) {
@@ -403,6 +478,7 @@ int main(int argc, char** argv) {
     if (int s = ipmc::RunIdentifyCommand(app, identify); s >= 0) status = s;
     if (int s = ipmc::RunSweepCommand(app, sweep); s >= 0) status = s;
     if (int s = ipmc::RunTable5Command(app, table5); s >= 0) status = s;
+    if (int s = ipmc::RunKeysCommand(app, keys); s >= 0) status = s;
     PrintMujocoWarnings();
     return status;
   } catch (const ipmc::Interrupted& stop) {

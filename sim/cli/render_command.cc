@@ -24,7 +24,7 @@ constexpr char kRenderCommand[] = "render";
 // Every video option, for AnyVideoOptionGiven.
 constexpr const char* kVideoOptions[] = {
     "--width",     "--height",        "--fps",           "--frames-per-cycle",
-    "--start-cycle", "--cycles",      "--trail-frames",  "--camera",
+    "--start-cycle", "--film-cycles", "--trail-frames",  "--camera",
     "--view-mm",   "--center-mm",     "--elevation-deg", "--azimuth-deg",
     "--strip-thickness-mm", "--no-grid", "--no-ghost",   "--png-dir"};
 
@@ -106,7 +106,8 @@ int RunRender(const RenderArgs& args) {
 
 }  // namespace
 
-void AddVideoOptions(CLI::App* cmd, FilmConfig& film, const std::string& group) {
+void AddVideoOptions(CLI::App* cmd, FilmConfig& film, const std::string& group,
+                     const std::string& cycles_option) {
   CLI::App* g = group.empty() ? cmd : cmd->add_option_group(group);
   g->add_option("--width", film.width, "Frame width [px], even, at most the model's offwidth")
       ->capture_default_str();
@@ -117,7 +118,7 @@ void AddVideoOptions(CLI::App* cmd, FilmConfig& film, const std::string& group) 
       ->capture_default_str();
   g->add_option("--start-cycle", film.start_cycle, "First cycle filmed (1 = the first)")
       ->capture_default_str();
-  g->add_option("--cycles", film.cycles, "Cycles filmed (default: to the run's last)");
+  g->add_option(cycles_option, film.cycles, "Cycles filmed (default: to the run's last)");
   g->add_option("--trail-frames", film.trail_frames,
                 "Frames of tip trail kept (default: one cycle; 0: none)");
   g->add_option_function<std::string>(

@@ -40,9 +40,13 @@ struct RenderArgs {
 
 // Adds the video options to cmd (in an option group named `group`, if not
 // empty), storing them in film.
-void AddVideoOptions(CLI::App* cmd, FilmConfig& film, const std::string& group = "");
+// `cycles_option` names the option of FilmConfig::cycles (`run` has its
+// own --cycles, the run's length, and calls it --film-cycles).
+void AddVideoOptions(CLI::App* cmd, FilmConfig& film, const std::string& group = "",
+                     const std::string& cycles_option = "--cycles");
 
-// Whether any video option was given on cmd's command line.
+// Whether any video option was given on cmd's command line (the options
+// of `run`, whose cycles option is --film-cycles).
 bool AnyVideoOptionGiven(const CLI::App* cmd);
 
 // Runs the scenario once and hands the result to `before_filming` (if

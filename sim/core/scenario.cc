@@ -15,13 +15,16 @@
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
+#include <map>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
 
+#include "sim/core/scenario_keys.h"
 #include "sim/io/error.h"
 #include "sim/io/files.h"
 #include "sim/io/numbers.h"
@@ -79,12 +82,7 @@ constexpr char kStartRamp[] = "start_ramp_cycles";
 constexpr char kPid[] = "pid";
 constexpr char kFractional[] = "fractional";
 constexpr char kOustaloup[] = "oustaloup";
-constexpr char kEq15[] = "eq15";
 constexpr char kPolynomial[] = "polynomial";
-constexpr char kDistributed[] = "distributed";
-constexpr char kSingle[] = "single";
-
-constexpr double kMaxTimestep_s = 1e-3;
 // Relative tolerance on "a whole number of timesteps per controller sample".
 constexpr double kWholeStepsTolerance = 1e-9;
 
@@ -92,9 +90,9 @@ using KeyList = std::initializer_list<const char*>;
 
 std::string TypeName(toml::node_type type) { return TomlTypeName(type); }
 
-std::string Join(KeyList keys, const char* separator) {
+std::string Join(const std::vector<std::string>& keys, const char* separator) {
   std::string joined;
-  for (const char* key : keys) {
+  for (const std::string& key : keys) {
     if (!joined.empty()) joined += separator;
     joined += key;
   }
@@ -103,8 +101,16 @@ std::string Join(KeyList keys, const char* separator) {
 
 std::string Quoted(std::string_view text) { return "\"" + std::string(text) + "\""; }
 
-bool Contains(KeyList keys, std::string_view key) {
-  return std::any_of(keys.begin(), keys.end(), [&](const char* k) { return key == k; });
+bool Contains(const std::vector<std::string>& keys, std::string_view key) {
+  return std::any_of(keys.begin(), keys.end(), [&](const std::string& k) { return key == k; });
+}
+
+// The entry of the key table (sim/core/scenario_keys.h) for a key the
+// reader reads; every such key is in it (the tests read each one back).
+const KeySpec& Spec(const std::string& key) {
+  const KeySpec* spec = FindScenarioKey(key);
+  if (spec == nullptr) throw std::logic_error("scenario key " + key + " is not in the key table");
+  return *spec;
 }
 
 // One value of the document: where it is and what it is called in messages.
@@ -145,10 +151,12 @@ class ScenarioReader {
     return line;
   }
 
-  // The earliest key of `table` that is not in `allowed`, reported with
-  // the list of allowed keys.
-  void RejectUnknownKeys(const toml::table& table, const std::string& prefix,
-                         KeyList allowed) const {
+  // The earliest key of `table` (`prefix` "" for the top level, else
+  // "controller." etc.) that the key table does not allow there, reported
+  // with the list of allowed keys.
+  void RejectUnknownKeys(const toml::table& table, const std::string& prefix) const {
+    const std::vector<std::string> allowed =
+        ScenarioKeysUnder(prefix.empty() ? prefix : prefix.substr(0, prefix.size() - 1));
     const toml::key* unknown = nullptr;
     for (auto&& [key, node] : table) {
       if (Contains(allowed, key.str())) continue;
@@ -196,9 +204,12 @@ class ScenarioReader {
     return value;
   }
 
-  // An integer in [minimum, maximum].
-  int Integer(const Entry& entry, int minimum, int maximum) const {
+  // An integer in the key's bounds.
+  int Integer(const Entry& entry) const {
     if (!entry.node->is_integer()) FailType(entry, "an integer");
+    const KeySpec& spec = Spec(entry.key);
+    const std::int64_t minimum = static_cast<std::int64_t>(spec.minimum);
+    const std::int64_t maximum = static_cast<std::int64_t>(spec.maximum);
     const std::int64_t value = entry.node->as_integer()->get();
     if (value < minimum) {
       FailValue(entry, entry.name + " must be >= " + std::to_string(minimum) + " (got " +
@@ -223,12 +234,13 @@ class ScenarioReader {
     return entry.node->as_string()->get();
   }
 
-  // One of `choices` (a string).
-  std::string Choice(const Entry& entry, KeyList choices) const {
+  // One of the key's choices (a string).
+  std::string Choice(const Entry& entry) const {
     const std::string value = String(entry);
+    const std::vector<std::string> choices = KeyChoices(Spec(entry.key));
     if (!Contains(choices, value)) {
       std::string allowed;
-      for (const char* choice : choices) {
+      for (const std::string& choice : choices) {
         if (!allowed.empty()) allowed += " or ";
         allowed += Quoted(choice);
       }
@@ -245,14 +257,20 @@ class ScenarioReader {
     return entry->node->as_table();
   }
 
-  void RequireAtLeast(const Entry& entry, double value, double minimum) const {
-    if (!(value >= minimum)) FailBound(entry, value, ">= ", minimum);
-  }
-  void RequireAbove(const Entry& entry, double value, double minimum) const {
-    if (!(value > minimum)) FailBound(entry, value, "> ", minimum);
-  }
-  void RequireAtMost(const Entry& entry, double value, double maximum) const {
-    if (!(value <= maximum)) FailBound(entry, value, "<= ", maximum);
+  // A number within the key's bounds in the key table.
+  double Bounded(const Entry& entry) const {
+    const double value = Number(entry);
+    const KeySpec& spec = Spec(entry.key);
+    if (spec.lower == Bound::kClosed && !(value >= spec.minimum)) {
+      FailBound(entry, value, ">= ", spec.minimum);
+    }
+    if (spec.lower == Bound::kOpen && !(value > spec.minimum)) {
+      FailBound(entry, value, "> ", spec.minimum);
+    }
+    if (spec.upper == Bound::kClosed && !(value <= spec.maximum)) {
+      FailBound(entry, value, "<= ", spec.maximum);
+    }
+    return value;
   }
   [[noreturn]] void FailBound(const Entry& entry, double value, const std::string& relation,
                               double bound) const {
@@ -324,12 +342,10 @@ const char* ControllerKeyOfField(const std::string& name) {
 
 void ScenarioReader::ReadController(const toml::table& table, ScenarioConfig* config) const {
   const std::string prefix = std::string(kController) + ".";
-  RejectUnknownKeys(table, prefix,
-                    {kKind, kSampleRate, kVMax, kClamp, kKp, kKi, kKd, kDerivativeFilter, kGain,
-                     kOrder, kOustaloupN, kBand, kRealisation});
+  RejectUnknownKeys(table, prefix);
 
   std::string kind = kPid;
-  if (const auto entry = Find(table, prefix, kKind)) kind = Choice(*entry, {kPid, kFractional});
+  if (const auto entry = Find(table, prefix, kKind)) kind = Choice(*entry);
   config->controller = kind == kPid ? ControllerKind::kPid : ControllerKind::kFractional;
   if (kind == kPid) {
     RejectKeysOfOtherKind(table, prefix, {kGain, kOrder, kOustaloupN, kBand, kRealisation},
@@ -340,13 +356,11 @@ void ScenarioReader::ReadController(const toml::table& table, ScenarioConfig* co
   }
 
   if (const auto entry = Find(table, prefix, kSampleRate)) {
-    config->sample_rate_Hz = Number(*entry);
-    RequireAbove(*entry, config->sample_rate_Hz, 0.0);
+    config->sample_rate_Hz = Bounded(*entry);
   }
   double v_max = config->pid.v_max;
   if (const auto entry = Find(table, prefix, kVMax)) {
-    v_max = Number(*entry);
-    RequireAbove(*entry, v_max, 0.0);
+    v_max = Bounded(*entry);
   }
   bool clamp = config->pid.clamp_enabled;
   if (const auto entry = Find(table, prefix, kClamp)) clamp = Boolean(*entry);
@@ -359,23 +373,19 @@ void ScenarioReader::ReadController(const toml::table& table, ScenarioConfig* co
       {kDerivativeFilter, &pid.derivative_filter_time_s}};
   for (const auto& [key, field] : pid_gains) {
     if (const auto entry = Find(table, prefix, key)) {
-      *field = Number(*entry);
-      RequireAtLeast(*entry, *field, 0.0);
+      *field = Bounded(*entry);
     }
   }
 
   FractionalIntegrator::Config& fractional = config->fractional;
   if (const auto entry = Find(table, prefix, kGain)) {
-    fractional.gain = Number(*entry);
-    RequireAtLeast(*entry, fractional.gain, 0.0);
+    fractional.gain = Bounded(*entry);
   }
   if (const auto entry = Find(table, prefix, kOrder)) {
-    fractional.order = Number(*entry);
-    RequireAbove(*entry, fractional.order, 0.0);
-    RequireAtMost(*entry, fractional.order, 1.0);
+    fractional.order = Bounded(*entry);
   }
   if (const auto entry = Find(table, prefix, kOustaloupN)) {
-    fractional.oustaloup_n = Integer(*entry, 1, kMaxOustaloupPairs);
+    fractional.oustaloup_n = Integer(*entry);
   }
   if (const auto entry = Find(table, prefix, kBand)) {
     const toml::array* band = entry->node->as_array();
@@ -393,8 +403,7 @@ void ScenarioReader::ReadController(const toml::table& table, ScenarioConfig* co
       corner.node = band->get(static_cast<std::size_t>(i));
       corner.line =
           corner.node->source().begin.line > 0 ? corner.node->source().begin.line : entry->line;
-      corners[i] = Number(corner);
-      RequireAbove(corner, corners[i], 0.0);
+      corners[i] = Bounded(corner);
     }
     if (!(corners[0] < corners[1])) {
       FailValue(*entry, entry->name + " must have w_b < w_h (got [" + FormatShortest(corners[0]) +
@@ -434,7 +443,7 @@ void ScenarioReader::ReadRealisation(const toml::table& table,
   const std::string prefix = std::string(kController) + ".";
   const auto entry = Find(table, prefix, kRealisation);
   if (!entry) return;
-  const std::string word = Choice(*entry, {kOustaloup, kEq15});
+  const std::string word = Choice(*entry);
   fractional->realisation = *ParseFractionalRealisation(word);
   if (fractional->realisation == FractionalRealisation::kEq15) {
     RejectKeysOfOtherKind(table, prefix, {kGain, kOrder, kOustaloupN, kBand}, kOustaloup, word,
@@ -444,12 +453,11 @@ void ScenarioReader::ReadRealisation(const toml::table& table,
 
 void ScenarioReader::ReadWaveform(const toml::table& table, WaveformConfig* wave) const {
   const std::string prefix = std::string(kWaveform) + ".";
-  RejectUnknownKeys(table, prefix,
-                    {kKind, kC0, kC1, kC2, kC, kAlpha, kFrequency, kWavelength, kStartRamp});
+  RejectUnknownKeys(table, prefix);
 
   std::string kind = kPolynomial;
   if (const auto entry = Find(table, prefix, kKind)) {
-    kind = Choice(*entry, {kPolynomial, kFractional});
+    kind = Choice(*entry);
   }
   wave->kind = kind == kPolynomial ? WaveformKind::kPolynomial : WaveformKind::kFractional;
   if (kind == kPolynomial) {
@@ -498,9 +506,7 @@ void ScenarioReader::ReadLinkLengths(const Entry& entry, ScenarioConfig* config)
     length.node = lengths->get(i);
     length.line = length.node->source().begin.line > 0 ? length.node->source().begin.line
                                                        : entry.line;
-    const double value = Number(length);
-    RequireAbove(length, value, 0.0);
-    config->link_lengths_mm.push_back(value);
+    config->link_lengths_mm.push_back(Bounded(length));
   }
 }
 
@@ -518,20 +524,17 @@ void ScenarioReader::ReadStartRamp(const toml::table& table, ScenarioConfig* con
 }
 
 ScenarioConfig ScenarioReader::Read(const toml::table& root) const {
-  RejectUnknownKeys(
-      root, "",
-      {kModel, kLinkLengths, kSegmentsPerLink, kPlants, kActuation, kCycles, kTimestep,
-       kController, kWaveform, kFluid, kOutput});
+  RejectUnknownKeys(root, "");
 
   ScenarioConfig config;
   config.source = source_;
 
   if (const auto entry = Find(root, "", kLinkLengths)) ReadLinkLengths(*entry, &config);
   if (const auto entry = Find(root, "", kSegmentsPerLink)) {
-    config.segments_per_link = Integer(*entry, 1, kMaxSegmentsPerLink);
+    config.segments_per_link = Integer(*entry);
   }
   if (const auto entry = Find(root, "", kPlants)) {
-    config.plants = *ParsePlantAssignment(Choice(*entry, {"uniform", "table2"}));
+    config.plants = *ParsePlantAssignment(Choice(*entry));
   }
   const std::optional<Entry> model = Find(root, "", kModel);
   if (!model && !config.GeneratesModel()) {
@@ -552,14 +555,11 @@ ScenarioConfig ScenarioReader::Read(const toml::table& root) const {
   }
 
   if (const auto entry = Find(root, "", kActuation)) {
-    config.actuation = Choice(*entry, {kDistributed, kSingle});
+    config.actuation = Choice(*entry);
   }
-  if (const auto entry = Find(root, "", kCycles)) config.cycles = Integer(*entry, 1, INT_MAX);
+  if (const auto entry = Find(root, "", kCycles)) config.cycles = Integer(*entry);
   if (const auto entry = Find(root, "", kTimestep)) {
-    const double timestep_s = Number(*entry);
-    RequireAbove(*entry, timestep_s, 0.0);
-    RequireAtMost(*entry, timestep_s, kMaxTimestep_s);
-    config.timestep_s = timestep_s;
+    config.timestep_s = Bounded(*entry);
   }
 
   const toml::table* controller = Table(root, kController);
@@ -596,26 +596,125 @@ ScenarioConfig ScenarioReader::Read(const toml::table& root) const {
 
   if (const toml::table* fluid = Table(root, kFluid)) {
     const std::string prefix = std::string(kFluid) + ".";
-    RejectUnknownKeys(*fluid, prefix, {kViscosity});
-    if (const auto entry = Find(*fluid, prefix, kViscosity)) {
-      const double viscosity_Pa_s = Number(*entry);
-      RequireAbove(*entry, viscosity_Pa_s, 0.0);
-      config.viscosity_Pa_s = viscosity_Pa_s;
-    }
+    RejectUnknownKeys(*fluid, prefix);
+    if (const auto entry = Find(*fluid, prefix, kViscosity)) config.viscosity_Pa_s = Bounded(*entry);
   }
 
   if (const toml::table* output = Table(root, kOutput)) {
     const std::string prefix = std::string(kOutput) + ".";
-    RejectUnknownKeys(*output, prefix, {kDir, kSamplesPerCycle});
+    RejectUnknownKeys(*output, prefix);
     if (const auto entry = Find(*output, prefix, kDir)) config.output_dir = String(*entry);
     if (const auto entry = Find(*output, prefix, kSamplesPerCycle)) {
-      config.samples_per_cycle = Integer(*entry, 1, INT_MAX);
+      config.samples_per_cycle = Integer(*entry);
     }
   }
   return config;
 }
 
+// TOML values as ResolvedScenarioToml writes them.
+std::string TomlString(const std::string& text) {
+  std::ostringstream out;
+  out << toml::value<std::string>(text);
+  return out.str();
+}
+// The shortest text that reads back exactly, always a TOML float ("1000.0",
+// "-0.0"), so that even the sign of zero survives.
+std::string TomlFloat(double value) {
+  std::string text = FormatShortest(value);
+  if (text.find_first_of(".e") == std::string::npos) text += ".0";
+  return text;
+}
+std::string TomlFloats(const std::vector<double>& values) {
+  std::string text;
+  for (double value : values) text += (text.empty() ? "" : ", ") + TomlFloat(value);
+  return "[" + text + "]";
+}
+std::string TomlBool(bool value) { return value ? "true" : "false"; }
+
+// Dotted key -> TOML value of every key a scenario resolves to.
+std::map<std::string, std::string> ResolvedValues(const ScenarioConfig& config) {
+  std::map<std::string, std::string> values;
+  const auto set = [&](const std::string& key, std::string value) { values[key] = std::move(value); };
+  if (!config.model_path.empty()) set(kModel, TomlString(config.model_path));
+  if (!config.link_lengths_mm.empty()) set(kLinkLengths, TomlFloats(config.link_lengths_mm));
+  if (config.segments_per_link > 0) set(kSegmentsPerLink, std::to_string(config.segments_per_link));
+  if (config.plants) set(kPlants, TomlString(PlantAssignmentName(*config.plants)));
+  set(kActuation, TomlString(config.actuation));
+  set(kCycles, std::to_string(config.cycles));
+  if (config.timestep_s) set(kTimestep, TomlFloat(*config.timestep_s));
+
+  const std::string controller = std::string(kController) + ".";
+  const bool pid = config.controller == ControllerKind::kPid;
+  set(controller + kKind, TomlString(pid ? kPid : kFractional));
+  set(controller + kSampleRate, TomlFloat(config.sample_rate_Hz));
+  set(controller + kVMax, TomlFloat(pid ? config.pid.v_max : config.fractional.v_max));
+  set(controller + kClamp,
+      TomlBool(pid ? config.pid.clamp_enabled : config.fractional.clamp_enabled));
+  if (pid) {
+    set(controller + kKp, TomlFloat(config.pid.kp));
+    set(controller + kKi, TomlFloat(config.pid.ki));
+    set(controller + kKd, TomlFloat(config.pid.kd));
+    set(controller + kDerivativeFilter, TomlFloat(config.pid.derivative_filter_time_s));
+  } else {
+    const FractionalIntegrator::Config& fractional = config.fractional;
+    set(controller + kRealisation,
+        TomlString(FractionalRealisationName(fractional.realisation)));
+    if (fractional.realisation == FractionalRealisation::kOustaloup) {
+      set(controller + kGain, TomlFloat(fractional.gain));
+      set(controller + kOrder, TomlFloat(fractional.order));
+      set(controller + kOustaloupN, std::to_string(fractional.oustaloup_n));
+      set(controller + kBand, TomlFloats({fractional.w_low_rad_s, fractional.w_high_rad_s}));
+    }
+  }
+
+  const std::string waveform = std::string(kWaveform) + ".";
+  const WaveformConfig& wave = config.waveform;
+  const bool polynomial = wave.kind == WaveformKind::kPolynomial;
+  set(waveform + kKind, TomlString(polynomial ? kPolynomial : kFractional));
+  if (polynomial) {
+    set(waveform + kC0, TomlFloat(wave.c0_um));
+    set(waveform + kC1, TomlFloat(wave.c1_um_per_mm));
+    set(waveform + kC2, TomlFloat(wave.c2_um_per_mm2));
+  } else {
+    set(waveform + kC, TomlFloat(wave.c_um));
+    set(waveform + kAlpha, TomlFloat(wave.alpha));
+  }
+  set(waveform + kFrequency, TomlFloat(wave.frequency_Hz));
+  set(waveform + kWavelength, TomlFloat(wave.wavelength_mm));
+  set(waveform + kStartRamp, TomlFloat(config.start_ramp_cycles));
+
+  if (config.viscosity_Pa_s) {
+    set(std::string(kFluid) + "." + kViscosity, TomlFloat(*config.viscosity_Pa_s));
+  }
+  set(std::string(kOutput) + "." + kSamplesPerCycle, std::to_string(config.samples_per_cycle));
+  return values;
+}
+
 }  // namespace
+
+std::string ResolvedScenarioToml(const ScenarioConfig& config) {
+  std::map<std::string, std::string> values = ResolvedValues(config);
+  // In the key table's order: the top-level keys, then one table after another.
+  std::string text;
+  std::string table;
+  for (const KeySpec& key : ScenarioKeys()) {
+    const auto value = values.find(key.name);
+    if (value == values.end()) continue;
+    const std::string name = key.name;
+    const std::string::size_type dot = name.find('.');
+    const std::string key_table = dot == std::string::npos ? "" : name.substr(0, dot);
+    if (key_table != table) {
+      text += "\n[" + key_table + "]\n";
+      table = key_table;
+    }
+    text += name.substr(dot == std::string::npos ? 0 : dot + 1) + " = " + value->second + "\n";
+    values.erase(value);
+  }
+  if (!values.empty()) {
+    throw std::logic_error("scenario key " + values.begin()->first + " is not in the key table");
+  }
+  return text;
+}
 
 ScenarioConfig ParseScenario(const std::string& toml_text, const std::string& source) {
   const ScenarioReader reader(source);

@@ -1,7 +1,9 @@
 // A scenario file (TOML) describes one closed-loop run: model, actuation,
 // controller, waveform, duration, fluid and outputs. Every key is
 // optional except model; unknown keys, wrong types and out-of-range values
-// are errors naming the file, key and line.
+// are errors naming the file, key and line. The key table with types,
+// units, ranges and defaults is sim/core/scenario_keys.h (`ipmc-swim keys`,
+// docs/SCENARIO_KEYS.md); in short:
 //
 //   model = "models/flagellum3.xml"    # relative to the scenario file
 //   link_lengths_mm = [8, 10, 12]      # instead: the generated flagellum with
@@ -87,5 +89,13 @@ ScenarioConfig LoadScenario(const std::string& path);
 // The same from TOML text; `source` names it in messages and resolves
 // relative model paths.
 ScenarioConfig ParseScenario(const std::string& toml_text, const std::string& source);
+
+// The scenario as TOML that ParseScenario reads back to the same run: every
+// key of the chosen kinds with its value, defaults filled in, and the model
+// as an absolute path. Left out: output.dir (where results go is no part of
+// the result) and timestep_s, plants and fluid.viscosity_Pa_s where the
+// scenario takes them from the model file (whose bytes the run's
+// provenance pins by their hash).
+std::string ResolvedScenarioToml(const ScenarioConfig& config);
 
 }  // namespace ipmc

@@ -95,7 +95,7 @@ py::dict Run(const py::object& scenario_arg, const py::dict& overrides, const py
   progress.Report(total_s, true);
   if (!out.is_none()) {
     const std::string dir = PathText(out, "out");
-    WithoutGil([&] { WriteClosedLoopOutputs(dir, result, inputs); });
+    WithoutGil([&] { WriteClosedLoopOutputs(dir, result, scenario, inputs); });
   }
   py::dict dict;
   dict["timeseries"] = ClosedLoopColumns(result);

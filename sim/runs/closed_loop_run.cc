@@ -11,6 +11,8 @@
 #include "sim/core/step_count.h"
 #include "sim/core/model_generator.h"
 #include "sim/core/link_sensors.h"
+#include "sim/core/sha256.h"
+#include "sim/io/files.h"
 #include "sim/io/numbers.h"
 
 namespace ipmc {
@@ -79,17 +81,31 @@ std::vector<double> LinkReferences_mm(const ScenarioConfig& scenario,
   return reference;
 }
 
+namespace {
+
+// The MJCF of the flagellum a scenario generates (GeneratesModel()).
+std::string GeneratedScenarioMjcf(const ScenarioConfig& scenario) {
+  FlagellumSpec spec;
+  if (!scenario.link_lengths_mm.empty()) spec.link_lengths_mm = scenario.link_lengths_mm;
+  if (scenario.segments_per_link > 0) spec.segments_per_link = scenario.segments_per_link;
+  return GenerateFlagellumMjcf(spec);
+}
+
+}  // namespace
+
+std::string ScenarioModelSha256(const ScenarioConfig& scenario) {
+  return Sha256Hex(scenario.GeneratesModel() ? GeneratedScenarioMjcf(scenario)
+                                             : ReadTextFile(scenario.model_path, "model file"));
+}
+
 ModelPtr LoadScenarioModel(const ScenarioConfig& scenario, std::string* source) {
   *source = scenario.model_path;
   ModelPtr model;
   if (!scenario.GeneratesModel()) {
     model = LoadModelFile(scenario.model_path);
   } else {
-    FlagellumSpec spec;
-    if (!scenario.link_lengths_mm.empty()) spec.link_lengths_mm = scenario.link_lengths_mm;
-    if (scenario.segments_per_link > 0) spec.segments_per_link = scenario.segments_per_link;
     *source = scenario.source + " (generated flagellum)";
-    model = LoadModelString(GenerateFlagellumMjcf(spec));
+    model = LoadModelString(GeneratedScenarioMjcf(scenario));
   }
   if (scenario.timestep_s) model->opt.timestep = *scenario.timestep_s;
   if (scenario.viscosity_Pa_s) OverrideViscosity(model.get(), *scenario.viscosity_Pa_s, scenario.source);

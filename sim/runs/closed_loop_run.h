@@ -87,6 +87,11 @@ double StartRamp(double t_s, double ramp_s);
 // used in messages. Throws std::runtime_error naming the file on bad input.
 ModelPtr LoadScenarioModel(const ScenarioConfig& scenario, std::string* source);
 
+// The SHA-256 (sim/core/sha256.h) of the bytes of the scenario's model: its
+// file, or the MJCF text of the generated flagellum it names. Throws
+// InputError if the file cannot be read.
+std::string ScenarioModelSha256(const ScenarioConfig& scenario);
+
 // The scenario's model (LoadScenarioModel) with the scenario's plants
 // imposed, attached.
 std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenario);

@@ -1,7 +1,11 @@
 #include "sim/runs/output.h"
 
+#include "sim/core/data_paths.h"
+#include "sim/core/scenario.h"
+#include "sim/core/sha256.h"
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
+#include "sim/io/error.h"
 #include "sim/io/files.h"
 
 namespace ipmc {
@@ -9,6 +13,12 @@ namespace {
 
 // Time series are written at 10 significant digits.
 constexpr int kSeriesDigits = 10;
+
+// Keys of summary.json's "inputs".
+constexpr char kInputs[] = "inputs";
+constexpr char kProgramVersion[] = "program_version";
+constexpr char kResolvedScenario[] = "resolved_scenario";
+constexpr char kModelSha256[] = "model_sha256";
 
 // The body's columns, first in every time series.
 void AddPoseColumns(CsvWriter& csv) {
@@ -39,7 +49,7 @@ void AddTips(CsvWriter& csv, const BodyPose& p, size_t tips) {
 void WriteRunOutputs(const std::string& dir, const std::string& csv, const std::string& states_csv,
                      nlohmann::json summary, const nlohmann::json& inputs) {
   EnsureDirectory(dir);
-  summary["inputs"] = inputs;
+  summary[kInputs] = inputs;
   WriteFilesTogether({{dir + "/timeseries.csv", csv},
                       {dir + "/states.csv", states_csv},
                       {dir + "/summary.json", summary.dump(2) + "\n"}});
@@ -97,8 +107,13 @@ nlohmann::json GaitSummaryJson(const GaitRunResult& result) {
 
 void WriteGaitOutputs(const std::string& dir, const GaitRunResult& result,
                       const nlohmann::json& inputs) {
+  nlohmann::json all = inputs;
+  all[kProgramVersion] = ProgramVersion();
+  if (inputs.contains("model") && inputs["model"].is_string()) {
+    all[kModelSha256] = Sha256Hex(ReadTextFile(inputs["model"].get<std::string>(), "model file"));
+  }
   WriteRunOutputs(dir, GaitSamplesCsv(result), RecordedStatesCsv(result.states),
-                  GaitSummaryJson(result), inputs);
+                  GaitSummaryJson(result), all);
 }
 
 std::string ClosedLoopSamplesCsv(const ClosedLoopResult& result) {
@@ -147,10 +162,48 @@ nlohmann::json ClosedLoopSummaryJson(const ClosedLoopResult& result) {
   return summary;
 }
 
+nlohmann::json ClosedLoopProvenance(const ScenarioConfig& scenario) {
+  return {{kProgramVersion, ProgramVersion()},
+          {kResolvedScenario, ResolvedScenarioToml(scenario)},
+          {kModelSha256, ScenarioModelSha256(scenario)}};
+}
+
+ScenarioConfig ScenarioOfSummary(const std::string& summary_path) {
+  const nlohmann::json summary =
+      nlohmann::json::parse(ReadTextFile(summary_path, "run summary"), nullptr, false);
+  const auto recorded = [&](const char* key) -> std::string {
+    const std::string dotted = std::string(kInputs) + "." + key;
+    if (!summary.is_object() || !summary.contains(kInputs) || !summary[kInputs].is_object() ||
+        !summary[kInputs].contains(key) || !summary[kInputs][key].is_string()) {
+      throw InputError(InputProblem::kMissing, {summary_path}, dotted,
+                       "not a closed-loop run's summary with its provenance (no string " + dotted +
+                           ")");
+    }
+    return summary[kInputs][key].get<std::string>();
+  };
+  const std::string toml = recorded(kResolvedScenario);
+  const std::string sha256 = recorded(kModelSha256);
+  const ScenarioConfig scenario =
+      ParseScenario(toml, summary_path + " (" + kInputs + "." + kResolvedScenario + ")");
+  const std::string now = ScenarioModelSha256(scenario);
+  if (now != sha256) {
+    const std::string model =
+        scenario.GeneratesModel() ? "the generated flagellum" : "'" + scenario.model_path + "'";
+    throw InputError(InputProblem::kBadValue, {summary_path},
+                     std::string(kInputs) + "." + kModelSha256,
+                     "the model " + model + " has changed since the run (SHA-256 " + now +
+                         ", recorded " + sha256 + ")",
+                     sha256);
+  }
+  return scenario;
+}
+
 void WriteClosedLoopOutputs(const std::string& dir, const ClosedLoopResult& result,
-                            const nlohmann::json& inputs) {
+                            const ScenarioConfig& scenario, const nlohmann::json& inputs) {
+  nlohmann::json all = inputs;
+  all.update(ClosedLoopProvenance(scenario));
   WriteRunOutputs(dir, ClosedLoopSamplesCsv(result), RecordedStatesCsv(result.states),
-                  ClosedLoopSummaryJson(result), inputs);
+                  ClosedLoopSummaryJson(result), all);
 }
 
 }  // namespace ipmc
