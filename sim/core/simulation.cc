@@ -61,8 +61,16 @@ Simulation::Simulation(ModelPtr m, const std::string& source,
 
 Simulation::~Simulation() { Detach(data_.get()); }
 
-void Simulation::Step() {
-  mj_step(model_.get(), data_.get());
+void Simulation::Step(bool compute_sensors) {
+  mjModel* m = model_.get();
+  if (compute_sensors) {
+    mj_step(m, data_.get());
+  } else {
+    const int flags = m->opt.disableflags;
+    m->opt.disableflags = flags | mjDSBL_SENSOR;
+    mj_step(m, data_.get());
+    m->opt.disableflags = flags;
+  }
   const mjData* d = data_.get();
   bool finite = true;
   for (int i = 0; i < model_->nq && finite; ++i) finite = std::isfinite(d->qpos[i]);

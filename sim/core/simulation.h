@@ -43,8 +43,12 @@ class Simulation {
   const std::string& source() const { return source_; }
 
   // One mj_step; throws std::runtime_error naming the time if the state
-  // stops being finite or MuJoCo reports a bad acceleration.
-  void Step();
+  // stops being finite or MuJoCo reports a bad acceleration. With
+  // compute_sensors = false MuJoCo skips its sensor stages in this step and
+  // sensordata keeps the values of the last step that computed them, for a
+  // caller that reads the sensors only every few steps (MuJoCo fills
+  // sensordata during the step, from the state at its start).
+  void Step(bool compute_sensors = true);
 
  private:
   ModelPtr model_;

@@ -96,7 +96,8 @@ BenchRecord RunBench(Simulation& sim, const BenchSignal& signal, double record_f
         }
       }
     }
-    sim.Step();
+    // The sensors are read at the next sample, from this step's values.
+    sim.Step((step + 1) % steps_per_sample == 0);
   }
   return record;
 }

@@ -153,7 +153,9 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
         }
         ++samples;
       }
-      sim.Step();
+      // The sensors are read at the next sample, from this step's values.
+      const long next = step + 1 == steps_per_cycle ? 0 : step + 1;
+      sim.Step(next % steps_per_sample == 0);
       meter.Observe(m, d);
     }
     meter.EndCycle(d);
