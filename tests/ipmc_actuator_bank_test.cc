@@ -199,11 +199,12 @@ RegularChangesRun RunRegularChanges(CvodeOptions options) {
 
 TEST(IpmcActuatorBankTest, RegularVoltageChangesNeedNoRestart) {
   // The smooth form (ipmc_actuator_bank.h, "Stepping"): CVODE steps across
-  // the changes it stops at, restarting only every 0.1 s (kRebase_s: 20 in
-  // 2 s) and at the first two changes, and goes back to the plain form
-  // once, 0.1 s into the hold. Measured for the bank's default tolerance
-  // and the coupling's: relative errors 1.85e-8 and 8.2e-7 (over the hold
-  // too), 4.66 and 1.63 internal steps per change. Restarting at every
+  // the changes it stops at, restarting only at the first change of each
+  // 0.1 s window (kRebase_s: 20 in 2 s) and at the first two changes, and
+  // goes back to the plain form once, 0.1 s into the hold. Measured for the
+  // bank's default tolerance and the coupling's: relative errors 2.1e-8
+  // and 4.0e-7 (over the hold too), 21 restarts, 4.65 and 1.58 internal
+  // steps per change. Restarting at every
   // change, as the bank did before the smooth form, gave 2.0e-7 and
   // 1.4e-5 for 16.5 and 7.9 steps per change (the same run without the
   // hold), so the step bounds fail if the changes restart CVODE.

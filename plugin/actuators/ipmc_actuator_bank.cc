@@ -127,9 +127,9 @@ bool SolveShiftedQuasiTriangular(const double* t_rows, int n, double gamma, doub
 
 // Newton convergence coefficient for an exact linear solve (InitCvode).
 constexpr double kExactNewtonConvCoef = 1e6;
-// The smooth form restarts at the first change this long after its last
-// restart, which bounds P and Q and so the cancellation in x = eta + B P +
-// A B Q (header, "Stepping").
+// The smooth form restarts at the first change in each window of absolute
+// time this long, which bounds P and Q and so the cancellation in
+// x = eta + B P + A B Q (header, "Stepping").
 constexpr double kRebase_s = 0.1;
 // A stop time CVODE never reaches: no stop.
 constexpr double kNoStop_s = std::numeric_limits<double>::max();
@@ -182,6 +182,10 @@ struct IpmcActuatorBank::Impl {
   bool voltage_changed = false;  // SetVoltages changed a value at time_s
   // The time of the last voltage change since the last restart (NaN: none).
   double last_change_s = std::numeric_limits<double>::quiet_NaN();
+  // The smooth form expects the next change a period after the last; with
+  // no period seen since its restart it stops CVODE at every AdvanceTo, so
+  // that CVODE is at the change, wherever it comes.
+  bool period_known = false;
   double initial_step_cap_s = 0;  // 1 / the fastest eigenvalue of A
   long steps_before_reinit = 0;
   long reinitialisations = 0;
@@ -722,8 +726,12 @@ void IpmcActuatorBank::Impl::OnVoltageChange() {
   Check(CVodeGetCurrentTime(cvode.get(), &t_cvode), "CVodeGetCurrentTime");
   const double period_s = std::isfinite(last_change_s) ? time_s - last_change_s : 0.0;
   last_change_s = time_s;
+  period_known = period_s > 0.0;
   const bool stopped_here = std::abs(t_cvode - time_s) <= Unresolvable_s(t_cvode, time_s);
-  if (smooth && stopped_here && time_s - base_s < kRebase_s) {
+  // Rebase at the first change in each kRebase_s window of absolute time,
+  // the same instants in every bank that sees the same changes.
+  const bool same_window = std::floor(time_s / kRebase_s) == std::floor(base_s / kRebase_s);
+  if (smooth && stopped_here && same_window) {
     // Continue: P and Q stay continuous, the new voltages hold from here.
     for (std::size_t q = 0; q < blocks.size(); ++q) {
       double p = 0, q_value = 0;
@@ -735,7 +743,7 @@ void IpmcActuatorBank::Impl::OnVoltageChange() {
     segment_voltage_V = voltage_V;
   } else {
     // CVODE went past the change (it did not know when it would come), or
-    // the smooth form is kRebase_s old: start it again here, which is
+    // this is the first change of a kRebase_s window: start again here, which is
     // gentler than a plain restart (eta has no kink at a restart).
     RestartAt(true);
   }
@@ -793,14 +801,22 @@ void IpmcActuatorBank::AdvanceTo(double t_s) {
     // first the bank knows of.
     impl.last_change_s =
         impl.voltage_changed ? impl.time_s : std::numeric_limits<double>::quiet_NaN();
-    const bool smooth_form = impl.pending_restart == Impl::PendingRestart::kSmooth;
+    // A state at rest restarts in the plain form whichever restart asked
+    // for it, so that a bank reset (or new) and then saved or restored
+    // steps as a new one does.
+    const bool smooth_form = impl.pending_restart == Impl::PendingRestart::kSmooth &&
+                             (impl.state.array() != 0.0).any();
     impl.RestartAt(smooth_form);
-    if (smooth_form) impl.SetSmoothStop(0.0);
+    impl.period_known = false;
   } else if (impl.voltage_changed) {
     impl.OnVoltageChange();
   }
   impl.pending_restart = Impl::PendingRestart::kNone;
   impl.voltage_changed = false;
+  if (impl.smooth && !impl.period_known) {
+    impl.Check(CVodeSetStopTime(impl.cvode.get(), std::min(t_s, impl.segment_s + kRebase_s)),
+               "CVodeSetStopTime");
+  }
   impl.Integrate(t_s);
 }
 
