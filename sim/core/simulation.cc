@@ -22,6 +22,25 @@ std::string FirstLine(const char* text) {
 
 }  // namespace
 
+bool UseEulerWhereImplicitAddsNothing(mjModel* m) {
+  if (m->opt.integrator != mjINT_IMPLICIT) return false;
+  if (m->opt.density > 0 || m->opt.viscosity > 0) return false;
+  for (int t = 0; t < m->ntendon; ++t) {
+    if (m->tendon_damping[t] != 0) return false;
+  }
+  for (int a = 0; a < m->nu; ++a) {
+    // gain = gainprm[0] + gainprm[1] length + gainprm[2] velocity (affine),
+    // bias = biasprm[0] + biasprm[1] length + biasprm[2] velocity.
+    const bool gain_velocity =
+        m->actuator_gaintype[a] == mjGAIN_AFFINE && m->actuator_gainprm[mjNGAIN * a + 2] != 0;
+    const bool bias_velocity =
+        m->actuator_biastype[a] == mjBIAS_AFFINE && m->actuator_biasprm[mjNBIAS * a + 2] != 0;
+    if (gain_velocity || bias_velocity) return false;
+  }
+  m->opt.integrator = mjINT_EULER;
+  return true;
+}
+
 ModelPtr LoadModelFile(const std::string& path) {
   if (!std::ifstream(path).good()) {
     throw std::runtime_error(path + ": cannot open model file");

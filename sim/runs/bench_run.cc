@@ -55,6 +55,7 @@ double BenchSignal::VoltageAt(double t_s) const {
 BenchRecord RunBench(Simulation& sim, const BenchSignal& signal, double record_from_s) {
   signal.Validate();
   mjModel* m = sim.model();
+  UseEulerWhereImplicitAddsNothing(m);  // no servo: Euler suffices
   mjData* d = sim.data();
   const LinkSensors sensors(m, d, sim.source());
   const IpmcActuators& actuators = *FindCoupling(d)->actuators;
