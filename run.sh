@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs what is missing, builds, and runs the default job: the paper's
 # three-link swimmer under closed-loop distributed actuation
-# (scenarios/paper.toml), then films it and draws its figures into
+# (scenarios/paper.toml), filmed as it runs, then draws its figures into
 # out/default. Extra arguments replace the default job's.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -13,8 +13,7 @@ if [ "$#" -gt 0 ]; then
 fi
 bin="$root/build/sim/ipmc-swim"
 out="$root/out/default"
-"$bin" run "$root/scenarios/paper.toml" --out "$out"
-"$bin" render "$root/scenarios/paper.toml" --out "$out/swim.mp4"
+"$bin" run "$root/scenarios/paper.toml" --out "$out" --video "$out/swim.mp4"
 for kind in tracking waveform surface; do
   "$bin" plot "$kind" "$out/timeseries.csv" --out "$out/$kind.png"
 done

@@ -22,6 +22,7 @@
 #include "ipmc_swim/ipmc_swim.h"
 #include "sim/core/model_generator.h"
 #include "sim/core/simulation.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc {
 namespace {
@@ -42,7 +43,7 @@ void Run(benchmark::State& state, bool clamped, bool actuators) {
   long steps = 0;
   for (auto _ : state) {
     if (actuators && steps % steps_per_sample == 0) {
-      volts.assign(3, 3.0 * std::sin(6.283185307179586 * d->time));
+      volts.assign(3, 3.0 * std::sin(ipmc::kTwoPi * d->time));
       SetVoltages(d.get(), volts.data(), 3);
     }
     mj_step(m.get(), d.get());

@@ -47,13 +47,13 @@
 #include "sim/core/model_generator.h"
 #include "sim/core/scenario.h"
 #include "sim/core/simulation.h"
+#include "sim/io/numbers.h"
 #include "sim/runs/bench_run.h"
 #include "sim/runs/closed_loop_run.h"
 
 namespace ipmc {
 namespace {
 
-constexpr double kTwoPi = 6.283185307179586;
 const std::string kPaperScenario = std::string(IPMC_SWIM_SCENARIOS_DIR) + "/paper.toml";
 const std::string kClampedModel = std::string(IPMC_SWIM_MODELS_DIR) + "/flagellum3_clamped.xml";
 

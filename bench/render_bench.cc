@@ -3,16 +3,25 @@
 // The swimmer moves between frames (hinges swinging under their own
 // stiffness, drag on), so the trail and the camera do real work.
 //
-//   ./build/bench/render_bench
+// And the cost of filming a run: one cycle (100 s, 2e5 steps) of the
+// paper's closed-loop scenario (scenarios/paper.toml) run alone, and run
+// and filmed at 25 frames per wave cycle (simulation, rendering and
+// encoding of the default 640x480 film: fixed camera, grid, ghost,
+// trails); the ratio of the two wall times is the filming overhead.
+//
+//   ./build/bench/render_bench --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "bench/ratio_reporter.h"
 #include "renders/offscreen_renderer.h"
+#include "renders/swim_film.h"
 #include "renders/video.h"
 #include "sim/core/model_generator.h"
+#include "sim/core/scenario.h"
 #include "sim/core/simulation.h"
 
 namespace ipmc {
@@ -64,10 +73,35 @@ void BM_Render640x480WithEncoding(benchmark::State& state) {
   state.counters["frames_per_second"] = benchmark::Counter(frames, benchmark::Counter::kIsRate);
 }
 
+ScenarioConfig PaperCycle() {
+  ScenarioConfig scenario = LoadScenario(std::string(IPMC_SWIM_MODELS_DIR) + "/../scenarios/paper.toml");
+  scenario.cycles = 1;
+  scenario.output_dir.clear();
+  return scenario;
+}
+
+void BM_PaperRun(benchmark::State& state) {
+  const ScenarioConfig scenario = PaperCycle();
+  for (auto _ : state) benchmark::DoNotOptimize(RunScenario(scenario));
+}
+
+void BM_PaperRunFilmed(benchmark::State& state) {
+  const ScenarioConfig scenario = PaperCycle();
+  FilmConfig film;
+  film.frames_per_cycle = 25;
+  const std::string path = "/tmp/ipmc_render_bench_film.mp4";
+  for (auto _ : state) benchmark::DoNotOptimize(RunScenarioAndFilm(scenario, film, path));
+  std::remove(path.c_str());
+}
+
 BENCHMARK(BM_Render640x480)->MinTime(3.0)->UseRealTime();
 BENCHMARK(BM_Render640x480WithEncoding)->MinTime(3.0)->UseRealTime();
+BENCHMARK(BM_PaperRun)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+BENCHMARK(BM_PaperRunFilmed)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
 
 }  // namespace
 }  // namespace ipmc
 
-int main(int argc, char** argv) { return ipmc::RunWithRatios(argc, argv, "BM_Render640x480"); }
+int main(int argc, char** argv) {
+  return ipmc::RunWithRatios(argc, argv, std::vector<std::string>{"BM_Render640x480", "BM_PaperRun"});
+}

@@ -1,14 +1,20 @@
 // Sweep throughput with one and with two worker threads, in one run, on
 // an 8-point sweep of short closed-loop runs (the paper's scenario at 0.03
 // to 0.065 Hz, two cycles): runs per minute and the parallel efficiency
-// (time with 1 job / (2 x time with 2 jobs)).
+// (time with 1 job / (2 x time with 2 jobs)); and the cost of the journal
+// (one record, written and synced to the disk as the sweep command does
+// after every point). bench/slurm_overhead.sh measures a resume and the
+// Slurm route.
 //
 //   ./build/bench/sweep_bench
 #include <benchmark/benchmark.h>
 
+#include <filesystem>
 #include <string>
+#include <vector>
 
 #include "bench/ratio_reporter.h"
+#include "sim/batch/journal.h"
 #include "sim/batch/sweep.h"
 
 namespace ipmc {
@@ -38,8 +44,23 @@ void RunWithJobs(benchmark::State& state, int jobs) {
 void BM_SweepJobs1(benchmark::State& state) { RunWithJobs(state, 1); }
 void BM_SweepJobs2(benchmark::State& state) { RunWithJobs(state, 2); }
 
+// One journal record: a row of the 8-point sweep appended and synced to
+// the disk (fdatasync), as the sweep command does after every point.
+void BM_JournalRecord(benchmark::State& state) {
+  const SweepPlan plan = EightPointSweep();
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() / "ipmc_sweep_bench.journal";
+  std::filesystem::remove(path);
+  SweepJournal journal(path.string(), plan);
+  std::vector<std::string> row = SweepColumns(plan);  // a row of the table's width
+  row[0] = "0";
+  for (auto _ : state) journal.Record(row);
+  std::filesystem::remove(path);
+}
+
 BENCHMARK(BM_SweepJobs1)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
 BENCHMARK(BM_SweepJobs2)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+BENCHMARK(BM_JournalRecord)->Unit(benchmark::kMicrosecond)->UseRealTime();
 
 }  // namespace
 }  // namespace ipmc

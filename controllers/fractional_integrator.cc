@@ -1,4 +1,3 @@
-#include "sim/io/numbers.h"
 #include "controllers/fractional_integrator.h"
 #include "controllers/paper_eq15.h"
 
@@ -11,15 +10,17 @@
 
 #include <unsupported/Eigen/MatrixFunctions>
 
+#include "sim/io/error.h"
+#include "sim/io/numbers.h"
+
 namespace ipmc {
 namespace {
 
-constexpr int kMaxOustaloupN = 64;
-
 [[noreturn]] void ThrowField(const char* field, const std::string& rule,
                              const std::string& got) {
-  throw std::invalid_argument(std::string("FractionalIntegrator.Config.") +
-                              field + " must be " + rule + ", got " + got);
+  throw FieldError(std::string("FractionalIntegrator.Config.") + field +
+                       " must be " + rule + ", got " + got,
+                   field, rule);
 }
 
 }  // namespace
@@ -77,8 +78,8 @@ void FractionalIntegrator::Config::Validate() const {
   if (!std::isfinite(order) || !(order > 0) || order > 1) {
     ThrowField("order", "in (0, 1]", FormatDouble(order));
   }
-  if (oustaloup_n < 1 || oustaloup_n > kMaxOustaloupN) {
-    ThrowField("oustaloup_n", "in [1, " + std::to_string(kMaxOustaloupN) + "]",
+  if (oustaloup_n < 1 || oustaloup_n > kMaxOustaloupPairs) {
+    ThrowField("oustaloup_n", "in [1, " + std::to_string(kMaxOustaloupPairs) + "]",
                std::to_string(oustaloup_n));
   }
   if (!std::isfinite(w_low_rad_s) || !(w_low_rad_s > 0)) {

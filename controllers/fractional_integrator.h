@@ -39,6 +39,9 @@
 
 namespace ipmc {
 
+// The most Oustaloup pole-zero pairs a realisation may have.
+constexpr int kMaxOustaloupPairs = 64;
+
 // How the fractional integrator's s^-lambda is realised (see above).
 enum class FractionalRealisation { kOustaloup, kEq15 };
 
@@ -69,7 +72,7 @@ class FractionalIntegrator {
   struct Config {
     double gain = 15.62;        // K [V/(mm s^lambda)], finite and >= 0
     double order = 0.62;        // lambda, in (0, 1]
-    int oustaloup_n = 4;        // N, in [1, 64]
+    int oustaloup_n = 4;        // N, in [1, kMaxOustaloupPairs]
     double w_low_rad_s = 1e-3;  // w_b, finite and > 0
     double w_high_rad_s = 1e2;  // w_h, finite and > w_b
     OustaloupVariant variant = OustaloupVariant::kNPairs;
@@ -78,8 +81,9 @@ class FractionalIntegrator {
     bool clamp_enabled = true;
     double v_max = 6.0;  // output limit [V], > 0 (checked if clamp_enabled)
 
-    // Throws std::invalid_argument with a one-line message naming the
-    // field and its allowed range.
+    // Throws FieldError (sim/io/error.h, a std::invalid_argument) with a
+    // one-line message naming the field and its allowed range (both also
+    // carried as its field() and allowed()).
     void Validate() const;
   };
 

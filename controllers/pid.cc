@@ -1,4 +1,3 @@
-#include "sim/io/numbers.h"
 #include "controllers/pid.h"
 
 #include <algorithm>
@@ -8,22 +7,25 @@
 #include <stdexcept>
 #include <string>
 
+#include "sim/io/error.h"
+#include "sim/io/numbers.h"
+
 namespace ipmc {
 namespace {
 
 void RequireNonNegative(const char* field, double value) {
   if (!std::isfinite(value) || value < 0) {
-    throw std::invalid_argument(std::string("PidController.Config.") + field +
-                                " must be finite and >= 0, got " +
-                                FormatDouble(value));
+    throw FieldError(std::string("PidController.Config.") + field +
+                         " must be finite and >= 0, got " + FormatDouble(value),
+                     field, "finite and >= 0");
   }
 }
 
 void RequirePositive(const char* field, double value) {
   if (!std::isfinite(value) || !(value > 0)) {
-    throw std::invalid_argument(std::string("PidController.Config.") + field +
-                                " must be finite and > 0, got " +
-                                FormatDouble(value));
+    throw FieldError(std::string("PidController.Config.") + field +
+                         " must be finite and > 0, got " + FormatDouble(value),
+                     field, "finite and > 0");
   }
 }
 

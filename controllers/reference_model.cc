@@ -13,7 +13,6 @@
 namespace ipmc {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kSeriesMaxTau = 40.0;
 constexpr int kSeriesMaxTerms = 100000;
 // Integration range in v = ln w: the kernel decays as e^-|v|.

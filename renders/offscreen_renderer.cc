@@ -7,51 +7,105 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 
 #include "sim/core/simulation.h"
+#include "sim/io/numbers.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc {
 namespace {
 
-constexpr double kPi = 3.141592653589793;
+constexpr double kDegToRad = kPi / 180.0;
 // Room in the scene for what mjv_updateScene adds besides the model's geoms
 // and sites (decor: frames, labels, lights' markers).
 constexpr int kSceneMargin = 100;
-// Headlight (MuJoCo's default is ambient 0.1, diffuse 0.4, specular 0.5):
-// enough ambient light that the strip's thin edge stays visible however it
-// faces, little specular so the blue keeps its colour.
+// Lights. Headlight (MuJoCo's default is ambient 0.1, diffuse 0.4,
+// specular 0.5) and the model's lights, whose diffuse part is scaled to
+// kModelLightDiffuse and specular part to kModelLightSpecular; the body's
+// geoms also glow with kBodyEmission. An upward face then gets 1.15 times
+// its colour from a light straight above (0.5 + 0.3 + 0.1 + 0.25), so the
+// blue strip keeps its colour, and a vertical face 0.8 times (emission and
+// ambient): the strip's sides read as a darker blue, not black.
 constexpr float kHeadlightAmbient = 0.3f;
-constexpr float kHeadlightDiffuse = 0.5f;
-constexpr float kHeadlightSpecular = 0.1f;
-// Trail capsules: radius relative to the body length (0.1 mm for 32 mm) and
-// colours per tip (tip1, tip2, tip3, then repeated).
-constexpr double kTrailRadiusPerLength = 0.003;
-constexpr float kTrailColors[][3] = {
-    {1.00f, 0.75f, 0.20f}, {0.30f, 0.90f, 0.40f}, {1.00f, 0.35f, 0.35f}, {0.80f, 0.50f, 1.00f}};
-constexpr float kTrailOldestBrightness = 0.15f;
+constexpr float kHeadlightDiffuse = 0.1f;
+constexpr float kHeadlightSpecular = 0.0f;
+constexpr float kModelLightDiffuse = 0.25f;
+constexpr float kModelLightSpecular = 0.1f;
+constexpr float kBodyEmission = 0.5f;
 // Tessellation of MuJoCo's built-in spheres and capsules (default 28 x 16):
-// the sites and trail capsules are a few pixels across, and the hundreds of
-// trail capsules are most of the drawing work (render rate at 640 x 480 with
-// 300 capsules: 21 frames/s at the default, 94 at 8 x 4).
+// the ghost's capsules are a few pixels across (render rate at 640 x 480
+// with 300 capsules: 21 frames/s at the default, 94 at 8 x 4).
 constexpr int kSlices = 8;
 constexpr int kStacks = 4;
 // Vertical field of view (MuJoCo's default is 45 deg): a narrow one puts the
-// camera far away (0.23 m for 60 % fill at 4:3), so the view is nearly
-// orthographic and the strip's 3 mm tall sides barely show off-centre.
-constexpr float kFovy_deg = 10.0f;
+// camera far away (0.77 m for a 53 mm wide view at 4:3), so the view is
+// nearly orthographic: from above, the strip's 3 mm tall sides show as
+// less than a third of a pixel.
+constexpr float kFovy_deg = 3.0f;
+// Multisampling of the offscreen buffer (MuJoCo's default is 4): without
+// it a frame costs about half the CPU time (llvmpipe shades every sample;
+// 29 against 52 ms per 640x480 frame, encoding included), and the H.264
+// encoding softens the strip's stepped edges anyway; lines are drawn
+// smooth by GL either way.
+constexpr int kMultisamples = 0;
+// Half-height along the view of boxes seen from straight above.
+constexpr float kFlatBoxHalfHeight_m = 1e-5f;
+constexpr double kMinElevation_deg = -90.0, kMaxElevation_deg = -5.0;
+// Default drawn strip thickness, relative to the body's rest length.
+constexpr double kStripThicknessPerLength = 0.02;
+constexpr double kMaxStripThickness_m = 0.01;
+// The head (clamp) is drawn this many times as thick as the strip.
+constexpr double kClampThicknessRatio = 2.5;
+
+// Colours (rgb in [0, 1]) as they should appear on screen. Decor geoms
+// glow (emission kDecorEmission) besides being lit like the body, so that
+// rounded ones (ghost, trails) look nearly flat; FlatRgba divides by the
+// emission plus the light that falls on an upward face so an upward face
+// appears as given.
+constexpr float kDecorEmission = 4.0f;
+constexpr float kBackground[3] = {0.965f, 0.965f, 0.950f};
+constexpr float kGridMinor[3] = {0.855f, 0.860f, 0.870f};
+constexpr float kGridMajor[3] = {0.700f, 0.715f, 0.735f};
+constexpr float kGhost[3] = {0.780f, 0.815f, 0.900f};
+constexpr float kClamp[3] = {0.20f, 0.20f, 0.24f};
+constexpr float kScaleBar[3] = {0.15f, 0.15f, 0.15f};
+// Trail colours per tip (tip1, tip2, tip3, then repeated); the oldest part
+// of a trail is this far from the background towards its colour.
+constexpr float kTrailColors[][3] = {
+    {0.95f, 0.60f, 0.05f}, {0.15f, 0.65f, 0.25f}, {0.85f, 0.15f, 0.15f}, {0.55f, 0.25f, 0.75f}};
+constexpr float kTrailOldestStrength = 0.15f;
+// Trails: half their width relative to the body length (0.1 mm for 32 mm).
+constexpr double kTrailRadiusPerLength = 0.003;
+// Grid: 1 mm spacing unless that is closer than kMinGridSpacing_px or
+// wider than kMaxGridSpacing_px; line widths [px].
+constexpr double kPreferredGridSpacing_m = 1e-3;
+constexpr double kMinGridSpacing_px = 8.0;
+constexpr double kMaxGridSpacing_px = 80.0;
+constexpr double kMinorLine_px = 1.0;
+constexpr double kMajorLine_px = 2.0;
+constexpr int kMaxGridLines = 400;
+constexpr int kMaxGhostPoints = 400;
+// Scale bar: thickness and margins from the image corner [px].
+constexpr int kScaleBarThickness_px = 4;
+constexpr int kScaleBarMargin_px = 16;
 
 std::string Size(int width, int height) {
   return std::to_string(width) + "x" + std::to_string(height);
 }
 
-// The span of the model's non-world geoms at qpos0 (largest side of their
-// bounding box in the x-y plane); d holds the kinematics at qpos0.
-double RestLength(const mjModel* m, const mjData* d) {
+struct Box3 {
   double lo[3] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
                   std::numeric_limits<double>::infinity()};
-  double hi[3] = {-lo[0], -lo[1], -lo[2]};
+  double hi[3] = {-std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+                  -std::numeric_limits<double>::infinity()};
   bool any = false;
+};
+
+// The bounding box of the model's non-world geoms; d holds the kinematics.
+Box3 GeomBox(const mjModel* m, const mjData* d) {
+  Box3 box;
   for (int g = 0; g < m->ngeom; ++g) {
     if (m->geom_bodyid[g] == 0) continue;
     const mjtNum* pos = d->geom_xpos + 3 * g;
@@ -63,16 +117,85 @@ double RestLength(const mjModel* m, const mjData* d) {
       } else {
         half = m->geom_rbound[g];
       }
-      lo[i] = std::min(lo[i], pos[i] - half);
-      hi[i] = std::max(hi[i], pos[i] + half);
+      box.lo[i] = std::min(box.lo[i], pos[i] - half);
+      box.hi[i] = std::max(box.hi[i], pos[i] + half);
     }
-    any = true;
+    box.any = true;
   }
-  if (!any) return m->stat.extent;
-  return std::max(hi[0] - lo[0], hi[1] - lo[1]);
+  return box;
+}
+
+// Light falling on an upward face: the headlight's ambient and diffuse
+// plus, for each directional model light, its ambient and its diffuse
+// times the cosine to +z.
+float UpwardLight(const mjModel* m) {
+  float light = m->vis.headlight.ambient[0] + m->vis.headlight.diffuse[0];
+  for (int l = 0; l < m->nlight; ++l) {
+    if (!m->light_active[l]) continue;
+    const double cosine = std::max(0.0, -m->light_dir[3 * l + 2]);
+    light += m->light_ambient[3 * l] + m->light_diffuse[3 * l] * static_cast<float>(cosine);
+  }
+  return std::max(light, 0.05f);
+}
+
+// The point on the ray from eye through (x, y, 0) at height z: drawn there,
+// it covers the pixel of (x, y, 0).
+void OnRayAtHeight(const double eye[3], double x, double y, double z, mjtNum out[3]) {
+  const double s = (eye[2] - z) / eye[2];
+  out[0] = eye[0] + (x - eye[0]) * s;
+  out[1] = eye[1] + (y - eye[1]) * s;
+  out[2] = z;
+}
+
+// The series 1, 2, 5 x 10^k [m]: the value at or above `at_least_m`.
+double NextInSeries(double at_least_m) {
+  const double decade = std::pow(10.0, std::floor(std::log10(at_least_m)));
+  for (double factor : {1.0, 2.0, 5.0}) {
+    if (factor * decade >= at_least_m * (1.0 - 1e-12)) return factor * decade;
+  }
+  return 10.0 * decade;
+}
+
+// The grid's minor spacing [m] for px_per_m: 1 mm while that is 8 to 80 px,
+// else the coarsest of 1, 2, 5 x 10^k above 8 px (or the finest below
+// 80 px); *major_every: 5, or 2 for 5 x 10^k.
+double GridSpacing(double px_per_m, int* major_every) {
+  double spacing = kPreferredGridSpacing_m;
+  if (spacing * px_per_m < kMinGridSpacing_px) {
+    spacing = NextInSeries(kMinGridSpacing_px / px_per_m);
+  } else if (spacing * px_per_m > kMaxGridSpacing_px) {
+    spacing = NextInSeries(kMaxGridSpacing_px / px_per_m);
+    if (spacing * px_per_m > kMaxGridSpacing_px) spacing = NextInSeries(0.45 * spacing);
+  }
+  const double leading = spacing / std::pow(10.0, std::floor(std::log10(spacing) + 1e-9));
+  *major_every = std::abs(leading - 5.0) < 1e-6 ? 2 : 5;
+  return spacing;
+}
+
+std::string FormatLength(double metres) {
+  char text[32];
+  const double mm = metres * 1e3;
+  std::snprintf(text, sizeof(text), mm >= 1.0 ? "%g mm" : "%g um", mm >= 1.0 ? mm : mm * 1e3);
+  return text;
 }
 
 }  // namespace
+
+// Heights of the decor layers, below the body's lowest face: trails, then
+// the ghost (whose top is at the trails' centre), the grid inside the
+// ghost's capsules, and the background just under the grid.
+struct OffscreenRenderer::Layers {
+  double trail_radius, trail_z, ghost_radius, ghost_z, grid_z, grid_half_thickness, background_z;
+  Layers(double body_half_height, double strip_thickness, double body_length) {
+    trail_radius = kTrailRadiusPerLength * body_length;
+    ghost_radius = 0.5 * strip_thickness;
+    trail_z = -body_half_height - 2.0 * trail_radius;
+    ghost_z = trail_z - ghost_radius;
+    grid_z = ghost_z;
+    grid_half_thickness = 0.02 * ghost_radius;
+    background_z = grid_z - 0.2 * ghost_radius;
+  }
+};
 
 // Each resource is its own member, so a constructor that throws halfway
 // releases what it made; members are destroyed in reverse order of
@@ -129,6 +252,7 @@ struct OffscreenRenderer::Context {
   mjvCamera camera;
   mjvOption option;
   mjvPerturb perturb;
+  float upward_light = 1.0f;
   std::vector<unsigned char> pixels;  // bottom row first, as OpenGL reads them
 
   Context(ModelPtr m, int maxgeom, int width, int height, int fontscale)
@@ -142,26 +266,82 @@ struct OffscreenRenderer::Context {
     mjv_defaultCamera(&camera);
     mjv_defaultOption(&option);
     mjv_defaultPerturb(&perturb);
+    std::fill_n(option.sitegroup, mjNGROUP, 0);
+    upward_light = UpwardLight(model.get());
+  }
+
+  // rgba of a decor geom (emission kDecorEmission) that appears as `rgb`
+  // on an upward face.
+  void FlatRgba(const float rgb[3], float out[4]) const {
+    for (int i = 0; i < 3; ++i) out[i] = rgb[i] / (kDecorEmission + upward_light);
+    out[3] = 1.0f;
+  }
+  // Appends a decor geom of the given type and flat colour to the scene
+  // (nullptr if the scene is full); size, pos, mat as in mjv_initGeom.
+  mjvGeom* AddDecorGeom(int type, const float rgb[3], const mjtNum* size = nullptr,
+                        const mjtNum* pos = nullptr) {
+    mjvScene& scn = scene.scn;
+    if (scn.ngeom >= scn.maxgeom) return nullptr;
+    float rgba[4];
+    FlatRgba(rgb, rgba);
+    mjvGeom* geom = scn.geoms + scn.ngeom++;
+    mjv_initGeom(geom, type, size, pos, nullptr, rgba);
+    geom->category = mjCAT_DECOR;
+    geom->emission = kDecorEmission;
+    geom->specular = 0.0f;
+    return geom;
+  }
+  // Appends a line from a to b, width_px pixels wide (at least 1), drawn
+  // flat in colour rgb; false if the scene is full.
+  bool AddDecorLine(const float rgb[3], const mjtNum a[3], const mjtNum b[3], double width_px) {
+    mjvScene& scn = scene.scn;
+    if (scn.ngeom >= scn.maxgeom) return false;
+    const float rgba[4] = {rgb[0], rgb[1], rgb[2], 1.0f};  // lines are drawn unlit
+    mjvGeom* geom = scn.geoms + scn.ngeom++;
+    mjv_initGeom(geom, mjGEOM_LINE, nullptr, nullptr, nullptr, rgba);
+    geom->category = mjCAT_DECOR;
+    mjv_makeConnector(geom, mjGEOM_LINE, std::max(1.0, width_px), a[0], a[1], a[2], b[0], b[1], b[2]);
+    return true;
   }
 };
+
+void OffscreenRenderer::ValidateCamera(const CameraSetup& cam) {
+  const auto fail = [](const std::string& field, const std::string& range, double value) {
+    std::ostringstream msg;
+    msg << "renderer: camera " << field << " must be " << range << " (got " << value << ")";
+    throw std::invalid_argument(msg.str());
+  };
+  if (!(cam.body_fill > 0.0 && cam.body_fill <= 10.0)) fail("body_fill", "in (0, 10]", cam.body_fill);
+  if (!(cam.view_width_m >= 0.0 && cam.view_width_m <= 10.0)) {
+    fail("view_width_m", "in [0, 10] (0: from body_fill)", cam.view_width_m);
+  }
+  if (!(cam.elevation_deg >= kMinElevation_deg && cam.elevation_deg <= kMaxElevation_deg)) {
+    fail("elevation_deg", "in [-90, -5]", cam.elevation_deg);
+  }
+  if (!(std::abs(cam.azimuth_deg) <= 360.0)) fail("azimuth_deg", "in [-360, 360]", cam.azimuth_deg);
+  for (double v : cam.lookat_m) {
+    if (!std::isfinite(v)) fail("lookat_m", "finite", v);
+  }
+  for (double v : cam.follow_offset_m) {
+    if (!std::isfinite(v)) fail("follow_offset_m", "finite", v);
+  }
+}
 
 OffscreenRenderer::OffscreenRenderer(const mjModel* m, int width, int height,
                                      RendererOptions options)
     : width_(width), height_(height), trail_length_(options.trail_length) {
   if (!m) throw std::invalid_argument("renderer: no model");
-  if (width <= 0 || height <= 0) {
-    throw std::invalid_argument("renderer: image size must be positive (got " +
-                                Size(width, height) + ")");
-  }
-  if (width > m->vis.global.offwidth || height > m->vis.global.offheight) {
-    throw std::invalid_argument(
-        "renderer: image " + Size(width, height) + " exceeds the model's offscreen buffer " +
-        Size(m->vis.global.offwidth, m->vis.global.offheight) +
-        " (<visual><global offwidth offheight> in the MJCF)");
-  }
+  CheckImageSize(m, width, height);
   if (trail_length_ < 0) {
     throw std::invalid_argument("renderer: trail_length must be >= 0 (got " +
                                 std::to_string(trail_length_) + ")");
+  }
+  if (options.strip_thickness_m &&
+      !(*options.strip_thickness_m >= 0.0 && *options.strip_thickness_m <= kMaxStripThickness_m)) {
+    std::ostringstream msg;
+    msg << "renderer: strip_thickness_m must be in [0, 0.01] (got " << *options.strip_thickness_m
+        << ")";
+    throw std::invalid_argument(msg.str());
   }
   if (m->nbody < 2) throw std::invalid_argument("renderer: the model has no body to follow");
 
@@ -171,7 +351,16 @@ OffscreenRenderer::OffscreenRenderer(const mjModel* m, int width, int height,
   std::fill_n(copy->vis.headlight.ambient, 3, kHeadlightAmbient);
   std::fill_n(copy->vis.headlight.diffuse, 3, kHeadlightDiffuse);
   std::fill_n(copy->vis.headlight.specular, 3, kHeadlightSpecular);
+  for (int l = 0; l < copy->nlight; ++l) {
+    float* diffuse = copy->light_diffuse + 3 * l;
+    const float brightest = std::max({diffuse[0], diffuse[1], diffuse[2]});
+    if (brightest > 0.0f) {
+      for (int i = 0; i < 3; ++i) diffuse[i] *= kModelLightDiffuse / brightest;
+    }
+    std::fill_n(copy->light_specular + 3 * l, 3, kModelLightSpecular);
+  }
   copy->vis.global.fovy = kFovy_deg;
+  copy->vis.quality.offsamples = kMultisamples;
   copy->vis.quality.numslices = kSlices;
   copy->vis.quality.numstacks = kStacks;
 
@@ -182,14 +371,23 @@ OffscreenRenderer::OffscreenRenderer(const mjModel* m, int width, int height,
   }
   trails_.assign(tip_sites_.size(), std::vector<float>(3 * static_cast<size_t>(trail_length_)));
   const int trail_geoms = static_cast<int>(tip_sites_.size()) * std::max(0, trail_length_ - 1);
-  const int maxgeom = copy->ngeom + copy->nsite + trail_geoms + kSceneMargin;
+  const int maxgeom = copy->ngeom + copy->nsite + trail_geoms + kMaxGridLines + kMaxGhostPoints +
+                      1 + kSceneMargin;
   const int fontscale = height >= 720 ? mjFONTSCALE_150 : mjFONTSCALE_100;
   context_ = std::make_unique<Context>(std::move(copy), maxgeom, width, height, fontscale);
 
-  const mjModel* model = context_->model.get();
+  mjModel* model = context_->model.get();
   mjData* scratch = context_->scratch.get();
   mj_kinematics(model, scratch);
-  body_length_m_ = RestLength(model, scratch);
+  const Box3 rest = GeomBox(model, scratch);
+  if (rest.any) {
+    body_length_m_ = std::max(rest.hi[0] - rest.lo[0], rest.hi[1] - rest.lo[1]);
+    body_half_height_m_ = 0.5 * (rest.hi[2] - rest.lo[2]);
+  } else {
+    body_length_m_ = model->stat.extent;
+    body_half_height_m_ = 0.0;
+  }
+  ThickenStrip(model, options.strip_thickness_m.value_or(kStripThicknessPerLength * body_length_m_));
 
   const mjrContext& con = context_->render.con;
   mjr_setBuffer(mjFB_OFFSCREEN, &context_->render.con);
@@ -206,6 +404,68 @@ OffscreenRenderer::OffscreenRenderer(const mjModel* m, int width, int height,
 
 OffscreenRenderer::~OffscreenRenderer() = default;
 
+void OffscreenRenderer::CheckImageSize(const mjModel* m, int width, int height) {
+  if (width <= 0 || height <= 0) {
+    throw std::invalid_argument("renderer: image size must be positive (got " +
+                                Size(width, height) + ")");
+  }
+  if (width > m->vis.global.offwidth || height > m->vis.global.offheight) {
+    throw std::invalid_argument(
+        "renderer: image " + Size(width, height) + " exceeds the model's offscreen buffer " +
+        Size(m->vis.global.offwidth, m->vis.global.offheight) +
+        " (<visual><global offwidth offheight> in the MJCF)");
+  }
+}
+
+std::array<double, 4> OffscreenRenderer::DrawnBounds(const mjData* d) {
+  const mjModel* m = context_->model.get();
+  mjData* s = context_->scratch.get();
+  mju_copy(s->qpos, d->qpos, m->nq);
+  mj_kinematics(m, s);
+  const Box3 box = GeomBox(m, s);
+  if (!box.any) return {0, 0, 0, 0};
+  return {box.lo[0], box.hi[0], box.lo[1], box.hi[1]};
+}
+
+int OffscreenRenderer::overlay_line_height_px() const { return context_->render.con.charHeight; }
+
+// Boxes: the local axis lying in the x-y plane at rest with the smallest
+// half-size is widened to half the thickness; capsules and cylinders get
+// at least that radius. The root body's geoms are the clamp: dark and
+// kClampThicknessRatio times as thick.
+void OffscreenRenderer::ThickenStrip(mjModel* copy, double thickness_m) {
+  const mjData* rest = context_->scratch.get();
+  double drawn = 0.0;
+  for (int g = 0; g < copy->ngeom; ++g) {
+    const int body = copy->geom_bodyid[g];
+    if (body == 0) continue;
+    const bool clamp = body == root_body_;
+    const double half = 0.5 * thickness_m * (clamp ? kClampThicknessRatio : 1.0);
+    mjtNum* size = copy->geom_size + 3 * g;
+    if (copy->geom_type[g] == mjGEOM_BOX) {
+      const mjtNum* mat = rest->geom_xmat + 9 * g;
+      int thin = -1;
+      for (int k = 0; k < 3; ++k) {
+        if (std::abs(mat[6 + k]) > 0.5) continue;  // local axis k points out of the plane
+        if (thin < 0 || size[k] < size[thin]) thin = k;
+      }
+      if (thin >= 0) {
+        size[thin] = std::max<mjtNum>(size[thin], half);
+        if (!clamp) drawn = std::max(drawn, 2.0 * size[thin]);
+      }
+    } else if (copy->geom_type[g] == mjGEOM_CAPSULE || copy->geom_type[g] == mjGEOM_CYLINDER) {
+      size[0] = std::max<mjtNum>(size[0], half);
+      if (!clamp) drawn = std::max(drawn, 2.0 * size[0]);
+    }
+    if (clamp) {
+      copy->geom_matid[g] = -1;
+      std::copy(kClamp, kClamp + 3, copy->geom_rgba + 4 * g);
+      copy->geom_rgba[4 * g + 3] = 1.0f;
+    }
+  }
+  strip_thickness_m_ = drawn > 0.0 ? drawn : thickness_m;
+}
+
 const mjvScene& OffscreenRenderer::scene() const { return context_->scene.scn; }
 
 void OffscreenRenderer::Reset() {
@@ -214,17 +474,21 @@ void OffscreenRenderer::Reset() {
   first_com_m_.reset();
 }
 
+double OffscreenRenderer::PixelsPerMetre(const CameraSetup& camera) const {
+  const double view_width_m =
+      camera.view_width_m > 0.0 ? camera.view_width_m : body_length_m_ / camera.body_fill;
+  return width_ / view_width_m;
+}
+
 std::vector<unsigned char> OffscreenRenderer::Frame(const mjData* d, const FrameSetup& setup) {
   Context& c = *context_;
-  const mjModel* m = c.model.get();
+  mjModel* m = c.model.get();
   mjData* s = c.scratch.get();
   if (!d || d->nbuffer != s->nbuffer || d->nstack != s->nstack) {
     throw std::invalid_argument("renderer: mjData does not belong to the rendered model");
   }
   const CameraSetup& cam = setup.camera;
-  if (!(cam.body_fill > 0.0 && cam.body_fill <= 10.0)) {
-    throw std::invalid_argument("renderer: camera body_fill must be in (0, 10]");
-  }
+  ValidateCamera(cam);
 
   s->time = d->time;
   mju_copy(s->qpos, d->qpos, m->nq);
@@ -247,18 +511,41 @@ std::vector<unsigned char> OffscreenRenderer::Frame(const mjData* d, const Frame
     trail_count_ = std::min(trail_count_ + 1, trail_length_);
   }
 
+  // Free camera: forward = (cos el cos az, cos el sin az, sin el), the eye
+  // `distance` behind the look-at point.
   const double aspect = static_cast<double>(width_) / height_;
-  const double half_fovy = 0.5 * m->vis.global.fovy * kPi / 180.0;
+  const double half_fovy = 0.5 * m->vis.global.fovy * kDegToRad;
+  const double distance = width_ / PixelsPerMetre(cam) / (2.0 * std::tan(half_fovy) * aspect);
   c.camera.type = mjCAMERA_FREE;
   c.camera.azimuth = cam.azimuth_deg;
   c.camera.elevation = cam.elevation_deg;
-  c.camera.distance = body_length_m_ / (2.0 * cam.body_fill * std::tan(half_fovy) * aspect);
+  c.camera.distance = distance;
   for (int i = 0; i < 3; ++i) {
     c.camera.lookat[i] = cam.follow ? s->subtree_com[3 * root_body_ + i] : cam.lookat_m[i];
+    if (cam.follow && i < 2) c.camera.lookat[i] += cam.follow_offset_m[i];
   }
+  // Clipping planes around the body: the depth buffer resolves the decor
+  // layers (a few tenths of a millimetre apart) at any distance.
+  m->vis.map.znear = static_cast<float>(0.25 * distance / m->stat.extent);
+  m->vis.map.zfar = static_cast<float>(50.0 * distance / m->stat.extent);
 
   mjv_updateScene(m, s, &c.option, &c.perturb, &c.camera, mjCAT_ALL, &c.scene.scn);
-  AddTrailGeoms();
+  const bool top_down = cam.elevation_deg <= kMinElevation_deg + 1e-9;
+  for (int g = 0; g < c.scene.scn.ngeom; ++g) {
+    mjvGeom& geom = c.scene.scn.geoms[g];
+    if (geom.objtype != mjOBJ_GEOM) continue;
+    geom.emission = std::max(geom.emission, kBodyEmission);
+    // From straight above, a box's extent along the view (the strip's
+    // 3 mm width) cannot be seen, but the perspective would show its sides
+    // off the image centre (up to a few pixels, varying as the links
+    // turn): flattened, each box shows exactly its footprint.
+    if (top_down && geom.type == mjGEOM_BOX) {
+      for (int k = 0; k < 3; ++k) {
+        if (std::abs(geom.mat[6 + k]) > 0.99f) geom.size[k] = std::min(geom.size[k], kFlatBoxHalfHeight_m);
+      }
+    }
+  }
+  AddDecor(setup);
 
   c.osmesa.MakeCurrent();
   mjr_setBuffer(mjFB_OFFSCREEN, &c.render.con);
@@ -267,6 +554,7 @@ std::vector<unsigned char> OffscreenRenderer::Frame(const mjData* d, const Frame
   }
   const mjrRect viewport = {0, 0, width_, height_};
   mjr_render(viewport, &c.scene.scn, &c.render.con);
+  DrawScaleBar(setup);
   DrawOverlay(setup);
   mjr_readPixels(c.pixels.data(), nullptr, viewport, &c.render.con);
 
@@ -278,31 +566,133 @@ std::vector<unsigned char> OffscreenRenderer::Frame(const mjData* d, const Frame
   return rgb;
 }
 
-void OffscreenRenderer::AddTrailGeoms() {
+void OffscreenRenderer::AddDecor(const FrameSetup& setup) {
+  const mjvCamera& camera = context_->camera;
+  const double el = camera.elevation * kDegToRad, az = camera.azimuth * kDegToRad;
+  const double forward[3] = {std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
+  double eye[3];
+  for (int i = 0; i < 3; ++i) eye[i] = camera.lookat[i] - camera.distance * forward[i];
+  if (setup.grid) {
+    AddBackgroundAndGrid(eye, PixelsPerMetre(setup.camera));
+  } else {
+    AddBackgroundAndGrid(eye, 0.0);
+  }
+  AddGhost(setup, eye);
+  AddTrailGeoms(eye, PixelsPerMetre(setup.camera));
+}
+
+// The background box, and with px_per_m > 0 the grid lines over the view
+// (for oblique views, over a wider patch of the plane).
+void OffscreenRenderer::AddBackgroundAndGrid(const double eye[3], double px_per_m) {
+  Context& c = *context_;
+  const Layers layers(body_half_height_m_, strip_thickness_m_, body_length_m_);
+  const double* lookat = c.camera.lookat;
+  const double width_m = 2.0 * c.camera.distance * std::tan(0.5 * kFovy_deg * kDegToRad) *
+                         static_cast<double>(width_) / height_;
+  {
+    const mjtNum size[3] = {50.0 * width_m, 50.0 * width_m, 0.1 * layers.ghost_radius};
+    const mjtNum pos[3] = {lookat[0], lookat[1], layers.background_z - size[2]};
+    c.AddDecorGeom(mjGEOM_BOX, kBackground, size, pos);
+  }
+  if (px_per_m <= 0.0) return;
+
+  int major_every = 5;
+  const double sine = std::max(0.3, std::abs(std::sin(c.camera.elevation * kDegToRad)));
+  double half_extent = 0.75 * width_m / sine;
+  double spacing = GridSpacing(px_per_m, &major_every);
+  while (4.0 * half_extent / spacing + 4.0 > kMaxGridLines) {
+    spacing = NextInSeries(1.01 * spacing);  // the next coarser spacing
+    major_every = spacing / std::pow(10.0, std::floor(std::log10(spacing) + 1e-9)) > 4.0 ? 2 : 5;
+  }
+  const long first_x = static_cast<long>(std::floor((lookat[0] - half_extent) / spacing));
+  const long last_x = static_cast<long>(std::ceil((lookat[0] + half_extent) / spacing));
+  const long first_y = static_cast<long>(std::floor((lookat[1] - half_extent) / spacing));
+  const long last_y = static_cast<long>(std::ceil((lookat[1] + half_extent) / spacing));
+  const double z = layers.grid_z;
+  for (int along = 0; along < 2; ++along) {  // 0: lines of constant x, 1: of constant y
+    const long first = along == 0 ? first_x : first_y;
+    const long last = along == 0 ? last_x : last_y;
+    for (long k = first; k <= last; ++k) {
+      const bool major = k % major_every == 0;
+      const double width_px = major ? kMajorLine_px : kMinorLine_px;
+      const double at = k * spacing;
+      mjtNum a[3], b[3];
+      if (along == 0) {
+        OnRayAtHeight(eye, at, lookat[1] - half_extent, z, a);
+        OnRayAtHeight(eye, at, lookat[1] + half_extent, z, b);
+      } else {
+        OnRayAtHeight(eye, lookat[0] - half_extent, at, z, a);
+        OnRayAtHeight(eye, lookat[0] + half_extent, at, z, b);
+      }
+      if (!c.AddDecorLine(major ? kGridMajor : kGridMinor, a, b, width_px)) return;
+    }
+  }
+}
+
+void OffscreenRenderer::AddGhost(const FrameSetup& setup, const double eye[3]) {
+  Context& c = *context_;
+  const Layers layers(body_half_height_m_, strip_thickness_m_, body_length_m_);
+  const size_t points = std::min<size_t>(setup.ghost_m.size(), kMaxGhostPoints);
+  for (size_t k = 0; k + 1 < points; ++k) {
+    mjtNum a[3], b[3];
+    OnRayAtHeight(eye, setup.ghost_m[k][0], setup.ghost_m[k][1], layers.ghost_z, a);
+    OnRayAtHeight(eye, setup.ghost_m[k + 1][0], setup.ghost_m[k + 1][1], layers.ghost_z, b);
+    // Capsules, not lines: GL lines this wide are not drawn at full width.
+    mjvGeom* geom = c.AddDecorGeom(mjGEOM_CAPSULE, kGhost);
+    if (!geom) return;
+    mjv_makeConnector(geom, mjGEOM_CAPSULE, layers.ghost_radius, a[0], a[1], a[2], b[0], b[1], b[2]);
+  }
+}
+
+void OffscreenRenderer::AddTrailGeoms(const double eye[3], double px_per_m) {
   if (trail_count_ < 2) return;
-  mjvScene& scn = context_->scene.scn;
-  const double radius = kTrailRadiusPerLength * body_length_m_;
+  Context& c = *context_;
+  const Layers layers(body_half_height_m_, strip_thickness_m_, body_length_m_);
   for (size_t k = 0; k < trails_.size(); ++k) {
     const float* color = kTrailColors[k % (sizeof(kTrailColors) / sizeof(kTrailColors[0]))];
     const std::vector<float>& ring = trails_[k];
     // Oldest to newest: segment j joins positions j and j + 1.
     const int oldest = (trail_next_ - trail_count_ + trail_length_) % trail_length_;
     for (int j = 0; j + 1 < trail_count_; ++j) {
-      if (scn.ngeom >= scn.maxgeom) return;
-      const float* a = &ring[3 * ((oldest + j) % trail_length_)];
-      const float* b = &ring[3 * ((oldest + j + 1) % trail_length_)];
-      // Fade from kTrailOldestBrightness (oldest) to 1 (newest) towards black.
+      const float* pa = &ring[3 * ((oldest + j) % trail_length_)];
+      const float* pb = &ring[3 * ((oldest + j + 1) % trail_length_)];
+      // From kTrailOldestStrength of the colour over the background
+      // (oldest) to the full colour (newest).
       const float age = static_cast<float>(j + 1) / (trail_count_ - 1);
-      const float brightness = kTrailOldestBrightness + (1.0f - kTrailOldestBrightness) * age;
-      const float rgba[4] = {color[0] * brightness, color[1] * brightness, color[2] * brightness, 1};
-      mjvGeom* geom = scn.geoms + scn.ngeom;
-      mjv_initGeom(geom, mjGEOM_CAPSULE, nullptr, nullptr, nullptr, rgba);
-      mjv_makeConnector(geom, mjGEOM_CAPSULE, radius, a[0], a[1], a[2], b[0], b[1], b[2]);
-      geom->category = mjCAT_DECOR;
-      geom->emission = 0.5f;
-      ++scn.ngeom;
+      const float strength = kTrailOldestStrength + (1.0f - kTrailOldestStrength) * age;
+      float shade[3];
+      for (int i = 0; i < 3; ++i) shade[i] = kBackground[i] + (color[i] - kBackground[i]) * strength;
+      mjtNum a[3], b[3];
+      OnRayAtHeight(eye, pa[0], pa[1], layers.trail_z, a);
+      OnRayAtHeight(eye, pb[0], pb[1], layers.trail_z, b);
+      if (!c.AddDecorLine(shade, a, b, 2.0 * layers.trail_radius * px_per_m)) return;
     }
   }
+}
+
+// A bar one major grid spacing long at the bottom right with its length
+// above it; top-down views only (elsewhere the scale varies across the
+// image).
+void OffscreenRenderer::DrawScaleBar(const FrameSetup& setup) {
+  if (!setup.grid || setup.camera.elevation_deg > kMinElevation_deg + 1e-9) return;
+  const double px_per_m = PixelsPerMetre(setup.camera);
+  int major_every = 5;
+  const double spacing = GridSpacing(px_per_m, &major_every);
+  const double bar_m = spacing * major_every;
+  const int length_px = static_cast<int>(std::lround(bar_m * px_per_m));
+  if (length_px + 2 * kScaleBarMargin_px > width_) return;
+  const mjrRect bar = {width_ - kScaleBarMargin_px - length_px, kScaleBarMargin_px, length_px,
+                       kScaleBarThickness_px};
+  // The label first: mjr_text places it relative to the current viewport,
+  // which is still the whole image here (mjr_rectangle makes it the bar).
+  const mjrContext& con = context_->render.con;
+  const std::string label = FormatLength(bar_m);
+  int text_px = 0;
+  for (unsigned char ch : label) text_px += ch < 127 ? con.charWidth[ch] : 0;
+  const float x = static_cast<float>(bar.left + (length_px - text_px) / 2) / width_;
+  const float y = static_cast<float>(bar.bottom + bar.height + 4) / height_;
+  mjr_text(mjFONT_NORMAL, label.c_str(), &con, x, y, kScaleBar[0], kScaleBar[1], kScaleBar[2]);
+  mjr_rectangle(bar, kScaleBar[0], kScaleBar[1], kScaleBar[2], 1.0f);
 }
 
 void OffscreenRenderer::DrawOverlay(const FrameSetup& setup) {
@@ -313,18 +703,25 @@ void OffscreenRenderer::DrawOverlay(const FrameSetup& setup) {
   const double dx_mm = (s->subtree_com[3 * root_body_] - origin[0]) * 1e3;
   const double dy_mm = (s->subtree_com[3 * root_body_ + 1] - origin[1]) * 1e3;
   std::string labels = "time";
-  char values[256];
-  int n = std::snprintf(values, sizeof(values), "%.2f s", s->time);
+  char buffer[256];
+  std::snprintf(buffer, sizeof(buffer), "%.2f s", s->time);
+  std::string values = buffer;
   if (overlay.period_s > 0.0) {
     labels += "\ncycle";
     const long cycle = static_cast<long>(std::floor(s->time / overlay.period_s + 1e-9)) + 1;
-    n += std::snprintf(values + n, sizeof(values) - n, "\n%ld", cycle);
+    values += "\n" + std::to_string(cycle);
+  }
+  for (const auto& row : overlay.rows) {
+    labels += "\n" + row[0];
+    values += "\n" + row[1];
   }
   labels += "\nnet displacement";
-  std::snprintf(values + n, sizeof(values) - n, "\n%+.4f mm along, %+.4f mm across", -dx_mm,
-                dy_mm);
+  // (+ 0.0 turns a -0 into 0)
+  std::snprintf(buffer, sizeof(buffer), "%+.4f mm along, %+.4f mm across", -dx_mm + 0.0,
+                dy_mm + 0.0);
+  values += std::string("\n") + buffer;
   const mjrRect viewport = {0, 0, width_, height_};
-  mjr_overlay(mjFONT_NORMAL, mjGRID_TOPLEFT, viewport, labels.c_str(), values,
+  mjr_overlay(mjFONT_NORMAL, mjGRID_TOPLEFT, viewport, labels.c_str(), values.c_str(),
               &context_->render.con);
 }
 

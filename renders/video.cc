@@ -115,7 +115,7 @@ void WritePng(const std::string& path, const std::vector<unsigned char>& rgb, in
 }
 
 Mp4Writer::Mp4Writer(const std::string& path, int width, int height, double fps)
-    : path_(path), temp_path_(path + ".tmp.mp4"), width_(width), height_(height) {
+    : path_(path), output_(path, ".tmp.mp4"), width_(width), height_(height) {
   if (width <= 0 || height <= 0 || width % 2 != 0 || height % 2 != 0) {
     throw std::invalid_argument(path + ": video size must be positive and even for yuv420p (got " +
                                 std::to_string(width) + "x" + std::to_string(height) + ")");
@@ -136,8 +136,8 @@ Mp4Writer::Mp4Writer(const std::string& path, int width, int height, double fps)
   std::ostringstream command;
   command.precision(12);
   command << "ffmpeg -nostdin -y -loglevel error -f rawvideo -pix_fmt rgb24 -s " << width << "x"
-          << height << " -r " << fps << " -i - -c:v libx264 -pix_fmt yuv420p -f mp4 "
-          << ShellQuote(temp_path_) << " 2>" << ShellQuote(log_path_);
+          << height << " -r " << fps << " -i - -c:v libx264 -preset veryfast -pix_fmt yuv420p -f mp4 "
+          << ShellQuote(output_.temp_path()) << " 2>" << ShellQuote(log_path_);
   pipe_ = popen(command.str().c_str(), "w");
   if (!pipe_) {
     const std::string reason = std::strerror(errno);
@@ -148,8 +148,7 @@ Mp4Writer::Mp4Writer(const std::string& path, int width, int height, double fps)
 
 Mp4Writer::~Mp4Writer() {
   if (finished_) return;
-  ClosePipe();
-  RemoveFile(temp_path_);
+  ClosePipe();  // output_ then removes the unfinished video
   RemoveFile(log_path_);
 }
 
@@ -167,7 +166,6 @@ void Mp4Writer::Fail(const std::string& what) {
   std::string message = path_ + ": " + what;
   const std::string ffmpeg_said = LastLine(log_path_);
   if (!ffmpeg_said.empty()) message += " (ffmpeg: " + ffmpeg_said + ")";
-  RemoveFile(temp_path_);
   RemoveFile(log_path_);
   finished_ = true;  // nothing left to clean up
   throw std::runtime_error(message);
@@ -192,11 +190,9 @@ void Mp4Writer::Finish() {
   if (status != 0) {
     Fail(status < 0 ? "ffmpeg did not finish" : "ffmpeg failed with exit code " + std::to_string(status));
   }
-  if (std::rename(temp_path_.c_str(), path_.c_str()) != 0) {
-    Fail(std::string("cannot rename into place (") + std::strerror(errno) + ")");
-  }
   RemoveFile(log_path_);
   finished_ = true;
+  output_.Commit();
 }
 
 }  // namespace ipmc

@@ -2,14 +2,17 @@
 // 8-bit RGB, rows from top to bottom (width x height x 3 bytes), as
 // OffscreenRenderer::Frame returns them.
 //
-// Like every output of ipmc-swim, a file is written whole or not at all:
-// PNGs go through WriteFileAtomically; the video is encoded into
-// OUT.tmp.mp4 and renamed to OUT when ffmpeg has finished successfully.
+// Like every output of ipmc-swim, a file is written whole or not at all
+// (sim/io/files.h): PNGs go through WriteFileAtomically; the video is
+// encoded into OUT.tmp.mp4 (a PendingFile) and renamed to OUT when ffmpeg
+// has finished successfully.
 #pragma once
 
 #include <cstdio>
 #include <string>
 #include <vector>
+
+#include "sim/io/files.h"
 
 namespace ipmc {
 
@@ -21,10 +24,12 @@ void WritePng(const std::string& path, const std::vector<unsigned char>& rgb, in
 
 // Pipes raw frames to ffmpeg (from PATH):
 //   ffmpeg -y -f rawvideo -pix_fmt rgb24 -s WxH -r FPS -i -
-//          -c:v libx264 -pix_fmt yuv420p OUT.tmp.mp4
+//          -c:v libx264 -preset veryfast -pix_fmt yuv420p OUT.tmp.mp4
 // with -nostdin, -loglevel error and -f mp4 added, and ffmpeg's messages
 // going to a temporary log next to OUT (its last line ends up in the error
-// message). yuv420p needs an even width and height.
+// message). yuv420p needs an even width and height. The veryfast preset
+// takes about a third of the default's CPU time (no trellis
+// quantisation), which matters for filming alongside a run.
 class Mp4Writer {
  public:
   // Starts ffmpeg. Throws std::invalid_argument for an odd or non-positive
@@ -50,10 +55,13 @@ class Mp4Writer {
  private:
   // Closes the pipe and returns ffmpeg's exit status (-1 if it was killed).
   int ClosePipe();
-  // Removes the temporary files and throws "OUT: what (ffmpeg's message)".
+  // Removes ffmpeg's log and throws "OUT: what (ffmpeg's message)"; the
+  // unfinished video goes with the writer.
   [[noreturn]] void Fail(const std::string& what);
 
-  std::string path_, temp_path_, log_path_;
+  std::string path_;
+  PendingFile output_;  // OUT.tmp.mp4, which ffmpeg writes
+  std::string log_path_;
   int width_, height_;
   int frames_ = 0;
   FILE* pipe_ = nullptr;

@@ -10,6 +10,8 @@ IPMC_PACKAGES=(
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev
   libgtest-dev libbenchmark-dev
   libstb-dev libfftw3-dev ffmpeg gnuplot-nox
+  slurm-wlm munge
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
 )
 
 ipmc_missing_packages() {

@@ -18,15 +18,16 @@ set(layers
   sim/batch
   renders
   sim/cli
+  sim/python
   sim)
 set(allowed_sim/io "")
 set(allowed_controllers/linear sim/io)
 set(allowed_controllers controllers/linear sim/io)
 set(allowed_plugin/include "")
-set(allowed_plugin/mjcf "")
-set(allowed_plugin/fluid plugin/mjcf)
+set(allowed_plugin/mjcf sim/io)
+set(allowed_plugin/fluid plugin/mjcf sim/io)
 set(allowed_plugin/actuators plugin/include plugin/mjcf controllers/linear sim/io)
-set(allowed_plugin plugin/include plugin/mjcf plugin/fluid plugin/actuators controllers/linear)
+set(allowed_plugin plugin/include plugin/mjcf plugin/fluid plugin/actuators controllers/linear sim/io)
 set(below_sim sim/io controllers/linear controllers plugin/include plugin/mjcf plugin/fluid
   plugin/actuators plugin)
 set(allowed_sim/core ${below_sim})
@@ -35,6 +36,7 @@ set(allowed_sim/identify sim/core ${below_sim})
 set(allowed_sim/batch sim/runs sim/core ${below_sim})
 set(allowed_renders sim/runs sim/core ${below_sim})
 set(allowed_sim/cli renders sim/batch sim/identify sim/runs sim/core ${below_sim})
+set(allowed_sim/python sim/batch sim/identify sim/runs sim/core ${below_sim})
 set(allowed_sim plugin/include)
 
 # The layer of a path relative to the project: its longest listed prefix.

@@ -16,9 +16,10 @@ struct CommandResult {
   std::string output;  // stdout and stderr
 };
 
-// Runs `ipmc-swim ARGS` through the shell and captures its output.
-inline CommandResult RunCli(const std::string& args) {
-  const std::string command = std::string(IPMC_SWIM_CLI) + " " + args + " 2>&1";
+// Runs `ipmc-swim ARGS` through the shell and captures its output;
+// `prefix` goes before the program (environment settings, a wrapper).
+inline CommandResult RunCli(const std::string& args, const std::string& prefix = "") {
+  const std::string command = prefix + std::string(IPMC_SWIM_CLI) + " " + args + " 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
   std::string output;
   char buffer[4096];

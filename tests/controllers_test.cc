@@ -28,6 +28,7 @@
 #include "controllers/pid.h"
 #include "controllers/reference_model.h"
 #include "controllers/linear/state_space.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc {
 namespace {
@@ -38,7 +39,7 @@ using Complex = std::complex<double>;
 
 
 double Db(Complex h) { return 20 * std::log10(std::abs(h)); }
-double Deg(Complex h) { return std::arg(h) * 180 / 3.14159265358979323846; }
+double Deg(Complex h) { return std::arg(h) * 180 / kPi; }
 
 // ---------------------------------------------------------------- PID ---
 
@@ -508,7 +509,7 @@ TEST(ClosedLoopTest, StepMetricsOfAnalyticResponses) {
   // sqrt(1 - zeta^2)), peak at pi / w_d. Scaled by a final value of -3
   // (a negative step works the same).
   const double zeta = 0.3, w_n = 2.0, w_d = w_n * std::sqrt(1 - zeta * zeta);
-  const double pi = 3.14159265358979323846;
+  const double pi = kPi;
   t.clear();
   y.clear();
   for (int i = 0; i <= 20000; ++i) {

@@ -14,6 +14,7 @@
 
 #include "ipmc_swim/ipmc_swim.h"
 #include "plugin/coupling.h"
+#include "sim/io/numbers.h"
 #include "tests/test_util.h"
 
 namespace ipmc::testing {
@@ -21,7 +22,6 @@ namespace {
 
 class StateSemantics : public MujocoWarnings {};
 
-constexpr double kTwoPi = 6.283185307179586;
 constexpr int kLinks = 3;
 constexpr int kStepsPerVoltage = 10;  // 1 ms at the model's 0.1 ms step
 

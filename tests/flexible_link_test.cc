@@ -16,6 +16,7 @@
 #include "sim/core/model_generator.h"
 #include "sim/core/scenario.h"
 #include "tests/test_util.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc::testing {
 namespace {
@@ -23,8 +24,6 @@ namespace {
 // Fails on any MuJoCo warning the test does not expect.
 class FlexibleLink : public MujocoWarnings {};
 class LinkPlants : public MujocoWarnings {};
-
-constexpr double kPi = 3.141592653589793;
 
 // ---------------------------------------------------- the chain's shape ---
 

@@ -23,6 +23,7 @@
 
 #include "controllers/fractional_integrator.h"
 #include "controllers/pid.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc {
 namespace {
@@ -31,7 +32,6 @@ using ::ipmc::testing::ExpectThrowMentioning;
 
 using Complex = std::complex<double>;
 
-constexpr double kPi = 3.14159265358979323846;
 
 
 // Eq. 7: link 3, model G1, P(s) = s^-0.5 * 0.37609 / (2.13e-3 s^2 +

@@ -43,6 +43,7 @@
 #include "sim/identify/welch.h"
 #include "tests/cli_util.h"
 #include "tests/test_util.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc::testing {
 namespace {
@@ -50,7 +51,6 @@ namespace {
 namespace fs = std::filesystem;
 using Complex = std::complex<double>;
 
-constexpr double kPi = 3.141592653589793;
 constexpr double kSamplePeriod_s = 1e-3;  // the bench's 1 kHz
 
 // The test chirp: 3 V, 0.1 to 20 Hz over 60 s (the paper's runs 200 s to

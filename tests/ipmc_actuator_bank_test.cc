@@ -17,11 +17,11 @@
 #include "controllers/linear/oustaloup.h"
 #include "controllers/linear/state_space.h"
 #include "plugin/actuators/ipmc_link_model.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 template <typename Exception>
 void ExpectThrowNaming(const std::function<void()>& f,

@@ -14,14 +14,13 @@
 #include "plugin/coupling.h"
 #include "plugin/actuators/ipmc_link_model.h"
 #include "tests/test_util.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc::testing {
 namespace {
 
 // Fails on any MuJoCo warning the test does not expect.
 class IpmcCoupling : public MujocoWarnings {};
-
-constexpr double kPi = 3.141592653589793;
 
 struct Phasor {
   double amplitude;

@@ -2,6 +2,7 @@
 // realisation against the exact fractional response, and the G2 fit.
 #include "tests/test_util.h"
 #include "plugin/actuators/ipmc_link_model.h"
+#include "sim/io/numbers.h"
 
 #include <cmath>
 #include <complex>
@@ -18,7 +19,6 @@ namespace {
 using ::ipmc::testing::ExpectInvalidArgument;
 
 using Complex = std::complex<double>;
-constexpr double kPi = 3.14159265358979323846;
 
 
 struct BodeError {

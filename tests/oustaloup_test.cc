@@ -15,6 +15,7 @@
 
 #include "controllers/paper_eq15.h"
 #include "controllers/linear/state_space.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc {
 namespace {
@@ -22,7 +23,6 @@ namespace {
 using ::ipmc::testing::ExpectInvalidArgument;
 
 using Complex = std::complex<double>;
-constexpr double kPi = 3.14159265358979323846;
 
 // (j w)^gamma = w^gamma exp(j gamma pi / 2).
 Complex IdealFractional(double w, double gamma) {

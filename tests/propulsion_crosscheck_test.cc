@@ -40,11 +40,11 @@
 #include "sim/core/scenario.h"
 #include "sim/core/simulation.h"
 #include "tests/test_util.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc::testing {
 namespace {
 
-constexpr double kPi = 3.141592653589793;
 constexpr double kMToMm = 1e3;
 // The swimmer's root: the first body under the world (sim/core/swim_meter.h).
 constexpr int kRootBody = 1;

@@ -7,6 +7,7 @@
 // times that residual.
 #include "tests/test_util.h"
 #include "controllers/reference_model.h"
+#include "sim/io/numbers.h"
 
 #include <cmath>
 #include <complex>
@@ -22,7 +23,6 @@ namespace {
 
 using ::ipmc::testing::ExpectThrowMentioning;
 
-constexpr double kPi = 3.14159265358979323846;
 
 
 struct MittagLefflerCase {

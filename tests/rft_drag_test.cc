@@ -9,11 +9,11 @@
 
 #include "ipmc_swim/ipmc_swim.h"
 #include "tests/test_util.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc::testing {
 namespace {
 
-constexpr double kPi = 3.141592653589793;
 const DragCoefficients kXi{2.6e-3, 1.6e-3};  // [N s/m^2], water-like
 
 Segment RandomSegment(std::mt19937& rng) {

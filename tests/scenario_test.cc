@@ -10,6 +10,9 @@
 #include <stdexcept>
 #include <string>
 
+#include "controllers/pid.h"
+#include "sim/io/error.h"
+
 namespace ipmc {
 namespace {
 
@@ -409,6 +412,61 @@ TEST_F(ScenarioErrorTest, LoadScenarioReportsAMissingFile) {
   }
   std::ofstream(source_) << kModelLine << "cycles = 2\n";
   EXPECT_EQ(LoadScenario(source_).cycles, 2);
+}
+
+// The errors carry what the sweeps decide by: the problem, the dotted key
+// and the line, as the reader found them (not read back from the text).
+TEST_F(ScenarioErrorTest, ErrorsCarryTheirProblemKeyAndLine) {
+  struct Case {
+    std::string text;
+    InputProblem problem;
+    std::string key;
+    std::uint32_t line;
+  };
+  const Case cases[] = {
+      {std::string(kModelLine) + "[controller]\nfoo = 1\n", InputProblem::kUnknownKey,
+       "controller.foo", 3},
+      {std::string(kModelLine) + "cycles = 1.5\n", InputProblem::kWrongType, "cycles", 2},
+      {std::string(kModelLine) + "[controller]\nkp = -1\n", InputProblem::kBadValue,
+       "controller.kp", 3},
+      {std::string(kModelLine) + "[controller]\nkind = \"fractional\"\nkp = 1\n",
+       InputProblem::kOtherKind, "controller.kp", 4},
+      // Found by WaveformConfig::Validate, placed on its key's line.
+      {std::string(kModelLine) + "[waveform]\nc1_um_per_mm = 1\nfrequency_Hz = 0\n",
+       InputProblem::kBadValue, "waveform.frequency_Hz", 4},
+      {std::string(kModelLine) + "link_lengths_mm = [1, -2]\n", InputProblem::kBadValue,
+       "link_lengths_mm", 2},
+      {"cycles = 2\n", InputProblem::kMissing, "model", 0},
+  };
+  for (const Case& c : cases) {
+    try {
+      Parse(c.text);
+      ADD_FAILURE() << "no error for:\n" << c.text;
+    } catch (const InputError& error) {
+      EXPECT_EQ(error.problem(), c.problem) << error.what();
+      EXPECT_EQ(error.key(), c.key) << error.what();
+      EXPECT_EQ(error.where().file, source_);
+      EXPECT_EQ(error.where().line, c.line) << error.what();
+      // what() is the location followed by the message.
+      const std::string what = error.what();
+      ASSERT_GE(what.size(), error.message().size());
+      EXPECT_EQ(what.substr(what.size() - error.message().size()), error.message());
+    }
+  }
+}
+
+// A Config's Validate() names the failing field apart from its message.
+TEST(FieldErrorTest, ValidateNamesTheField) {
+  PidController::Config config;
+  config.kd = -1;
+  try {
+    config.Validate();
+    ADD_FAILURE() << "no error";
+  } catch (const FieldError& error) {
+    EXPECT_EQ(error.field(), "kd");
+    EXPECT_EQ(error.allowed(), "finite and >= 0");
+    EXPECT_STREQ(error.what(), "PidController.Config.kd must be finite and >= 0, got -1");
+  }
 }
 
 }  // namespace

@@ -8,11 +8,11 @@
 
 #include "plugin/fluid/rft_drag.h"
 #include "tests/test_util.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc::testing {
 namespace {
 
-constexpr double kPi = 3.141592653589793;
 
 // Net displacement of the centre of mass along the swimming axis in the
 // second cycle (the first includes the start from rest) [mm].

@@ -18,13 +18,13 @@
 #include <vector>
 
 #include "tests/test_util.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc {
 namespace {
 
 using ::ipmc::testing::ExpectInvalidArgument;
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kMmPerUm = 1e-3;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();

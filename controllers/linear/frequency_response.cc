@@ -1,10 +1,8 @@
-#include "sim/io/numbers.h"
 #include "controllers/linear/frequency_response.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <fstream>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -14,10 +12,14 @@
 
 #include <boost/math/tools/toms748_solve.hpp>
 
+#include "sim/io/columns.h"
+#include "sim/io/csv.h"
+#include "sim/io/files.h"
+#include "sim/io/numbers.h"
+
 namespace ipmc {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDegPerRad = 180.0 / kPi;
 // Evaluations of f allowed to one root search; on the paper's loops TOMS 748
 // narrows a grid step (0.005 decades) to 1e-12 decades in about 7.
@@ -123,37 +125,12 @@ void WriteBodeCsv(const BodeData& bode, const std::filesystem::path& path) {
         std::to_string(n) + ", " + std::to_string(bode.magnitude_db.size()) +
         ", " + std::to_string(bode.phase_deg.size()));
   }
-  std::filesystem::path temporary = path;
-  temporary += ".tmp";
-  {
-    std::ofstream out(temporary, std::ios::out | std::ios::trunc);
-    if (!out) {
-      throw std::runtime_error("cannot open '" + temporary.string() +
-                               "' for writing (Bode CSV for '" + path.string() +
-                               "')");
-    }
-    out.precision(std::numeric_limits<double>::max_digits10);
-    out << "w_rad_s,magnitude_db,phase_deg\n";
-    for (std::size_t i = 0; i < n; ++i) {
-      out << bode.w_rad_s[i] << ',' << bode.magnitude_db[i] << ','
-          << bode.phase_deg[i] << '\n';
-    }
-    out.flush();
-    if (!out) {
-      std::error_code ignored;
-      std::filesystem::remove(temporary, ignored);
-      throw std::runtime_error("write failed for '" + temporary.string() +
-                               "' (Bode CSV for '" + path.string() + "')");
-    }
+  CsvWriter csv;
+  csv.Row({columns::kFrequency, columns::kMagnitudeDb, columns::kPhaseDeg});
+  for (std::size_t i = 0; i < n; ++i) {
+    csv.Add(bode.w_rad_s[i]).Add(bode.magnitude_db[i]).Add(bode.phase_deg[i]).EndRow();
   }
-  std::error_code error;
-  std::filesystem::rename(temporary, path, error);
-  if (error) {
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    throw std::runtime_error("cannot rename '" + temporary.string() + "' to '" +
-                             path.string() + "': " + error.message());
-  }
+  WriteFileAtomically(path.string(), csv.Text());
 }
 
 void MarginSearch::Validate() const {

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "plugin/mjcf/custom_fields.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc {
 namespace {
@@ -18,7 +19,6 @@ constexpr char kAttrActuation[] = "ipmc_actuation";
 constexpr char kAttrBand[] = "ipmc_integrator_band_rad_s";
 constexpr char kAttrPairs[] = "ipmc_integrator_pairs";
 constexpr char kAttrRelTol[] = "ipmc_cvode_rel_tol";
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kMmToM = 1e-3;
 
 [[noreturn]] void Fail(const std::string& message) {

@@ -1,4 +1,5 @@
 #include "plugin/actuators/ipmc_link_model.h"
+#include "sim/io/numbers.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +11,6 @@
 namespace ipmc {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Table 2 (values printed x 1e-3) and eq. 7.
 constexpr double kG1A0[3] = {13.70e-3, 51.00e-3, 376.09e-3};

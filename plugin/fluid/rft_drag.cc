@@ -6,11 +6,11 @@
 #include <stdexcept>
 
 #include "plugin/mjcf/custom_fields.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // Lighthill's (1976) effective distance q = 0.09 lambda.
 constexpr double kLighthillDistanceOverWavelength = 0.09;
 

@@ -2,8 +2,6 @@
 // point's scenario is built at the TOML level and read by ParseScenario
 // before anything runs, then the points run on a pool of threads, each
 // writing only its own row.
-#include "sim/io/toml_names.h"
-#include "sim/io/files.h"
 #include "sim/batch/sweep.h"
 
 #include <mujoco/mujoco.h>
@@ -11,8 +9,8 @@
 
 #include <algorithm>
 #include <atomic>
-#include <charconv>
 #include <chrono>
+#include <climits>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -23,18 +21,24 @@
 #include <iterator>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <stdexcept>
 #include <string_view>
-#include <thread>
 #include <utility>
 
-#include "sim/runs/closed_loop_run.h"
+#include "sim/core/fan_out.h"
 #include "sim/core/link_sensors.h"
-#include "sim/core/mujoco_warnings.h"
-#include "sim/runs/output.h"
 #include "sim/core/simulation.h"
+#include "sim/io/columns.h"
+#include "sim/io/csv.h"
+#include "sim/io/error.h"
+#include "sim/io/files.h"
+#include "sim/io/numbers.h"
+#include "sim/io/toml.h"
+#include "sim/runs/closed_loop_run.h"
+#include "sim/runs/output.h"
 
 namespace ipmc {
 namespace {
@@ -47,45 +51,9 @@ constexpr char kSet[] = "set";
 constexpr char kGrid[] = "grid";
 constexpr char kPoint[] = "point";
 
-// Table columns.
-constexpr char kPointColumn[] = "point";
-constexpr char kStatusColumn[] = "status";
-constexpr char kErrorColumn[] = "error";
-constexpr char kOk[] = "ok";
-constexpr char kError[] = "error";
-constexpr const char* kLinkColumns[] = {"iae_mm_s", "itae_mm_s2", "rms_voltage_V",
-                                        "clamped_fraction"};
-constexpr const char* kSwimColumns[] = {"last_cycle_com_along_mm", "mean_speed_along_mm_s",
-                                        "reynolds_tip", "reynolds_swim"};
-
-// The scenario reader's words for a key of the other kind of its table
-// ("controller.kp applies only to kind = \"pid\" (kind is ...)", or
-// "controller.gain applies only to realisation = \"oustaloup\" ...").
-constexpr char kOtherKindMessage[] = " applies only to ";
 
 // A grid this large is a mistake in the sweep file, not a plan.
 constexpr double kMaxPoints = 1e6;
-
-std::string OneLine(std::string text) {
-  std::replace_if(
-      text.begin(), text.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
-  return text;
-}
-
-// The shortest decimal that reads back as `value`.
-std::string Shortest(double value) {
-  char buffer[64];
-  const std::to_chars_result result =
-      std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::general);
-  return std::string(buffer, result.ptr);
-}
-
-// Results: max_digits10 significant digits, so every double reads back exactly.
-std::string FullPrecision(double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), "%.17g", value);
-  return buffer;
-}
 
 std::string TypeName(const toml::node& node) { return TomlTypeName(node.type()); }
 
@@ -97,7 +65,7 @@ std::string ValueText(const toml::node& node, bool in_array = false) {
     return in_array ? nlohmann::json(text->get()).dump() : OneLine(text->get());
   }
   if (const auto* integer = node.as_integer()) return std::to_string(integer->get());
-  if (const auto* number = node.as_floating_point()) return Shortest(number->get());
+  if (const auto* number = node.as_floating_point()) return FormatShortest(number->get());
   if (const auto* boolean = node.as_boolean()) return boolean->get() ? "true" : "false";
   if (const auto* array = node.as_array()) {
     std::string joined = "[";
@@ -110,27 +78,6 @@ std::string ValueText(const toml::node& node, bool in_array = false) {
   std::ostringstream text;  // dates, times, tables: TOML's own text
   node.visit([&](const auto& value) { text << value; });
   return OneLine(text.str());
-}
-
-std::string ReadTextFile(const std::string& path, const std::string& what) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw std::runtime_error(path + ": cannot open the " + what);
-  std::ostringstream text;
-  text << file.rdbuf();
-  if (file.bad()) throw std::runtime_error(path + ": cannot read the " + what);
-  return text.str();
-}
-
-// TOML syntax errors as one line, "SOURCE:LINE:COLUMN: description".
-toml::table ParseToml(const std::string& text, const std::string& source) {
-  try {
-    return toml::parse(text, source);
-  } catch (const toml::parse_error& error) {
-    const toml::source_position& where = error.source().begin;
-    throw std::runtime_error(OneLine(source + ":" + std::to_string(where.line) + ":" +
-                                     std::to_string(where.column) + ": " +
-                                     std::string(error.description())));
-  }
 }
 
 // One replaced (or added) key of the base scenario.
@@ -151,29 +98,13 @@ struct Axis {
   std::vector<const toml::node*> values;
 };
 
-// Is `message` (from the scenario reader, without its location) about a
-// key the scenario does not have, or a value of the wrong TOML type? The
-// reader words these "unknown key '...'" and "... must be a(n) ... (got
-// <type>)" with a TOML type name; range errors end "(got <value>)".
-bool IsKeyOrTypeError(const std::string& message) {
-  if (message.rfind("unknown key '", 0) == 0) return true;
-  if (message.find(" must be a") == std::string::npos) return false;
-  for (const char* type : {"string", "integer", "float", "boolean", "array", "table", "date",
-                           "time", "date-time"}) {
-    const std::string ending = std::string("(got ") + type + ")";
-    if (message.size() >= ending.size() &&
-        message.compare(message.size() - ending.size(), ending.size(), ending) == 0) {
-      return true;
-    }
-  }
-  return false;
-}
-
 // The outcome of reading one point's scenario.
 struct PointScenario {
   std::optional<ScenarioConfig> scenario;
-  std::string error;   // relocated: names the sweep file or the base
-  bool fatal = false;  // an unknown or ill-typed override: stops the sweep
+  std::string error;  // relocated: names the sweep file or the base
+  // An unknown or ill-typed override, which stops the sweep.
+  std::optional<InputError> fatal;
+  std::string text;  // the TOML read
 };
 
 // One point of the sweep file: its overrides and their printed values
@@ -183,10 +114,9 @@ struct PointOverrides {
   std::vector<std::string> printed;
 };
 
-// A scenario reader's error, moved to where its key came from.
-struct ScenarioError {
-  std::string message;   // "FILE:LINE: ..." naming the sweep file or the base
-  std::string key;       // the dotted key on the reported line, if any
+// Where a scenario reader's error belongs.
+struct ErrorOrigin {
+  InputLocation where;    // the sweep file's line or the base's
   bool in_sweep = false;  // the key is an override
   bool in_base = false;   // the key is the base's own
 };
@@ -195,18 +125,24 @@ class SweepReader {
  public:
   explicit SweepReader(std::string source) : source_(std::move(source)) {}
 
-  [[noreturn]] void Fail(std::uint32_t line, const std::string& message) const {
-    std::string text = source_;
-    if (line > 0) text += ":" + std::to_string(line);
-    throw std::runtime_error(OneLine(text + ": " + message));
+  // An error in the sweep file itself, at `line` (0: none), about `key`.
+  [[noreturn]] void Fail(std::uint32_t line, const std::string& message,
+                         InputProblem problem = InputProblem::kBadValue,
+                         const std::string& key = "") const {
+    throw InputError(problem, {source_, line}, key, message);
   }
 
   SweepPlan Read(const std::string& toml_text);
+  // One scenario: the base (none if base_path is empty) with `overrides`.
+  ScenarioConfig ReadOne(const std::string& base_path, const toml::table& overrides);
 
  private:
   void ReadBase(const toml::table& root);
   void RejectUnknownKeys(const toml::table& root) const;
   std::vector<std::string> SplitKey(const std::string& key, std::uint32_t line) const;
+  // The override of dotted key `name`, declared by `key`.
+  Override OverrideAt(const std::string& name, const toml::key& key,
+                      const toml::node* value) const;
   void FlattenOverrides(const toml::table& table, const std::string& prefix,
                         std::vector<Override>* overrides) const;
   void FlattenGrid(const toml::table& table, const std::string& prefix,
@@ -220,12 +156,12 @@ class SweepReader {
                                          std::vector<std::string>* keys) const;
   toml::table WithOverrides(const std::vector<const Override*>& overrides) const;
   PointScenario ReadScenario(const std::vector<const Override*>& overrides) const;
-  ScenarioError Locate(const std::string& message, const std::string& text,
-                       const std::vector<const Override*>& overrides) const;
+  ErrorOrigin Locate(const InputError& error,
+                    const std::vector<const Override*>& overrides) const;
   // Reads the base with `overrides`; stops the sweep on a fatal error.
   PointScenario Check(const std::vector<const Override*>& overrides) const {
     PointScenario point = ReadScenario(overrides);
-    if (point.fatal) throw std::runtime_error(point.error);
+    if (point.fatal) throw *point.fatal;
     return point;
   }
 
@@ -247,24 +183,30 @@ void SweepReader::RejectUnknownKeys(const toml::table& root) const {
   }
   if (unknown != nullptr) {
     Fail(unknown->source().begin.line,
-         "unknown key '" + std::string(unknown->str()) + "' (allowed: base, set, grid, point)");
+         "unknown key '" + std::string(unknown->str()) + "' (allowed: base, set, grid, point)",
+         InputProblem::kUnknownKey, std::string(unknown->str()));
   }
 }
 
 void SweepReader::ReadBase(const toml::table& root) {
   const auto it = root.find(kBase);
-  if (it == root.end()) Fail(0, std::string(kBase) + " is required (the scenario file to sweep)");
+  if (it == root.end()) {
+    Fail(0, std::string(kBase) + " is required (the scenario file to sweep)",
+         InputProblem::kMissing, kBase);
+  }
   const std::uint32_t line = it->first.source().begin.line;
   const toml::value<std::string>* base = it->second.as_string();
   if (base == nullptr) {
-    Fail(line, std::string(kBase) + " must be a string (got " + TypeName(it->second) + ")");
+    Fail(line, std::string(kBase) + " must be a string (got " + TypeName(it->second) + ")",
+         InputProblem::kWrongType, kBase);
   }
   fs::path path(base->get());
   if (path.is_relative()) path = fs::path(source_).parent_path() / path;
   base_path_ = path.lexically_normal().string();
   std::error_code ignored;
   if (!fs::is_regular_file(base_path_, ignored) || !std::ifstream(base_path_).good()) {
-    Fail(line, std::string(kBase) + ": cannot open '" + base_path_ + "'");
+    Fail(line, std::string(kBase) + ": cannot open '" + base_path_ + "'", InputProblem::kUnreadable,
+         kBase);
   }
   const std::string text = ReadTextFile(base_path_, "scenario file");
   base_ = ParseToml(text, base_path_);
@@ -284,54 +226,63 @@ std::vector<std::string> SweepReader::SplitKey(const std::string& key,
   }
 }
 
-void SweepReader::FlattenOverrides(const toml::table& table, const std::string& prefix,
-                                   std::vector<Override>* overrides) const {
+// Calls leaf(dotted name, key, value) for every value under `table` that
+// is not a table, a nested table standing for the dotted keys under it.
+template <typename Leaf>
+void ForEachLeaf(const toml::table& table, const std::string& prefix, const Leaf& leaf) {
   for (auto&& [key, node] : table) {
     const std::string name = prefix + std::string(key.str());
     if (const toml::table* nested = node.as_table()) {
-      FlattenOverrides(*nested, name + ".", overrides);
-      continue;
+      ForEachLeaf(*nested, name + ".", leaf);
+    } else {
+      leaf(name, key, node);
     }
-    Override entry;
-    entry.key = name;
-    entry.line = key.source().begin.line;
-    entry.column = key.source().begin.column;
-    entry.path = SplitKey(name, entry.line);
-    entry.value = &node;
-    overrides->push_back(std::move(entry));
   }
+}
+
+Override SweepReader::OverrideAt(const std::string& name, const toml::key& key,
+                                 const toml::node* value) const {
+  Override entry;
+  entry.key = name;
+  entry.line = key.source().begin.line;
+  entry.column = key.source().begin.column;
+  entry.path = SplitKey(name, entry.line);
+  entry.value = value;
+  return entry;
+}
+
+void SweepReader::FlattenOverrides(const toml::table& table, const std::string& prefix,
+                                   std::vector<Override>* overrides) const {
+  ForEachLeaf(table, prefix, [&](const std::string& name, const toml::key& key,
+                                 const toml::node& node) {
+    overrides->push_back(OverrideAt(name, key, &node));
+  });
 }
 
 void SweepReader::FlattenGrid(const toml::table& table, const std::string& prefix,
                               std::vector<Axis>* axes) const {
-  for (auto&& [key, node] : table) {
-    const std::string name = prefix + std::string(key.str());
-    if (const toml::table* nested = node.as_table()) {
-      FlattenGrid(*nested, name + ".", axes);
-      continue;
-    }
+  ForEachLeaf(table, prefix, [&](const std::string& name, const toml::key& key,
+                                 const toml::node& node) {
+    const std::string grid_key = std::string(kGrid) + "." + name;
     const std::uint32_t line = key.source().begin.line;
     const toml::array* values = node.as_array();
     if (values == nullptr) {
-      Fail(line, std::string(kGrid) + "." + name + " must be an array of values (got " +
-                     TypeName(node) + ")");
+      Fail(line, grid_key + " must be an array of values (got " + TypeName(node) + ")",
+           InputProblem::kWrongType, grid_key);
     }
-    if (values->empty()) Fail(line, std::string(kGrid) + "." + name + " must not be empty");
+    if (values->empty()) Fail(line, grid_key + " must not be empty");
     Axis axis;
-    axis.key.key = name;
-    axis.key.line = line;
-    axis.key.column = key.source().begin.column;
-    axis.key.path = SplitKey(name, line);
+    axis.key = OverrideAt(name, key, nullptr);
     for (const toml::node& value : *values) {
       if (value.is_table()) {
-        Fail(line, std::string(kGrid) + "." + name +
+        Fail(line, grid_key +
                        " must hold values, not tables (use [[point]] to change several keys "
                        "together)");
       }
       axis.values.push_back(&value);
     }
     axes->push_back(std::move(axis));
-  }
+  });
 }
 
 // A key given twice, or a key inside another given key (which would
@@ -380,19 +331,6 @@ toml::table SweepReader::WithOverrides(const std::vector<const Override*>& overr
   return root;
 }
 
-// Lines of a TOML document and the dotted keys on them.
-void CollectKeyLines(const toml::table& table, const std::string& prefix,
-                     std::map<std::uint32_t, std::string>* keys) {
-  for (auto&& [key, node] : table) {
-    const std::string name = prefix + std::string(key.str());
-    keys->emplace(key.source().begin.line, name);
-    if (const toml::table* nested = node.as_table()) {
-      keys->emplace(nested->source().begin.line, name);
-      CollectKeyLines(*nested, name + ".", keys);
-    }
-  }
-}
-
 // The table holding a dotted key, if the key is there, and its last part.
 template <typename Table>
 Table* ParentOf(Table* root, const std::string& dotted, std::string* last) {
@@ -427,49 +365,36 @@ bool EraseKey(toml::table* root, const std::string& dotted) {
   return parent != nullptr && parent->erase(last) > 0;
 }
 
-// The scenario reader's message "BASE:LINE: rest" locates the line in the
-// serialised text, which nobody has seen. Moves it to the line the key
-// came from: the override's line in the sweep file (the key itself, or
-// the first override under a table the message is about), else the key's
-// line in the base; without a line, "BASE: rest".
-ScenarioError SweepReader::Locate(const std::string& message, const std::string& text,
-                                  const std::vector<const Override*>& overrides) const {
-  ScenarioError error;
-  error.message = OneLine(message);
-  const std::string prefix = base_path_ + ":";
-  if (message.compare(0, prefix.size(), prefix) != 0) return error;
-  std::uint32_t line = 0;
-  const char* begin = message.data() + prefix.size();
-  const char* end = message.data() + message.size();
-  const std::from_chars_result number = std::from_chars(begin, end, line);
-  if (number.ec != std::errc() || end - number.ptr < 2 || number.ptr[0] != ':' ||
-      number.ptr[1] != ' ') {
-    return error;  // no line, or TOML syntax (line:column), which cannot come from us
-  }
-  const std::string rest = OneLine(std::string(number.ptr + 2, end));
+// The scenario reader's errors name lines of the serialised base with the
+// overrides, which nobody has seen. Moves one to where its key came from:
+// the override's line in the sweep file (the key itself, or the first
+// override under a table the error is about), else the key's line in the
+// base; without a key, "BASE: ...". An error of another file, or a TOML
+// syntax error (which cannot come from the serialised text), stays where
+// it is.
+ErrorOrigin SweepReader::Locate(const InputError& error,
+                                const std::vector<const Override*>& overrides) const {
+  ErrorOrigin origin;
+  origin.where = error.where();
+  if (error.where().file != base_path_ || error.where().column > 0) return origin;
+  origin.where = {base_path_};
+  if (error.where().line == 0 || error.key().empty()) return origin;
 
-  std::map<std::uint32_t, std::string> keys;
-  CollectKeyLines(ParseToml(text, base_path_), "", &keys);
-  const auto found = keys.find(line);
-  error.message = base_path_ + ": " + rest;
-  if (found == keys.end()) return error;
-  error.key = found->second;
-
-  const Override* origin = nullptr;
+  const Override* from = nullptr;
   for (const Override* entry : overrides) {
-    if (entry->key == error.key) origin = entry;
+    if (entry->key == error.key()) from = entry;
   }
   for (const Override* entry : overrides) {
-    if (origin == nullptr && entry->key.rfind(error.key + ".", 0) == 0) origin = entry;
+    if (from == nullptr && entry->key.rfind(error.key() + ".", 0) == 0) from = entry;
   }
-  if (origin != nullptr) {
-    error.in_sweep = true;
-    error.message = source_ + ":" + std::to_string(origin->line) + ": " + rest;
-  } else if (const toml::key* key = FindKey(base_, error.key)) {
-    error.in_base = true;
-    error.message = base_path_ + ":" + std::to_string(key->source().begin.line) + ": " + rest;
+  if (from != nullptr) {
+    origin.in_sweep = true;
+    origin.where = {source_, from->line};
+  } else if (const toml::key* key = FindKey(base_, error.key())) {
+    origin.in_base = true;
+    origin.where = {base_path_, key->source().begin.line};
   }
-  return error;
+  return origin;
 }
 
 PointScenario SweepReader::ReadScenario(const std::vector<const Override*>& overrides) const {
@@ -478,21 +403,24 @@ PointScenario SweepReader::ReadScenario(const std::vector<const Override*>& over
   for (;;) {
     std::ostringstream text;
     text << root;
+    point.text = text.str();
     try {
       point.scenario = ParseScenario(text.str(), base_path_);
       return point;
-    } catch (const std::runtime_error& failure) {
-      const ScenarioError error = Locate(failure.what(), text.str(), overrides);
+    } catch (const InputError& failure) {
+      const ErrorOrigin origin = Locate(failure, overrides);
       // A base key of the other kind of its table (the override changed
       // the kind): dropped, and read again.
-      if (error.in_base && error.message.find(kOtherKindMessage) != std::string::npos &&
-          EraseKey(&root, error.key)) {
+      if (origin.in_base && failure.problem() == InputProblem::kOtherKind &&
+          EraseKey(&root, failure.key())) {
         continue;
       }
-      point.error = error.message;
-      const std::string::size_type rest = point.error.find(": ");
-      point.fatal = error.in_sweep && rest != std::string::npos &&
-                    IsKeyOrTypeError(point.error.substr(rest + 2));
+      const InputError located(failure.problem(), origin.where, failure.key(), failure.message(),
+                               failure.allowed());
+      point.error = located.what();
+      const bool key_or_type = failure.problem() == InputProblem::kUnknownKey ||
+                               failure.problem() == InputProblem::kWrongType;
+      if (origin.in_sweep && key_or_type) point.fatal = located;
       return point;
     }
   }
@@ -517,8 +445,8 @@ std::vector<PointOverrides> SweepReader::ReadGrid(const toml::table& grid,
   }
   RejectRepeatedKeys(all_keys);
   if (count > kMaxPoints) {
-    Fail(grid_line, "the grid has " + Shortest(count) + " points (at most " +
-                        Shortest(kMaxPoints) + ")");
+    Fail(grid_line, "the grid has " + FormatShortest(count) + " points (at most " +
+                        FormatShortest(kMaxPoints) + ")");
   }
   for (const Axis& axis : axes) {
     for (const toml::node* value : axis.values) {
@@ -592,7 +520,8 @@ SweepPlan SweepReader::Read(const std::string& toml_text) {
   auto line_of = [&](const char* key) { return root.find(key)->first.source().begin.line; };
   auto fail_type = [&](const char* key, const std::string& expected) {
     Fail(line_of(key), std::string(key) + " must be " + expected + " (got " +
-                           TypeName(*root.get(key)) + ")");
+                           TypeName(*root.get(key)) + ")",
+         InputProblem::kWrongType, key);
   };
   std::vector<Override> fixed;
   if (root.contains(kSet)) {
@@ -639,9 +568,27 @@ SweepPlan SweepReader::Read(const std::string& toml_text) {
     point.values = std::move(points[index].printed);
     point.scenario = std::move(read.scenario);
     point.error = std::move(read.error);
+    point.scenario_toml = std::move(read.text);
     plan.points.push_back(std::move(point));
   }
   return plan;
+}
+
+ScenarioConfig SweepReader::ReadOne(const std::string& base_path, const toml::table& overrides) {
+  base_path_ = base_path.empty() ? source_ : base_path;
+  if (!base_path.empty()) {
+    const std::string text = ReadTextFile(base_path_, "scenario file");
+    base_ = ParseToml(text, base_path_);
+    ParseScenario(text, base_path_);  // the base must be a scenario by itself
+  }
+  std::vector<Override> entries;
+  FlattenOverrides(overrides, "", &entries);
+  std::vector<const Override*> pointers;
+  for (const Override& entry : entries) pointers.push_back(&entry);
+  RejectRepeatedKeys(pointers);
+  PointScenario point = ReadScenario(pointers);
+  if (!point.scenario) throw std::runtime_error(point.error);
+  return std::move(*point.scenario);
 }
 
 // The number of IPMC links of each model the points use (as the run
@@ -687,17 +634,17 @@ std::vector<std::string> RunPoint(const SweepPlan& plan, const SweepPoint& point
       *error = OneLine(failure.what());
     }
   }
-  row.push_back(result ? kOk : kError);
+  row.push_back(result ? columns::kStatusOk : columns::kStatusError);
   row.push_back(result ? "" : *error);
   for (int q = 0; q < plan.links; ++q) {
     if (result && q < static_cast<int>(result->links.size())) {
       const LinkTracking& link = result->links[q];
       for (double value : {link.iae_mm_s, link.itae_mm_s2, link.rms_voltage_V,
                            link.saturated_fraction}) {
-        row.push_back(FullPrecision(value));
+        row.push_back(FormatDouble(value));
       }
     } else {
-      row.insert(row.end(), std::size(kLinkColumns), "");
+      row.insert(row.end(), std::size(columns::kLinkResults), "");
     }
   }
   if (result) {
@@ -705,95 +652,51 @@ std::vector<std::string> RunPoint(const SweepPlan& plan, const SweepPoint& point
     const double last_cycle = swim.per_cycle.empty() ? 0.0 : swim.per_cycle.back().com_along;
     for (double value : {last_cycle, swim.mean_speed_along_mm_s, swim.reynolds_tip,
                          swim.reynolds_swim}) {
-      row.push_back(FullPrecision(value));
+      row.push_back(FormatDouble(value));
     }
   } else {
-    row.insert(row.end(), std::size(kSwimColumns), "");
+    row.insert(row.end(), std::size(columns::kSwimResults), "");
   }
   return row;
 }
 
 // The status column of a table, checked.
-size_t StatusColumn(const std::vector<std::string>& columns, const std::string& source) {
-  const auto status = std::find(columns.begin(), columns.end(), kStatusColumn);
-  if (columns.empty() || columns.front() != kPointColumn || status == columns.end() ||
-      status + 1 == columns.end() || *(status + 1) != kErrorColumn) {
-    throw std::runtime_error(source +
-                             ":1: not a sweep table (expected columns point, ..., status, error, ...)");
+size_t StatusColumn(const std::vector<std::string>& names, const std::string& source) {
+  const auto status = std::find(names.begin(), names.end(), columns::kStatus);
+  if (names.empty() || names.front() != columns::kPoint || status == names.end() ||
+      status + 1 == names.end() || *(status + 1) != columns::kError) {
+    throw InputError(InputProblem::kSyntax, {source, 1}, "",
+                     "not a sweep table (expected columns point, ..., status, error, ...)");
   }
-  return static_cast<size_t>(status - columns.begin());
+  return static_cast<size_t>(status - names.begin());
 }
 
-bool ParseDouble(const std::string& text, double* value) {
-  const char* end = text.data() + text.size();
-  const std::from_chars_result result = std::from_chars(text.data(), end, *value);
-  return result.ec == std::errc() && result.ptr == end;
-}
-
-bool ParseIndex(const std::string& text, long* value) {
-  const char* end = text.data() + text.size();
-  const std::from_chars_result result = std::from_chars(text.data(), end, *value);
-  return !text.empty() && text[0] != '-' && result.ec == std::errc() && result.ptr == end;
+// A point index: a whole number >= 0 without a sign.
+std::optional<long> PointIndex(const std::string& text) {
+  if (text.empty() || text[0] == '-' || text[0] == '+') return std::nullopt;
+  return ParseInteger(text);
 }
 
 nlohmann::ordered_json NumberJson(const std::string& text) {
-  double value = 0.0;
-  if (!ParseDouble(text, &value) || !std::isfinite(value)) return nullptr;
-  return value;
+  const std::optional<double> value = ParseDouble(text);
+  if (!value || !std::isfinite(*value)) return nullptr;
+  return *value;
 }
 
 nlohmann::ordered_json SweptValueJson(const std::string& text) {
   if (text.empty()) return nullptr;
   if (text == "true") return true;
   if (text == "false") return false;
-  long integer = 0;
-  if (text[0] == '-' ? ParseIndex(text.substr(1), &integer) : ParseIndex(text, &integer)) {
-    return text[0] == '-' ? -integer : integer;
-  }
-  double value = 0.0;
-  if (ParseDouble(text, &value) && std::isfinite(value)) return value;
+  // The table writes numbers without a '+' (ValueText): one with it was a string.
+  if (text[0] == '+') return text;
+  if (const std::optional<long> integer = ParseInteger(text)) return *integer;
+  const std::optional<double> value = ParseDouble(text);
+  if (value && std::isfinite(*value)) return *value;
   if (text.front() == '[') {
     nlohmann::ordered_json array = nlohmann::ordered_json::parse(text, nullptr, false);
     if (!array.is_discarded()) return array;
   }
   return text;
-}
-
-std::string CsvCell(const std::string& text) {
-  if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
-  std::string quoted = "\"";
-  for (char c : text) {
-    if (c == '"') quoted += '"';
-    quoted += c;
-  }
-  return quoted + "\"";
-}
-
-// One CSV record (no line breaks inside cells: the tables have none).
-std::vector<std::string> SplitCsvLine(const std::string& line, const std::string& where) {
-  std::vector<std::string> cells(1);
-  bool quoted = false;
-  for (size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (quoted) {
-      if (c != '"') {
-        cells.back() += c;
-      } else if (i + 1 < line.size() && line[i + 1] == '"') {
-        cells.back() += '"';
-        ++i;
-      } else {
-        quoted = false;
-      }
-    } else if (c == ',') {
-      cells.emplace_back();
-    } else if (c == '"' && cells.back().empty()) {
-      quoted = true;
-    } else {
-      cells.back() += c;
-    }
-  }
-  if (quoted) throw std::runtime_error(where + ": unterminated quoted cell");
-  return cells;
 }
 
 }  // namespace
@@ -809,35 +712,39 @@ SweepPlan LoadSweep(const std::string& path) {
   return ParseSweep(ReadTextFile(path, "sweep file"), path);
 }
 
+ScenarioConfig ScenarioWithOverrides(const std::string& base_path, const toml::table& overrides,
+                                     const std::string& source) {
+  return SweepReader(source).ReadOne(base_path, overrides);
+}
+
 SweepShard ParseSweepShard(const std::string& text) {
-  SweepShard shard;
   const std::string::size_type slash = text.find('/');
-  const char* begin = text.data();
-  const char* end = begin + text.size();
-  bool valid = slash != std::string::npos;
-  if (valid) {
-    const auto index = std::from_chars(begin, begin + slash, shard.index);
-    const auto count = std::from_chars(begin + slash + 1, end, shard.count);
-    valid = index.ec == std::errc() && index.ptr == begin + slash && count.ec == std::errc() &&
-            count.ptr == end && shard.count >= 1 && shard.index >= 1 &&
-            shard.index <= shard.count;
+  std::optional<long> index, count;
+  if (slash != std::string::npos) {
+    index = ParseInteger(std::string_view(text).substr(0, slash));
+    count = ParseInteger(std::string_view(text).substr(slash + 1));
   }
-  if (!valid) {
+  if (!index || !count || *count < 1 || *index < 1 || *index > *count || *count > INT_MAX) {
     throw std::invalid_argument("sweep: --shard must be i/n with 1 <= i <= n (got '" + text + "')");
   }
+  SweepShard shard;
+  shard.index = static_cast<int>(*index);
+  shard.count = static_cast<int>(*count);
   return shard;
 }
 
 std::vector<std::string> SweepColumns(const SweepPlan& plan) {
-  std::vector<std::string> columns = {kPointColumn};
-  columns.insert(columns.end(), plan.keys.begin(), plan.keys.end());
-  columns.push_back(kStatusColumn);
-  columns.push_back(kErrorColumn);
+  std::vector<std::string> names = {columns::kPoint};
+  names.insert(names.end(), plan.keys.begin(), plan.keys.end());
+  names.push_back(columns::kStatus);
+  names.push_back(columns::kError);
   for (int q = 1; q <= plan.links; ++q) {
-    for (const char* name : kLinkColumns) columns.push_back("link" + std::to_string(q) + "_" + name);
+    for (const char* result : columns::kLinkResults) {
+      names.push_back(columns::LinkResult(q, result));
+    }
   }
-  columns.insert(columns.end(), std::begin(kSwimColumns), std::end(kSwimColumns));
-  return columns;
+  names.insert(names.end(), std::begin(columns::kSwimResults), std::end(columns::kSwimResults));
+  return names;
 }
 
 SweepTable RunSweep(const SweepPlan& plan, const SweepOptions& options) {
@@ -855,70 +762,67 @@ SweepTable RunSweep(const SweepPlan& plan, const SweepOptions& options) {
   for (const SweepPoint& point : plan.points) {
     if (point.index % shard.count == shard.index - 1) todo.push_back(&point);
   }
+  SweepTable table;
+  table.columns = SweepColumns(plan);
+  table.rows.resize(todo.size());
   // Rows go in index order; runs start longest first, so that the last
-  // runs to finish are short ones.
-  std::vector<size_t> schedule(todo.size());
-  for (size_t k = 0; k < todo.size(); ++k) schedule[k] = k;
+  // runs to finish are short ones. Finished points keep their rows.
+  std::vector<size_t> schedule;
+  for (size_t k = 0; k < todo.size(); ++k) {
+    if (options.finished != nullptr && options.finished->count(todo[k]->index) > 0) {
+      table.rows[k] = options.finished->at(todo[k]->index);
+    } else {
+      schedule.push_back(k);
+    }
+  }
   std::stable_sort(schedule.begin(), schedule.end(), [&](size_t a, size_t b) {
     return EstimatedSteps(*todo[a]) > EstimatedSteps(*todo[b]);
   });
 
-  SweepTable table;
-  table.columns = SweepColumns(plan);
-  table.rows.resize(todo.size());
-  std::atomic<size_t> next{0};
   std::mutex progress_mutex;
   int done = 0;
   std::exception_ptr callback_failure;
+  std::atomic<bool> stopped{false};  // by a failed callback: no point starts after it
   const auto start = std::chrono::steady_clock::now();
-  auto work = [&] {
-    for (size_t slot = next++; slot < todo.size(); slot = next++) {
-      const size_t k = schedule[slot];
-      std::string error;
-      table.rows[k] = RunPoint(plan, *todo[k], &error);
-      std::lock_guard<std::mutex> lock(progress_mutex);
-      ++done;
-      if (!options.on_point_done || callback_failure) continue;
-      SweepProgress progress;
-      progress.done = done;
-      progress.total = static_cast<int>(todo.size());
-      progress.point = todo[k]->index;
-      progress.ok = table.rows[k][plan.keys.size() + 1] == kOk;
-      progress.error = error;
-      progress.elapsed_s =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      try {
-        options.on_point_done(progress);
-      } catch (...) {
-        callback_failure = std::current_exception();
-      }
+  // A failing progress report (the journal's record) stops the sweep: no
+  // point starts after it, and it is rethrown when the running ones are done.
+  FanOut(schedule.size(), options.jobs, [&](size_t slot) {
+    if (stopped || (options.stop_requested && options.stop_requested())) return;
+    const size_t k = schedule[slot];
+    std::string error;
+    table.rows[k] = RunPoint(plan, *todo[k], &error);
+    std::lock_guard<std::mutex> lock(progress_mutex);
+    ++done;
+    if (!options.on_point_done || callback_failure) return;
+    SweepProgress progress;
+    progress.done = done;
+    progress.total = static_cast<int>(schedule.size());
+    progress.point = todo[k]->index;
+    progress.ok = table.rows[k][plan.keys.size() + 1] == columns::kStatusOk;
+    progress.error = error;
+    progress.elapsed_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    progress.row = &table.rows[k];
+    try {
+      options.on_point_done(progress);
+    } catch (...) {
+      callback_failure = std::current_exception();
+      stopped = true;
     }
-  };
-  const size_t threads = std::min<size_t>(options.jobs, todo.size());
-  if (threads <= 1) {
-    work();
-  } else {
-    const SerialisedMujocoWarnings warnings;
-    std::vector<std::thread> pool;
-    for (size_t t = 0; t < threads; ++t) pool.emplace_back(work);
-    for (std::thread& thread : pool) thread.join();
-  }
+  });
   if (callback_failure) std::rethrow_exception(callback_failure);
+  // A stopped sweep: the points that did not run have no row.
+  table.rows.erase(std::remove_if(table.rows.begin(), table.rows.end(),
+                                  [](const std::vector<std::string>& row) { return row.empty(); }),
+                   table.rows.end());
   return table;
 }
 
 std::string SweepTableCsv(const SweepTable& table) {
-  std::string csv;
-  auto add_row = [&](const std::vector<std::string>& cells) {
-    for (size_t c = 0; c < cells.size(); ++c) {
-      if (c > 0) csv += ',';
-      csv += CsvCell(cells[c]);
-    }
-    csv += '\n';
-  };
-  add_row(table.columns);
-  for (const std::vector<std::string>& row : table.rows) add_row(row);
-  return csv;
+  CsvWriter csv;
+  csv.Row(table.columns);
+  for (const std::vector<std::string>& row : table.rows) csv.Row(row);
+  return csv.Text();
 }
 
 nlohmann::ordered_json SweepTableJson(const SweepTable& table) {
@@ -928,9 +832,8 @@ nlohmann::ordered_json SweepTableJson(const SweepTable& table) {
     nlohmann::ordered_json point = nlohmann::ordered_json::object();
     for (size_t c = 0; c < table.columns.size() && c < row.size(); ++c) {
       nlohmann::ordered_json& cell = point[table.columns[c]];
-      long index = 0;
-      if (c == 0 && ParseIndex(row[c], &index)) {
-        cell = index;
+      if (const std::optional<long> index = PointIndex(row[c]); c == 0 && index) {
+        cell = *index;
       } else if (c == status || c == status + 1) {
         cell = row[c];
       } else if (c < status) {
@@ -945,36 +848,26 @@ nlohmann::ordered_json SweepTableJson(const SweepTable& table) {
 }
 
 SweepTable ParseSweepTableCsv(const std::string& csv_text, const std::string& source) {
+  const CsvTable csv = CsvTable::Parse(csv_text, source);
+  StatusColumn(csv.columns(), source);
   SweepTable table;
-  std::istringstream lines(csv_text);
-  std::string line;
-  int line_number = 0;
+  table.columns = csv.columns();
   std::set<long> indices;
-  while (std::getline(lines, line)) {
-    ++line_number;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    const std::string where = source + ":" + std::to_string(line_number);
-    if (line_number == 1) {
-      table.columns = SplitCsvLine(line, where);
-      StatusColumn(table.columns, source);
-      continue;
+  for (size_t r = 0; r < csv.Rows(); ++r) {
+    const std::vector<std::string>& row = csv.Row(r);
+    const InputLocation where{source, static_cast<std::uint32_t>(csv.Line(r))};
+    const std::optional<long> index = PointIndex(row[0]);
+    if (!index) {
+      throw InputError(InputProblem::kBadValue, where, columns::kPoint,
+                       "point must be a whole number >= 0 (got '" + row[0] + "')",
+                       "a whole number >= 0");
     }
-    if (line.empty()) continue;
-    std::vector<std::string> row = SplitCsvLine(line, where);
-    if (row.size() != table.columns.size()) {
-      throw std::runtime_error(where + ": expected " + std::to_string(table.columns.size()) +
-                               " cells, got " + std::to_string(row.size()));
+    if (!indices.insert(*index).second) {
+      throw InputError(InputProblem::kBadValue, where, columns::kPoint,
+                       "point " + row[0] + " appears twice");
     }
-    long index = 0;
-    if (!ParseIndex(row[0], &index)) {
-      throw std::runtime_error(where + ": point must be a whole number >= 0 (got '" + row[0] + "')");
-    }
-    if (!indices.insert(index).second) {
-      throw std::runtime_error(where + ": point " + row[0] + " appears twice");
-    }
-    table.rows.push_back(std::move(row));
+    table.rows.push_back(row);
   }
-  if (line_number == 0) throw std::runtime_error(source + ": empty file, not a sweep table");
   return table;
 }
 
@@ -983,7 +876,7 @@ SweepTable LoadSweepTableCsv(const std::string& path) {
 }
 
 SweepTable MergeSweepTables(const std::vector<SweepTable>& tables,
-                            const std::vector<std::string>& sources) {
+                            const std::vector<std::string>& sources, bool allow_missing) {
   if (tables.empty() || tables.size() != sources.size()) {
     throw std::invalid_argument("merge: needs one or more tables, each with its file name");
   }
@@ -1001,25 +894,26 @@ SweepTable MergeSweepTables(const std::vector<SweepTable>& tables,
       }
       const std::string theirs = c < table.columns.size() ? "'" + table.columns[c] + "'" : "none";
       const std::string ours = c < merged.columns.size() ? "'" + merged.columns[c] + "'" : "none";
-      throw std::runtime_error(sources[t] + ": columns differ from " + sources.front() +
-                               "'s (column " + std::to_string(c + 1) + ": " + theirs + " vs " +
-                               ours + ")");
+      throw InputError(InputProblem::kSyntax, {sources[t]}, "",
+                       "columns differ from " + sources.front() + "'s (column " +
+                           std::to_string(c + 1) + ": " + theirs + " vs " + ours + ")");
     }
     for (const std::vector<std::string>& row : table.rows) {
-      long index = 0;
-      if (row.empty() || !ParseIndex(row[0], &index)) {
-        throw std::runtime_error(sources[t] + ": a row without a point index");
+      const std::optional<long> index = row.empty() ? std::nullopt : PointIndex(row[0]);
+      if (!index) {
+        throw InputError(InputProblem::kMissing, {sources[t]}, columns::kPoint,
+                         "a row without a point index");
       }
-      const auto [it, added] = rows.emplace(index, std::make_pair(&row, t));
+      const auto [it, added] = rows.emplace(*index, std::make_pair(&row, t));
       if (!added) {
-        throw std::runtime_error(sources[t] + ": point " + row[0] + " is also in " +
-                                 sources[it->second.second]);
+        throw InputError(InputProblem::kBadValue, {sources[t]}, columns::kPoint,
+                         "point " + row[0] + " is also in " + sources[it->second.second]);
       }
     }
   }
   long expected = 0;
   for (const auto& [index, row] : rows) {
-    if (index != expected) {
+    if (index != expected && !allow_missing) {
       std::string files;
       for (const std::string& source : sources) files += (files.empty() ? "" : ", ") + source;
       throw std::runtime_error("merge: point " + std::to_string(expected) +
@@ -1033,8 +927,7 @@ SweepTable MergeSweepTables(const std::vector<SweepTable>& tables,
 }
 
 void WriteSweepTable(const std::string& prefix, const SweepTable& table) {
-  const fs::path directory = fs::path(prefix).parent_path();
-  if (!directory.empty()) EnsureDirectory(directory.string());
+  EnsureParentDirectory(prefix);
   const std::string json = SweepTableJson(table).dump(2) + "\n";
   WriteFileAtomically(prefix + ".csv", SweepTableCsv(table));
   WriteFileAtomically(prefix + ".json", json);

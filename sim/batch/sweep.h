@@ -40,8 +40,11 @@
 // Errors:
 //  - a malformed sweep file, an unknown key or a value of the wrong type
 //    (as the scenario reader judges it), or a base that is not a valid
-//    scenario by itself stops the sweep before any run: std::runtime_error
-//    with one line "FILE:LINE: key ..." naming the sweep file (or the base);
+//    scenario by itself stops the sweep before any run: InputError
+//    (sim/io/error.h, a std::runtime_error) with one line "FILE:LINE: key
+//    ..." naming the sweep file (or the base); the scenario reader's errors
+//    are classified and relocated by their problem and key, not by their
+//    text;
 //  - any other bad scenario (a value out of range, a combination the
 //    scenario reader refuses) and any failure of the run (e.g. divergence)
 //    is recorded in that point's row, and the other points still run.
@@ -58,11 +61,13 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
+#include <toml++/toml.h>
 
 #include "sim/core/scenario.h"
 
@@ -73,6 +78,7 @@ struct SweepPoint {
   std::vector<std::string> values;         // one per SweepPlan::keys, as printed
   std::optional<ScenarioConfig> scenario;  // absent if the overrides make a bad scenario,
   std::string error;                       // ... and then the reason (one line)
+  std::string scenario_toml;               // the base with the overrides, as read
 };
 
 struct SweepPlan {
@@ -84,10 +90,20 @@ struct SweepPlan {
 };
 
 // Reads a sweep and builds every point's scenario (no run yet). Loads each
-// point's model once to count its links. Throws std::runtime_error (one
-// line) as described above.
+// point's model once to count its links. Throws InputError (one line) as
+// described above.
 SweepPlan ParseSweep(const std::string& toml_text, const std::string& source);
 SweepPlan LoadSweep(const std::string& path);
+
+// One scenario: the scenario file `base_path` with `overrides` applied as
+// a sweep's [set] applies them (dotted keys, nested tables standing for
+// the dotted keys under them, a changed kind dropping the base's keys of
+// the other kind). With an empty base_path the overrides are the whole
+// scenario and relative paths resolve from the working directory. Throws
+// std::runtime_error with one line: errors in the base name the base file
+// and line, errors in an override name `source` and the key.
+ScenarioConfig ScenarioWithOverrides(const std::string& base_path, const toml::table& overrides,
+                                     const std::string& source);
 
 // Part i of n (1 <= i <= n) of a sweep: the points with index % n == i - 1.
 struct SweepShard {
@@ -104,6 +120,7 @@ struct SweepProgress {
   bool ok = true;
   std::string error;
   double elapsed_s = 0.0;
+  const std::vector<std::string>* row = nullptr;  // the point's row, as in the table
 };
 
 struct SweepOptions {
@@ -111,6 +128,12 @@ struct SweepOptions {
   SweepShard shard;
   // Called after each point, one call at a time, from the worker threads.
   std::function<void(const SweepProgress&)> on_point_done;
+  // Rows of points that finished before (by point index): not run again,
+  // copied into the table as they are.
+  const std::map<int, std::vector<std::string>>* finished = nullptr;
+  // Asked, from the worker threads, before each point starts; once it
+  // returns true no further point starts.
+  std::function<bool()> stop_requested;
 };
 
 struct SweepTable {
@@ -123,11 +146,14 @@ std::vector<std::string> SweepColumns(const SweepPlan& plan);
 
 // Runs the shard's points on options.jobs threads (RunScenario per point),
 // the longest runs (cycles / frequency / time step) first. The rows, in
-// index order, do not depend on the number of jobs. Throws
+// index order, do not depend on the number of jobs. Points in
+// options.finished are not run; progress counts only the points run. If
+// stop_requested stopped the sweep, the table holds the points finished
+// by then (fewer rows than the shard has points). Throws
 // std::invalid_argument for bad options only.
 SweepTable RunSweep(const SweepPlan& plan, const SweepOptions& options);
 
-// CSV (RFC 4180: cells with commas or quotes are quoted; "\n" line ends).
+// CSV (sim/io/csv.h: RFC 4180, "\n" line ends).
 std::string SweepTableCsv(const SweepTable& table);
 // {"columns": [...], "points": [{column: value, ...}, ...]}: point is an
 // integer, status and error strings, results numbers (null when empty),
@@ -135,17 +161,19 @@ std::string SweepTableCsv(const SweepTable& table);
 // The same table gives the same JSON, whether it was run or merged.
 nlohmann::ordered_json SweepTableJson(const SweepTable& table);
 
-// Reads a table written by SweepTableCsv; throws std::runtime_error
-// "SOURCE:LINE: ..." if it is not one.
+// Reads a table written by SweepTableCsv; throws InputError
+// (sim/io/error.h) "SOURCE:LINE: ..." if it is not one.
 SweepTable ParseSweepTableCsv(const std::string& csv_text, const std::string& source);
 SweepTable LoadSweepTableCsv(const std::string& path);
 
 // Joins the tables of a sweep's shards into one, ordered by point index.
-// Throws std::runtime_error (one line, naming the file) if the headers
-// differ, a point appears twice, or points are missing below the highest
-// index (a missing tail of the sweep cannot be told from a shorter sweep).
+// Throws InputError (one line, naming the file) if the headers differ or a
+// point appears twice, and std::runtime_error if (unless allow_missing)
+// points are missing below the highest index (a missing tail of the sweep
+// cannot be told from a shorter sweep).
 SweepTable MergeSweepTables(const std::vector<SweepTable>& tables,
-                            const std::vector<std::string>& sources);
+                            const std::vector<std::string>& sources,
+                            bool allow_missing = false);
 
 // Writes PREFIX.csv and PREFIX.json, each atomically (creating PREFIX's
 // directory if needed).

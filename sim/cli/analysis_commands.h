@@ -50,40 +50,17 @@
 
 #include <CLI/CLI.hpp>
 
+#include "sim/identify/loop_analysis.h"
+
 namespace ipmc {
 
-// Gains of the two controller families (defaults: eq. 12 and eq. 14).
-struct ControllerGains {
-  double kp = 8.12;   // [V/mm]
-  double ki = 53.36;  // [V/(mm s)]
-  double kd = 0.61;   // [V s/mm]
-  double gain = 15.62;  // K [V/(mm s^lambda)]
-  double order = 0.62;  // lambda
-};
-
-struct BodeArgs {
-  int link = 3;
-  std::string plant = "g1";
-  std::string controller;
-  ControllerGains gains;
-  int oustaloup_n = 4;                          // fractional-oustaloup
-  std::vector<double> band_rad_s = {1e-3, 1e2};  // fractional-oustaloup
-  double w_min_rad_s = 1e-2;                    // bode.csv grid
-  double w_max_rad_s = 1e3;
-  int points_per_decade = 100;
+// The computations are in sim/identify/loop_analysis.h; the options here
+// add the output directory.
+struct BodeArgs : BodeSpec {
   std::string out_dir;
 };
 
-struct StepArgs {
-  std::string controller;
-  std::string plant = "g1";
-  std::vector<int> links = {1, 2, 3};
-  ControllerGains gains;
-  double horizon_s = 10.0;       // step.csv and J of eq. 11
-  double max_horizon_s = 300.0;  // longest record for the step metrics
-  double sample_rate_hz = 1000.0;
-  bool no_clamp = false;
-  double v_max = 6.0;
+struct StepArgs : StepSpec {
   std::string out_dir;
 };
 

@@ -41,9 +41,10 @@
 // report). Prints the Markdown report; --out DIR also writes
 // DIR/report.md and DIR/response_link<q>.csv.
 //
-// Bad option values and bad data throw std::invalid_argument with one line
-// naming the option, file or column; nothing is written unless the command
-// succeeded, and each file is written atomically.
+// Bad option values throw std::invalid_argument with one line naming the
+// option; bad data (read by sim/io/csv.h) throws InputError
+// (sim/io/error.h) naming the file, line and column. Nothing is written
+// unless the command succeeded, and each file is written atomically.
 #pragma once
 
 #include <string>
@@ -51,26 +52,17 @@
 
 #include <CLI/CLI.hpp>
 
+#include "sim/identify/identify_run.h"
+
 namespace ipmc {
 
 struct IdentifyArgs {
-  struct Identify {
-    std::string data_path;
-    std::string input_column;
-    std::string output_column;
-    double sample_rate_hz = 1000.0;
-    std::vector<double> band_rad_s = {0.2, 50.0};
+  // The computations are in sim/identify/identify_run.h.
+  struct Identify : IdentifySpec {
     std::string out_dir;
   } identify;
 
-  struct Design {
-    int link = 3;
-    std::string plant = "g1";
-    double crossover_rad_s = 5.0;
-    double phase_margin_deg = 75.0;
-    double reference_order = 1.16;
-    double horizon_s = 2.0;
-    double sample_rate_hz = 10000.0;
+  struct Design : DesignSpec {
   } design;
 
   struct Pipeline {
@@ -95,8 +87,9 @@ struct IdentifyArgs {
 void AddIdentifyCommands(CLI::App& app, IdentifyArgs& args);
 
 // Runs the subcommand app parsed; returns its exit code, or -1 if none of
-// these was chosen. Throws std::invalid_argument for bad options or data
-// and std::runtime_error for simulation or output failures.
+// these was chosen. Throws std::invalid_argument for bad options,
+// InputError for bad data and std::runtime_error for simulation or output
+// failures.
 int RunIdentifyCommand(const CLI::App& app, const IdentifyArgs& args);
 
 }  // namespace ipmc

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "sim/cli/analysis_commands.h"
+#include "sim/cli/command.h"
 #include "sim/io/files.h"
 #include "sim/runs/bench_run.h"
 #include "sim/runs/closed_loop_run.h"
@@ -24,6 +26,7 @@
 #include "sim/cli/sweep_command.h"
 #include "sim/cli/table5_command.h"
 #include "sim/cli/render_command.h"
+#include "sim/core/data_paths.h"
 #include "sim/core/simulation.h"
 
 namespace {
@@ -48,40 +51,34 @@ struct GenerateArgs {
 };
 
 void AddGenerateCommand(CLI::App& app, GenerateArgs& args) {
-  CLI::App* cmd = app.add_subcommand("generate", "Write the MJCF of an N-link flagellum");
+  CLI::App* cmd = ipmc::AddCommand(app, "generate", "Write the MJCF of an N-link flagellum");
   FlagellumSpec& s = args.spec;
   cmd->add_option("--links-mm", s.link_lengths_mm, "Link lengths [mm], one per link")
-      ->delimiter(',')->capture_default_str();
-  cmd->add_option("--gap-mm", s.gap_mm, "Gap between links [mm]")->capture_default_str();
-  cmd->add_option("--width-mm", s.width_mm, "Strip width [mm]")->capture_default_str();
-  cmd->add_option("--thickness-um", s.thickness_um, "Strip thickness [um]")->capture_default_str();
-  cmd->add_option("--head-mm", s.head_length_mm, "Head (clamp) length [mm], 0 for none")
-      ->capture_default_str();
-  cmd->add_option("--density", s.density_kg_m3, "Density [kg/m^3]")->capture_default_str();
-  cmd->add_option("--modulus-pa", s.bending_modulus_Pa, "Bending modulus E [Pa]")
-      ->capture_default_str();
-  cmd->add_option("--hinge-damping-ratio", s.hinge_damping_ratio, "Hinge damping ratio zeta_h")
-      ->capture_default_str();
+      ->delimiter(',');
+  cmd->add_option("--gap-mm", s.gap_mm, "Gap between links [mm]");
+  cmd->add_option("--width-mm", s.width_mm, "Strip width [mm]");
+  cmd->add_option("--thickness-um", s.thickness_um, "Strip thickness [um]");
+  cmd->add_option("--head-mm", s.head_length_mm, "Head (clamp) length [mm], 0 for none");
+  cmd->add_option("--density", s.density_kg_m3, "Density [kg/m^3]");
+  cmd->add_option("--modulus-pa", s.bending_modulus_Pa, "Bending modulus E [Pa]");
+  cmd->add_option("--hinge-damping-ratio", s.hinge_damping_ratio, "Hinge damping ratio zeta_h");
   cmd->add_flag("--clamped", s.clamped, "Weld the root (test bench)");
-  cmd->add_option("--timestep-s", s.timestep_s, "Time step [s]")->capture_default_str();
-  cmd->add_option("--integrator", s.integrator, "Euler | implicit | RK4")->capture_default_str();
-  cmd->add_option("--viscosity-pa-s", s.viscosity_Pa_s, "Viscosity [Pa s]")->capture_default_str();
-  cmd->add_option("--coefficients", s.coefficients, "gray_hancock | lighthill | direct")
-      ->capture_default_str();
-  cmd->add_option("--wavelength-mm", s.wavelength_mm, "Wavelength for the RFT coefficients [mm]")
-      ->capture_default_str();
-  cmd->add_option("--xi-normal", s.xi_normal_N_s_m2, "Direct xi_n [N s/m^2]");
-  cmd->add_option("--xi-tangential", s.xi_tangential_N_s_m2, "Direct xi_t [N s/m^2]");
+  cmd->add_option("--timestep-s", s.timestep_s, "Time step [s]");
+  cmd->add_option("--integrator", s.integrator, "Euler | implicit | RK4");
+  cmd->add_option("--viscosity-pa-s", s.viscosity_Pa_s, "Viscosity [Pa s]");
+  cmd->add_option("--coefficients", s.coefficients, "gray_hancock | lighthill | direct");
+  cmd->add_option("--wavelength-mm", s.wavelength_mm, "Wavelength for the RFT coefficients [mm]");
+  cmd->add_option("--xi-normal", s.xi_normal_N_s_m2, "Direct xi_n [N s/m^2]")
+      ->default_str("");
+  cmd->add_option("--xi-tangential", s.xi_tangential_N_s_m2, "Direct xi_t [N s/m^2]")
+      ->default_str("");
   cmd->add_option("--segments-per-link", s.segments_per_link,
-                  "Rigid sub-segments per link (1: rigid links)")
-      ->capture_default_str();
+                  "Rigid sub-segments per link (1: rigid links)");
   cmd->add_option("--plants", s.plants,
-                  "uniform (every link eq. 7's plant) | table2 (Table 2's row per link)")
-      ->capture_default_str();
-  cmd->add_option("--ipmc-model", s.ipmc_model, "IPMC link model: g1 (eq. 5) | g2 (eq. 6)")
-      ->capture_default_str();
-  cmd->add_option("--actuation", s.actuation, "distributed | single")->capture_default_str();
-  cmd->add_option("--name", s.name, "Model name")->capture_default_str();
+                  "uniform (every link eq. 7's plant) | table2 (Table 2's row per link)");
+  cmd->add_option("--ipmc-model", s.ipmc_model, "IPMC link model: g1 (eq. 5) | g2 (eq. 6)");
+  cmd->add_option("--actuation", s.actuation, "distributed | single");
+  cmd->add_option("--name", s.name, "Model name");
   cmd->add_option("-o,--out", args.out_path, "Output MJCF file (default: stdout)");
 }
 
@@ -99,50 +96,46 @@ struct GaitArgs {
 };
 
 void AddGaitCommand(CLI::App& app, GaitArgs& args) {
-  CLI::App* cmd = app.add_subcommand("gait", "Run a prescribed joint-space gait and measure the swim");
+  CLI::App* cmd = ipmc::AddCommand(app, "gait", "Run a prescribed joint-space gait and measure the swim");
   cmd->add_option("--model", args.model_path, "MJCF model")->required();
   cmd->add_option("--gait", args.gait, "sine | square | csv")
-      ->check(CLI::IsMember({"sine", "square", "csv"}))->capture_default_str();
-  cmd->add_option("--frequency-hz", args.frequency_Hz, "Gait frequency [Hz]")->capture_default_str();
-  cmd->add_option("--amplitude-rad", args.amplitude_rad, "Joint amplitude [rad]")
-      ->capture_default_str();
+      ->check(CLI::IsMember({"sine", "square", "csv"}));
+  cmd->add_option("--frequency-hz", args.frequency_Hz, "Gait frequency [Hz]");
+  cmd->add_option("--amplitude-rad", args.amplitude_rad, "Joint amplitude [rad]");
   cmd->add_option("--phase-lag-rad", args.phase_lag_rad,
-                  "Sine: phase lag between consecutive joints [rad]; > 0 sends the wave to the tail")
-      ->capture_default_str();
+                  "Sine: phase lag between consecutive joints [rad]; > 0 sends the wave to the tail");
   cmd->add_option("--amplitudes-rad", args.amplitudes_rad, "Sine: per-joint amplitudes [rad]")
-      ->delimiter(',');
-  cmd->add_option("--phases-rad", args.phases_rad, "Sine: per-joint phases [rad]")->delimiter(',');
+      ->delimiter(',')
+      ->default_str("");
+  cmd->add_option("--phases-rad", args.phases_rad, "Sine: per-joint phases [rad]")->delimiter(',')
+      ->default_str("");
   cmd->add_option("--csv", args.csv_path, "CSV gait: time_s, q_1..q_n [rad]");
-  cmd->add_option("--cycles", args.run.cycles, "Number of gait cycles")->capture_default_str();
-  cmd->add_option("--samples-per-cycle", args.run.samples_per_cycle, "Time-series samples per cycle")
-      ->capture_default_str();
+  cmd->add_option("--cycles", args.run.cycles, "Number of gait cycles");
+  cmd->add_option("--samples-per-cycle", args.run.samples_per_cycle, "Time-series samples per cycle");
   cmd->add_option("--out", args.out_dir, "Directory for timeseries.csv and summary.json");
 }
 
 struct BenchArgs {
-  std::string model_path = std::string(IPMC_SWIM_MODELS_DIR) + "/flagellum3_clamped.xml";
+  std::string model_path = ipmc::ModelsDir() + "/flagellum3_clamped.xml";
   std::string signal = "sine";
   ipmc::BenchSignal bench;
   std::string out_path;
 };
 
 void AddBenchCommand(CLI::App& app, BenchArgs& args) {
-  CLI::App* cmd = app.add_subcommand(
-      "bench", "Voltage experiment on the test bench, recorded like the laser meter");
+  CLI::App* cmd = ipmc::AddCommand(
+      app, "bench", "Voltage experiment on the test bench, recorded like the laser meter");
   ipmc::BenchSignal& b = args.bench;
-  cmd->add_option("--model", args.model_path, "MJCF model with IPMC actuators")
-      ->capture_default_str();
+  cmd->add_option("--model", args.model_path, "MJCF model with IPMC actuators");
   cmd->add_option("--signal", args.signal, "sine | chirp")
-      ->check(CLI::IsMember({"sine", "chirp"}))->capture_default_str();
-  cmd->add_option("--amplitude-v", b.amplitude_V, "Voltage amplitude [V]")->capture_default_str();
-  cmd->add_option("--frequency-hz", b.frequency_Hz, "Sine frequency [Hz]")->capture_default_str();
-  cmd->add_option("--f0-hz", b.start_Hz, "Chirp start frequency [Hz]")->capture_default_str();
-  cmd->add_option("--f1-hz", b.end_Hz, "Chirp end frequency [Hz]")->capture_default_str();
-  cmd->add_option("--duration-s", b.duration_s, "Duration [s]")->capture_default_str();
-  cmd->add_option("--links", b.driven_links, "Driven links, 1-based")->delimiter(',')
-      ->capture_default_str();
-  cmd->add_option("--sample-rate-hz", b.sample_rate_Hz, "Voltage update and recording rate [Hz]")
-      ->capture_default_str();
+      ->check(CLI::IsMember({"sine", "chirp"}));
+  cmd->add_option("--amplitude-v", b.amplitude_V, "Voltage amplitude [V]");
+  cmd->add_option("--frequency-hz", b.frequency_Hz, "Sine frequency [Hz]");
+  cmd->add_option("--f0-hz", b.start_Hz, "Chirp start frequency [Hz]");
+  cmd->add_option("--f1-hz", b.end_Hz, "Chirp end frequency [Hz]");
+  cmd->add_option("--duration-s", b.duration_s, "Duration [s]");
+  cmd->add_option("--links", b.driven_links, "Driven links, 1-based")->delimiter(',');
+  cmd->add_option("--sample-rate-hz", b.sample_rate_Hz, "Voltage update and recording rate [Hz]");
   cmd->add_option("--out", args.out_path, "CSV file to write")->required();
 }
 
@@ -168,12 +161,19 @@ void PrintSwimMetrics(const ipmc::SwimMetrics& swim);
 struct RunArgs {
   std::string scenario_path;
   std::string out_dir;
+  std::string video_path;
+  ipmc::FilmConfig film;
+  CLI::App* command = nullptr;
 };
 
 void AddRunCommand(CLI::App& app, RunArgs& args) {
-  CLI::App* cmd = app.add_subcommand("run", "Run a closed-loop scenario file (TOML)");
+  CLI::App* cmd = ipmc::AddCommand(app, "run", "Run a closed-loop scenario file (TOML)");
   cmd->add_option("scenario", args.scenario_path, "Scenario file")->required();
   cmd->add_option("--out", args.out_dir, "Output directory (overrides output.dir)");
+  cmd->add_option("--video", args.video_path,
+                  "Also film the run into this MP4 (from its recorded states; see `render`)");
+  ipmc::AddVideoOptions(cmd, args.film, "Video (with --video)");
+  args.command = cmd;
 }
 
 void PrintClosedLoopResult(const ipmc::ClosedLoopResult& r) {
@@ -190,14 +190,26 @@ void PrintClosedLoopResult(const ipmc::ClosedLoopResult& r) {
   PrintSwimMetrics(r.swim);
 }
 
+// A path made absolute, so that a run's outputs name their inputs from
+// anywhere (render reads them back).
+std::string AbsolutePath(const std::string& path) {
+  return std::filesystem::absolute(path).lexically_normal().string();
+}
+
 int RunScenarioCommand(const RunArgs& args) {
-  const ipmc::ScenarioConfig scenario = ipmc::LoadScenario(args.scenario_path);
-  const ipmc::ClosedLoopResult result = ipmc::RunScenario(scenario);
-  PrintClosedLoopResult(result);
-  const std::string dir = args.out_dir.empty() ? scenario.output_dir : args.out_dir;
-  if (!dir.empty()) {
-    ipmc::WriteClosedLoopOutputs(dir, result, {{"scenario", args.scenario_path}});
+  if (args.video_path.empty() && ipmc::AnyVideoOptionGiven(args.command)) {
+    throw std::invalid_argument("run: video options need --video FILE.mp4");
   }
+  const ipmc::ScenarioConfig scenario = ipmc::LoadScenario(args.scenario_path);
+  const std::string dir = args.out_dir.empty() ? scenario.output_dir : args.out_dir;
+  // The results are printed and written before the film is made.
+  ipmc::RunScenarioFilmed(scenario, args.film, args.video_path,
+                          [&](const ipmc::ClosedLoopResult& result) {
+                            PrintClosedLoopResult(result);
+                            if (dir.empty()) return;
+                            ipmc::WriteClosedLoopOutputs(
+                                dir, result, {{"scenario", AbsolutePath(args.scenario_path)}});
+                          });
   return 0;
 }
 
@@ -272,7 +284,7 @@ int RunGaitCommand(const GaitArgs& args) {
   const ipmc::GaitRunResult result = ipmc::RunGait(sim, *gait, args.run);
   PrintGaitResult(result);
   if (!args.out_dir.empty()) {
-    nlohmann::json inputs = {{"model", args.model_path},   {"gait", args.gait},
+    nlohmann::json inputs = {{"model", AbsolutePath(args.model_path)}, {"gait", args.gait},
                              {"frequency_Hz", args.frequency_Hz},
                              {"amplitude_rad", args.amplitude_rad},
                              {"phase_lag_rad", args.phase_lag_rad},
@@ -286,6 +298,7 @@ int RunGaitCommand(const GaitArgs& args) {
 
 int main(int argc, char** argv) {
   CLI::App app{"ipmc-swim: an IPMC flagellum swimming in Stokes flow (MuJoCo 2.2)"};
+  app.set_version_flag("--version", std::string("ipmc-swim ") + ipmc::ProgramVersion());
   app.require_subcommand(1);
   GenerateArgs generate;
   GaitArgs gait;
@@ -310,6 +323,8 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::cerr << "ipmc-swim: error: " << e.what() << " (see --help)\n";

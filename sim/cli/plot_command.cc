@@ -1,8 +1,9 @@
 #include "sim/cli/plot_command.h"
 
+#include "sim/cli/command.h"
+
 #include <fcntl.h>
 #include <spawn.h>
-#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -16,7 +17,6 @@
 #include <fstream>
 #include <map>
 #include <optional>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -24,6 +24,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "sim/io/columns.h"
+#include "sim/io/csv.h"
+#include "sim/io/error.h"
 #include "sim/io/files.h"
 #include "sim/io/numbers.h"
 #include "sim/runs/output.h"
@@ -44,16 +47,6 @@ constexpr char kWaveform[] = "waveform";
 constexpr char kSurface[] = "surface";
 constexpr char kSweep[] = "sweep";
 
-// Column names of the program's outputs (analysis_commands.h, output.h).
-constexpr char kFrequencyColumn[] = "w_rad_s";
-constexpr char kTimeColumn[] = "time_s";
-constexpr char kReferenceModelColumn[] = "reference_model";
-constexpr char kStepLinkPrefix[] = "y_link";
-constexpr char kHeadXColumn[] = "head_x_mm";
-constexpr char kHeadYColumn[] = "head_y_mm";
-constexpr char kYawColumn[] = "yaw_rad";
-constexpr char kStatusColumn[] = "status";
-constexpr char kStatusOk[] = "ok";
 constexpr char kSummaryFile[] = "summary.json";
 constexpr char kSummaryPeriodKey[] = "period_s";
 
@@ -66,160 +59,10 @@ constexpr int kMaxImagePx = 10000;
 constexpr int kMaxInstants = 12;
 constexpr int kMinSurfaceLines = 2;
 
-std::string ReferenceColumn(int link) { return "reference" + std::to_string(link) + "_mm"; }
-std::string MeasuredColumn(int link) { return "measured" + std::to_string(link) + "_mm"; }
-std::string TipXColumn(int tip) { return "tip" + std::to_string(tip) + "_x_mm"; }
-std::string TipYColumn(int tip) { return "tip" + std::to_string(tip) + "_y_mm"; }
-
-// ---------------------------------------------------------------------------
-// CSV input.
-
-// A CSV file held as text: its header and rows, with the line on which each
-// row starts, for error messages. Fields may be quoted ("a, b"; "" is a
-// quote inside quotes).
-class CsvTable {
- public:
-  // Throws std::invalid_argument naming the file if it cannot be read, has
-  // no header, or a row has a different number of fields than the header.
-  static CsvTable Read(const std::string& path, const std::string& kind);
-
-  const std::string& path() const { return path_; }
-  size_t Rows() const { return rows_.size(); }
-  bool Has(const std::string& column) const { return Find(column) != header_.size(); }
-
-  // Index of `column`; throws std::invalid_argument naming the file, the
-  // column and the columns there are.
-  size_t Column(const std::string& column) const;
-  const std::string& Text(size_t row, size_t column) const { return rows_[row][column]; }
-  // The field as a number (the whole field must be one); throws naming the
-  // file, line and column.
-  double Number(size_t row, size_t column) const;
-  std::vector<double> Numbers(const std::string& column) const;
-
- private:
-  size_t Find(const std::string& column) const {
-    return std::find(header_.begin(), header_.end(), column) - header_.begin();
-  }
-
-  std::string path_;
-  std::string kind_;
-  std::vector<std::string> header_;
-  std::vector<std::vector<std::string>> rows_;
-  std::vector<int> row_line_;
-};
-
-CsvTable CsvTable::Read(const std::string& path, const std::string& kind) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::invalid_argument(path + ": cannot open (" + std::strerror(errno) + ")");
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  const std::string text = buffer.str();
-
-  CsvTable table;
-  table.path_ = path;
-  table.kind_ = kind;
-  std::vector<std::vector<std::string>> records;
-  std::vector<int> record_line;
-  std::vector<std::string> record;
-  std::string field;
-  bool quoted = false;
-  bool record_has_content = false;
-  int line = 1;
-  int record_start = 1;
-  auto end_record = [&]() {
-    record.push_back(field);
-    field.clear();
-    if (record_has_content || record.size() > 1) {
-      records.push_back(std::move(record));
-      record_line.push_back(record_start);
-    }
-    record.clear();
-    record_has_content = false;
-  };
-  for (size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (quoted) {
-      if (c == '"' && i + 1 < text.size() && text[i + 1] == '"') {
-        field += '"';
-        ++i;
-      } else if (c == '"') {
-        quoted = false;
-      } else {
-        if (c == '\n') ++line;
-        field += c;
-      }
-      continue;
-    }
-    if (c == '"') {
-      quoted = true;
-      record_has_content = true;
-    } else if (c == ',') {
-      record.push_back(field);
-      field.clear();
-      record_has_content = true;
-    } else if (c == '\n') {
-      end_record();
-      record_start = ++line;
-    } else if (c != '\r') {
-      field += c;
-      record_has_content = true;
-    }
-  }
-  if (quoted) {
-    throw std::invalid_argument(path + ":" + std::to_string(record_start) +
-                                ": unterminated quoted field");
-  }
-  if (record_has_content || !field.empty()) end_record();
-  if (records.empty()) throw std::invalid_argument(path + ": empty file (expected a CSV header)");
-
-  table.header_ = records.front();
-  for (size_t r = 1; r < records.size(); ++r) {
-    if (records[r].size() != table.header_.size()) {
-      throw std::invalid_argument(path + ":" + std::to_string(record_line[r]) + ": expected " +
-                                  std::to_string(table.header_.size()) +
-                                  " fields as in the header, got " +
-                                  std::to_string(records[r].size()));
-    }
-    table.rows_.push_back(std::move(records[r]));
-    table.row_line_.push_back(record_line[r]);
-  }
-  return table;
-}
-
-size_t CsvTable::Column(const std::string& column) const {
-  const size_t index = Find(column);
-  if (index == header_.size()) {
-    std::string columns;
-    for (const std::string& name : header_) columns += (columns.empty() ? "" : ", ") + name;
-    throw std::invalid_argument(path_ + ": no column '" + column + "' (plot " + kind_ +
-                                " needs it; the file has " + columns + ")");
-  }
-  return index;
-}
-
-double CsvTable::Number(size_t row, size_t column) const {
-  const std::string& text = rows_[row][column];
-  const char* begin = text.c_str();
-  char* end = nullptr;
-  const double value = std::strtod(begin, &end);
-  if (text.empty() || end != begin + text.size()) {
-    throw std::invalid_argument(path_ + ":" + std::to_string(row_line_[row]) + ": column '" +
-                                header_[column] + "': '" + text + "' is not a number");
-  }
-  return value;
-}
-
-std::vector<double> CsvTable::Numbers(const std::string& column) const {
-  const size_t index = Column(column);
-  std::vector<double> values(rows_.size());
-  for (size_t r = 0; r < rows_.size(); ++r) values[r] = Number(r, index);
-  return values;
-}
-
 // Throws unless the table has at least `rows` rows.
 void RequireRows(const CsvTable& table, size_t rows) {
   if (table.Rows() < rows) {
-    throw std::invalid_argument(table.path() + ": needs at least " + std::to_string(rows) +
+    throw std::invalid_argument(table.source() + ": needs at least " + std::to_string(rows) +
                                 " data rows, has " + std::to_string(table.Rows()));
   }
 }
@@ -252,21 +95,6 @@ class ScratchDir {
   fs::path path_;
 };
 
-// A file removed when the object goes, unless released.
-class RemoveOnExit {
- public:
-  explicit RemoveOnExit(std::string path) : path_(std::move(path)) {}
-  ~RemoveOnExit() {
-    if (!path_.empty()) std::remove(path_.c_str());
-  }
-  RemoveOnExit(const RemoveOnExit&) = delete;
-  RemoveOnExit& operator=(const RemoveOnExit&) = delete;
-  void Release() { path_.clear(); }
-
- private:
-  std::string path_;
-};
-
 // A gnuplot string literal: single quotes, in which only '' is special.
 std::string Quote(const std::string& text) {
   std::string quoted = "'";
@@ -281,30 +109,20 @@ std::string Quote(const std::string& text) {
   return quoted + "'";
 }
 
-std::string Num(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.10g", value);
-  return buffer;
-}
+// Numbers in scripts and data: 10 significant digits.
+std::string Num(double value) { return FormatDouble(value, 10); }
 
 // Data values for gnuplot: non-finite values become its missing-value
 // marker (the preamble declares "NaN" missing).
 std::string DataValue(double value) { return std::isfinite(value) ? Num(value) : "NaN"; }
 
-void WriteScratchFile(const fs::path& path, const std::string& content) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << content;
-  out.flush();
-  if (!out) throw std::runtime_error(path.string() + ": write failed");
-}
-
 // Column-wise data as a whitespace-separated table.
-std::string DataTable(const std::vector<std::vector<double>>& columns) {
+std::string DataTable(const std::vector<std::vector<double>>& series) {
   std::string text;
-  const size_t rows = columns.empty() ? 0 : columns.front().size();
+  const size_t rows = series.empty() ? 0 : series.front().size();
   for (size_t r = 0; r < rows; ++r) {
-    for (size_t c = 0; c < columns.size(); ++c) {
-      text += (c ? " " : "") + DataValue(columns[c][r]);
+    for (size_t c = 0; c < series.size(); ++c) {
+      text += (c ? " " : "") + DataValue(series[c][r]);
     }
     text += "\n";
   }
@@ -407,13 +225,13 @@ std::string BodeLabel(const std::string& curve) {
 Figure BodeFigure(const CsvTable& table, const PlotArgs& args, const ScratchDir& scratch,
                   const std::string& title) {
   RequireRows(table, 2);
-  std::vector<std::vector<double>> columns = {table.Numbers(kFrequencyColumn)};
+  std::vector<std::vector<double>> series = {table.Numbers(columns::kFrequency)};
   for (const std::string& curve : args.curves) {
-    columns.push_back(table.Numbers(curve + "_db"));
-    columns.push_back(table.Numbers(curve + "_deg"));
+    series.push_back(table.Numbers(columns::MagnitudeDb(curve)));
+    series.push_back(table.Numbers(columns::PhaseDeg(curve)));
   }
   const fs::path data = scratch.File("bode.dat");
-  WriteScratchFile(data, DataTable(columns));
+  WriteFileAtomically(data.string(), DataTable(series));
 
   auto plot_line = [&](int offset) {
     std::string line = "plot ";
@@ -443,16 +261,16 @@ Figure BodeFigure(const CsvTable& table, const PlotArgs& args, const ScratchDir&
 Figure StepFigure(const CsvTable& table, const PlotArgs&, const ScratchDir& scratch,
                   const std::string& title) {
   RequireRows(table, 2);
-  std::vector<std::vector<double>> columns = {table.Numbers(kTimeColumn),
-                                              table.Numbers(kReferenceModelColumn)};
+  std::vector<std::vector<double>> series = {table.Numbers(columns::kTime),
+                                              table.Numbers(columns::kReferenceModel)};
   std::vector<int> links;
-  for (int q = 1; table.Has(kStepLinkPrefix + std::to_string(q)); ++q) {
-    columns.push_back(table.Numbers(kStepLinkPrefix + std::to_string(q)));
+  for (int q = 1; table.Has(columns::StepOutput(q)); ++q) {
+    series.push_back(table.Numbers(columns::StepOutput(q)));
     links.push_back(q);
   }
-  if (links.empty()) table.Column(std::string(kStepLinkPrefix) + "1");
+  if (links.empty()) table.Column(columns::StepOutput(1));
   const fs::path data = scratch.File("step.dat");
-  WriteScratchFile(data, DataTable(columns));
+  WriteFileAtomically(data.string(), DataTable(series));
 
   // The reference model last, dashed on top of the links.
   std::string plot = "plot ";
@@ -473,7 +291,7 @@ Figure StepFigure(const CsvTable& table, const PlotArgs&, const ScratchDir& scra
 // Links q = 1, 2, ... with a reference<q>_mm column.
 std::vector<int> ReferencedLinks(const CsvTable& table) {
   std::vector<int> links;
-  for (int q = 1; table.Has(ReferenceColumn(q)); ++q) links.push_back(q);
+  for (int q = 1; table.Has(columns::Reference(q)); ++q) links.push_back(q);
   return links;
 }
 
@@ -482,14 +300,14 @@ Figure TrackingFigure(const CsvTable& table, const PlotArgs&, const ScratchDir& 
                       const std::string& title) {
   RequireRows(table, 2);
   const std::vector<int> links = ReferencedLinks(table);
-  if (links.empty()) table.Column(ReferenceColumn(1));
-  std::vector<std::vector<double>> columns = {table.Numbers(kTimeColumn)};
+  if (links.empty()) table.Column(columns::Reference(1));
+  std::vector<std::vector<double>> series = {table.Numbers(columns::kTime)};
   for (int q : links) {
-    columns.push_back(table.Numbers(ReferenceColumn(q)));
-    columns.push_back(table.Numbers(MeasuredColumn(q)));
+    series.push_back(table.Numbers(columns::Reference(q)));
+    series.push_back(table.Numbers(columns::Measured(q)));
   }
   const fs::path data = scratch.File("tracking.dat");
-  WriteScratchFile(data, DataTable(columns));
+  WriteFileAtomically(data.string(), DataTable(series));
 
   std::string commands = "set multiplot layout " + std::to_string(links.size()) +
                          ",1 title " + Quote(title) + "\n" +
@@ -523,19 +341,19 @@ struct BodyRecord {
   std::vector<std::vector<Point2>> ideal;  // empty without reference columns
 };
 
-double WrapAngle(double angle) { return std::remainder(angle, 2.0 * M_PI); }
+double WrapAngle(double angle) { return std::remainder(angle, kTwoPi); }
 
 BodyRecord ReadBodyRecord(const CsvTable& table, bool need_ideal) {
   RequireRows(table, 1);
   BodyRecord body;
-  body.t_s = table.Numbers(kTimeColumn);
-  const std::vector<double> head_x = table.Numbers(kHeadXColumn);
-  const std::vector<double> head_y = table.Numbers(kHeadYColumn);
-  const std::vector<double> yaw = table.Numbers(kYawColumn);
+  body.t_s = table.Numbers(columns::kTime);
+  const std::vector<double> head_x = table.Numbers(columns::kHeadX);
+  const std::vector<double> head_y = table.Numbers(columns::kHeadY);
+  const std::vector<double> yaw = table.Numbers(columns::kYaw);
   std::vector<std::vector<double>> tip_x, tip_y;
-  for (int k = 1; k == 1 || table.Has(TipXColumn(k)); ++k) {
-    tip_x.push_back(table.Numbers(TipXColumn(k)));
-    tip_y.push_back(table.Numbers(TipYColumn(k)));
+  for (int k = 1; k == 1 || table.Has(columns::TipX(k)); ++k) {
+    tip_x.push_back(table.Numbers(columns::TipX(k)));
+    tip_y.push_back(table.Numbers(columns::TipY(k)));
   }
   const size_t samples = body.t_s.size();
   const size_t tips = tip_x.size();
@@ -551,7 +369,7 @@ BodyRecord ReadBodyRecord(const CsvTable& table, bool need_ideal) {
 
   const std::vector<int> links = ReferencedLinks(table);
   if (links.empty()) {
-    if (need_ideal) table.Column(ReferenceColumn(1));
+    if (need_ideal) table.Column(columns::Reference(1));
     return body;
   }
   // Per segment k (point k-1 to tip k): mean length, and the length L_k
@@ -561,11 +379,11 @@ BodyRecord ReadBodyRecord(const CsvTable& table, bool need_ideal) {
   for (size_t k = 0; k < tips; ++k) {
     const int link = static_cast<int>(k) + 1;
     double numerator = 0.0, denominator = 0.0;
-    const bool referenced = table.Has(ReferenceColumn(link));
+    const bool referenced = table.Has(columns::Reference(link));
     std::vector<double> measured;
     if (referenced) {
-      reference[k] = table.Numbers(ReferenceColumn(link));
-      measured = table.Numbers(MeasuredColumn(link));
+      reference[k] = table.Numbers(columns::Reference(link));
+      measured = table.Numbers(columns::Measured(link));
     }
     for (size_t i = 0; i < samples; ++i) {
       const std::vector<Point2>& p = body.realised[i];
@@ -652,7 +470,7 @@ Figure WaveformFigure(const CsvTable& table, const PlotArgs& args, const Scratch
                  "\n\n";
   }
   const fs::path data = scratch.File("waveform.dat");
-  WriteScratchFile(data, data_text);
+  WriteFileAtomically(data.string(), data_text);
 
   std::string plot = "plot ";
   for (size_t k = 0; k < instants.size(); ++k) {
@@ -723,7 +541,7 @@ Figure SurfaceFigure(const CsvTable& table, const PlotArgs& args, const ScratchD
   if (!(along_max > 0.0)) along_max = 1.0;
 
   const fs::path realised = scratch.File("surface_realised.dat");
-  WriteScratchFile(realised, SurfaceData(body.realised, body.t_s, samples));
+  WriteFileAtomically(realised.string(), SurfaceData(body.realised, body.t_s, samples));
   std::string commands = "set view 60,30\nset xyplane at " + Num(-1.1 * lateral_max) + "\n" +
                          "set xrange [0:" + Num(along_max) + "]\n" +
                          "set yrange [" + Num(body.t_s[samples.front()]) + ":" +
@@ -741,7 +559,7 @@ Figure SurfaceFigure(const CsvTable& table, const PlotArgs& args, const ScratchD
   figure.height_px = 560;
   if (with_ideal) {
     const fs::path ideal = scratch.File("surface_ideal.dat");
-    WriteScratchFile(ideal, SurfaceData(body.ideal, body.t_s, samples));
+    WriteFileAtomically(ideal.string(), SurfaceData(body.ideal, body.t_s, samples));
     figure.width_px = 1400;
     figure.commands = "set multiplot layout 1,2 title " + Quote(title) + "\n" + commands +
                       splot(ideal, "ideal (from the references)") +
@@ -750,13 +568,6 @@ Figure SurfaceFigure(const CsvTable& table, const PlotArgs& args, const ScratchD
     figure.commands = commands + splot(realised, title);
   }
   return figure;
-}
-
-bool ParsesAsNumber(const std::string& text) {
-  if (text.empty()) return false;
-  char* end = nullptr;
-  std::strtod(text.c_str(), &end);
-  return end == text.c_str() + text.size();
 }
 
 // A sweep column, or one element of an array column: "link_lengths_mm[0]".
@@ -768,13 +579,12 @@ class SweepAxis {
     if (open != std::string::npos && spec.back() == ']') {
       column = spec.substr(0, open);
       const std::string index = spec.substr(open + 1, spec.size() - open - 2);
-      char* end = nullptr;
-      const long value = std::strtol(index.c_str(), &end, 10);
-      if (index.empty() || end != index.c_str() + index.size() || value < 0) {
-        throw std::invalid_argument(table.path() + ": column " + spec +
+      const std::optional<long> value = ParseInteger(index);
+      if (!value || *value < 0) {
+        throw std::invalid_argument(table.source() + ": column " + spec +
                                     ": the element index must be a whole number >= 0");
       }
-      element_ = value;
+      element_ = *value;
     }
     column_ = table.Column(column);
   }
@@ -785,7 +595,7 @@ class SweepAxis {
     if (element_ < 0) return text;
     const nlohmann::json array = nlohmann::json::parse(text, nullptr, false);
     if (!array.is_array() || element_ >= static_cast<long>(array.size())) {
-      throw std::invalid_argument(table.path() + ": column " + name_ + ": '" + text +
+      throw std::invalid_argument(table.source() + ": column " + name_ + ": '" + text +
                                   "' has no element " + std::to_string(element_));
     }
     const nlohmann::json& value = array[element_];
@@ -806,19 +616,19 @@ Figure SweepFigure(const CsvTable& table, const PlotArgs& args, const ScratchDir
   const bool grouped = !args.group_column.empty();
   const std::optional<SweepAxis> group_axis =
       grouped ? std::optional<SweepAxis>(SweepAxis(table, args.group_column)) : std::nullopt;
-  const bool has_status = table.Has(kStatusColumn);
-  const size_t status_column = has_status ? table.Column(kStatusColumn) : 0;
+  const bool has_status = table.Has(columns::kStatus);
+  const size_t status_column = has_status ? table.Column(columns::kStatus) : 0;
 
   std::vector<size_t> rows;
   for (size_t r = 0; r < table.Rows(); ++r) {
-    if (!has_status || table.Text(r, status_column) == kStatusOk) rows.push_back(r);
+    if (!has_status || table.Text(r, status_column) == columns::kStatusOk) rows.push_back(r);
   }
   if (rows.empty()) {
-    throw std::invalid_argument(table.path() + ": no row with status " + kStatusOk +
+    throw std::invalid_argument(table.source() + ": no row with status " + columns::kStatusOk +
                                 " to plot");
   }
   bool numeric_x = true;
-  for (size_t r : rows) numeric_x = numeric_x && ParsesAsNumber(x_axis.Text(table, r));
+  for (size_t r : rows) numeric_x = numeric_x && ParseDouble(x_axis.Text(table, r)).has_value();
   std::vector<std::string> categories;  // distinct x values, non-numeric x
   std::vector<std::string> groups;      // distinct group values, in order
   std::map<std::string, std::vector<std::pair<double, double>>> points;
@@ -828,7 +638,7 @@ Figure SweepFigure(const CsvTable& table, const PlotArgs& args, const ScratchDir
     double x = 0.0;
     const std::string value = x_axis.Text(table, r);
     if (numeric_x) {
-      x = std::strtod(value.c_str(), nullptr);
+      x = *ParseDouble(value);
     } else {
       auto at = std::find(categories.begin(), categories.end(), value);
       if (at == categories.end()) at = categories.insert(categories.end(), value);
@@ -845,7 +655,7 @@ Figure SweepFigure(const CsvTable& table, const PlotArgs& args, const ScratchDir
     data_text += "\n\n";
   }
   const fs::path data = scratch.File("sweep.dat");
-  WriteScratchFile(data, data_text);
+  WriteFileAtomically(data.string(), data_text);
 
   std::string commands = "set title " + Quote(title) + "\n" + "set xlabel " +
                          Quote(args.x_column) + "\nset ylabel " + Quote(args.y_column) + "\n" +
@@ -877,12 +687,6 @@ Figure SweepFigure(const CsvTable& table, const PlotArgs& args, const ScratchDir
 // ---------------------------------------------------------------------------
 // Options.
 
-[[noreturn]] void ThrowOption(const std::string& option, const std::string& requirement,
-                              const std::string& got) {
-  throw std::invalid_argument(std::string(kPlotCommand) + ": " + option + " must be " +
-                              requirement + ", got " + got);
-}
-
 // Refuses options that KIND does not use, so that none is silently
 // ignored.
 void ValidateOptions(const CLI::App& command, const PlotArgs& args) {
@@ -901,29 +705,29 @@ void ValidateOptions(const CLI::App& command, const PlotArgs& args) {
                                                 {"--height-px", args.height_px}};
   for (const auto& [option, size] : sizes) {
     if (command.count(option) > 0 && (size < kMinImagePx || size > kMaxImagePx)) {
-      ThrowOption(option,
+      ThrowOption(kPlotCommand, option,
                   "in [" + std::to_string(kMinImagePx) + ", " + std::to_string(kMaxImagePx) + "]",
                   std::to_string(size));
     }
   }
-  if (args.out_path.empty()) ThrowOption("--out", "a file name", "nothing");
-  if (args.kind == kBode && args.curves.empty()) ThrowOption("--curves", "non-empty", "nothing");
+  if (args.out_path.empty()) ThrowOption(kPlotCommand, "--out", "a file name", "nothing");
+  if (args.kind == kBode && args.curves.empty()) ThrowOption(kPlotCommand, "--curves", "non-empty", "nothing");
   if (args.instants < 1 || args.instants > kMaxInstants) {
-    ThrowOption("--instants", "in [1, " + std::to_string(kMaxInstants) + "]",
+    ThrowOption(kPlotCommand, "--instants", "in [1, " + std::to_string(kMaxInstants) + "]",
                 std::to_string(args.instants));
   }
   for (double t : args.times_s) {
-    if (!std::isfinite(t)) ThrowOption("--times-s", "finite", FormatDouble(t));
+    if (!std::isfinite(t)) ThrowOption(kPlotCommand, "--times-s", "finite", FormatDouble(t));
   }
   if (args.times_s.size() > static_cast<size_t>(kMaxInstants)) {
-    ThrowOption("--times-s", "at most " + std::to_string(kMaxInstants) + " times",
+    ThrowOption(kPlotCommand, "--times-s", "at most " + std::to_string(kMaxInstants) + " times",
                 std::to_string(args.times_s.size()));
   }
   if (!std::isfinite(args.period_s) || args.period_s < 0) {
-    ThrowOption("--period-s", "finite and > 0", FormatDouble(args.period_s));
+    ThrowOption(kPlotCommand, "--period-s", "finite and > 0", FormatDouble(args.period_s));
   }
   if (args.max_lines < kMinSurfaceLines) {
-    ThrowOption("--max-lines", ">= " + std::to_string(kMinSurfaceLines),
+    ThrowOption(kPlotCommand, "--max-lines", ">= " + std::to_string(kMinSurfaceLines),
                 std::to_string(args.max_lines));
   }
   if (args.kind == kSweep && (args.x_column.empty() || args.y_column.empty())) {
@@ -936,24 +740,9 @@ void RenderPng(const Figure& figure, const PlotArgs& args, const ScratchDir& scr
   const int height = args.height_px > 0 ? args.height_px : figure.height_px;
   const std::string size = std::to_string(width) + "," + std::to_string(height);
 
-  const fs::path out_dir = fs::path(args.out_path).parent_path();
-  if (!out_dir.empty()) EnsureDirectory(out_dir.string());
-  std::string temp = args.out_path + ".tmp.XXXXXX";
-  const int fd = mkstemp(temp.data());
-  if (fd < 0) {
-    throw std::runtime_error(args.out_path + ": cannot create file (" + std::strerror(errno) +
-                             ")");
-  }
-  RemoveOnExit temp_guard(temp);
-  // mkstemp makes the file private; give it the mode of a new file.
-  const mode_t mask = umask(0);
-  umask(mask);
-  const int chmod_error = fchmod(fd, 0666 & ~mask) == 0 ? 0 : errno;
-  close(fd);
-  if (chmod_error != 0) {
-    throw std::runtime_error(args.out_path + ": cannot set permissions (" +
-                             std::strerror(chmod_error) + ")");
-  }
+  EnsureParentDirectory(args.out_path);
+  PendingFile png(args.out_path);
+  const std::string& temp = png.temp_path();
 
   // pngcairo where this gnuplot has it (antialiased), else libgd's png.
   const std::string script =
@@ -968,22 +757,18 @@ void RenderPng(const Figure& figure, const PlotArgs& args, const ScratchDir& scr
       "set grid back lt 1 lc rgb 'gray85' lw 1\n" +
       figure.commands + "unset output\n";
   const fs::path script_path = scratch.File("plot.gp");
-  WriteScratchFile(script_path, script);
+  WriteFileAtomically(script_path.string(), script);
   RunGnuplot(script_path, scratch.File("gnuplot.log"), args.input_path);
   if (!IsPng(temp)) {
     throw std::runtime_error("plot: gnuplot wrote no PNG drawing " + args.input_path + ": " +
                              LastLine(scratch.File("gnuplot.log"), script_path));
   }
-  if (std::rename(temp.c_str(), args.out_path.c_str()) != 0) {
-    throw std::runtime_error(args.out_path + ": cannot rename into place (" +
-                             std::strerror(errno) + ")");
-  }
-  temp_guard.Release();
+  png.Commit();
 }
 
 int RunPlot(const CLI::App& command, const PlotArgs& args) {
   ValidateOptions(command, args);
-  const CsvTable table = CsvTable::Read(args.input_path, args.kind);
+  const CsvTable table = CsvTable::Read(args.input_path);
   const std::string title = args.title.empty() ? DefaultTitle(args) : args.title;
   ScratchDir scratch;
   Figure figure;
@@ -1002,7 +787,7 @@ int RunPlot(const CLI::App& command, const PlotArgs& args) {
 }  // namespace
 
 void AddPlotCommand(CLI::App& app, PlotArgs& args) {
-  CLI::App* cmd = app.add_subcommand(kPlotCommand, "Draw one of the paper's figures (gnuplot PNG)");
+  CLI::App* cmd = AddCommand(app, kPlotCommand, "Draw one of the paper's figures (gnuplot PNG)");
   cmd->add_option("kind", args.kind,
                   "bode (Fig. 9/10) | step (Fig. 11) | tracking (Fig. 12a) | waveform (Fig. 12b) "
                   "| surface (Fig. 13) | sweep")
@@ -1014,19 +799,22 @@ void AddPlotCommand(CLI::App& app, PlotArgs& args) {
       ->required();
   cmd->add_option("-o,--out", args.out_path, "PNG file to write")->required();
   cmd->add_option("--title", args.title, "Figure title (default: what is drawn and INPUT)");
-  cmd->add_option("--width-px", args.width_px, "Image width [px] (default: the kind's)");
-  cmd->add_option("--height-px", args.height_px, "Image height [px] (default: the kind's)");
+  cmd->add_option("--width-px", args.width_px, "Image width [px] (default: the kind's)")
+      ->default_str("");
+  cmd->add_option("--height-px", args.height_px, "Image height [px] (default: the kind's)")
+      ->default_str("");
   cmd->add_option("--curves", args.curves,
                   "bode: curves to draw, of plant, controller, open_loop, reference_open_loop")
-      ->delimiter(',')->capture_default_str();
-  cmd->add_option("--instants", args.instants,
-                  "waveform: number of instants over the last wave period")->capture_default_str();
-  cmd->add_option("--times-s", args.times_s, "waveform: instants [s] (nearest samples)")
       ->delimiter(',');
+  cmd->add_option("--instants", args.instants,
+                  "waveform: number of instants over the last wave period");
+  cmd->add_option("--times-s", args.times_s, "waveform: instants [s] (nearest samples)")
+      ->delimiter(',')
+      ->default_str("");
   cmd->add_option("--period-s", args.period_s,
-                  "waveform: wave period [s] (default: period_s of summary.json beside INPUT)");
-  cmd->add_option("--max-lines", args.max_lines, "surface: most body lines drawn")
-      ->capture_default_str();
+                  "waveform: wave period [s] (default: period_s of summary.json beside INPUT)")
+      ->default_str("");
+  cmd->add_option("--max-lines", args.max_lines, "surface: most body lines drawn");
   cmd->add_option("--x", args.x_column,
                   "sweep: column on the x axis (NAME[i]: element i of an array column)");
   cmd->add_option("--y", args.y_column, "sweep: column on the y axis");

@@ -49,9 +49,11 @@
 // gnuplot script go to a temporary directory (removed afterwards); gnuplot
 // (from PATH) renders to a temporary file beside FILE.png, which is
 // renamed into place only if gnuplot exited with 0 and the file is a PNG.
-// Errors throw std::invalid_argument (bad options, missing or non-numeric
-// columns; the message names INPUT and the column) or std::runtime_error
-// (gnuplot missing or failing, I/O); no FILE.png is left behind then.
+// INPUT is read by sim/io/csv.h. Errors throw std::invalid_argument (bad
+// options), InputError (sim/io/error.h: an unreadable INPUT, missing or
+// non-numeric columns; the message names INPUT, the line and the column)
+// or std::runtime_error (gnuplot missing or failing, I/O); no FILE.png is
+// left behind then.
 #pragma once
 
 #include <string>

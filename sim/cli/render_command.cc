@@ -1,153 +1,162 @@
 #include "sim/cli/render_command.h"
 
+#include "sim/cli/command.h"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
-#include <sstream>
 #include <stdexcept>
 #include <vector>
 
-#include "sim/io/files.h"
-#include "renders/offscreen_renderer.h"
-#include "renders/video.h"
-#include "sim/runs/closed_loop_run.h"
-#include "sim/runs/output.h"
 #include "sim/core/scenario.h"
+#include "sim/core/simulation.h"
+#include "sim/io/progress_bar.h"
 
 namespace ipmc {
 namespace {
 
 constexpr char kRenderCommand[] = "render";
-// Trails longer than this would only slow the renderer down.
-constexpr int kMaxTrailFrames = 10000;
+// Every video option, for AnyVideoOptionGiven.
+constexpr const char* kVideoOptions[] = {
+    "--width",     "--height",        "--fps",           "--frames-per-cycle",
+    "--start-cycle", "--cycles",      "--trail-frames",  "--camera",
+    "--view-mm",   "--center-mm",     "--elevation-deg", "--azimuth-deg",
+    "--strip-thickness-mm", "--no-grid", "--no-ghost",   "--png-dir"};
 
-[[noreturn]] void ThrowOption(const std::string& option, const std::string& requirement,
-                              double value) {
-  std::ostringstream msg;
-  msg << "render: " << option << " must be " << requirement << " (got " << value << ")";
-  throw std::invalid_argument(msg.str());
-}
-
-void Validate(const RenderArgs& args) {
-  if (args.width <= 0 || args.width % 2 != 0) ThrowOption("--width", "positive and even", args.width);
-  if (args.height <= 0 || args.height % 2 != 0) {
-    ThrowOption("--height", "positive and even", args.height);
-  }
-  if (!(args.fps > 0.0 && args.fps <= 1000.0)) ThrowOption("--fps", "in (0, 1000]", args.fps);
-  if (args.frames_per_cycle < 1) ThrowOption("--frames-per-cycle", ">= 1", args.frames_per_cycle);
-  if (args.start_cycle < 1) ThrowOption("--start-cycle", ">= 1", args.start_cycle);
-  if (args.cycles < 0) ThrowOption("--cycles", ">= 1", args.cycles);
-  if (args.trail_frames > kMaxTrailFrames) {
-    ThrowOption("--trail-frames", "<= " + std::to_string(kMaxTrailFrames), args.trail_frames);
-  }
-}
-
-void EnsureParentDirectory(const std::string& path) {
-  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
-  if (!parent.empty()) EnsureDirectory(parent.string());
-}
-
-std::string FramePath(const std::string& dir, int index) {
-  char name[32];
-  std::snprintf(name, sizeof(name), "frame_%05d.png", index);
-  return (std::filesystem::path(dir) / name).string();
-}
-
-// The PNGs written so far; removed unless the run completes.
-class PngSequence {
+// A progress bar on stderr for a film.
+class FilmProgressBar {
  public:
-  explicit PngSequence(std::string dir) : dir_(std::move(dir)) {}
-  ~PngSequence() {
-    if (kept_) return;
-    for (const std::string& path : written_) std::remove(path.c_str());
+  FilmProgressBar() : bar_("rendering", "frames", StderrIsTerminal(), /*quarter_lines=*/true) {}
+  FilmProgress Callback() {
+    return [this](int done, int total) {
+      if (!started_) {
+        bar_.Start(total);
+        started_ = true;
+      }
+      bar_.Update(done);
+    };
   }
-  PngSequence(const PngSequence&) = delete;
-  PngSequence& operator=(const PngSequence&) = delete;
-
-  void Add(const std::vector<unsigned char>& rgb, int width, int height) {
-    if (dir_.empty()) return;
-    const std::string path = FramePath(dir_, static_cast<int>(written_.size()));
-    WritePng(path, rgb, width, height);
-    written_.push_back(path);
-  }
-  void Keep() { kept_ = true; }
+  void Finish() { bar_.Finish(); }
 
  private:
-  std::string dir_;
-  std::vector<std::string> written_;
-  bool kept_ = false;
+  ProgressBar bar_;
+  bool started_ = false;
 };
 
+void PrintFilmSummary(const FilmSummary& summary, const FilmConfig& film,
+                      const std::string& out_path) {
+  std::printf("%d frames (%dx%d, cycles %d to %d, %.3g x real time, %.4g px/mm) at %g fps "
+              "written to %s\n",
+              summary.frames, film.width, film.height, summary.first_cycle, summary.last_cycle,
+              summary.speedup, summary.pixels_per_mm, film.fps, out_path.c_str());
+  if (!film.png_dir.empty()) {
+    std::printf("frames also written to %s\n",
+                (std::filesystem::path(film.png_dir) / "frame_00000.png").c_str());
+  }
+}
+
 int RunRender(const RenderArgs& args) {
-  Validate(args);
-  ScenarioConfig scenario = LoadScenario(args.scenario_path);
-  const int first_cycle = args.start_cycle;
-  if (args.cycles == 0 && first_cycle > scenario.cycles) {
+  args.film.Validate();
+  if (std::filesystem::is_directory(args.input_path)) {
+    const RunRecording recording = LoadRunRecording(args.input_path);
+    FilmProgressBar bar;
+    const FilmSummary summary = FilmRun(recording.View(), args.film, args.out_path, bar.Callback());
+    bar.Finish();
+    PrintFilmSummary(summary, args.film, args.out_path);
+    return 0;
+  }
+  ScenarioConfig scenario = LoadScenario(args.input_path);
+  const int first_cycle = args.film.start_cycle;
+  if (args.film.cycles == 0 && first_cycle > scenario.cycles) {
     throw std::invalid_argument("render: --start-cycle " + std::to_string(first_cycle) +
                                 " is after the scenario's last cycle " +
                                 std::to_string(scenario.cycles) + " (add --cycles to extend it)");
   }
-  const int last_cycle = args.cycles == 0 ? scenario.cycles : first_cycle + args.cycles - 1;
-  scenario.cycles = last_cycle;
-  scenario.samples_per_cycle = args.frames_per_cycle;
+  scenario.cycles = args.film.cycles == 0 ? scenario.cycles : first_cycle + args.film.cycles - 1;
+  scenario.samples_per_cycle = args.film.frames_per_cycle;
   scenario.output_dir.clear();
-  const double period_s = 1.0 / std::abs(scenario.waveform.frequency_Hz);
-
-  EnsureParentDirectory(args.out_path);
-  if (!args.png_dir.empty()) EnsureDirectory(args.png_dir);
-  Mp4Writer video(args.out_path, args.width, args.height, args.fps);
-  PngSequence pngs(args.png_dir);
-
-  RendererOptions options;
-  options.trail_length = args.trail_frames < 0 ? args.frames_per_cycle : args.trail_frames;
-  std::unique_ptr<OffscreenRenderer> renderer;
-  FrameSetup setup;
-  setup.overlay.period_s = period_s;
-  const auto observer = [&](const mjModel* m, const mjData* d, const ClosedLoopSample& sample) {
-    if (!renderer) {
-      // The first sample, at t = 0: the model exists from here on, and the
-      // centre of mass at rest is the origin of the displacement.
-      renderer = std::make_unique<OffscreenRenderer>(m, args.width, args.height, options);
-      setup.overlay.origin_m = {sample.pose.com_x_mm * 1e-3, sample.pose.com_y_mm * 1e-3};
-    }
-    const int cycle = static_cast<int>(std::floor(sample.pose.t_s / period_s + 1e-9)) + 1;
-    if (cycle < first_cycle || cycle > last_cycle) return;
-    const std::vector<unsigned char> rgb = renderer->Frame(d, setup);
-    video.AddFrame(rgb);
-    pngs.Add(rgb, args.width, args.height);
-  };
-  RunScenario(scenario, observer);
-  video.Finish();
-  pngs.Keep();
-
-  std::printf("%d frames (%dx%d, cycles %d to %d) at %g fps written to %s\n", video.frames(),
-              args.width, args.height, first_cycle, last_cycle, args.fps, args.out_path.c_str());
-  if (!args.png_dir.empty()) {
-    std::printf("frames also written to %s\n", FramePath(args.png_dir, 0).c_str());
-  }
+  RunScenarioFilmed(scenario, args.film, args.out_path);
   return 0;
 }
 
 }  // namespace
 
+void AddVideoOptions(CLI::App* cmd, FilmConfig& film, const std::string& group) {
+  CLI::App* g = group.empty() ? cmd : cmd->add_option_group(group);
+  g->add_option("--width", film.width, "Frame width [px], even, at most the model's offwidth")
+      ->capture_default_str();
+  g->add_option("--height", film.height, "Frame height [px], even, at most the model's offheight")
+      ->capture_default_str();
+  g->add_option("--fps", film.fps, "Video frame rate [1/s]")->capture_default_str();
+  g->add_option("--frames-per-cycle", film.frames_per_cycle, "Frames per wave cycle")
+      ->capture_default_str();
+  g->add_option("--start-cycle", film.start_cycle, "First cycle filmed (1 = the first)")
+      ->capture_default_str();
+  g->add_option("--cycles", film.cycles, "Cycles filmed (default: to the run's last)");
+  g->add_option("--trail-frames", film.trail_frames,
+                "Frames of tip trail kept (default: one cycle; 0: none)");
+  g->add_option_function<std::string>(
+       "--camera",
+       [&film](const std::string& camera) {
+         film.camera = camera == "follow" ? FilmCamera::kFollow : FilmCamera::kFixed;
+       },
+       "fixed: still, framing the whole swim over a mm grid; follow: on the centre of mass")
+      ->check(CLI::IsMember({"fixed", "follow"}))
+      ->default_str("fixed");
+  g->add_option("--view-mm", film.view_mm,
+                "Image width at the body's plane [mm] (default: fit the swim, or 1/0.6 body "
+                "lengths when following)");
+  g->add_option("--center-mm", film.center_mm, "Fixed camera: image centre X,Y [mm]")
+      ->delimiter(',')->expected(2);
+  g->add_option("--elevation-deg", film.elevation_deg,
+                "Camera elevation [deg], -90 (top-down) to -5 (grazing)")
+      ->capture_default_str();
+  g->add_option("--azimuth-deg", film.azimuth_deg, "Camera azimuth [deg] (90: +x to the right)")
+      ->capture_default_str();
+  g->add_option_function<double>(
+      "--strip-thickness-mm", [&film](double mm) { film.strip_thickness_mm = mm; },
+      "Drawn strip thickness [mm] (physics unchanged; default 2 % of the body length; 0: "
+      "true 250 um)");
+  g->add_flag_function("--no-grid", [&film](std::int64_t) { film.grid = false; },
+                       "Plain background: no millimetre grid and scale bar");
+  g->add_flag_function("--no-ghost", [&film](std::int64_t) { film.ghost = false; },
+                       "No ghost of the ideal travelling wave");
+  g->add_option("--png-dir", film.png_dir, "Also write every frame as DIR/frame_NNNNN.png");
+}
+
+bool AnyVideoOptionGiven(const CLI::App* cmd) {
+  for (const char* option : kVideoOptions) {
+    if (cmd->count(option) > 0) return true;
+  }
+  return false;
+}
+
+ClosedLoopResult RunScenarioFilmed(
+    const ScenarioConfig& scenario, const FilmConfig& film, const std::string& video_path,
+    const std::function<void(const ClosedLoopResult&)>& before_filming) {
+  if (video_path.empty()) {
+    const ClosedLoopResult result = RunScenario(scenario);
+    if (before_filming) before_filming(result);
+    return result;
+  }
+  FilmProgressBar bar;
+  FilmSummary summary;
+  const ClosedLoopResult result = RunScenarioAndFilm(scenario, film, video_path, before_filming,
+                                                     bar.Callback(), &summary);
+  bar.Finish();
+  PrintFilmSummary(summary, film, video_path);
+  return result;
+}
+
 void AddRenderCommand(CLI::App& app, RenderArgs& args) {
-  CLI::App* cmd = app.add_subcommand(kRenderCommand, "Run a scenario and film the swimmer (MP4)");
-  cmd->add_option("scenario", args.scenario_path, "Scenario file (TOML)")->required();
+  CLI::App* cmd = AddCommand(
+      app, kRenderCommand, "Film a run from its output directory, or run a scenario and film it (MP4)");
+  cmd->add_option("input", args.input_path,
+                  "A run's output directory (states.csv, summary.json) or a scenario file (TOML)")
+      ->required();
   cmd->add_option("--out", args.out_path, "MP4 file to write")->required();
-  cmd->add_option("--width", args.width, "Frame width [px], even, at most the model's offwidth")
-      ->capture_default_str();
-  cmd->add_option("--height", args.height, "Frame height [px], even, at most the model's offheight")
-      ->capture_default_str();
-  cmd->add_option("--fps", args.fps, "Video frame rate [1/s]")->capture_default_str();
-  cmd->add_option("--frames-per-cycle", args.frames_per_cycle, "Frames per wave cycle")
-      ->capture_default_str();
-  cmd->add_option("--start-cycle", args.start_cycle, "First cycle filmed (1 = the first)")
-      ->capture_default_str();
-  cmd->add_option("--cycles", args.cycles, "Cycles filmed (default: to the scenario's last)");
-  cmd->add_option("--trail-frames", args.trail_frames,
-                  "Frames of tip trail kept (default: one cycle; 0: none)");
-  cmd->add_option("--png-dir", args.png_dir, "Also write every frame as DIR/frame_NNNNN.png");
+  AddVideoOptions(cmd, args.film);
 }
 
 int RunRenderCommand(const CLI::App& app, const RenderArgs& args) {

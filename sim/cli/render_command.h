@@ -1,45 +1,58 @@
-// The "render" subcommand of ipmc-swim: runs a closed-loop scenario and
-// films it from above (renders/offscreen_renderer.h).
+// The "render" subcommand of ipmc-swim, and the video options it shares
+// with `run --video` (renders/swim_film.h).
 //
-//   ipmc-swim render SCENARIO --out swim.mp4 [--width 640 --height 480]
-//       [--fps 25] [--frames-per-cycle 100] [--start-cycle 1] [--cycles N]
-//       [--trail-frames F] [--png-dir DIR]
+//   ipmc-swim render RUN_DIR --out swim.mp4 [video options]
+//   ipmc-swim render SCENARIO.toml --out swim.mp4 [video options]
 //
-// The scenario runs as `ipmc-swim run` would (same model, controller and
-// physics), for cycles 1 .. start-cycle + cycles - 1 (--cycles defaults to
-// the scenario's last cycle; more cycles than the scenario names extend the
-// run). Its output.samples_per_cycle is replaced by --frames-per-cycle,
-// and each recorded sample of the cycles from --start-cycle on becomes a
-// frame (the controller's sample count per cycle, divided by a whole
-// number, caps the frame count). A frame shows the time, the cycle and the
-// net displacement of the centre of mass since t = 0, and trails of the
-// tips over the last --trail-frames frames (default: one cycle). The
-// scenario's output directory is not written.
+// RUN_DIR is the output directory of `run` or `gait` (summary.json and
+// states.csv): the run is filmed from its recorded states, not simulated
+// again. A scenario file is run once, as `ipmc-swim run` would (same
+// model, controller and physics), for cycles 1 .. start-cycle + cycles - 1
+// (--cycles defaults to the scenario's last cycle; more cycles than the
+// scenario names extend the run), recording --frames-per-cycle states per
+// cycle, and filmed; its output directory is not written.
 //
-// --out gets an H.264 MP4 at --fps; --png-dir DIR also gets every frame as
-// DIR/frame_00000.png, DIR/frame_00001.png, ... Nothing is written unless
-// the whole run succeeded. Bad option values throw std::invalid_argument
-// naming the option.
+// Video options: --width --height --fps --frames-per-cycle --start-cycle
+// --cycles --trail-frames --camera fixed|follow --view-mm --center-mm X,Y
+// --elevation-deg --azimuth-deg --strip-thickness-mm --no-grid --no-ghost
+// --png-dir DIR. --out gets an H.264 MP4 at --fps; --png-dir DIR also gets
+// every frame as DIR/frame_00000.png, ... Nothing is written unless the
+// whole film succeeded. Bad option values throw std::invalid_argument
+// naming the option. A progress bar goes to stderr while frames are
+// rendered and encoded.
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include <CLI/CLI.hpp>
 
+#include "renders/swim_film.h"
+#include "sim/runs/closed_loop_run.h"
+
 namespace ipmc {
 
 struct RenderArgs {
-  std::string scenario_path;
+  std::string input_path;  // a run's output directory or a scenario file
   std::string out_path;
-  int width = 640;
-  int height = 480;
-  double fps = 25.0;
-  int frames_per_cycle = 100;
-  int start_cycle = 1;
-  int cycles = 0;         // 0: through the scenario's last cycle
-  int trail_frames = -1;  // < 0: frames_per_cycle
-  std::string png_dir;
+  FilmConfig film;
 };
+
+// Adds the video options to cmd (in an option group named `group`, if not
+// empty), storing them in film.
+void AddVideoOptions(CLI::App* cmd, FilmConfig& film, const std::string& group = "");
+
+// Whether any video option was given on cmd's command line.
+bool AnyVideoOptionGiven(const CLI::App* cmd);
+
+// Runs the scenario once and hands the result to `before_filming` (if
+// set); then, with a non-empty video_path, films the run from its recorded
+// states into video_path (the frame size is checked against the model when
+// the run starts) and prints where the video went. Throws as RunScenario
+// and FilmRun do.
+ClosedLoopResult RunScenarioFilmed(
+    const ScenarioConfig& scenario, const FilmConfig& film, const std::string& video_path,
+    const std::function<void(const ClosedLoopResult&)>& before_filming = {});
 
 // Adds subcommand "render" to app, storing its options in args.
 void AddRenderCommand(CLI::App& app, RenderArgs& args);

@@ -1,59 +1,45 @@
 #include "sim/cli/sweep_command.h"
 
-#include <unistd.h>
+#include "sim/cli/command.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cstdio>
+#include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
-#include <thread>
 #include <vector>
 
+#include "sim/batch/cpu_affinity.h"
+#include "sim/batch/journal.h"
 #include "sim/batch/sweep.h"
+#include "sim/io/columns.h"
+#include "sim/io/numbers.h"
+#include "sim/cli/interrupt.h"
+#include "sim/cli/slurm_command.h"
+#include "sim/io/progress_bar.h"
 
 namespace ipmc {
 namespace {
 
 constexpr char kSweepCommand[] = "sweep";
 constexpr char kMergeCommand[] = "merge";
+// The shell's exit code for a process stopped by SIGINT (128 + 2).
+constexpr int kInterruptedExitCode = 130;
 
-constexpr int kBarWidth = 30;
 // Result columns shown on stdout (all are in the files).
-constexpr const char* kShownResults[] = {"mean_speed_along_mm_s", "last_cycle_com_along_mm"};
-
-// "m:ss", or "h:mm:ss" from an hour on.
-std::string Clock(double seconds) {
-  const long total = std::max(0L, static_cast<long>(seconds + 0.5));
-  char buffer[32];
-  if (total >= 3600) {
-    std::snprintf(buffer, sizeof(buffer), "%ld:%02ld:%02ld", total / 3600, total / 60 % 60,
-                  total % 60);
-  } else {
-    std::snprintf(buffer, sizeof(buffer), "%ld:%02ld", total / 60, total % 60);
-  }
-  return buffer;
-}
+constexpr const char* kShownResults[] = {columns::kMeanSpeedAlong, columns::kLastCycleComAlong};
 
 // Progress on stderr: a bar redrawn in place on a terminal, else one line
 // per point (for logs and pipes).
 class ProgressReport {
  public:
-  explicit ProgressReport(bool terminal) : terminal_(terminal) {}
+  explicit ProgressReport(bool terminal) : bar_("sweep", "runs", terminal) {}
 
-  // Draws the empty bar, so that a long first run does not look like a hang.
-  void Start(int total) {
-    if (terminal_ && total > 0) {
-      const std::string line = "[" + std::string(kBarWidth, '-') + "] 0/" +
-                               std::to_string(total) + " runs";
-      last_width_ = line.size() + 1;
-      std::fprintf(stderr, "\r%s", line.c_str());
-      std::fflush(stderr);
-    }
-  }
+  void Start(int total) { bar_.Start(total); }
 
   void operator()(const SweepProgress& p) {
-    if (!terminal_) {
+    if (!bar_.terminal()) {
       if (p.ok) {
         std::fprintf(stderr, "run %d/%d done (point %d)\n", p.done, p.total, p.point);
       } else {
@@ -62,55 +48,39 @@ class ProgressReport {
       }
       return;
     }
-    const int filled = p.total > 0 ? kBarWidth * p.done / p.total : kBarWidth;
-    const double remaining_s = p.elapsed_s / p.done * (p.total - p.done);
-    std::string line = "\r[" + std::string(filled, '#') + std::string(kBarWidth - filled, '-') +
-                       "] " + std::to_string(p.done) + "/" + std::to_string(p.total) +
-                       " runs, " + Clock(p.elapsed_s) + " elapsed, ETA " + Clock(remaining_s);
     if (!p.ok) ++failed_;
-    if (failed_ > 0) line += ", " + std::to_string(failed_) + " failed";
-    const size_t width = line.size();
-    if (width < last_width_) line += std::string(last_width_ - width, ' ');
-    last_width_ = width;
-    std::fputs(line.c_str(), stderr);
-    std::fflush(stderr);
+    bar_.Update(p.done, failed_ > 0 ? std::to_string(failed_) + " failed" : "");
   }
 
-  // Ends the bar's line.
-  void Finish() const {
-    if (terminal_ && last_width_ > 0) std::fputc('\n', stderr);
-  }
+  void Finish() { bar_.Finish(); }
 
  private:
-  bool terminal_;
-  size_t last_width_ = 0;
+  ProgressBar bar_;
   int failed_ = 0;
 };
 
 // A number cell at 6 significant digits; other cells as they are.
+// (The table writes numbers without a '+'; a cell with one is text.)
 std::string Readable(const std::string& cell) {
-  double value = 0.0;
-  const char* end = cell.data() + cell.size();
-  const std::from_chars_result result = std::from_chars(cell.data(), end, value);
-  if (cell.empty() || result.ec != std::errc() || result.ptr != end) return cell;
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.6g", value);
-  return buffer;
+  const std::optional<double> value = cell.empty() || cell[0] == '+' ? std::nullopt
+                                                                     : ParseDouble(cell);
+  return value ? FormatDouble(*value, 6) : cell;
 }
 
 // The swept values, status and speed of each row, aligned.
 void PrintSummary(const SweepTable& table) {
-  const std::vector<std::string>& columns = table.columns;
-  const size_t status = std::find(columns.begin(), columns.end(), "status") - columns.begin();
+  const std::vector<std::string>& names = table.columns;
+  const size_t status =
+      std::find(names.begin(), names.end(), columns::kStatus) - names.begin();
   std::vector<size_t> shown;
-  for (size_t c = 0; c <= status && c < columns.size(); ++c) shown.push_back(c);
+  for (size_t c = 0; c <= status && c < names.size(); ++c) shown.push_back(c);
   for (const char* name : kShownResults) {
-    const auto it = std::find(columns.begin(), columns.end(), name);
-    if (it != columns.end()) shown.push_back(it - columns.begin());
+    const auto it = std::find(names.begin(), names.end(), name);
+    if (it != names.end()) shown.push_back(it - names.begin());
   }
   std::vector<size_t> width;
   for (size_t c : shown) {
-    size_t w = columns[c].size();
+    size_t w = names[c].size();
     for (const auto& row : table.rows) w = std::max(w, Readable(row[c]).size());
     width.push_back(w);
   }
@@ -124,34 +94,62 @@ void PrintSummary(const SweepTable& table) {
     while (!line.empty() && line.back() == ' ') line.pop_back();
     std::printf("%s\n", line.c_str());
   };
-  print_row([&](size_t c) { return columns[c]; });
+  print_row([&](size_t c) { return names[c]; });
   for (const auto& row : table.rows) print_row([&](size_t c) { return Readable(row[c]); });
 }
 
 int RunSweepFile(const SweepArgs& args) {
+  if (!args.status_dir.empty()) {
+    if (!args.sweep_path.empty()) throw std::invalid_argument("sweep: --status takes no sweep file");
+    return RunSweepStatus(args.status_dir);
+  }
+  if (args.sweep_path.empty()) throw std::invalid_argument("sweep: needs a sweep file");
+  if (!args.slurm.dir.empty()) return RunSlurmSubmission(args);
+  if (args.out_prefix.empty()) {
+    throw std::invalid_argument("sweep: --out PREFIX is required (or --slurm DIR)");
+  }
   const SweepShard shard = ParseSweepShard(args.shard);
   if (args.jobs < 1) {
     throw std::invalid_argument("sweep: --jobs must be >= 1 (got " + std::to_string(args.jobs) +
                                 ")");
   }
   const SweepPlan plan = LoadSweep(args.sweep_path);
-  ProgressReport progress(isatty(STDERR_FILENO) == 1);
+  SweepJournal journal(args.out_prefix + ".journal", plan);
+  const ShardRecord record = CountRecorded(plan, shard, journal);
+  if (record.recorded > 0) {
+    std::fprintf(stderr, "resuming from %s: %d of %d points done before\n", journal.path().c_str(),
+                 record.recorded, record.points);
+  }
+  ProgressReport progress(StderrIsTerminal());
   SweepOptions options;
   options.jobs = args.jobs;
   options.shard = shard;
   options.on_point_done = [&](const SweepProgress& p) { progress(p); };
-  progress.Start(static_cast<int>(std::count_if(
-      plan.points.begin(), plan.points.end(),
-      [&](const SweepPoint& point) { return point.index % shard.count == shard.index - 1; })));
-  const SweepTable table = RunSweep(plan, options);
+  progress.Start(record.points - record.recorded);
+  JournaledSweep run;
+  {
+    const InterruptAtBoundary interrupt(
+        "interrupted: finishing the points that are running, then stopping (Ctrl-C again stops "
+        "at once; finished points stay in " + journal.path() + ")");
+    options.stop_requested = [&] { return interrupt.Requested(); };
+    run = RunJournaledSweep(plan, options, &journal);
+  }
   progress.Finish();
+  if (!run.Complete()) {
+    std::fprintf(stderr,
+                 "stopped: %zu of %d points done, recorded in %s; run the same command again to "
+                 "resume\n",
+                 run.table.rows.size(), record.points, journal.path().c_str());
+    return kInterruptedExitCode;
+  }
+  const SweepTable& table = run.table;
   WriteSweepTable(args.out_prefix, table);
 
   PrintSummary(table);
   const size_t status = plan.keys.size() + 1;
   int failed = 0;
   for (const auto& row : table.rows) {
-    if (row[status] != "ok") {
+    if (row[status] != columns::kStatusOk) {
       ++failed;
       std::fprintf(stderr, "point %s failed: %s\n", row[0].c_str(), row[status + 1].c_str());
     }
@@ -167,6 +165,15 @@ int RunSweepFile(const SweepArgs& args) {
 }
 
 int RunMergeTables(const SweepArgs& args) {
+  if (args.merge_partial) return RunPartialMerge(args);
+  for (const std::string& path : args.merge_tables) {
+    std::error_code error;
+    if (!std::filesystem::exists(path, error)) {
+      throw std::runtime_error("merge: " + path +
+                               " does not exist (a shard that did not finish? --partial merges "
+                               "the tables that exist)");
+    }
+  }
   std::vector<SweepTable> tables;
   for (const std::string& path : args.merge_tables) tables.push_back(LoadSweepTableCsv(path));
   const SweepTable merged = MergeSweepTables(tables, args.merge_tables);
@@ -179,23 +186,29 @@ int RunMergeTables(const SweepArgs& args) {
 }  // namespace
 
 void AddSweepCommands(CLI::App& app, SweepArgs& args) {
-  args.jobs = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  CLI::App* sweep = app.add_subcommand(
-      kSweepCommand, "Run a scenario over a grid or list of overrides (a sweep file, TOML)");
-  sweep->add_option("sweep", args.sweep_path, "Sweep file")->required();
-  sweep->add_option("--jobs", args.jobs, "Points run in parallel (default: hardware threads)")
-      ->capture_default_str();
+  args.jobs = AvailableCpus();
+  CLI::App* sweep = AddCommand(
+      app, kSweepCommand, "Run a scenario over a grid or list of overrides (a sweep file, TOML)");
+  sweep->add_option("sweep", args.sweep_path, "Sweep file");
+  sweep->add_option("--jobs", args.jobs,
+                    "Points run in parallel (default: the CPUs this process may use)");
   sweep->add_option("--shard", args.shard,
-                    "Run part i of n: the points with index % n == i - 1")
-      ->capture_default_str();
-  sweep->add_option("--out", args.out_prefix, "Writes PREFIX.csv and PREFIX.json")->required();
+                    "Run part i of n: the points with index % n == i - 1");
+  sweep->add_option("--out", args.out_prefix,
+                    "Writes PREFIX.csv and PREFIX.json; records each point in PREFIX.journal "
+                    "(resume)");
+  AddSlurmOptions(sweep, args);
 
   CLI::App* merge =
-      app.add_subcommand(kMergeCommand, "Join the tables (CSV) of a sweep's shards into one");
+      AddCommand(app, kMergeCommand, "Join the tables (CSV) of a sweep's shards into one");
   merge->add_option("tables", args.merge_tables, "Shard tables (PREFIX.csv of each sweep --shard)")
-      ->required();
+      ->required()
+      ->default_str("");
   merge->add_option("--out", args.merge_out_prefix, "Writes PREFIX.csv and PREFIX.json")
       ->required();
+  merge->add_flag("--partial", args.merge_partial,
+                  "Merge the tables that exist (and the journals of those that do not); list "
+                  "the missing points");
 }
 
 int RunSweepCommand(const CLI::App& app, const SweepArgs& args) {

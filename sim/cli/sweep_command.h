@@ -5,7 +5,11 @@
 // Reads the whole sweep first (a malformed file, an unknown or ill-typed
 // key stops it with one line and no output), then runs its points, or
 // only shard i of n (the points with index % n == i - 1), on N threads
-// (default: the number of hardware threads). A point that fails is
+// (default: the CPUs the process may run on, its affinity mask). Each
+// finished point goes to PREFIX.journal (sim/batch/journal.h); running
+// the same sweep into the same PREFIX again runs only the points it does
+// not hold. Ctrl-C stops at the next point boundary (the running points
+// finish and are recorded; exit code 130) and says how to resume. A point that fails is
 // recorded in its row and the others still run. Progress goes to stderr:
 // a bar with runs done/total and the ETA, redrawn in place, when stderr
 // is a terminal; else one line per point, "run k/N done (point i)" or
@@ -16,8 +20,11 @@
 //
 //   ipmc-swim merge --out PREFIX A.csv B.csv ...
 // Joins the tables of a sweep's shards into PREFIX.csv and PREFIX.json,
-// ordered by point index; tables with different columns, a point in two
-// tables or a gap in the indices are one-line errors.
+// ordered by point index; a table that does not exist, tables with
+// different columns, a point in two tables or a gap in the indices are
+// one-line errors. With --partial: sim/cli/slurm_command.h.
+//
+// sweep --slurm DIR and sweep --status DIR: sim/cli/slurm_command.h.
 #pragma once
 
 #include <string>
@@ -25,15 +32,21 @@
 
 #include <CLI/CLI.hpp>
 
+#include "sim/batch/slurm.h"
+
 namespace ipmc {
 
 struct SweepArgs {
   std::string sweep_path;
-  int jobs = 1;  // AddSweepCommands sets the default: std::thread::hardware_concurrency()
+  int jobs = 1;  // AddSweepCommands sets the default: the CPUs this process may use
   std::string shard = "1/1";
   std::string out_prefix;
   std::vector<std::string> merge_tables;
   std::string merge_out_prefix;
+  bool merge_partial = false;
+  SlurmOptions slurm;  // sweep --slurm DIR (sim/cli/slurm_command.h)
+  bool dry_run = false;
+  std::string status_dir;  // sweep --status DIR
 };
 
 // Adds subcommands "sweep" and "merge" to app, storing options in args.

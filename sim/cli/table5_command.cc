@@ -1,25 +1,28 @@
 #include "sim/cli/table5_command.h"
 
+#include "sim/cli/command.h"
+
 #include <cmath>
 #include <cstdio>
-#include <exception>
 #include <filesystem>
-#include <iomanip>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
 #include <string>
-#include <thread>
 #include <vector>
 
+#include "sim/io/columns.h"
+#include "sim/io/csv.h"
+#include "sim/io/error.h"
 #include "sim/io/files.h"
 #include "sim/io/numbers.h"
 #include "controllers/fractional_integrator.h"
 #include "controllers/pid.h"
 #include "plugin/coupling.h"
 #include "sim/runs/closed_loop_run.h"
-#include "sim/core/mujoco_warnings.h"
+#include "sim/core/fan_out.h"
 #include "sim/runs/output.h"
+#include "sim/core/data_paths.h"
 #include "sim/core/simulation.h"
 #include "sim/core/waveform.h"
 
@@ -36,19 +39,6 @@ constexpr char kPidLabel[] = "PID";
 // Links whose length differs from the paper geometry's by more than this
 // [mm] cannot use the paper's projection of the wave.
 constexpr double kLengthTolerance_mm = 1e-6;
-constexpr double kPi = 3.14159265358979323846;
-
-[[noreturn]] void ThrowOption(const std::string& option, const std::string& requirement,
-                              const std::string& got) {
-  throw std::invalid_argument(std::string(kCommand) + ": " + option + " must be " + requirement +
-                              ", got " + got);
-}
-
-std::string Shortest(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%g", value);
-  return buffer;
-}
 
 std::vector<TrackingIndices> IndicesOf(const ClosedLoopResult& result) {
   std::vector<TrackingIndices> indices;
@@ -157,17 +147,11 @@ std::vector<Row> Rows(const Table5Values& here, const Table5Values& paper) {
   return rows;
 }
 
-std::string FullPrecision(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.17g", value);
-  return buffer;
-}
-
 std::string StartDescription(const Table5Reading& reading) {
   if (reading.start_ramp_cycles == 0.0) {
     return "references start at their t = 0 values (a step)";
   }
-  return "references faded in over " + Shortest(reading.start_ramp_cycles) + " cycles";
+  return "references faded in over " + FormatDouble(reading.start_ramp_cycles, 6) + " cycles";
 }
 
 std::string LoopDescription(Table5Loop loop) {
@@ -208,19 +192,19 @@ const char* Table5LoopName(Table5Loop loop) {
 
 void Table5Reading::Validate() const {
   if (plants != PlantAssignment::kUniform && plants != PlantAssignment::kTable2) {
-    ThrowOption("--plants", "uniform or table2", std::to_string(static_cast<int>(plants)));
+    ThrowOption(kCommand, "--plants", "uniform or table2", std::to_string(static_cast<int>(plants)));
   }
   if (cycles < 1 || cycles > kMaxTable5Cycles) {
-    ThrowOption("--cycles", "in [1, " + std::to_string(kMaxTable5Cycles) + "]",
+    ThrowOption(kCommand, "--cycles", "in [1, " + std::to_string(kMaxTable5Cycles) + "]",
                 std::to_string(cycles));
   }
   if (!std::isfinite(start_ramp_cycles) || start_ramp_cycles < 0 ||
       start_ramp_cycles > cycles) {
-    ThrowOption("--start-ramp-cycles", "in [0, --cycles] = [0, " + std::to_string(cycles) + "]",
+    ThrowOption(kCommand, "--start-ramp-cycles", "in [0, --cycles] = [0, " + std::to_string(cycles) + "]",
                 FormatDouble(start_ramp_cycles));
   }
   if (loop != Table5Loop::kMultibody && loop != Table5Loop::kTransferFunction) {
-    ThrowOption("--loop", "multibody or transfer-function",
+    ThrowOption(kCommand, "--loop", "multibody or transfer-function",
                 std::to_string(static_cast<int>(loop)));
   }
 }
@@ -233,7 +217,7 @@ Table5Values PaperTable5() {
   return paper;
 }
 
-std::string PaperScenarioPath() { return std::string(IPMC_SWIM_SCENARIOS_DIR) + "/paper.toml"; }
+std::string PaperScenarioPath() { return ScenariosDir() + "/paper.toml"; }
 
 ScenarioConfig Table5Scenario(const ScenarioConfig& setting, ControllerKind controller,
                               const Table5Reading& reading) {
@@ -255,49 +239,33 @@ ScenarioConfig Table5Scenario(const ScenarioConfig& setting, ControllerKind cont
 
 Table5Values RunTable5(const ScenarioConfig& setting, const Table5Reading& reading, int jobs) {
   reading.Validate();
-  if (jobs != 1 && jobs != 2) ThrowOption("--jobs", "1 or 2", std::to_string(jobs));
+  if (jobs != 1 && jobs != 2) ThrowOption(kCommand, "--jobs", "1 or 2", std::to_string(jobs));
   const ScenarioConfig fractional = Table5Scenario(setting, ControllerKind::kFractional, reading);
   const ScenarioConfig pid = Table5Scenario(setting, ControllerKind::kPid, reading);
   Table5Values values;
-  if (jobs == 1) {
-    values.fractional = RunController(fractional, reading.loop);
-    values.pid = RunController(pid, reading.loop);
-    return values;
-  }
-  const SerialisedMujocoWarnings warnings;
-  std::exception_ptr fractional_failure;
-  std::thread fractional_run([&]() {
-    try {
+  FanOut(2, jobs, [&](std::size_t run) {
+    if (run == 0) {
       values.fractional = RunController(fractional, reading.loop);
-    } catch (...) {
-      fractional_failure = std::current_exception();
+    } else {
+      values.pid = RunController(pid, reading.loop);
     }
   });
-  std::exception_ptr pid_failure;
-  try {
-    values.pid = RunController(pid, reading.loop);
-  } catch (...) {
-    pid_failure = std::current_exception();
-  }
-  fractional_run.join();
-  if (fractional_failure) std::rethrow_exception(fractional_failure);
-  if (pid_failure) std::rethrow_exception(pid_failure);
   return values;
 }
 
 std::string Table5Csv(const Table5Values& here, const Table5Values& paper) {
-  std::ostringstream csv;
-  csv << "index,link,controller,here,paper,relative_error\n";
+  CsvWriter csv;
+  csv.Row({columns::kIndex, columns::kLink, columns::kController, columns::kHere, columns::kPaper,
+           columns::kRelativeError});
   for (const Row& row : Rows(here, paper)) {
     for (const bool is_pid : {false, true}) {
       const double value = is_pid ? row.pid_here : row.fractional_here;
       const double printed = is_pid ? row.pid_paper : row.fractional_paper;
-      csv << row.index << "," << row.link << "," << (is_pid ? kPidLabel : kFractionalLabel) << ","
-          << FullPrecision(value) << "," << FullPrecision(printed) << ","
-          << FullPrecision(RelativeError(value, printed)) << "\n";
+      csv.Add(row.index).AddInteger(row.link).Add(is_pid ? kPidLabel : kFractionalLabel);
+      csv.Add(value).Add(printed).Add(RelativeError(value, printed)).EndRow();
     }
   }
-  return csv.str();
+  return csv.Text();
 }
 
 nlohmann::json Table5Json(const Table5Values& here, const Table5Values& paper,
@@ -328,26 +296,21 @@ nlohmann::json Table5Json(const Table5Values& here, const Table5Values& paper,
 }
 
 void AddTable5Command(CLI::App& app, Table5Args& args) {
-  CLI::App* cmd = app.add_subcommand(
-      kCommand, "Table 5: IAE and ITAE per link, C_I (eq. 15) and PID (eq. 12), beside the paper");
+  CLI::App* cmd = AddCommand(
+      app, kCommand, "Table 5: IAE and ITAE per link, C_I (eq. 15) and PID (eq. 12), beside the paper");
   cmd->add_option("--plants", args.plants,
                   "uniform (every link eq. 7's plant) | table2 (Table 2's row per link)")
-      ->check(CLI::IsMember({"uniform", "table2"}))
-      ->capture_default_str();
+      ->check(CLI::IsMember({"uniform", "table2"}));
   cmd->add_option("--cycles", args.cycles,
                   "Horizon in wave periods, [1, " + std::to_string(kMaxTable5Cycles) +
-                      "] (default: the scenario's)")
-      ->capture_default_str();
+                      "] (default: the scenario's)");
   cmd->add_option("--start-ramp-cycles", args.start_ramp_cycles,
                   "References' fade-in in wave periods, [0, --cycles]; 0: a step start "
-                  "(default: the scenario's)")
-      ->capture_default_str();
+                  "(default: the scenario's)");
   cmd->add_option("--loop", args.loop,
                   "multibody (the MuJoCo run) | transfer-function (each link's plant alone)")
-      ->check(CLI::IsMember({kMultibody, kTransferFunction}))
-      ->capture_default_str();
-  cmd->add_option("--jobs", args.jobs, "Threads: 1, or 2 (one per controller)")
-      ->capture_default_str();
+      ->check(CLI::IsMember({kMultibody, kTransferFunction}));
+  cmd->add_option("--jobs", args.jobs, "Threads: 1, or 2 (one per controller)");
   cmd->add_option("--out", args.out_dir, "Directory for table5.csv and table5.json");
 }
 
@@ -362,10 +325,7 @@ int RunTable5Command(const CLI::App& app, const Table5Args& args) {
                                                                         : setting.start_ramp_cycles;
   reading.loop = args.loop == kTransferFunction ? Table5Loop::kTransferFunction
                                                 : Table5Loop::kMultibody;
-  reading.Validate();
-  if (args.jobs != 1 && args.jobs != 2) ThrowOption("--jobs", "1 or 2", std::to_string(args.jobs));
-
-  const Table5Values here = RunTable5(setting, reading, args.jobs);
+  const Table5Values here = RunTable5(setting, reading, args.jobs);  // validates first
   const Table5Values paper = PaperTable5();
   if (!args.out_dir.empty()) {
     const std::string csv = Table5Csv(here, paper);

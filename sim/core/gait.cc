@@ -2,14 +2,19 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
+#include <cstdint>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
+#include "sim/io/columns.h"
+#include "sim/io/csv.h"
+#include "sim/io/error.h"
+#include "sim/io/files.h"
+#include "sim/io/numbers.h"
+
 namespace ipmc {
 namespace {
-
-constexpr double kTwoPi = 6.283185307179586;
 
 void RequirePositiveFrequency(double frequency_Hz) {
   if (!(frequency_Hz > 0.0) || !std::isfinite(frequency_Hz)) {
@@ -49,7 +54,6 @@ class SineGait final : public Gait {
 void SmoothSquare(double p, double* value, double* slope_per_cycle) {
   p -= std::floor(p);
   constexpr double kRamp = 0.25;
-  constexpr double kPi = 3.141592653589793;
   if (p < kRamp) {
     *value = -std::cos(kPi * p / kRamp);
     *slope_per_cycle = kPi / kRamp * std::sin(kPi * p / kRamp);
@@ -123,22 +127,6 @@ class CsvGait final : public Gait {
   std::vector<std::vector<double>> angles_;
 };
 
-bool ParseDouble(const std::string& text, double* value) {
-  std::istringstream in(text);
-  in >> *value;
-  if (in.fail()) return false;
-  in >> std::ws;
-  return in.eof() && std::isfinite(*value);
-}
-
-std::vector<std::string> SplitCsv(const std::string& line) {
-  std::vector<std::string> cells;
-  std::stringstream in(line);
-  for (std::string cell; std::getline(in, cell, ',');) cells.push_back(cell);
-  if (!line.empty() && line.back() == ',') cells.emplace_back();
-  return cells;
-}
-
 }  // namespace
 
 void SineGaitConfig::Validate() const {
@@ -150,7 +138,7 @@ void SineGaitConfig::Validate() const {
                                 std::to_string(amplitude_rad.size()));
   }
   for (double a : amplitude_rad) {
-    if (!std::isfinite(a) || std::abs(a) > 3.141592653589793) {
+    if (!std::isfinite(a) || std::abs(a) > kPi) {
       throw std::invalid_argument("gait: amplitude_rad must be finite and in [-pi, pi]");
     }
   }
@@ -177,7 +165,7 @@ SineGaitConfig TravellingWave(int joints, double frequency_Hz, double amplitude_
 
 void SquareStrokeConfig::Validate() const {
   RequirePositiveFrequency(frequency_Hz);
-  if (!(amplitude_rad > 0.0) || amplitude_rad > 3.141592653589793) {
+  if (!(amplitude_rad > 0.0) || amplitude_rad > kPi) {
     throw std::invalid_argument("gait: square stroke amplitude_rad must be in (0, pi]");
   }
   if (joints < 1) throw std::invalid_argument("gait: square stroke needs joints >= 1");
@@ -189,42 +177,37 @@ std::unique_ptr<Gait> MakeSquareStroke(const SquareStrokeConfig& config) {
 }
 
 std::unique_ptr<Gait> LoadCsvGait(const std::string& path, int joints) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(path + ": cannot open gait CSV");
   std::vector<double> times;
   std::vector<std::vector<double>> angles;
-  std::string line;
-  for (int line_number = 1; std::getline(in, line); ++line_number) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.find_first_not_of(" \t") == std::string::npos) continue;
-    const std::vector<std::string> cells = SplitCsv(line);
+  for (const CsvRecord& record : ParseCsvRecords(ReadTextFile(path, "gait CSV"), path)) {
+    const InputLocation where{path, static_cast<std::uint32_t>(record.line)};
     std::vector<double> values;
-    bool numeric = true;
-    for (const std::string& cell : cells) {
-      double value = 0.0;
-      if (!ParseDouble(cell, &value)) {
-        numeric = false;
-        break;
-      }
-      values.push_back(value);
+    for (const std::string& field : record.fields) {
+      const std::optional<double> value = ParseDouble(field);
+      if (!value || !std::isfinite(*value)) break;
+      values.push_back(*value);
     }
-    const std::string where = path + ":" + std::to_string(line_number) + ": ";
-    if (!numeric) {
-      if (times.empty() && angles.empty() && line_number == 1) continue;  // header
-      throw std::runtime_error(where + "non-numeric or non-finite value");
+    if (values.size() != record.fields.size()) {
+      if (times.empty() && record.line == 1) continue;  // header
+      throw InputError(InputProblem::kBadValue, where, "", "non-numeric or non-finite value",
+                       "finite numbers");
     }
     if (static_cast<int>(values.size()) != joints + 1) {
-      throw std::runtime_error(where + "expected " + std::to_string(joints + 1) +
-                               " columns (time_s and " + std::to_string(joints) +
-                               " joint angles in rad), got " + std::to_string(values.size()));
+      throw InputError(InputProblem::kSyntax, where, "",
+                       "expected " + std::to_string(joints + 1) + " columns (time_s and " +
+                           std::to_string(joints) + " joint angles in rad), got " +
+                           std::to_string(values.size()));
     }
     if (!times.empty() && !(values[0] > times.back())) {
-      throw std::runtime_error(where + "time_s must increase strictly");
+      throw InputError(InputProblem::kBadValue, where, columns::kTime,
+                       "time_s must increase strictly");
     }
     times.push_back(values[0]);
     angles.emplace_back(values.begin() + 1, values.end());
   }
-  if (times.size() < 2) throw std::runtime_error(path + ": gait CSV needs at least two rows");
+  if (times.size() < 2) {
+    throw InputError(InputProblem::kMissing, {path}, "", "gait CSV needs at least two rows");
+  }
   return std::make_unique<CsvGait>(path, std::move(times), std::move(angles));
 }
 

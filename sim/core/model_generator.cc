@@ -1,11 +1,11 @@
 #include "sim/core/model_generator.h"
 
 #include <cmath>
-#include <iomanip>
 #include <sstream>
 #include <stdexcept>
 
 #include "plugin/actuators/ipmc_actuators.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc {
 namespace {
@@ -29,11 +29,8 @@ void RequireNonNegative(double value, const char* field) {
   }
 }
 
-std::string Num(double value) {
-  std::ostringstream out;
-  out << std::setprecision(10) << value;
-  return out.str();
-}
+// Numbers in the MJCF: 10 significant digits.
+std::string Num(double value) { return FormatDouble(value, 10); }
 
 double EquivalentRadius_m(const FlagellumSpec& spec) {
   if (spec.equivalent_radius_mm > 0.0) return spec.equivalent_radius_mm * kMmToM;

@@ -1,8 +1,7 @@
 // MuJoCo's warning hook is one process-wide pointer, and the program's
 // hook need not be thread-safe. While an instance of
 // SerialisedMujocoWarnings lives (create it before the threads start),
-// calls to the hook are serialised. Used by the sweep's thread pool and
-// by the table5 command's two runs.
+// calls to the hook are serialised. Used by FanOut (sim/core/fan_out.h).
 #pragma once
 
 #include <mujoco/mujoco.h>

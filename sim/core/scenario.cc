@@ -1,14 +1,14 @@
 // Scenario files: strict TOML reading. Every table is walked and checked
 // against its list of keys; each value is checked for type, finiteness and
 // range before it reaches a Config, and the Configs' own Validate() runs
-// last as a backstop. Every error is one line, "FILE:LINE: key ...".
-#include "sim/io/toml_names.h"
+// last as a backstop (its FieldError is placed on the line of the key that
+// set the field). Every error is an InputError, one line "FILE:LINE: key
+// ...", built where it is found with its key and problem.
 #include "sim/core/scenario.h"
 
 #include <toml++/toml.h>
 
 #include <algorithm>
-#include <charconv>
 #include <climits>
 #include <cmath>
 #include <cstdint>
@@ -16,12 +16,16 @@
 #include <fstream>
 #include <initializer_list>
 #include <optional>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
+
+#include "sim/io/error.h"
+#include "sim/io/files.h"
+#include "sim/io/numbers.h"
+#include "sim/io/toml.h"
 
 namespace ipmc {
 namespace {
@@ -81,27 +85,10 @@ constexpr char kDistributed[] = "distributed";
 constexpr char kSingle[] = "single";
 
 constexpr double kMaxTimestep_s = 1e-3;
-constexpr int kMaxOustaloupN = 64;
 // Relative tolerance on "a whole number of timesteps per controller sample".
 constexpr double kWholeStepsTolerance = 1e-9;
 
 using KeyList = std::initializer_list<const char*>;
-
-// The shortest decimal that reads back as `value` ("0.001", "1000", not
-// "0.0010000000000000002" or "1e+03").
-std::string FormatNumber(double value) {
-  char buffer[64];
-  const std::to_chars_result result =
-      std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::general);
-  return std::string(buffer, result.ptr);
-}
-
-// Messages are one line even for keys or parser messages with line breaks.
-std::string OneLine(std::string text) {
-  std::replace_if(
-      text.begin(), text.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
-  return text;
-}
 
 std::string TypeName(toml::node_type type) { return TomlTypeName(type); }
 
@@ -122,22 +109,28 @@ bool Contains(KeyList keys, std::string_view key) {
 
 // One value of the document: where it is and what it is called in messages.
 struct Entry {
-  std::string name;  // dotted: "controller.kp"
+  std::string name;  // in messages: "controller.kp", "link_lengths_mm[0]"
+  std::string key;   // the dotted key that holds it: "controller.kp", "link_lengths_mm"
   const toml::node* node = nullptr;
   std::uint32_t line = 0;
 };
 
-// Reads one scenario document; every failure throws std::runtime_error
-// with one line naming the source, the line and the key.
+// Reads one scenario document; every failure throws InputError
+// (sim/io/error.h) naming the source, the line and the key, with one line
+// of text.
 class ScenarioReader {
  public:
   explicit ScenarioReader(std::string source) : source_(std::move(source)) {}
 
-  [[noreturn]] void Fail(std::uint32_t line, const std::string& message) const {
-    std::string text = source_;
-    if (line > 0) text += ":" + std::to_string(line);
-    text += ": " + message;
-    throw std::runtime_error(OneLine(std::move(text)));
+  // `key`: the dotted key (or table) the message is about.
+  [[noreturn]] void Fail(InputProblem problem, std::uint32_t line, const std::string& key,
+                         const std::string& message, const std::string& allowed = "") const {
+    throw InputError(problem, {source_, line}, key, message, allowed);
+  }
+  // A bad value of `entry`, which must be `allowed`.
+  [[noreturn]] void FailValue(const Entry& entry, const std::string& message,
+                              const std::string& allowed) const {
+    Fail(InputProblem::kBadValue, entry.line, entry.key, message, allowed);
   }
 
   // The line a table starts on: its header, or for a table made by dotted
@@ -164,8 +157,10 @@ class ScenarioReader {
       }
     }
     if (unknown != nullptr) {
-      Fail(unknown->source().begin.line, "unknown key '" + prefix + std::string(unknown->str()) +
-                                             "' (allowed: " + Join(allowed, ", ") + ")");
+      const std::string key = prefix + std::string(unknown->str());
+      Fail(InputProblem::kUnknownKey, unknown->source().begin.line, key,
+           "unknown key '" + key + "' (allowed: " + Join(allowed, ", ") + ")",
+           Join(allowed, ", "));
     }
   }
 
@@ -175,6 +170,7 @@ class ScenarioReader {
     if (it == table.end()) return std::nullopt;
     Entry entry;
     entry.name = prefix + key;
+    entry.key = entry.name;
     entry.node = &it->second;
     entry.line = it->first.source().begin.line;
     if (entry.line == 0) entry.line = it->second.source().begin.line;
@@ -182,8 +178,9 @@ class ScenarioReader {
   }
 
   [[noreturn]] void FailType(const Entry& entry, const std::string& expected) const {
-    Fail(entry.line,
-         entry.name + " must be " + expected + " (got " + TypeName(entry.node->type()) + ")");
+    Fail(InputProblem::kWrongType, entry.line, entry.key,
+         entry.name + " must be " + expected + " (got " + TypeName(entry.node->type()) + ")",
+         expected);
   }
 
   // A finite number; integers are accepted.
@@ -193,7 +190,8 @@ class ScenarioReader {
                              ? static_cast<double>(entry.node->as_integer()->get())
                              : entry.node->as_floating_point()->get();
     if (!std::isfinite(value)) {
-      Fail(entry.line, entry.name + " must be finite (got " + FormatNumber(value) + ")");
+      FailValue(entry, entry.name + " must be finite (got " + FormatShortest(value) + ")",
+                "finite");
     }
     return value;
   }
@@ -203,12 +201,14 @@ class ScenarioReader {
     if (!entry.node->is_integer()) FailType(entry, "an integer");
     const std::int64_t value = entry.node->as_integer()->get();
     if (value < minimum) {
-      Fail(entry.line, entry.name + " must be >= " + std::to_string(minimum) + " (got " +
-                           std::to_string(value) + ")");
+      FailValue(entry, entry.name + " must be >= " + std::to_string(minimum) + " (got " +
+                           std::to_string(value) + ")",
+                ">= " + std::to_string(minimum));
     }
     if (value > maximum) {
-      Fail(entry.line, entry.name + " must be <= " + std::to_string(maximum) + " (got " +
-                           std::to_string(value) + ")");
+      FailValue(entry, entry.name + " must be <= " + std::to_string(maximum) + " (got " +
+                           std::to_string(value) + ")",
+                "<= " + std::to_string(maximum));
     }
     return static_cast<int>(value);
   }
@@ -232,7 +232,8 @@ class ScenarioReader {
         if (!allowed.empty()) allowed += " or ";
         allowed += Quoted(choice);
       }
-      Fail(entry.line, entry.name + " must be " + allowed + " (got " + Quoted(value) + ")");
+      FailValue(entry, entry.name + " must be " + allowed + " (got " + Quoted(value) + ")",
+                allowed);
     }
     return value;
   }
@@ -245,22 +246,19 @@ class ScenarioReader {
   }
 
   void RequireAtLeast(const Entry& entry, double value, double minimum) const {
-    if (!(value >= minimum)) {
-      Fail(entry.line, entry.name + " must be >= " + FormatNumber(minimum) + " (got " +
-                           FormatNumber(value) + ")");
-    }
+    if (!(value >= minimum)) FailBound(entry, value, ">= ", minimum);
   }
   void RequireAbove(const Entry& entry, double value, double minimum) const {
-    if (!(value > minimum)) {
-      Fail(entry.line, entry.name + " must be > " + FormatNumber(minimum) + " (got " +
-                           FormatNumber(value) + ")");
-    }
+    if (!(value > minimum)) FailBound(entry, value, "> ", minimum);
   }
   void RequireAtMost(const Entry& entry, double value, double maximum) const {
-    if (!(value <= maximum)) {
-      Fail(entry.line, entry.name + " must be <= " + FormatNumber(maximum) + " (got " +
-                           FormatNumber(value) + ")");
-    }
+    if (!(value <= maximum)) FailBound(entry, value, "<= ", maximum);
+  }
+  [[noreturn]] void FailBound(const Entry& entry, double value, const std::string& relation,
+                              double bound) const {
+    const std::string allowed = relation + FormatShortest(bound);
+    FailValue(entry, entry.name + " must be " + allowed + " (got " + FormatShortest(value) + ")",
+              allowed);
   }
 
   // Keys that belong to the other kind of a table are mistakes (a gain
@@ -271,11 +269,23 @@ class ScenarioReader {
                              const char* selector = "kind") const {
     for (const char* key : keys) {
       if (const std::optional<Entry> entry = Find(table, prefix, key)) {
-        Fail(entry->line, entry->name + " applies only to " + selector + " = " +
-                              Quoted(their_kind) + " (" + selector + " is " + Quoted(kind) +
-                              ")");
+        Fail(InputProblem::kOtherKind, entry->line, entry->key,
+             entry->name + " applies only to " + selector + " = " + Quoted(their_kind) + " (" +
+                 selector + " is " + Quoted(kind) + ")");
       }
     }
+  }
+
+  // A failure about `key` of the table `table_name` (nullptr: the table
+  // itself), placed on the key's line if it is there, else the table's.
+  [[noreturn]] void FailInTable(const toml::table& table, const char* table_name, const char* key,
+                                const std::string& message, const std::string& allowed) const {
+    if (key != nullptr) {
+      if (const auto entry = Find(table, std::string(table_name) + ".", key)) {
+        FailValue(*entry, message, allowed);
+      }
+    }
+    Fail(InputProblem::kBadValue, TableLine(table), table_name, message, allowed);
   }
 
   ScenarioConfig Read(const toml::table& root) const;
@@ -291,8 +301,8 @@ class ScenarioReader {
 };
 
 // Controller fields as the TOML keys that set them, for placing a
-// Validate() message on the right line.
-const char* ControllerKeyOfField(const std::string& message) {
+// Validate() message on the right line; nullptr for another field.
+const char* ControllerKeyOfField(const std::string& name) {
   static const std::pair<const char*, const char*> kFieldKeys[] = {
       {"kp", kKp},
       {"ki", kKi},
@@ -307,7 +317,7 @@ const char* ControllerKeyOfField(const std::string& message) {
       {"w_high_rad_s", kBand},
   };
   for (const auto& [field, key] : kFieldKeys) {
-    if (message.find(std::string("Config.") + field + " ") != std::string::npos) return key;
+    if (name == field) return key;
   }
   return nullptr;
 }
@@ -365,19 +375,21 @@ void ScenarioReader::ReadController(const toml::table& table, ScenarioConfig* co
     RequireAtMost(*entry, fractional.order, 1.0);
   }
   if (const auto entry = Find(table, prefix, kOustaloupN)) {
-    fractional.oustaloup_n = Integer(*entry, 1, kMaxOustaloupN);
+    fractional.oustaloup_n = Integer(*entry, 1, kMaxOustaloupPairs);
   }
   if (const auto entry = Find(table, prefix, kBand)) {
     const toml::array* band = entry->node->as_array();
     if (band == nullptr) FailType(*entry, "an array of two numbers [w_b, w_h]");
     if (band->size() != 2) {
-      Fail(entry->line, entry->name + " must be an array of two numbers [w_b, w_h] (got " +
-                            std::to_string(band->size()) + ")");
+      FailValue(*entry, entry->name + " must be an array of two numbers [w_b, w_h] (got " +
+                            std::to_string(band->size()) + ")",
+                "two numbers [w_b, w_h]");
     }
     double corners[2];
     for (int i = 0; i < 2; ++i) {
       Entry corner;
       corner.name = entry->name + "[" + std::to_string(i) + "]";
+      corner.key = entry->key;
       corner.node = band->get(static_cast<std::size_t>(i));
       corner.line =
           corner.node->source().begin.line > 0 ? corner.node->source().begin.line : entry->line;
@@ -385,8 +397,9 @@ void ScenarioReader::ReadController(const toml::table& table, ScenarioConfig* co
       RequireAbove(corner, corners[i], 0.0);
     }
     if (!(corners[0] < corners[1])) {
-      Fail(entry->line, entry->name + " must have w_b < w_h (got [" + FormatNumber(corners[0]) +
-                            ", " + FormatNumber(corners[1]) + "])");
+      FailValue(*entry, entry->name + " must have w_b < w_h (got [" + FormatShortest(corners[0]) +
+                            ", " + FormatShortest(corners[1]) + "])",
+                "w_b < w_h");
     }
     fractional.w_low_rad_s = corners[0];
     fractional.w_high_rad_s = corners[1];
@@ -405,13 +418,11 @@ void ScenarioReader::ReadController(const toml::table& table, ScenarioConfig* co
     } else {
       fractional.Validate();
     }
+  } catch (const FieldError& error) {
+    FailInTable(table, kController, ControllerKeyOfField(error.field()),
+                std::string(kController) + ": " + error.what(), error.allowed());
   } catch (const std::invalid_argument& error) {
-    const std::string message = error.what();
-    std::uint32_t line = TableLine(table);
-    if (const char* key = ControllerKeyOfField(message)) {
-      if (const auto entry = Find(table, prefix, key)) line = entry->line;
-    }
-    Fail(line, std::string(kController) + ": " + message);
+    FailInTable(table, kController, nullptr, std::string(kController) + ": " + error.what(), "");
   }
 }
 
@@ -460,17 +471,14 @@ void ScenarioReader::ReadWaveform(const toml::table& table, WaveformConfig* wave
 
   try {
     wave->Validate();
-  } catch (const std::invalid_argument& error) {
-    std::string message = error.what();
-    const std::string own_prefix = std::string(kWaveform) + ": ";
-    if (message.compare(0, own_prefix.size(), own_prefix) == 0) message.erase(0, own_prefix.size());
-    // The field names of WaveformConfig are the keys of [waveform].
-    std::uint32_t line = TableLine(table);
-    for (const char* key : {kC0, kC1, kC2, kC, kAlpha, kFrequency, kWavelength}) {
-      if (message.compare(0, std::string(key).size() + 1, std::string(key) + " ") != 0) continue;
-      if (const auto entry = Find(table, prefix, key)) line = entry->line;
+  } catch (const FieldError& error) {
+    // The field names of WaveformConfig are the keys of [waveform]; its
+    // messages start "waveform: ".
+    const char* key = nullptr;
+    for (const char* name : {kC0, kC1, kC2, kC, kAlpha, kFrequency, kWavelength}) {
+      if (error.field() == name) key = name;
     }
-    Fail(line, own_prefix + message);
+    FailInTable(table, kWaveform, key, error.what(), error.allowed());
   }
 }
 
@@ -479,12 +487,14 @@ void ScenarioReader::ReadLinkLengths(const Entry& entry, ScenarioConfig* config)
   const toml::array* lengths = entry.node->as_array();
   if (lengths == nullptr) FailType(entry, "an array of link lengths in mm");
   if (lengths->empty() || lengths->size() > static_cast<std::size_t>(kMaxLinks)) {
-    Fail(entry.line, entry.name + " must hold 1 to " + std::to_string(kMaxLinks) +
-                         " lengths (got " + std::to_string(lengths->size()) + ")");
+    FailValue(entry, entry.name + " must hold 1 to " + std::to_string(kMaxLinks) +
+                         " lengths (got " + std::to_string(lengths->size()) + ")",
+              "1 to " + std::to_string(kMaxLinks) + " lengths");
   }
   for (std::size_t i = 0; i < lengths->size(); ++i) {
     Entry length;
     length.name = entry.name + "[" + std::to_string(i) + "]";
+    length.key = entry.key;
     length.node = lengths->get(i);
     length.line = length.node->source().begin.line > 0 ? length.node->source().begin.line
                                                        : entry.line;
@@ -500,8 +510,9 @@ void ScenarioReader::ReadStartRamp(const toml::table& table, ScenarioConfig* con
   if (!entry) return;
   const double cycles = Number(*entry);
   if (cycles < 0.0 || cycles > config->cycles) {
-    Fail(entry->line, entry->name + " must be in [0, cycles] = [0, " +
-                          std::to_string(config->cycles) + "] (got " + FormatNumber(cycles) + ")");
+    const std::string allowed = "in [0, cycles] = [0, " + std::to_string(config->cycles) + "]";
+    FailValue(*entry, entry->name + " must be " + allowed + " (got " + FormatShortest(cycles) + ")",
+              allowed);
   }
   config->start_ramp_cycles = cycles;
 }
@@ -524,7 +535,8 @@ ScenarioConfig ScenarioReader::Read(const toml::table& root) const {
   }
   const std::optional<Entry> model = Find(root, "", kModel);
   if (!model && !config.GeneratesModel()) {
-    Fail(0, std::string(kModel) + " is required (or " + kLinkLengths + ")");
+    Fail(InputProblem::kMissing, 0, kModel,
+         std::string(kModel) + " is required (or " + kLinkLengths + ")");
   }
   if (model) {
     namespace fs = std::filesystem;
@@ -533,7 +545,8 @@ ScenarioConfig ScenarioReader::Read(const toml::table& root) const {
     path = fs::absolute(path).lexically_normal();
     std::error_code ignored;
     if (!fs::is_regular_file(path, ignored) || !std::ifstream(path).good()) {
-      Fail(model->line, std::string(kModel) + ": cannot open '" + path.string() + "'");
+      Fail(InputProblem::kUnreadable, model->line, model->key,
+           std::string(kModel) + ": cannot open '" + path.string() + "'");
     }
     config.model_path = path.string();
   }
@@ -567,11 +580,12 @@ ScenarioConfig ScenarioReader::Read(const toml::table& root) const {
         where = Find(*controller, std::string(kController) + ".", kSampleRate);
       }
       if (!where) where = Find(root, "", kTimestep);
-      Fail(where->line, std::string(kController) + "." + kSampleRate +
+      FailValue(*where, std::string(kController) + "." + kSampleRate +
                             " must make the sample period a whole number of timesteps (1 / (" +
-                            FormatNumber(config.sample_rate_Hz) + " Hz x " +
-                            FormatNumber(*config.timestep_s) +
-                            " s) = " + FormatNumber(steps_per_sample) + ")");
+                            FormatShortest(config.sample_rate_Hz) + " Hz x " +
+                            FormatShortest(*config.timestep_s) +
+                            " s) = " + FormatShortest(steps_per_sample) + ")",
+                "a whole number of timesteps per sample");
     }
   }
 
@@ -605,25 +619,11 @@ ScenarioConfig ScenarioReader::Read(const toml::table& root) const {
 
 ScenarioConfig ParseScenario(const std::string& toml_text, const std::string& source) {
   const ScenarioReader reader(source);
-  toml::table root;
-  try {
-    root = toml::parse(toml_text, source);
-  } catch (const toml::parse_error& error) {
-    const toml::source_position& where = error.source().begin;
-    std::string message = source + ":" + std::to_string(where.line) + ":" +
-                          std::to_string(where.column) + ": " + std::string(error.description());
-    throw std::runtime_error(OneLine(std::move(message)));
-  }
-  return reader.Read(root);
+  return reader.Read(ParseToml(toml_text, source));
 }
 
 ScenarioConfig LoadScenario(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw std::runtime_error(path + ": cannot open the scenario file");
-  std::ostringstream text;
-  text << file.rdbuf();
-  if (file.bad()) throw std::runtime_error(path + ": cannot read the scenario file");
-  return ParseScenario(text.str(), path);
+  return ParseScenario(ReadTextFile(path, "scenario file"), path);
 }
 
 }  // namespace ipmc

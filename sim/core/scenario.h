@@ -77,7 +77,9 @@ struct ScenarioConfig {
   bool GeneratesModel() const { return !link_lengths_mm.empty() || segments_per_link > 0; }
 };
 
-// Parses and validates; throws std::runtime_error "FILE:LINE: key: reason".
+// Parses and validates; throws InputError (sim/io/error.h, a
+// std::runtime_error) "FILE:LINE: key: reason" that carries the file, line,
+// dotted key, what is wrong (InputProblem) and the allowed range.
 ScenarioConfig LoadScenario(const std::string& path);
 // The same from TOML text; `source` names it in messages and resolves
 // relative model paths.

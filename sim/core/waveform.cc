@@ -16,12 +16,12 @@
 #include <stdexcept>
 #include <string>
 
+#include "sim/io/error.h"
 #include "sim/io/numbers.h"
 
 namespace ipmc {
 namespace {
 
-constexpr double kTwoPi = 6.283185307179586;
 constexpr double kMmPerUm = 1e-3;
 
 // The march samples each chord search at least kMinMarchSteps times, and
@@ -36,8 +36,9 @@ constexpr int kMaxRootIterations = 200;
 
 void RequireFinite(const char* field, double value) {
   if (!std::isfinite(value)) {
-    throw std::invalid_argument(std::string("waveform: ") + field + " must be finite (got " +
-                                FormatDouble(value) + ")");
+    throw FieldError(std::string("waveform: ") + field + " must be finite (got " +
+                         FormatDouble(value) + ")",
+                     field, "finite");
   }
 }
 
@@ -254,24 +255,28 @@ double NextJointX(const FrozenWave& wave, double wavelength_mm, double x0_mm, do
 
 void WaveformConfig::Validate() const {
   if (kind != WaveformKind::kPolynomial && kind != WaveformKind::kFractional) {
-    throw std::invalid_argument("waveform: kind must be kPolynomial or kFractional (got " +
-                                std::to_string(static_cast<int>(kind)) + ")");
+    throw FieldError("waveform: kind must be kPolynomial or kFractional (got " +
+                         std::to_string(static_cast<int>(kind)) + ")",
+                     "kind", "kPolynomial or kFractional");
   }
   RequireFinite("c0_um", c0_um);
   RequireFinite("c1_um_per_mm", c1_um_per_mm);
   RequireFinite("c2_um_per_mm2", c2_um_per_mm2);
   RequireFinite("c_um", c_um);
   if (kind == WaveformKind::kFractional && !(alpha > 0.0 && alpha <= 1.0)) {
-    throw std::invalid_argument("waveform: alpha must be in (0, 1] for the fractional wave (got " +
-                                FormatDouble(alpha) + ")");
+    throw FieldError("waveform: alpha must be in (0, 1] for the fractional wave (got " +
+                         FormatDouble(alpha) + ")",
+                     "alpha", "in (0, 1]");
   }
   if (!std::isfinite(frequency_Hz) || frequency_Hz == 0.0) {
-    throw std::invalid_argument("waveform: frequency_Hz must be finite and != 0 (got " +
-                                FormatDouble(frequency_Hz) + ")");
+    throw FieldError("waveform: frequency_Hz must be finite and != 0 (got " +
+                         FormatDouble(frequency_Hz) + ")",
+                     "frequency_Hz", "finite and != 0");
   }
   if (!std::isfinite(wavelength_mm) || !(wavelength_mm > 0.0)) {
-    throw std::invalid_argument("waveform: wavelength_mm must be finite and > 0 (got " +
-                                FormatDouble(wavelength_mm) + ")");
+    throw FieldError("waveform: wavelength_mm must be finite and > 0 (got " +
+                         FormatDouble(wavelength_mm) + ")",
+                     "wavelength_mm", "finite and > 0");
   }
 }
 

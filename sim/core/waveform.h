@@ -33,7 +33,7 @@ struct WaveformConfig {
   double alpha = 0.5;           // eq. 3, in (0, 1]
   double frequency_Hz = 0.01;   // != 0
   double wavelength_mm = 32.0;  // > 0
-  void Validate() const;        // std::invalid_argument naming the field
+  void Validate() const;        // FieldError (std::invalid_argument) naming the field
 };
 
 // y(x, t) [um].

@@ -1,6 +1,7 @@
 #include "sim/identify/controller_design.h"
 
 #include <cmath>
+#include <complex>
 #include <exception>
 #include <limits>
 #include <stdexcept>
@@ -23,10 +24,6 @@ constexpr int kUnwrapPointsPerDecade = 100;
 constexpr double kDivergedOutput = 1e6;
 // Horizon and sample period must agree to this relative slack.
 constexpr double kHorizonSlack = 1e-9;
-
-constexpr int kAccuratePairs = 20;
-constexpr double kAccurateBandLow_rad_s = 1e-5;
-constexpr double kAccurateBandHigh_rad_s = 1e5;
 
 [[noreturn]] void Throw(const std::string& where, const std::string& message) {
   throw std::invalid_argument(where + ": " + message);
@@ -192,8 +189,7 @@ NelderMeadResult MinimizeNelderMead(const std::function<double(const Eigen::Vect
 // ---------------------------------------------------------- PID tuning ---
 
 std::vector<PidGains> DefaultPidStarts() {
-  return {{8.12, 53.36, 0.61}, {1.0, 10.0, 0.1}, {20.0, 200.0, 2.0}, {2.0, 100.0, 1.0},
-          {30.0, 20.0, 0.05}};
+  return {PidGains{}, {1.0, 10.0, 0.1}, {20.0, 200.0, 2.0}, {2.0, 100.0, 1.0}, {30.0, 20.0, 0.05}};
 }
 
 void PidTuningOptions::Validate() const {
@@ -304,8 +300,34 @@ PidTuningResult TunePid(const StateSpace& plant, const PidTuningOptions& options
 StateSpace AccurateLinkPlant(IpmcLinkParams params) {
   params.integrator.w_low_rad_s = kAccurateBandLow_rad_s;
   params.integrator.w_high_rad_s = kAccurateBandHigh_rad_s;
-  params.integrator.n = kAccuratePairs;
+  params.integrator.n = kAccurateOustaloupPairs;
   return LinkStateSpace(params);
+}
+
+FractionalLoopDesign DesignFractionalLoop(const FrequencyFunction& plant, double crossover_rad_s,
+                                          double phase_margin_deg) {
+  FractionalLoopDesign result;
+  result.design = DesignFractionalIntegrator(plant, crossover_rad_s, phase_margin_deg);
+  const double gain = result.design.gain;
+  const double order = result.design.order;
+  result.margins = ComputeMargins([&](double w) {
+    return gain * std::polar(std::pow(w, -order), -order * kPi / 2) * plant(w);
+  });
+  return result;
+}
+
+PidLoopDesign DesignPidLoop(const IpmcLinkParams& params, const FrequencyFunction& plant,
+                            const PidTuningOptions& tuning) {
+  using Complex = std::complex<double>;
+  const StateSpace accurate = AccurateLinkPlant(params);
+  PidLoopDesign result;
+  result.paper_cost = PidStepCost(accurate, tuning)(PidGains{});
+  result.tuned = TunePid(accurate, tuning);
+  const PidGains g = result.tuned.gains;
+  result.margins = ComputeMargins([&](double w) {
+    return (g.kp + g.ki / Complex(0, w) + g.kd * Complex(0, w)) * plant(w);
+  });
+  return result;
 }
 
 }  // namespace ipmc

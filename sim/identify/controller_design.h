@@ -41,6 +41,7 @@
 #include <Eigen/Dense>
 
 #include "controllers/linear/frequency_response.h"
+#include "controllers/pid.h"
 #include "controllers/reference_model.h"
 #include "controllers/linear/state_space.h"
 #include "plugin/actuators/ipmc_link_model.h"
@@ -63,6 +64,14 @@ struct FractionalIntegratorDesign {
 FractionalIntegratorDesign DesignFractionalIntegrator(const FrequencyFunction& plant,
                                                       double crossover_rad_s,
                                                       double phase_margin_deg);
+
+// The design and the margins of its exact open loop K s^-lambda P.
+struct FractionalLoopDesign {
+  FractionalIntegratorDesign design;
+  StabilityMargins margins;
+};
+FractionalLoopDesign DesignFractionalLoop(const FrequencyFunction& plant, double crossover_rad_s,
+                                          double phase_margin_deg);
 
 // ----------------------------------------------------------- Nelder-Mead ---
 
@@ -98,10 +107,11 @@ NelderMeadResult MinimizeNelderMead(const std::function<double(const Eigen::Vect
 
 // ---------------------------------------------------------- PID tuning ---
 
+// Defaults: the paper's eq. 12, PidController::Config's.
 struct PidGains {
-  double kp = 8.12;   // [V/mm]
-  double ki = 53.36;  // [V/(mm s)]
-  double kd = 0.61;   // [V s/mm]
+  double kp = PidController::Config{}.kp;  // [V/mm]
+  double ki = PidController::Config{}.ki;  // [V/(mm s)]
+  double kd = PidController::Config{}.kd;  // [V s/mm]
 };
 
 // Deterministic starts of the default tuning: the paper's eq. 12 and four
@@ -163,9 +173,29 @@ struct PidTuningResult {
 // where J is not finite (the loop diverges).
 PidTuningResult TunePid(const StateSpace& plant, const PidTuningOptions& options = {});
 
-// P = s^-0.5 G for `params` with the s^-0.5 block realised by 20
-// Oustaloup pairs on [1e-5, 1e5] rad/s (error far below the tuning's
-// other errors over any horizon of interest; 1/w_b = 1e5 s).
+// Time-domain realisation of s^-0.5 (plant) and s^-lambda (fractional
+// controller) in the tuning and the step responses: two Oustaloup pairs
+// per decade over ten decades, so the approximation is far below the
+// other errors over any horizon of interest (1/w_b = 1e5 s).
+constexpr int kAccurateOustaloupPairs = 20;
+constexpr double kAccurateBandLow_rad_s = 1e-5;
+constexpr double kAccurateBandHigh_rad_s = 1e5;
+
+// P = s^-0.5 G for `params` with the s^-0.5 block realised by
+// kAccurateOustaloupPairs pairs on [kAccurateBandLow_rad_s,
+// kAccurateBandHigh_rad_s].
 StateSpace AccurateLinkPlant(IpmcLinkParams params);
+
+// The PID tuned for the link `params` (on its AccurateLinkPlant), J at the
+// paper's gains (eq. 12, PidGains{}) for comparison, and the margins of
+// the tuned continuous PID's open loop (Kp + Ki/s + Kd s) P with P =
+// `plant` (the link's exact or fitted response).
+struct PidLoopDesign {
+  PidTuningResult tuned;
+  double paper_cost = 0;
+  StabilityMargins margins;
+};
+PidLoopDesign DesignPidLoop(const IpmcLinkParams& params, const FrequencyFunction& plant,
+                            const PidTuningOptions& tuning);
 
 }  // namespace ipmc

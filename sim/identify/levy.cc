@@ -14,7 +14,6 @@ namespace {
 
 using Complex = std::complex<double>;
 
-constexpr double kPi = 3.141592653589793;
 constexpr int kMinimumBandPoints = 3;
 
 [[noreturn]] void Throw(const std::string& message) {

@@ -14,7 +14,6 @@
 namespace ipmc {
 namespace {
 
-constexpr double kTwoPi = 6.283185307179586;
 constexpr int kMaxSections = 1000;
 
 // FFTW's planner is not thread-safe; fftw_execute on distinct plans is.

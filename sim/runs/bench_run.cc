@@ -1,18 +1,20 @@
 #include "sim/runs/bench_run.h"
 
 #include <cmath>
-#include <iomanip>
 #include <sstream>
 #include <stdexcept>
 
 #include "ipmc_swim/ipmc_swim.h"
 #include "plugin/coupling.h"
+#include "sim/core/step_count.h"
 #include "sim/core/link_sensors.h"
+#include "sim/io/columns.h"
+#include "sim/io/csv.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc {
 namespace {
 
-constexpr double kTwoPi = 6.283185307179586;
 
 void RequirePositive(double value, const char* field) {
   if (!(value > 0.0) || !std::isfinite(value)) {
@@ -52,7 +54,8 @@ double BenchSignal::VoltageAt(double t_s) const {
   return amplitude_V * std::sin(kTwoPi * (start_Hz * t_s + 0.5 * sweep_Hz_s * t_s * t_s));
 }
 
-BenchRecord RunBench(Simulation& sim, const BenchSignal& signal, double record_from_s) {
+BenchRecord RunBench(Simulation& sim, const BenchSignal& signal, double record_from_s,
+                     const BenchProgress& progress) {
   signal.Validate();
   mjModel* m = sim.model();
   UseEulerWhereImplicitAddsNothing(m);  // no servo: Euler suffices
@@ -67,6 +70,7 @@ BenchRecord RunBench(Simulation& sim, const BenchSignal& signal, double record_f
     }
   }
   const double dt = m->opt.timestep;
+  CheckedStepCount(1.0 / signal.sample_rate_Hz, dt, 1, "bench: one sample (sample_rate_Hz)");
   const double steps_per_sample_real = 1.0 / (signal.sample_rate_Hz * dt);
   const long steps_per_sample = std::lround(steps_per_sample_real);
   if (steps_per_sample < 1 || std::abs(steps_per_sample_real - steps_per_sample) > 1e-6) {
@@ -75,7 +79,7 @@ BenchRecord RunBench(Simulation& sim, const BenchSignal& signal, double record_f
         << " must divide the model's step rate " << 1.0 / dt << " Hz";
     throw std::invalid_argument(msg.str());
   }
-  const long steps = std::lround(signal.duration_s / dt);
+  const long steps = CheckedStepCount(signal.duration_s, dt, steps_per_sample, "bench: the experiment (duration_s)");
   BenchRecord record;
   record.voltage_V.resize(links);
   record.relative_mm.resize(links);
@@ -96,6 +100,7 @@ BenchRecord RunBench(Simulation& sim, const BenchSignal& signal, double record_f
           record.free_mm[q].push_back(actuators.FreeTipDeflection_mm(q));
         }
       }
+      if (progress) progress(d->time);
     }
     // The sensors are read at the next sample, from this step's values.
     sim.Step((step + 1) % steps_per_sample == 0);
@@ -104,23 +109,24 @@ BenchRecord RunBench(Simulation& sim, const BenchSignal& signal, double record_f
 }
 
 std::string BenchCsv(const BenchRecord& record) {
-  std::ostringstream csv;
-  csv << std::setprecision(10) << "time_s";
+  CsvWriter csv(10);
   const size_t links = record.voltage_V.size();
+  csv.Add(columns::kTime);
   for (size_t q = 1; q <= links; ++q) {
-    csv << ",voltage" << q << "_V,relative" << q << "_mm,tip" << q << "_lateral_mm,free" << q
-        << "_mm";
+    const int link = static_cast<int>(q);
+    csv.Add(columns::Voltage(link)).Add(columns::Relative(link)).Add(columns::TipLateral(link));
+    csv.Add(columns::Free(link));
   }
-  csv << "\n";
+  csv.EndRow();
   for (size_t i = 0; i < record.t_s.size(); ++i) {
-    csv << record.t_s[i];
+    csv.Add(record.t_s[i]);
     for (size_t q = 0; q < links; ++q) {
-      csv << "," << record.voltage_V[q][i] << "," << record.relative_mm[q][i] << ","
-          << record.tip_lateral_mm[q][i] << "," << record.free_mm[q][i];
+      csv.Add(record.voltage_V[q][i]).Add(record.relative_mm[q][i]);
+      csv.Add(record.tip_lateral_mm[q][i]).Add(record.free_mm[q][i]);
     }
-    csv << "\n";
+    csv.EndRow();
   }
-  return csv.str();
+  return csv.Text();
 }
 
 }  // namespace ipmc

@@ -9,6 +9,7 @@
 // The paper's chirp: A = 3 V, f0 = 0.1 Hz, f1 = 200 Hz, T = 200 s.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -38,10 +39,15 @@ struct BenchRecord {
   std::vector<std::vector<double>> free_mm;          // delta_free_q
 };
 
+// Called at every sample with the simulated time [s], e.g. to report
+// progress; an exception it throws ends the run.
+using BenchProgress = std::function<void(double t_s)>;
+
 // Runs `signal` from t = 0 (the state as reset) for its duration and keeps
 // the samples from `record_from_s` on. Throws on a bad signal, a model
 // without IPMC actuators, or divergence.
-BenchRecord RunBench(Simulation& sim, const BenchSignal& signal, double record_from_s = 0.0);
+BenchRecord RunBench(Simulation& sim, const BenchSignal& signal, double record_from_s = 0.0,
+                     const BenchProgress& progress = {});
 
 std::string BenchCsv(const BenchRecord& record);
 

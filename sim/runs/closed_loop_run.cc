@@ -8,15 +8,26 @@
 
 #include "ipmc_swim/ipmc_swim.h"
 #include "plugin/coupling.h"
+#include "sim/core/step_count.h"
 #include "sim/core/model_generator.h"
 #include "sim/core/link_sensors.h"
+#include "sim/io/numbers.h"
 
 namespace ipmc {
 namespace {
 
-// Segment pitches of the model at rest (hinge anchors and the last tip
-// along x) and the IPMC links' lengths.
-LinkGeometry ModelGeometry(const mjModel* m, const mjData* d, const std::string& source) {
+void OverrideViscosity(mjModel* m, double viscosity_Pa_s, const std::string& source) {
+  const int id = mj_name2id(m, mjOBJ_NUMERIC, "ipmc_rft_viscosity_Pa_s");
+  if (id < 0) throw std::runtime_error(source + ": fluid.viscosity_Pa_s needs a model with RFT drag");
+  m->numeric_data[m->numeric_adr[id]] = viscosity_Pa_s;
+}
+
+}  // namespace
+
+LinkGeometry ModelLinkGeometry(const Simulation& sim) {
+  const mjModel* m = sim.model();
+  const mjData* d = sim.data();
+  const std::string& source = sim.source();
   LinkGeometry geometry;
   std::vector<double> hinge_x_mm;
   for (int q = 1;; ++q) {
@@ -51,22 +62,25 @@ long StepsPerSample(double sample_rate_Hz, double dt_s, const std::string& sourc
   return steps;
 }
 
-
-void OverrideViscosity(mjModel* m, double viscosity_Pa_s, const std::string& source) {
-  const int id = mj_name2id(m, mjOBJ_NUMERIC, "ipmc_rft_viscosity_Pa_s");
-  if (id < 0) throw std::runtime_error(source + ": fluid.viscosity_Pa_s needs a model with RFT drag");
-  m->numeric_data[m->numeric_adr[id]] = viscosity_Pa_s;
-}
-
-}  // namespace
-
 double StartRamp(double t_s, double ramp_s) {
   if (t_s >= ramp_s) return 1.0;
-  return 0.5 * (1.0 - std::cos(3.141592653589793 * t_s / ramp_s));
+  return 0.5 * (1.0 - std::cos(kPi * t_s / ramp_s));
 }
 
-ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserver& observer) {
-  std::string source = scenario.model_path;
+std::vector<double> LinkReferences_mm(const ScenarioConfig& scenario,
+                                      const LinkGeometry& geometry, double t_s) {
+  const double period_s = 1.0 / std::abs(scenario.waveform.frequency_Hz);
+  const DiscreteWave wave = DiscretiseWave(scenario.waveform, geometry, t_s);
+  const double ramp = StartRamp(t_s, scenario.start_ramp_cycles * period_s);
+  std::vector<double> reference(wave.relative_deflection_mm.size());
+  for (size_t q = 0; q < reference.size(); ++q) {
+    reference[q] = ramp * wave.relative_deflection_mm[q];
+  }
+  return reference;
+}
+
+ModelPtr LoadScenarioModel(const ScenarioConfig& scenario, std::string* source) {
+  *source = scenario.model_path;
   ModelPtr model;
   if (!scenario.GeneratesModel()) {
     model = LoadModelFile(scenario.model_path);
@@ -74,15 +88,25 @@ ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserve
     FlagellumSpec spec;
     if (!scenario.link_lengths_mm.empty()) spec.link_lengths_mm = scenario.link_lengths_mm;
     if (scenario.segments_per_link > 0) spec.segments_per_link = scenario.segments_per_link;
-    source = scenario.source + " (generated flagellum)";
+    *source = scenario.source + " (generated flagellum)";
     model = LoadModelString(GenerateFlagellumMjcf(spec));
   }
   if (scenario.timestep_s) model->opt.timestep = *scenario.timestep_s;
   if (scenario.viscosity_Pa_s) OverrideViscosity(model.get(), *scenario.viscosity_Pa_s, scenario.source);
+  return model;
+}
+
+std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenario) {
+  std::string source;
+  ModelPtr model = LoadScenarioModel(scenario, &source);
   IpmcActuatorsOverrides overrides;
   overrides.plants = scenario.plants;
-  Simulation sim(std::move(model), source, overrides);
-  return RunClosedLoop(sim, scenario, observer);
+  return std::make_unique<Simulation>(std::move(model), source, overrides);
+}
+
+ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserver& observer) {
+  const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(scenario);
+  return RunClosedLoop(*sim, scenario, observer);
 }
 
 ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
@@ -93,7 +117,7 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
   mjData* d = sim.data();
   const LinkSensors sensors(m, d, sim.source());
   const int links = sensors.Links();
-  const LinkGeometry geometry = ModelGeometry(m, d, sim.source());
+  const LinkGeometry geometry = ModelLinkGeometry(sim);
   if (static_cast<int>(geometry.pitch_mm.size()) != links) {
     throw std::runtime_error(sim.source() + ": ipmc_links must drive hinges j1..jN in order");
   }
@@ -104,9 +128,13 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
 
   const double dt = m->opt.timestep;
   const double period_s = 1.0 / std::abs(scenario.waveform.frequency_Hz);
+  CheckedStepCount(1.0 / scenario.sample_rate_Hz, dt, 1,
+                   scenario.source + ": one controller sample (controller.sample_rate_Hz)");
   const long steps_per_sample = StepsPerSample(scenario.sample_rate_Hz, dt, scenario.source);
   const double sample_period_s = steps_per_sample * dt;
-  const long steps_per_cycle = std::lround(period_s / dt);
+  // At least one controller sample per wave cycle.
+  const long steps_per_cycle = CheckedStepCount(
+      period_s, dt, steps_per_sample, scenario.source + ": one wave cycle (waveform.frequency_Hz)");
   const long samples_per_cycle = steps_per_cycle / steps_per_sample;
   const long record_every =
       std::max<long>(1, samples_per_cycle / std::max(1, scenario.samples_per_cycle));
@@ -120,6 +148,7 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
   result.period_s = period_s;
   result.timestep_s = dt;
   result.links.resize(links);
+  result.states = RecordedStates::For(m);
   std::vector<double> sum_v2(links, 0.0);
   std::vector<long> saturated(links, 0);
   std::vector<double> volts(links, 0.0), reference(links, 0.0), measured(links, 0.0);
@@ -131,10 +160,8 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
     for (long step = 0; step < steps_per_cycle; ++step) {
       if (step % steps_per_sample == 0) {
         const double t = d->time;
-        const DiscreteWave wave = DiscretiseWave(scenario.waveform, geometry, t);
-        const double ramp = StartRamp(t, scenario.start_ramp_cycles * period_s);
+        reference = LinkReferences_mm(scenario, geometry, t);
         for (int q = 0; q < links; ++q) {
-          reference[q] = ramp * wave.relative_deflection_mm[q];
           measured[q] = sensors.RelativeDeflection_mm(d, q);
           const double error = reference[q] - measured[q];
           LinkTracking& track = result.links[q];
@@ -150,6 +177,7 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
         SetVoltages(d, volts.data(), links);
         if (samples % record_every == 0) {
           result.samples.push_back({meter.Pose(d), reference, measured, volts});
+          result.states.Record(d);
           if (observer) observer(m, d, result.samples.back());
         }
         ++samples;

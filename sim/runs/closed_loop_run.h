@@ -22,6 +22,7 @@
 #include "sim/core/scenario.h"
 #include "sim/core/simulation.h"
 #include "sim/core/swim_meter.h"
+#include "sim/runs/recorded_states.h"
 
 namespace ipmc {
 
@@ -48,6 +49,7 @@ struct ClosedLoopResult {
   std::vector<LinkTracking> links;
   SwimMetrics swim;
   std::vector<ClosedLoopSample> samples;
+  RecordedStates states;  // the model's qpos at every recorded sample
 };
 
 // Called with every recorded sample (output.samples_per_cycle per cycle),
@@ -78,13 +80,35 @@ class LinkController {
 // for t < T_r = ramp_s, then 1.
 double StartRamp(double t_s, double ramp_s);
 
-// Loads the scenario's model, applies its overrides (time step, viscosity)
-// and runs it. Throws std::runtime_error naming the file on bad input or
-// divergence.
+// The scenario's model (its file, or the generated flagellum it names) with
+// its overrides applied (time step, viscosity); *source is set to the name
+// used in messages. Throws std::runtime_error naming the file on bad input.
+ModelPtr LoadScenarioModel(const ScenarioConfig& scenario, std::string* source);
+
+// The scenario's model (LoadScenarioModel) with the scenario's plants
+// imposed, attached.
+std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenario);
+
+// Loads the scenario's model (LoadScenarioSimulation) and runs it. Throws
+// std::runtime_error naming the file on bad input or divergence.
 ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserver& observer = {});
 
 // Runs on an existing simulation (its time step and fluid as they are).
 ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
                                const SampleObserver& observer = {});
+
+// The segment pitches of a model at rest (hinges j1..jN and the last tip)
+// and its IPMC links' lengths, which the references are projected on.
+// Throws std::runtime_error naming the model if it lacks them.
+LinkGeometry ModelLinkGeometry(const Simulation& sim);
+
+// Every link's reference at t [mm]: the discretised wave faded in by the
+// start ramp.
+std::vector<double> LinkReferences_mm(const ScenarioConfig& scenario,
+                                      const LinkGeometry& geometry, double t_s);
+
+// Physics steps per controller sample; throws std::runtime_error naming
+// `source` unless the sample period is a whole number of steps dt_s.
+long StepsPerSample(double sample_rate_Hz, double dt_s, const std::string& source);
 
 }  // namespace ipmc

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "plugin/coupling.h"
+#include "sim/core/step_count.h"
 
 namespace ipmc {
 namespace {
@@ -123,13 +124,15 @@ GaitRunResult RunGait(Simulation& sim, const Gait& gait, const GaitRunOptions& o
   result.gait = gait.Describe();
   result.period_s = gait.Period_s();
   result.timestep_s = dt;
-  const long steps_per_cycle = std::lround(gait.Period_s() / dt);
+  const long steps_per_cycle = CheckedStepCount(gait.Period_s(), dt, 1, "gait: one cycle (the gait's period)");
   const long sample_every =
       std::max<long>(1, steps_per_cycle / options.samples_per_cycle);
   const long settle_steps = steps_per_cycle / 20;
 
   meter.Start(d);
+  result.states = RecordedStates::For(m);
   result.samples.push_back(Sample(meter, d, servos, start));
+  result.states.Record(d);
   for (int cycle = 0; cycle < options.cycles; ++cycle) {
     for (long step = 1; step <= steps_per_cycle; ++step) {
       // The servo aims at the reference at the end of the step.
@@ -149,6 +152,7 @@ GaitRunResult RunGait(Simulation& sim, const Gait& gait, const GaitRunOptions& o
       meter.Observe(m, d);
       if (step % sample_every == 0 || step == steps_per_cycle) {
         result.samples.push_back(Sample(meter, d, servos, ref));
+        result.states.Record(d);
       }
     }
     meter.EndCycle(d);

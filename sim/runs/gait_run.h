@@ -17,6 +17,7 @@
 #include "sim/core/gait.h"
 #include "sim/core/simulation.h"
 #include "sim/core/swim_meter.h"
+#include "sim/runs/recorded_states.h"
 
 namespace ipmc {
 
@@ -41,6 +42,7 @@ struct GaitRunResult {
   double max_tracking_error_rad = 0.0;    // after the first 5 % of cycle 1
   double max_reference_rad = 0.0;
   std::vector<GaitSample> samples;
+  RecordedStates states;  // the model's qpos at every sample
 };
 
 // Runs `options.cycles` periods of `gait` on sim (whose model must carry

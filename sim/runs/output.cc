@@ -1,38 +1,69 @@
 #include "sim/runs/output.h"
 
+#include "sim/io/columns.h"
+#include "sim/io/csv.h"
 #include "sim/io/files.h"
 
-#include <unistd.h>
-
-#include <cerrno>
-#include <cstdio>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
-#include <iomanip>
-#include <sstream>
-#include <stdexcept>
-
 namespace ipmc {
+namespace {
+
+// Time series are written at 10 significant digits.
+constexpr int kSeriesDigits = 10;
+
+// The body's columns, first in every time series.
+void AddPoseColumns(CsvWriter& csv) {
+  for (const char* name : {columns::kTime, columns::kComX, columns::kComY, columns::kHeadX,
+                           columns::kHeadY, columns::kYaw}) {
+    csv.Add(name);
+  }
+}
+
+void AddPose(CsvWriter& csv, const BodyPose& p) {
+  csv.Add(p.t_s).Add(p.com_x_mm).Add(p.com_y_mm).Add(p.head_x_mm).Add(p.head_y_mm).Add(p.yaw_rad);
+}
+
+// The tips' columns, last.
+void AddTipColumns(CsvWriter& csv, size_t tips) {
+  for (size_t k = 1; k <= tips; ++k) {
+    csv.Add(columns::TipX(static_cast<int>(k))).Add(columns::TipY(static_cast<int>(k)));
+  }
+}
+
+void AddTips(CsvWriter& csv, const BodyPose& p, size_t tips) {
+  for (size_t k = 0; k < tips; ++k) csv.Add(p.tip_x_mm[k]).Add(p.tip_y_mm[k]);
+}
+
+// DIR/timeseries.csv and DIR/summary.json (with the inputs).
+// summary.json last: a run folder with a summary is complete.
+void WriteRunOutputs(const std::string& dir, const std::string& csv, const std::string& states_csv,
+                     nlohmann::json summary, const nlohmann::json& inputs) {
+  EnsureDirectory(dir);
+  summary["inputs"] = inputs;
+  WriteFileAtomically(dir + "/timeseries.csv", csv);
+  WriteFileAtomically(dir + "/states.csv", states_csv);
+  WriteFileAtomically(dir + "/summary.json", summary.dump(2) + "\n");
+}
+
+}  // namespace
 
 std::string GaitSamplesCsv(const GaitRunResult& result) {
-  std::ostringstream csv;
-  csv << std::setprecision(10);
-  csv << "time_s,com_x_mm,com_y_mm,head_x_mm,head_y_mm,yaw_rad";
+  CsvWriter csv(kSeriesDigits);
   const size_t joints = result.samples.empty() ? 0 : result.samples.front().q_rad.size();
   const size_t tips = result.samples.empty() ? 0 : result.samples.front().pose.tip_x_mm.size();
-  for (size_t j = 0; j < joints; ++j) csv << ",q_ref" << j + 1 << "_rad,q" << j + 1 << "_rad";
-  for (size_t k = 0; k < tips; ++k) csv << ",tip" << k + 1 << "_x_mm,tip" << k + 1 << "_y_mm";
-  csv << "\n";
-  for (const GaitSample& s : result.samples) {
-    const BodyPose& p = s.pose;
-    csv << p.t_s << "," << p.com_x_mm << "," << p.com_y_mm << "," << p.head_x_mm << ","
-        << p.head_y_mm << "," << p.yaw_rad;
-    for (size_t j = 0; j < joints; ++j) csv << "," << s.q_ref_rad[j] << "," << s.q_rad[j];
-    for (size_t k = 0; k < tips; ++k) csv << "," << p.tip_x_mm[k] << "," << p.tip_y_mm[k];
-    csv << "\n";
+  AddPoseColumns(csv);
+  for (size_t j = 1; j <= joints; ++j) {
+    const int joint = static_cast<int>(j);
+    csv.Add(columns::JointReference(joint)).Add(columns::JointAngle(joint));
   }
-  return csv.str();
+  AddTipColumns(csv, tips);
+  csv.EndRow();
+  for (const GaitSample& s : result.samples) {
+    AddPose(csv, s.pose);
+    for (size_t j = 0; j < joints; ++j) csv.Add(s.q_ref_rad[j]).Add(s.q_rad[j]);
+    AddTips(csv, s.pose, tips);
+    csv.EndRow();
+  }
+  return csv.Text();
 }
 
 nlohmann::json SwimMetricsJson(const SwimMetrics& swim) {
@@ -65,35 +96,30 @@ nlohmann::json GaitSummaryJson(const GaitRunResult& result) {
 
 void WriteGaitOutputs(const std::string& dir, const GaitRunResult& result,
                       const nlohmann::json& inputs) {
-  EnsureDirectory(dir);
-  nlohmann::json summary = GaitSummaryJson(result);
-  summary["inputs"] = inputs;
-  WriteFileAtomically(dir + "/timeseries.csv", GaitSamplesCsv(result));
-  WriteFileAtomically(dir + "/summary.json", summary.dump(2) + "\n");
+  WriteRunOutputs(dir, GaitSamplesCsv(result), RecordedStatesCsv(result.states),
+                  GaitSummaryJson(result), inputs);
 }
 
 std::string ClosedLoopSamplesCsv(const ClosedLoopResult& result) {
-  std::ostringstream csv;
-  csv << std::setprecision(10);
-  csv << "time_s,com_x_mm,com_y_mm,head_x_mm,head_y_mm,yaw_rad";
+  CsvWriter csv(kSeriesDigits);
   const size_t links = result.links.size();
   const size_t tips = result.samples.empty() ? 0 : result.samples.front().pose.tip_x_mm.size();
+  AddPoseColumns(csv);
   for (size_t q = 1; q <= links; ++q) {
-    csv << ",reference" << q << "_mm,measured" << q << "_mm,voltage" << q << "_V";
+    const int link = static_cast<int>(q);
+    csv.Add(columns::Reference(link)).Add(columns::Measured(link)).Add(columns::Voltage(link));
   }
-  for (size_t k = 1; k <= tips; ++k) csv << ",tip" << k << "_x_mm,tip" << k << "_y_mm";
-  csv << "\n";
+  AddTipColumns(csv, tips);
+  csv.EndRow();
   for (const ClosedLoopSample& s : result.samples) {
-    const BodyPose& p = s.pose;
-    csv << p.t_s << "," << p.com_x_mm << "," << p.com_y_mm << "," << p.head_x_mm << ","
-        << p.head_y_mm << "," << p.yaw_rad;
+    AddPose(csv, s.pose);
     for (size_t q = 0; q < links; ++q) {
-      csv << "," << s.reference_mm[q] << "," << s.measured_mm[q] << "," << s.voltage_V[q];
+      csv.Add(s.reference_mm[q]).Add(s.measured_mm[q]).Add(s.voltage_V[q]);
     }
-    for (size_t k = 0; k < tips; ++k) csv << "," << p.tip_x_mm[k] << "," << p.tip_y_mm[k];
-    csv << "\n";
+    AddTips(csv, s.pose, tips);
+    csv.EndRow();
   }
-  return csv.str();
+  return csv.Text();
 }
 
 nlohmann::json ClosedLoopSummaryJson(const ClosedLoopResult& result) {
@@ -120,11 +146,8 @@ nlohmann::json ClosedLoopSummaryJson(const ClosedLoopResult& result) {
 
 void WriteClosedLoopOutputs(const std::string& dir, const ClosedLoopResult& result,
                             const nlohmann::json& inputs) {
-  EnsureDirectory(dir);
-  nlohmann::json summary = ClosedLoopSummaryJson(result);
-  summary["inputs"] = inputs;
-  WriteFileAtomically(dir + "/timeseries.csv", ClosedLoopSamplesCsv(result));
-  WriteFileAtomically(dir + "/summary.json", summary.dump(2) + "\n");
+  WriteRunOutputs(dir, ClosedLoopSamplesCsv(result), RecordedStatesCsv(result.states),
+                  ClosedLoopSummaryJson(result), inputs);
 }
 
 }  // namespace ipmc

@@ -15,14 +15,16 @@ nlohmann::json SwimMetricsJson(const SwimMetrics& swim);
 std::string GaitSamplesCsv(const GaitRunResult& result);
 nlohmann::json GaitSummaryJson(const GaitRunResult& result);
 
-// Writes DIR/timeseries.csv and DIR/summary.json.
+// Writes DIR/timeseries.csv, DIR/states.csv (sim/runs/recorded_states.h)
+// and DIR/summary.json.
 void WriteGaitOutputs(const std::string& dir, const GaitRunResult& result,
                       const nlohmann::json& inputs);
 
 std::string ClosedLoopSamplesCsv(const ClosedLoopResult& result);
 nlohmann::json ClosedLoopSummaryJson(const ClosedLoopResult& result);
 
-// Writes DIR/timeseries.csv and DIR/summary.json of a closed-loop run.
+// Writes DIR/timeseries.csv, DIR/states.csv and DIR/summary.json of a
+// closed-loop run.
 void WriteClosedLoopOutputs(const std::string& dir, const ClosedLoopResult& result,
                             const nlohmann::json& inputs);
 

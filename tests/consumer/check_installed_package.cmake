@@ -14,8 +14,14 @@ function(run)
 endfunction()
 
 run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
+# A sanitized package needs its runtime in the consumer too.
+set(consumer_flags "")
+if(SANITIZE)
+  set(consumer_flags "-DCMAKE_EXE_LINKER_FLAGS=-fsanitize=address,undefined")
+endif()
 run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/consumer -B ${work}/build
-    -DCMAKE_PREFIX_PATH=${prefix} -DEXAMPLE_SOURCE=${SOURCE_DIR}/sim/example_attach.cc)
+    -DCMAKE_PREFIX_PATH=${prefix} -DEXAMPLE_SOURCE=${SOURCE_DIR}/sim/example_attach.cc
+    ${consumer_flags})
 run(${CMAKE_COMMAND} --build ${work}/build)
 file(READ ${work}/build/models_dir.txt models_dir)
 set(ENV{LD_LIBRARY_PATH} "${prefix}/lib:${prefix}/lib/x86_64-linux-gnu:$ENV{LD_LIBRARY_PATH}")
@@ -24,3 +30,16 @@ message(STATUS "${last_output}")
 if(NOT last_output MATCHES "qvel\\[0\\] = ")
   message(FATAL_ERROR "example_attach printed no result: ${last_output}")
 endif()
+
+# The installed program runs without LD_LIBRARY_PATH (its RUNPATH finds the
+# libraries) and finds the installed models by default: a 0.2 s bench sine.
+unset(ENV{LD_LIBRARY_PATH})
+run(${prefix}/bin/ipmc-swim --version)
+if(NOT last_output MATCHES "^ipmc-swim [0-9]+\\.[0-9]+\\.[0-9]+")
+  message(FATAL_ERROR "ipmc-swim --version printed: ${last_output}")
+endif()
+run(${prefix}/bin/ipmc-swim bench --duration-s 0.2 --out ${work}/bench.csv)
+if(NOT EXISTS ${prefix}/share/ipmc_swim/scenarios/paper.toml)
+  message(FATAL_ERROR "scenarios not installed under share/ipmc_swim/scenarios")
+endif()
+message(STATUS "installed program: ${last_output}")

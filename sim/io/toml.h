@@ -1,4 +1,5 @@
-// Names of TOML value types for error messages.
+// TOML documents: parsing with one-line errors, and the names of value
+// types for messages.
 #pragma once
 
 #include <toml++/toml.h>
@@ -6,6 +7,10 @@
 #include <string>
 
 namespace ipmc {
+
+// Parses `text`; a syntax error throws InputError (sim/io/error.h,
+// problem kSyntax) "SOURCE:LINE:COLUMN: description" on one line.
+toml::table ParseToml(const std::string& text, const std::string& source);
 
 inline std::string TomlTypeName(toml::node_type type) {
   switch (type) {

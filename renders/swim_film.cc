@@ -1,0 +1,424 @@
+#include "renders/swim_film.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include "renders/offscreen_renderer.h"
+#include "renders/video.h"
+#include "sim/core/simulation.h"
+#include "sim/core/waveform.h"
+#include "sim/io/files.h"
+#include "sim/runs/closed_loop_run.h"
+
+namespace ipmc {
+namespace {
+
+constexpr int kMaxTrailFrames = 10000;
+constexpr double kMaxView_mm = 10000.0;
+constexpr double kMaxStripThickness_mm = 10.0;
+// Fixed camera: margin around the filmed body, relative to its larger side.
+constexpr double kFitMargin = 0.06;
+// Follow camera: the rest length over the image width.
+constexpr double kFollowBodyFill = 0.6;
+// Points of the ghost polyline along the body.
+constexpr int kGhostPoints = 64;
+constexpr int kRootBody = 1;
+
+template <typename T>
+[[noreturn]] void ThrowOption(const std::string& option, const std::string& requirement, T value) {
+  std::ostringstream msg;
+  msg << "video: " << option << " must be " << requirement << " (got " << value << ")";
+  throw std::invalid_argument(msg.str());
+}
+
+std::string FramePath(const std::string& dir, int index) {
+  char name[32];
+  std::snprintf(name, sizeof(name), "frame_%05d.png", index);
+  return (std::filesystem::path(dir) / name).string();
+}
+
+// The PNGs written so far; removed unless the film completes.
+class PngSequence {
+ public:
+  explicit PngSequence(std::string dir) : dir_(std::move(dir)) {}
+  ~PngSequence() {
+    if (kept_) return;
+    for (const std::string& path : written_) std::remove(path.c_str());
+  }
+  PngSequence(const PngSequence&) = delete;
+  PngSequence& operator=(const PngSequence&) = delete;
+
+  void Add(const std::vector<unsigned char>& rgb, int width, int height) {
+    if (dir_.empty()) return;
+    const std::string path = FramePath(dir_, static_cast<int>(written_.size()));
+    WritePng(path, rgb, width, height);
+    written_.push_back(path);
+  }
+  void Keep() { kept_ = true; }
+
+ private:
+  std::string dir_;
+  std::vector<std::string> written_;
+  bool kept_ = false;
+};
+
+// The head's frame in the state of d (kinematics done): origin at hinge
+// j1's anchor (the root body's origin if there is no j1), axes the root
+// body's x and y.
+struct HeadFrame {
+  double origin[2], x_axis[2], y_axis[2];
+  HeadFrame(const mjModel* m, const mjData* d) {
+    const int j1 = mj_name2id(m, mjOBJ_JOINT, "j1");
+    const mjtNum* p = j1 >= 0 ? d->xanchor + 3 * j1 : d->xpos + 3 * kRootBody;
+    const mjtNum* r = d->xmat + 9 * kRootBody;
+    origin[0] = p[0];
+    origin[1] = p[1];
+    x_axis[0] = r[0];
+    x_axis[1] = r[3];
+    y_axis[0] = r[1];
+    y_axis[1] = r[4];
+  }
+};
+
+// Length of the ideal shape: from j1 to the last tip site along the head's
+// axis at rest (0 if the model has no tip sites).
+double IdealLength_m(const mjModel* m, mjData* d) {
+  int last_tip = -1;
+  for (int k = 1;; ++k) {
+    const int site = mj_name2id(m, mjOBJ_SITE, ("tip" + std::to_string(k)).c_str());
+    if (site < 0) break;
+    last_tip = site;
+  }
+  if (last_tip < 0) return 0.0;
+  mju_copy(d->qpos, m->qpos0, m->nq);
+  mj_kinematics(m, d);
+  const HeadFrame head(m, d);
+  const mjtNum* tip = d->site_xpos + 3 * last_tip;
+  return (tip[0] - head.origin[0]) * head.x_axis[0] + (tip[1] - head.origin[1]) * head.x_axis[1];
+}
+
+std::vector<std::array<double, 3>> Ghost(const FilmedRun& run, const mjModel* m, const mjData* d,
+                                         double length_m, double t_s) {
+  std::vector<std::array<double, 3>> points;
+  if (!run.ideal_y_m || length_m <= 0.0) return points;
+  const HeadFrame head(m, d);
+  for (int k = 0; k < kGhostPoints; ++k) {
+    const double x = length_m * k / (kGhostPoints - 1);
+    const double y = run.ideal_y_m(x, t_s);
+    points.push_back({head.origin[0] + x * head.x_axis[0] + y * head.y_axis[0],
+                      head.origin[1] + x * head.x_axis[1] + y * head.y_axis[1], 0.0});
+  }
+  return points;
+}
+
+std::string Speedup(double factor) {
+  char text[48];
+  std::snprintf(text, sizeof(text), "%.3g x real time", factor);
+  return text;
+}
+
+}  // namespace
+
+void FilmConfig::Validate() const {
+  if (width <= 0 || width % 2 != 0) ThrowOption("--width", "positive and even", width);
+  if (height <= 0 || height % 2 != 0) ThrowOption("--height", "positive and even", height);
+  if (!(fps > 0.0 && fps <= 1000.0)) ThrowOption("--fps", "in (0, 1000]", fps);
+  if (frames_per_cycle < 1) ThrowOption("--frames-per-cycle", ">= 1", frames_per_cycle);
+  if (start_cycle < 1) ThrowOption("--start-cycle", ">= 1", start_cycle);
+  if (cycles < 0) ThrowOption("--cycles", ">= 1", cycles);
+  if (trail_frames > kMaxTrailFrames) {
+    ThrowOption("--trail-frames", "<= " + std::to_string(kMaxTrailFrames), trail_frames);
+  }
+  if (!(view_mm >= 0.0 && view_mm <= kMaxView_mm)) {
+    ThrowOption("--view-mm", "in (0, 10000] (or 0: fit)", view_mm);
+  }
+  if (!center_mm.empty()) {
+    if (center_mm.size() != 2) ThrowOption("--center-mm", "two numbers X,Y", center_mm.size());
+    for (double v : center_mm) {
+      if (!std::isfinite(v)) ThrowOption("--center-mm", "finite", v);
+    }
+    if (camera == FilmCamera::kFollow) {
+      throw std::invalid_argument("video: --center-mm is for --camera fixed (follow looks at the centre of mass)");
+    }
+  }
+  if (!(elevation_deg >= -90.0 && elevation_deg <= -5.0)) {
+    ThrowOption("--elevation-deg", "in [-90, -5] (-90: top-down)", elevation_deg);
+  }
+  if (!(std::abs(azimuth_deg) <= 360.0)) ThrowOption("--azimuth-deg", "in [-360, 360]", azimuth_deg);
+  if (strip_thickness_mm &&
+      !(*strip_thickness_mm >= 0.0 && *strip_thickness_mm <= kMaxStripThickness_mm)) {
+    ThrowOption("--strip-thickness-mm", "in [0, 10] (0: the model's own)", *strip_thickness_mm);
+  }
+}
+
+void CheckFilmFits(const mjModel* m, const FilmConfig& config) {
+  try {
+    OffscreenRenderer::CheckImageSize(m, config.width, config.height);
+  } catch (const std::invalid_argument& error) {
+    throw std::invalid_argument(std::string("video: --width/--height: ") + error.what());
+  }
+}
+
+FilmSummary FilmRun(const FilmedRun& run, const FilmConfig& config, const std::string& out_path,
+                    const FilmProgress& progress) {
+  config.Validate();
+  if (!run.model || !run.states || run.states->empty()) {
+    throw std::invalid_argument("video: no recorded states to film");
+  }
+  const mjModel* m = run.model;
+  if (static_cast<int>(run.states->columns.size()) != m->nq) {
+    throw std::invalid_argument("video: the recorded states do not match the model");
+  }
+  if (!(run.period_s > 0.0) || run.cycles < 1) {
+    throw std::invalid_argument("video: the run has no wave period or no cycle");
+  }
+  CheckFilmFits(m, config);
+  const int first_cycle = config.start_cycle;
+  const int last_cycle = config.cycles == 0 ? run.cycles : first_cycle + config.cycles - 1;
+  if (first_cycle > run.cycles) {
+    throw std::invalid_argument("video: --start-cycle " + std::to_string(first_cycle) +
+                                " is after the run's last cycle " + std::to_string(run.cycles));
+  }
+  if (last_cycle > run.cycles) {
+    throw std::invalid_argument("video: --cycles " + std::to_string(config.cycles) + " from cycle " +
+                                std::to_string(first_cycle) + " go past the run's last cycle " +
+                                std::to_string(run.cycles));
+  }
+
+  // The frames' states.
+  const int frames = config.frames_per_cycle * (last_cycle - first_cycle + 1);
+  const double frame_dt = run.period_s / config.frames_per_cycle;
+  const double t0 = (first_cycle - 1) * run.period_s;
+  std::vector<double> times(frames);
+  std::vector<std::vector<double>> qpos(frames);
+  for (int k = 0; k < frames; ++k) {
+    times[k] = t0 + k * frame_dt;
+    qpos[k] = run.states->StateAt(m, times[k]);
+  }
+
+  RendererOptions options;
+  options.trail_length = config.trail_frames < 0 ? config.frames_per_cycle : config.trail_frames;
+  if (config.strip_thickness_mm) options.strip_thickness_m = *config.strip_thickness_mm * 1e-3;
+  OffscreenRenderer renderer(m, config.width, config.height, options);
+  DataPtr data(mj_makeData(m));
+  if (!data) throw std::runtime_error("video: cannot allocate mjData");
+  mjData* d = data.get();
+  const double ideal_length_m = IdealLength_m(m, d);
+
+  // Centre of mass at the run's first recorded state: the overlay's origin.
+  mju_copy(d->qpos, run.states->qpos.front().data(), m->nq);
+  mj_kinematics(m, d);
+  mj_comPos(m, d);
+  FrameSetup setup;
+  setup.grid = config.grid;
+  setup.overlay.period_s = run.period_s;
+  setup.overlay.origin_m = {d->subtree_com[3 * kRootBody], d->subtree_com[3 * kRootBody + 1]};
+  const double speedup = config.fps * frame_dt;
+  setup.overlay.rows.push_back({"playback", Speedup(speedup)});
+  for (const auto& row : run.overlay_rows) setup.overlay.rows.push_back(row);
+
+  // The overlay's band at the top of the image, as a fraction of its height.
+  const double aspect = static_cast<double>(config.width) / config.height;
+  const int overlay_lines = 3 + static_cast<int>(setup.overlay.rows.size());
+  const double band = std::min(0.5, (overlay_lines + 1.5) * renderer.overlay_line_height_px() /
+                                        static_cast<double>(config.height));
+  CameraSetup& camera = setup.camera;
+  camera.elevation_deg = config.elevation_deg;
+  camera.azimuth_deg = config.azimuth_deg;
+  if (config.camera == FilmCamera::kFollow) {
+    // The centre of mass in the middle of the image below the band.
+    camera.follow = true;
+    camera.body_fill = kFollowBodyFill;
+    camera.view_width_m = config.view_mm * 1e-3;
+    const double view_m = config.width / renderer.PixelsPerMetre(camera);
+    camera.follow_offset_m[1] = 0.5 * band * view_m / aspect;
+  } else {
+    // The body over every frame (and the ghost), framed below the band.
+    double lo[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+    double hi[2] = {-lo[0], -lo[1]};
+    const double ghost_half = 0.5 * renderer.strip_thickness_m();  // the ghost is as thick
+    for (int k = 0; k < frames; ++k) {
+      mju_copy(d->qpos, qpos[k].data(), m->nq);
+      const std::array<double, 4> box = renderer.DrawnBounds(d);
+      lo[0] = std::min(lo[0], box[0]);
+      hi[0] = std::max(hi[0], box[1]);
+      lo[1] = std::min(lo[1], box[2]);
+      hi[1] = std::max(hi[1], box[3]);
+      if (config.ghost) {
+        mj_kinematics(m, d);
+        for (const auto& p : Ghost(run, m, d, ideal_length_m, times[k])) {
+          for (int i = 0; i < 2; ++i) {
+            lo[i] = std::min(lo[i], p[i] - ghost_half);
+            hi[i] = std::max(hi[i], p[i] + ghost_half);
+          }
+        }
+      }
+    }
+    const double margin = kFitMargin * std::max(hi[0] - lo[0], hi[1] - lo[1]);
+    double view_m = config.view_mm * 1e-3;
+    if (view_m <= 0.0) {
+      view_m = std::max(hi[0] - lo[0] + 2.0 * margin,
+                        (hi[1] - lo[1] + 2.0 * margin) / (1.0 - band) * aspect);
+    }
+    camera.follow = false;
+    camera.view_width_m = view_m;
+    if (!config.center_mm.empty()) {
+      camera.lookat_m[0] = config.center_mm[0] * 1e-3;
+      camera.lookat_m[1] = config.center_mm[1] * 1e-3;
+    } else {
+      camera.lookat_m[0] = 0.5 * (lo[0] + hi[0]);
+      camera.lookat_m[1] = 0.5 * (lo[1] + hi[1]) + 0.5 * band * view_m / aspect;
+    }
+    camera.lookat_m[2] = 0.0;
+  }
+  OffscreenRenderer::ValidateCamera(camera);
+
+  const std::filesystem::path parent = std::filesystem::path(out_path).parent_path();
+  if (!parent.empty()) EnsureDirectory(parent.string());
+  if (!config.png_dir.empty()) EnsureDirectory(config.png_dir);
+  Mp4Writer video(out_path, config.width, config.height, config.fps);
+  PngSequence pngs(config.png_dir);
+  for (int k = 0; k < frames; ++k) {
+    mju_copy(d->qpos, qpos[k].data(), m->nq);
+    d->time = times[k];
+    if (config.ghost) {
+      mj_kinematics(m, d);
+      setup.ghost_m = Ghost(run, m, d, ideal_length_m, times[k]);
+    }
+    const std::vector<unsigned char> rgb = renderer.Frame(d, setup);
+    video.AddFrame(rgb);
+    pngs.Add(rgb, config.width, config.height);
+    if (progress) progress(k + 1, frames);
+  }
+  video.Finish();
+  pngs.Keep();
+
+  FilmSummary summary;
+  summary.frames = frames;
+  summary.first_cycle = first_cycle;
+  summary.last_cycle = last_cycle;
+  summary.pixels_per_mm = renderer.PixelsPerMetre(camera) * 1e-3;
+  summary.view_width_mm = config.width / summary.pixels_per_mm;
+  summary.speedup = speedup;
+  return summary;
+}
+
+ClosedLoopResult RunScenarioAndFilm(
+    const ScenarioConfig& scenario, const FilmConfig& config, const std::string& video_path,
+    const std::function<void(const ClosedLoopResult&)>& before_filming,
+    const FilmProgress& progress, FilmSummary* summary) {
+  config.Validate();
+  if (!config.png_dir.empty()) EnsureDirectory(config.png_dir);
+  ModelPtr model;  // the run's own model, copied at t = 0
+  const auto observer = [&](const mjModel* m, const mjData*, const ClosedLoopSample&) {
+    if (model) return;
+    CheckFilmFits(m, config);
+    model.reset(mj_copyModel(nullptr, m));
+  };
+  const ClosedLoopResult result = RunScenario(scenario, observer);
+  if (before_filming) before_filming(result);
+  const FilmSummary film =
+      FilmRun(ClosedLoopFilm(model.get(), result, scenario), config, video_path, progress);
+  if (summary) *summary = film;
+  return result;
+}
+
+FilmedRun ClosedLoopFilm(const mjModel* m, const ClosedLoopResult& result,
+                         const ScenarioConfig& scenario) {
+  FilmedRun run;
+  run.model = m;
+  run.states = &result.states;
+  run.period_s = result.period_s;
+  run.cycles = static_cast<int>(result.swim.per_cycle.size());
+  run.overlay_rows = ClosedLoopOverlayRows(scenario);
+  run.ideal_y_m = ScenarioIdealShape(scenario);
+  return run;
+}
+
+FilmedRun RunRecording::View() const {
+  FilmedRun run;
+  run.model = model.get();
+  run.states = &states;
+  run.period_s = period_s;
+  run.cycles = cycles;
+  run.overlay_rows = overlay_rows;
+  run.ideal_y_m = ideal_y_m;
+  return run;
+}
+
+RunRecording LoadRunRecording(const std::string& dir) {
+  const std::string summary_path = (std::filesystem::path(dir) / "summary.json").string();
+  const std::string states_path = (std::filesystem::path(dir) / "states.csv").string();
+  for (const std::string& path : {summary_path, states_path}) {
+    if (!std::filesystem::is_regular_file(path)) {
+      throw std::runtime_error(dir + ": not a run's output directory (no " +
+                               std::filesystem::path(path).filename().string() + ")");
+    }
+  }
+  nlohmann::json summary;
+  try {
+    std::ifstream in(summary_path);
+    summary = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& error) {
+    throw std::runtime_error(summary_path + ": " + error.what());
+  }
+  const auto field = [&](const nlohmann::json& object, const char* key, const std::string& name) {
+    if (!object.is_object() || !object.contains(key)) {
+      throw std::runtime_error(summary_path + ": no field " + name);
+    }
+    return object.at(key);
+  };
+  RunRecording recording;
+  const nlohmann::json inputs = field(summary, "inputs", "inputs");
+  if (summary.contains("controller")) {
+    const std::string scenario_path = field(inputs, "scenario", "inputs.scenario").get<std::string>();
+    const ScenarioConfig scenario = LoadScenario(scenario_path);
+    std::string source;
+    recording.model = LoadScenarioModel(scenario, &source);
+    recording.overlay_rows = ClosedLoopOverlayRows(scenario);
+    recording.ideal_y_m = ScenarioIdealShape(scenario);
+  } else {
+    const std::string model_path = field(inputs, "model", "inputs.model").get<std::string>();
+    recording.model = LoadModelFile(model_path);
+    recording.overlay_rows = {{"gait", field(summary, "gait", "gait").get<std::string>()}};
+  }
+  recording.period_s = field(summary, "period_s", "period_s").get<double>();
+  recording.cycles = static_cast<int>(field(summary, "per_cycle", "per_cycle").size());
+  recording.states = ReadRecordedStates(states_path, recording.model.get());
+  return recording;
+}
+
+std::function<double(double, double)> ScenarioIdealShape(const ScenarioConfig& scenario) {
+  const WaveformConfig wave = scenario.waveform;
+  const double ramp_s = scenario.start_ramp_cycles / std::abs(wave.frequency_Hz);
+  return [wave, ramp_s](double x_m, double t_s) {
+    return StartRamp(t_s, ramp_s) * WaveY_um(wave, x_m * 1e3, t_s) * 1e-6;
+  };
+}
+
+std::vector<std::array<std::string, 2>> ClosedLoopOverlayRows(const ScenarioConfig& scenario) {
+  const bool pid = scenario.controller == ControllerKind::kPid;
+  const bool clamp = pid ? scenario.pid.clamp_enabled : scenario.fractional.clamp_enabled;
+  const double v_max = pid ? scenario.pid.v_max : scenario.fractional.v_max;
+  char controller[128];
+  int n = pid ? std::snprintf(controller, sizeof(controller), "PID, Kp %g, Ki %g, Kd %g",
+                              scenario.pid.kp, scenario.pid.ki, scenario.pid.kd)
+              : std::snprintf(controller, sizeof(controller), "fractional, %g / s^%g",
+                              scenario.fractional.gain, scenario.fractional.order);
+  if (clamp) {
+    std::snprintf(controller + n, sizeof(controller) - n, ", clamp +-%g V", v_max);
+  } else {
+    std::snprintf(controller + n, sizeof(controller) - n, ", no clamp");
+  }
+  return {{"controller", controller}, {"actuation", scenario.actuation}};
+}
+
+}  // namespace ipmc

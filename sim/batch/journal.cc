@@ -1,0 +1,293 @@
+#include "sim/batch/journal.h"
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cerrno>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <utility>
+
+#include "sim/io/files.h"
+
+namespace ipmc {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr char kFormatKey[] = "ipmc_swim_sweep_journal";
+constexpr int kFormatVersion = 1;
+constexpr char kSweepKey[] = "sweep";
+constexpr char kFingerprintKey[] = "fingerprint";
+constexpr char kPointsKey[] = "points";
+constexpr char kColumnsKey[] = "columns";
+constexpr char kPointKey[] = "point";
+constexpr char kRowKey[] = "row";
+
+// FNV-1a, 64 bit (offset basis and prime from Fowler, Noll and Vo).
+class Fnv1a {
+ public:
+  // Each field with its length first, so that fields cannot run together.
+  void Add(const std::string& field) {
+    const std::uint64_t size = field.size();
+    for (int shift = 0; shift < 64; shift += 8) Byte(static_cast<unsigned char>(size >> shift));
+    for (char c : field) Byte(static_cast<unsigned char>(c));
+  }
+  std::string Hex() const {
+    char text[17];
+    std::snprintf(text, sizeof(text), "%016llx", static_cast<unsigned long long>(hash_));
+    return text;
+  }
+
+ private:
+  void Byte(unsigned char byte) {
+    hash_ ^= byte;
+    hash_ *= 0x100000001b3ULL;
+  }
+  std::uint64_t hash_ = 0xcbf29ce484222325ULL;
+};
+
+std::string SystemError(const std::string& path, const std::string& what) {
+  return path + ": " + what + " (" + std::strerror(errno) + ")";
+}
+
+std::string FileText(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  std::ostringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
+
+// The text of an open file, from its start.
+std::string ReadAll(int fd, const std::string& path) {
+  std::string text;
+  char buffer[1 << 16];
+  for (off_t offset = 0;;) {
+    const ssize_t n = pread(fd, buffer, sizeof(buffer), offset);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw std::runtime_error(SystemError(path, "cannot read the journal"));
+    if (n == 0) return text;
+    text.append(buffer, static_cast<size_t>(n));
+    offset += n;
+  }
+}
+
+void WriteAll(int fd, const std::string& text, const std::string& path) {
+  for (size_t written = 0; written < text.size();) {
+    const ssize_t n = write(fd, text.data() + written, text.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw std::runtime_error(SystemError(path, "cannot write the journal"));
+    written += static_cast<size_t>(n);
+  }
+}
+
+// The directory entry of a new file reaches the disk too.
+void SyncDirectoryOf(const std::string& path) {
+  std::string dir = fs::path(path).parent_path().string();
+  if (dir.empty()) dir = ".";
+  const int fd = open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;
+  fsync(fd);
+  close(fd);
+}
+
+std::string HeaderLine(const SweepJournalHeader& header) {
+  nlohmann::ordered_json json = {{kFormatKey, kFormatVersion},
+                                 {kSweepKey, header.sweep},
+                                 {kFingerprintKey, header.fingerprint},
+                                 {kPointsKey, header.points},
+                                 {kColumnsKey, header.columns}};
+  return json.dump() + "\n";
+}
+
+SweepJournalHeader HeaderOf(const SweepPlan& plan) {
+  SweepJournalHeader header;
+  header.sweep = plan.source;
+  header.fingerprint = SweepFingerprint(plan);
+  header.points = static_cast<int>(plan.points.size());
+  header.columns = SweepColumns(plan);
+  return header;
+}
+
+template <typename T>
+bool ReadField(const nlohmann::json& json, const char* key, T* value) {
+  const auto it = json.find(key);
+  if (it == json.end()) return false;
+  try {
+    *value = it->get<T>();
+    return true;
+  } catch (const nlohmann::json::exception&) {
+    return false;
+  }
+}
+
+// Parses a journal's text; `complete_size` receives the length of its
+// whole lines (a torn last line is left out).
+SweepJournalContents ParseJournal(const std::string& text, const std::string& path,
+                                  size_t* complete_size) {
+  const size_t end = text.rfind('\n');
+  *complete_size = end == std::string::npos ? 0 : end + 1;
+  SweepJournalContents contents;
+  std::istringstream lines(text.substr(0, *complete_size));
+  std::string line;
+  int number = 0;
+  while (std::getline(lines, line)) {
+    ++number;
+    const std::string where = path + ":" + std::to_string(number);
+    const nlohmann::json json = nlohmann::json::parse(line, nullptr, false);
+    if (number == 1) {
+      SweepJournalHeader& header = contents.header;
+      int version = 0;
+      if (json.is_discarded() || !ReadField(json, kFormatKey, &version) ||
+          version != kFormatVersion || !ReadField(json, kSweepKey, &header.sweep) ||
+          !ReadField(json, kFingerprintKey, &header.fingerprint) ||
+          !ReadField(json, kPointsKey, &header.points) ||
+          !ReadField(json, kColumnsKey, &header.columns) || header.points < 0) {
+        throw std::runtime_error(where + ": not a sweep journal (no header)");
+      }
+      continue;
+    }
+    int point = -1;
+    std::vector<std::string> row;
+    if (json.is_discarded() || !ReadField(json, kPointKey, &point) ||
+        !ReadField(json, kRowKey, &row) || point < 0 || point >= contents.header.points ||
+        row.size() != contents.header.columns.size() || row[0] != std::to_string(point)) {
+      throw std::runtime_error(where + ": not a record of this journal's sweep (" +
+                               std::to_string(contents.header.points) + " points, " +
+                               std::to_string(contents.header.columns.size()) + " columns)");
+    }
+    contents.rows.emplace(point, std::move(row));  // a repeat is the same row: keep the first
+  }
+  if (number == 0) throw std::runtime_error(path + ": empty journal (no header)");
+  return contents;
+}
+
+}  // namespace
+
+std::string SweepFingerprint(const SweepPlan& plan) {
+  Fnv1a hash;
+  for (const std::string& column : SweepColumns(plan)) hash.Add(column);
+  std::map<std::string, std::string> models;  // path -> contents
+  for (const SweepPoint& point : plan.points) {
+    hash.Add(std::to_string(point.index));
+    for (const std::string& value : point.values) hash.Add(value);
+    hash.Add(point.scenario_toml);
+    hash.Add(point.error);
+    if (point.scenario && !point.scenario->GeneratesModel()) {
+      const std::string& model = point.scenario->model_path;
+      if (models.count(model) == 0) models.emplace(model, FileText(model));
+      hash.Add(models.at(model));
+    }
+  }
+  return hash.Hex();
+}
+
+SweepJournalContents ReadSweepJournal(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw std::runtime_error(path + ": cannot open the journal");
+  std::ostringstream text;
+  text << file.rdbuf();
+  size_t complete_size = 0;
+  return ParseJournal(text.str(), path, &complete_size);
+}
+
+std::string JournalPathOf(const std::string& table_csv_path) {
+  fs::path path(table_csv_path);
+  if (path.extension() == ".csv") path.replace_extension();
+  return path.string() + ".journal";
+}
+
+SweepJournal::SweepJournal(const std::string& path, const SweepPlan& plan) : path_(path) {
+  const std::string dir = fs::path(path).parent_path().string();
+  if (!dir.empty()) EnsureDirectory(dir);
+  const SweepJournalHeader expected = HeaderOf(plan);
+  fd_ = open(path.c_str(), O_RDWR | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw std::runtime_error(SystemError(path, "cannot open the journal"));
+  try {
+    // One sweep per journal. A file system without locks (ENOLCK) is
+    // let through: the user then keeps sweeps apart.
+    if (flock(fd_, LOCK_EX | LOCK_NB) != 0 && errno == EWOULDBLOCK) {
+      throw std::runtime_error(path + ": in use by another running sweep (one sweep per --out)");
+    }
+    const std::string text = ReadAll(fd_, path);
+    if (text.find('\n') == std::string::npos) {
+      // New, or created by a sweep killed before its header was whole:
+      // no record can follow a torn header.
+      if (ftruncate(fd_, 0) != 0) throw std::runtime_error(SystemError(path, "cannot reset"));
+      WriteAll(fd_, HeaderLine(expected), path);
+      if (fsync(fd_) != 0) throw std::runtime_error(SystemError(path, "cannot sync"));
+      SyncDirectoryOf(path);
+      return;
+    }
+    size_t complete_size = 0;
+    SweepJournalContents contents = ParseJournal(text, path, &complete_size);
+    const SweepJournalHeader& found = contents.header;
+    if (found.fingerprint != expected.fingerprint) {
+      throw std::runtime_error(
+          path + ": records another sweep (" + found.sweep + ", " +
+          std::to_string(found.points) + " points, fingerprint " + found.fingerprint +
+          "; this one: " + expected.sweep + ", " + std::to_string(expected.points) +
+          " points, fingerprint " + expected.fingerprint +
+          "); remove it to start over, or choose another output");
+    }
+    if (complete_size < text.size() &&
+        ftruncate(fd_, static_cast<off_t>(complete_size)) != 0) {
+      throw std::runtime_error(SystemError(path, "cannot drop the torn last record"));
+    }
+    rows_ = std::move(contents.rows);
+  } catch (...) {
+    close(fd_);
+    throw;
+  }
+}
+
+SweepJournal::~SweepJournal() {
+  if (fd_ >= 0) close(fd_);
+}
+
+void SweepJournal::Record(const std::vector<std::string>& row) {
+  const int point = std::stoi(row.at(0));
+  const nlohmann::ordered_json json = {{kPointKey, point}, {kRowKey, row}};
+  WriteAll(fd_, json.dump() + "\n", path_);
+  if (fdatasync(fd_) != 0) throw std::runtime_error(SystemError(path_, "cannot sync the journal"));
+  rows_.emplace(point, row);
+}
+
+ShardRecord CountRecorded(const SweepPlan& plan, const SweepShard& shard,
+                          const SweepJournal& journal) {
+  ShardRecord record;
+  for (const SweepPoint& point : plan.points) {
+    if (point.index % shard.count != shard.index - 1) continue;
+    ++record.points;
+    record.recorded += static_cast<int>(journal.rows().count(point.index));
+  }
+  return record;
+}
+
+JournaledSweep RunJournaledSweep(const SweepPlan& plan, SweepOptions options,
+                                 SweepJournal* journal) {
+  const std::map<int, std::vector<std::string>> finished = journal->rows();
+  JournaledSweep result;
+  const ShardRecord record = CountRecorded(plan, options.shard, *journal);
+  result.shard_points = record.points;
+  result.resumed = record.recorded;
+  options.finished = &finished;
+  const std::function<void(const SweepProgress&)> report = options.on_point_done;
+  options.on_point_done = [&](const SweepProgress& progress) {
+    journal->Record(*progress.row);
+    if (report) report(progress);
+  };
+  result.table = RunSweep(plan, options);
+  return result;
+}
+
+}  // namespace ipmc

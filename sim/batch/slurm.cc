@@ -1,0 +1,309 @@
+#include "sim/batch/slurm.h"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <stdexcept>
+#include <vector>
+
+#include "sim/batch/journal.h"
+#include "sim/io/files.h"
+
+extern char** environ;
+
+namespace ipmc {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr char kSbatch[] = "sbatch";
+constexpr char kScancel[] = "scancel";
+constexpr char kTimeFormats[] = "M, M:S, H:M:S, D-H, D-H:M or D-H:M:S, or INFINITE";
+
+// 'text' for the shell: single quotes, each ' written as '\''.
+std::string ShellQuote(const std::string& text) {
+  std::string quoted = "'";
+  for (char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return quoted + "'";
+}
+
+bool AllDigits(const std::string& text) {
+  return !text.empty() && text.size() <= 9 &&
+         std::all_of(text.begin(), text.end(), [](unsigned char c) { return std::isdigit(c); });
+}
+
+std::vector<std::string> Split(const std::string& text, char separator) {
+  std::vector<std::string> parts(1);
+  for (char c : text) {
+    if (c == separator) {
+      parts.emplace_back();
+    } else {
+      parts.back() += c;
+    }
+  }
+  return parts;
+}
+
+// The #SBATCH lines both jobs share.
+std::string CommonDirectives(const SlurmSweep& job) {
+  std::string text;
+  if (!job.options.partition.empty()) text += "#SBATCH --partition=" + job.options.partition + "\n";
+  if (!job.options.time_limit.empty()) text += "#SBATCH --time=" + job.options.time_limit + "\n";
+  return text;
+}
+
+struct ProgramRun {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr
+};
+
+// Runs `argv` (argv[0] found on PATH) and collects its output.
+ProgramRun RunProgram(const std::vector<std::string>& argv) {
+  int pipe_fds[2];
+  if (pipe(pipe_fds) != 0) throw std::runtime_error(argv[0] + ": cannot create a pipe");
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addclose(&actions, pipe_fds[0]);
+  posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], STDOUT_FILENO);
+  posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], STDERR_FILENO);
+  posix_spawn_file_actions_addclose(&actions, pipe_fds[1]);
+  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  std::vector<char*> args;
+  for (const std::string& arg : argv) args.push_back(const_cast<char*>(arg.c_str()));
+  args.push_back(nullptr);
+  pid_t pid = 0;
+  const int spawned = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  close(pipe_fds[1]);
+  ProgramRun run;
+  if (spawned != 0) {
+    close(pipe_fds[0]);
+    throw std::runtime_error(argv[0] + ": cannot start (" + std::strerror(spawned) + ")");
+  }
+  char buffer[4096];
+  for (;;) {
+    const ssize_t n = read(pipe_fds[0], buffer, sizeof(buffer));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    run.output.append(buffer, static_cast<size_t>(n));
+  }
+  close(pipe_fds[0]);
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return run;
+}
+
+std::string OneLine(std::string text) {
+  while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back()))) text.pop_back();
+  std::replace_if(
+      text.begin(), text.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+  return text;
+}
+
+// "1234" or "1234;cluster" (sbatch --parsable) -> "1234".
+std::string JobId(const ProgramRun& run, const std::string& what) {
+  std::string output = OneLine(run.output);
+  const std::string id = output.substr(0, output.find(';'));
+  if (run.exit_code != 0 || !AllDigits(id)) {
+    throw std::runtime_error("sbatch refused the " + what + ": " +
+                             (output.empty() ? "exit code " + std::to_string(run.exit_code)
+                                             : output));
+  }
+  return id;
+}
+
+std::string Absolute(const std::string& path) {
+  return fs::absolute(path).lexically_normal().string();
+}
+
+}  // namespace
+
+long ParseSlurmTimeLimit(const std::string& text) {
+  if (text == "INFINITE" || text == "UNLIMITED") return -1;
+  auto fail = [&]() -> long {
+    throw std::invalid_argument("sweep: --time must be a Slurm time limit > 0 (" +
+                                std::string(kTimeFormats) + "; got '" + text + "')");
+  };
+  const std::vector<std::string> day_parts = Split(text, '-');
+  if (day_parts.size() > 2) return fail();
+  const bool has_days = day_parts.size() == 2;
+  const std::vector<std::string> fields = Split(day_parts.back(), ':');
+  if (fields.size() > 3) return fail();
+  std::vector<long> numbers;
+  for (const std::string& field : fields) {
+    if (!AllDigits(field)) return fail();
+    numbers.push_back(std::stol(field));
+  }
+  long days = 0, hours = 0, minutes = 0, seconds = 0;
+  if (has_days) {
+    if (!AllDigits(day_parts[0])) return fail();
+    days = std::stol(day_parts[0]);
+    hours = numbers[0];
+    if (numbers.size() > 1) minutes = numbers[1];
+    if (numbers.size() > 2) seconds = numbers[2];
+  } else if (numbers.size() == 3) {
+    hours = numbers[0], minutes = numbers[1], seconds = numbers[2];
+  } else {
+    minutes = numbers[0];
+    if (numbers.size() == 2) seconds = numbers[1];
+  }
+  const long total = ((days * 24 + hours) * 60 + minutes) + (seconds + 59) / 60;
+  if (total <= 0) return fail();
+  return total;
+}
+
+SlurmSweep ResolveSlurmSweep(const SweepPlan& plan, const SlurmOptions& options,
+                             const std::string& program) {
+  const int points = static_cast<int>(plan.points.size());
+  SlurmSweep job;
+  job.options = options;
+  job.points = points;
+  job.tasks = options.array_size > 0 ? options.array_size
+                                     : std::min(points, kDefaultMaxArrayTasks);
+  if (options.array_size < 0 || job.tasks > points) {
+    throw std::invalid_argument("sweep: --array-size must be in [1, " + std::to_string(points) +
+                                "] (the sweep's points; got " +
+                                std::to_string(options.array_size) + ")");
+  }
+  if (options.cpus_per_task < 1) {
+    throw std::invalid_argument("sweep: --cpus-per-task must be >= 1 (got " +
+                                std::to_string(options.cpus_per_task) + ")");
+  }
+  if (!options.time_limit.empty()) ParseSlurmTimeLimit(options.time_limit);
+  const bool partition_ok =
+      std::all_of(options.partition.begin(), options.partition.end(), [](unsigned char c) {
+        return std::isalnum(c) || c == '_' || c == '-' || c == '.' || c == ',';
+      });
+  if (!partition_ok) {
+    throw std::invalid_argument("sweep: --partition must be a partition name (letters, digits, "
+                                "_ - . and , between names; got '" + options.partition + "')");
+  }
+  if (options.dir.empty()) throw std::invalid_argument("sweep: --slurm needs a directory");
+  job.dir = Absolute(options.dir);
+  job.sweep_path = Absolute(plan.source);
+  job.program = Absolute(program);
+  for (const std::string* path : {&job.dir, &job.sweep_path, &job.program}) {
+    if (path->find_first_of(" \t\n\"'\\%") != std::string::npos) {
+      throw std::invalid_argument("sweep: --slurm: '" + *path +
+                                  "' has a space, quote, backslash or % (the job scripts' "
+                                  "#SBATCH lines cannot hold them); use another path");
+    }
+  }
+  return job;
+}
+
+std::string SlurmArrayScript(const SlurmSweep& job) {
+  const std::string tasks = std::to_string(job.tasks);
+  return "#!/bin/bash\n"
+         "# Sweep " + job.sweep_path + " (" + std::to_string(job.points) + " points) as " +
+         tasks + " array tasks: task k runs shard k/" + tasks + ".\n"
+         "# Written by ipmc-swim sweep --slurm; submit with: sbatch " + job.ArrayScriptPath() +
+         "\n"
+         "#SBATCH --job-name=ipmc-sweep\n"
+         "#SBATCH --array=1-" + tasks + "\n"
+         "#SBATCH --cpus-per-task=" + std::to_string(job.options.cpus_per_task) + "\n" +
+         CommonDirectives(job) +
+         "#SBATCH --output=" + job.dir + "/logs/sweep_%A_%a.out\n"
+         "set -eu\n"
+         "shard=\"${SLURM_ARRAY_TASK_ID:?submit this script with sbatch}\"\n"
+         "exec " + ShellQuote(job.program) + " sweep " + ShellQuote(job.sweep_path) +
+         " --shard \"$shard/" + tasks + "\" --jobs \"${SLURM_CPUS_PER_TASK:-1}\" --out " +
+         ShellQuote(job.dir + "/shards/shard_") + "\"$shard\"\n";
+}
+
+std::string SlurmMergeScript(const SlurmSweep& job) {
+  std::string tables;
+  for (int k = 1; k <= job.tasks; ++k) {
+    tables += " \\\n  " + ShellQuote(job.ShardPrefix(k) + ".csv");
+  }
+  return "#!/bin/bash\n"
+         "# Merges the shard tables of " + job.sweep_path + " into " + job.TablePrefix() +
+         ".csv and .json,\n"
+         "# listing the points of shards that did not finish. Submitted by ipmc-swim sweep "
+         "--slurm\n"
+         "# with --dependency=afterany on the array job.\n"
+         "#SBATCH --job-name=ipmc-merge\n"
+         "#SBATCH --cpus-per-task=1\n" +
+         CommonDirectives(job) +
+         "#SBATCH --output=" + job.dir + "/logs/merge_%j.out\n"
+         "set -eu\n"
+         "exec " + ShellQuote(job.program) + " merge --partial --out " +
+         ShellQuote(job.TablePrefix()) + tables + "\n";
+}
+
+void WriteSlurmJob(const SlurmSweep& job, const SweepPlan& plan) {
+  // Every existing journal is checked before anything is created.
+  const std::string fingerprint = SweepFingerprint(plan);
+  for (int k = 1; k <= job.tasks; ++k) {
+    const std::string path = job.ShardPrefix(k) + ".journal";
+    std::error_code error;
+    if (!fs::exists(path, error)) continue;
+    const SweepJournalHeader header = ReadSweepJournal(path).header;
+    if (header.fingerprint != fingerprint) {
+      throw std::runtime_error(path + ": records another sweep (" + header.sweep +
+                               ", fingerprint " + header.fingerprint + "; this one: " +
+                               plan.source + ", " + fingerprint +
+                               "); choose another --slurm directory");
+    }
+  }
+  EnsureDirectory(job.dir + "/shards");
+  EnsureDirectory(job.dir + "/logs");
+  for (int k = 1; k <= job.tasks; ++k) {
+    const SweepJournal created(job.ShardPrefix(k) + ".journal", plan);
+  }
+  WriteFileAtomically(job.ArrayScriptPath(), SlurmArrayScript(job));
+  WriteFileAtomically(job.MergeScriptPath(), SlurmMergeScript(job));
+  for (const std::string& script : {job.ArrayScriptPath(), job.MergeScriptPath()}) {
+    chmod(script.c_str(), 0755);
+  }
+}
+
+std::string FindOnPath(const std::string& program) {
+  const char* path = std::getenv("PATH");
+  if (path == nullptr) return "";
+  for (const std::string& dir : Split(path, ':')) {
+    const std::string candidate = (dir.empty() ? std::string(".") : dir) + "/" + program;
+    if (access(candidate.c_str(), X_OK) == 0 && fs::is_regular_file(candidate)) return candidate;
+  }
+  return "";
+}
+
+void CheckSbatchOnPath() {
+  if (FindOnPath(kSbatch).empty()) {
+    throw std::runtime_error(std::string("sweep --slurm: ") + kSbatch +
+                             " is not on the PATH (Slurm's client; --dry-run writes the "
+                             "scripts without submitting)");
+  }
+}
+
+SlurmJobIds SubmitSlurmJob(const SlurmSweep& job) {
+  CheckSbatchOnPath();
+  SlurmJobIds ids;
+  ids.array = JobId(RunProgram({kSbatch, "--parsable", job.ArrayScriptPath()}), "job array");
+  try {
+    ids.merge = JobId(RunProgram({kSbatch, "--parsable", "--dependency=afterany:" + ids.array,
+                                  job.MergeScriptPath()}),
+                      "merge job");
+  } catch (const std::exception& failure) {
+    try {
+      RunProgram({kScancel, ids.array});
+    } catch (const std::exception&) {
+    }
+    throw std::runtime_error(std::string(failure.what()) + " (job array " + ids.array +
+                             " cancelled)");
+  }
+  return ids;
+}
+
+}  // namespace ipmc

@@ -1,0 +1,237 @@
+#include "sim/identify/identify_run.h"
+
+#include <chrono>
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <stdexcept>
+
+#include "controllers/reference_model.h"
+#include "sim/io/columns.h"
+#include "sim/io/csv.h"
+#include "sim/io/error.h"
+#include "sim/io/numbers.h"
+
+namespace ipmc {
+namespace {
+
+using Complex = std::complex<double>;
+using Clock = std::chrono::steady_clock;
+
+constexpr char kIdentifyCommand[] = "identify";
+constexpr char kDesignCommand[] = "design";
+
+// The time_s column must give the sample rate to this relative tolerance.
+constexpr double kSampleRateTolerance = 1e-3;
+constexpr double kMaxTuningSamples = 1e7;
+
+std::vector<double> UnwrappedPhaseDeg(const std::vector<Complex>& values) {
+  std::vector<double> phase(values.size());
+  double offset = 0;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const double raw = std::arg(values[i]) * 180 / kPi;
+    if (i > 0) {
+      const double previous = phase[i - 1] - offset;
+      if (raw - previous > 180) offset -= 360;
+      if (raw - previous < -180) offset += 360;
+    }
+    phase[i] = raw + offset;
+  }
+  return phase;
+}
+
+nlohmann::json IndicesJson(const FitIndices& i) {
+  return {{"J", i.levy_cost},         {"MSE", i.mse},
+          {"MAD", i.mad},             {"MD", i.max_deviation},
+          {"R2", i.r_squared},        {"points", i.points},
+          {"w_first_rad_s", i.w_first_rad_s}, {"w_last_rad_s", i.w_last_rad_s}};
+}
+
+nlohmann::json FitJson(const LinkModelFit& fit) {
+  nlohmann::json json = {{"a0_mm_per_V", fit.params.a0_mm_per_V},
+                         {"b1", fit.params.b1},
+                         {"stable", fit.stable},
+                         {"indices", IndicesJson(fit.indices)}};
+  if (fit.params.kind == IpmcModelKind::kG1) {
+    json["b2_s2"] = fit.params.b2_s2;
+  } else {
+    json["alpha"] = fit.params.alpha;
+  }
+  return json;
+}
+
+double Seconds(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+}  // namespace
+
+void RequirePhaseMargin(const std::string& command, double value) {
+  if (!std::isfinite(value) || !(value > 0) || !(value < 180)) {
+    ThrowOption(command, "--phase-margin-deg", "in (0, 180)", FormatDouble(value));
+  }
+}
+
+// --------------------------------------------------------------- identify ---
+
+LevyOptions BandOptions(const std::string& command, const std::vector<double>& band) {
+  if (band.size() != 2) {
+    ThrowOption(command, "--band-rad-s", "two values LOW,HIGH",
+                std::to_string(band.size()) + " values");
+  }
+  if (!std::isfinite(band[0]) || !std::isfinite(band[1]) || !(band[0] > 0) ||
+      !(band[1] > band[0])) {
+    ThrowOption(command, "--band-rad-s", "0 < LOW < HIGH",
+                FormatDouble(band[0]) + "," + FormatDouble(band[1]));
+  }
+  LevyOptions options;
+  options.w_low_rad_s = band[0];
+  options.w_high_rad_s = band[1];
+  return options;
+}
+
+void IdentifySpec::Validate() const {
+  const std::string name = kIdentifyCommand;
+  RequireFinitePositive(name, "--sample-rate-hz", sample_rate_hz);
+  BandOptions(name, band_rad_s);
+  if (input_column == output_column) {
+    ThrowOption(name, "--output", "a column other than --input", output_column);
+  }
+}
+
+RecordIdentification IdentifyRecord(const IdentifySpec& spec, const std::vector<double>& input,
+                                    const std::vector<double>& output,
+                                    const std::vector<double>* time_s) {
+  const std::string name = kIdentifyCommand;
+  spec.Validate();
+  RecordIdentification result;
+  result.levy = BandOptions(name, spec.band_rad_s);
+  if (time_s && time_s->size() >= 2) {
+    const std::vector<double>& t = *time_s;
+    const double spacing = (t.back() - t.front()) / (t.size() - 1);
+    if (!(spacing > 0) ||
+        std::abs(spacing * spec.sample_rate_hz - 1.0) > kSampleRateTolerance) {
+      throw std::invalid_argument(
+          name + ": --sample-rate-hz " + FormatDouble(spec.sample_rate_hz) +
+          " disagrees with the time_s column of " + spec.data_path + " (mean spacing " +
+          FormatDouble(spacing) + " s, i.e. " + FormatDouble(1.0 / spacing) + " Hz)");
+    }
+  }
+  WelchOptions welch;
+  welch.sample_rate_Hz = spec.sample_rate_hz;
+  try {
+    result.estimate = EstimateFrequencyResponse(input, output, welch);
+  } catch (const std::invalid_argument& error) {
+    throw std::invalid_argument(spec.data_path + ": " + error.what());
+  }
+  if (result.levy.w_low_rad_s < result.estimate.w_rad_s.front()) {
+    // Welch's first bin is 2 pi fs / L with L = N / 4.5.
+    const double needed_s = 4.5 * kTwoPi / result.levy.w_low_rad_s;
+    throw std::invalid_argument(FormatText(
+        "%s: --band-rad-s low end %.4g rad/s is below the first Welch bin %.4g rad/s of this "
+        "%.4g s record (8 sections with 50 %% overlap reach it from about %.4g s of data)",
+        name.c_str(), result.levy.w_low_rad_s, result.estimate.w_rad_s.front(),
+        input.size() / spec.sample_rate_hz, needed_s));
+  }
+  result.id = IdentifyLinkModels(result.estimate, result.levy);
+  return result;
+}
+
+nlohmann::json IdentificationJson(const IdentifySpec& spec, const RecordIdentification& result) {
+  const FrequencyResponseEstimate& estimate = result.estimate;
+  return {{"data", spec.data_path},
+          {"input", spec.input_column},
+          {"output", spec.output_column},
+          {"sample_rate_Hz", spec.sample_rate_hz},
+          {"band_rad_s", {result.levy.w_low_rad_s, result.levy.w_high_rad_s}},
+          {"welch",
+           {{"records", estimate.records},
+            {"sections", estimate.sections_per_record},
+            {"section_samples", estimate.section_samples},
+            {"section_step", estimate.section_step}}},
+          {"g1", FitJson(result.id.g1)},
+          {"g2", FitJson(result.id.g2)}};
+}
+
+std::string ResponseCsv(const FrequencyResponseEstimate& e, const LinkIdentification& id) {
+  std::vector<Complex> p1, p2;
+  for (double w : e.w_rad_s) {
+    p1.push_back(FittedResponse(id.g1.params, w));
+    p2.push_back(FittedResponse(id.g2.params, w));
+  }
+  const std::vector<double> measured_deg = UnwrappedPhaseDeg(e.response);
+  const std::vector<double> p1_deg = UnwrappedPhaseDeg(p1);
+  const std::vector<double> p2_deg = UnwrappedPhaseDeg(p2);
+  CsvWriter csv(10);
+  csv.Add(columns::kFrequency).Add(columns::kFrequencyHz).Add(columns::kCoherence);
+  csv.Add(columns::kMeasuredRe).Add(columns::kMeasuredIm);
+  for (const char* curve : {columns::kMeasuredCurve, columns::kP1Curve, columns::kP2Curve}) {
+    csv.Add(columns::MagnitudeDb(curve)).Add(columns::PhaseDeg(curve));
+  }
+  csv.Add(columns::kInBand).EndRow();
+  for (std::size_t i = 0; i < e.w_rad_s.size(); ++i) {
+    const double w = e.w_rad_s[i];
+    const bool in_band =
+        w >= id.g1.indices.w_first_rad_s && w <= id.g1.indices.w_last_rad_s;
+    csv.Add(w).Add(e.frequency_Hz[i]).Add(e.coherence[i]);
+    csv.Add(e.response[i].real()).Add(e.response[i].imag());
+    csv.Add(20 * std::log10(std::abs(e.response[i]))).Add(measured_deg[i]);
+    csv.Add(20 * std::log10(std::abs(p1[i]))).Add(p1_deg[i]);
+    csv.Add(20 * std::log10(std::abs(p2[i]))).Add(p2_deg[i]);
+    csv.AddInteger(in_band ? 1 : 0).EndRow();
+  }
+  return csv.Text();
+}
+
+// ----------------------------------------------------------------- design ---
+
+PidTuningOptions TuningOptions(const std::string& command, double crossover_rad_s,
+                               double reference_order, double horizon_s, double sample_rate_hz) {
+  RequireFinitePositive(command, "--horizon-s", horizon_s);
+  RequireFinitePositive(command, "--sample-rate-hz", sample_rate_hz);
+  const double samples = horizon_s * sample_rate_hz;
+  if (std::abs(samples - std::round(samples)) > 1e-9 * samples || samples < 2 ||
+      samples > kMaxTuningSamples) {
+    ThrowOption(command, "--horizon-s x --sample-rate-hz",
+                "a whole number of samples in [2, " + FormatDouble(kMaxTuningSamples) + "]",
+                FormatDouble(samples));
+  }
+  if (!std::isfinite(reference_order) || !(reference_order > 0) || reference_order > 2) {
+    ThrowOption(command, "--reference-order", "in (0, 2]", FormatDouble(reference_order));
+  }
+  PidTuningOptions options;
+  options.reference.crossover_rad_s = crossover_rad_s;
+  options.reference.order = reference_order;
+  options.horizon_s = horizon_s;
+  options.sample_period_s = 1.0 / sample_rate_hz;
+  return options;
+}
+
+LinkDesign DesignLink(const DesignSpec& spec) {
+  const std::string name = kDesignCommand;
+  if (spec.link < 1 || spec.link > 3) {
+    ThrowOption(name, "--link", "1, 2 or 3", std::to_string(spec.link));
+  }
+  if (spec.plant != "g1" && spec.plant != "g2") {
+    ThrowOption(name, "--plant", "g1 or g2", spec.plant);
+  }
+  RequireFinitePositive(name, "--crossover-rad-s", spec.crossover_rad_s);
+  RequirePhaseMargin(name, spec.phase_margin_deg);
+  LinkDesign result;
+  result.tuning = TuningOptions(name, spec.crossover_rad_s, spec.reference_order,
+                                spec.horizon_s, spec.sample_rate_hz);
+  result.params =
+      PaperLinkParams(spec.link, spec.plant == "g2" ? IpmcModelKind::kG2 : IpmcModelKind::kG1);
+  const IpmcLinkParams params = result.params;
+  const FrequencyFunction plant = [params](double w) { return LinkResponseExact(params, w); };
+  result.fractional = DesignFractionalLoop(plant, spec.crossover_rad_s, spec.phase_margin_deg);
+  const Clock::time_point start = Clock::now();
+  const PidLoopDesign pid = DesignPidLoop(params, plant, result.tuning);
+  result.tuning_s = Seconds(start);
+  result.paper_cost = pid.paper_cost;
+  result.tuned = pid.tuned;
+  result.pid_margins = pid.margins;
+  return result;
+}
+
+}  // namespace ipmc

@@ -1,0 +1,128 @@
+// One IPMC link's loop (paper section 5.2) in the frequency domain and in
+// the time domain: what `ipmc-swim bode` and `ipmc-swim step` compute
+// (sim/cli/analysis_commands.h describes both in full), as functions that
+// return the numbers instead of printing them.
+//
+//  - Bode: open loop L = C x P_link with the exact fractional plant
+//    P = s^-0.5 G (plugin/actuators/ipmc_link_model.h, LinkResponseExact),
+//    its gain crossover, phase and gain margins searched over
+//    [1e-4, 1e5] rad/s, the controller and the plant at 5 rad/s, and the
+//    columns of bode.csv (plant, controller, open loop, and the reference
+//    model's open loop (5/s)^1.16 of eq. 8, each in dB and unwrapped deg).
+//  - Step: each link's closed-loop unit step (1 mm) with the plant's s^-0.5
+//    (and the fractional controller's s^-lambda) as 20 Oustaloup pairs on
+//    [1e-5, 1e5] rad/s, its step metrics from a record long enough to
+//    determine them, and J of eq. 11 against the reference model over the
+//    horizon.
+//
+// Option values are checked with the command line's words: every error is
+// std::invalid_argument "COMMAND: --option must be ..., got ...".
+#pragma once
+
+#include <complex>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "controllers/closed_loop.h"
+#include "controllers/fractional_integrator.h"
+#include "controllers/linear/frequency_response.h"
+#include "controllers/pid.h"
+
+namespace ipmc {
+
+// Gains of the two controller families (defaults: eq. 12 and eq. 14, the
+// controllers' own defaults).
+struct ControllerGains {
+  double kp = PidController::Config{}.kp;               // [V/mm]
+  double ki = PidController::Config{}.ki;               // [V/(mm s)]
+  double kd = PidController::Config{}.kd;               // [V s/mm]
+  double gain = FractionalIntegrator::Config{}.gain;    // K [V/(mm s^lambda)]
+  double order = FractionalIntegrator::Config{}.order;  // lambda
+};
+
+// Whether the caller gave an option explicitly ("--kp"): an option the
+// chosen controller does not take is an error rather than ignored.
+using OptionGiven = std::function<bool(const std::string& option)>;
+
+// ------------------------------------------------------------------ bode ---
+
+struct BodeSpec {
+  int link = 3;                                  // 1..3 (Table 2)
+  std::string plant = "g1";                      // g1 | g2
+  // pid | fractional | fractional-eq15 | fractional-oustaloup | none
+  std::string controller;
+  ControllerGains gains;
+  int oustaloup_n = 4;                           // fractional-oustaloup
+  std::vector<double> band_rad_s = {1e-3, 1e2};  // fractional-oustaloup
+  double w_min_rad_s = 1e-2;                     // bode.csv grid
+  double w_max_rad_s = 1e3;
+  int points_per_decade = 100;
+};
+
+// Throws std::invalid_argument naming `command` and the option.
+void ValidateBodeSpec(const std::string& command, const BodeSpec& spec, const OptionGiven& given);
+
+struct BodeAnalysis {
+  FrequencyFunction plant, controller, loop;
+  std::string controller_description, plant_description;
+  MarginSearch search;
+  StabilityMargins margins;
+  double design_frequency_rad_s = 5.0;  // the reference model's crossover
+  std::complex<double> controller_at_design, plant_at_design;
+};
+
+// The loop of a validated spec.
+BodeAnalysis AnalyseBode(const BodeSpec& spec);
+
+// bode.csv's columns on the spec's grid.
+struct BodeColumns {
+  BodeData plant, controller, open_loop, reference_open_loop;
+};
+BodeColumns ComputeBodeColumns(const BodeAnalysis& analysis, const BodeSpec& spec);
+std::string BodeCsv(const BodeColumns& columns);
+
+// ------------------------------------------------------------------ step ---
+
+struct StepSpec {
+  std::string controller;            // pid | fractional
+  std::string plant = "g1";          // g1 | g2
+  std::vector<int> links = {1, 2, 3};
+  ControllerGains gains;
+  double horizon_s = 10.0;           // step.csv and J of eq. 11
+  double max_horizon_s = 300.0;      // longest record for the step metrics
+  double sample_rate_hz = 1000.0;
+  bool no_clamp = false;
+  double v_max = 6.0;
+};
+
+// Throws std::invalid_argument naming `command` and the option.
+void ValidateStepSpec(const std::string& command, const StepSpec& spec, const OptionGiven& given);
+
+struct LinkStep {
+  int link = 0;
+  ClosedLoopResponse response;  // the whole record (record_s = its last time)
+  StepMetrics metrics;
+  StepRecordStatus status = StepRecordStatus::kDetermined;
+  double max_abs_control_V = 0;
+  double cost = 0;              // J of eq. 11 over the horizon
+};
+
+struct StepAnalysis {
+  std::vector<LinkStep> links;           // in the spec's order
+  std::vector<double> time_s;            // the horizon's grid (step.csv's rows)
+  std::vector<double> reference;         // the reference model on it
+  StepMetrics reference_metrics;         // with its exact first peak
+  double metrics_horizon_s = 0;          // the longest record allowed
+  std::string controller_description;
+  double settling_band = 0.02;
+  int oustaloup_pairs = 20;              // the accurate realisation's
+  double band_low_rad_s = 1e-5, band_high_rad_s = 1e5;
+};
+
+// The steps of a validated spec.
+StepAnalysis AnalyseStep(const StepSpec& spec);
+// step.csv: time_s, reference_model, y_link<q>, u_link<q> over the horizon.
+std::string StepCsv(const StepAnalysis& analysis);
+
+}  // namespace ipmc

@@ -1,0 +1,216 @@
+// Runs from Python: a closed-loop scenario with overrides, a sweep, a
+// bench experiment, and the MJCF generator, each the computation its
+// ipmc-swim command makes, returning numbers instead of printing them and
+// writing the command's files only when asked to.
+#include <algorithm>
+#include <memory>
+#include <string>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "sim/batch/sweep.h"
+#include "sim/core/model_generator.h"
+#include "sim/core/simulation.h"
+#include "sim/io/files.h"
+#include "sim/python/convert.h"
+#include "sim/runs/bench_run.h"
+#include "sim/runs/closed_loop_run.h"
+#include "sim/runs/output.h"
+
+namespace ipmc::python {
+namespace {
+
+using Columns = std::vector<std::pair<std::string, std::vector<double>>>;
+
+py::dict ColumnDict(const Columns& columns) {
+  py::dict dict;
+  for (const auto& [name, values] : columns) dict[py::str(name)] = Array(values);
+  return dict;
+}
+
+// The time series of a closed-loop run, one array per column of its
+// timeseries.csv (sim/runs/output.h), in the same order.
+py::dict ClosedLoopColumns(const ClosedLoopResult& result) {
+  const std::vector<ClosedLoopSample>& samples = result.samples;
+  const size_t links = result.links.size();
+  const size_t tips = samples.empty() ? 0 : samples.front().pose.tip_x_mm.size();
+  Columns columns = {{"time_s", {}},    {"com_x_mm", {}},  {"com_y_mm", {}},
+                     {"head_x_mm", {}}, {"head_y_mm", {}}, {"yaw_rad", {}}};
+  for (size_t q = 1; q <= links; ++q) {
+    for (const char* name : {"reference", "measured"}) {
+      columns.push_back({name + std::to_string(q) + "_mm", {}});
+    }
+    columns.push_back({"voltage" + std::to_string(q) + "_V", {}});
+  }
+  for (size_t k = 1; k <= tips; ++k) {
+    columns.push_back({"tip" + std::to_string(k) + "_x_mm", {}});
+    columns.push_back({"tip" + std::to_string(k) + "_y_mm", {}});
+  }
+  for (const ClosedLoopSample& s : samples) {
+    const BodyPose& p = s.pose;
+    size_t c = 0;
+    for (double value : {p.t_s, p.com_x_mm, p.com_y_mm, p.head_x_mm, p.head_y_mm, p.yaw_rad}) {
+      columns[c++].second.push_back(value);
+    }
+    for (size_t q = 0; q < links; ++q) {
+      for (double value : {s.reference_mm[q], s.measured_mm[q], s.voltage_V[q]}) {
+        columns[c++].second.push_back(value);
+      }
+    }
+    for (size_t k = 0; k < tips; ++k) {
+      columns[c++].second.push_back(p.tip_x_mm[k]);
+      columns[c++].second.push_back(p.tip_y_mm[k]);
+    }
+  }
+  return ColumnDict(columns);
+}
+
+// A bench record, one array per column of the bench CSV (BenchCsv).
+py::dict BenchColumns(const BenchRecord& record) {
+  Columns columns = {{"time_s", record.t_s}};
+  for (size_t q = 0; q < record.voltage_V.size(); ++q) {
+    const std::string link = std::to_string(q + 1);
+    columns.push_back({"voltage" + link + "_V", record.voltage_V[q]});
+    columns.push_back({"relative" + link + "_mm", record.relative_mm[q]});
+    columns.push_back({"tip" + link + "_lateral_mm", record.tip_lateral_mm[q]});
+    columns.push_back({"free" + link + "_mm", record.free_mm[q]});
+  }
+  return ColumnDict(columns);
+}
+
+// ------------------------------------------------------------------- run ---
+
+py::dict Run(const py::object& scenario_arg, const py::dict& overrides, const py::object& out,
+             const py::object& progress_callback) {
+  const ScenarioArgument argument = ReadScenarioArgument(scenario_arg, overrides, "run");
+  const ScenarioConfig& scenario = argument.scenario;
+  const nlohmann::json& inputs = argument.inputs;
+  const double total_s = scenario.cycles / std::abs(scenario.waveform.frequency_Hz);
+  Progress progress(progress_callback, total_s);
+  const SampleObserver observer = [&](const mjModel*, const mjData* d, const ClosedLoopSample&) {
+    progress.Report(d->time);
+  };
+  const ClosedLoopResult result = WithoutGil([&] { return RunScenario(scenario, observer); });
+  progress.Report(total_s, true);
+  if (!out.is_none()) {
+    const std::string dir = PathText(out, "out");
+    WithoutGil([&] { WriteClosedLoopOutputs(dir, result, inputs); });
+  }
+  py::dict dict;
+  dict["timeseries"] = ClosedLoopColumns(result);
+  dict["summary"] = ToPython(ClosedLoopSummaryJson(result));
+  return dict;
+}
+
+// ----------------------------------------------------------------- sweep ---
+
+py::object Sweep(const py::object& path_arg, const py::object& jobs_arg,
+                 const std::string& shard_text, const py::object& out,
+                 const py::object& progress_callback) {
+  const std::string path = PathText(path_arg, "sweep");
+  SweepOptions options;
+  const int threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  options.jobs = jobs_arg.is_none() ? threads : jobs_arg.cast<int>();
+  options.shard = ParseSweepShard(shard_text);
+  if (options.jobs < 1) {
+    throw std::invalid_argument("sweep: --jobs must be >= 1 (got " + std::to_string(options.jobs) +
+                                ")");
+  }
+  const SweepPlan plan = WithoutGil([&] { return LoadSweep(path); });
+  const int points = static_cast<int>(std::count_if(
+      plan.points.begin(), plan.points.end(), [&](const SweepPoint& point) {
+        return point.index % options.shard.count == options.shard.index - 1;
+      }));
+  Progress progress(progress_callback, points);
+  options.on_point_done = [&](const SweepProgress& p) { progress.Report(p.done, true); };
+  const SweepTable table = WithoutGil([&] { return RunSweep(plan, options); });
+  if (!out.is_none()) {
+    const std::string prefix = PathText(out, "out");
+    WithoutGil([&] { WriteSweepTable(prefix, table); });
+  }
+  return ToPython(SweepTableJson(table));
+}
+
+// ----------------------------------------------------------------- bench ---
+
+py::dict Bench(const py::dict& kwargs, const py::object& out, const py::object& progress_callback) {
+  Options options("bench", kwargs);
+  std::string model_path;
+  options.ReadPath("model", &model_path);
+  std::string kind = "sine";
+  options.Read("signal", &kind);
+  BenchSignal signal;
+  options.Read("amplitude_V", &signal.amplitude_V);
+  options.Read("frequency_Hz", &signal.frequency_Hz);
+  options.Read("start_Hz", &signal.start_Hz);
+  options.Read("end_Hz", &signal.end_Hz);
+  options.Read("duration_s", &signal.duration_s);
+  options.Read("sample_rate_Hz", &signal.sample_rate_Hz);
+  options.Read("driven_links", &signal.driven_links);
+  options.RejectUnknown();
+  if (kind != "sine" && kind != "chirp") {
+    throw std::invalid_argument("bench: signal must be sine or chirp (got '" + kind + "')");
+  }
+  signal.kind = kind == "chirp" ? BenchSignal::Kind::kChirp : BenchSignal::Kind::kSine;
+  signal.Validate();
+  Progress progress(progress_callback, signal.duration_s);
+  const BenchRecord record = WithoutGil([&] {
+    Simulation sim(LoadModelFile(model_path), model_path);
+    return RunBench(sim, signal, 0.0, [&](double t_s) { progress.Report(t_s); });
+  });
+  progress.Report(signal.duration_s, true);
+  if (!out.is_none()) {
+    const std::string path = PathText(out, "out");
+    WithoutGil([&] { WriteFileAtomically(path, BenchCsv(record)); });
+  }
+  return BenchColumns(record);
+}
+
+// -------------------------------------------------------------- generate ---
+
+std::string GenerateModel(const py::dict& kwargs, const py::object& out) {
+  Options options("generate_model", kwargs);
+  FlagellumSpec s;
+  options.Read("link_lengths_mm", &s.link_lengths_mm);
+  options.Read("segments_per_link", &s.segments_per_link);
+  options.Read("gap_mm", &s.gap_mm);
+  options.Read("width_mm", &s.width_mm);
+  options.Read("thickness_um", &s.thickness_um);
+  options.Read("head_length_mm", &s.head_length_mm);
+  options.Read("density_kg_m3", &s.density_kg_m3);
+  options.Read("bending_modulus_Pa", &s.bending_modulus_Pa);
+  options.Read("hinge_damping_ratio", &s.hinge_damping_ratio);
+  options.Read("clamped", &s.clamped);
+  options.Read("timestep_s", &s.timestep_s);
+  options.Read("integrator", &s.integrator);
+  options.Read("viscosity_Pa_s", &s.viscosity_Pa_s);
+  options.Read("coefficients", &s.coefficients);
+  options.Read("wavelength_mm", &s.wavelength_mm);
+  options.Read("equivalent_radius_mm", &s.equivalent_radius_mm);
+  options.Read("xi_normal_N_s_m2", &s.xi_normal_N_s_m2);
+  options.Read("xi_tangential_N_s_m2", &s.xi_tangential_N_s_m2);
+  options.Read("fluid_density_kg_m3", &s.fluid_density_kg_m3);
+  options.Read("ipmc_actuators", &s.ipmc_actuators);
+  options.Read("plants", &s.plants);
+  options.Read("ipmc_model", &s.ipmc_model);
+  options.Read("actuation", &s.actuation);
+  options.Read("name", &s.name);
+  options.RejectUnknown();
+  const std::string xml = GenerateFlagellumMjcf(s);
+  if (!out.is_none()) WriteFileAtomically(PathText(out, "out"), xml);
+  return xml;
+}
+
+}  // namespace
+
+void BindRuns(py::module_& m) {
+  m.def("run", &Run, py::arg("scenario"), py::arg("overrides"), py::arg("out"),
+        py::arg("progress"));
+  m.def("sweep", &Sweep, py::arg("sweep"), py::arg("jobs"), py::arg("shard"), py::arg("out"),
+        py::arg("progress"));
+  m.def("bench", &Bench, py::arg("options"), py::arg("out"), py::arg("progress"));
+  m.def("generate_model", &GenerateModel, py::arg("options"), py::arg("out"));
+}
+
+}  // namespace ipmc::python

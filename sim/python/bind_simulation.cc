@@ -1,0 +1,308 @@
+// One simulated model for controllers written in Python: the scenario's
+// model (or any MJCF) with the coupling attached, stepped n steps at a
+// time, its link voltages set and its sensors, actuators and swim meter
+// read between steps (sim/core/simulation.h, sim/core/link_sensors.h,
+// sim/core/swim_meter.h). Stepping releases the GIL, so simulations in
+// different Python threads run in parallel; one simulation is used by one
+// thread at a time (a mutex serialises the calls).
+#include <cmath>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "ipmc_swim/ipmc_swim.h"
+#include "plugin/coupling.h"
+#include "sim/core/link_sensors.h"
+#include "sim/core/simulation.h"
+#include "sim/core/swim_meter.h"
+#include "sim/python/convert.h"
+#include "sim/runs/closed_loop_run.h"
+#include "sim/runs/output.h"
+
+namespace ipmc::python {
+namespace {
+
+class PythonSimulation {
+ public:
+  PythonSimulation(std::unique_ptr<Simulation> sim, std::optional<ScenarioConfig> scenario)
+      : sim_(std::move(sim)), scenario_(std::move(scenario)), meter_(sim_->model()) {
+    const CouplingContext* coupling = FindCoupling(sim_->data());
+    if (coupling && coupling->actuators) {
+      sensors_ = std::make_unique<LinkSensors>(sim_->model(), sim_->data(), sim_->source());
+      for (const LinkChain& chain : coupling->actuators->chains()) {
+        for (size_t i = 0; i < chain.joints.size(); ++i) {
+          joint_qpos_.push_back(sim_->model()->jnt_qposadr[chain.joints[i]]);
+          motors_.push_back(chain.motors[i]);
+          joint_names_.emplace_back(mj_id2name(sim_->model(), mjOBJ_JOINT, chain.joints[i]));
+        }
+      }
+    }
+    if (scenario_) {
+      geometry_ = ModelLinkGeometry(*sim_);
+      steps_per_sample_ =
+          StepsPerSample(scenario_->sample_rate_Hz, sim_->model()->opt.timestep, scenario_->source);
+    }
+    meter_.Start(sim_->data());
+  }
+
+  void Step(long steps) {
+    if (steps < 0) {
+      throw std::invalid_argument("step: n must be >= 0 (got " + std::to_string(steps) + ")");
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (long k = 0; k < steps; ++k) {
+      sim_->Step();
+      meter_.Observe(sim_->model(), sim_->data());
+    }
+  }
+
+  void SetVoltages(const std::vector<double>& volts) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    RequireActuators("set_voltages");
+    ipmc::SetVoltages(sim_->data(), volts.data(), static_cast<int>(volts.size()));
+  }
+
+  double Time() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return sim_->data()->time;
+  }
+  double Timestep() const { return sim_->model()->opt.timestep; }
+  int Links() const { return sensors_ ? sensors_->Links() : 0; }
+  const std::string& Source() const { return sim_->source(); }
+  const std::vector<std::string>& JointNames() const { return joint_names_; }
+
+  std::vector<double> JointAngles_rad() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<double> angles;
+    for (int adr : joint_qpos_) angles.push_back(sim_->data()->qpos[adr]);
+    return angles;
+  }
+
+  std::vector<double> RelativeDeflections_mm() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    RequireActuators("relative_deflections_mm");
+    std::vector<double> values;
+    for (int q = 0; q < sensors_->Links(); ++q) {
+      values.push_back(sensors_->RelativeDeflection_mm(sim_->data(), q));
+    }
+    return values;
+  }
+
+  std::vector<double> TipLateral_mm() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    RequireActuators("tip_lateral_mm");
+    std::vector<double> values;
+    for (int q = 0; q < sensors_->Links(); ++q) {
+      values.push_back(sensors_->TipLateral_mm(sim_->data(), q));
+    }
+    return values;
+  }
+
+  py::dict ActuatorState() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    RequireActuators("actuator_state");
+    const IpmcActuators& actuators = *FindCoupling(sim_->data())->actuators;
+    std::vector<double> moments;
+    for (int motor : motors_) moments.push_back(sim_->data()->ctrl[motor]);
+    py::dict state;
+    state["voltage_V"] = Array(actuators.Voltages_V());
+    state["free_deflection_mm"] = Array(actuators.FreeTipDeflection_mm());
+    state["active_moment_N_m"] = Array(moments);
+    state["clamp_count"] = actuators.ClampCount();
+    return state;
+  }
+
+  py::dict Pose() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const BodyPose pose = meter_.Pose(sim_->data());
+    py::dict dict;
+    dict["t_s"] = pose.t_s;
+    dict["com_x_mm"] = pose.com_x_mm;
+    dict["com_y_mm"] = pose.com_y_mm;
+    dict["head_x_mm"] = pose.head_x_mm;
+    dict["head_y_mm"] = pose.head_y_mm;
+    dict["yaw_rad"] = pose.yaw_rad;
+    dict["tip_x_mm"] = Array(pose.tip_x_mm);
+    dict["tip_y_mm"] = Array(pose.tip_y_mm);
+    return dict;
+  }
+
+  std::vector<double> Qpos() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return std::vector<double>(sim_->data()->qpos, sim_->data()->qpos + sim_->model()->nq);
+  }
+  std::vector<double> Qvel() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return std::vector<double>(sim_->data()->qvel, sim_->data()->qvel + sim_->model()->nv);
+  }
+
+  std::vector<double> References_mm(std::optional<double> t_s) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const ScenarioConfig& scenario = RequireScenario("references_mm");
+    return LinkReferences_mm(scenario, geometry_, t_s.value_or(sim_->data()->time));
+  }
+
+  void EndCycle() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    meter_.EndCycle(sim_->data());
+  }
+
+  py::object Swim() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return ToPython(SwimMetricsJson(meter_.Finish(sim_->model(), sim_->data())));
+  }
+
+  // The scenario's timing and controller.
+  long StepsPerSample_() const {
+    RequireScenario("steps_per_sample");
+    return steps_per_sample_;
+  }
+  double SamplePeriod_s() const { return StepsPerSample_() * Timestep(); }
+  double Period_s() const {
+    return 1.0 / std::abs(RequireScenario("period_s").waveform.frequency_Hz);
+  }
+  long StepsPerCycle() const { return std::lround(Period_s() / Timestep()); }
+  int Cycles() const { return RequireScenario("cycles").cycles; }
+
+  py::dict Controller() const {
+    const ScenarioConfig& s = RequireScenario("controller");
+    py::dict dict;
+    const bool pid = s.controller == ControllerKind::kPid;
+    dict["kind"] = pid ? "pid" : "fractional";
+    dict["sample_rate_Hz"] = s.sample_rate_Hz;
+    if (pid) {
+      dict["kp"] = s.pid.kp;
+      dict["ki"] = s.pid.ki;
+      dict["kd"] = s.pid.kd;
+      dict["derivative_filter_s"] = s.pid.derivative_filter_time_s;
+      dict["sample_period_s"] = s.pid.sample_period_s;
+      dict["clamp"] = s.pid.clamp_enabled;
+      dict["v_max_V"] = s.pid.v_max;
+    } else {
+      dict["gain"] = s.fractional.gain;
+      dict["order"] = s.fractional.order;
+      dict["sample_period_s"] = s.fractional.sample_period_s;
+      dict["clamp"] = s.fractional.clamp_enabled;
+      dict["v_max_V"] = s.fractional.v_max;
+    }
+    dict["actuation"] = s.actuation;
+    return dict;
+  }
+
+ private:
+  void RequireActuators(const char* call) const {
+    if (!sensors_) {
+      throw std::invalid_argument(sim_->source() + ": " + call +
+                                  " needs a model with IPMC actuators");
+    }
+  }
+  const ScenarioConfig& RequireScenario(const char* call) const {
+    if (!scenario_) {
+      throw std::invalid_argument(sim_->source() + ": " + call +
+                                  " needs a simulation made from a scenario");
+    }
+    return *scenario_;
+  }
+
+  std::unique_ptr<Simulation> sim_;
+  std::optional<ScenarioConfig> scenario_;
+  SwimMeter meter_;
+  std::unique_ptr<LinkSensors> sensors_;
+  LinkGeometry geometry_;
+  long steps_per_sample_ = 0;
+  std::vector<int> joint_qpos_, motors_;
+  std::vector<std::string> joint_names_;
+  std::mutex mutex_;
+};
+
+std::unique_ptr<PythonSimulation> FromScenario(const py::object& scenario_arg,
+                                               const py::dict& overrides) {
+  ScenarioConfig scenario = ReadScenarioArgument(scenario_arg, overrides, "Simulation").scenario;
+  auto sim = WithoutGil([&] { return LoadScenarioSimulation(scenario); });
+  return std::make_unique<PythonSimulation>(std::move(sim), std::move(scenario));
+}
+
+std::unique_ptr<PythonSimulation> FromModel(const py::object& path_arg) {
+  const std::string path = PathText(path_arg, "model");
+  auto sim = WithoutGil([&] { return std::make_unique<Simulation>(LoadModelFile(path), path); });
+  return std::make_unique<PythonSimulation>(std::move(sim), std::nullopt);
+}
+
+std::unique_ptr<PythonSimulation> FromXml(const std::string& xml) {
+  auto sim = WithoutGil(
+      [&] { return std::make_unique<Simulation>(LoadModelString(xml), "inline model"); });
+  return std::make_unique<PythonSimulation>(std::move(sim), std::nullopt);
+}
+
+}  // namespace
+
+void BindSimulation(py::module_& m) {
+  py::class_<PythonSimulation>(m, "Simulation", R"(One simulated model to step from Python.
+
+Simulation(scenario, **overrides) loads a scenario's model (a scenario file
+or a dict of its keys, with overrides by dotted key as for run()) with the
+scenario's time step, viscosity and plants; from_model(path) and
+from_xml(text) load any MJCF. The coupling (RFT drag, IPMC actuators) is
+attached. A controller reads the sensors, sets the link voltages (held
+until set again) and steps: at the scenario's 1 kHz that is
+steps_per_sample steps per sample. The swim meter starts at t = 0;
+end_cycle() records a cycle's displacement, swim() returns the swim
+metrics. step() releases the GIL: simulations in different threads run in
+parallel.)")
+      .def(py::init([](const py::object& scenario, const py::kwargs& overrides) {
+             return FromScenario(scenario, overrides);
+           }),
+           py::arg("scenario"))
+      .def_static("from_model", &FromModel, py::arg("path"), "A simulation of an MJCF file.")
+      .def_static("from_xml", &FromXml, py::arg("xml"), "A simulation of MJCF text.")
+      .def("step", [](PythonSimulation& s, long n) { WithoutGil([&] { s.Step(n); }); },
+           py::arg("n") = 1, "Advances n physics steps (the GIL released).")
+      .def("set_voltages", &PythonSimulation::SetVoltages, py::arg("voltages_V"),
+           "Sets every link's voltage [V] from now on (one value per link).")
+      .def_property_readonly("time", &PythonSimulation::Time, "Simulated time [s].")
+      .def_property_readonly("timestep", &PythonSimulation::Timestep, "Physics step [s].")
+      .def_property_readonly("links", &PythonSimulation::Links, "IPMC links.")
+      .def_property_readonly("source", &PythonSimulation::Source, "The model, for messages.")
+      .def_property_readonly("joint_names", &PythonSimulation::JointNames,
+                             "The links' hinges, link by link, root first.")
+      .def("joint_angles_rad", [](PythonSimulation& s) { return Array(s.JointAngles_rad()); },
+           "The links' hinge angles [rad], in joint_names' order.")
+      .def("relative_deflections_mm",
+           [](PythonSimulation& s) { return Array(s.RelativeDeflections_mm()); },
+           "Each link's relative tip deflection [mm], the controllers' measurement (from "
+           "the sensors, one step late).")
+      .def("tip_lateral_mm", [](PythonSimulation& s) { return Array(s.TipLateral_mm()); },
+           "Each tip's lateral position [mm] (the bench's laser).")
+      .def("actuator_state", &PythonSimulation::ActuatorState,
+           "The IPMC actuators: voltage_V, free_deflection_mm (each link model's free tip "
+           "deflection), active_moment_N_m (per hinge), clamp_count.")
+      .def("pose", &PythonSimulation::Pose,
+           "Time, centre of mass, head, yaw and tips [mm, rad] (the swim meter's).")
+      .def("qpos", [](PythonSimulation& s) { return Array(s.Qpos()); }, "MuJoCo's qpos.")
+      .def("qvel", [](PythonSimulation& s) { return Array(s.Qvel()); }, "MuJoCo's qvel.")
+      .def("references_mm",
+           [](PythonSimulation& s, std::optional<double> t) { return Array(s.References_mm(t)); },
+           py::arg("t_s") = py::none(),
+           "Each link's reference [mm] at t_s (default: now): the scenario's wave, "
+           "discretised and faded in.")
+      .def("end_cycle", &PythonSimulation::EndCycle,
+           "Ends a cycle: records its net displacement.")
+      .def("swim", &PythonSimulation::Swim,
+           "The swim metrics so far, as summary.json has them (per_cycle, mean speed, "
+           "Reynolds numbers).")
+      .def_property_readonly("steps_per_sample", &PythonSimulation::StepsPerSample_,
+                             "Physics steps per controller sample.")
+      .def_property_readonly("sample_period_s", &PythonSimulation::SamplePeriod_s,
+                             "Controller sample period [s].")
+      .def_property_readonly("period_s", &PythonSimulation::Period_s, "Wave period [s].")
+      .def_property_readonly("steps_per_cycle", &PythonSimulation::StepsPerCycle,
+                             "Physics steps per wave cycle.")
+      .def_property_readonly("cycles", &PythonSimulation::Cycles, "The scenario's cycles.")
+      .def_property_readonly("controller", &PythonSimulation::Controller,
+                             "The scenario's controller settings (kind, gains, clamp).");
+}
+
+}  // namespace ipmc::python

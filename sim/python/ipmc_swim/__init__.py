@@ -1,0 +1,182 @@
+"""ipmc-swim from Python: the three-link IPMC flagellum in Stokes flow.
+
+The calls mirror the ipmc-swim commands and compute exactly what they
+compute (the same library code), returning numpy arrays and dicts instead
+of printing; each writes the command's files only when given ``out``.
+
+- ``run(scenario, **overrides)``: a closed-loop swimming run (``ipmc-swim run``);
+- ``sweep(sweep_file)``: a sweep's table (``ipmc-swim sweep``);
+- ``bench(...)``: a voltage experiment on the test bench (``ipmc-swim bench``);
+- ``bode(controller, ...)``, ``step(controller, ...)``: one link's loop;
+- ``identify(data, input, output)``, ``design(...)``: identification and design;
+- ``generate_model(...)``: the MJCF of an N-link flagellum;
+- ``Simulation(scenario, **overrides)``: one model to step from a controller
+  written in Python.
+
+Long calls release the GIL (simulations in different threads run in
+parallel) and take ``progress``, a callable ``progress(done, total)``
+called every 0.2 s or so (simulated seconds, or points of a sweep); Ctrl-C
+interrupts them. Bad input raises ``ipmc_swim.Error``, a ``ValueError``
+whose message is the command line's one line naming the file, key and
+allowed range; nothing is half-written. MuJoCo's warnings arrive as
+``RuntimeWarning``.
+"""
+
+import os
+
+import numpy as np
+
+from . import _core
+from ._core import Error, Simulation, __version__
+from ._paths import MODELS_DIR, SCENARIOS_DIR
+
+__all__ = ["Error", "Result", "Simulation", "bench", "bode", "design", "generate_model",
+           "identify", "run", "step", "sweep", "MODELS_DIR", "SCENARIOS_DIR"]
+
+
+class Result(dict):
+    """A dict whose keys are also attributes (``result.summary``)."""
+
+    def __getattr__(self, name):
+        try:
+            return self[name]
+        except KeyError:
+            raise AttributeError(name) from None
+
+    def __dir__(self):
+        return list(self.keys()) + dir(dict)
+
+
+def _columns(rows):
+    """Rows (dicts with the same keys) as a dict of numpy arrays, one per key:
+    int64 for integers, float64 for numbers (NaN where a value is None),
+    object arrays for anything else."""
+    names = list(rows[0].keys()) if rows else []
+    columns = {}
+    for name in names:
+        values = [row.get(name) for row in rows]
+        numbers = [v for v in values if v is not None]
+        if all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in numbers):
+            if all(isinstance(v, int) for v in numbers) and len(numbers) == len(values):
+                columns[name] = np.array(values, dtype=np.int64)
+            else:
+                columns[name] = np.array([np.nan if v is None else v for v in values],
+                                         dtype=np.float64)
+        else:
+            columns[name] = np.array(values, dtype=object)
+    return columns
+
+
+def run(scenario, *, out=None, progress=None, **overrides):
+    """Runs a closed-loop scenario, as ``ipmc-swim run SCENARIO [--out DIR]``.
+
+    scenario: a scenario file (TOML, see scenarios/paper.toml) or a dict of
+    its keys (relative paths from the working directory). overrides: scenario
+    keys by their dotted names, as in sweep files, e.g.
+    ``run("scenarios/paper.toml", cycles=1, **{"waveform.frequency_Hz": 0.02})``
+    or ``controller={"kind": "fractional"}``. out: a directory for
+    timeseries.csv and summary.json (the scenario's output.dir is not used).
+
+    Returns a Result with ``timeseries`` (a numpy array per column of
+    timeseries.csv: time_s, com_x_mm, ..., reference1_mm, measured1_mm,
+    voltage1_V, ..., tip1_x_mm, ...), ``cycles`` (the per-cycle displacement
+    table: cycle, com_along_mm, com_across_mm, head_along_mm, head_across_mm),
+    ``links`` (per-link metrics: link, iae_mm_s, itae_mm_s2, ...) and
+    ``summary`` (summary.json's contents, without its inputs, as a dict).
+    """
+    raw = _core.run(scenario, overrides, out, progress)
+    summary = raw["summary"]
+    return Result(timeseries=raw["timeseries"], cycles=_columns(summary["per_cycle"]),
+                  links=_columns(summary["links"]), summary=summary)
+
+
+def sweep(sweep_file, *, jobs=None, shard="1/1", out=None, progress=None):
+    """Runs a sweep file, as ``ipmc-swim sweep SWEEP --out PREFIX``.
+
+    jobs: threads (default: the hardware's); shard: "i/n" runs the points
+    with index % n == i - 1; out: writes PREFIX.csv and PREFIX.json.
+    progress(done, total) is called after each point. Returns the table as a
+    dict of numpy arrays, one per column (point, the swept keys, status,
+    error, link<q>_iae_mm_s, ..., reynolds_swim; NaN for a failed point's
+    results).
+    """
+    table = _core.sweep(sweep_file, jobs, shard, out, progress)
+    columns = _columns(table["points"])
+    return {name: columns.get(name, np.array([], dtype=object)) for name in table["columns"]}
+
+
+def bench(model=None, *, out=None, progress=None, **signal):
+    """A voltage experiment on the test bench, as ``ipmc-swim bench``.
+
+    model: the MJCF (default models/flagellum3_clamped.xml). signal: the
+    fields of the bench signal, signal="sine" or "chirp", amplitude_V,
+    frequency_Hz (sine), start_Hz and end_Hz (chirp), duration_s,
+    sample_rate_Hz, driven_links (1-based). out: the CSV file to write.
+    Returns the record, a numpy array per column of the bench CSV (time_s,
+    voltage1_V, relative1_mm, tip1_lateral_mm, free1_mm, voltage2_V, ...).
+    """
+    if model is None:
+        model = os.path.join(MODELS_DIR, "flagellum3_clamped.xml")
+    return _core.bench(dict(signal, model=model), out, progress)
+
+
+def bode(controller, *, out=None, **options):
+    """One link's open loop and margins, as ``ipmc-swim bode``.
+
+    controller: pid, fractional, fractional-eq15, fractional-oustaloup or
+    none. options: link, plant, kp, ki, kd, gain, order, n, band_rad_s,
+    w_min, w_max, points_per_decade (the command's options; an option the
+    controller does not take is an error). out: a directory for bode.csv.
+    Returns the descriptions, the margins, the values at 5 rad/s and the
+    response (bode.csv's columns as arrays).
+    """
+    return _core.bode(controller, options, out)
+
+
+def step(controller, *, out=None, **options):
+    """Closed-loop unit steps of the links, as ``ipmc-swim step``.
+
+    controller: pid or fractional. options: links, plant, kp, ki, kd, gain,
+    order, horizon_s, max_horizon_s, sample_rate_hz, no_clamp, v_max. out: a
+    directory for step.csv. Returns per link its record (time_s, output_mm,
+    control_V), step metrics, whether the record determines them, the
+    largest voltage and J of eq. 11; and the reference model's step.
+    """
+    return _core.step(controller, options, out)
+
+
+def identify(data, input, output, *, out=None, **options):
+    """Frequency response and Levy fits of G1 and G2, as ``ipmc-swim identify``.
+
+    data: the record, anything indexed by column names (a bench() result, a
+    dict of arrays, numpy.genfromtxt(path, delimiter=",", names=True) of a
+    bench CSV); input, output: the columns [V] and [mm]; a time_s column, if
+    present, must agree with the sample rate. options: sample_rate_hz,
+    band_rad_s, name (the record's name in messages). out: a directory for
+    response.csv and identification.json. Returns identification.json's
+    contents and the response (w_rad_s, measured, coherence, p1, p2, ...).
+    """
+    return _core.identify(data, input, output, options, out)
+
+
+def design(**options):
+    """The fractional integrator and the tuned PID of one link, as ``ipmc-swim design``.
+
+    options: link, plant, crossover_rad_s, phase_margin_deg,
+    reference_order, horizon_s, sample_rate_hz.
+    """
+    return _core.design(options)
+
+
+def generate_model(*, out=None, **spec):
+    """The MJCF of an N-link flagellum, as ``ipmc-swim generate``.
+
+    spec: the generator's fields (link_lengths_mm, segments_per_link,
+    gap_mm, width_mm, thickness_um, head_length_mm, density_kg_m3,
+    bending_modulus_Pa, hinge_damping_ratio, clamped, timestep_s, integrator,
+    viscosity_Pa_s, coefficients, wavelength_mm, equivalent_radius_mm,
+    xi_normal_N_s_m2, xi_tangential_N_s_m2, fluid_density_kg_m3,
+    ipmc_actuators, plants, ipmc_model, actuation, name). out: a file to
+    write. Returns the XML text (``Simulation.from_xml`` loads it).
+    """
+    return _core.generate_model(spec, out)

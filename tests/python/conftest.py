@@ -1,0 +1,69 @@
+"""Shared fixtures of the Python tests (run by CTest, tests/CMakeLists.txt).
+
+IPMC_SWIM_CLI is the ipmc-swim program of the same build, IPMC_SWIM_SOURCE_DIR
+the project; the module is imported from the build tree (PYTHONPATH).
+"""
+
+import os
+import pathlib
+import subprocess
+
+import pytest
+
+SOURCE_DIR = pathlib.Path(os.environ.get("IPMC_SWIM_SOURCE_DIR", pathlib.Path(__file__).parents[2]))
+CLI = os.environ.get("IPMC_SWIM_CLI", str(SOURCE_DIR / "build" / "sim" / "ipmc-swim"))
+
+# scenarios/paper.toml made quick: 10 s cycles (0.1 Hz), two of them.
+SHORT_SCENARIO = f"""
+model = "{SOURCE_DIR / 'models' / 'flagellum3.xml'}"
+plants = "uniform"
+actuation = "distributed"
+cycles = 2
+timestep_s = 5e-4
+
+[controller]
+kind = "pid"
+sample_rate_Hz = 1000.0
+v_max_V = 6.0
+clamp = true
+kp = 8.12
+ki = 53.36
+kd = 0.61
+
+[waveform]
+kind = "polynomial"
+c1_um_per_mm = 200.0
+frequency_Hz = 0.1
+wavelength_mm = 32.0
+start_ramp_cycles = 0.25
+
+[fluid]
+viscosity_Pa_s = 1e-3
+
+[output]
+samples_per_cycle = 50
+"""
+
+
+def run_cli(*args, check=True):
+    """Runs ipmc-swim; returns (exit status, stdout, stderr)."""
+    done = subprocess.run([CLI, *map(str, args)], capture_output=True, text=True)
+    if check and done.returncode != 0:
+        raise AssertionError(f"ipmc-swim {' '.join(map(str, args))} failed: {done.stderr}")
+    return done.returncode, done.stdout, done.stderr
+
+
+def cli_error(*args):
+    """The one-line message ipmc-swim prints for a failing command."""
+    status, _, stderr = run_cli(*args, check=False)
+    assert status != 0
+    lines = [line for line in stderr.splitlines() if line.startswith("ipmc-swim: error: ")]
+    assert len(lines) == 1, stderr
+    return lines[0][len("ipmc-swim: error: "):]
+
+
+@pytest.fixture
+def short_scenario(tmp_path):
+    path = tmp_path / "short.toml"
+    path.write_text(SHORT_SCENARIO)
+    return path

@@ -1,0 +1,98 @@
+"""bench, bode, step, identify, design and generate_model against their commands."""
+
+import json
+
+import numpy as np
+import pytest
+
+import ipmc_swim
+from conftest import run_cli
+
+
+def test_generate_model_is_the_generators_text(tmp_path):
+    _, stdout, _ = run_cli("generate", "--links-mm", "5,10,15", "--head-mm", "0.5")
+    assert ipmc_swim.generate_model(link_lengths_mm=[5, 10, 15], head_length_mm=0.5) == stdout
+    ipmc_swim.generate_model(out=tmp_path / "m.xml")
+    assert (tmp_path / "m.xml").read_text() == run_cli("generate")[1]
+
+
+def test_bench_equals_the_command_line(tmp_path):
+    run_cli("bench", "--signal", "chirp", "--duration-s", "1", "--f1-hz", "20", "--links", "1,3",
+            "--out", tmp_path / "cli.csv")
+    record = ipmc_swim.bench(signal="chirp", duration_s=1.0, end_Hz=20.0, driven_links=[1, 3],
+                             out=tmp_path / "python.csv")
+    assert (tmp_path / "python.csv").read_bytes() == (tmp_path / "cli.csv").read_bytes()
+    header = (tmp_path / "cli.csv").read_text().splitlines()[0].split(",")
+    assert list(record) == header
+    assert record["time_s"].shape == (1000,) and record["time_s"].dtype == np.float64
+    # Link 2 is not driven.
+    assert np.all(record["voltage2_V"] == 0) and np.any(record["voltage3_V"] != 0)
+
+
+def test_bode_equals_the_command_line(tmp_path):
+    _, stdout, _ = run_cli("bode", "--controller", "pid", "--link", "3", "--out", tmp_path / "cli")
+    result = ipmc_swim.bode("pid", link=3, out=tmp_path / "python")
+    assert (tmp_path / "python" / "bode.csv").read_bytes() == (tmp_path / "cli" / "bode.csv").read_bytes()
+    margins = result["margins"]
+    assert f"gain crossover: {margins['gain_crossover_rad_s']:.3f} rad/s" in stdout
+    assert f"phase margin: {margins['phase_margin_deg']:.2f} deg" in stdout
+    assert margins["gain_margin_db"] is None
+    assert result["controller"] in stdout and result["plant"] in stdout
+    response = result["response"]
+    assert response["w_rad_s"].shape == response["open_loop_db"].shape
+    # The open loop is the product: dB add.
+    np.testing.assert_allclose(response["open_loop_db"],
+                               response["plant_db"] + response["controller_db"], atol=1e-9)
+
+
+def test_step_equals_the_command_line(tmp_path):
+    args = ["--links", "3,1", "--horizon-s", "1", "--max-horizon-s", "3", "--no-clamp"]
+    _, stdout, _ = run_cli("step", "--controller", "pid", *args, "--out", tmp_path / "cli")
+    result = ipmc_swim.step("pid", links=[3, 1], horizon_s=1.0, max_horizon_s=3.0, no_clamp=True,
+                            out=tmp_path / "python")
+    assert (tmp_path / "python" / "step.csv").read_bytes() == (tmp_path / "cli" / "step.csv").read_bytes()
+    rows = {line.split()[0]: line.split() for line in stdout.splitlines() if line[:4].strip() in ("1", "3")}
+    for link in result["links"]:
+        row = rows[str(link["link"])]
+        assert row[1].rstrip("*") == f"{link['metrics']['overshoot_percent']:.3f}"
+        assert row[7] == f"{link['cost']:.4f}"
+        assert link["time_s"].shape == link["output_mm"].shape == link["control_V"].shape
+    assert result["reference"]["output_mm"].shape == result["reference"]["time_s"].shape
+
+
+def test_identify_equals_the_command_line(tmp_path):
+    # A chirp long enough for a band from 5 rad/s; the CLI reads the CSV's
+    # 10 digits, so the Python call gets the same numbers parsed from it.
+    csv = tmp_path / "chirp.csv"
+    run_cli("bench", "--signal", "chirp", "--duration-s", "8", "--f1-hz", "50", "--out", csv)
+    run_cli("identify", csv, "--input", "voltage1_V", "--output", "relative1_mm",
+            "--band-rad-s", "5,50", "--out", tmp_path / "cli")
+    data = np.genfromtxt(csv, delimiter=",", names=True)
+    result = ipmc_swim.identify(data, "voltage1_V", "relative1_mm", band_rad_s=[5.0, 50.0],
+                                name=str(csv), out=tmp_path / "python")
+    for name in ("identification.json", "response.csv"):
+        assert (tmp_path / "python" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes()
+    expected = json.loads((tmp_path / "cli" / "identification.json").read_text())
+    assert {k: result[k] for k in expected} == expected
+    response = result["response"]
+    assert response["measured"].dtype == np.complex128
+    assert response["p1"].shape == response["w_rad_s"].shape
+    # From a dict of arrays too (a bench() record), with its own name.
+    record = {name: data[name] for name in data.dtype.names}
+    again = ipmc_swim.identify(record, "voltage1_V", "relative1_mm", band_rad_s=[5.0, 50.0])
+    assert again["g1"] == expected["g1"] and again["data"] == "data"
+    with pytest.raises(ipmc_swim.Error, match="data: no column 'voltage9_V'"):
+        ipmc_swim.identify(record, "voltage9_V", "relative1_mm")
+
+
+def test_design_equals_the_command_line():
+    args = ["--link", "3", "--horizon-s", "0.5", "--sample-rate-hz", "2000"]
+    _, stdout, _ = run_cli("design", *args)
+    result = ipmc_swim.design(link=3, horizon_s=0.5, sample_rate_hz=2000.0)
+    fractional = result["fractional"]
+    assert f"C_I(s) = {fractional['gain']:.4f} / s^{fractional['order']:.4f}" in stdout
+    pid = result["pid"]
+    assert (f"tuned:          C(s) = {pid['kp']:.4g} + {pid['ki']:.4g}/s + {pid['kd']:.4g} s, "
+            f"J = {pid['cost']:.6f}") in stdout
+    assert f"J = {pid['paper_cost']:.6f}" in stdout
+    assert len(pid["runs"]) == 5 and pid["cost"] == min(run["cost"] for run in pid["runs"])

@@ -1,0 +1,73 @@
+"""Bad input raises ipmc_swim.Error (a ValueError) with the command line's message."""
+
+import re
+
+import pytest
+
+import ipmc_swim
+from conftest import SHORT_SCENARIO, cli_error
+
+
+def test_the_error_is_a_value_error():
+    assert issubclass(ipmc_swim.Error, ValueError)
+
+
+def test_a_bad_scenario_file_gives_the_command_lines_message(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text(SHORT_SCENARIO.replace("cycles = 2", "cycles = 0"))
+    expected = cli_error("run", bad)
+    assert re.search(r"bad\.toml:\d+: cycles", expected), expected
+    with pytest.raises(ipmc_swim.Error) as error:
+        ipmc_swim.run(str(bad))
+    assert str(error.value) == expected
+
+
+def test_a_bad_override_names_the_overrides_and_the_key_with_the_files_reason(short_scenario, tmp_path):
+    # The reason is the scenario reader's, as for the file; the place is the
+    # overrides of the scenario instead of a line.
+    bad = tmp_path / "bad.toml"
+    bad.write_text(SHORT_SCENARIO.replace("v_max_V = 6.0", "v_max_V = -1.0"))
+    reason = re.sub(r"^.*?bad\.toml:\d+: ", "", cli_error("run", bad))
+    with pytest.raises(ipmc_swim.Error) as error:
+        ipmc_swim.run(short_scenario, controller={"v_max_V": -1.0})
+    assert str(error.value) == f"{short_scenario} overrides: {reason}"
+    with pytest.raises(ipmc_swim.Error, match=r"overrides: unknown key 'no_such_key'"):
+        ipmc_swim.run(short_scenario, no_such_key=1)
+
+
+def test_wrong_python_types_are_type_errors(short_scenario):
+    with pytest.raises(TypeError, match="cycles"):
+        ipmc_swim.run(short_scenario, cycles=object())
+    with pytest.raises(TypeError, match="unexpected keyword argument 'duration'"):
+        ipmc_swim.bench(duration=1.0)
+
+
+def test_a_wrong_toml_type_is_the_scenario_readers_error(short_scenario):
+    with pytest.raises(ipmc_swim.Error, match=r"overrides: cycles must be an integer \(got float\)"):
+        ipmc_swim.run(short_scenario, cycles=1.5)
+
+
+def test_analysis_and_bench_errors_are_the_command_lines(tmp_path):
+    cases = [
+        (lambda: ipmc_swim.bode("fractional", kp=1.0),
+         ("bode", "--controller", "fractional", "--kp", "1")),
+        (lambda: ipmc_swim.step("pid", links=[4]), ("step", "--controller", "pid", "--links", "4")),
+        (lambda: ipmc_swim.design(phase_margin_deg=200.0), ("design", "--phase-margin-deg", "200")),
+        (lambda: ipmc_swim.bench(duration_s=-1.0),
+         ("bench", "--duration-s", "-1", "--out", tmp_path / "bench.csv")),
+        (lambda: ipmc_swim.generate_model(gap_mm=-1.0), ("generate", "--gap-mm", "-1")),
+    ]
+    for call, command in cases:
+        expected = cli_error(*command)
+        with pytest.raises(ipmc_swim.Error) as error:
+            call()
+        assert str(error.value) == expected
+    assert not (tmp_path / "bench.csv").exists()
+
+
+def test_nothing_is_written_when_the_run_fails(short_scenario, tmp_path):
+    with pytest.raises(ipmc_swim.Error):
+        ipmc_swim.run(short_scenario, out=tmp_path / "out", cycles=0)
+    assert not (tmp_path / "out").exists()
+    with pytest.raises(ipmc_swim.Error, match="cannot open"):
+        ipmc_swim.run(tmp_path / "missing.toml")

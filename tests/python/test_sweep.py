@@ -1,0 +1,48 @@
+"""sweep(): the table from Python against the command line's."""
+
+import csv
+
+import numpy as np
+
+import ipmc_swim
+from conftest import run_cli
+
+
+def test_sweep_equals_the_command_line(short_scenario, tmp_path):
+    sweep_file = tmp_path / "sweep.toml"
+    sweep_file.write_text(f'base = "{short_scenario.name}"\n[set]\ncycles = 1\n'
+                          '[grid]\n"waveform.frequency_Hz" = [0.1, 0.2]\n'
+                          'actuation = ["single", "distributed"]\n')
+    run_cli("sweep", sweep_file, "--jobs", "2", "--out", tmp_path / "cli")
+    calls = []
+    table = ipmc_swim.sweep(sweep_file, jobs=2, out=tmp_path / "python",
+                            progress=lambda done, total: calls.append((done, total)))
+    for suffix in (".csv", ".json"):
+        python_file = tmp_path / ("python" + suffix)
+        assert python_file.read_bytes() == (tmp_path / ("cli" + suffix)).read_bytes()
+    assert sorted(calls) == [(1, 4), (2, 4), (3, 4), (4, 4)]
+
+    # The table's cells: numbers with 17 significant digits read back
+    # exactly, so the arrays equal the CSV's values.
+    with open(tmp_path / "cli.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert list(table) == list(rows[0])
+    assert table["point"].dtype == np.int64 and table["point"].tolist() == [0, 1, 2, 3]
+    assert table["status"].tolist() == ["ok"] * 4
+    assert table["actuation"].tolist() == ["single", "distributed"] * 2
+    for name in ("waveform.frequency_Hz", "link3_iae_mm_s", "last_cycle_com_along_mm"):
+        assert table[name].dtype == np.float64
+        assert table[name].tolist() == [float(row[name]) for row in rows]
+    # Distributed actuation swims; single does not (a reciprocal stroke).
+    along = table["last_cycle_com_along_mm"]
+    # (first cycles, the start ramp breaks the symmetry: measured 8.5e-4 and
+    # 1.5e-3 of the distributed runs)
+    assert np.all(np.abs(along[0::2]) < 1e-2 * along[1::2])
+
+
+def test_a_shard_is_every_nth_point(short_scenario, tmp_path):
+    sweep_file = tmp_path / "sweep.toml"
+    sweep_file.write_text(f'base = "{short_scenario.name}"\n[set]\ncycles = 1\n'
+                          '[grid]\n"waveform.frequency_Hz" = [0.1, 0.2, 0.4]\n')
+    table = ipmc_swim.sweep(sweep_file, jobs=1, shard="2/2")
+    assert table["point"].tolist() == [1]

@@ -1,0 +1,86 @@
+#!/usr/bin/env bash
+# A sweep on the one-node cluster of local_cluster.sh (started by the
+# CTest fixture slurm_cluster): 8 points submitted as a 4-task job array
+# with `ipmc-swim sweep --slurm`, the merge job waited for, and the merged
+# table compared byte for byte with a local --jobs 2 run of the same sweep.
+#
+#   tests/slurm/slurm_sweep_test.sh STATE_DIR IPMC_SWIM SOURCE_DIR WORK_DIR
+set -euo pipefail
+state="$1" ipmc="$2" source_dir="$3" work="$4"
+export PATH="$PATH:/usr/sbin:/sbin"
+
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+[ -f "$state/env" ] || fail "no cluster: $state/env is missing (the slurm_cluster_start test did not start one)"
+set -a
+# shellcheck disable=SC1091
+source "$state/env"
+set +a
+
+rm -rf "$work"
+mkdir -p "$work"
+array="" merge=""
+cleanup() {
+  # Whatever happened: no job of this test stays queued or running.
+  [ -n "$array" ] && scancel "$array" >/dev/null 2>&1
+  [ -n "$merge" ] && scancel "$merge" >/dev/null 2>&1
+  return 0
+}
+trap cleanup EXIT
+
+# Eight short runs (one 2 s wave period at a 0.5 ms step, 0.1 s each).
+cat >"$work/fast.toml" <<EOF
+model = "$source_dir/models/flagellum3.xml"
+actuation = "distributed"
+cycles = 1
+timestep_s = 5e-4
+[waveform]
+frequency_Hz = 0.5
+EOF
+cat >"$work/sweep.toml" <<EOF
+base = "fast.toml"
+[grid]
+"waveform.frequency_Hz" = [0.5, 1.0]
+actuation = ["single", "distributed"]
+"controller.kp" = [8.12, 4]
+EOF
+
+"$ipmc" sweep "$work/sweep.toml" --jobs 2 --out "$work/local/table" >"$work/local.out" 2>&1 ||
+  fail "local sweep: $(cat "$work/local.out")"
+
+submitted=$("$ipmc" sweep "$work/sweep.toml" --slurm "$work/cluster" --array-size 4 \
+  --cpus-per-task 1 --time 5 2>&1) || fail "sweep --slurm: $submitted"
+echo "$submitted"
+array=$(sed -n 's/^submitted job array \([0-9]*\) and merge job \([0-9]*\) .*/\1/p' <<<"$submitted")
+merge=$(sed -n 's/^submitted job array \([0-9]*\) and merge job \([0-9]*\) .*/\2/p' <<<"$submitted")
+[ -n "$array" ] && [ -n "$merge" ] || fail "no job ids in: $submitted"
+
+# The merge job's state, once it has ended.
+job_state() { scontrol -o show job "$1" 2>/dev/null | sed -n 's/.*JobState=\([A-Z_]*\).*/\1/p' | sort -u | tr '\n' ' '; }
+ended() {
+  case "$(job_state "$merge")" in
+    "COMPLETED " | "FAILED " | "CANCELLED " | "TIMEOUT " | "NODE_FAIL " | "OUT_OF_MEMORY ") return 0 ;;
+    *) return 1 ;;
+  esac
+}
+start=$SECONDS
+until ended; do
+  [ $((SECONDS - start)) -lt 150 ] || fail "merge job $merge not done after 150 s (state: $(job_state "$merge"); array: $(job_state "$array"))"
+  sleep 0.5
+done
+echo "array and merge done in $((SECONDS - start)) s"
+
+[ "$(job_state "$array")" = "COMPLETED " ] || fail "array tasks: $(job_state "$array") (logs: $(cat "$work"/cluster/logs/sweep_* 2>&1))"
+[ "$(job_state "$merge")" = "COMPLETED " ] || fail "merge job: $(job_state "$merge") ($(cat "$work"/cluster/logs/merge_* 2>&1))"
+for k in 1 2 3 4; do
+  rows=$(($(wc -l <"$work/cluster/shards/shard_$k.csv") - 1))
+  [ "$rows" -eq 2 ] || fail "shard $k/4 has $rows points, expected 2 (points $((k - 1)) and $((k + 3)))"
+done
+cmp "$work/local/table.csv" "$work/cluster/table.csv" || fail "the cluster's table.csv differs from the local run's"
+cmp "$work/local/table.json" "$work/cluster/table.json" || fail "the cluster's table.json differs from the local run's"
+status=$("$ipmc" sweep --status "$work/cluster")
+echo "$status"
+grep -qx "done:    8 (0-7)" <<<"$status" || fail "status does not list 8 points done"
+grep -qx "missing: 0" <<<"$status" || fail "status lists missing points"
+rm -rf "$work"
+echo "PASS: 8 points through a 4-task Slurm array give the local --jobs 2 table byte for byte"

@@ -1,0 +1,80 @@
+// Runs that would take no step (or more than can finish) are refused with
+// one line instead of "succeeding" with all-zero metrics.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "sim/core/step_count.h"
+#include "tests/cli_util.h"
+
+namespace ipmc::testing {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(StepCountTest, RoundsTheIntervalToWholeSteps) {
+  EXPECT_EQ(CheckedStepCount(100.0, 5e-4, 1, "cycle"), 200000);  // the paper's 0.01 Hz at 0.5 ms
+  EXPECT_EQ(CheckedStepCount(1e-3, 5e-4, 2, "sample"), 2);
+}
+
+void ExpectRefused(double interval_s, double timestep_s, long min_steps, const std::string& fragment) {
+  try {
+    CheckedStepCount(interval_s, timestep_s, min_steps, "scenario.toml: one wave cycle");
+    FAIL() << "accepted " << interval_s << " s at " << timestep_s << " s";
+  } catch (const std::invalid_argument& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("scenario.toml: one wave cycle"), std::string::npos) << message;
+    EXPECT_NE(message.find(fragment), std::string::npos) << message;
+  }
+}
+
+TEST(StepCountTest, RefusesZeroStepsHugeCountsAndBadTimeSteps) {
+  ExpectRefused(1e-300, 5e-4, 1, "allowed [1, 1e+09]");
+  ExpectRefused(1e300, 5e-4, 1, "allowed [1, 1e+09]");
+  ExpectRefused(1e-3, 5e-4, 3, "allowed [3, 1e+09]");  // fewer steps than one controller sample
+  ExpectRefused(1.0, 0.0, 1, "time step must be finite and > 0");
+  ExpectRefused(1.0, std::nan(""), 1, "time step must be finite and > 0");
+  ExpectRefused(std::nan(""), 5e-4, 1, "finite time > 0");
+}
+
+// The paper scenario with its model path made absolute and one line replaced.
+fs::path ScenarioWith(const fs::path& dir, const std::string& key_line, const std::string& replacement) {
+  std::ifstream in(fs::path(IPMC_SWIM_SOURCE_DIR) / "scenarios" / "paper.toml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string scenario = text.str();
+  scenario = std::regex_replace(scenario, std::regex("model = \"\\.\\./models/"),
+                                "model = \"" + std::string(IPMC_SWIM_SOURCE_DIR) + "/models/");
+  const size_t at = scenario.find(key_line);
+  EXPECT_NE(at, std::string::npos) << key_line;
+  scenario.replace(at, key_line.size(), replacement);
+  const fs::path path = dir / "scenario.toml";
+  std::ofstream(path) << scenario;
+  return path;
+}
+
+TEST(StepCountTest, CommandsRefuseRunsWithoutStepsAndLeaveNoOutput) {
+  const fs::path dir = FreshDir("step_count");
+  for (const std::string frequency : {"1e-300", "1e300"}) {
+    const fs::path scenario = ScenarioWith(dir, "frequency_Hz = 0.01", "frequency_Hz = " + frequency);
+    const CommandResult run = RunCli("run " + scenario.string() + " --out " + (dir / "out").string());
+    EXPECT_EQ(run.exit_code, 1) << run.output;
+    EXPECT_NE(run.output.find("one wave cycle (waveform.frequency_Hz)"), std::string::npos) << run.output;
+    EXPECT_EQ(CountLines(run.output), 1) << run.output;
+    EXPECT_FALSE(fs::exists(dir / "out" / "summary.json"));
+  }
+  const CommandResult bench = RunCli("bench --duration-s 1e300 --out " + (dir / "b.csv").string());
+  EXPECT_NE(bench.exit_code, 0) << bench.output;
+  EXPECT_NE(bench.output.find("bench: the experiment (duration_s)"), std::string::npos) << bench.output;
+  EXPECT_FALSE(fs::exists(dir / "b.csv"));
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace ipmc::testing
