@@ -99,6 +99,7 @@ ModelPtr LoadScenarioModel(const ScenarioConfig& scenario, std::string* source) 
 std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenario) {
   std::string source;
   ModelPtr model = LoadScenarioModel(scenario, &source);
+  UseEulerWhereImplicitAddsNothing(model.get());  // as RunClosedLoop steps it
   IpmcActuatorsOverrides overrides;
   overrides.plants = scenario.plants;
   return std::make_unique<Simulation>(std::move(model), source, overrides);
