@@ -1,5 +1,6 @@
 #include "plugin/coupling.h"
 
+#include <atomic>
 #include <mutex>
 #include <shared_mutex>
 #include <stdexcept>
@@ -15,10 +16,13 @@ namespace ipmc {
 namespace {
 
 // Registry of contexts keyed by mjData. Written by Attach/Detach, read by
-// the callbacks; a shared mutex lets many threads step at once.
+// the callbacks; a shared mutex lets many threads step at once. Every
+// write bumps `generation`, which validates the lookups each thread keeps
+// (FindMutableCoupling).
 struct Registry {
   std::shared_mutex mutex;
   std::unordered_map<const mjData*, std::unique_ptr<CouplingContext>> contexts;
+  std::atomic<unsigned long> generation{0};
   bool callbacks_installed = false;
   mjfGeneric previous_passive = nullptr;
   mjfGeneric previous_control = nullptr;
@@ -63,11 +67,31 @@ CouplingContext& RequireCoupling(const mjData* d, const char* function) {
 
 }  // namespace
 
+// The passive and control callbacks, SetVoltages and the runs' readers all
+// ask for the context of the mjData their thread steps, several times per
+// step. Each thread remembers its last answer and reuses it until the
+// registry changes: no lock and no map lookup on a step, and no shared
+// cache line written by threads that step different data. A context
+// stays where it is while other data are attached or detached (the map
+// holds pointers), so only a change of generation requires a new lookup.
 CouplingContext* FindMutableCoupling(const mjData* d) {
+  struct Lookup {
+    const mjData* d = nullptr;
+    CouplingContext* context = nullptr;
+    unsigned long generation = 0;
+    bool valid = false;
+  };
+  thread_local Lookup last;
   Registry& registry = GetRegistry();
+  const unsigned long generation = registry.generation.load(std::memory_order_acquire);
+  if (last.valid && last.d == d && last.generation == generation) return last.context;
   std::shared_lock<std::shared_mutex> lock(registry.mutex);
   auto it = registry.contexts.find(d);
-  return it == registry.contexts.end() ? nullptr : it->second.get();
+  CouplingContext* context = it == registry.contexts.end() ? nullptr : it->second.get();
+  // Writers hold the mutex exclusively, so the generation read under the
+  // shared lock is the one this answer belongs to.
+  last = {d, context, registry.generation.load(std::memory_order_relaxed), true};
+  return context;
 }
 
 const CouplingContext* FindCoupling(const mjData* d) { return FindMutableCoupling(d); }
@@ -98,13 +122,16 @@ bool AttachWithOverrides(const mjModel* m, mjData* d, const IpmcActuatorsOverrid
   std::unique_lock<std::shared_mutex> lock(registry.mutex);
   InstallCallbacksOnce(registry);
   registry.contexts[d] = std::move(context);
+  registry.generation.fetch_add(1, std::memory_order_release);
   return true;
 }
 
 bool Detach(const mjData* d) {
   Registry& registry = GetRegistry();
   std::unique_lock<std::shared_mutex> lock(registry.mutex);
-  return registry.contexts.erase(d) > 0;
+  const bool erased = registry.contexts.erase(d) > 0;
+  if (erased) registry.generation.fetch_add(1, std::memory_order_release);
+  return erased;
 }
 
 int SetVoltages(const mjData* d, const double* voltage_V, int count) {

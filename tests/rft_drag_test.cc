@@ -124,6 +124,70 @@ TEST(RftDrag, CallbackPowerIsNeverPositiveInMuJoCo) {
   }
 }
 
+// RftDrag::Apply maps all segments' wrenches into generalised forces in
+// one pass over the tree; MuJoCo's mj_applyFT does it one wrench at a time
+// through the point's Jacobian. The two (and the segments' velocities and
+// mj_objectVelocity's) agree on random states of a free
+// and a clamped flagellum with sub-segments (a deeper tree), to rounding:
+// measured 4.1e-16 / 4.8e-16 of the largest entry.
+TEST(RftDrag, OnePassEqualsMujocosApplyFtPerSegment) {
+  for (bool clamped : {false, true}) {
+    FlagellumSpec spec;
+    spec.clamped = clamped;
+    spec.segments_per_link = 3;
+    spec.ipmc_actuators = false;
+    const ModelPtr model = LoadModelString(GenerateFlagellumMjcf(spec));
+    const mjModel* m = model.get();
+    const DataPtr data(mj_makeData(m));
+    mjData* d = data.get();
+    const RftDrag drag(m, *RftDragConfig::FromModel(m));
+    std::mt19937 rng(11);
+    std::normal_distribution<double> normal(0.0, 1.0);
+    double worst = 0.0;
+    for (int trial = 0; trial < 50; ++trial) {
+      for (int i = 0; i < m->nq; ++i) d->qpos[i] = 0.3 * normal(rng);
+      for (int i = 0; i < m->nv; ++i) d->qvel[i] = 1e-3 * normal(rng);
+      mj_forward(m, d);  // not attached: qfrc_passive holds MuJoCo's own forces
+      std::vector<double> per_segment(d->qfrc_passive, d->qfrc_passive + m->nv);
+      drag.Apply(m, d);  // adds the drag to them
+      const std::vector<double> one_pass(d->qfrc_passive, d->qfrc_passive + m->nv);
+      const std::vector<Segment> segments = drag.Segments(m, d);
+      for (size_t k = 0; k < segments.size(); ++k) {
+        const Wrench wrench = SegmentDragExact(segments[k], drag.coefficients());
+        mjtNum force[3], torque[3], point[3];
+        for (int i = 0; i < 3; ++i) {
+          force[i] = wrench.force_W[i];
+          torque[i] = wrench.torque_center_W[i];
+          point[i] = segments[k].center_W[i];
+        }
+        mj_applyFT(m, d, force, torque, point, m->geom_bodyid[drag.geom_ids()[k]],
+                   per_segment.data());
+      }
+      double largest = 0.0, difference = 0.0;
+      for (int i = 0; i < m->nv; ++i) {
+        largest = std::max(largest, std::abs(per_segment[i]));
+        difference = std::max(difference, std::abs(one_pass[i] - per_segment[i]));
+      }
+      ASSERT_GT(largest, 0.0);
+      worst = std::max(worst, difference / largest);
+      // The segments' velocities, taken from the bodies' spatial
+      // velocities, are mj_objectVelocity's at the geom centres: the same
+      // operations, so the same numbers.
+      for (size_t k = 0; k < segments.size(); ++k) {
+        mjtNum velocity[6];  // [angular; linear], world frame
+        mj_objectVelocity(m, d, mjOBJ_GEOM, drag.geom_ids()[k], velocity, 0);
+        for (int i = 0; i < 3; ++i) {
+          EXPECT_EQ(segments[k].angular_velocity_W[i], velocity[i]);
+          EXPECT_EQ(segments[k].velocity_center_W[i], velocity[3 + i]);
+        }
+      }
+    }
+    std::printf("%s: one pass vs mj_applyFT, largest difference %.3g of the largest force\n",
+                clamped ? "clamped" : "free", worst);
+    EXPECT_LT(worst, 5e-15);
+  }
+}
+
 TEST(RftDrag, ModelWithoutFieldsGetsNoDragAndNoCrash) {
   auto m = LoadModelString(R"(<mujoco><worldbody><body><joint type="slide" axis="1 0 0"/>
       <geom type="box" size="0.01 0.001 0.001"/></body></worldbody></mujoco>)");

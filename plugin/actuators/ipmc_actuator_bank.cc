@@ -56,34 +56,57 @@ struct Block {
   int size = 0;
   Eigen::MatrixXd a;
   Eigen::VectorXd b;
+  Eigen::VectorXd ab, aab;  // a b and a^2 b (the smooth form's input terms)
   Eigen::RowVectorXd c;
   double d = 0;
-  // Real Schur form a = schur_q * schur_t * schur_q^T (kBlockSchur only).
+  // Real Schur form a = schur_q * schur_t * schur_q^T (kBlockSchur only);
+  // schur_t_rows holds T by rows (the transpose, column-major), the order
+  // in which the back substitution reads it. A block whose a is already
+  // quasi-lower-triangular (the Oustaloup cascades of G1: each section
+  // driven by the ones before it) needs no rotation: T = P a P with P the
+  // reversal of the states, and schur_q stays empty.
   Eigen::MatrixXd schur_q;
-  Eigen::MatrixXd schur_t;
+  Eigen::MatrixXd schur_t_rows;
+  bool reversed = false;  // Q = P instead of schur_q
 };
 
-// Solves (I - gamma T) w = z in place for quasi-upper-triangular T (1x1 and
-// 2x2 diagonal blocks) by back substitution. Returns false if a pivot
-// vanishes (an unstable block with 1 - gamma lambda = 0).
-bool SolveShiftedQuasiTriangular(const Eigen::MatrixXd& t, double gamma,
-                                 Eigen::Ref<Eigen::VectorXd> z) {
-  const Eigen::Index n = t.rows();
+// True if every nonzero of a above the diagonal is the upper corner of a
+// 2x2 diagonal block, with no two such blocks overlapping.
+bool IsQuasiLowerTriangular(const Eigen::MatrixXd& a) {
+  const Eigen::Index n = a.rows();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    for (Eigen::Index j = i + 1; j < n; ++j) {
+      if (a(i, j) == 0.0) continue;
+      if (j != i + 1) return false;
+      if (i > 0 && a(i - 1, i) != 0.0) return false;  // overlaps the pair above
+    }
+  }
+  return true;
+}
+
+// Solves (I - gamma T) w = z in place for the n x n quasi-upper-triangular
+// T (1x1 and 2x2 diagonal blocks), stored by rows, by back substitution.
+// Returns false if a pivot vanishes (an unstable block with
+// 1 - gamma lambda = 0).
+bool SolveShiftedQuasiTriangular(const double* t_rows, int n, double gamma, double* z) {
   constexpr double kTiny = 1e-300;
-  Eigen::Index i = n - 1;
+  const auto t = [t_rows, n](int row, int col) { return t_rows[row * n + col]; };
+  // z_k += gamma sum_{j > last} T(k, j) z_j, the already solved part.
+  const auto eliminate = [&](int k, int last) {
+    const double* row = t_rows + k * n;
+    double sum = 0.0;
+    for (int j = last + 1; j < n; ++j) sum += row[j] * z[j];
+    z[k] += gamma * sum;
+  };
+  int i = n - 1;
   while (i >= 0) {
     const bool pair = i > 0 && t(i, i - 1) != 0.0;
-    const Eigen::Index top = pair ? i - 1 : i;
-    const Eigen::Index tail = n - 1 - i;
-    for (Eigen::Index k = top; k <= i; ++k) {
-      if (tail > 0) {
-        z(k) += gamma * t.row(k).tail(tail).dot(z.tail(tail));
-      }
-    }
+    const int top = pair ? i - 1 : i;
+    for (int k = top; k <= i; ++k) eliminate(k, i);
     if (!pair) {
       const double pivot = 1.0 - gamma * t(i, i);
       if (std::abs(pivot) < kTiny) return false;
-      z(i) /= pivot;
+      z[i] /= pivot;
     } else {
       // [1 - g t00, -g t01; -g t10, 1 - g t11] [w0; w1] = [z0; z1]
       const double m00 = 1.0 - gamma * t(top, top);
@@ -92,14 +115,29 @@ bool SolveShiftedQuasiTriangular(const Eigen::MatrixXd& t, double gamma,
       const double m11 = 1.0 - gamma * t(i, i);
       const double det = m00 * m11 - m01 * m10;
       if (std::abs(det) < kTiny) return false;
-      const double z0 = z(top);
-      const double z1 = z(i);
-      z(top) = (m11 * z0 - m01 * z1) / det;
-      z(i) = (m00 * z1 - m10 * z0) / det;
+      const double z0 = z[top];
+      const double z1 = z[i];
+      z[top] = (m11 * z0 - m01 * z1) / det;
+      z[i] = (m00 * z1 - m10 * z0) / det;
     }
     i = top - 1;
   }
   return true;
+}
+
+// Newton convergence coefficient for an exact linear solve (InitCvode).
+constexpr double kExactNewtonConvCoef = 1e6;
+// The smooth form restarts at the first change in each window of absolute
+// time this long, which bounds P and Q and so the cancellation in
+// x = eta + B P + A B Q (header, "Stepping").
+constexpr double kRebase_s = 0.1;
+// A stop time CVODE never reaches: no stop.
+constexpr double kNoStop_s = std::numeric_limits<double>::max();
+
+// A time difference CVODE cannot resolve: a few ulps of t.
+double Unresolvable_s(double a_s, double b_s) {
+  return 8.0 * std::numeric_limits<double>::epsilon() *
+         std::max({1.0, std::abs(a_s), std::abs(b_s)});
 }
 
 std::string FlagName(int flag) {
@@ -115,11 +153,40 @@ struct IpmcActuatorBank::Impl {
   std::vector<Block> blocks;
   int states = 0;
   Eigen::MatrixXd jacobian;  // block-diagonal A, column-major like SUNDIALS
-  Eigen::VectorXd forcing;   // B u for the held u
-  Eigen::VectorXd state;     // x at time_s; y_vector wraps its storage
+  // out = A in + add (add may be null), row by row: row i of A holds its
+  // entries from column a_first[i] to its last nonzero, stored one after
+  // the other from a_value[a_start[i]] (the cascades' A is lower
+  // triangular, so a row is a run of columns with few zeros in it).
+  void ApplyA(const double* in, const double* add, double* out) const;
+  std::vector<int> a_start, a_first;
+  std::vector<double> a_value;
+  Eigen::VectorXd forcing;   // B u for the held u (plain form)
+  Eigen::VectorXd state;     // x at time_s
+  // What CVODE integrates (header, "Stepping"); y_vector wraps its storage.
+  // The plain form: eta = x. The smooth form: eta = x - B P(t) - A B Q(t)
+  // with P and Q the first and second integrals of u since the last
+  // restart, base_s; the current voltages hold from segment_s, where link
+  // q's integrals were segment_p[q] and segment_q[q].
+  Eigen::VectorXd eta;
+  bool smooth = false;
+  double base_s = 0, segment_s = 0;
+  std::vector<double> segment_p, segment_q, segment_voltage_V;
   std::vector<double> voltage_V;
   double time_s = 0;
-  bool reinit_pending = false;
+  // A restart due at the next AdvanceTo, and in which form: the plain one
+  // from rest (creation, Reset, a failure), the smooth one from a state
+  // set or saved (SetState, Restart: the form a run of changes goes on in,
+  // and the same for the bank saved and the one restored).
+  enum class PendingRestart { kNone, kPlain, kSmooth };
+  PendingRestart pending_restart = PendingRestart::kNone;
+  bool voltage_changed = false;  // SetVoltages changed a value at time_s
+  // The time of the last voltage change since the last restart (NaN: none).
+  double last_change_s = std::numeric_limits<double>::quiet_NaN();
+  // The smooth form expects the next change a period after the last; with
+  // no period seen since its restart it stops CVODE at every AdvanceTo, so
+  // that CVODE is at the change, wherever it comes.
+  bool period_known = false;
+  double initial_step_cap_s = 0;  // 1 / the fastest eigenvalue of A
   long steps_before_reinit = 0;
   long reinitialisations = 0;
   int lower_bandwidth = 0;
@@ -127,6 +194,7 @@ struct IpmcActuatorBank::Impl {
   CvodeOptions options;
   std::string last_cvode_message;
   Eigen::VectorXd schur_work;  // Q^T r of one block
+  Eigen::VectorXd derivative, second_derivative;  // eta' and eta'' at a restart
 
   ContextPtr context;
   VectorPtr y_vector;
@@ -135,6 +203,23 @@ struct IpmcActuatorBank::Impl {
   CvodePtr cvode;
 
   void Check(int flag, const char* call) const;
+  // P_q(t) and Q_q(t) of link q in the current segment.
+  void Integrals(double t_s, int q, double* p, double* q_value) const;
+  // out = d eta / dt at t for eta = in, in the current form.
+  void Derivative(double t_s, const double* in, double* out) const;
+  // x at t from eta at t.
+  void StateFromEta(double t_s);
+  // CVODE's first step from a restart at time_s.
+  double InitialStep_s();
+  // Restarts CVODE at time_s from state, in the smooth or the plain form.
+  void RestartAt(bool smooth_form);
+  // The stop time of the smooth form: the next change if it keeps the
+  // period, or where a hold would end, whichever comes first.
+  void SetSmoothStop(double period_s);
+  // The voltages changed at time_s: continue smoothly or restart.
+  void OnVoltageChange();
+  // Integrates to t_s and sets time_s and state.
+  void Integrate(double t_s);
   [[noreturn]] void ThrowSolverFailure(int flag);
   void InitCvode();
 
@@ -169,17 +254,39 @@ int IpmcActuatorBank::Impl::SchurSolve(SUNLinearSolver solver,
   if (CVodeGetCurrentGamma(impl->cvode.get(), &gamma) != CV_SUCCESS) {
     return SUNLS_MEM_NULL;
   }
-  const Eigen::Map<const Eigen::VectorXd> r_map(N_VGetArrayPointer(r),
-                                                impl->states);
-  Eigen::Map<Eigen::VectorXd> x_map(N_VGetArrayPointer(x), impl->states);
+  const double* r_all = N_VGetArrayPointer(r);
+  double* x_all = N_VGetArrayPointer(x);
+  double* work = impl->schur_work.data();
   for (const Block& block : impl->blocks) {
-    auto work = impl->schur_work.head(block.size);
-    work.noalias() =
-        block.schur_q.transpose() * r_map.segment(block.offset, block.size);
-    if (!SolveShiftedQuasiTriangular(block.schur_t, gamma, work)) {
+    const int n = block.size;
+    const double* q = block.schur_q.data();  // column-major: column i at q + i n
+    const double* r_q = r_all + block.offset;
+    double* x_q = x_all + block.offset;
+    // work = Q^T r_q (column i of Q dotted with r_q); x may alias r.
+    for (int i = 0; i < n; ++i) {
+      if (block.reversed) {
+        work[i] = r_q[n - 1 - i];
+        continue;
+      }
+      const double* column = q + i * n;
+      double sum = 0.0;
+      for (int k = 0; k < n; ++k) sum += column[k] * r_q[k];
+      work[i] = sum;
+    }
+    if (!SolveShiftedQuasiTriangular(block.schur_t_rows.data(), n, gamma, work)) {
       return SUNLS_LUFACT_FAIL;  // recoverable: CVODE retries a smaller step
     }
-    x_map.segment(block.offset, block.size).noalias() = block.schur_q * work;
+    // x_q = Q work, column by column.
+    if (block.reversed) {
+      for (int i = 0; i < n; ++i) x_q[n - 1 - i] = work[i];
+      continue;
+    }
+    for (int k = 0; k < n; ++k) x_q[k] = 0.0;
+    for (int i = 0; i < n; ++i) {
+      const double* column = q + i * n;
+      const double w = work[i];
+      for (int k = 0; k < n; ++k) x_q[k] += column[k] * w;
+    }
   }
   return SUNLS_SUCCESS;
 }
@@ -201,20 +308,56 @@ SUNLinearSolver IpmcActuatorBank::Impl::NewSchurSolver() {
   return solver;
 }
 
-// dx/dt = A x + B u, evaluated block by block.
-int IpmcActuatorBank::Impl::Rhs(realtype /*t*/, N_Vector x, N_Vector xdot,
+// d eta / dt: A eta + B u (plain) or A eta + A^2 B Q(t) (smooth).
+int IpmcActuatorBank::Impl::Rhs(realtype t, N_Vector x, N_Vector xdot,
                                 void* user_data) {
   const auto* impl = static_cast<const Impl*>(user_data);
-  const Eigen::Map<const Eigen::VectorXd> x_map(N_VGetArrayPointer(x),
-                                                impl->states);
-  Eigen::Map<Eigen::VectorXd> xdot_map(N_VGetArrayPointer(xdot),
-                                       impl->states);
-  for (const Block& block : impl->blocks) {
-    xdot_map.segment(block.offset, block.size).noalias() =
-        block.a * x_map.segment(block.offset, block.size);
-  }
-  xdot_map += impl->forcing;
+  impl->Derivative(t, N_VGetArrayPointer(x), N_VGetArrayPointer(xdot));
   return 0;
+}
+
+void IpmcActuatorBank::Impl::Integrals(double t_s, int q, double* p, double* q_value) const {
+  const double tau = t_s - segment_s;
+  const double u = segment_voltage_V[q];
+  *p = segment_p[q] + u * tau;
+  *q_value = segment_q[q] + (segment_p[q] + 0.5 * u * tau) * tau;
+}
+
+void IpmcActuatorBank::Impl::Derivative(double t_s, const double* in, double* out) const {
+  if (!smooth) {
+    ApplyA(in, forcing.data(), out);
+    return;
+  }
+  ApplyA(in, nullptr, out);
+  for (std::size_t q = 0; q < blocks.size(); ++q) {
+    double p = 0, q_value = 0;
+    Integrals(t_s, static_cast<int>(q), &p, &q_value);
+    const Block& block = blocks[q];
+    for (int i = 0; i < block.size; ++i) out[block.offset + i] += block.aab[i] * q_value;
+  }
+}
+
+void IpmcActuatorBank::Impl::StateFromEta(double t_s) {
+  state = eta;
+  if (!smooth) return;
+  for (std::size_t q = 0; q < blocks.size(); ++q) {
+    double p = 0, q_value = 0;
+    Integrals(t_s, static_cast<int>(q), &p, &q_value);
+    const Block& block = blocks[q];
+    state.segment(block.offset, block.size) += block.b * p + block.ab * q_value;
+  }
+}
+
+void IpmcActuatorBank::Impl::ApplyA(const double* in, const double* add, double* out) const {
+  const double* value = a_value.data();
+  for (int i = 0; i < states; ++i) {
+    const double* row = value + a_start[i];
+    const double* x = in + a_first[i];
+    const int count = a_start[i + 1] - a_start[i];
+    double sum = add ? add[i] : 0.0;
+    for (int k = 0; k < count; ++k) sum += row[k] * x[k];
+    out[i] = sum;
+  }
 }
 
 // J = df/dx = A, constant: copied into the dense or band matrix.
@@ -302,7 +445,7 @@ void IpmcActuatorBank::Impl::InitCvode() {
     throw std::runtime_error("ipmc actuator: SUNContext_Create failed");
   }
   context.reset(raw_context);
-  y_vector.reset(N_VMake_Serial(states, state.data(), context.get()));
+  y_vector.reset(N_VMake_Serial(states, eta.data(), context.get()));
   if (!y_vector) throw std::runtime_error("ipmc actuator: N_VMake_Serial failed");
   serial_kernels::Install(y_vector.get());
   switch (options.linear_solver) {
@@ -339,6 +482,42 @@ void IpmcActuatorBank::Impl::InitCvode() {
   Check(CVodeSetLinearSolver(mem, linear_solver.get(), matrix.get()),
         "CVodeSetLinearSolver");
   if (matrix) Check(CVodeSetJacFn(mem, Jacobian), "CVodeSetJacFn");
+  if (options.linear_solver == CvodeLinearSolver::kBlockSchur) {
+    // The ODE is linear and the Schur solve uses CVODE's current gamma, so
+    // the first Newton correction solves each step's corrector equation to
+    // rounding. CVODE's convergence test does not know it: from a restart
+    // its rate estimate starts at 1 and it asks for a second correction
+    // (a right-hand side, a solve and norms) on the first steps after
+    // every voltage change. A coefficient far above CVODE's 0.1 accepts
+    // the first correction; CVODE's error test is unchanged.
+    Check(CVodeSetNonlinConvCoef(mem, kExactNewtonConvCoef), "CVodeSetNonlinConvCoef");
+  }
+}
+
+// The order-1 step whose local error (h^2 / 2) eta'' has weighted RMS norm
+// 1/4 (CVODE accepts a step at norm 1), with eta'' exact for the held
+// input: A eta' (+ A^2 B P in the smooth form, where P = 0 at a restart),
+// at most 1 / the fastest eigenvalue of A (the time over which the fastest
+// mode moves by O(1); also taken when eta'' = 0) and at least 100 u |t|,
+// u the unit roundoff. It depends only on the state, the voltages and the
+// tolerances, as the rest of the integration from a restart does
+// (Restart), and it spares the right-hand-side evaluations of CVODE's
+// iterative estimate (cvHin) at every restart.
+double IpmcActuatorBank::Impl::InitialStep_s() {
+  Derivative(time_s, eta.data(), derivative.data());
+  ApplyA(derivative.data(), nullptr, second_derivative.data());
+  double sum_squares = 0.0;
+  for (int i = 0; i < states; ++i) {
+    const double weighted =
+        second_derivative[i] / (options.rel_tol * std::abs(eta[i]) + options.abs_tol_mm);
+    sum_squares += weighted * weighted;
+  }
+  const double norm = std::sqrt(sum_squares / states);
+  const double lower_s = 100.0 * std::numeric_limits<double>::epsilon() * std::abs(time_s);
+  // (h^2 / 2) norm = 1/4
+  if (!(initial_step_cap_s > 0.0)) return 0.0;  // A = 0: CVODE's own estimate
+  const double step_s = norm > 0.0 ? std::sqrt(0.5 / norm) : initial_step_cap_s;
+  return std::clamp(step_s, std::min(lower_s, initial_step_cap_s), initial_step_cap_s);
 }
 
 void CvodeOptions::Validate() const {
@@ -420,10 +599,28 @@ std::unique_ptr<IpmcActuatorBank> IpmcActuatorBank::CreateFromStateSpace(
       impl->upper_bandwidth = std::max(impl->upper_bandwidth, j - i);
     }
   }
+  impl->a_start.push_back(0);
+  for (int i = 0; i < n; ++i) {
+    int first = n, last = -1;
+    for (int j = 0; j < n; ++j) {
+      if (impl->jacobian(i, j) == 0) continue;
+      first = std::min(first, j);
+      last = j;
+    }
+    if (last < 0) first = last = 0;  // an empty row: one zero entry
+    impl->a_first.push_back(first);
+    for (int j = first; j <= last; ++j) impl->a_value.push_back(impl->jacobian(i, j));
+    impl->a_start.push_back(static_cast<int>(impl->a_value.size()));
+  }
   int largest_block = 0;
   for (Block& block : impl->blocks) {
     largest_block = std::max(largest_block, block.size);
     if (block.size == 0) continue;
+    if (IsQuasiLowerTriangular(block.a)) {
+      block.reversed = true;
+      block.schur_t_rows = block.a.reverse().transpose();  // P a P, by rows
+      continue;
+    }
     const Eigen::RealSchur<Eigen::MatrixXd> schur(block.a);
     if (schur.info() != Eigen::Success) {
       throw std::invalid_argument(
@@ -432,12 +629,29 @@ std::unique_ptr<IpmcActuatorBank> IpmcActuatorBank::CreateFromStateSpace(
           ": real Schur decomposition of a did not converge");
     }
     block.schur_q = schur.matrixU();
-    block.schur_t = schur.matrixT();
+    block.schur_t_rows = schur.matrixT().transpose();
   }
   impl->schur_work = Eigen::VectorXd::Zero(largest_block);
+  impl->derivative = Eigen::VectorXd::Zero(n);
+  impl->second_derivative = Eigen::VectorXd::Zero(n);
+  double fastest_rate = 0.0;
+  for (Block& block : impl->blocks) {
+    block.ab = block.a * block.b;
+    block.aab = block.a * block.ab;
+    if (block.size == 0) continue;
+    const Eigen::VectorXcd eigenvalues = Eigen::EigenSolver<Eigen::MatrixXd>(block.a, false).eigenvalues();
+    fastest_rate = std::max(fastest_rate, eigenvalues.cwiseAbs().maxCoeff());
+  }
+  // 0 if every a is zero (InitialStep_s then leaves the first step to CVODE).
+  impl->initial_step_cap_s = fastest_rate > 0.0 && std::isfinite(fastest_rate) ? 1.0 / fastest_rate : 0.0;
   impl->forcing = Eigen::VectorXd::Zero(n);
   impl->state = Eigen::VectorXd::Zero(n);
+  impl->eta = Eigen::VectorXd::Zero(n);
   impl->voltage_V.assign(impl->blocks.size(), 0.0);
+  impl->segment_p.assign(impl->blocks.size(), 0.0);
+  impl->segment_q.assign(impl->blocks.size(), 0.0);
+  impl->segment_voltage_V = impl->voltage_V;
+  impl->pending_restart = Impl::PendingRestart::kPlain;
   impl->InitCvode();
   return std::unique_ptr<IpmcActuatorBank>(
       new IpmcActuatorBank(std::move(impl)));
@@ -475,12 +689,99 @@ void IpmcActuatorBank::SetVoltages(const std::vector<double>& voltage_V) {
     const Block& block = impl_->blocks[q];
     impl_->forcing.segment(block.offset, block.size) =
         block.b * voltage_V[q];
-    impl_->reinit_pending = true;
+    impl_->voltage_changed = true;
   }
 }
 
 const std::vector<double>& IpmcActuatorBank::Voltages_V() const {
   return impl_->voltage_V;
+}
+
+void IpmcActuatorBank::Impl::RestartAt(bool smooth_form) {
+  void* mem = cvode.get();
+  long steps = 0;
+  Check(CVodeGetNumSteps(mem, &steps), "CVodeGetNumSteps");
+  steps_before_reinit += steps;
+  smooth = smooth_form;
+  base_s = segment_s = time_s;
+  segment_p.assign(blocks.size(), 0.0);
+  segment_q.assign(blocks.size(), 0.0);
+  segment_voltage_V = voltage_V;
+  eta = state;  // P = Q = 0 at the restart
+  // From x(time_s): no step taken with the old input beyond time_s is used.
+  Check(CVodeReInit(mem, time_s, y_vector.get()), "CVodeReInit");
+  Check(CVodeSetInitStep(mem, InitialStep_s()), "CVodeSetInitStep");
+  Check(CVodeSetStopTime(mem, kNoStop_s), "CVodeSetStopTime");
+  ++reinitialisations;
+}
+
+void IpmcActuatorBank::Impl::SetSmoothStop(double period_s) {
+  double stop_s = segment_s + kRebase_s;
+  if (period_s > 0.0) stop_s = std::min(stop_s, time_s + period_s);
+  Check(CVodeSetStopTime(cvode.get(), stop_s), "CVodeSetStopTime");
+}
+
+void IpmcActuatorBank::Impl::OnVoltageChange() {
+  realtype t_cvode = time_s;
+  Check(CVodeGetCurrentTime(cvode.get(), &t_cvode), "CVodeGetCurrentTime");
+  const double period_s = std::isfinite(last_change_s) ? time_s - last_change_s : 0.0;
+  last_change_s = time_s;
+  period_known = period_s > 0.0;
+  const bool stopped_here = std::abs(t_cvode - time_s) <= Unresolvable_s(t_cvode, time_s);
+  // Rebase at the first change in each kRebase_s window of absolute time,
+  // the same instants in every bank that sees the same changes.
+  const bool same_window = std::floor(time_s / kRebase_s) == std::floor(base_s / kRebase_s);
+  if (smooth && stopped_here && same_window) {
+    // Continue: P and Q stay continuous, the new voltages hold from here.
+    for (std::size_t q = 0; q < blocks.size(); ++q) {
+      double p = 0, q_value = 0;
+      Integrals(t_cvode, static_cast<int>(q), &p, &q_value);
+      segment_p[q] = p;
+      segment_q[q] = q_value;
+    }
+    segment_s = t_cvode;
+    segment_voltage_V = voltage_V;
+  } else {
+    // CVODE went past the change (it did not know when it would come), or
+    // this is the first change of a kRebase_s window: start again here, which is
+    // gentler than a plain restart (eta has no kink at a restart).
+    RestartAt(true);
+  }
+  SetSmoothStop(period_s);
+}
+
+void IpmcActuatorBank::Impl::Integrate(double t_s) {
+  last_cvode_message.clear();
+  realtype t_returned = time_s;
+  for (;;) {
+    const int flag = CVode(cvode.get(), t_s, y_vector.get(), &t_returned, CV_NORMAL);
+    if (flag < 0) {
+      // CVODE left the solution of its last successful step in eta:
+      // continue from there (after a restart) if the caller retries.
+      time_s = std::max(time_s, static_cast<double>(t_returned));
+      StateFromEta(t_returned);
+      pending_restart = PendingRestart::kPlain;
+      ThrowSolverFailure(flag);
+    }
+    // At a stop CVODE drops the stop time. A stop where the voltages are
+    // expected to change next is followed, unless they do change there
+    // (OnVoltageChange sets a new stop), by one where a hold ends: there
+    // the voltages have held for kRebase_s, P and Q would only grow, and
+    // the plain form goes on.
+    if (flag == CV_TSTOP_RETURN && smooth) {
+      const double hold_end_s = segment_s + kRebase_s;
+      if (t_returned >= hold_end_s - Unresolvable_s(t_returned, hold_end_s)) {
+        time_s = t_returned;
+        StateFromEta(t_returned);
+        RestartAt(false);
+      } else {
+        Check(CVodeSetStopTime(cvode.get(), hold_end_s), "CVodeSetStopTime");
+      }
+    }
+    if (flag != CV_TSTOP_RETURN || t_s - t_returned <= Unresolvable_s(t_s, t_returned)) break;
+  }
+  StateFromEta(t_returned);
+  time_s = t_s;
 }
 
 void IpmcActuatorBank::AdvanceTo(double t_s) {
@@ -494,34 +795,29 @@ void IpmcActuatorBank::AdvanceTo(double t_s) {
   }
   // CVODE cannot resolve an interval below a few ulps of t; such a step
   // leaves the state unchanged.
-  const double resolvable =
-      8.0 * std::numeric_limits<double>::epsilon() *
-      std::max({1.0, std::abs(t_s), std::abs(impl.time_s)});
-  if (t_s - impl.time_s <= resolvable) return;
-  void* mem = impl.cvode.get();
-  if (impl.reinit_pending) {
-    long steps = 0;
-    impl.Check(CVodeGetNumSteps(mem, &steps), "CVodeGetNumSteps");
-    impl.steps_before_reinit += steps;
-    // state holds x(time_s): restart there so no step taken with the old
-    // input beyond time_s is used.
-    impl.Check(CVodeReInit(mem, impl.time_s, impl.y_vector.get()),
-               "CVodeReInit");
-    ++impl.reinitialisations;
-    impl.reinit_pending = false;
+  if (t_s - impl.time_s <= Unresolvable_s(t_s, impl.time_s)) return;
+  if (impl.pending_restart != Impl::PendingRestart::kNone) {
+    // The restart takes any new voltages; a change at this instant is the
+    // first the bank knows of.
+    impl.last_change_s =
+        impl.voltage_changed ? impl.time_s : std::numeric_limits<double>::quiet_NaN();
+    // A state at rest restarts in the plain form whichever restart asked
+    // for it, so that a bank reset (or new) and then saved or restored
+    // steps as a new one does.
+    const bool smooth_form = impl.pending_restart == Impl::PendingRestart::kSmooth &&
+                             (impl.state.array() != 0.0).any();
+    impl.RestartAt(smooth_form);
+    impl.period_known = false;
+  } else if (impl.voltage_changed) {
+    impl.OnVoltageChange();
   }
-  impl.last_cvode_message.clear();
-  realtype t_returned = impl.time_s;
-  const int flag =
-      CVode(mem, t_s, impl.y_vector.get(), &t_returned, CV_NORMAL);
-  if (flag < 0) {
-    // CVODE left the solution of its last successful step in the state:
-    // continue from there (after a restart) if the caller retries.
-    impl.time_s = std::max(impl.time_s, static_cast<double>(t_returned));
-    impl.reinit_pending = true;
-    impl.ThrowSolverFailure(flag);
+  impl.pending_restart = Impl::PendingRestart::kNone;
+  impl.voltage_changed = false;
+  if (impl.smooth && !impl.period_known) {
+    impl.Check(CVodeSetStopTime(impl.cvode.get(), std::min(t_s, impl.segment_s + kRebase_s)),
+               "CVodeSetStopTime");
   }
-  impl.time_s = t_s;
+  impl.Integrate(t_s);
 }
 
 double IpmcActuatorBank::FreeTipDeflection_mm(int link) const {
@@ -546,7 +842,8 @@ void IpmcActuatorBank::Reset(double t0_s) {
   }
   impl_->state.setZero();
   impl_->time_s = t0_s;
-  impl_->reinit_pending = true;
+  impl_->pending_restart = Impl::PendingRestart::kPlain;
+  impl_->voltage_changed = false;  // the restart takes the voltages as they are
 }
 
 void IpmcActuatorBank::SetState(double t_s, const Eigen::VectorXd& state) {
@@ -564,12 +861,16 @@ void IpmcActuatorBank::SetState(double t_s, const Eigen::VectorXd& state) {
   if (!state.allFinite()) {
     throw std::invalid_argument("ipmc actuator: state values must be finite");
   }
-  impl_->state = state;  // keeps the storage y_vector wraps
+  impl_->state = state;
   impl_->time_s = t_s;
-  impl_->reinit_pending = true;
+  impl_->pending_restart = Impl::PendingRestart::kSmooth;
+  impl_->voltage_changed = false;  // the restart takes the voltages as they are
 }
 
-void IpmcActuatorBank::Restart() { impl_->reinit_pending = true; }
+void IpmcActuatorBank::Restart() {
+  impl_->pending_restart = Impl::PendingRestart::kSmooth;
+  impl_->voltage_changed = false;
+}
 
 const Eigen::VectorXd& IpmcActuatorBank::State() const {
   return impl_->state;

@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace ipmc::serial_kernels {
 namespace {
@@ -170,27 +171,58 @@ booleantype InvTest(N_Vector x, N_Vector z) {
   return ok;
 }
 
+// The data of `count` vectors, gathered once so that the element loops do
+// not chase each vector's content pointer per element.
+class DataPointers {
+ public:
+  DataPointers(int count, N_Vector* v) : heap_(count > kInline ? count : 0) {
+    data_ = count > kInline ? heap_.data() : inline_;
+    for (int k = 0; k < count; ++k) data_[k] = Data(v[k]);
+  }
+  double* operator[](int k) const { return data_[k]; }
+
+ private:
+  static constexpr int kInline = 16;
+  double* inline_[kInline];
+  std::vector<double*> heap_;
+  double** data_;
+};
+
 // z = sum_k c[k] X[k], summed in k order; -1 for count < 1.
 int LinearCombination(int count, realtype* c, N_Vector* x, N_Vector z) {
   if (count < 1) return -1;
   double* zd = Data(z);
   const sunindextype n = Length(z);
+  const DataPointers xd(count, x);
   for (sunindextype i = 0; i < n; ++i) {
-    double sum = c[0] * Data(x[0])[i];
-    for (int k = 1; k < count; ++k) sum += c[k] * Data(x[k])[i];
+    double sum = c[0] * xd[0][i];
+    for (int k = 1; k < count; ++k) sum += c[k] * xd[k][i];
     zd[i] = sum;
   }
   return 0;
 }
 
-// Z[k] = a[k] x + Y[k]; -1 for count < 1.
+// Z[k] = a[k] x + Y[k]; -1 for count < 1. Vector by vector unless x is one
+// of the Z[k] (then element by element, reading x_i before any write).
 int ScaleAddMulti(int count, realtype* a, N_Vector x, N_Vector* y, N_Vector* z) {
   if (count < 1) return -1;
   const double* xd = Data(x);
   const sunindextype n = Length(x);
+  const DataPointers yd(count, y), zd(count, z);
+  bool x_is_written = false;
+  for (int k = 0; k < count; ++k) x_is_written |= zd[k] == xd;
+  if (!x_is_written) {
+    for (int k = 0; k < count; ++k) {
+      const double ak = a[k];
+      const double* yk = yd[k];
+      double* zk = zd[k];
+      for (sunindextype i = 0; i < n; ++i) zk[i] = ak * xd[i] + yk[i];
+    }
+    return 0;
+  }
   for (sunindextype i = 0; i < n; ++i) {
     const double xi = xd[i];
-    for (int k = 0; k < count; ++k) Data(z[k])[i] = a[k] * xi + Data(y[k])[i];
+    for (int k = 0; k < count; ++k) zd[k][i] = a[k] * xi + yd[k][i];
   }
   return 0;
 }

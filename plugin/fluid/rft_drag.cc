@@ -199,16 +199,21 @@ RftDrag::RftDrag(const mjModel* m, const RftDragConfig& config)
   }
 }
 
+// The geom centre's velocity as mj_objectVelocity gives it in the world
+// frame: the body's cvel = [w; v] is the spatial velocity at the subtree
+// centre of mass c of its root, so the centre p moves with v + w x (p - c).
 Segment RftDrag::SegmentOf(const mjModel* m, const mjData* d, const SlenderGeom& geom) {
-  mjtNum velocity[6];  // [angular; linear] at the geom centre, world frame
-  mj_objectVelocity(m, d, mjOBJ_GEOM, geom.geom_id, velocity, 0);
+  const int body = m->geom_bodyid[geom.geom_id];
+  const mjtNum* cvel = d->cvel + 6 * body;
   const mjtNum* xmat = d->geom_xmat + 9 * geom.geom_id;  // row-major
   Segment segment;
   segment.center_W = Eigen::Vector3d(d->geom_xpos + 3 * geom.geom_id);
   segment.tangent_W = Eigen::Vector3d(xmat[geom.axis], xmat[3 + geom.axis], xmat[6 + geom.axis]);
   segment.length_m = geom.length_m;
-  segment.angular_velocity_W = Eigen::Vector3d(velocity[0], velocity[1], velocity[2]);
-  segment.velocity_center_W = Eigen::Vector3d(velocity[3], velocity[4], velocity[5]);
+  segment.angular_velocity_W = Eigen::Vector3d(cvel[0], cvel[1], cvel[2]);
+  const Eigen::Vector3d c(d->subtree_com + 3 * m->body_rootid[body]);
+  segment.velocity_center_W = Eigen::Vector3d(cvel[3], cvel[4], cvel[5]) +
+                              segment.angular_velocity_W.cross(segment.center_W - c);
   return segment;
 }
 
@@ -219,16 +224,40 @@ std::vector<Segment> RftDrag::Segments(const mjModel* m, const mjData* d) const 
   return segments;
 }
 
+// J^T of every segment's wrench in one pass over the tree, what
+// mj_applyFT computes one wrench at a time (through a Jacobian per
+// segment). MuJoCo's dof motions cdof = [w_j; v_j] are given at the
+// subtree centre of mass c of each body's root, where a force F at p with
+// torque T is the wrench [T + (p - c) x F; F]; the generalised force of
+// dof j is cdof_j . (the sum of the wrenches on the subtree of its body),
+// summed leaf to root.
 void RftDrag::Apply(const mjModel* m, mjData* d) const {
+  mjMARKSTACK
+  mjtNum* wrench_c = mj_stackAlloc(d, 6 * m->nbody);  // [torque; force] at c, per body
+  mju_zero(wrench_c, 6 * m->nbody);
   for (const SlenderGeom& geom : slender_) {
     const Segment segment = SegmentOf(m, d, geom);
     const Wrench wrench = SegmentDragExact(segment, coefficients_);
-    mjtNum force[3] = {wrench.force_W.x(), wrench.force_W.y(), wrench.force_W.z()};
-    mjtNum torque[3] = {wrench.torque_center_W.x(), wrench.torque_center_W.y(),
-                        wrench.torque_center_W.z()};
-    mjtNum point[3] = {segment.center_W.x(), segment.center_W.y(), segment.center_W.z()};
-    mj_applyFT(m, d, force, torque, point, m->geom_bodyid[geom.geom_id], d->qfrc_passive);
+    const int body = m->geom_bodyid[geom.geom_id];
+    const Eigen::Vector3d c(d->subtree_com + 3 * m->body_rootid[body]);
+    const Eigen::Vector3d torque_c =
+        wrench.torque_center_W + (segment.center_W - c).cross(wrench.force_W);
+    mjtNum* target = wrench_c + 6 * body;
+    for (int i = 0; i < 3; ++i) {
+      target[i] += torque_c[i];
+      target[3 + i] += wrench.force_W[i];
+    }
   }
+  // Bodies are numbered parents first; a tree's wrenches stop at its root.
+  for (int body = m->nbody - 1; body > 0; --body) {
+    const int parent = m->body_parentid[body];
+    if (parent == 0 || m->body_rootid[parent] != m->body_rootid[body]) continue;
+    for (int i = 0; i < 6; ++i) wrench_c[6 * parent + i] += wrench_c[6 * body + i];
+  }
+  for (int dof = 0; dof < m->nv; ++dof) {
+    d->qfrc_passive[dof] += mju_dot(d->cdof + 6 * dof, wrench_c + 6 * m->dof_bodyid[dof], 6);
+  }
+  mjFREESTACK
 }
 
 }  // namespace ipmc

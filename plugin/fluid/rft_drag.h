@@ -7,7 +7,8 @@
 // velocity w, u(s) = v_c + s (w x t), s in [-L/2, L/2]. Integrated exactly:
 //   F   = -L R v_c,                  R = xi_t t t^T + xi_n (I - t t^T)
 //   T_c = -xi_n L^3 / 12 (w - (w.t) t)      (torque about the centre)
-// The wrench is added to qfrc_passive with mj_applyFT from mjcb_passive.
+// The wrenches are added to qfrc_passive from mjcb_passive as J^T [F; T],
+// what mj_applyFT gives, for all segments in one pass over the tree.
 //
 // Coefficients [N s/m^2] from the viscosity mu, the equivalent radius a and
 // the wavelength lambda:

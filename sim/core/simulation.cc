@@ -60,6 +60,25 @@ std::string Diverged(const mjModel* m, const mjData* d) {
 
 }  // namespace
 
+bool UseEulerWhereImplicitAddsNothing(mjModel* m) {
+  if (m->opt.integrator != mjINT_IMPLICIT) return false;
+  if (m->opt.density > 0 || m->opt.viscosity > 0) return false;
+  for (int t = 0; t < m->ntendon; ++t) {
+    if (m->tendon_damping[t] != 0) return false;
+  }
+  for (int a = 0; a < m->nu; ++a) {
+    // gain = gainprm[0] + gainprm[1] length + gainprm[2] velocity (affine),
+    // bias = biasprm[0] + biasprm[1] length + biasprm[2] velocity.
+    const bool gain_velocity =
+        m->actuator_gaintype[a] == mjGAIN_AFFINE && m->actuator_gainprm[mjNGAIN * a + 2] != 0;
+    const bool bias_velocity =
+        m->actuator_biastype[a] == mjBIAS_AFFINE && m->actuator_biasprm[mjNBIAS * a + 2] != 0;
+    if (gain_velocity || bias_velocity) return false;
+  }
+  m->opt.integrator = mjINT_EULER;
+  return true;
+}
+
 ModelPtr LoadModelFile(const std::string& path) {
   std::error_code status;
   if (std::filesystem::is_directory(path, status)) {
@@ -106,9 +125,17 @@ Simulation::Simulation(ModelPtr m, const std::string& source,
 
 Simulation::~Simulation() { Detach(data_.get()); }
 
-void Simulation::Step() {
+void Simulation::Step(bool compute_sensors) {
+  mjModel* m = model_.get();
   const double time_s = data_->time;
-  mj_step(model_.get(), data_.get());
+  if (compute_sensors) {
+    mj_step(m, data_.get());
+  } else {
+    const int flags = m->opt.disableflags;
+    m->opt.disableflags = flags | mjDSBL_SENSOR;
+    mj_step(m, data_.get());
+    m->opt.disableflags = flags;
+  }
   CheckState(time_s);
 }
 

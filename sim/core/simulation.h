@@ -25,6 +25,18 @@ ModelPtr LoadModelFile(const std::string& path);
 // Loads MJCF text (written to a private temporary file for MuJoCo's parser).
 ModelPtr LoadModelString(const std::string& xml);
 
+// Switches m from MuJoCo's implicit integrator to its Euler integrator
+// where the two treat the same forces implicitly: MuJoCo 2.2's implicit
+// step differs from Euler only in the velocity derivatives of the
+// actuator forces (velocity gains and biases), of tendon damping and of
+// its own fluid model, while Euler too integrates the joints' damping
+// implicitly; the callback forces are explicit in both. So with none of
+// those three in the model Euler gives the same stability at 0.4 of the
+// cost of a step (README, "Time step and integrator"). The closed-loop and
+// bench runs call it; a gait's servos have velocity gains and keep
+// implicit. Returns true if it switched.
+bool UseEulerWhereImplicitAddsNothing(mjModel* m);
+
 class Simulation {
  public:
   // Takes ownership of m, makes its data and attaches the coupling, with
@@ -44,8 +56,12 @@ class Simulation {
 
   // One mj_step; throws std::runtime_error naming the time and what
   // diverged if MuJoCo reports a bad state (and resets it) or a position,
-  // velocity or force stops being finite.
-  void Step();
+  // velocity or force stops being finite. With compute_sensors = false
+  // MuJoCo skips its sensor stages in this step and sensordata keeps the
+  // values of the last step that computed them, for a caller that reads the
+  // sensors only every few steps (MuJoCo fills sensordata during the step,
+  // from the state at its start).
+  void Step(bool compute_sensors = true);
 
  private:
   // Throws std::runtime_error naming the step's start time and what

@@ -46,7 +46,8 @@ class SwimMeter {
   BodyPose Pose(const mjData* d) const;
   // Marks the start of the run and of its first cycle.
   void Start(const mjData* d);
-  // After every step: tracks the peak lateral tip speed.
+  // After every step: tracks the peak lateral tip speed (of the state at
+  // the start of the step, like sensordata).
   void Observe(const mjModel* m, const mjData* d);
   // At the end of each cycle: records its net displacement.
   void EndCycle(const mjData* d);

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -85,6 +86,14 @@ class FrozenWave {
     return wave_.c_um * std::pow(x_mm, wave_.alpha);
   }
 
+  double MaxAbsEnvelope_um(double a_mm, double b_mm) const {
+    const double x = std::max(std::abs(a_mm), std::abs(b_mm));
+    if (wave_.kind == WaveformKind::kPolynomial) {
+      return std::abs(wave_.c0_um) + (std::abs(wave_.c1_um_per_mm) + std::abs(wave_.c2_um_per_mm2) * x) * x;
+    }
+    return std::abs(wave_.c_um) * std::pow(b_mm, wave_.alpha);
+  }
+
   double EnvelopeSlope_um_per_mm(double x_mm) const {
     if (wave_.kind == WaveformKind::kPolynomial) {
       return wave_.c1_um_per_mm + 2.0 * wave_.c2_um_per_mm2 * x_mm;
@@ -95,6 +104,36 @@ class FrozenWave {
 
   double Y_um(double x_mm) const { return Envelope_um(x_mm) * std::sin(Phase(x_mm)); }
   double Y_mm(double x_mm) const { return Y_um(x_mm) * kMmPerUm; }
+
+  // Y_mm and Slope at x > 0 from one phase, its sine and its cosine: the
+  // same expressions, so the same numbers bit for bit.
+  void YAndSlope(double x_mm, double* y_mm, double* slope) const {
+    const double phase = Phase(x_mm);
+    const double sine = std::sin(phase);
+    const double envelope_um = Envelope_um(x_mm);
+    *y_mm = envelope_um * sine * kMmPerUm;
+    *slope = (EnvelopeSlope_um_per_mm(x_mm) * sine +
+              envelope_um * wavenumber_per_mm_ * std::cos(phase)) *
+             kMmPerUm;
+  }
+
+  // Upper bounds on |y| [mm] and on |dy/dx| over [a, b], with a >= 0 for
+  // the fractional wave (whose slope is unbounded at x = 0: infinity).
+  // Polynomial: |E(x)| <= |c0| + |c1| X + |c2| X^2, |E'(x)| <= |c1| + 2 |c2| X
+  // with X = max(|a|, |b|); fractional: |E| <= |c| b^alpha, and
+  // |E'| <= |c| alpha a^(alpha - 1) (alpha <= 1). |dy/dx| <= |E'| + |E| k.
+  double MaxAbsY_mm(double a_mm, double b_mm) const { return MaxAbsEnvelope_um(a_mm, b_mm) * kMmPerUm; }
+  double MaxAbsSlope(double a_mm, double b_mm) const {
+    const double x = std::max(std::abs(a_mm), std::abs(b_mm));
+    double envelope_slope = 0.0;
+    if (wave_.kind == WaveformKind::kPolynomial) {
+      envelope_slope = std::abs(wave_.c1_um_per_mm) + 2.0 * std::abs(wave_.c2_um_per_mm2) * x;
+    } else if (wave_.c_um != 0.0) {
+      if (!(a_mm > 0.0) && wave_.alpha < 1.0) return std::numeric_limits<double>::infinity();
+      envelope_slope = std::abs(wave_.c_um) * wave_.alpha * std::pow(a_mm, wave_.alpha - 1.0);
+    }
+    return (envelope_slope + MaxAbsEnvelope_um(a_mm, b_mm) * wavenumber_per_mm_) * kMmPerUm;
+  }
 
   // dy/dx [mm/mm] at x > 0.
   double Slope(double x_mm) const {
@@ -123,15 +162,27 @@ struct ChordResidual {
   double Slope(double x_mm) const {
     return 2.0 * (x_mm - x0_mm) + 2.0 * (wave.Y_mm(x_mm) - y0_mm) * wave.Slope(x_mm);
   }
+  // Value and Slope together, bit for bit, from one YAndSlope.
+  void ValueAndSlope(double x_mm, double* value, double* slope) const {
+    double y_mm = 0.0, wave_slope = 0.0;
+    wave.YAndSlope(x_mm, &y_mm, &wave_slope);
+    const double dx = x_mm - x0_mm;
+    const double dy = y_mm - y0_mm;
+    *value = dx * dx + dy * dy - pitch_mm * pitch_mm;
+    *slope = 2.0 * (x_mm - x0_mm) + 2.0 * (y_mm - y0_mm) * wave_slope;
+  }
 };
 
-// Root of `residual` in [lo, hi] given residual(lo) < 0 <= residual(hi).
-double RefineCrossing(const ChordResidual& residual, double lo, double hi) {
-  double x = 0.5 * (lo + hi);
+// Root of `residual` in [lo, hi] given g_lo = residual(lo) < 0 < g_hi =
+// residual(hi), by safeguarded Newton from the secant point of the bracket.
+double RefineCrossing(const ChordResidual& residual, double lo, double g_lo, double hi,
+                      double g_hi) {
+  double x = lo + (hi - lo) * (g_lo / (g_lo - g_hi));
+  if (!(x > lo && x < hi)) x = 0.5 * (lo + hi);
   double step = hi - lo;
   double previous_step = step;
-  double g = residual.Value(x);
-  double dg = residual.Slope(x);
+  double g = 0.0, dg = 0.0;
+  residual.ValueAndSlope(x, &g, &dg);
   for (int iteration = 0; iteration < kMaxRootIterations; ++iteration) {
     if (g == 0.0) return x;
     if (g < 0.0) {
@@ -154,8 +205,7 @@ double RefineCrossing(const ChordResidual& residual, double lo, double hi) {
       x = lo + step;
     }
     if (std::abs(step) < kRootStep_mm || x <= lo || x >= hi) return x;
-    g = residual.Value(x);
-    dg = residual.Slope(x);
+    residual.ValueAndSlope(x, &g, &dg);
   }
   return x;
 }
@@ -168,13 +218,34 @@ double NextJointX(const FrozenWave& wave, double wavelength_mm, double x0_mm, do
   const int steps =
       static_cast<int>(std::clamp(steps_by_wavelength, static_cast<double>(kMinMarchSteps),
                                   static_cast<double>(kMaxMarchSteps)));
-  double lo = x0_mm;
-  for (int k = 1; k <= steps; ++k) {
+  const auto sample_x = [&](int k) {
     // The last sample is exactly x0 + s, where the chord is at least s.
-    const double hi = k == steps ? x0_mm + pitch_mm : x0_mm + pitch_mm * k / steps;
+    return k == steps ? x0_mm + pitch_mm : x0_mm + pitch_mm * k / steps;
+  };
+  // Samples closer to x0 than `inside_mm` lie strictly inside the circle
+  // of radius s around (x0, y0), where the residual is negative: with
+  // |y(x) - y0| <= min(Y + |y0|, L (x - x0)), Y and L bounding |y| and
+  // |dy/dx| on [x0, x0 + s], the chord is below s while
+  // dx < max(sqrt(s^2 - (Y + |y0|)^2), s / sqrt(1 + L^2)). Skipping them
+  // (with a margin far above rounding) leaves the first crossing, and the
+  // bracket around it, as the full march gives them.
+  const double reach_mm = wave.MaxAbsY_mm(x0_mm, x0_mm + pitch_mm) + std::abs(y0_mm);
+  const double slope = wave.MaxAbsSlope(x0_mm, x0_mm + pitch_mm);
+  double inside_mm = std::isfinite(slope) ? pitch_mm / std::sqrt(1.0 + slope * slope) : 0.0;
+  if (reach_mm < pitch_mm) {
+    inside_mm = std::max(inside_mm, std::sqrt(pitch_mm * pitch_mm - reach_mm * reach_mm));
+  }
+  inside_mm *= 1.0 - 1e-9;
+  int first = 1;
+  while (first < steps && sample_x(first) - x0_mm < inside_mm) ++first;
+  double lo = first == 1 ? x0_mm : sample_x(first - 1);
+  double g_lo = first == 1 ? -pitch_mm * pitch_mm : residual.Value(lo);
+  for (int k = first; k <= steps; ++k) {
+    const double hi = sample_x(k);
     const double g = residual.Value(hi);
-    if (g >= 0.0) return g == 0.0 ? hi : RefineCrossing(residual, lo, hi);
+    if (g >= 0.0) return g == 0.0 ? hi : RefineCrossing(residual, lo, g_lo, hi, g);
     lo = hi;
+    g_lo = g;
   }
   // Unreachable for finite values: at x0 + s the chord is at least s.
   return x0_mm + pitch_mm;

@@ -58,6 +58,7 @@ BenchRecord RunBench(Simulation& sim, const BenchSignal& signal, double record_f
                      const BenchProgress& progress) {
   signal.Validate();
   mjModel* m = sim.model();
+  UseEulerWhereImplicitAddsNothing(m);  // no servo: Euler suffices
   mjData* d = sim.data();
   const LinkSensors sensors(m, d, sim.source());
   const IpmcActuators& actuators = *FindCoupling(d)->actuators;
@@ -105,7 +106,8 @@ BenchRecord RunBench(Simulation& sim, const BenchSignal& signal, double record_f
       }
       if (progress) progress(d->time);
     }
-    sim.Step();
+    // The sensors are read at the next sample, from this step's values.
+    sim.Step((step + 1) % steps_per_sample == 0);
   }
   return record;
 }

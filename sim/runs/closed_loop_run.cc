@@ -115,6 +115,7 @@ ModelPtr LoadScenarioModel(const ScenarioConfig& scenario, std::string* source) 
 std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenario) {
   std::string source;
   ModelPtr model = LoadScenarioModel(scenario, &source);
+  UseEulerWhereImplicitAddsNothing(model.get());  // as RunClosedLoop steps it
   IpmcActuatorsOverrides overrides;
   overrides.plants = scenario.plants;
   return std::make_unique<Simulation>(std::move(model), source, overrides);
@@ -129,6 +130,7 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
                                const SampleObserver& observer) {
   scenario.waveform.Validate();
   mjModel* m = sim.model();
+  UseEulerWhereImplicitAddsNothing(m);  // no servo: Euler suffices
   mjData* d = sim.data();
   const LinkSensors sensors(m, d, sim.source());
   const int links = sensors.Links();
@@ -203,7 +205,9 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
         }
         ++samples;
       }
-      sim.Step();
+      // The sensors are read at the next sample, from this step's values.
+      const long next = step + 1 == steps_per_cycle ? 0 : step + 1;
+      sim.Step(next % steps_per_sample == 0);
       meter.Observe(m, d);
     }
     meter.EndCycle(d);

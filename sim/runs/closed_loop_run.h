@@ -93,7 +93,9 @@ ModelPtr LoadScenarioModel(const ScenarioConfig& scenario, std::string* source);
 std::string ScenarioModelSha256(const ScenarioConfig& scenario);
 
 // The scenario's model (LoadScenarioModel) with the scenario's plants
-// imposed, attached.
+// imposed, attached, on the integrator RunClosedLoop steps it with
+// (UseEulerWhereImplicitAddsNothing), so that a caller stepping it itself
+// gets the run's numbers.
 std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenario);
 
 // Loads the scenario's model (LoadScenarioSimulation) and runs it. Throws
