@@ -19,6 +19,13 @@
 namespace ipmc {
 namespace {
 
+// A run's printed output without its last line, "wrote DIR/...", which
+// names the run's own folder.
+std::string WithoutWrittenLine(const std::string& output) {
+  const std::size_t wrote = output.rfind("wrote ");
+  return wrote == std::string::npos ? output : output.substr(0, wrote);
+}
+
 namespace fs = std::filesystem;
 using testing::CommandResult;
 using testing::FreshDir;
@@ -74,7 +81,7 @@ TEST_F(Provenance, ARunMadeAgainFromItsSummaryIsTheSameBitForBit) {
   const CommandResult again = RunCli("run " + Quoted(dir_ / "a" / "summary.json") + " --out " +
                                      Quoted(dir_ / "b"));
   ASSERT_EQ(again.exit_code, 0) << again.output;
-  EXPECT_EQ(again.output, first.output);
+  EXPECT_EQ(WithoutWrittenLine(again.output), WithoutWrittenLine(first.output));
   EXPECT_EQ(ReadFile(dir_ / "b" / "timeseries.csv"), ReadFile(dir_ / "a" / "timeseries.csv"));
   EXPECT_EQ(ReadFile(dir_ / "b" / "states.csv"), ReadFile(dir_ / "a" / "states.csv"));
   nlohmann::json b = Summary(dir_ / "b");
@@ -112,7 +119,7 @@ TEST_F(Provenance, SetAndCyclesActLikeTheKeysInTheFile) {
   const CommandResult set = RunCli("run " + Quoted(scenario_) + " --set controller.kp=4.0" +
                                    " --cycles 2 --out " + Quoted(dir_ / "set"));
   ASSERT_EQ(set.exit_code, 0) << set.output;
-  EXPECT_EQ(set.output, file.output);
+  EXPECT_EQ(WithoutWrittenLine(set.output), WithoutWrittenLine(file.output));
   EXPECT_EQ(ReadFile(dir_ / "set" / "timeseries.csv"), ReadFile(dir_ / "file" / "timeseries.csv"));
   const nlohmann::json inputs = Summary(dir_ / "set")["inputs"];
   EXPECT_EQ(inputs["resolved_scenario"], Summary(dir_ / "file")["inputs"]["resolved_scenario"]);

@@ -1,12 +1,14 @@
 #include "sim/cli/plot_command.h"
 
 #include <cstdio>
+#include <filesystem>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
 #include "sim/cli/command.h"
 #include "sim/io/error.h"
+#include "sim/io/files.h"
 
 namespace ipmc {
 namespace {
@@ -53,7 +55,13 @@ void ValidateOptions(const CLI::App& command, const PlotArgs& args) {
 }
 
 int RunPlot(const CLI::App& command, const PlotArgs& args) {
+  // The input, or a file of the input folder (a run's outputs).
+  const std::filesystem::path out(args.out_path);
+  RefuseOverwritingInputs(
+      "plot", "--out", args.out_path,
+      {args.input_path, (std::filesystem::path(args.input_path) / out.filename()).string()});
   ValidateOptions(command, args);
+  RequireWritableParent(args.out_path);
   const FigureReport report =
       DrawFigureOf(FigureKindOf(args.kind), args.input_path, args.figure, args.out_path);
   std::printf("plot %s of %s written to %s\n  %s\n", args.kind.c_str(), args.input_path.c_str(),
