@@ -30,13 +30,7 @@ namespace fs = std::filesystem;
 using testing::CommandResult;
 using testing::FreshDir;
 using testing::RunCli;
-
-std::string ReadFile(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  std::stringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
+using testing::ReadFile;
 
 std::string Quoted(const fs::path& path) { return "'" + path.string() + "'"; }
 

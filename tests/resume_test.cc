@@ -32,17 +32,10 @@ namespace fs = std::filesystem;
 using testing::CountLines;
 using testing::FreshDir;
 using testing::RunCli;
+using testing::ReadFile;
+using testing::WriteFile;
 
 const fs::path kSourceDir = IPMC_SWIM_SOURCE_DIR;
-
-std::string ReadFile(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  std::ostringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
-
-void WriteFile(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
 
 // A base scenario of one wave period at 0.5 ms steps: 0.1 s of CPU at
 // `frequency_Hz` = 0.5 (4000 steps); slower waves run longer.

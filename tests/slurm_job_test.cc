@@ -24,17 +24,10 @@ namespace {
 namespace fs = std::filesystem;
 using testing::CountLines;
 using testing::RunCli;
+using testing::ReadFile;
+using testing::WriteFile;
 
 const fs::path kSourceDir = IPMC_SWIM_SOURCE_DIR;
-
-std::string ReadFile(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  std::ostringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
-
-void WriteFile(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
 
 std::string TimeError(const std::string& text) {
   try {

@@ -19,11 +19,13 @@
 
 #include "sim/runs/closed_loop_run.h"
 #include "sim/cli/sweep_command.h"
+#include "tests/cli_util.h"
 
 namespace ipmc {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::ReadFile;
 
 const fs::path kSourceDir = IPMC_SWIM_SOURCE_DIR;
 
@@ -46,13 +48,6 @@ constexpr char kEightPoints[] =
     "\"waveform.frequency_Hz\" = [0.5, 1.0]\n"
     "actuation = [\"single\", \"distributed\"]\n"
     "controller.kp = [8.12, 4]\n";
-
-std::string ReadFile(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  std::ostringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
 
 // A fresh directory per test holding fast.toml.
 class SweepTest : public ::testing::Test {

@@ -42,6 +42,7 @@ class FilmProgressBar {
         started_ = true;
       }
       bar_.Update(done);
+      if (!interrupt_.Requested()) return;
       interrupt_.ThrowIfRequested(FormatText("stopped at frame %d of %d; %s", done, total,
                                              kept_.c_str()));
     };

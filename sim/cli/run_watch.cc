@@ -26,6 +26,7 @@ void RunWatch::At(double t_s) {
     bar_.Update(whole_s);
     shown_s_ = whole_s;
   }
+  if (!interrupt_.Requested()) return;
   interrupt_.ThrowIfRequested(FormatText("stopped at t = %.4g s of %.4g s; %s", t_s, total_s_,
                                          not_written_.c_str()));
 }
