@@ -14,7 +14,7 @@ fi
 bin="$root/build/sim/ipmc-swim"
 out="$root/out/default"
 "$bin" run "$root/scenarios/paper.toml" --out "$out" --video "$out/swim.mp4"
-"$bin" bode --controller pid --out "$out/bode" > /dev/null
+"$bin" bode --controller pid --links 3 --out "$out/bode" > /dev/null
 "$bin" step --controller pid --no-clamp --out "$out/step" > /dev/null
 # Each figure as PDF (for a paper) and PNG (for a screen).
 for format in pdf png; do

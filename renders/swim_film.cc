@@ -131,8 +131,8 @@ std::string Speedup(double factor) {
 }  // namespace
 
 void FilmConfig::Validate() const {
-  if (width <= 0 || width % 2 != 0) ThrowOption("--width", "positive and even", width);
-  if (height <= 0 || height % 2 != 0) ThrowOption("--height", "positive and even", height);
+  if (width <= 0 || width % 2 != 0) ThrowOption("--width-px", "positive and even", width);
+  if (height <= 0 || height % 2 != 0) ThrowOption("--height-px", "positive and even", height);
   if (!(fps > 0.0 && fps <= 1000.0)) ThrowOption("--fps", "in (0, 1000]", fps);
   if (frames_per_cycle < 1 || frames_per_cycle > kMaxFramesPerCycle) {
     ThrowOption("--frames-per-cycle", "in [1, " + std::to_string(kMaxFramesPerCycle) + "]",
@@ -169,7 +169,7 @@ void CheckFilmFits(const mjModel* m, const FilmConfig& config) {
   try {
     OffscreenRenderer::CheckImageSize(m, config.width, config.height);
   } catch (const std::invalid_argument& error) {
-    throw std::invalid_argument(std::string("video: --width/--height: ") + error.what());
+    throw std::invalid_argument(std::string("video: --width-px/--height-px: ") + error.what());
   }
 }
 

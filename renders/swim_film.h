@@ -120,7 +120,7 @@ struct RunRecording {
 // field.
 RunRecording LoadRunRecording(const std::string& dir);
 
-// Throws std::invalid_argument naming --width/--height and the model's
+// Throws std::invalid_argument naming --width-px/--height-px and the model's
 // offscreen buffer if the frames do not fit it (checked before a run so a
 // long run does not end in this error).
 void CheckFilmFits(const mjModel* m, const FilmConfig& config);

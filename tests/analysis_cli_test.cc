@@ -95,7 +95,7 @@ void ExpectOneLineError(const CommandResult& result, const std::string& what,
 // DESIGN.md: open loop PID x eq. 7: 31.12 rad/s, 54.1 deg, no finite GM
 // (printed 31.124 rad/s, 54.14 deg). Tolerances cover the printed rounding.
 TEST(AnalysisCli, BodePidOnLink3) {
-  const CommandResult result = RunCli("bode --controller pid --link 3");
+  const CommandResult result = RunCli("bode --controller pid --links 3");
   ASSERT_EQ(result.exit_code, 0) << result.output;
   const BodeNumbers numbers = ParseBode(result.output);
   EXPECT_NEAR(numbers.crossover_rad_s, 31.12, 0.01) << result.output;
@@ -110,7 +110,7 @@ TEST(AnalysisCli, BodePidOnLink3) {
 // DESIGN.md: C_I x eq. 7: 5.075 rad/s, 72.1 deg, 7.88 dB (printed 5.075,
 // 72.07, 7.88); C_I(j5) = 15.21 dB, -55.80 deg.
 TEST(AnalysisCli, BodeFractionalOnLink3) {
-  const CommandResult result = RunCli("bode --controller fractional");
+  const CommandResult result = RunCli("bode --controller fractional --links 3");
   ASSERT_EQ(result.exit_code, 0) << result.output;
   const BodeNumbers numbers = ParseBode(result.output);
   EXPECT_NEAR(numbers.crossover_rad_s, 5.08, 0.01) << result.output;
@@ -122,7 +122,7 @@ TEST(AnalysisCli, BodeFractionalOnLink3) {
 
 // DESIGN.md: eq. 15 x eq. 7: 4.96 rad/s, 76.6 deg (printed 4.960, 76.62).
 TEST(AnalysisCli, BodeEquation15OnLink3) {
-  const CommandResult result = RunCli("bode --controller fractional-eq15 --link 3");
+  const CommandResult result = RunCli("bode --controller fractional-eq15 --links 3");
   ASSERT_EQ(result.exit_code, 0) << result.output;
   const BodeNumbers numbers = ParseBode(result.output);
   EXPECT_NEAR(numbers.crossover_rad_s, 4.96, 0.01) << result.output;
@@ -134,7 +134,7 @@ TEST(AnalysisCli, BodeEquation15OnLink3) {
 // 76.62 deg).
 TEST(AnalysisCli, BodeOustaloupOfOrder06248MatchesEquation15) {
   const CommandResult result =
-      RunCli("bode --controller fractional-oustaloup --order 0.6248 --n 4 --band-rad-s 1e-3,1e2");
+      RunCli("bode --controller fractional-oustaloup --links 3 --order 0.6248 --oustaloup-pairs 4 --band-rad-s 1e-3,1e2");
   ASSERT_EQ(result.exit_code, 0) << result.output;
   const BodeNumbers numbers = ParseBode(result.output);
   EXPECT_NEAR(numbers.crossover_rad_s, 4.96, 0.01) << result.output;
@@ -143,7 +143,7 @@ TEST(AnalysisCli, BodeOustaloupOfOrder06248MatchesEquation15) {
 
 TEST(AnalysisCli, BodeCsvColumns) {
   const fs::path dir = FreshDir("bode_csv");
-  const CommandResult result = RunCli("bode --controller fractional --w-min 0.1 --w-max 100 "
+  const CommandResult result = RunCli("bode --controller fractional --links 3 --w-min 0.1 --w-max 100 "
                                       "--points-per-decade 20 --out " + (dir / "out").string());
   ASSERT_EQ(result.exit_code, 0) << result.output;
   const std::vector<std::string> lines = ReadLines(dir / "out" / "bode.csv");
@@ -248,17 +248,17 @@ TEST(AnalysisCli, StepFractionalMetricsDoNotDependOnTheRecord) {
 TEST(AnalysisCli, BadValuesGiveOneLineAndNoFiles) {
   const fs::path dir = FreshDir("bad");
   const std::string out = " --out " + (dir / "out").string();
-  ExpectOneLineError(RunCli("bode --controller pid --link 4" + out), "--link", dir / "out");
+  ExpectOneLineError(RunCli("bode --controller pid --links 4" + out), "--links", dir / "out");
   ExpectOneLineError(RunCli("step --controller pid --horizon-s -1" + out), "--horizon-s",
                      dir / "out");
   ExpectOneLineError(RunCli("step --controller pid --links 1,4" + out), "--links", dir / "out");
   ExpectOneLineError(RunCli("step --controller pid --max-horizon-s 0" + out), "--max-horizon-s",
                      dir / "out");
-  ExpectOneLineError(RunCli("bode --controller fractional --kp 3" + out),
+  ExpectOneLineError(RunCli("bode --controller fractional --links 3 --kp 3" + out),
                      "--kp does not apply to --controller fractional", dir / "out");
-  ExpectOneLineError(RunCli("bode --controller fractional-oustaloup --band-rad-s 10,1" + out),
+  ExpectOneLineError(RunCli("bode --controller fractional-oustaloup --links 3 --band-rad-s 10,1" + out),
                      "--band-rad-s", dir / "out");
-  ExpectOneLineError(RunCli("bode --controller pi" + out), "--controller", dir / "out");
+  ExpectOneLineError(RunCli("bode --controller pi --links 3" + out), "--controller", dir / "out");
   EXPECT_FALSE(fs::exists(dir / "out"));
 }
 

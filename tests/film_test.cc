@@ -161,7 +161,7 @@ TEST(Film, BodyMovesByTheNetDisplacementAtTheKnownScale) {
   constexpr double kPxPerMm = kWidth / 40.0;
   const CommandResult result =
       RunCli("render " + Quoted(run) + " --out " + Quoted(video) +
-             " --start-cycle 2 --frames-per-cycle 10 --width 1280 --height 720 --view-mm 40 --trail-frames 0");
+             " --start-cycle 2 --frames-per-cycle 10 --width-px 1280 --height-px 720 --view-mm 40 --trail-frames 0");
   ASSERT_EQ(result.exit_code, 0) << result.output;
   EXPECT_NE(result.output.find("rendering: 20/20 frames (100 %)"), std::string::npos)
       << result.output;
@@ -258,7 +258,7 @@ TEST(Film, BadVideoOptionsStopWithOneLineAndNoFile) {
       {"--strip-thickness-mm 20", "--strip-thickness-mm"},
       {"--camera follow --center-mm 1,2", "--center-mm"},
       {"--camera sideways", "--camera"},
-      {"--width 2000", "offwidth"},
+      {"--width-px 2000", "offwidth"},
       {"--start-cycle 2", "--start-cycle"},
       {"--cycles 3", "--cycles"},
   };
@@ -322,7 +322,7 @@ TEST(FilmConfig, NamesTheOptionOutOfRange) {
     ExpectInvalidArgument([&] { config.Validate(); }, option);
   };
   FilmConfig().Validate();
-  expect_bad("--width", [](FilmConfig& c) { c.width = 641; });
+  expect_bad("--width-px", [](FilmConfig& c) { c.width = 641; });
   expect_bad("--fps", [](FilmConfig& c) { c.fps = 0.0; });
   expect_bad("--frames-per-cycle", [](FilmConfig& c) { c.frames_per_cycle = 0; });
   expect_bad("--view-mm", [](FilmConfig& c) { c.view_mm = 2e4; });

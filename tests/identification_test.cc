@@ -715,7 +715,7 @@ TEST(IdentifyCommandTest, BadDataAndOptionsGiveOneLineAndNoFiles) {
   expect_error({"identify", (dir / "short.csv").string(), "--input", "voltage1_V", "--output",
                 "relative1_mm", "--out", out.string()},
                "fewer than the minimum 72");
-  expect_error({"design", "--link", "4"}, "design: --link must be 1, 2 or 3, got 4");
+  expect_error({"design", "--links", "4"}, "design: --links must be 1, 2 or 3, got 4");
   expect_error({"design", "--horizon-s", "0.00015"}, "whole number of samples");
   expect_error({"pipeline", "--repeats", "0"}, "pipeline: --repeats must be in [1, 100], got 0");
   expect_error({"pipeline", "--noise-mm", "-1"}, "--noise-mm must be finite and >= 0");

@@ -136,7 +136,7 @@ fs::path InputsDir() {
 struct ProgramOutputs {
   fs::path bode_csv() const {
     static const std::string failure =
-        RunOrDescribe("bode --controller pid --out " + Quoted(InputsDir() / "bode"));
+        RunOrDescribe("bode --controller pid --links 3 --out " + Quoted(InputsDir() / "bode"));
     return Made(InputsDir() / "bode" / "bode.csv", failure);
   }
   fs::path step_csv() const {
@@ -353,7 +353,7 @@ double NumberAfter(const std::string& text, const std::string& label) {
 TEST_F(PlotCli, BodeMarginsAgreeWithTheBodeCommand) {
   const fs::path dir = FreshDir("margins");
   const std::string pid = ExpectFigure("bode " + Quoted(outputs.bode_csv()), dir / "pid.png");
-  const CommandResult pid_exact = RunCli("bode --controller pid");
+  const CommandResult pid_exact = RunCli("bode --controller pid --links 3");
   ASSERT_EQ(pid_exact.exit_code, 0) << pid_exact.output;
   EXPECT_NEAR(NumberAfter(pid, "Pm = "), NumberAfter(pid_exact.output, "phase margin: "), 0.1);
   const double wc_rad_s = NumberAfter(pid_exact.output, "gain crossover: ");
@@ -361,7 +361,7 @@ TEST_F(PlotCli, BodeMarginsAgreeWithTheBodeCommand) {
   EXPECT_NE(pid.find("Gm = inf"), std::string::npos) << pid;
 
   const CommandResult fractional =
-      RunCli("bode --controller fractional --out " + Quoted(dir / "fractional"));
+      RunCli("bode --controller fractional --links 3 --out " + Quoted(dir / "fractional"));
   ASSERT_EQ(fractional.exit_code, 0) << fractional.output;
   const std::string figure =
       ExpectFigure("bode " + Quoted(dir / "fractional" / "bode.csv"), dir / "fractional.png");

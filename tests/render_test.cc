@@ -291,15 +291,15 @@ TEST(RenderCommand, BadOptionsWriteNothing) {
   const fs::path scenario = ShortScenario(dir);
   const fs::path out = dir / "bad.mp4";
   ExpectInvalidArgument(
-      [&] { RunRenderInProcess({scenario.string(), "--out", out.string(), "--width", "641"}); },
-      "--width");
+      [&] { RunRenderInProcess({scenario.string(), "--out", out.string(), "--width-px", "641"}); },
+      "--width-px");
   ExpectInvalidArgument(
       [&] { RunRenderInProcess({scenario.string(), "--out", out.string(), "--start-cycle", "2"}); },
       "--start-cycle");
   // Larger than the model's 1280x720 offscreen buffer: refused at t = 0.
   ExpectInvalidArgument(
       [&] {
-        RunRenderInProcess({scenario.string(), "--out", out.string(), "--width", "1920", "--height",
+        RunRenderInProcess({scenario.string(), "--out", out.string(), "--width-px", "1920", "--height-px",
                             "1080", "--png-dir", (dir / "png").string()});
       },
       "offwidth");

@@ -39,27 +39,25 @@ OptionGiven GivenOn(const CLI::App& command) {
 
 // ------------------------------------------------------------------ bode ---
 
-int RunBode(const CLI::App& command, const BodeArgs& args) {
-  ValidateBodeSpec(command.get_name(), args, GivenOn(command));
-  const BodeAnalysis analysis = AnalyseBode(args);
+// bode.csv and bode.json (what the curves are, for the figure's title and
+// legend) of one link.
+void WriteBodeFiles(const BodeArgs& args, const BodeSpec& spec, const BodeAnalysis& analysis) {
+  const std::string csv = BodeCsv(ComputeBodeColumns(analysis, spec));
+  const nlohmann::json about = {{"controller", spec.controller},
+                                {"controller_description", analysis.controller_description},
+                                {"plant", spec.plant},
+                                {"plant_description", analysis.plant_description},
+                                {"link", spec.link}};
+  EnsureDirectory(args.out_dir);
+  const std::filesystem::path dir(args.out_dir);
+  WriteFilesTogether({{(dir / "bode.csv").string(), csv},
+                      {(dir / "bode.json").string(), about.dump(2) + "\n"}});
+}
+
+void PrintBode(const BodeSpec& spec, const BodeAnalysis& analysis) {
   const StabilityMargins& margins = analysis.margins;
-
-  if (!args.out_dir.empty()) {
-    const std::string csv = BodeCsv(ComputeBodeColumns(analysis, args));
-    EnsureDirectory(args.out_dir);
-    WriteFileAtomically((std::filesystem::path(args.out_dir) / "bode.csv").string(), csv);
-    // What the curves are, for the figure's title and legend.
-    const nlohmann::json about = {{"controller", args.controller},
-                                  {"controller_description", analysis.controller_description},
-                                  {"plant", args.plant},
-                                  {"plant_description", analysis.plant_description},
-                                  {"link", args.link}};
-    WriteFileAtomically((std::filesystem::path(args.out_dir) / "bode.json").string(),
-                        about.dump(2) + "\n");
-  }
-
-  std::printf("open loop L = C x P, controller %s, plant %s (exact fractional response)\n",
-              args.controller.c_str(), args.plant.c_str());
+  std::printf("link %d: open loop L = C x P, controller %s, plant %s (exact fractional response)\n",
+              spec.link, spec.controller.c_str(), spec.plant.c_str());
   std::printf("  %s\n  %s\n", analysis.controller_description.c_str(),
               analysis.plant_description.c_str());
   std::printf("margins searched over [%g, %g] rad/s:\n", analysis.search.grid.w_low_rad_s,
@@ -86,6 +84,29 @@ int RunBode(const CLI::App& command, const BodeArgs& args) {
               "open loop %.2f dB, %.2f deg\n",
               analysis.design_frequency_rad_s, MagnitudeDb(c5), PhaseDeg(c5), MagnitudeDb(p5),
               PhaseDeg(p5), MagnitudeDb(c5 * p5), PhaseDeg(c5 * p5));
+}
+
+// Every link is checked before the first is analysed.
+int RunBode(const CLI::App& command, const BodeArgs& args) {
+  const std::string name = command.get_name();
+  ValidateLinkList(name, args.links);
+  if (!args.out_dir.empty() && args.links.size() != 1) {
+    throw std::invalid_argument(name + ": --out writes one link's bode.csv: give one link with "
+                                "--links (got " + std::to_string(args.links.size()) + " links)");
+  }
+  std::vector<BodeSpec> specs;
+  for (const int link : args.links) {
+    BodeSpec spec = args;
+    spec.link = link;
+    ValidateBodeSpec(name, spec, GivenOn(command));
+    specs.push_back(spec);
+  }
+  for (const BodeSpec& spec : specs) {
+    if (&spec != &specs.front()) std::printf("\n");
+    const BodeAnalysis analysis = AnalyseBode(spec);
+    if (!args.out_dir.empty()) WriteBodeFiles(args, spec, analysis);
+    PrintBode(spec, analysis);
+  }
   return 0;
 }
 
@@ -199,16 +220,17 @@ void AddAnalysisCommands(CLI::App& app, AnalysisArgs& args) {
                    "pid (eq. 12) | fractional (eq. 14, exact) | fractional-eq15 | "
                    "fractional-oustaloup | none")
       ->required()->check(CLI::IsMember(bode_controllers));
-  bode->add_option("--link", b.link, "Link 1..3 (Table 2)");
+  bode->add_option("--links", b.links, "Links to analyse, e.g. 3 or 1,2,3 (Table 2)")
+      ->delimiter(',');
   AddPlantOption(bode, b.plant);
   AddGainOptions(bode, b.gains);
-  bode->add_option("--n", b.oustaloup_n, "fractional-oustaloup: Oustaloup pairs");
+  bode->add_option("--oustaloup-pairs", b.oustaloup_n, "fractional-oustaloup: Oustaloup pairs N");
   bode->add_option("--band-rad-s", b.band_rad_s, "fractional-oustaloup: band LOW,HIGH [rad/s]")
       ->delimiter(',');
   bode->add_option("--w-min", b.w_min_rad_s, "bode.csv: lowest frequency [rad/s]");
   bode->add_option("--w-max", b.w_max_rad_s, "bode.csv: highest frequency [rad/s]");
   bode->add_option("--points-per-decade", b.points_per_decade, "bode.csv: grid density");
-  bode->add_option("--out", b.out_dir, "Directory for bode.csv");
+  bode->add_option("-o,--out", b.out_dir, "Directory for bode.csv and bode.json (one link)");
 
   StepArgs& s = args.step;
   CLI::App* step =
@@ -226,7 +248,7 @@ void AddAnalysisCommands(CLI::App& app, AnalysisArgs& args) {
   step->add_option("--sample-rate-hz", s.sample_rate_hz, "Controller sample rate [Hz]");
   step->add_flag("--no-clamp", s.no_clamp, "No output clamp (the paper's linear setting)");
   step->add_option("--v-max", s.v_max, "Output clamp [V]");
-  step->add_option("--out", s.out_dir, "Directory for step.csv");
+  step->add_option("-o,--out", s.out_dir, "Directory for step.csv");
 }
 
 int RunAnalysisCommand(const CLI::App& app, const AnalysisArgs& args) {

@@ -3,8 +3,8 @@
 // domain ("step"), one IPMC link at a time.
 //
 //   ipmc-swim bode --controller pid|fractional|fractional-eq15|
-//                  fractional-oustaloup|none [--link 3] [--plant g1|g2] ...
-// Open loop L = C x P_link with the exact fractional plant
+//                  fractional-oustaloup|none [--links 1,2,3] [--plant g1|g2] ...
+// For each link in --links, the open loop L = C x P_link with the exact fractional plant
 // P = s^-0.5 G (plugin/actuators/ipmc_link_model.h, LinkResponseExact). Prints the
 // gain crossover, phase margin and gain margin (or "no finite gain
 // margin") of L, searched over [1e-4, 1e5] rad/s (ComputeMargins'
@@ -13,10 +13,10 @@
 //  - pid: Kp + Ki/s + Kd s (eq. 10; defaults eq. 12, ideal derivative);
 //  - fractional: K / s^lambda, exact (eq. 13; defaults eq. 14);
 //  - fractional-oustaloup: K / s^lambda through its Oustaloup realisation
-//    (N pairs on a band; defaults N = 4 on [1e-3, 1e2] rad/s, as eq. 15);
+//    (--oustaloup-pairs N on a band; defaults N = 4 on [1e-3, 1e2] rad/s, as eq. 15);
 //  - fractional-eq15: the paper's printed eq. 15, a ratio of quartics;
 //  - none: C = 1 (the plant alone).
-// --out DIR writes DIR/bode.csv on the --w-min..--w-max grid: w_rad_s and
+// --out DIR (with one link) writes DIR/bode.csv on the --w-min..--w-max grid: w_rad_s and
 // dB/deg pairs for the plant, the controller, the open loop and the
 // reference model's open loop (5/s)^1.16 (eq. 8). Phases are unwrapped
 // along increasing w.
@@ -57,7 +57,8 @@ namespace ipmc {
 // The computations are in sim/identify/loop_analysis.h; the options here
 // add the output directory.
 struct BodeArgs : BodeSpec {
-  std::string out_dir;
+  std::vector<int> links = {1, 2, 3};  // each analysed in turn (spec.link)
+  std::string out_dir;                 // bode.csv of one link
 };
 
 struct StepArgs : StepSpec {

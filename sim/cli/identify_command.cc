@@ -27,6 +27,7 @@
 #include "sim/identify/controller_design.h"
 #include "sim/identify/identify_run.h"
 #include "sim/identify/levy.h"
+#include "sim/identify/loop_analysis.h"
 #include "sim/identify/welch.h"
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
@@ -175,7 +176,7 @@ std::string PidText(const PidGains& g) {
   return FormatText("C(s) = %.4g + %.4g/s + %.4g s", g.kp, g.ki, g.kd);
 }
 
-int RunDesign(const IdentifyArgs::Design& args) {
+void PrintDesign(const DesignSpec& args) {
   const LinkDesign result = DesignLink(args);
   std::printf("plant: link %d, P = s^-0.5 %s (Table 2%s)\n", args.link,
               args.plant == "g2" ? "G2" : "G1",
@@ -206,6 +207,16 @@ int RunDesign(const IdentifyArgs::Design& args) {
   std::printf("  tuned open loop (exact plant, continuous PID): %s\n",
               MarginsText(result.pid_margins).c_str());
   std::printf("  tuning time %.2f s\n", result.tuning_s);
+}
+
+int RunDesign(const IdentifyArgs::Design& args) {
+  ValidateLinkList(kDesignCommand, args.links);
+  for (const int link : args.links) {
+    if (link != args.links.front()) std::printf("\n");
+    DesignSpec spec = args;
+    spec.link = link;
+    PrintDesign(spec);
+  }
   return 0;
 }
 
@@ -569,12 +580,13 @@ void AddIdentifyCommands(CLI::App& app, IdentifyArgs& args) {
   identify->add_option("--sample-rate-hz", i.sample_rate_hz, "Sample rate [Hz]");
   identify->add_option("--band-rad-s", i.band_rad_s, "Identification band LOW,HIGH [rad/s]")
       ->delimiter(',');
-  identify->add_option("--out", i.out_dir, "Directory for response.csv and identification.json");
+  identify->add_option("-o,--out", i.out_dir, "Directory for response.csv and identification.json");
 
   IdentifyArgs::Design& d = args.design;
   CLI::App* design = AddCommand(
-      app, kDesignCommand, "Fractional integrator (analytic) and PID (Nelder-Mead) for one link");
-  design->add_option("--link", d.link, "Link 1..3 (Table 2)");
+      app, kDesignCommand, "Fractional integrator (analytic) and PID (Nelder-Mead) for each link");
+  design->add_option("--links", d.links, "Links to design for, e.g. 3 or 1,2,3 (Table 2)")
+      ->delimiter(',');
   AddPlantOption(design, d.plant);
   design->add_option("--crossover-rad-s", d.crossover_rad_s, "Gain crossover w_c [rad/s]");
   design->add_option("--phase-margin-deg", d.phase_margin_deg, "Phase margin [deg]");
@@ -605,7 +617,7 @@ void AddIdentifyCommands(CLI::App& app, IdentifyArgs& args) {
   pipeline->add_option("--crossover-rad-s", p.crossover_rad_s, "Design crossover w_c [rad/s]");
   pipeline->add_option("--phase-margin-deg", p.phase_margin_deg, "Design phase margin [deg]");
   pipeline->add_option("--horizon-s", p.horizon_s, "Horizon of J (eq. 11) [s]");
-  pipeline->add_option("--out", p.out_dir, "Directory for report.md and response_link<q>.csv");
+  pipeline->add_option("-o,--out", p.out_dir, "Directory for report.md and response_link<q>.csv");
 }
 
 int RunIdentifyCommand(const CLI::App& app, const IdentifyArgs& args) {

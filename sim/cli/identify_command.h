@@ -15,10 +15,10 @@
 // measured, P1 and P2 in dB and unwrapped deg, in_band) and
 // DIR/identification.json (the parameters and indices).
 //
-//   ipmc-swim design [--link 3] [--plant g1|g2] [--crossover-rad-s 5]
+//   ipmc-swim design [--links 1,2,3] [--plant g1|g2] [--crossover-rad-s 5]
 //       [--phase-margin-deg 75] [--reference-order 1.16] [--horizon-s 2]
 //       [--sample-rate-hz 10000]
-// On Table 2's link model: the analytic fractional integrator K/s^lambda
+// For each link, on its Table 2 model: the analytic fractional integrator K/s^lambda
 // for the crossover and phase margin, with the margins of its exact open
 // loop; the PID tuned by Nelder-Mead against the reference model
 // 1/((s/w_c)^gamma + 1) over the horizon, with J of eq. 11 at the paper's
@@ -63,6 +63,7 @@ struct IdentifyArgs {
   } identify;
 
   struct Design : DesignSpec {
+    std::vector<int> links = {1, 2, 3};  // each designed in turn (spec.link)
   } design;
 
   struct Pipeline {

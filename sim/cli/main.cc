@@ -125,7 +125,7 @@ void AddGaitCommand(CLI::App& app, GaitArgs& args) {
   cmd->add_option("--csv", args.csv_path, "CSV gait: time_s, q_1..q_n [rad]");
   cmd->add_option("--cycles", args.run.cycles, "Number of gait cycles");
   cmd->add_option("--samples-per-cycle", args.run.samples_per_cycle, "Time-series samples per cycle");
-  cmd->add_option("--out", args.out_dir, "Directory for timeseries.csv and summary.json");
+  cmd->add_option("-o,--out", args.out_dir, "Directory for timeseries.csv and summary.json");
   AddAllowLongFlag(cmd, args.run.allow_long);
 }
 
@@ -150,7 +150,7 @@ void AddBenchCommand(CLI::App& app, BenchArgs& args) {
   cmd->add_option("--duration-s", b.duration_s, "Duration [s]");
   cmd->add_option("--links", b.driven_links, "Driven links, 1-based")->delimiter(',');
   cmd->add_option("--sample-rate-hz", b.sample_rate_Hz, "Voltage update and recording rate [Hz]");
-  cmd->add_option("--out", args.out_path, "CSV file to write")->required();
+  cmd->add_option("-o,--out", args.out_path, "CSV file to write")->required();
   AddAllowLongFlag(cmd, b.allow_long);
 }
 
@@ -200,7 +200,7 @@ void AddRunCommand(CLI::App& app, RunArgs& args) {
       ->expected(1)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   cmd->add_option("--cycles", args.cycles, "Wave periods to run (= --set cycles=N)");
-  cmd->add_option("--out", args.out_dir, "Output directory (overrides output.dir)");
+  cmd->add_option("-o,--out", args.out_dir, "Output directory (overrides output.dir)");
   cmd->add_option("--video", args.video_path,
                   "Also film the run into this MP4 (from its recorded states; see `render`)");
   AddAllowLongFlag(cmd, args.allow_long);

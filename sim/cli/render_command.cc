@@ -23,7 +23,7 @@ namespace {
 constexpr char kRenderCommand[] = "render";
 // Every video option, for AnyVideoOptionGiven.
 constexpr const char* kVideoOptions[] = {
-    "--width",     "--height",        "--fps",           "--frames-per-cycle",
+    "--width-px",     "--height-px",        "--fps",           "--frames-per-cycle",
     "--start-cycle", "--film-cycles", "--trail-frames",  "--camera",
     "--view-mm",   "--center-mm",     "--elevation-deg", "--azimuth-deg",
     "--strip-thickness-mm", "--no-grid", "--no-ghost",   "--png-dir"};
@@ -110,9 +110,9 @@ int RunRender(const RenderArgs& args) {
 void AddVideoOptions(CLI::App* cmd, FilmConfig& film, const std::string& group,
                      const std::string& cycles_option) {
   CLI::App* g = group.empty() ? cmd : cmd->add_option_group(group);
-  g->add_option("--width", film.width, "Frame width [px], even, at most the model's offwidth")
+  g->add_option("--width-px", film.width, "Frame width [px], even, at most the model's offwidth")
       ->capture_default_str();
-  g->add_option("--height", film.height, "Frame height [px], even, at most the model's offheight")
+  g->add_option("--height-px", film.height, "Frame height [px], even, at most the model's offheight")
       ->capture_default_str();
   g->add_option("--fps", film.fps, "Video frame rate [1/s]")->capture_default_str();
   g->add_option("--frames-per-cycle", film.frames_per_cycle, "Frames per wave cycle")
@@ -190,7 +190,7 @@ void AddRenderCommand(CLI::App& app, RenderArgs& args) {
   cmd->add_option("input", args.input_path,
                   "A run's output directory (states.csv, summary.json) or a scenario file (TOML)")
       ->required();
-  cmd->add_option("--out", args.out_path, "MP4 file to write")->required();
+  cmd->add_option("-o,--out", args.out_path, "MP4 file to write")->required();
   AddVideoOptions(cmd, args.film);
 }
 

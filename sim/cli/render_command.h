@@ -12,7 +12,7 @@
 // scenario names extend the run), recording --frames-per-cycle states per
 // cycle, and filmed; its output directory is not written.
 //
-// Video options: --width --height --fps --frames-per-cycle --start-cycle
+// Video options: --width-px --height-px --fps --frames-per-cycle --start-cycle
 // --cycles --trail-frames --camera fixed|follow --view-mm --center-mm X,Y
 // --elevation-deg --azimuth-deg --strip-thickness-mm --no-grid --no-ghost
 // --png-dir DIR. --out gets an H.264 MP4 at --fps; --png-dir DIR also gets

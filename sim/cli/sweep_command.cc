@@ -211,7 +211,7 @@ void AddSweepCommands(CLI::App& app, SweepArgs& args) {
                     "Points run in parallel (default: the CPUs this process may use)");
   sweep->add_option("--shard", args.shard,
                     "Run part i of n: the points with index % n == i - 1");
-  sweep->add_option("--out", args.out_prefix,
+  sweep->add_option("-o,--out", args.out_prefix,
                     "Writes PREFIX.csv and PREFIX.json; records each point in PREFIX.journal "
                     "(resume)");
   AddSlurmOptions(sweep, args);
@@ -221,7 +221,7 @@ void AddSweepCommands(CLI::App& app, SweepArgs& args) {
   merge->add_option("tables", args.merge_tables, "Shard tables (PREFIX.csv of each sweep --shard)")
       ->required()
       ->default_str("");
-  merge->add_option("--out", args.merge_out_prefix, "Writes PREFIX.csv and PREFIX.json")
+  merge->add_option("-o,--out", args.merge_out_prefix, "Writes PREFIX.csv and PREFIX.json")
       ->required();
   merge->add_flag("--partial", args.merge_partial,
                   "Merge the tables that exist (and the journals of those that do not); list "

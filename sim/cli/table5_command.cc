@@ -311,7 +311,7 @@ void AddTable5Command(CLI::App& app, Table5Args& args) {
                   "multibody (the MuJoCo run) | transfer-function (each link's plant alone)")
       ->check(CLI::IsMember({kMultibody, kTransferFunction}));
   cmd->add_option("--jobs", args.jobs, "Threads: 1, or 2 (one per controller)");
-  cmd->add_option("--out", args.out_dir, "Directory for table5.csv and table5.json");
+  cmd->add_option("-o,--out", args.out_dir, "Directory for table5.csv and table5.json");
 }
 
 int RunTable5Command(const CLI::App& app, const Table5Args& args) {

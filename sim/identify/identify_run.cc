@@ -220,7 +220,7 @@ PidTuningOptions TuningOptions(const std::string& command, double crossover_rad_
 LinkDesign DesignLink(const DesignSpec& spec) {
   const std::string name = kDesignCommand;
   if (spec.link < 1 || spec.link > 3) {
-    ThrowOption(name, "--link", "1, 2 or 3", std::to_string(spec.link));
+    ThrowOption(name, "--links", "1, 2 or 3", std::to_string(spec.link));
   }
   if (spec.plant != "g1" && spec.plant != "g2") {
     ThrowOption(name, "--plant", "g1 or g2", spec.plant);

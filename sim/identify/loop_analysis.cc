@@ -63,6 +63,20 @@ void RequireLink(const std::string& command, const std::string& option, int link
   if (link < 1 || link > 3) ThrowOption(command, option, "1, 2 or 3", std::to_string(link));
 }
 
+}  // namespace
+
+void ValidateLinkList(const std::string& command, const std::vector<int>& links) {
+  if (links.empty()) ThrowOption(command, "--links", "a list of links 1..3", "none");
+  for (std::size_t i = 0; i < links.size(); ++i) {
+    RequireLink(command, "--links", links[i]);
+    if (std::count(links.begin(), links.begin() + i, links[i]) > 0) {
+      ThrowOption(command, "--links", "distinct", "link " + std::to_string(links[i]) + " twice");
+    }
+  }
+}
+
+namespace {
+
 void RequirePlant(const std::string& command, const std::string& plant) {
   if (plant != "g1" && plant != "g2") ThrowOption(command, "--plant", "g1 or g2", plant);
 }
@@ -234,7 +248,7 @@ void ValidateBodeSpec(const std::string& command, const BodeSpec& spec, const Op
     ThrowOption(name, "--controller",
                 "pid, fractional, fractional-eq15, fractional-oustaloup or none", "'" + c + "'");
   }
-  RequireLink(name, "--link", spec.link);
+  RequireLink(name, "--links", spec.link);
   RequirePlant(name, spec.plant);
   RejectIfGiven(name, given, "--kp", c == kPid, c);
   RejectIfGiven(name, given, "--ki", c == kPid, c);
@@ -242,12 +256,12 @@ void ValidateBodeSpec(const std::string& command, const BodeSpec& spec, const Op
   const bool fractional = c == kFractional || c == kFractionalOustaloup;
   RejectIfGiven(name, given, "--gain", fractional, c);
   RejectIfGiven(name, given, "--order", fractional, c);
-  RejectIfGiven(name, given, "--n", c == kFractionalOustaloup, c);
+  RejectIfGiven(name, given, "--oustaloup-pairs", c == kFractionalOustaloup, c);
   RejectIfGiven(name, given, "--band-rad-s", c == kFractionalOustaloup, c);
   if (c == kPid) ValidatePidGains(name, spec.gains);
   if (fractional) ValidateFractionalGains(name, spec.gains);
   if (spec.oustaloup_n < 1 || spec.oustaloup_n > kMaxOustaloupPairs) {
-    ThrowOption(name, "--n", "in [1, " + std::to_string(kMaxOustaloupPairs) + "]",
+    ThrowOption(name, "--oustaloup-pairs", "in [1, " + std::to_string(kMaxOustaloupPairs) + "]",
                 std::to_string(spec.oustaloup_n));
   }
   if (spec.band_rad_s.size() != 2) {
@@ -340,13 +354,7 @@ void ValidateStepSpec(const std::string& command, const StepSpec& spec, const Op
   }
   if (c == kPid) ValidatePidGains(name, spec.gains);
   if (c == kFractional) ValidateFractionalGains(name, spec.gains);
-  if (spec.links.empty()) ThrowOption(name, "--links", "a list of links 1..3", "none");
-  for (std::size_t i = 0; i < spec.links.size(); ++i) {
-    RequireLink(name, "--links", spec.links[i]);
-    if (std::count(spec.links.begin(), spec.links.begin() + i, spec.links[i]) > 0) {
-      ThrowOption(name, "--links", "distinct", "link " + std::to_string(spec.links[i]) + " twice");
-    }
-  }
+  ValidateLinkList(name, spec.links);
   RequireFinitePositive(name, "--horizon-s", spec.horizon_s);
   RequireFinitePositive(name, "--sample-rate-hz", spec.sample_rate_hz);
   if (spec.horizon_s * spec.sample_rate_hz > kMaxStepSamples) {

@@ -45,6 +45,11 @@ struct ControllerGains {
 // chosen controller does not take is an error rather than ignored.
 using OptionGiven = std::function<bool(const std::string& option)>;
 
+// Throws std::invalid_argument "COMMAND: --links must be ..." unless
+// `links` is a non-empty list of distinct links 1..3 (every command that
+// chooses links takes them as --links).
+void ValidateLinkList(const std::string& command, const std::vector<int>& links);
+
 // ------------------------------------------------------------------ bode ---
 
 struct BodeSpec {

@@ -77,7 +77,7 @@ py::dict Bode(const std::string& controller, const py::dict& kwargs, const py::o
   options.Read("link", &spec.link);
   options.Read("plant", &spec.plant);
   ReadGains(options, &spec.gains);
-  options.Read("n", &spec.oustaloup_n);
+  options.Read("oustaloup_pairs", &spec.oustaloup_n);
   options.Read("band_rad_s", &spec.band_rad_s);
   options.Read("w_min", &spec.w_min_rad_s);
   options.Read("w_max", &spec.w_max_rad_s);

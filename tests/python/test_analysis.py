@@ -30,7 +30,7 @@ def test_bench_equals_the_command_line(tmp_path):
 
 
 def test_bode_equals_the_command_line(tmp_path):
-    _, stdout, _ = run_cli("bode", "--controller", "pid", "--link", "3", "--out", tmp_path / "cli")
+    _, stdout, _ = run_cli("bode", "--controller", "pid", "--links", "3", "--out", tmp_path / "cli")
     result = ipmc_swim.bode("pid", link=3, out=tmp_path / "python")
     assert (tmp_path / "python" / "bode.csv").read_bytes() == (tmp_path / "cli" / "bode.csv").read_bytes()
     margins = result["margins"]
@@ -86,7 +86,7 @@ def test_identify_equals_the_command_line(tmp_path):
 
 
 def test_design_equals_the_command_line():
-    args = ["--link", "3", "--horizon-s", "0.5", "--sample-rate-hz", "2000"]
+    args = ["--links", "3", "--horizon-s", "0.5", "--sample-rate-hz", "2000"]
     _, stdout, _ = run_cli("design", *args)
     result = ipmc_swim.design(link=3, horizon_s=0.5, sample_rate_hz=2000.0)
     fractional = result["fractional"]

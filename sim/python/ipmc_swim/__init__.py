@@ -124,7 +124,7 @@ def bode(controller, *, out=None, **options):
     """One link's open loop and margins, as ``ipmc-swim bode``.
 
     controller: pid, fractional, fractional-eq15, fractional-oustaloup or
-    none. options: link, plant, kp, ki, kd, gain, order, n, band_rad_s,
+    none. options: link, plant, kp, ki, kd, gain, order, oustaloup_pairs, band_rad_s,
     w_min, w_max, points_per_decade (the command's options; an option the
     controller does not take is an error). out: a directory for bode.csv.
     Returns the descriptions, the margins, the values at 5 rad/s and the
