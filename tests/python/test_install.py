@@ -21,6 +21,8 @@ def test_the_installed_package_imports_from_the_prefixs_site_packages(tmp_path):
             "print(os.path.isfile(os.path.join(ipmc_swim.MODELS_DIR, 'flagellum3_clamped.xml')))\n"
             "print(len(ipmc_swim.bench(duration_s=0.05)['time_s']))\n")
     env = {"PATH": os.environ.get("PATH", ""), "PYTHONPATH": str(prefix / SITE)}
+    # A sanitized build's module needs its runtime preloaded (tests/CMakeLists.txt).
+    env.update({k: v for k, v in os.environ.items() if k in ("LD_PRELOAD", "ASAN_OPTIONS")})
     done = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, env=env, capture_output=True,
                           text=True)
     assert done.returncode == 0, done.stderr
