@@ -439,7 +439,7 @@ TEST(IdentificationTest, SimulatedClampedFlagellumGivesItsOwnLinkModels) {
   // The simulator's response is P_q times the rigid hinge's first-order
   // lag 1/(tau s + 1), tau = c/k = 3.2 ms (README, "IPMC actuators"), and
   // 0.5 ms of sampling delay (half the 1 ms hold; the bench records the
-  // state at the sample time): about 10 deg of extra lag at 50 rad/s.
+  // state at the sample time): about 10.5 deg of extra lag at 50 rad/s.
   // Levy's |D|-weighted error counts
   // most above the resonance, where that extra phase lag reads as a
   // sharper resonance (b1 low). Links 1 and 2 also carry the links beyond
