@@ -197,7 +197,7 @@ void BM_DragAndActuators(benchmark::State& state) {
   CoupledSteps(state, Paper().xml, Paper().timestep_s, Paper().steps, 3, 3);
 }
 
-// `ipmc-swim bench --signal chirp`: 2 000 000 steps of 0.1 ms.
+// `ipmc-swim bench --signal chirp`: 400 000 steps of the model file's 0.5 ms.
 void BM_BenchChirp200s(benchmark::State& state) {
   BenchSignal chirp;
   chirp.kind = BenchSignal::Kind::kChirp;

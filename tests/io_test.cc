@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 #include <vector>
@@ -61,6 +62,34 @@ TEST(NumbersTest, FormatsReadBackExactly) {
   EXPECT_EQ(FormatDouble(1e-5, 10), "1e-05");
   EXPECT_EQ(2.0 * kPi, kTwoPi);
   EXPECT_EQ(kPi, std::acos(-1.0));
+}
+
+// FormatDouble against printf's "%.*g" itself, which it stands for: signs,
+// zeros, subnormals, the extremes, non-finite values, short decimals and
+// pseudo-random values over 600 decades, at every precision CSVs use.
+TEST(NumbersTest, FormatDoubleIsPrintfsG) {
+  std::vector<double> values = {0.0, -0.0, 5e-324, -2.2250738585072014e-308, 1.7976931348623157e308,
+                                std::nan(""), -std::nan(""), HUGE_VAL, -HUGE_VAL, 1e-5, 0.5, 1e15,
+                                123456789012345678.0, 0.1, 2.675};
+  unsigned long long state = 12345;
+  for (int i = 0; i < 20000; ++i) {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;  // Knuth's LCG
+    const double mantissa = static_cast<double>(state >> 11) / 9007199254740992.0 - 0.5;
+    const int decade = static_cast<int>((state >> 3) % 600) - 300;
+    values.push_back(i % 7 == 0 ? static_cast<double>(state % 100000) / 1000.0
+                                : mantissa * std::pow(10.0, decade));
+  }
+  for (int digits : {-1, 0, 1, 4, 6, 10, 12, 15, 17, 20}) {
+    for (double value : values) {
+      char expected[128];
+      std::snprintf(expected, sizeof(expected), "%.*g", digits, value);
+      ASSERT_EQ(FormatDouble(value, digits), expected) << digits << " digits";
+    }
+  }
+  // Beyond the 64-character buffer: printf, as before (cut at 63 characters).
+  char expected[128];
+  std::snprintf(expected, sizeof(expected), "%.*g", 80, 1.0 / 3.0);
+  EXPECT_EQ(FormatDouble(1.0 / 3.0, 80), std::string(expected).substr(0, 63));
 }
 
 TEST(CsvTest, QuotedFieldsRoundTrip) {

@@ -36,6 +36,13 @@ std::optional<long> ParseInteger(std::string_view text) { return ParseWhole<long
 
 std::string FormatDouble(double value, int significant_digits) {
   char buffer[64];
+  // std::to_chars with a precision is defined as printf's "%.*g" in the C
+  // locale; it skips printf's format parsing and is several times faster,
+  // which counts in the CSVs of long records (a 200 s bench: 2.6 million
+  // numbers). printf is the fallback for text longer than the buffer.
+  const std::to_chars_result result = std::to_chars(
+      buffer, buffer + sizeof(buffer), value, std::chars_format::general, significant_digits);
+  if (result.ec == std::errc()) return std::string(buffer, result.ptr);
   std::snprintf(buffer, sizeof(buffer), "%.*g", significant_digits, value);
   return buffer;
 }

@@ -91,23 +91,30 @@ BenchRecord RunBench(Simulation& sim, const BenchSignal& signal, double record_f
   record.free_mm.resize(links);
   std::vector<double> volts(links, 0.0);
   for (long step = 0; step < steps; ++step) {
-    if (step % steps_per_sample == 0) {
-      const double voltage = signal.VoltageAt(d->time);
-      for (int link : signal.driven_links) volts[link - 1] = voltage;
-      SetVoltages(d, volts.data(), links);
-      if (d->time >= record_from_s) {
-        record.t_s.push_back(d->time);
-        for (int q = 0; q < links; ++q) {
-          record.voltage_V[q].push_back(actuators.Voltages_V()[q]);
-          record.relative_mm[q].push_back(sensors.RelativeDeflection_mm(d, q));
-          record.tip_lateral_mm[q].push_back(sensors.TipLateral_mm(d, q));
-          record.free_mm[q].push_back(actuators.FreeTipDeflection_mm(q));
-        }
-      }
-      if (progress) progress(d->time);
+    const bool sample = step % steps_per_sample == 0;
+    if (!sample) {
+      sim.Step(false);
+      continue;
     }
-    // The sensors are read at the next sample, from this step's values.
-    sim.Step((step + 1) % steps_per_sample == 0);
+    const double t_s = d->time;
+    const double voltage = signal.VoltageAt(t_s);
+    for (int link : signal.driven_links) volts[link - 1] = voltage;
+    SetVoltages(d, volts.data(), links);
+    // MuJoCo computes the sensors within the step from the state at its
+    // start, t_s, and the control callback advances the link models to
+    // t_s: read after the step, every recorded value describes the sample
+    // time itself, whatever the time step.
+    sim.Step(true);
+    if (t_s >= record_from_s) {
+      record.t_s.push_back(t_s);
+      for (int q = 0; q < links; ++q) {
+        record.voltage_V[q].push_back(actuators.Voltages_V()[q]);
+        record.relative_mm[q].push_back(sensors.RelativeDeflection_mm(d, q));
+        record.tip_lateral_mm[q].push_back(sensors.TipLateral_mm(d, q));
+        record.free_mm[q].push_back(actuators.FreeTipDeflection_mm(q));
+      }
+    }
+    if (progress) progress(t_s);
   }
   return record;
 }
