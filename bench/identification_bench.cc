@@ -11,16 +11,16 @@
 #include "sim/runs/bench_run.h"
 #include "sim/identify/controller_design.h"
 #include "sim/identify/levy.h"
-#include "sim/core/model_generator.h"
+#include "sim/core/simulation.h"
 #include "sim/identify/welch.h"
 
 namespace ipmc {
 namespace {
 
+// The chirp of `ipmc-swim bench --signal chirp` on the shipped clamped model.
 BenchRecord PaperChirpRecord() {
-  FlagellumSpec spec;
-  spec.clamped = true;
-  Simulation sim(LoadModelString(GenerateFlagellumMjcf(spec)), "clamped flagellum");
+  const std::string model = std::string(IPMC_SWIM_MODELS_DIR) + "/flagellum3_clamped.xml";
+  Simulation sim(LoadModelFile(model), model);
   BenchSignal chirp;
   chirp.kind = BenchSignal::Kind::kChirp;
   return RunBench(sim, chirp);
