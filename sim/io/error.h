@@ -66,7 +66,7 @@ class InputError : public std::runtime_error {
 
 class FieldError : public std::invalid_argument {
  public:
-  // `field`: the Config field or option ("frequency_Hz", "--link");
+  // `field`: the Config field or option ("frequency_Hz", "--links");
   // `allowed`: its allowed range or values.
   FieldError(const std::string& message, std::string field, std::string allowed);
 
