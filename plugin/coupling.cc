@@ -1,12 +1,12 @@
 #include "plugin/coupling.h"
 
 #include <atomic>
+#include <iterator>
 #include <mutex>
 #include <shared_mutex>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
-#include <iterator>
 #include <vector>
 
 #include "ipmc_swim/ipmc_swim.h"
@@ -105,7 +105,7 @@ bool AttachWithOverrides(const mjModel* m, mjData* d, const IpmcActuatorsOverrid
   known.push_back(kStripWidthField);
   RequireKnownCustomFields(m, "ipmc_", known);
   if (const std::optional<double> width_m = FindCustomScalar(m, kStripWidthField);
-      width_m && !(*width_m > 0)) {
+      width_m && !(*width_m > 0)) {  // FindCustomScalar refuses a non-finite value
     throw std::invalid_argument(std::string(kStripWidthField) + " must be finite and > 0 m (got " +
                                 std::to_string(*width_m) + ")");
   }

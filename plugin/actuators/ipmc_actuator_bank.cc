@@ -262,16 +262,17 @@ int IpmcActuatorBank::Impl::SchurSolve(SUNLinearSolver solver,
     const double* q = block.schur_q.data();  // column-major: column i at q + i n
     const double* r_q = r_all + block.offset;
     double* x_q = x_all + block.offset;
-    // work = Q^T r_q (column i of Q dotted with r_q); x may alias r.
-    for (int i = 0; i < n; ++i) {
-      if (block.reversed) {
-        work[i] = r_q[n - 1 - i];
-        continue;
+    // work = Q^T r_q (column i of Q dotted with r_q, or r_q reversed when
+    // Q = P); x may alias r.
+    if (block.reversed) {
+      for (int i = 0; i < n; ++i) work[i] = r_q[n - 1 - i];
+    } else {
+      for (int i = 0; i < n; ++i) {
+        const double* column = q + i * n;
+        double sum = 0.0;
+        for (int k = 0; k < n; ++k) sum += column[k] * r_q[k];
+        work[i] = sum;
       }
-      const double* column = q + i * n;
-      double sum = 0.0;
-      for (int k = 0; k < n; ++k) sum += column[k] * r_q[k];
-      work[i] = sum;
     }
     if (!SolveShiftedQuasiTriangular(block.schur_t_rows.data(), n, gamma, work)) {
       return SUNLS_LUFACT_FAIL;  // recoverable: CVODE retries a smaller step

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "plugin/mjcf/custom_fields.h"
+#include "plugin/mjcf/point_velocity.h"
 #include "sim/io/numbers.h"
 
 namespace ipmc {
@@ -199,21 +200,18 @@ RftDrag::RftDrag(const mjModel* m, const RftDragConfig& config)
   }
 }
 
-// The geom centre's velocity as mj_objectVelocity gives it in the world
-// frame: the body's cvel = [w; v] is the spatial velocity at the subtree
-// centre of mass c of its root, so the centre p moves with v + w x (p - c).
 Segment RftDrag::SegmentOf(const mjModel* m, const mjData* d, const SlenderGeom& geom) {
   const int body = m->geom_bodyid[geom.geom_id];
-  const mjtNum* cvel = d->cvel + 6 * body;
+  const mjtNum* center = d->geom_xpos + 3 * geom.geom_id;
   const mjtNum* xmat = d->geom_xmat + 9 * geom.geom_id;  // row-major
+  mjtNum velocity_W[3];
+  PointVelocity_W(m, d, body, center, velocity_W);
   Segment segment;
-  segment.center_W = Eigen::Vector3d(d->geom_xpos + 3 * geom.geom_id);
+  segment.center_W = Eigen::Vector3d(center);
   segment.tangent_W = Eigen::Vector3d(xmat[geom.axis], xmat[3 + geom.axis], xmat[6 + geom.axis]);
   segment.length_m = geom.length_m;
-  segment.angular_velocity_W = Eigen::Vector3d(cvel[0], cvel[1], cvel[2]);
-  const Eigen::Vector3d c(d->subtree_com + 3 * m->body_rootid[body]);
-  segment.velocity_center_W = Eigen::Vector3d(cvel[3], cvel[4], cvel[5]) +
-                              segment.angular_velocity_W.cross(segment.center_W - c);
+  segment.angular_velocity_W = Eigen::Vector3d(d->cvel + 6 * body);
+  segment.velocity_center_W = Eigen::Vector3d(velocity_W);
   return segment;
 }
 

@@ -7,6 +7,7 @@
 
 #include "plugin/coupling.h"
 #include "plugin/mjcf/custom_fields.h"
+#include "plugin/mjcf/point_velocity.h"
 
 namespace ipmc {
 namespace {
@@ -45,19 +46,12 @@ void SwimMeter::Start(const mjData* d) {
   metrics_ = SwimMetrics();
 }
 
-// The world y velocity of the last tip, from its body's spatial velocity
-// as mj_objectVelocity forms it: cvel = [w; v] is given at the subtree
-// centre of mass c of the body's root, so the site at p moves with
-// v + w x (p - c); only the y component is needed,
-// v_y + w_z (p_x - c_x) - w_x (p_z - c_z).
 void SwimMeter::Observe(const mjModel* m, const mjData* d) {
   if (tip_sites_.empty()) return;
   const int site = tip_sites_.back();
-  const int body = m->site_bodyid[site];
-  const mjtNum* cvel = d->cvel + 6 * body;
-  const mjtNum* p = d->site_xpos + 3 * site;
-  const mjtNum* c = d->subtree_com + 3 * m->body_rootid[body];
-  const double velocity_y_m_s = cvel[4] + cvel[2] * (p[0] - c[0]) - cvel[0] * (p[2] - c[2]);
+  mjtNum velocity_W[3];
+  PointVelocity_W(m, d, m->site_bodyid[site], d->site_xpos + 3 * site, velocity_W);
+  const double velocity_y_m_s = velocity_W[1];
   metrics_.peak_lateral_tip_speed_mm_s =
       std::max(metrics_.peak_lateral_tip_speed_mm_s, std::abs(velocity_y_m_s) * kMToMm);
 }
