@@ -301,13 +301,7 @@ int RunScenarioCommand(const RunArgs& args) {
   // A re-run writes only where --out says, never over the run it repeats.
   const std::string dir = args.out_dir.empty() && !rerun ? scenario.output_dir : args.out_dir;
   // Output locations are checked before the run, not after it.
-  if (!dir.empty()) {
-    for (const char* file : {"timeseries.csv", "summary.json", "states.csv"}) {
-      ipmc::RefuseOverwritingInputs("run", "--out", (std::filesystem::path(dir) / file).string(),
-                                    {args.scenario_path});
-    }
-    ipmc::RequireWritableDirectory(dir);
-  }
+  if (!dir.empty()) ipmc::CheckRunOutputDirectory("run", "--out", dir, {args.scenario_path});
   if (!args.video_path.empty()) {
     ipmc::RefuseOverwritingInputs("run", "--video", args.video_path, {args.scenario_path});
     ipmc::RequireWritableParent(args.video_path);
@@ -390,11 +384,8 @@ int RunGenerate(const GenerateArgs& args) {
 
 int RunGaitCommand(const GaitArgs& args) {
   if (!args.out_dir.empty()) {
-    for (const char* file : {"timeseries.csv", "summary.json", "states.csv"}) {
-      const std::string output = (std::filesystem::path(args.out_dir) / file).string();
-      ipmc::RefuseOverwritingInputs("gait", "--out", output, {args.model_path, args.csv_path});
-    }
-    ipmc::RequireWritableDirectory(args.out_dir);
+    ipmc::CheckRunOutputDirectory("gait", "--out", args.out_dir,
+                                  {args.model_path, args.csv_path});
   }
   ipmc::Simulation sim(ipmc::LoadModelFile(args.model_path), args.model_path);
   const std::unique_ptr<ipmc::Gait> gait = MakeGait(args, CountServos(sim.model()));

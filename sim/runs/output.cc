@@ -1,5 +1,8 @@
 #include "sim/runs/output.h"
 
+#include <filesystem>
+#include <iterator>
+
 #include "sim/core/data_paths.h"
 #include "sim/core/scenario.h"
 #include "sim/core/sha256.h"
@@ -43,19 +46,29 @@ void AddTips(CsvWriter& csv, const BodyPose& p, size_t tips) {
   for (size_t k = 0; k < tips; ++k) csv.Add(p.tip_x_mm[k]).Add(p.tip_y_mm[k]);
 }
 
-// DIR/timeseries.csv, DIR/states.csv and DIR/summary.json (with the
-// inputs), together or not at all; summary.json last: a run folder with a
-// summary is complete.
+std::string RunOutputPath(const std::string& dir, int file) {
+  return (std::filesystem::path(dir) / kRunOutputFiles[file]).string();
+}
+
+// kRunOutputFiles (the summary with the inputs), together or not at all.
 void WriteRunOutputs(const std::string& dir, const std::string& csv, const std::string& states_csv,
                      nlohmann::json summary, const nlohmann::json& inputs) {
   EnsureDirectory(dir);
   summary[kInputs] = inputs;
-  WriteFilesTogether({{dir + "/timeseries.csv", csv},
-                      {dir + "/states.csv", states_csv},
-                      {dir + "/summary.json", summary.dump(2) + "\n"}});
+  WriteFilesTogether({{RunOutputPath(dir, 0), csv},
+                      {RunOutputPath(dir, 1), states_csv},
+                      {RunOutputPath(dir, 2), summary.dump(2) + "\n"}});
 }
 
 }  // namespace
+
+void CheckRunOutputDirectory(const std::string& who, const std::string& option,
+                             const std::string& dir, const std::vector<std::string>& inputs) {
+  for (int file = 0; file < static_cast<int>(std::size(kRunOutputFiles)); ++file) {
+    RefuseOverwritingInputs(who, option, RunOutputPath(dir, file), inputs);
+  }
+  RequireWritableDirectory(dir);
+}
 
 std::string GaitSamplesCsv(const GaitRunResult& result) {
   CsvWriter csv(kSeriesDigits);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -10,6 +11,18 @@
 #include "sim/runs/gait_run.h"
 
 namespace ipmc {
+
+// The files a gait or closed-loop run writes into its directory, the
+// summary last: a run folder with a summary is complete.
+inline constexpr const char* kRunOutputFiles[] = {"timeseries.csv", "states.csv",
+                                                  "summary.json"};
+
+// Before a run, so that nothing is simulated in vain: throws if one of
+// DIR's outputs would overwrite one of `inputs` (`who` and `option` name
+// the command and its option), or if DIR cannot be created and written
+// (sim/io/files.h). Creates nothing.
+void CheckRunOutputDirectory(const std::string& who, const std::string& option,
+                             const std::string& dir, const std::vector<std::string>& inputs);
 
 nlohmann::json SwimMetricsJson(const SwimMetrics& swim);
 std::string GaitSamplesCsv(const GaitRunResult& result);
