@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_util.h"
+#include "ipmc_swim/ipmc_swim.h"
 #include "sim/core/data_paths.h"
 #include "sim/core/sha256.h"
 
@@ -182,6 +183,18 @@ TEST_F(Provenance, AMissingModelNamesTheScenarioFileAndTheKey) {
                                (dir_ / "models" / "none.xml").string() + "'"),
             std::string::npos)
       << result.output;
+}
+
+// Every version string is the CMake project version (CMakeLists.txt
+// `project(ipmc_swim VERSION ...)`, passed to the tests as
+// IPMC_SWIM_PROJECT_VERSION): the library's, the program's and
+// `ipmc-swim --version`'s.
+TEST(ProvenanceVersion, EveryVersionStringIsTheCMakeProjectVersion) {
+  EXPECT_STREQ(Version(), IPMC_SWIM_PROJECT_VERSION);
+  EXPECT_STREQ(ProgramVersion(), IPMC_SWIM_PROJECT_VERSION);
+  const CommandResult printed = RunCli("--version");
+  ASSERT_EQ(printed.exit_code, 0) << printed.output;
+  EXPECT_EQ(printed.output, std::string("ipmc-swim ") + IPMC_SWIM_PROJECT_VERSION + "\n");
 }
 
 }  // namespace
