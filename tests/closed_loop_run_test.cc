@@ -48,7 +48,7 @@ void Print(const char* name, const ClosedLoopResult& r) {
 // independently.
 constexpr double kDistributedSecondCycle_mm = 0.499191;
 
-TEST(ClosedLoop, DistributedActuationSwimsAndSingleActuationDoesNot) {
+TEST(ClosedLoopRunTest, DistributedActuationSwimsAndSingleActuationDoesNot) {
   const ClosedLoopResult distributed =
       RunScenario(PaperScenario(ControllerKind::kPid, "distributed", 2, true));
   const ClosedLoopResult single = RunScenario(PaperScenario(ControllerKind::kPid, "single", 2, true));
@@ -69,7 +69,7 @@ TEST(ClosedLoop, DistributedActuationSwimsAndSingleActuationDoesNot) {
   EXPECT_LT(distributed.swim.reynolds_tip, 1.0);
 }
 
-TEST(ClosedLoop, PidTracksBetterThanTheFractionalIntegrator) {
+TEST(ClosedLoopRunTest, PidTracksBetterThanTheFractionalIntegrator) {
   // The paper's linear setting (no clamp), one cycle.
   const ClosedLoopResult pid = RunScenario(PaperScenario(ControllerKind::kPid, "distributed", 1, false));
   const ClosedLoopResult fractional =
@@ -96,7 +96,7 @@ namespace {
 
 // link_lengths_mm replaces the model by the generated flagellum, so link
 // lengths can be swept; two links of 15.5 mm make a two-link swimmer.
-TEST(ClosedLoop, LinkLengthsGenerateTheFlagellum) {
+TEST(ClosedLoopRunTest, LinkLengthsGenerateTheFlagellum) {
   const ScenarioConfig scenario = ParseScenario(
       "link_lengths_mm = [15, 15.5]\ncycles = 1\ntimestep_s = 5e-4\n"
       "[waveform]\nfrequency_Hz = 0.5\n",
@@ -107,7 +107,7 @@ TEST(ClosedLoop, LinkLengthsGenerateTheFlagellum) {
   EXPECT_GT(result.links[1].max_abs_reference_mm, 0.0);
 }
 
-TEST(ClosedLoop, BadLinkLengthsNameTheKey) {
+TEST(ClosedLoopRunTest, BadLinkLengthsNameTheKey) {
   ExpectThrowMentioning<std::runtime_error>(
       [] { ParseScenario("link_lengths_mm = [10, -1]\n", "s.toml"); },
       "s.toml:1: link_lengths_mm[1] must be > 0");

@@ -20,7 +20,7 @@ namespace ipmc::testing {
 namespace {
 
 // Fails on any MuJoCo warning the test does not expect.
-class IpmcCoupling : public MujocoWarnings {};
+class IpmcActuatorsTest : public MujocoWarnings {};
 
 struct Phasor {
   double amplitude;
@@ -53,7 +53,7 @@ BenchRecord RunSine(const FlagellumSpec& spec, double w_rad_s, int driven, int p
   return RunBench(*sim, signal, (periods - record_periods) / signal.frequency_Hz);
 }
 
-TEST_F(IpmcCoupling, ClampedLinksFollowTheirTransferFunctions) {
+TEST_F(IpmcActuatorsTest, ClampedLinksFollowTheirTransferFunctions) {
   FlagellumSpec spec;
   spec.clamped = true;
   spec.plants = "table2";  // each link its own Table 2 row
@@ -84,7 +84,7 @@ TEST_F(IpmcCoupling, ClampedLinksFollowTheirTransferFunctions) {
 // each link driven alone: the recorded relative deflection's amplitude and
 // phase (the bench records the state at the sample time, so the step
 // enters only through the integration).
-TEST_F(IpmcCoupling, BenchRecordConvergesOnHalvingTheStep) {
+TEST_F(IpmcActuatorsTest, BenchRecordConvergesOnHalvingTheStep) {
   FlagellumSpec spec;
   spec.clamped = true;
   spec.plants = "table2";
@@ -109,7 +109,7 @@ TEST_F(IpmcCoupling, BenchRecordConvergesOnHalvingTheStep) {
   }
 }
 
-TEST_F(IpmcCoupling, SingleActuationMovesThePassiveLinksWithLinkOne) {
+TEST_F(IpmcActuatorsTest, SingleActuationMovesThePassiveLinksWithLinkOne) {
   FlagellumSpec spec;
   spec.clamped = true;
   spec.actuation = "single";
@@ -138,7 +138,7 @@ TEST_F(IpmcCoupling, SingleActuationMovesThePassiveLinksWithLinkOne) {
 // the free deflection a0 V 2 sqrt(t / pi) past the 10 mm link's reach
 // after about 0.2 s (a0 = 0.376 mm/V). The clamp is reported through
 // mju_warning, once.
-TEST_F(IpmcCoupling, ClampedDeflectionWarnsOnceThroughMujoco) {
+TEST_F(IpmcActuatorsTest, ClampedDeflectionWarnsOnceThroughMujoco) {
   ExpectWarning("exceeds the link's reach", 1);
   FlagellumSpec spec;
   spec.clamped = true;

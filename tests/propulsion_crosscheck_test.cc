@@ -577,7 +577,7 @@ ModelPtr PaperModel() { return LoadModelFile(IPMC_SWIM_SOURCE_DIR "/models/flage
 
 // The chain's kinematics and mass distribution, built from the rest
 // geometry, against MuJoCo's own forward kinematics at random poses.
-TEST(PropulsionCrossCheck, ChainKinematicsMatchMujoco) {
+TEST(PropulsionCrossCheckTest, ChainKinematicsMatchMujoco) {
   const ModelPtr paper = PaperModel();
   const ModelPtr many = LoadModelString(GenerateFlagellumMjcf(StokesChain(12, 30.0)));
   std::mt19937 random(7);
@@ -619,7 +619,7 @@ TEST(PropulsionCrossCheck, ChainKinematicsMatchMujoco) {
 // RFT drag dissipates and obeys reciprocity: R is symmetric and negative
 // definite. Its diagonal for the straight body is known in closed form:
 //   R_xx = -xi_t L,  R_yy = -xi_n L  (segments along x).
-TEST(PropulsionCrossCheck, ResistanceMatrixIsSymmetricAndDissipative) {
+TEST(PropulsionCrossCheckTest, ResistanceMatrixIsSymmetricAndDissipative) {
   const ModelPtr m = PaperModel();
   const Chain chain = ChainFromModel(m.get());
   const Eigen::Matrix3d straight =
@@ -647,7 +647,7 @@ TEST(PropulsionCrossCheck, ResistanceMatrixIsSymmetricAndDissipative) {
 // Scallop theorem: a reciprocal stroke (every hinge in phase, so the shape
 // goes back and forth along one path) gives no net motion; a travelling
 // wave of the same amplitudes does.
-TEST(PropulsionCrossCheck, ReciprocalStrokesGiveNoNetDisplacement) {
+TEST(PropulsionCrossCheckTest, ReciprocalStrokesGiveNoNetDisplacement) {
   const ModelPtr m = PaperModel();
   const Chain chain = ChainFromModel(m.get());
   const int n = chain.Hinges();
@@ -688,7 +688,7 @@ TEST(PropulsionCrossCheck, ReciprocalStrokesGiveNoNetDisplacement) {
 // finite free swimmer recoils sideways and in yaw, which slows it by a few
 // percent: 9.0 % with two wavelengths on the body and 3.6 % with four in
 // the MuJoCo runs of tests/swimming_test.cc (same chain and wave).
-TEST(PropulsionCrossCheck, ManySegmentChainMatchesGrayHancock) {
+TEST(PropulsionCrossCheckTest, ManySegmentChainMatchesGrayHancock) {
   constexpr int kLinks = 48;
   constexpr double kLength_mm = 32.0;
   constexpr double kBk = 0.1;
@@ -733,7 +733,7 @@ TEST(PropulsionCrossCheck, ManySegmentChainMatchesGrayHancock) {
 // cycle by 1.9e-5.
 constexpr int kSamplesPerCycle = 2000;
 
-TEST(PropulsionCrossCheck, DefaultRunMatchesInertiaFreeRft) {
+TEST(PropulsionCrossCheckTest, DefaultRunMatchesInertiaFreeRft) {
   ScenarioConfig scenario = LoadScenario(IPMC_SWIM_SOURCE_DIR "/scenarios/paper.toml");
   scenario.samples_per_cycle = kSamplesPerCycle;
   std::optional<Chain> chain;

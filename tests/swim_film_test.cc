@@ -149,7 +149,7 @@ fs::path GaitRun(const fs::path& dir) {
   return out;
 }
 
-TEST(Film, BodyMovesByTheNetDisplacementAtTheKnownScale) {
+TEST(SwimFilmTest, BodyMovesByTheNetDisplacementAtTheKnownScale) {
   const fs::path dir = FreshDir("film_displacement");
   const fs::path run = GaitRun(dir);
   const fs::path video = dir / "swim.mp4";
@@ -191,7 +191,7 @@ TEST(Film, BodyMovesByTheNetDisplacementAtTheKnownScale) {
   EXPECT_NEAR(moved_row, expected_row, 1.5);
 }
 
-TEST(Film, FrameIsNotBlank) {
+TEST(SwimFilmTest, FrameIsNotBlank) {
   const fs::path dir = FreshDir("film_frame");
   const fs::path run = GaitRun(dir);
   const fs::path video = dir / "swim.mp4";
@@ -225,7 +225,7 @@ fs::path ShortScenario(const fs::path& dir) {
   return path;
 }
 
-TEST(Film, FilmingTheRunAndItsOutputsGiveTheSameFrames) {
+TEST(SwimFilmTest, FilmingTheRunAndItsOutputsGiveTheSameFrames) {
   const fs::path dir = FreshDir("film_same");
   const fs::path out = dir / "run";
   const CommandResult run = RunCli("run " + Quoted(ShortScenario(dir)) + " --out " + Quoted(out) +
@@ -247,7 +247,7 @@ TEST(Film, FilmingTheRunAndItsOutputsGiveTheSameFrames) {
   EXPECT_FALSE(during[0] == during[5]);  // the body moves
 }
 
-TEST(Film, BadVideoOptionsStopWithOneLineAndNoFile) {
+TEST(SwimFilmTest, BadVideoOptionsStopWithOneLineAndNoFile) {
   const fs::path dir = FreshDir("film_bad");
   const fs::path run = dir / "run";
   ASSERT_EQ(RunCli("run " + Quoted(ShortScenario(dir)) + " --out " + Quoted(run)).exit_code, 0);
@@ -282,7 +282,7 @@ TEST(Film, BadVideoOptionsStopWithOneLineAndNoFile) {
   }
 }
 
-TEST(RecordedStates, RoundTripThroughCsvAndInterpolate) {
+TEST(RecordedStatesTest, RoundTripThroughCsvAndInterpolate) {
   const ModelPtr model = LoadModelFile(ModelPath("flagellum3.xml"));
   const mjModel* m = model.get();
   DataPtr data(mj_makeData(m));
@@ -315,7 +315,7 @@ TEST(RecordedStates, RoundTripThroughCsvAndInterpolate) {
                                             "no column j3_rad");
 }
 
-TEST(FilmConfig, NamesTheOptionOutOfRange) {
+TEST(SwimFilmConfigTest, NamesTheOptionOutOfRange) {
   const auto expect_bad = [](const std::string& option, auto change) {
     FilmConfig config;
     change(config);
