@@ -437,7 +437,7 @@ TEST(IdentificationTest, SimulatedClampedFlagellumGivesItsOwnLinkModels) {
   }
 
   // The simulator's response is P_q times the rigid hinge's first-order
-  // lag 1/(tau s + 1), tau = c/k = 3.2 ms (README, "IPMC actuators"), and
+  // lag 1/(tau s + 1), tau = c/k = 3.2 ms (docs/MODEL.md, "IPMC actuators"), and
   // 0.5 ms of sampling delay (half the 1 ms hold; the bench records the
   // state at the sample time): about 10.5 deg of extra lag at 50 rad/s.
   // Levy's |D|-weighted error counts

@@ -72,7 +72,8 @@ TEST_F(IpmcActuatorsTest, ClampedLinksFollowTheirTransferFunctions) {
       // Driven alone, each link follows P_q within the measured 0.41 % /
       // 0.68 deg up to 2 rad/s; the gap grows with frequency (the hinge's
       // first-order lag c/k = 3.2 ms, the 1 kHz hold and the drag: 1.3 % /
-      // 2.1 deg at 10 rad/s) - see the README table.
+      // 2.1 deg at 10 rad/s) - see the table in docs/MODEL.md,
+      // "IPMC actuators".
       EXPECT_LT(std::abs(gain_error), w < 5.0 ? 0.02 : 0.05);
       EXPECT_LT(std::abs(phase_error_deg), w < 5.0 ? 2.0 : 5.0);
     }

@@ -27,7 +27,7 @@ TEST(ModelsTest, CommittedFilesEqualTheGenerator) {
   clamped.clamped = true;
   clamped.name = "flagellum3_clamped";
   clamped.plants = "table2";  // the bench identifies each link's own Table 2 row
-  clamped.timestep_s = 5e-4;  // README, "Time step and integrator": the bench's step
+  clamped.timestep_s = 5e-4;  // docs/RUNS.md, "Time step and integrator": the bench's step
   EXPECT_EQ(ReadFile(kModels + "flagellum3_clamped.xml"), GenerateFlagellumMjcf(clamped));
 }
 

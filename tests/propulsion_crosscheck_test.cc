@@ -50,8 +50,9 @@ constexpr double kMToMm = 1e3;
 constexpr int kRootBody = 1;
 
 // ---------------------------------------------------------------------------
-// Drag coefficients from the model's <custom> fields (README, "Resistive-force
-// theory"), with the README's defaults for absent fields.
+// Drag coefficients from the model's <custom> fields (docs/MODEL.md,
+// "Resistive-force theory"), with the defaults docs/LIBRARY.md lists for
+// absent fields.
 
 std::optional<double> CustomNumber(const mjModel* m, const std::string& name) {
   const int id = mj_name2id(m, mjOBJ_NUMERIC, name.c_str());
@@ -628,7 +629,7 @@ TEST(PropulsionCrossCheckTest, ResistanceMatrixIsSymmetricAndDissipative) {
               1e-12 * std::abs(straight(0, 0)));
   EXPECT_NEAR(straight(1, 1), -chain.xi.normal_N_s_m2 * chain.length_m,
               1e-12 * std::abs(straight(1, 1)));
-  // Gray-Hancock coefficients for the README's water and strip: 2.582e-3, 1.625e-3 N s/m^2.
+  // Gray-Hancock coefficients for docs/MODEL.md's water and strip: 2.582e-3, 1.625e-3 N s/m^2.
   EXPECT_NEAR(chain.xi.normal_N_s_m2, 2.582e-3, 1e-6);
   EXPECT_NEAR(chain.xi.tangential_N_s_m2, 1.625e-3, 1e-6);
   std::mt19937 random(3);
@@ -716,7 +717,8 @@ TEST(PropulsionCrossCheckTest, ManySegmentChainMatchesGrayHancock) {
     deficits.push_back(deficit);
   }
   // Measured 8.88 % and 3.25 % slower (the MuJoCo runs' small extra gap
-  // is their inertia and time step). Within the README's few percent, and
+  // is their inertia and time step). Within the few percent of
+  // docs/VALIDATION.md (classical RFT speed), and
   // fading with more wavelengths:
   EXPECT_GT(deficits[0], deficits[1]);
   EXPECT_GT(deficits[1], 0.0);
