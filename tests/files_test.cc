@@ -170,5 +170,30 @@ TEST(FilesTest, AFileThatCannotBeReplacedChangesNothing) {
   fs::remove_all(dir);
 }
 
+TEST(FilesTest, AnOutputDirectoryIsHeldByOneRunAtATime) {
+  const fs::path dir = ScratchDir("lock");
+  const std::string out = (dir / "new" / "run").string();
+  {
+    const DirectoryLock lock(out);
+    EXPECT_TRUE(fs::is_directory(out));
+    try {
+      const DirectoryLock second(out);
+      FAIL() << "two holders of one output directory";
+    } catch (const std::runtime_error& error) {
+      EXPECT_EQ(std::string(error.what()),
+                out + ": in use by another run (one run per output directory)");
+    }
+  }
+  // Released empty: the folders it made are gone again.
+  EXPECT_EQ(Entries(dir), std::vector<std::string>{});
+  {
+    const DirectoryLock lock(out);
+    WriteFileAtomically(out + "/summary.json", "{}");
+  }
+  EXPECT_TRUE(fs::exists(out + "/summary.json"));
+  { const DirectoryLock again(out); }  // free once released
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace ipmc::testing

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -319,6 +320,9 @@ int RunScenarioCommand(const RunArgs& args) {
     ipmc::RefuseOverwritingInputs("run", "--video", args.video_path, {args.scenario_path});
     ipmc::RequireWritableParent(args.video_path);
   }
+  // One run per output directory, from the start of the work to its end.
+  std::optional<ipmc::DirectoryLock> hold;
+  if (!dir.empty()) hold.emplace(dir);
   // The results are printed and written before the film is made.
   ipmc::RunScenarioFilmed(scenario, args.film, args.video_path,
                           [&](const ipmc::ClosedLoopResult& result) {
@@ -402,6 +406,8 @@ int RunGaitCommand(const GaitArgs& args) {
   }
   ipmc::Simulation sim(ipmc::LoadModelFile(args.model_path), args.model_path);
   const std::unique_ptr<ipmc::Gait> gait = MakeGait(args, CountServos(sim.model()));
+  std::optional<ipmc::DirectoryLock> hold;  // one run per output directory
+  if (!args.out_dir.empty()) hold.emplace(args.out_dir);
   ipmc::RunWatch watch("gait", args.run.cycles * gait->Period_s());
   ipmc::GaitRunOptions options = args.run;
   options.on_sample = [&](double t_s) { watch.At(t_s); };

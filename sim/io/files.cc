@@ -1,6 +1,7 @@
 #include "sim/io/files.h"
 
 #include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -187,6 +188,43 @@ void WriteFilesTogether(const std::vector<std::pair<std::string, std::string>>& 
     backups.Restore();
     throw;
   }
+}
+
+DirectoryLock::DirectoryLock(const std::string& dir) : dir_(dir) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  fs::path folder = fs::absolute(dir, error).lexically_normal();
+  if (folder.filename().empty()) folder = folder.parent_path();  // "out/run/"
+  for (; !folder.empty() && !fs::exists(folder, error); folder = folder.parent_path()) {
+    created_.push_back(folder.string());
+  }
+  try {
+    EnsureDirectory(dir);
+    fd_ = open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd_ < 0) {
+      throw std::runtime_error(dir + ": cannot open output directory (" + std::strerror(errno) +
+                               ")");
+    }
+    // A file system without locks (ENOLCK) is let through: the user then
+    // keeps runs apart.
+    if (flock(fd_, LOCK_EX | LOCK_NB) != 0 && errno == EWOULDBLOCK) {
+      throw std::runtime_error(dir + ": in use by another run (one run per output directory)");
+    }
+  } catch (...) {
+    Release();
+    throw;
+  }
+}
+
+DirectoryLock::~DirectoryLock() { Release(); }
+
+void DirectoryLock::Release() {
+  // Removed while still held, so no other run has written into them; a
+  // folder that holds anything stays.
+  for (const std::string& folder : created_) rmdir(folder.c_str());
+  created_.clear();
+  if (fd_ >= 0) close(fd_);
+  fd_ = -1;
 }
 
 void RefuseOverwritingInputs(const std::string& who, const std::string& option,

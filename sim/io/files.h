@@ -51,6 +51,27 @@ void WriteFileAtomically(const std::string& path, const std::string& content);
 void WriteFilesTogether(const std::vector<std::pair<std::string, std::string>>& files,
                         const std::vector<std::string>& stale = {});
 
+// Holds an output directory for one writer at a time (flock on the
+// directory itself) for as long as it lives: two runs into one folder
+// cannot mix their files, the second is refused at its start. Creates the
+// directory (and parents) if needed, and removes what it created if it
+// is still empty when released (a run that failed leaves nothing).
+// Throws std::runtime_error "DIR: in use by another run (...)" or
+// naming the reason it cannot be created or opened.
+class DirectoryLock {
+ public:
+  explicit DirectoryLock(const std::string& dir);
+  ~DirectoryLock();
+  DirectoryLock(const DirectoryLock&) = delete;
+  DirectoryLock& operator=(const DirectoryLock&) = delete;
+
+ private:
+  void Release();
+  std::string dir_;
+  std::vector<std::string> created_;  // the folders this lock made, deepest first
+  int fd_ = -1;
+};
+
 // Throws std::invalid_argument "WHO: OPTION PATH would overwrite the
 // input PATH" if `output` is (or names the same file as) one of `inputs`.
 void RefuseOverwritingInputs(const std::string& who, const std::string& option,
