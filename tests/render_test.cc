@@ -19,6 +19,7 @@
 #include <stb/stb_image.h>
 
 #include "renders/offscreen_renderer.h"
+#include "renders/swim_film.h"
 #include "sim/cli/render_command.h"
 #include "renders/video.h"
 #include "sim/core/simulation.h"
@@ -279,8 +280,9 @@ TEST(RenderCommandTest, FilmsAShortScenario) {
             0);
   std::map<std::string, int> probe = Probe(out);
   EXPECT_EQ(probe["nb_read_frames"], 10);
-  EXPECT_EQ(probe["width"], kWidth);
-  EXPECT_EQ(probe["height"], kHeight);
+  const FilmConfig defaults;  // the film's size unless --width-px/--height-px say otherwise
+  EXPECT_EQ(probe["width"], defaults.width);
+  EXPECT_EQ(probe["height"], defaults.height);
   EXPECT_TRUE(fs::exists(dir / "png" / "frame_00009.png"));
   EXPECT_FALSE(fs::exists(dir / "png" / "frame_00010.png"));
   EXPECT_FALSE(fs::exists(dir / "scenario_out"));  // the scenario's outputs are not written
