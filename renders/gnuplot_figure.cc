@@ -13,9 +13,9 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "sim/io/error.h"
+#include "plugin/base/error.h"
 #include "sim/io/files.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 
 extern char** environ;
 

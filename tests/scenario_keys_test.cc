@@ -13,7 +13,7 @@
 #include "sim/core/data_paths.h"
 #include "sim/core/scenario.h"
 #include "sim/core/scenario_keys.h"
-#include "sim/io/error.h"
+#include "plugin/base/error.h"
 
 namespace ipmc {
 namespace {

@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "plugin/mjcf/custom_fields.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc {
 namespace {

@@ -41,7 +41,7 @@
 //  - a malformed sweep file, an unknown key or a value of the wrong type
 //    (as the scenario reader judges it), or a base that is not a valid
 //    scenario by itself stops the sweep before any run: InputError
-//    (sim/io/error.h, a std::runtime_error) with one line "FILE:LINE: key
+//    (plugin/base/error.h, a std::runtime_error) with one line "FILE:LINE: key
 //    ..." naming the sweep file (or the base); the scenario reader's errors
 //    are classified and relocated by their problem and key, not by their
 //    text;
@@ -100,7 +100,7 @@ SweepPlan LoadSweep(const std::string& path);
 // the dotted keys under them, a changed kind dropping the base's keys of
 // the other kind). With an empty base_path the overrides are the whole
 // scenario and relative paths resolve from the working directory. Throws
-// InputError (sim/io/error.h) with one line: errors in the base name the
+// InputError (plugin/base/error.h) with one line: errors in the base name the
 // base file and line, errors in an override `source`, the override's line
 // and the key.
 ScenarioConfig ScenarioWithOverrides(const std::string& base_path, const toml::table& overrides,
@@ -179,7 +179,7 @@ std::string SweepTableCsv(const SweepTable& table);
 nlohmann::ordered_json SweepTableJson(const SweepTable& table);
 
 // Reads a table written by SweepTableCsv; throws InputError
-// (sim/io/error.h) "SOURCE:LINE: ..." if it is not one.
+// (plugin/base/error.h) "SOURCE:LINE: ..." if it is not one.
 SweepTable ParseSweepTableCsv(const std::string& csv_text, const std::string& source);
 // The same from PREFIX.csv, with program_version and provenance from
 // PREFIX.json beside it if there is one (InputError if it is not a

@@ -13,7 +13,7 @@
 
 #include "controllers/linear/frequency_response.h"
 #include "sim/io/files.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc {
 namespace {

@@ -16,7 +16,7 @@
 #include "sim/cli/interrupt.h"
 #include "sim/cli/run_watch.h"
 #include "sim/batch/sweep.h"
-#include "sim/io/error.h"
+#include "plugin/base/error.h"
 #include "sim/io/files.h"
 #include "sim/io/toml.h"
 #include "sim/runs/bench_run.h"

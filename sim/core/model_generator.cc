@@ -7,7 +7,7 @@
 #include <stdexcept>
 
 #include "plugin/actuators/ipmc_actuators.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc {
 namespace {

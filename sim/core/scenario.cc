@@ -25,9 +25,9 @@
 #include <vector>
 
 #include "sim/core/scenario_keys.h"
-#include "sim/io/error.h"
+#include "plugin/base/error.h"
 #include "sim/io/files.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 #include "sim/io/toml.h"
 
 namespace ipmc {
@@ -122,7 +122,7 @@ struct Entry {
 };
 
 // Reads one scenario document; every failure throws InputError
-// (sim/io/error.h) naming the source, the line and the key, with one line
+// (plugin/base/error.h) naming the source, the line and the key, with one line
 // of text.
 class ScenarioReader {
  public:
