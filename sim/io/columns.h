@@ -64,7 +64,7 @@ constexpr char kP1Curve[] = "p1";
 constexpr char kP2Curve[] = "p2";
 constexpr char kInBand[] = "in_band";
 
-// Sweep tables (sim/batch/sweep.h): point, the swept keys, status, error,
+// Sweep tables (sim/batch/sweep_table.h): point, the swept keys, status, error,
 // then per-link and swimming results.
 constexpr char kPoint[] = "point";
 constexpr char kStatus[] = "status";
