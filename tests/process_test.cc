@@ -6,11 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "sim/io/files.h"
 
 namespace ipmc {
 namespace {
@@ -22,13 +22,6 @@ fs::path FreshDir(const std::string& name) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
-}
-
-std::string Read(const fs::path& path) {
-  std::ifstream in(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
 }
 
 TEST(Process, CapturesOutputAndExitStatus) {
@@ -60,7 +53,7 @@ TEST(Process, WritesOutputAndErrorsToTheLog) {
   const ProgramExit exit = RunProgram({"sh", "-c", "echo out; echo err >&2"}, log.string());
   EXPECT_TRUE(exit.ok());
   EXPECT_EQ(exit.output, "");
-  EXPECT_EQ(Read(log), "out\nerr\n");
+  EXPECT_EQ(ReadTextFile(log.string(), "log"), "out\nerr\n");
   EXPECT_EQ(LastLineOfFile(log.string()), "err");
 }
 
@@ -85,7 +78,7 @@ TEST(Process, FeedsItsInput) {
   const std::string text = "frame 1\nframe 2\n";
   EXPECT_TRUE(program.Write(text.data(), text.size()));
   EXPECT_TRUE(program.Wait().ok());
-  EXPECT_EQ(Read(dir / "copy"), text);
+  EXPECT_EQ(ReadTextFile((dir / "copy").string(), "copy"), text);
   EXPECT_THROW(program.Wait(), std::logic_error);
   // Input without a log could deadlock on captured output: refused.
   EXPECT_THROW(Program({"cat"}, ProgramIo{true, ""}), std::invalid_argument);
