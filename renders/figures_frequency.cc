@@ -25,6 +25,7 @@ namespace {
 // the exact response (controllers/linear/frequency_response.h) and wrote
 // them to bode.json; empty where there is none or no bode.json.
 struct Margins {
+  bool known = false;  // bode.json holds them
   std::optional<double> crossover_rad_s, phase_margin_deg;
   std::optional<double> phase_crossover_rad_s, gain_margin_db;
 };
@@ -36,7 +37,7 @@ Margins MarginsOf(const nlohmann::json& about) {
     if (!margins.is_object() || !margins.contains(key) || !margins[key].is_number()) return {};
     return margins[key].get<double>();
   };
-  return {number("gain_crossover_rad_s"), number("phase_margin_deg"),
+  return {margins.is_object(), number("gain_crossover_rad_s"), number("phase_margin_deg"),
           number("phase_crossover_rad_s"), number("gain_margin_db")};
 }
 
@@ -85,7 +86,9 @@ Figure BodeFigure(const CsvTable& table, const std::string& input, const FigureO
                                   std::string(columns::kOpenLoopCurve)) != options.curves.end();
   const Margins margins = has_loop ? MarginsOf(about) : Margins{};
   std::string margin_text;
-  if (has_loop) {
+  if (has_loop && !margins.known) {
+    report.notes.push_back("no margins marked: bode.json of `bode --out` is not beside the input");
+  } else if (has_loop) {
     margin_text = margins.gain_margin_db
                       ? "Gm = " + Format("%.2f", *margins.gain_margin_db) + " dB (at " +
                             Format("%.3f", *margins.phase_crossover_rad_s) + " rad/s)"

@@ -369,6 +369,16 @@ TEST_F(PlotCli, BodeMarginsAreTheBodeCommands) {
   EXPECT_EQ(NumberAfter(figure, "dB (at "), NumberAfter(fractional.output, "dB at "));
 }
 
+// Without bode.json beside bode.csv the figure knows no margins and says
+// so, rather than compute others from the grid.
+TEST_F(PlotCli, BodeWithoutItsJsonMarksNoMargins) {
+  const fs::path dir = FreshDir("margins_unknown");
+  fs::copy_file(outputs.bode_csv(), dir / "bode.csv");
+  const std::string figure = ExpectFigure("bode " + Quoted(dir / "bode.csv"), dir / "bode.png");
+  EXPECT_NE(figure.find("no margins marked"), std::string::npos) << figure;
+  EXPECT_EQ(figure.find("Pm = "), std::string::npos) << figure;
+}
+
 TEST_F(PlotCli, UnknownExtensionIsRefusedAndLeavesNothing) {
   const fs::path dir = FreshDir("extension");
   for (const char* name : {"tracking.jpg", "tracking"}) {
