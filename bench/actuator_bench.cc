@@ -22,7 +22,7 @@
 #include "ipmc_swim/ipmc_swim.h"
 #include "sim/core/model_generator.h"
 #include "sim/core/simulation.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc {
 namespace {

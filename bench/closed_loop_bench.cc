@@ -47,7 +47,7 @@
 #include "sim/core/model_generator.h"
 #include "sim/core/scenario.h"
 #include "sim/core/simulation.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 #include "sim/runs/bench_run.h"
 #include "sim/runs/closed_loop_run.h"
 

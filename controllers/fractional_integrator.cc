@@ -10,8 +10,8 @@
 
 #include <unsupported/Eigen/MatrixFunctions>
 
-#include "sim/io/error.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/error.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc {
 namespace {

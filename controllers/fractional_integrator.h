@@ -81,7 +81,7 @@ class FractionalIntegrator {
     bool clamp_enabled = true;
     double v_max = 6.0;  // output limit [V], > 0 (checked if clamp_enabled)
 
-    // Throws FieldError (sim/io/error.h, a std::invalid_argument) with a
+    // Throws FieldError (plugin/base/error.h, a std::invalid_argument) with a
     // one-line message naming the field and its allowed range (both also
     // carried as its field() and allowed()).
     void Validate() const;

@@ -7,8 +7,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "sim/io/error.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/error.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc {
 namespace {

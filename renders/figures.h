@@ -11,10 +11,11 @@
 //  - bode (Fig. 9, 10), bode.csv of `bode --out`: magnitude and phase of
 //    plant, controller, open loop and the reference model's open loop
 //    against w; the open loop's gain crossover, phase and gain margins
-//    marked as MATLAB's `margin` does (found on the CSV's grid by linear
-//    interpolation in log w: the phase margin as a bar from -180 deg to the
-//    phase at the crossover, the gain margin as a bar from the magnitude to
-//    0 dB at the phase crossover closest to 0 dB), and named in the title.
+//    marked as MATLAB's `margin` does and named in the title: those the
+//    bode command found by root search on the exact response and wrote to
+//    bode.json (the phase margin as a bar from -180 deg up by the margin at
+//    the gain crossover, the gain margin as a bar from -GM to 0 dB at the
+//    phase crossover closest to 0 dB); none without bode.json.
 //  - step (Fig. 11), step.csv of `step --out`: each link's unit step and
 //    the reference model's; below, each link's voltage with the clamp.
 //  - tracking (Fig. 12a), timeseries.csv: per link, reference and measured
@@ -34,17 +35,13 @@
 //    fitted G1 and G2 over the fit's band.
 //  - sweep, a sweep table: --y against --x, one curve per --group.
 //
-// The ideal body of waveform and surface is the discretised wave as the
-// realised body would draw it: segment k keeps the realised body's mean
-// length from point k-1 to tip k and turns from segment k-1 (the head's
-// axis for k = 1) by asin(reference_k / L_k), L_k the length that maps the
-// measured deflection onto the realised turn angle (least squares); the
-// tips stand in for the hinges.
+// The ideal body of waveform and surface is sim/runs/body_record.h's.
 #pragma once
 
 #include <string>
 #include <vector>
 
+#include "renders/figure_labels.h"  // AxisLabel
 #include "renders/gnuplot_figure.h"
 
 namespace ipmc {
@@ -95,17 +92,12 @@ struct FigureReport {
 };
 
 // Draws figure `kind` of the CSV at `input` into out_path. Throws
-// FieldError (sim/io/error.h) for a bad option or an unknown output
+// FieldError (plugin/base/error.h) for a bad option or an unknown output
 // format, InputError naming the file and the column for input without the
 // needed columns or rows, std::runtime_error if gnuplot fails; nothing is
 // written then.
 FigureReport DrawFigureOf(FigureKind kind, const std::string& input, const FigureOptions& options,
                           const std::string& out_path);
 
-// The axis label, with its unit, of a column of the program's CSV files
-// ("mean_speed_along_mm_s" -> "mean speed along the swimming axis
-// [mm/s]"); an array element "NAME[i]" of a sweep table too. Columns not
-// in the table are spelled out from their name and unit suffix.
-std::string AxisLabel(const std::string& column);
 
 }  // namespace ipmc

@@ -1,10 +1,5 @@
 #include "renders/gnuplot_figure.h"
 
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -13,11 +8,10 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "sim/io/error.h"
+#include "plugin/base/error.h"
 #include "sim/io/files.h"
-#include "sim/io/numbers.h"
-
-extern char** environ;
+#include "sim/io/process.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc {
 namespace {
@@ -39,15 +33,9 @@ std::string Lower(std::string text) {
 
 // The last non-empty line of gnuplot's output, its error message, with the
 // temporary script's path (gone by the time anyone reads it) shortened.
-std::string LastLine(const fs::path& log, const fs::path& script) {
-  std::ifstream in(log);
-  std::string line, last;
-  while (std::getline(in, line)) {
-    if (line.find_first_not_of(" \t\r") != std::string::npos) last = line;
-  }
-  const size_t start = last.find_first_not_of(" \t");
-  if (start == std::string::npos) return "no message";
-  last = last.substr(start);
+std::string GnuplotSaid(const fs::path& log, const fs::path& script) {
+  std::string last = LastLineOfFile(log.string());
+  if (last.empty()) return "no message";
   const std::string quoted_script = "\"" + script.string() + "\"";
   if (const size_t at = last.find(quoted_script); at != std::string::npos) {
     last.replace(at, quoted_script.size(), "script");
@@ -57,35 +45,16 @@ std::string LastLine(const fs::path& log, const fs::path& script) {
 
 // Runs "gnuplot SCRIPT" with its output in LOG; throws unless it exits 0.
 void RunGnuplot(const fs::path& script, const fs::path& log, const std::string& input) {
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(),
-                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  std::string program = kGnuplot;
-  std::string script_path = script.string();
-  char* argv[] = {program.data(), script_path.data(), nullptr};
-  pid_t pid = 0;
-  const int spawn_error = posix_spawnp(&pid, kGnuplot, &actions, nullptr, argv, environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (spawn_error != 0) {
-    throw std::runtime_error(std::string("plot: cannot run ") + kGnuplot + " (" +
-                             std::strerror(spawn_error) + "; Debian package gnuplot-nox)");
+  ProgramExit exit;
+  try {
+    exit = RunProgram({kGnuplot, script.string()}, log.string());
+  } catch (const std::runtime_error& error) {
+    throw std::runtime_error(std::string("plot: ") + error.what() +
+                             " (Debian package gnuplot-nox)");
   }
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) {
-      throw std::runtime_error(std::string("plot: waiting for gnuplot failed (") +
-                               std::strerror(errno) + ")");
-    }
-  }
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    const std::string how = WIFEXITED(status)
-                                ? "exit status " + std::to_string(WEXITSTATUS(status))
-                                : "killed by signal " + std::to_string(WTERMSIG(status));
-    throw std::runtime_error("plot: gnuplot failed drawing " + input + " (" + how +
-                             "): " + LastLine(log, script));
+  if (!exit.ok()) {
+    throw std::runtime_error("plot: gnuplot failed drawing " + input + " (" + exit.How() +
+                             "): " + GnuplotSaid(log, script));
   }
 }
 
@@ -200,7 +169,7 @@ void DrawFigure(const Figure& figure, const FigureScratch& scratch, const std::s
   RunGnuplot(script_path, log, input);
   if (!HasSignature(output.temp_path(), format)) {
     throw std::runtime_error(std::string("plot: gnuplot wrote no ") + FormatName(format) +
-                             " drawing " + input + ": " + LastLine(log, script_path));
+                             " drawing " + input + ": " + GnuplotSaid(log, script_path));
   }
   output.Commit();
 }

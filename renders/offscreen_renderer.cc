@@ -11,8 +11,8 @@
 #include <stdexcept>
 
 #include "sim/core/simulation.h"
-#include "sim/io/numbers.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc {
 namespace {

@@ -1,21 +1,18 @@
 #include "renders/video.h"
 
-#include <pthread.h>
-#include <signal.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
 #include <cstdint>
-#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 
 #include "sim/io/files.h"
+#include "sim/io/process.h"
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STBI_WRITE_NO_STDIO
@@ -38,66 +35,10 @@ void AppendBytes(void* context, void* data, int size) {
   static_cast<std::string*>(context)->append(static_cast<const char*>(data), size);
 }
 
-// A path as one word for /bin/sh: in single quotes, with each ' as '\''.
-std::string ShellQuote(const std::string& text) {
-  std::string quoted = "'";
-  for (char c : text) {
-    if (c == '\'') {
-      quoted += "'\\''";
-    } else {
-      quoted += c;
-    }
-  }
-  return quoted + "'";
-}
-
-// Blocks SIGPIPE in this thread while writing to ffmpeg, so that a write
-// to a pipe whose reader has died fails with EPIPE instead of killing the
-// program; a SIGPIPE raised meanwhile is consumed before the mask is
-// restored. The process's signal dispositions are left alone.
-class ScopedSigpipeBlock {
- public:
-  ScopedSigpipeBlock() {
-    sigemptyset(&sigpipe_);
-    sigaddset(&sigpipe_, SIGPIPE);
-    pthread_sigmask(SIG_BLOCK, &sigpipe_, &previous_);
-    sigset_t pending;
-    sigpending(&pending);
-    was_pending_ = sigismember(&pending, SIGPIPE) == 1;
-  }
-  ~ScopedSigpipeBlock() {
-    if (!was_pending_) {
-      sigset_t pending;
-      sigpending(&pending);
-      if (sigismember(&pending, SIGPIPE) == 1) {
-        const timespec no_wait = {0, 0};
-        sigtimedwait(&sigpipe_, nullptr, &no_wait);
-      }
-    }
-    pthread_sigmask(SIG_SETMASK, &previous_, nullptr);
-  }
-  ScopedSigpipeBlock(const ScopedSigpipeBlock&) = delete;
-  ScopedSigpipeBlock& operator=(const ScopedSigpipeBlock&) = delete;
-
- private:
-  sigset_t sigpipe_, previous_;
-  bool was_pending_ = false;
-};
-
 // Removes path if it is a file (never a directory someone made there).
 void RemoveFile(const std::string& path) {
   std::error_code error;
   if (std::filesystem::is_regular_file(path, error)) std::filesystem::remove(path, error);
-}
-
-// The last non-empty line of a file ("" if none).
-std::string LastLine(const std::string& path) {
-  std::ifstream in(path);
-  std::string line, last;
-  while (std::getline(in, line)) {
-    if (line.find_first_not_of(" \t\r") != std::string::npos) last = line;
-  }
-  return last;
 }
 
 // Whether `path` is a whole MP4: top-level boxes (4-byte big-endian size,
@@ -167,16 +108,22 @@ Mp4Writer::Mp4Writer(const std::string& path, int width, int height, double fps)
   close(fd);
   log_path_ = log;
 
-  std::ostringstream command;
-  command.precision(12);
-  command << "ffmpeg -nostdin -y -loglevel error -f rawvideo -pix_fmt rgb24 -s " << width << "x"
-          << height << " -r " << fps << " -i - -c:v libx264 -preset veryfast -pix_fmt yuv420p -f mp4 "
-          << ShellQuote(output_.temp_path()) << " 2>" << ShellQuote(log_path_);
-  pipe_ = popen(command.str().c_str(), "w");
-  if (!pipe_) {
-    const std::string reason = std::strerror(errno);
+  std::ostringstream rate;
+  rate.precision(12);
+  rate << fps;
+  const std::vector<std::string> argv = {
+      "ffmpeg", "-nostdin", "-y", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgb24",
+      "-s", std::to_string(width) + "x" + std::to_string(height), "-r", rate.str(), "-i", "-",
+      "-c:v", "libx264", "-preset", "veryfast", "-pix_fmt", "yuv420p", "-f", "mp4",
+      output_.temp_path()};
+  ProgramIo io;
+  io.write_input = true;
+  io.log_path = log_path_;
+  try {
+    ffmpeg_ = std::make_unique<Program>(argv, io);
+  } catch (const std::runtime_error& error) {
     RemoveFile(log_path_);
-    throw std::runtime_error(path + ": cannot start ffmpeg (" + reason + ")");
+    throw std::runtime_error(path + ": cannot start ffmpeg (" + error.what() + ")");
   }
 }
 
@@ -187,18 +134,16 @@ Mp4Writer::~Mp4Writer() {
 }
 
 int Mp4Writer::ClosePipe() {
-  if (!pipe_) return -1;
-  ScopedSigpipeBlock block;
-  const int status = pclose(pipe_);
-  pipe_ = nullptr;
-  if (status == -1 || !WIFEXITED(status)) return -1;
-  return WEXITSTATUS(status);
+  if (!ffmpeg_) return -1;
+  const ProgramExit exit = ffmpeg_->Wait();
+  ffmpeg_.reset();
+  return exit.exit_code;
 }
 
 void Mp4Writer::Fail(const std::string& what) {
   ClosePipe();
   std::string message = path_ + ": " + what;
-  const std::string ffmpeg_said = LastLine(log_path_);
+  const std::string ffmpeg_said = LastLineOfFile(log_path_);
   if (!ffmpeg_said.empty()) message += " (ffmpeg: " + ffmpeg_said + ")";
   RemoveFile(log_path_);
   finished_ = true;  // nothing left to clean up
@@ -207,13 +152,8 @@ void Mp4Writer::Fail(const std::string& what) {
 
 void Mp4Writer::AddFrame(const std::vector<unsigned char>& rgb) {
   CheckFrameSize(rgb, width_, height_, path_);
-  if (!pipe_ || finished_) throw std::runtime_error(path_ + ": video already closed");
-  size_t written = 0;
-  {
-    ScopedSigpipeBlock block;
-    written = std::fwrite(rgb.data(), 1, rgb.size(), pipe_);
-  }
-  if (written != rgb.size()) Fail("ffmpeg stopped reading frames");
+  if (!ffmpeg_ || finished_) throw std::runtime_error(path_ + ": video already closed");
+  if (!ffmpeg_->Write(rgb.data(), rgb.size())) Fail("ffmpeg stopped reading frames");
   ++frames_;
 }
 

@@ -8,11 +8,12 @@
 // has finished successfully.
 #pragma once
 
-#include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "sim/io/files.h"
+#include "sim/io/process.h"
 
 namespace ipmc {
 
@@ -22,10 +23,11 @@ namespace ipmc {
 void WritePng(const std::string& path, const std::vector<unsigned char>& rgb, int width,
               int height);
 
-// Pipes raw frames to ffmpeg (from PATH):
+// Pipes raw frames to ffmpeg (from PATH, started from an argument vector,
+// no shell; sim/io/process.h):
 //   ffmpeg -y -f rawvideo -pix_fmt rgb24 -s WxH -r FPS -i -
 //          -c:v libx264 -preset veryfast -pix_fmt yuv420p OUT.tmp.mp4
-// with -nostdin, -loglevel error and -f mp4 added, and ffmpeg's messages
+// with -nostdin, -loglevel error and -f mp4 added, and ffmpeg's output
 // going to a temporary log next to OUT (its last line ends up in the error
 // message). yuv420p needs an even width and height. The veryfast preset
 // takes about a third of the default's CPU time (no trellis
@@ -53,7 +55,8 @@ class Mp4Writer {
   const std::string& path() const { return path_; }
 
  private:
-  // Closes the pipe and returns ffmpeg's exit status (-1 if it was killed).
+  // Closes ffmpeg's input, waits and returns its exit status (-1 if it was
+  // killed or is gone).
   int ClosePipe();
   // Removes ffmpeg's log and throws "OUT: what (ffmpeg's message)"; the
   // unfinished video goes with the writer.
@@ -64,7 +67,7 @@ class Mp4Writer {
   std::string log_path_;
   int width_, height_;
   int frames_ = 0;
-  FILE* pipe_ = nullptr;
+  std::unique_ptr<Program> ffmpeg_;  // writing OUT.tmp.mp4, its messages in the log
   bool finished_ = false;
 };
 

@@ -3,7 +3,11 @@
 # docs/ARCHITECTURE.md). Run by CTest as
 #   cmake -DSOURCE_DIR=<project> -P tests/check_layers.cmake
 # Each layer lists the layers its files may include (its own is implied).
+# plugin/base is the bottom and includes nothing of the project; plugin/
+# and controllers/ never include sim/ (they are libraries of their own that
+# a program other than ipmc-swim may link).
 set(layers
+  plugin/base
   sim/io
   controllers/linear
   controllers
@@ -20,16 +24,18 @@ set(layers
   sim/cli
   sim/python
   sim)
-set(allowed_sim/io "")
-set(allowed_controllers/linear sim/io)
-set(allowed_controllers controllers/linear sim/io)
+set(allowed_plugin/base "")
+set(allowed_sim/io plugin/base)
+set(allowed_controllers/linear plugin/base)
+set(allowed_controllers controllers/linear plugin/base)
 set(allowed_plugin/include "")
-set(allowed_plugin/mjcf sim/io)
-set(allowed_plugin/fluid plugin/mjcf sim/io)
-set(allowed_plugin/actuators plugin/include plugin/mjcf controllers/linear sim/io)
-set(allowed_plugin plugin/include plugin/mjcf plugin/fluid plugin/actuators controllers/linear sim/io)
-set(below_sim sim/io controllers/linear controllers plugin/include plugin/mjcf plugin/fluid
-  plugin/actuators plugin)
+set(allowed_plugin/mjcf plugin/base)
+set(allowed_plugin/fluid plugin/mjcf plugin/base)
+set(allowed_plugin/actuators plugin/include plugin/mjcf controllers/linear plugin/base)
+set(allowed_plugin plugin/include plugin/mjcf plugin/fluid plugin/actuators controllers/linear
+  plugin/base)
+set(below_sim plugin/base sim/io controllers/linear controllers plugin/include plugin/mjcf
+  plugin/fluid plugin/actuators plugin)
 set(allowed_sim/core ${below_sim})
 set(allowed_sim/runs sim/core ${below_sim})
 set(allowed_sim/identify sim/core ${below_sim})

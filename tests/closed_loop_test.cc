@@ -28,7 +28,7 @@
 #include "controllers/linear/state_space.h"
 #include "controllers/pid.h"
 #include "controllers/reference_model.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc {
 namespace {

@@ -16,7 +16,7 @@
 #include "sim/core/model_generator.h"
 #include "sim/core/scenario.h"
 #include "tests/test_util.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc::testing {
 namespace {

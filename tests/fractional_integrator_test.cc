@@ -25,7 +25,7 @@
 #include "controllers/linear/oustaloup.h"
 #include "controllers/linear/state_space.h"
 #include "controllers/paper_eq15.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc {
 namespace {

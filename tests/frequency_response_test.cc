@@ -24,7 +24,8 @@
 
 #include "controllers/fractional_integrator.h"
 #include "controllers/pid.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
+#include "sim/identify/loop_analysis.h"
 
 namespace ipmc {
 namespace {

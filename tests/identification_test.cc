@@ -43,7 +43,7 @@
 #include "sim/identify/welch.h"
 #include "tests/cli_util.h"
 #include "tests/test_util.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc::testing {
 namespace {

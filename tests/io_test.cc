@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "sim/io/csv.h"
-#include "sim/io/error.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/error.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc {
 namespace {

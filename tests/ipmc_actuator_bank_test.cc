@@ -17,7 +17,7 @@
 #include "controllers/linear/oustaloup.h"
 #include "controllers/linear/state_space.h"
 #include "plugin/actuators/ipmc_link_model.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc {
 namespace {

@@ -15,7 +15,7 @@
 
 #include "controllers/paper_eq15.h"
 #include "controllers/linear/state_space.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc {
 namespace {

@@ -40,7 +40,7 @@
 #include "sim/core/scenario.h"
 #include "sim/core/simulation.h"
 #include "tests/test_util.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc::testing {
 namespace {

@@ -7,7 +7,7 @@
 // times that residual.
 #include "tests/test_util.h"
 #include "controllers/reference_model.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 
 #include <cmath>
 #include <complex>

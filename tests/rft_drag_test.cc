@@ -9,7 +9,7 @@
 
 #include "ipmc_swim/ipmc_swim.h"
 #include "tests/test_util.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc::testing {
 namespace {

@@ -4,6 +4,7 @@
 // the resolved scenario a run records (ResolvedScenarioToml) reads back to
 // itself.
 #include <gtest/gtest.h>
+#include <toml++/toml.h>
 
 #include <fstream>
 #include <regex>
@@ -13,7 +14,9 @@
 #include "sim/core/data_paths.h"
 #include "sim/core/scenario.h"
 #include "sim/core/scenario_keys.h"
-#include "sim/io/error.h"
+#include "plugin/base/error.h"
+#include "plugin/base/numbers.h"
+#include "sim/io/toml.h"
 
 namespace ipmc {
 namespace {
@@ -27,14 +30,14 @@ std::string ModelLine() { return "model = \"" + ModelsDir() + "/flagellum3.xml\"
 // key needs (its table's kind); the model unless the key is model.
 std::string ScenarioWith(const KeySpec& key, const std::string& value) {
   std::string text = std::string(key.name) == "model" ? "" : ModelLine();
-  if (*key.applies_when != '\0') text += std::string(key.applies_when) + "\n";
+  if (!key.applies_when.empty()) text += key.applies_when + "\n";
   return text + key.name + " = " + value + "\n";
 }
 
 // The scenario without the key (its kind only).
 std::string ScenarioWithout(const KeySpec& key) {
   std::string text = ModelLine();
-  if (*key.applies_when != '\0') text += std::string(key.applies_when) + "\n";
+  if (!key.applies_when.empty()) text += key.applies_when + "\n";
   return text;
 }
 
@@ -63,7 +66,8 @@ TEST(ScenarioKeysTest, EveryKeyTakesItsDefaultAndItsExampleAndRefusesItsRefusedV
         ADD_FAILURE() << key.name << " = " << key.refused_toml << " was accepted";
       } catch (const InputError& error) {
         EXPECT_EQ(error.key(), key.name) << error.what();
-        EXPECT_EQ(error.where().line, std::string(key.name) == "model" ? 1u : 2u + (*key.applies_when != '\0'))
+        EXPECT_EQ(error.where().line,
+                  std::string(key.name) == "model" ? 1u : 2u + !key.applies_when.empty())
             << error.what();
         ++refusals;
       }
@@ -79,6 +83,39 @@ TEST(ScenarioKeysTest, EveryKeyTakesItsDefaultAndItsExampleAndRefusesItsRefusedV
   // key but the booleans and the unbounded ones has a refused value.
   EXPECT_EQ(defaults, static_cast<int>(ScenarioKeys().size()) - 6);
   EXPECT_GE(refusals, 20);
+}
+
+// A TOML value as text that compares numbers by value ("5e-4" and
+// "0.0005", "8" and "8.0" alike).
+std::string Canonical(const toml::node& node) {
+  if (node.is_number()) return FormatShortest(node.value<double>().value());
+  if (const auto* text = node.as_string()) return "\"" + text->get() + "\"";
+  if (const auto* boolean = node.as_boolean()) return boolean->get() ? "true" : "false";
+  std::string joined;
+  if (const auto* array = node.as_array()) {
+    for (const toml::node& element : *array) joined += Canonical(element) + ",";
+  }
+  return "[" + joined + "]";
+}
+
+// Each key's reader and writer are one entry of the table: a key's example
+// value read into a scenario comes back from ResolvedScenarioToml as it was
+// given (the model's path comes back resolved, output.dir not at all).
+TEST(ScenarioKeysTest, EveryKeysExampleIsWrittenBackAsRead) {
+  int compared = 0;
+  for (const KeySpec& key : ScenarioKeys()) {
+    SCOPED_TRACE(key.name);
+    ASSERT_NE(key.read, nullptr);
+    const std::string value = *key.example_toml != '\0' ? key.example_toml : key.default_toml;
+    if (key.write == nullptr || std::string(key.name) == "model" || value.empty()) continue;
+    const toml::table given = ParseToml("value = " + value, "example");
+    const toml::table resolved = ParseToml(Resolved(ScenarioWith(key, value)), "resolved");
+    const toml::node_view<const toml::node> written = resolved.at_path(key.name);
+    ASSERT_TRUE(written) << key.name << " is not in the resolved scenario";
+    EXPECT_EQ(Canonical(*written.node()), Canonical(*given.get("value")));
+    ++compared;
+  }
+  EXPECT_EQ(compared, static_cast<int>(ScenarioKeys().size()) - 2);
 }
 
 TEST(ScenarioKeysTest, BoundsInTheTableAreTheReadersBounds) {

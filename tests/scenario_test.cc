@@ -11,7 +11,7 @@
 #include <string>
 
 #include "controllers/pid.h"
-#include "sim/io/error.h"
+#include "plugin/base/error.h"
 
 namespace ipmc {
 namespace {

@@ -8,7 +8,7 @@
 
 #include "plugin/fluid/rft_drag.h"
 #include "tests/test_util.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc::testing {
 namespace {

@@ -12,10 +12,7 @@
 
 #include <boost/math/tools/toms748_solve.hpp>
 
-#include "sim/io/columns.h"
-#include "sim/io/csv.h"
-#include "sim/io/files.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc {
 namespace {
@@ -114,23 +111,6 @@ BodeData ComputeBode(const FrequencyFunction& response,
         i == 0 ? PhaseDeg(h) : PhaseNear(h, bode.phase_deg[i - 1]);
   }
   return bode;
-}
-
-void WriteBodeCsv(const BodeData& bode, const std::filesystem::path& path) {
-  const std::size_t n = bode.w_rad_s.size();
-  if (bode.magnitude_db.size() != n || bode.phase_deg.size() != n) {
-    throw std::invalid_argument(
-        "WriteBodeCsv: w_rad_s, magnitude_db and phase_deg must have equal "
-        "lengths, got " +
-        std::to_string(n) + ", " + std::to_string(bode.magnitude_db.size()) +
-        ", " + std::to_string(bode.phase_deg.size()));
-  }
-  CsvWriter csv;
-  csv.Row({columns::kFrequency, columns::kMagnitudeDb, columns::kPhaseDeg});
-  for (std::size_t i = 0; i < n; ++i) {
-    csv.Add(bode.w_rad_s[i]).Add(bode.magnitude_db[i]).Add(bode.phase_deg[i]).EndRow();
-  }
-  WriteFileAtomically(path.string(), csv.Text());
 }
 
 void MarginSearch::Validate() const {

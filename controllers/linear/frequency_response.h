@@ -22,7 +22,6 @@
 #define IPMC_SWIM_CONTROLLERS_FREQUENCY_RESPONSE_H_
 
 #include <complex>
-#include <filesystem>
 #include <functional>
 #include <optional>
 #include <vector>
@@ -63,13 +62,6 @@ struct BodeData {
 // finite there.
 BodeData ComputeBode(const FrequencyFunction& response,
                      const FrequencyGrid& grid = {});
-
-// Writes "w_rad_s,magnitude_db,phase_deg" and one row per point (17
-// significant digits) to a temporary file beside `path`, then renames it
-// to `path`, so readers never see a partial file. Throws
-// std::invalid_argument if the arrays differ in length and
-// std::runtime_error naming the file on any I/O failure.
-void WriteBodeCsv(const BodeData& bode, const std::filesystem::path& path);
 
 // One phase crossover and the gain margin it gives.
 struct PhaseCrossover {

@@ -6,24 +6,11 @@
 #include <stdexcept>
 
 #include "plugin/mjcf/custom_fields.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc {
 namespace {
 
-constexpr char kAttrLinks[] = "ipmc_links";
-constexpr char kAttrSegments[] = "ipmc_segments_per_link";
-constexpr char kAttrPlants[] = "ipmc_plants";
-constexpr char kAttrModel[] = "ipmc_model";
-constexpr char kAttrActuation[] = "ipmc_actuation";
-constexpr char kAttrBand[] = "ipmc_integrator_band_rad_s";
-constexpr char kAttrPairs[] = "ipmc_integrator_pairs";
-constexpr char kAttrRelTol[] = "ipmc_cvode_rel_tol";
-// The per-link overrides of Table 2's parameters.
-constexpr char kAttrA0[] = "ipmc_a0_mm_per_V";
-constexpr char kAttrB1[] = "ipmc_b1";
-constexpr char kAttrB2[] = "ipmc_b2_s2";
-constexpr char kAttrAlpha[] = "ipmc_alpha";
 // The bound of the Oustaloup realisation's pairs (ipmc_integrator_pairs).
 constexpr int kMaxIntegratorPairs = 100;
 constexpr double kMmToM = 1e-3;
@@ -86,8 +73,8 @@ double SegmentLength_m(const mjModel* m, int body, const std::string& joint_name
 }
 
 int RequireMotor(const mjModel* m, const std::string& joint_name) {
-  const int motor = mj_name2id(m, mjOBJ_ACTUATOR, ("ipmc_" + joint_name).c_str());
-  if (motor < 0) Fail("hinge '" + joint_name + "' needs a motor named ipmc_" + joint_name);
+  const int motor = mj_name2id(m, mjOBJ_ACTUATOR, IpmcMotorName(joint_name).c_str());
+  if (motor < 0) Fail("hinge '" + joint_name + "' needs a motor named " + IpmcMotorName(joint_name));
   return motor;
 }
 

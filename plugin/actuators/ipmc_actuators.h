@@ -61,6 +61,25 @@ namespace ipmc {
 
 enum class Actuation { kDistributed, kSingle };
 
+// The model's <custom> fields this file reads (IpmcActuatorsConfig::FromModel),
+// as the model generator (sim/core/model_generator.h) writes them.
+constexpr char kAttrLinks[] = "ipmc_links";
+constexpr char kAttrSegments[] = "ipmc_segments_per_link";
+constexpr char kAttrPlants[] = "ipmc_plants";
+constexpr char kAttrModel[] = "ipmc_model";
+constexpr char kAttrActuation[] = "ipmc_actuation";
+constexpr char kAttrBand[] = "ipmc_integrator_band_rad_s";
+constexpr char kAttrPairs[] = "ipmc_integrator_pairs";
+constexpr char kAttrRelTol[] = "ipmc_cvode_rel_tol";
+// The per-link overrides of Table 2's parameters.
+constexpr char kAttrA0[] = "ipmc_a0_mm_per_V";
+constexpr char kAttrB1[] = "ipmc_b1";
+constexpr char kAttrB2[] = "ipmc_b2_s2";
+constexpr char kAttrAlpha[] = "ipmc_alpha";
+
+// The motor that applies the IPMC moment at hinge `joint`.
+inline std::string IpmcMotorName(const std::string& joint) { return "ipmc_" + joint; }
+
 inline CvodeOptions DefaultCvodeOptions() {
   CvodeOptions options;
   options.rel_tol = 1e-6;

@@ -7,7 +7,7 @@
 
 #include "plugin/mjcf/custom_fields.h"
 #include "plugin/mjcf/point_velocity.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc {
 namespace {

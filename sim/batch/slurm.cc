@@ -1,24 +1,18 @@
 #include "sim/batch/slurm.h"
 
-#include <fcntl.h>
-#include <spawn.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <stdexcept>
 #include <vector>
 
 #include "sim/batch/journal.h"
 #include "sim/io/files.h"
-
-extern char** environ;
+#include "sim/io/process.h"
 
 namespace ipmc {
 namespace {
@@ -28,13 +22,6 @@ namespace fs = std::filesystem;
 constexpr char kSbatch[] = "sbatch";
 constexpr char kScancel[] = "scancel";
 constexpr char kTimeFormats[] = "M, M:S, H:M:S, D-H, D-H:M or D-H:M:S, or INFINITE";
-
-// 'text' for the shell: single quotes, each ' written as '\''.
-std::string ShellQuote(const std::string& text) {
-  std::string quoted = "'";
-  for (char c : text) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return quoted + "'";
-}
 
 bool AllDigits(const std::string& text) {
   return !text.empty() && text.size() <= 9 &&
@@ -61,64 +48,13 @@ std::string CommonDirectives(const SlurmSweep& job) {
   return text;
 }
 
-struct ProgramRun {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr
-};
-
-// Runs `argv` (argv[0] found on PATH) and collects its output.
-ProgramRun RunProgram(const std::vector<std::string>& argv) {
-  int pipe_fds[2];
-  if (pipe(pipe_fds) != 0) throw std::runtime_error(argv[0] + ": cannot create a pipe");
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addclose(&actions, pipe_fds[0]);
-  posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], STDOUT_FILENO);
-  posix_spawn_file_actions_adddup2(&actions, pipe_fds[1], STDERR_FILENO);
-  posix_spawn_file_actions_addclose(&actions, pipe_fds[1]);
-  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  std::vector<char*> args;
-  for (const std::string& arg : argv) args.push_back(const_cast<char*>(arg.c_str()));
-  args.push_back(nullptr);
-  pid_t pid = 0;
-  const int spawned = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  close(pipe_fds[1]);
-  ProgramRun run;
-  if (spawned != 0) {
-    close(pipe_fds[0]);
-    throw std::runtime_error(argv[0] + ": cannot start (" + std::strerror(spawned) + ")");
-  }
-  char buffer[4096];
-  for (;;) {
-    const ssize_t n = read(pipe_fds[0], buffer, sizeof(buffer));
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;
-    run.output.append(buffer, static_cast<size_t>(n));
-  }
-  close(pipe_fds[0]);
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
-}
-
-std::string OneLine(std::string text) {
-  while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back()))) text.pop_back();
-  std::replace_if(
-      text.begin(), text.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
-  return text;
-}
-
 // "1234" or "1234;cluster" (sbatch --parsable) -> "1234".
-std::string JobId(const ProgramRun& run, const std::string& what) {
-  std::string output = OneLine(run.output);
-  const std::string id = output.substr(0, output.find(';'));
-  if (run.exit_code != 0 || !AllDigits(id)) {
+std::string JobId(const ProgramExit& run, const std::string& what) {
+  const std::string said = LastLine(run.output);
+  const std::string id = said.substr(0, said.find(';'));
+  if (!run.ok() || !AllDigits(id)) {
     throw std::runtime_error("sbatch refused the " + what + ": " +
-                             (output.empty() ? "exit code " + std::to_string(run.exit_code)
-                                             : output));
+                             (said.empty() ? run.How() : said));
   }
   return id;
 }

@@ -13,7 +13,7 @@
 
 #include "controllers/linear/frequency_response.h"
 #include "sim/io/files.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc {
 namespace {
@@ -39,15 +39,29 @@ OptionGiven GivenOn(const CLI::App& command) {
 
 // ------------------------------------------------------------------ bode ---
 
-// bode.csv and bode.json (what the curves are, for the figure's title and
-// legend) of one link.
+// The margins the bode command prints (the root search of
+// controllers/linear/frequency_response.h), null where there is none; the
+// Bode figure marks these.
+nlohmann::json MarginsJson(const StabilityMargins& margins) {
+  const auto number = [](const std::optional<double>& value) {
+    return value ? nlohmann::json(*value) : nlohmann::json();
+  };
+  return {{"gain_crossover_rad_s", number(margins.gain_crossover_rad_s)},
+          {"phase_margin_deg", number(margins.phase_margin_deg)},
+          {"phase_crossover_rad_s", number(margins.phase_crossover_rad_s)},
+          {"gain_margin_db", number(margins.gain_margin_db)}};
+}
+
+// bode.csv and bode.json (what the curves are and the loop's margins, for
+// the figure's title, legend and marks) of one link.
 void WriteBodeFiles(const BodeArgs& args, const BodeSpec& spec, const BodeAnalysis& analysis) {
   const std::string csv = BodeCsv(ComputeBodeColumns(analysis, spec));
   const nlohmann::json about = {{"controller", spec.controller},
                                 {"controller_description", analysis.controller_description},
                                 {"plant", spec.plant},
                                 {"plant_description", analysis.plant_description},
-                                {"link", spec.link}};
+                                {"link", spec.link},
+                                {"margins", MarginsJson(analysis.margins)}};
   EnsureDirectory(args.out_dir);
   const std::filesystem::path dir(args.out_dir);
   WriteFilesTogether({{(dir / "bode.csv").string(), csv},

@@ -31,9 +31,9 @@
 #include "sim/identify/welch.h"
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
-#include "sim/io/error.h"
+#include "plugin/base/error.h"
 #include "sim/io/files.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 #include "sim/runs/bench_run.h"
 
 namespace ipmc {

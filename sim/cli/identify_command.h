@@ -43,7 +43,7 @@
 //
 // Bad option values throw std::invalid_argument with one line naming the
 // option; bad data (read by sim/io/csv.h) throws InputError
-// (sim/io/error.h) naming the file, line and column. Nothing is written
+// (plugin/base/error.h) naming the file, line and column. Nothing is written
 // unless the command succeeded, and each file is written atomically.
 #pragma once
 

@@ -17,7 +17,7 @@
 #include "sim/cli/interrupt.h"
 #include "sim/cli/run_watch.h"
 #include "sim/batch/sweep.h"
-#include "sim/io/error.h"
+#include "plugin/base/error.h"
 #include "sim/io/files.h"
 #include "sim/io/toml.h"
 #include "sim/runs/bench_run.h"
@@ -29,6 +29,7 @@
 #include "sim/runs/output.h"
 #include "sim/cli/plot_command.h"
 #include "sim/core/scenario.h"
+#include "sim/core/scenario_overrides.h"
 #include "sim/cli/keys_command.h"
 #include "sim/cli/sweep_command.h"
 #include "sim/cli/table5_command.h"
@@ -247,47 +248,16 @@ bool IsRunSummary(const std::string& path) {
   return std::filesystem::path(path).extension() == ".json";
 }
 
-// The scenario file with the --set and --cycles overrides, read as a
-// sweep's [set] (ScenarioWithOverrides). The overrides are one TOML
-// document, line k the k-th option, so that an error's line names the
-// option it came from.
+// The scenario file with the --set and --cycles settings
+// (ScenarioWithSettings, sim/core/scenario_overrides.h).
 ipmc::ScenarioConfig ScenarioWithOptions(const RunArgs& args) {
-  constexpr char kSource[] = "--set";
-  std::vector<std::string> options;  // as given, by line
-  std::vector<std::string> quoted;   // the same with VALUE as a TOML string
-  std::string text;
-  for (const std::string& set : args.sets) {
-    const std::string::size_type equals = set.find('=');
-    if (equals == std::string::npos || equals == 0 || set.find('\n') != std::string::npos) {
-      ipmc::ThrowOption("run", "--set", "KEY=VALUE (one line)", "'" + set + "'");
-    }
-    options.push_back("--set " + set);
-    quoted.push_back("--set '" + set.substr(0, equals + 1) + "\"" + set.substr(equals + 1) + "\"'");
-    text += set.substr(0, equals) + " = " + set.substr(equals + 1) + "\n";
-  }
+  std::vector<ipmc::ScenarioSetting> settings;
+  for (const std::string& set : args.sets) settings.push_back(ipmc::SetOption("run", set));
   if (args.command->count("--cycles") > 0) {
-    options.push_back("--cycles " + std::to_string(args.cycles));
-    quoted.push_back(options.back());
-    text += "cycles = " + std::to_string(args.cycles) + "\n";
+    const std::string cycles = std::to_string(args.cycles);
+    settings.push_back({"--cycles " + cycles, "cycles=" + cycles});
   }
-  // The option an error is about: its line, if the error is in the options.
-  const auto line_of = [&](const ipmc::InputError& error) -> std::size_t {
-    const std::uint32_t line = error.where().line;
-    return error.where().file == kSource && line <= options.size() ? line : 0;
-  };
-  try {
-    return ipmc::ScenarioWithOverrides(args.scenario_path, ipmc::ParseToml(text, kSource),
-                                       kSource);
-  } catch (const ipmc::InputError& error) {
-    const std::size_t line = line_of(error);
-    if (line == 0) throw;
-    const std::string& option = options[line - 1];
-    const std::string hint = error.problem() == ipmc::InputProblem::kSyntax
-                                 ? " (VALUE is TOML: quote strings, " + quoted[line - 1] + ")"
-                                 : "";
-    throw ipmc::FieldError("run: " + option + ": " + error.message() + hint,
-                           option.substr(0, option.find(' ')), error.allowed());
-  }
+  return ipmc::ScenarioWithSettings("run", args.scenario_path, settings);
 }
 
 int RunScenarioCommand(const RunArgs& args) {

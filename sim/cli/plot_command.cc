@@ -7,7 +7,7 @@
 #include <utility>
 
 #include "sim/cli/command.h"
-#include "sim/io/error.h"
+#include "plugin/base/error.h"
 #include "sim/io/files.h"
 
 namespace ipmc {

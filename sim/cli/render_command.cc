@@ -14,7 +14,7 @@
 #include "sim/cli/interrupt.h"
 #include "sim/cli/run_watch.h"
 #include "sim/io/files.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 #include "sim/io/progress_bar.h"
 
 namespace ipmc {

@@ -13,9 +13,9 @@
 
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
-#include "sim/io/error.h"
+#include "plugin/base/error.h"
 #include "sim/io/files.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 #include "controllers/fractional_integrator.h"
 #include "controllers/pid.h"
 #include "plugin/coupling.h"

@@ -7,7 +7,9 @@
 #include <stdexcept>
 
 #include "plugin/actuators/ipmc_actuators.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
+#include "plugin/fluid/rft_drag.h"
+#include "plugin/mjcf/custom_fields.h"
 
 namespace ipmc {
 namespace {
@@ -52,28 +54,32 @@ bool HasIpmcActuators(const FlagellumSpec& spec) {
 }
 
 void WriteCustomFields(const FlagellumSpec& spec, std::ostringstream& xml) {
-  xml << "  <custom>\n"
-      << "    <numeric name=\"ipmc_rft_viscosity_Pa_s\" data=\"" << Num(spec.viscosity_Pa_s) << "\"/>\n"
-      << "    <text name=\"ipmc_rft_coefficients\" data=\"" << spec.coefficients << "\"/>\n"
-      << "    <numeric name=\"ipmc_rft_equivalent_radius_m\" data=\"" << Num(EquivalentRadius_m(spec)) << "\"/>\n"
-      << "    <numeric name=\"ipmc_rft_wavelength_m\" data=\"" << Num(spec.wavelength_mm * kMmToM) << "\"/>\n"
-      << "    <numeric name=\"ipmc_rft_fluid_density_kg_m3\" data=\"" << Num(spec.fluid_density_kg_m3) << "\"/>\n";
+  // Field names as the plugin reads them.
+  const auto numeric = [&xml](const char* name, const std::string& data) {
+    xml << "    <numeric name=\"" << name << "\" data=\"" << data << "\"/>\n";
+  };
+  const auto text = [&xml](const char* name, const std::string& data) {
+    xml << "    <text name=\"" << name << "\" data=\"" << data << "\"/>\n";
+  };
+  xml << "  <custom>\n";
+  numeric(kAttrViscosity, Num(spec.viscosity_Pa_s));
+  text(kAttrCoefficients, spec.coefficients);
+  numeric(kAttrEquivalentRadius, Num(EquivalentRadius_m(spec)));
+  numeric(kAttrWavelength, Num(spec.wavelength_mm * kMmToM));
+  numeric(kAttrFluidDensity, Num(spec.fluid_density_kg_m3));
   if (spec.coefficients == "direct") {
-    xml << "    <numeric name=\"ipmc_rft_xi_normal_N_s_m2\" data=\"" << Num(spec.xi_normal_N_s_m2) << "\"/>\n"
-        << "    <numeric name=\"ipmc_rft_xi_tangential_N_s_m2\" data=\"" << Num(spec.xi_tangential_N_s_m2) << "\"/>\n";
+    numeric(kAttrXiNormal, Num(spec.xi_normal_N_s_m2));
+    numeric(kAttrXiTangential, Num(spec.xi_tangential_N_s_m2));
   }
-  xml << "    <numeric name=\"ipmc_strip_width_m\" data=\"" << Num(spec.width_mm * kMmToM) << "\"/>\n";
+  numeric(kStripWidthField, Num(spec.width_mm * kMmToM));
   if (HasIpmcActuators(spec)) {
-    xml << "    <text name=\"ipmc_links\" data=\"";
-    for (int q = 1; q <= spec.Links(); ++q) xml << (q > 1 ? " " : "") << "j" << q;
-    xml << "\"/>\n";
-    if (spec.segments_per_link > 1) {
-      xml << "    <numeric name=\"ipmc_segments_per_link\" data=\"" << spec.segments_per_link
-          << "\"/>\n";
-    }
-    xml << "    <text name=\"ipmc_plants\" data=\"" << spec.plants << "\"/>\n"
-        << "    <text name=\"ipmc_model\" data=\"" << spec.ipmc_model << "\"/>\n"
-        << "    <text name=\"ipmc_actuation\" data=\"" << spec.actuation << "\"/>\n";
+    std::string links;
+    for (int q = 1; q <= spec.Links(); ++q) links += (q > 1 ? " j" : "j") + std::to_string(q);
+    text(kAttrLinks, links);
+    if (spec.segments_per_link > 1) numeric(kAttrSegments, std::to_string(spec.segments_per_link));
+    text(kAttrPlants, spec.plants);
+    text(kAttrModel, spec.ipmc_model);
+    text(kAttrActuation, spec.actuation);
   }
   xml << "  </custom>\n";
 }
@@ -253,7 +259,7 @@ std::string GenerateFlagellumMjcf(const FlagellumSpec& spec) {
   xml << "  <actuator>\n";
   for (const std::string& joint : hinges) {
     // Active IPMC moment k theta0 [N m] (plugin/actuators/ipmc_actuators.h).
-    xml << "    <motor name=\"ipmc_" << joint << "\" joint=\"" << joint << "\" gear=\"1\"/>\n";
+    xml << "    <motor name=\"" << IpmcMotorName(joint) << "\" joint=\"" << joint << "\" gear=\"1\"/>\n";
   }
   for (const std::string& joint : root_hinges) {
     // Prescribed-gait servo; its gains are set at run time (sim/core/gait.h).

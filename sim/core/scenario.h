@@ -82,7 +82,7 @@ struct ScenarioConfig {
   bool GeneratesModel() const { return !link_lengths_mm.empty() || segments_per_link > 0; }
 };
 
-// Parses and validates; throws InputError (sim/io/error.h, a
+// Parses and validates; throws InputError (plugin/base/error.h, a
 // std::runtime_error) "FILE:LINE: key: reason" that carries the file, line,
 // dotted key, what is wrong (InputProblem) and the allowed range.
 ScenarioConfig LoadScenario(const std::string& path);

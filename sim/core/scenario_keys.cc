@@ -1,11 +1,20 @@
 #include "sim/core/scenario_keys.h"
 
+#include <toml++/toml.h>
+
+#include <algorithm>
 #include <climits>
 #include <cstddef>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
 #include <string>
 
 #include "controllers/fractional_integrator.h"
 #include "plugin/actuators/ipmc_actuators.h"
+#include "plugin/base/numbers.h"
+#include "sim/core/scenario.h"
 
 namespace ipmc {
 namespace {
@@ -22,11 +31,38 @@ class Key {
     spec_.default_text = default_text;
     spec_.meaning = meaning;
   }
-  Key& Default(const char* toml) { spec_.default_toml = toml; return *this; }
-  Key& Example(const char* toml) { spec_.example_toml = toml; return *this; }
-  Key& Refused(const char* toml) { spec_.refused_toml = toml; return *this; }
-  Key& When(const char* toml_lines) { spec_.applies_when = toml_lines; return *this; }
-  Key& Choices(const char* choices) { spec_.choices = choices; return *this; }
+  Key& Default(const char* toml) {
+    spec_.default_toml = toml;
+    return *this;
+  }
+  Key& Example(const char* toml) {
+    spec_.example_toml = toml;
+    return *this;
+  }
+  Key& Refused(const char* toml) {
+    spec_.refused_toml = toml;
+    return *this;
+  }
+  Key& Only(const char* selector, const char* value) {
+    spec_.only.push_back({selector, value});
+    return *this;
+  }
+  Key& Fields(const char* fields) {
+    spec_.fields = fields;
+    return *this;
+  }
+  Key& Reads(KeyReader read) {
+    spec_.read = read;
+    return *this;
+  }
+  Key& Writes(KeyWriter write) {
+    spec_.write = write;
+    return *this;
+  }
+  Key& Choices(const char* choices) {
+    spec_.choices = choices;
+    return *this;
+  }
   Key& Above(double minimum) { return Lower(Bound::kOpen, minimum); }
   Key& AtLeast(double minimum) { return Lower(Bound::kClosed, minimum); }
   Key& AtMost(double maximum) {
@@ -45,179 +81,403 @@ class Key {
   KeySpec spec_{};
 };
 
-constexpr char kFractional[] = "controller.kind = \"fractional\"";
-constexpr char kFractionalWave[] = "waveform.kind = \"fractional\"";
+// Selectors and the values they choose between.
+constexpr char kControllerKind[] = "controller.kind";
+constexpr char kRealisation[] = "controller.realisation";
+constexpr char kWaveformKind[] = "waveform.kind";
+constexpr char kPid[] = "pid";
+constexpr char kFractional[] = "fractional";
+constexpr char kOustaloup[] = "oustaloup";
+constexpr char kPolynomial[] = "polynomial";
+constexpr int kMaxLinks = 20;
+
+// Values as a resolved scenario writes them.
+const std::optional<std::string> kLeftOut = std::nullopt;
+std::optional<std::string> TomlString(const std::string& text) {
+  std::ostringstream out;
+  out << toml::value<std::string>(text);
+  return out.str();
+}
+// The shortest text that reads back exactly, always a TOML float ("1000.0",
+// "-0.0"), so that even the sign of zero survives.
+std::string FloatText(double value) {
+  std::string text = FormatShortest(value);
+  if (text.find_first_of(".e") == std::string::npos) text += ".0";
+  return text;
+}
+std::optional<std::string> TomlFloat(double value) { return FloatText(value); }
+std::optional<std::string> TomlFloats(const std::vector<double>& values) {
+  std::string text;
+  for (double value : values) text += (text.empty() ? "" : ", ") + FloatText(value);
+  return "[" + text + "]";
+}
+std::optional<std::string> TomlBool(bool value) { return value ? "true" : "false"; }
+std::optional<std::string> TomlInteger(int value) { return std::to_string(value); }
+
+bool IsPid(const ScenarioConfig& config) { return config.controller == ControllerKind::kPid; }
+
+// The model, resolved against the scenario file's folder; it must be a
+// readable file.
+void ReadModel(const KeyValue& value, ScenarioConfig& config) {
+  namespace fs = std::filesystem;
+  fs::path path(value.String());
+  if (path.is_relative()) path = fs::path(value.source()).parent_path() / path;
+  path = fs::absolute(path).lexically_normal();
+  std::error_code ignored;
+  if (!fs::is_regular_file(path, ignored) || !std::ifstream(path).good()) {
+    value.Fail(value.name() + ": cannot open '" + path.string() + "'", "",
+               InputProblem::kUnreadable);
+  }
+  config.model_path = path.string();
+}
+
+// 1 to kMaxLinks positive link lengths [mm].
+void ReadLinkLengths(const KeyValue& value, ScenarioConfig& config) {
+  const std::size_t count = value.ArraySize("an array of link lengths in mm");
+  const std::string allowed = "1 to " + std::to_string(kMaxLinks) + " lengths";
+  if (count == 0 || count > static_cast<std::size_t>(kMaxLinks)) {
+    value.Fail(value.name() + " must hold " + allowed + " (got " + std::to_string(count) + ")",
+               allowed);
+  }
+  for (std::size_t i = 0; i < count; ++i) config.link_lengths_mm.push_back(value.NumberAt(i));
+}
+
+// Oustaloup's band [w_b, w_h], 0 < w_b < w_h.
+void ReadBand(const KeyValue& value, ScenarioConfig& config) {
+  const std::string expected = "an array of two numbers [w_b, w_h]";
+  const std::size_t count = value.ArraySize(expected);
+  if (count != 2) {
+    value.Fail(value.name() + " must be " + expected + " (got " + std::to_string(count) + ")",
+               "two numbers [w_b, w_h]");
+  }
+  const double low = value.NumberAt(0), high = value.NumberAt(1);
+  if (!(low < high)) {
+    value.Fail(value.name() + " must have w_b < w_h (got [" + FormatShortest(low) + ", " +
+                   FormatShortest(high) + "])",
+               "w_b < w_h");
+  }
+  config.fractional.w_low_rad_s = low;
+  config.fractional.w_high_rad_s = high;
+}
+
+// The references' fade-in, in [0, cycles] wave periods (cycles is read
+// before: it comes first in the table).
+void ReadStartRamp(const KeyValue& value, ScenarioConfig& config) {
+  const double cycles = value.Number();
+  if (cycles < 0.0 || cycles > config.cycles) {
+    const std::string allowed = "in [0, cycles] = [0, " + std::to_string(config.cycles) + "]";
+    value.Fail(value.name() + " must be " + allowed + " (got " + FormatShortest(cycles) + ")",
+               allowed);
+  }
+  config.start_ramp_cycles = cycles;
+}
+
+// applies_when of every key: its conditions whose value is not the
+// selector's default, as TOML lines.
+void WriteAppliesWhen(std::vector<KeySpec>* keys) {
+  for (KeySpec& key : *keys) {
+    for (const KeyCondition& condition : key.only) {
+      const auto selector = std::find_if(keys->begin(), keys->end(), [&](const KeySpec& k) {
+        return std::string(k.name) == condition.selector;
+      });
+      const std::string value = "\"" + std::string(condition.value) + "\"";
+      if (selector == keys->end() || value == selector->default_toml) continue;
+      key.applies_when +=
+          (key.applies_when.empty() ? "" : "\n") + std::string(condition.selector) + " = " + value;
+    }
+  }
+}
 
 std::vector<KeySpec> MakeScenarioKeys() {
   using T = KeyType;
   static_assert(kMaxSegmentsPerLink == 64 && kMaxOustaloupPairs == 64,
                 "the allowed ranges below state these limits");
-  return {
-      Key("model", T::kString, "", "a readable MJCF file; relative to the scenario file's folder",
+  std::vector<KeySpec> keys = {
+      Key(kModelKey, T::kString, "", "a readable MJCF file; relative to the scenario file's folder",
           "none: required unless link_lengths_mm or segments_per_link",
           "The MJCF model: links, IPMC actuators and RFT drag (its `ipmc_*` fields)")
           .Example("\"../models/flagellum3.xml\"")
-          .Refused("\"no_such_model.xml\""),
-      Key("link_lengths_mm", T::kNumberArray, "mm", "1 to 20 lengths, each > 0",
+          .Refused("\"no_such_model.xml\"")
+          .Reads(ReadModel)
+          .Writes([](const ScenarioConfig& c) {
+            return c.model_path.empty() ? kLeftOut : TomlString(c.model_path);
+          }),
+      Key(kLinkLengthsKey, T::kNumberArray, "mm", "1 to 20 lengths, each > 0",
           "none: the model file",
           "Generate the flagellum with these links (the generator's other defaults) "
           "instead of reading model; wins over model")
           .Example("[8, 10, 12]")
           .Refused("[10, -1]")
-          .Above(0.0),
+          .Above(0.0)
+          .Reads(ReadLinkLengths)
+          .Writes([](const ScenarioConfig& c) {
+            return c.link_lengths_mm.empty() ? kLeftOut : TomlFloats(c.link_lengths_mm);
+          }),
       Key("segments_per_link", T::kInteger, "", "[1, 64]", "none: the model file",
           "Rigid sub-segments per link; also generates the flagellum (links of 10 mm "
           "unless link_lengths_mm)")
           .Example("2")
           .Refused("65")
           .AtLeast(1)
-          .AtMost(kMaxSegmentsPerLink),
+          .AtMost(kMaxSegmentsPerLink)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.segments_per_link = v.Integer(); })
+          .Writes([](const ScenarioConfig& c) {
+            return c.segments_per_link > 0 ? TomlInteger(c.segments_per_link) : kLeftOut;
+          }),
       Key("plants", T::kChoice, "", "\"uniform\" or \"table2\"", "the model's `ipmc_plants`",
           "uniform: every link eq. 7's plant; table2: link q Table 2's row q")
           .Example("\"table2\"")
           .Refused("\"measured\"")
-          .Choices("uniform|table2"),
+          .Choices("uniform|table2")
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.plants = *ParsePlantAssignment(v.Choice());
+          })
+          .Writes([](const ScenarioConfig& c) {
+            return c.plants ? TomlString(PlantAssignmentName(*c.plants)) : kLeftOut;
+          }),
       Key("actuation", T::kChoice, "", "\"distributed\" or \"single\"", "\"distributed\"",
           "distributed: one controller and voltage per link; single: only link 1 is driven")
           .Default("\"distributed\"")
           .Example("\"single\"")
           .Refused("\"none\"")
-          .Choices("distributed|single"),
+          .Choices("distributed|single")
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.actuation = v.Choice(); })
+          .Writes([](const ScenarioConfig& c) { return TomlString(c.actuation); }),
       Key("cycles", T::kInteger, "", ">= 1", "3", "Wave periods to run")
           .Default("3")
           .Refused("0")
           .AtLeast(1)
-          .AtMost(INT_MAX),
-      Key("timestep_s", T::kNumber, "s",
-          "(0, 1e-3]; a whole number of steps per controller sample", "the model's timestep",
-          "Physics time step, overriding the model's")
+          .AtMost(INT_MAX)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.cycles = v.Integer(); })
+          .Writes([](const ScenarioConfig& c) { return TomlInteger(c.cycles); }),
+      Key(kTimestepKey, T::kNumber, "s", "(0, 1e-3]; a whole number of steps per controller sample",
+          "the model's timestep", "Physics time step, overriding the model's")
           .Example("5e-4")
           .Refused("2e-3")
           .Above(0.0)
-          .AtMost(1e-3),
-      Key("controller.kind", T::kChoice, "", "\"pid\" or \"fractional\"", "\"pid\"",
+          .AtMost(1e-3)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.timestep_s = v.Number(); })
+          .Writes([](const ScenarioConfig& c) {
+            return c.timestep_s ? TomlFloat(*c.timestep_s) : kLeftOut;
+          }),
+      Key(kControllerKind, T::kChoice, "", "\"pid\" or \"fractional\"", "\"pid\"",
           "pid: eq. 12 per link; fractional: K / s^lambda per link (eq. 13-15)")
           .Default("\"pid\"")
           .Example("\"fractional\"")
           .Refused("\"lqr\"")
-          .Choices("pid|fractional"),
-      Key("controller.sample_rate_Hz", T::kNumber, "Hz",
-          "> 0; a whole number of time steps per sample", "1000",
+          .Choices("pid|fractional")
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.controller = v.Choice() == kPid ? ControllerKind::kPid : ControllerKind::kFractional;
+          })
+          .Writes(
+              [](const ScenarioConfig& c) { return TomlString(IsPid(c) ? kPid : kFractional); }),
+      Key(kSampleRateKey, T::kNumber, "Hz", "> 0; a whole number of time steps per sample", "1000",
           "Controller sample rate (the data-acquisition board's)")
           .Default("1000.0")
           .Refused("0")
-          .Above(0.0),
+          .Above(0.0)
+          .Fields("sample_period_s")
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.sample_rate_Hz = v.Number(); })
+          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.sample_rate_Hz); }),
       Key("controller.v_max_V", T::kNumber, "V", "> 0", "6", "Output voltage limit")
           .Default("6.0")
           .Refused("0")
-          .Above(0.0),
+          .Above(0.0)
+          .Fields("v_max")
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.pid.v_max = c.fractional.v_max = v.Number();
+          })
+          .Writes([](const ScenarioConfig& c) {
+            return TomlFloat(IsPid(c) ? c.pid.v_max : c.fractional.v_max);
+          }),
       Key("controller.clamp", T::kBoolean, "", "true or false", "true",
           "Clamp the output to +-v_max_V with anti-windup; false: the linear loop")
           .Default("true")
-          .Example("false"),
+          .Example("false")
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.pid.clamp_enabled = c.fractional.clamp_enabled = v.Boolean();
+          })
+          .Writes([](const ScenarioConfig& c) {
+            return TomlBool(IsPid(c) ? c.pid.clamp_enabled : c.fractional.clamp_enabled);
+          }),
       Key("controller.kp", T::kNumber, "V/mm", ">= 0", "8.12", "PID: proportional gain Kp")
           .Default("8.12")
           .Refused("-1")
-          .AtLeast(0.0),
+          .AtLeast(0.0)
+          .Only(kControllerKind, kPid)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.pid.kp = v.Number(); })
+          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.pid.kp); }),
       Key("controller.ki", T::kNumber, "V/(mm s)", ">= 0", "53.36", "PID: integral gain Ki")
           .Default("53.36")
           .Refused("-1")
-          .AtLeast(0.0),
+          .AtLeast(0.0)
+          .Only(kControllerKind, kPid)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.pid.ki = v.Number(); })
+          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.pid.ki); }),
       Key("controller.kd", T::kNumber, "V s/mm", ">= 0", "0.61", "PID: derivative gain Kd")
           .Default("0.61")
           .Refused("-1")
-          .AtLeast(0.0),
+          .AtLeast(0.0)
+          .Only(kControllerKind, kPid)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.pid.kd = v.Number(); })
+          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.pid.kd); }),
       Key("controller.derivative_filter_s", T::kNumber, "s", ">= 0", "0",
           "PID: derivative filter time constant Tf (0: the ideal derivative)")
           .Default("0.0")
           .Example("0.01")
           .Refused("-1")
-          .AtLeast(0.0),
-      Key("controller.gain", T::kNumber, "V/(mm s^lambda)", ">= 0", "15.62",
-          "Fractional: gain K")
+          .AtLeast(0.0)
+          .Only(kControllerKind, kPid)
+          .Fields("derivative_filter_time_s")
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.pid.derivative_filter_time_s = v.Number();
+          })
+          .Writes(
+              [](const ScenarioConfig& c) { return TomlFloat(c.pid.derivative_filter_time_s); }),
+      Key("controller.gain", T::kNumber, "V/(mm s^lambda)", ">= 0", "15.62", "Fractional: gain K")
           .Default("15.62")
           .Refused("-1")
-          .When(kFractional)
-          .AtLeast(0.0),
+          .AtLeast(0.0)
+          .Only(kControllerKind, kFractional)
+          .Only(kRealisation, kOustaloup)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.fractional.gain = v.Number(); })
+          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.fractional.gain); }),
       Key("controller.order", T::kNumber, "", "(0, 1]", "0.62", "Fractional: order lambda")
           .Default("0.62")
           .Refused("1.5")
-          .When(kFractional)
           .Above(0.0)
-          .AtMost(1.0),
+          .AtMost(1.0)
+          .Only(kControllerKind, kFractional)
+          .Only(kRealisation, kOustaloup)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.fractional.order = v.Number(); })
+          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.fractional.order); }),
       Key("controller.oustaloup_n", T::kInteger, "", "[1, 64]", "4",
           "Fractional: Oustaloup pole-zero pairs N")
           .Default("4")
           .Refused("0")
-          .When(kFractional)
           .AtLeast(1)
-          .AtMost(kMaxOustaloupPairs),
-      Key("controller.band_rad_s", T::kNumberArray, "rad/s", "two numbers [w_b, w_h], 0 < w_b < w_h",
-          "[1e-3, 1e2]", "Fractional: Oustaloup's fitting band")
+          .AtMost(kMaxOustaloupPairs)
+          .Only(kControllerKind, kFractional)
+          .Only(kRealisation, kOustaloup)
+          .Reads(
+              [](const KeyValue& v, ScenarioConfig& c) { c.fractional.oustaloup_n = v.Integer(); })
+          .Writes([](const ScenarioConfig& c) { return TomlInteger(c.fractional.oustaloup_n); }),
+      Key("controller.band_rad_s", T::kNumberArray, "rad/s",
+          "two numbers [w_b, w_h], 0 < w_b < w_h", "[1e-3, 1e2]",
+          "Fractional: Oustaloup's fitting band")
           .Default("[1e-3, 1e2]")
           .Refused("[10, 1]")
-          .When(kFractional)
-          .Above(0.0),
-      Key("controller.realisation", T::kChoice, "", "\"oustaloup\" or \"eq15\"", "\"oustaloup\"",
+          .Above(0.0)
+          .Only(kControllerKind, kFractional)
+          .Only(kRealisation, kOustaloup)
+          .Fields("w_low_rad_s w_high_rad_s")
+          .Reads(ReadBand)
+          .Writes([](const ScenarioConfig& c) {
+            return TomlFloats({c.fractional.w_low_rad_s, c.fractional.w_high_rad_s});
+          }),
+      Key(kRealisation, T::kChoice, "", "\"oustaloup\" or \"eq15\"", "\"oustaloup\"",
           "Fractional: oustaloup (K / s^lambda on the band) or eq15 (the paper's printed eq. "
           "15; no gain, order, oustaloup_n or band_rad_s)")
           .Default("\"oustaloup\"")
           .Example("\"eq15\"")
           .Refused("\"tustin\"")
-          .When(kFractional)
-          .Choices("oustaloup|eq15"),
-      Key("waveform.kind", T::kChoice, "", "\"polynomial\" or \"fractional\"", "\"polynomial\"",
+          .Choices("oustaloup|eq15")
+          .Only(kControllerKind, kFractional)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.fractional.realisation = *ParseFractionalRealisation(v.Choice());
+          })
+          .Writes([](const ScenarioConfig& c) {
+            return TomlString(FractionalRealisationName(c.fractional.realisation));
+          }),
+      Key(kWaveformKind, T::kChoice, "", "\"polynomial\" or \"fractional\"", "\"polynomial\"",
           "polynomial: eq. 2 with Table 4's envelope; fractional: the envelope c x^alpha (eq. 3)")
           .Default("\"polynomial\"")
           .Example("\"fractional\"")
           .Refused("\"sine\"")
-          .Choices("polynomial|fractional"),
+          .Choices("polynomial|fractional")
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.waveform.kind =
+                v.Choice() == kPolynomial ? WaveformKind::kPolynomial : WaveformKind::kFractional;
+          })
+          .Writes([](const ScenarioConfig& c) {
+            return TomlString(c.waveform.kind == WaveformKind::kPolynomial ? kPolynomial
+                                                                           : kFractional);
+          }),
       Key("waveform.c0_um", T::kNumber, "um", "finite", "0", "Polynomial: envelope c0")
           .Default("0.0")
-          .Example("10.0"),
+          .Example("10.0")
+          .Only(kWaveformKind, kPolynomial)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.waveform.c0_um = v.Number(); })
+          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.waveform.c0_um); }),
       Key("waveform.c1_um_per_mm", T::kNumber, "um/mm", "finite", "200",
           "Polynomial: envelope c1 (x in mm from the head)")
           .Default("200.0")
-          .Example("100.0"),
-      Key("waveform.c2_um_per_mm2", T::kNumber, "um/mm^2", "finite", "0",
-          "Polynomial: envelope c2")
+          .Example("100.0")
+          .Only(kWaveformKind, kPolynomial)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.waveform.c1_um_per_mm = v.Number(); })
+          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.waveform.c1_um_per_mm); }),
+      Key("waveform.c2_um_per_mm2", T::kNumber, "um/mm^2", "finite", "0", "Polynomial: envelope c2")
           .Default("0.0")
-          .Example("1.0"),
+          .Example("1.0")
+          .Only(kWaveformKind, kPolynomial)
+          .Reads(
+              [](const KeyValue& v, ScenarioConfig& c) { c.waveform.c2_um_per_mm2 = v.Number(); })
+          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.waveform.c2_um_per_mm2); }),
       Key("waveform.c_um", T::kNumber, "um/mm^alpha", "finite", "0", "Fractional: envelope c")
           .Default("0.0")
           .Example("300.0")
-          .When(kFractionalWave),
+          .Only(kWaveformKind, kFractional)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.waveform.c_um = v.Number(); })
+          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.waveform.c_um); }),
       Key("waveform.alpha", T::kNumber, "", "(0, 1]", "0.5", "Fractional: envelope exponent alpha")
           .Default("0.5")
           .Refused("0")
-          .When(kFractionalWave),
+          .Only(kWaveformKind, kFractional)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.waveform.alpha = v.Number(); })
+          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.waveform.alpha); }),
       Key("waveform.frequency_Hz", T::kNumber, "Hz", "finite and != 0", "0.01",
           "Wave frequency f; < 0 sends the wave tail-to-head")
           .Default("0.01")
-          .Refused("0"),
-      Key("waveform.wavelength_mm", T::kNumber, "mm", "finite and > 0", "32",
-          "Wavelength lambda")
+          .Refused("0")
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.waveform.frequency_Hz = v.Number(); })
+          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.waveform.frequency_Hz); }),
+      Key("waveform.wavelength_mm", T::kNumber, "mm", "finite and > 0", "32", "Wavelength lambda")
           .Default("32.0")
-          .Refused("0"),
+          .Refused("0")
+          .Reads(
+              [](const KeyValue& v, ScenarioConfig& c) { c.waveform.wavelength_mm = v.Number(); })
+          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.waveform.wavelength_mm); }),
       Key("waveform.start_ramp_cycles", T::kNumber, "", "[0, cycles]", "0.25",
           "The references fade in by (1 - cos(pi t / T_r)) / 2 over T_r = this / f")
           .Default("0.25")
-          .Refused("-1"),
-      Key("fluid.viscosity_Pa_s", T::kNumber, "Pa s", "> 0", "the model's `ipmc_rft_viscosity_Pa_s`",
+          .Refused("-1")
+          .Reads(ReadStartRamp)
+          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.start_ramp_cycles); }),
+      Key("fluid.viscosity_Pa_s", T::kNumber, "Pa s", "> 0",
+          "the model's `ipmc_rft_viscosity_Pa_s`",
           "Dynamic viscosity of the fluid, overriding the model's")
           .Example("1e-3")
           .Refused("0")
-          .Above(0.0),
+          .Above(0.0)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.viscosity_Pa_s = v.Number(); })
+          .Writes([](const ScenarioConfig& c) {
+            return c.viscosity_Pa_s ? TomlFloat(*c.viscosity_Pa_s) : kLeftOut;
+          }),
       Key("output.dir", T::kString, "", "a directory; relative to the working directory",
           "\"\": no files", "Where timeseries.csv, states.csv and summary.json go")
-          .Default("\"\""),
+          .Default("\"\"")
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.output_dir = v.String(); }),
       Key("output.samples_per_cycle", T::kInteger, "", ">= 1", "200",
           "Time-series samples per wave period")
           .Default("200")
           .Refused("0")
           .AtLeast(1)
-          .AtMost(INT_MAX),
+          .AtMost(INT_MAX)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.samples_per_cycle = v.Integer(); })
+          .Writes([](const ScenarioConfig& c) { return TomlInteger(c.samples_per_cycle); }),
   };
+  WriteAppliesWhen(&keys);
+  return keys;
 }
 
 std::vector<KeySpec> MakeSweepFileKeys() {
@@ -227,8 +487,8 @@ std::vector<KeySpec> MakeSweepFileKeys() {
           "none: required", "The scenario every point starts from"),
       Key("set", T::kTable, "", "scenario keys (dotted, or as nested tables)", "none",
           "Overrides applied to every point (not columns of the table)"),
-      Key("grid", T::kTable, "", "scenario keys, each an array of values; not with point",
-          "none", "The Cartesian product of the arrays, the first key outermost"),
+      Key("grid", T::kTable, "", "scenario keys, each an array of values; not with point", "none",
+          "The Cartesian product of the arrays, the first key outermost"),
       Key("point", T::kTableArray, "", "tables of scenario keys; not with grid", "none",
           "One point per [[point]] table, in file order"),
   };
@@ -297,6 +557,46 @@ std::vector<std::string> ScenarioKeysUnder(std::string_view table) {
   return names;
 }
 
+bool KeyHasField(const KeySpec& key, const std::string& field) {
+  std::string fields = key.fields;
+  if (fields.empty()) {
+    const std::string name = key.name;
+    fields = name.substr(name.rfind('.') + 1);
+  }
+  std::istringstream words(fields);
+  std::string word;
+  while (words >> word) {
+    if (word == field) return true;
+  }
+  return false;
+}
+
+bool IsKeySelector(const KeySpec& key) {
+  for (const KeySpec& other : ScenarioKeys()) {
+    for (const KeyCondition& condition : other.only) {
+      if (std::string(condition.selector) == key.name) return true;
+    }
+  }
+  return false;
+}
+
+std::string SelectorValue(const std::string& selector, const ScenarioConfig& config) {
+  const KeySpec* key = FindScenarioKey(selector);
+  if (key == nullptr || key->type != KeyType::kChoice || key->write == nullptr) {
+    throw std::logic_error("scenario key " + selector + " is not a selector");
+  }
+  // A choice is written as a TOML string of plain characters: 'pid'.
+  const std::string text = *key->write(config);
+  return text.substr(1, text.size() - 2);
+}
+
+const KeyCondition* FailedCondition(const KeySpec& key, const ScenarioConfig& config) {
+  for (const KeyCondition& condition : key.only) {
+    if (SelectorValue(condition.selector, config) != condition.value) return &condition;
+  }
+  return nullptr;
+}
+
 std::vector<std::string> KeyChoices(const KeySpec& key) {
   std::vector<std::string> choices;
   const std::string text = key.choices;
@@ -336,13 +636,15 @@ std::string KeyReference(KeyFormat format) {
   std::string out;
   if (format == KeyFormat::kMarkdown) {
     out += "# Scenario and sweep keys\n\n";
-    out += "Generated by `ipmc-swim keys --format markdown`; a test fails when this file and\n"
-           "the program differ.\n\n";
+    out +=
+        "Generated by `ipmc-swim keys --format markdown`; a test fails when this file and\n"
+        "the program differ.\n\n";
     out += "## Scenario keys\n\n";
-    out += "Scenario files (TOML) set these keys; `[controller]` holds the `controller.*`\n"
-           "keys, and so on. Sweep files' `[set]`, `[grid]` and `[[point]]` and\n"
-           "`ipmc-swim run --set KEY=VALUE` take the same dotted names. Keys of the other\n"
-           "kind of a table (a PID gain with `controller.kind = \"fractional\"`) are errors.\n\n";
+    out +=
+        "Scenario files (TOML) set these keys; `[controller]` holds the `controller.*`\n"
+        "keys, and so on. Sweep files' `[set]`, `[grid]` and `[[point]]` and\n"
+        "`ipmc-swim run --set KEY=VALUE` take the same dotted names. Keys of the other\n"
+        "kind of a table (a PID gain with `controller.kind = \"fractional\"`) are errors.\n\n";
     AppendMarkdown(ScenarioKeys(), &out);
     out += "\n## Sweep-file keys\n\n";
     AppendMarkdown(SweepFileKeys(), &out);

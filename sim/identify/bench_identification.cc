@@ -2,7 +2,7 @@
 
 #include <random>
 
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc {
 

@@ -11,8 +11,8 @@
 #include "controllers/reference_model.h"
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
-#include "sim/io/error.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/error.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc {
 namespace {

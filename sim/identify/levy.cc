@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc {
 namespace {

@@ -16,7 +16,10 @@
 #include "controllers/pid.h"
 #include "controllers/reference_model.h"
 #include "plugin/actuators/ipmc_link_model.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
+#include "sim/io/columns.h"
+#include "sim/io/csv.h"
+#include "sim/io/files.h"
 
 namespace ipmc {
 namespace {
@@ -316,6 +319,23 @@ BodeColumns ComputeBodeColumns(const BodeAnalysis& analysis, const BodeSpec& spe
   columns.reference_open_loop =
       ComputeBode([&model](double w) { return model.OpenLoop({0.0, w}); }, grid);
   return columns;
+}
+
+void WriteBodeCsv(const BodeData& bode, const std::filesystem::path& path) {
+  const std::size_t n = bode.w_rad_s.size();
+  if (bode.magnitude_db.size() != n || bode.phase_deg.size() != n) {
+    throw std::invalid_argument(
+        "WriteBodeCsv: w_rad_s, magnitude_db and phase_deg must have equal "
+        "lengths, got " +
+        std::to_string(n) + ", " + std::to_string(bode.magnitude_db.size()) +
+        ", " + std::to_string(bode.phase_deg.size()));
+  }
+  CsvWriter csv;
+  csv.Row({columns::kFrequency, columns::kMagnitudeDb, columns::kPhaseDeg});
+  for (std::size_t i = 0; i < n; ++i) {
+    csv.Add(bode.w_rad_s[i]).Add(bode.magnitude_db[i]).Add(bode.phase_deg[i]).EndRow();
+  }
+  WriteFileAtomically(path.string(), csv.Text());
 }
 
 std::string BodeCsv(const BodeColumns& bode) {

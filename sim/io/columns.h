@@ -44,7 +44,7 @@ constexpr char kOpenLoopCurve[] = "open_loop";
 constexpr char kReferenceOpenLoopCurve[] = "reference_open_loop";
 inline std::string MagnitudeDb(const std::string& curve) { return curve + "_db"; }
 inline std::string PhaseDeg(const std::string& curve) { return curve + "_deg"; }
-// One response alone (WriteBodeCsv, controllers/linear/frequency_response.h).
+// One response alone (WriteBodeCsv, sim/identify/loop_analysis.h).
 constexpr char kMagnitudeDb[] = "magnitude_db";
 constexpr char kPhaseDeg[] = "phase_deg";
 
@@ -64,7 +64,7 @@ constexpr char kP1Curve[] = "p1";
 constexpr char kP2Curve[] = "p2";
 constexpr char kInBand[] = "in_band";
 
-// Sweep tables (sim/batch/sweep.h): point, the swept keys, status, error,
+// Sweep tables (sim/batch/sweep_table.h): point, the swept keys, status, error,
 // then per-link and swimming results.
 constexpr char kPoint[] = "point";
 constexpr char kStatus[] = "status";

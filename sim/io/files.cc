@@ -17,7 +17,7 @@
 #include <system_error>
 #include <utility>
 
-#include "sim/io/error.h"
+#include "plugin/base/error.h"
 
 namespace ipmc {
 namespace {

@@ -91,7 +91,7 @@ void RequireWritableParent(const std::string& path);
 // The same for the directory `path` is in, if it names one.
 void EnsureParentDirectory(const std::string& path);
 
-// The whole content of `path`. Throws InputError (sim/io/error.h)
+// The whole content of `path`. Throws InputError (plugin/base/error.h)
 // "PATH: cannot open the WHAT" or "PATH: cannot read the WHAT".
 std::string ReadTextFile(const std::string& path, const std::string& what);
 

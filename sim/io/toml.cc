@@ -1,6 +1,6 @@
 #include "sim/io/toml.h"
 
-#include "sim/io/error.h"
+#include "plugin/base/error.h"
 
 namespace ipmc {
 

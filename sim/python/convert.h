@@ -35,7 +35,7 @@ nlohmann::json Json(const py::dict& dict, const std::string& where);
 
 // A scenario argument, a scenario file's path or a dict of scenario keys,
 // with keyword overrides (dotted keys, or dicts for tables), read as
-// ScenarioWithOverrides (sim/batch/sweep.h) reads a sweep's [set]. Errors
+// ScenarioWithOverrides (sim/core/scenario_overrides.h) reads a sweep's [set]. Errors
 // in an override name "PATH overrides" (or "scenario dict") and the key.
 // `inputs` records both for summary.json.
 struct ScenarioArgument {

@@ -10,7 +10,7 @@
 #include "sim/core/link_sensors.h"
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc {
 namespace {

@@ -13,7 +13,7 @@
 #include "sim/core/link_sensors.h"
 #include "sim/core/sha256.h"
 #include "sim/io/files.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc {
 namespace {

@@ -6,7 +6,7 @@
 
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc {
 namespace {

@@ -1,4 +1,4 @@
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 
 #include <charconv>
 #include <cstdarg>

@@ -1,10 +1,10 @@
-#include "sim/io/error.h"
+#include "plugin/base/error.h"
 
 #include <algorithm>
 #include <cmath>
 #include <utility>
 
-#include "sim/io/numbers.h"
+#include "plugin/base/numbers.h"
 
 namespace ipmc {
 namespace {

@@ -1,0 +1,497 @@
+// Figures of a run's timeseries.csv: tracking (Fig. 12a), waveform (Fig. 12b),
+// surface (Fig. 13) and trajectory; the body in the head's frame comes from
+// sim/runs/body_record.h.
+#include "renders/figure_parts.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "sim/runs/body_record.h"
+#include "sim/io/columns.h"
+#include "sim/io/csv.h"
+#include "plugin/base/error.h"
+#include "plugin/base/numbers.h"
+
+namespace ipmc::figure_parts {
+namespace {
+
+constexpr int kMapColumns = 91;  // x samples along the body in the x-t map
+
+// -------------------------------------------------------------- tracking ---
+
+std::vector<int> Numbered(const CsvTable& table, std::string (*column)(int)) {
+  std::vector<int> found;
+  for (int q = 1; table.Has(column(q)); ++q) found.push_back(q);
+  return found;
+}
+
+// A number of link q's entry in summary.json's "links".
+std::optional<double> LinkSummaryNumber(const nlohmann::json& summary, int q, const char* key) {
+  if (!summary.is_object() || !summary.contains("links") || !summary["links"].is_array()) {
+    return std::nullopt;
+  }
+  for (const nlohmann::json& link : summary["links"]) {
+    if (JsonNumber(link, "link", 0) == q && link.contains(key) && link[key].is_number()) {
+      return link[key].get<double>();
+    }
+  }
+  return std::nullopt;
+}
+
+// Closed loop: per link, deflection above and voltage below.
+Figure LinkTrackingFigure(const CsvTable& table, const std::vector<int>& links,
+                          const nlohmann::json& summary, const FigureScratch& scratch,
+                          const std::string& heading) {
+  const bool clamp = summary.contains("clamp_enabled") && summary["clamp_enabled"].is_boolean() &&
+                     summary["clamp_enabled"].get<bool>();
+  const double v_max = JsonNumber(summary, "v_max_V", 0.0);
+  const std::vector<double> t = table.Numbers(columns::kTime);
+  const int n = static_cast<int>(links.size());
+  // Inches: title and key, then per link its heading, deflection and
+  // voltage panels, then the time axis.
+  constexpr double kHead = 1.05, kLinkHeading = 0.3, kDeflection = 1.45, kGap = 0.06,
+                   kVoltage = 0.95, kBlock = kLinkHeading + kDeflection + kGap + kVoltage + 0.12,
+                   kFoot = 0.5;
+  Figure figure;
+  figure.width_in = 7.5;
+  figure.height_in = kHead + n * kBlock + kFoot;
+  const double H = figure.height_in;
+  // The deflection panels' key and, below it, the voltage panels', under
+  // the title.
+  const std::string key_y = N(1.0 - 0.55 / H), voltage_key_y = N(1.0 - 0.75 / H);
+  std::string commands = "set multiplot title " + heading + "\n";
+  for (int k = 0; k < n; ++k) {
+    const int q = links[k];
+    const std::vector<double> reference = table.Numbers(columns::Reference(q));
+    const std::vector<double> measured = table.Numbers(columns::Measured(q));
+    const bool has_voltage = table.Has(columns::Voltage(q));
+    const std::vector<double> voltage =
+        has_voltage ? table.Numbers(columns::Voltage(q)) : std::vector<double>(t.size(), NAN);
+    // The clamp's intervals, as a band from -1.2 to 1.2 V_max where the
+    // voltage is at the limit, NaN (a break) elsewhere.
+    std::vector<double> shade_low(t.size(), NAN), shade_high(t.size(), NAN);
+    size_t at_clamp = 0;
+    for (size_t i = 0; clamp && i < t.size(); ++i) {
+      if (std::abs(voltage[i]) >= v_max * (1.0 - 1e-9)) {
+        shade_low[i] = -1.2 * v_max;
+        shade_high[i] = 1.2 * v_max;
+        ++at_clamp;
+      }
+    }
+    const std::string data =
+        scratch.Data("tracking" + std::to_string(q) + ".dat",
+                     GnuplotTable({t, reference, measured, voltage, shade_low, shade_high}));
+    const double top = kHead + k * kBlock;
+    const bool last = k + 1 == n;
+    std::string panel_title = "link " + std::to_string(q);
+    if (clamp) {
+      // The run's own fraction (every step, summary.json) if it is there,
+      // else that of the recorded samples.
+      const double fraction =
+          LinkSummaryNumber(summary, q, "saturated_fraction")
+              .value_or(static_cast<double>(at_clamp) / std::max<size_t>(1, t.size()));
+      panel_title += Format(": voltage at the clamp %.1f %% of the time", 100.0 * fraction);
+    }
+    double deflection_max = 0.0;
+    for (size_t i = 0; i < t.size(); ++i) {
+      deflection_max = std::max({deflection_max, std::abs(reference[i]), std::abs(measured[i])});
+    }
+    commands += StackedPanel(H, top + kLinkHeading, kDeflection) + "set title " + Q(panel_title) +
+                " offset 0,-0.4\nset format x ''\nunset xlabel\n"
+                "set ylabel 'deflection [mm]'\nset ytics " +
+                N(NiceStep(2.0 * deflection_max, 4)) + "\nset key at screen 0.545, screen " +
+                key_y + " center top horizontal samplen 4\n" + "plot " + data +
+                " using 1:2 with lines lw 2 dt 2 lc rgb 'black' " +
+                (k == 0 ? "title 'reference'" : "notitle") +
+                ", '' using 1:3 with lines lw 1.6 lc " + Rgb(kBlue) + " " +
+                (k == 0 ? "title 'measured'" : "notitle") + "\n" + "unset title\n" +
+                StackedPanel(H, top + kLinkHeading + kDeflection + kGap, kVoltage) +
+                (last ? "set format x '%g'\nset xlabel " + Q(AxisLabel(columns::kTime)) + "\n"
+                      : std::string()) +
+                "set ylabel 'voltage [V]'\n"
+                "set key at screen 0.545, screen " +
+                voltage_key_y + " center top horizontal samplen 4\n" +
+                (clamp ? "set yrange [" + N(-1.2 * v_max) + ":" + N(1.2 * v_max) + "]\nset ytics " +
+                             N(v_max / 2) + "\n"
+                       : std::string("set autoscale y\n")) +
+                "plot " +
+                (clamp ? data + " using 1:5:6 with filledcurves fc " + Rgb(kClampShade) +
+                             " fs solid 1.0 notitle, " +
+                             (k == 0 ? "keyentry with boxes fs solid 1.0 fc " + Rgb(kClampShade) +
+                                           " title 'at the clamp', "
+                                     : std::string()) +
+                             N(v_max) + " with lines dt 2 lc rgb 'gray30' " +
+                             (k == 0 ? "title " + Q("+-" + Format("%g", v_max) + " V clamp")
+                                     : std::string("notitle")) +
+                             ", " + N(-v_max) + " with lines dt 2 lc rgb 'gray30' notitle, "
+                       : std::string()) +
+                data + " using 1:4 with lines lw 1.5 lc " + Rgb(kRed) + " " +
+                (k == 0 ? "title 'voltage'" : "notitle") +
+                "\n"
+                "set autoscale y\nset ytics autofreq\n";
+  }
+  figure.commands = commands + "unset multiplot\n";
+  return figure;
+}
+
+// Gait: per joint, reference and measured angle.
+Figure JointTrackingFigure(const CsvTable& table, const std::vector<int>& joints,
+                           const FigureScratch& scratch, const std::string& heading) {
+  const std::vector<double> t = table.Numbers(columns::kTime);
+  const int n = static_cast<int>(joints.size());
+  Figure figure;
+  figure.width_in = 7.5;
+  figure.height_in = 1.15 + 1.8 * n;
+  const double top = 1.0 - 0.95 / figure.height_in, bottom = 0.5 / figure.height_in;
+  const double block = (top - bottom) / n;
+  std::string commands = "set multiplot title " + heading + "\n";
+  for (int k = 0; k < n; ++k) {
+    const int j = joints[k];
+    const std::string data =
+        scratch.Data("joint" + std::to_string(j) + ".dat",
+                     GnuplotTable({t, table.Numbers(columns::JointReference(j)),
+                                   table.Numbers(columns::JointAngle(j))}));
+    const double block_top = top - k * block;
+    const bool last = k + 1 == n;
+    commands += PanelBox(0.12, 0.97, block_top - block + 0.02, block_top - 0.015) +
+                (last ? "set format x '%g'\nset xlabel " + Q(AxisLabel(columns::kTime)) + "\n"
+                      : std::string("set format x ''\nunset xlabel\n")) +
+                "set ylabel " + Q(AxisLabel(columns::JointAngle(j))) + "\n" +
+                (k == 0 ? "set key at screen 0.5, screen " + N(1.0 - 0.6 / figure.height_in) +
+                              " center top horizontal samplen 4\n"
+                        : std::string("set key off\n")) +
+                "plot " + data +
+                " using 1:2 with lines lw 2 dt 2 lc rgb 'black' title "
+                "'reference', '' using 1:3 with lines lw 1.8 lc " +
+                Rgb(kBlue) + " title 'measured'\n";
+  }
+  figure.commands = commands + "unset multiplot\n";
+  return figure;
+}
+
+}  // namespace
+
+Figure TrackingFigure(const CsvTable& table, const std::string& input, const FigureOptions& options,
+                      const FigureScratch& scratch, FigureReport& report) {
+  RequireRows(table, 2);
+  const nlohmann::json summary = SideJson(input, "summary.json");
+  const std::vector<int> links = Numbered(table, &columns::Reference);
+  if (!links.empty()) {
+    SetTitle(report, options, "Tracking of each link's relative tip deflection",
+             RunDescription(summary));
+    return LinkTrackingFigure(table, links, summary, scratch, Heading(report));
+  }
+  const std::vector<int> joints = Numbered(table, &columns::JointReference);
+  if (!joints.empty()) {
+    SetTitle(report, options, "Joint angles, reference and measured", RunDescription(summary));
+    return JointTrackingFigure(table, joints, scratch, Heading(report));
+  }
+  throw InputError(InputProblem::kMissing, {table.source()}, columns::Reference(1),
+                   "no column '" + columns::Reference(1) +
+                       "' (plot tracking needs reference<q>_mm and measured<q>_mm of a "
+                       "closed-loop run, or q_ref<j>_rad and q<j>_rad of a gait)");
+}
+
+namespace {
+
+size_t NearestSample(const std::vector<double>& t_s, double t) {
+  size_t best = 0;
+  for (size_t i = 1; i < t_s.size(); ++i) {
+    if (std::abs(t_s[i] - t) < std::abs(t_s[best] - t)) best = i;
+  }
+  return best;
+}
+
+// The wave period: the option, else summary.json's period_s, else 0.
+double Period(const FigureOptions& options, const nlohmann::json& summary) {
+  if (options.period_s > 0.0) return options.period_s;
+  const double period = JsonNumber(summary, "period_s", 0.0);
+  return std::isfinite(period) && period > 0.0 ? period : 0.0;
+}
+
+std::string PointsBlock(const std::vector<BodyPoint>& points) {
+  std::string text;
+  for (const BodyPoint& p : points) text += GnuplotValue(p.x) + " " + GnuplotValue(p.y) + "\n";
+  return text;
+}
+
+}  // namespace
+
+Figure WaveformFigure(const CsvTable& table, const std::string& input, const FigureOptions& options,
+                      const FigureScratch& scratch, FigureReport& report) {
+  const nlohmann::json summary = SideJson(input, "summary.json");
+  const BodyRecord body = ReadBodyRecord(table);
+  const bool with_ideal = !body.ideal.empty();
+  std::vector<size_t> instants;
+  if (!options.times_s.empty()) {
+    for (double t : options.times_s) instants.push_back(NearestSample(body.t_s, t));
+  } else {
+    const double t_first = body.t_s.front(), t_last = body.t_s.back();
+    double period = Period(options, summary);
+    if (period <= 0.0 || period > t_last - t_first) period = t_last - t_first;
+    for (int k = 1; k <= options.instants; ++k) {
+      instants.push_back(NearestSample(body.t_s, t_last - period + period * k / options.instants));
+    }
+  }
+  std::string text;
+  double x_low = 0.0, x_high = 0.0, y_max = 0.0;
+  for (size_t sample : instants) {
+    text += PointsBlock(body.realised[sample]) + "\n\n" +
+            (with_ideal ? PointsBlock(body.ideal[sample]) : std::string("NaN NaN\n")) + "\n\n";
+    for (const auto* shapes : {&body.realised, &body.ideal}) {
+      if (shapes->empty()) continue;
+      for (const BodyPoint& p : (*shapes)[sample]) {
+        x_low = std::min(x_low, p.x);
+        x_high = std::max(x_high, p.x);
+        y_max = std::max(y_max, std::abs(p.y));
+      }
+    }
+  }
+  const std::string data = scratch.Data("waveform.dat", text);
+  SetTitle(report, options,
+           with_ideal ? "Body shape in the head's frame, ideal and realised"
+                      : "Body shape in the head's frame",
+           RunDescription(summary));
+  std::string plot = "plot ";
+  for (size_t k = 0; k < instants.size(); ++k) {
+    const std::string colour = Rgb(kSeries[k % kSeriesCount]);
+    plot += (k ? ", " : "") + data + " index " + std::to_string(2 * k) +
+            " using 1:2 with linespoints lw 2 pt 7 ps 0.9 lc " + colour + " title " +
+            Q(Format("t = %.4g s", body.t_s[instants[k]]));
+    if (with_ideal) {
+      plot += ", '' index " + std::to_string(2 * k + 1) +
+              " using 1:2 with linespoints lw 1.5 dt 2 pt 6 ps 0.9 lc " + colour + " notitle";
+    }
+  }
+  if (with_ideal) {
+    plot +=
+        ", NaN with lines lw 2 lc rgb 'black' title 'realised (solid)', NaN with lines lw 1.5 "
+        "dt 2 lc rgb 'black' title 'ideal (dashed)'";
+  }
+  const double margin = 0.03 * (x_high - x_low);
+  Figure figure;
+  figure.width_in = 7.5;
+  figure.height_in = 4.4;
+  figure.commands = "set title " + Heading(report) + "\n" +
+                    "set xlabel 'x along the body from the head [mm]' offset 0,0.4\n"
+                    "set ylabel 'y lateral [mm]'\n"
+                    "set xrange [" +
+                    N(x_low - margin) + ":" + N(x_high + margin) + "]\n" + "set yrange [" +
+                    N(-1.15 * std::max(y_max, 1e-3)) + ":" + N(1.15 * std::max(y_max, 1e-3)) +
+                    "]\n" +
+                    "set key outside bottom center horizontal maxrows 2 samplen 4 spacing 1.1\n"
+                    "set xzeroaxis lt 1 lc rgb 'gray40'\n" +
+                    plot + "\n";
+  return figure;
+}
+
+namespace {
+
+// ------------------------------------------------------------ x-t map ---
+
+// Evenly spread sample indices, at most `count`.
+std::vector<size_t> Thinned(size_t samples, int count) {
+  std::vector<size_t> chosen;
+  if (samples <= static_cast<size_t>(count)) {
+    for (size_t i = 0; i < samples; ++i) chosen.push_back(i);
+    return chosen;
+  }
+  for (int k = 0; k < count; ++k) {
+    chosen.push_back(static_cast<size_t>(
+        std::lround(static_cast<double>(k) * static_cast<double>(samples - 1) / (count - 1))));
+  }
+  return chosen;
+}
+
+// y at x along the polyline (linear between its points, which run along
+// +x); NaN beyond its ends.
+double LateralAt(const std::vector<BodyPoint>& shape, double x) {
+  for (size_t k = 0; k + 1 < shape.size(); ++k) {
+    const double x0 = shape[k].x, x1 = shape[k + 1].x;
+    if ((x >= x0 && x <= x1) || (x >= x1 && x <= x0)) {
+      if (x1 == x0) return shape[k].y;
+      return shape[k].y + (x - x0) / (x1 - x0) * (shape[k + 1].y - shape[k].y);
+    }
+  }
+  return NAN;
+}
+
+// Rows "x t y", one block per sample, for a map drawn `with image`.
+std::string MapData(const std::vector<std::vector<BodyPoint>>& shapes, const std::vector<double>& t_s,
+                    const std::vector<size_t>& samples, double length_mm, double* y_max) {
+  std::string text;
+  for (size_t i : samples) {
+    for (int c = 0; c < kMapColumns; ++c) {
+      const double x = length_mm * c / (kMapColumns - 1);
+      const double y = LateralAt(shapes[i], x);
+      if (std::isfinite(y)) *y_max = std::max(*y_max, std::abs(y));
+      text += GnuplotValue(x) + " " + GnuplotValue(t_s[i]) + " " + GnuplotValue(y) + "\n";
+    }
+    text += "\n";
+  }
+  return text;
+}
+
+}  // namespace
+
+Figure SurfaceFigure(const CsvTable& table, const std::string& input, const FigureOptions& options,
+                     const FigureScratch& scratch, FigureReport& report) {
+  const nlohmann::json summary = SideJson(input, "summary.json");
+  const BodyRecord body = ReadBodyRecord(table);
+  RequireRows(table, 2);
+  const std::vector<size_t> samples = Thinned(body.t_s.size(), options.max_lines);
+  const bool with_ideal = !body.ideal.empty();
+  double length_mm = 0.0;
+  for (size_t i : samples) length_mm = std::max(length_mm, body.realised[i].back().x);
+  if (with_ideal) {
+    for (size_t i : samples) length_mm = std::max(length_mm, body.ideal[i].back().x);
+  }
+  if (!(length_mm > 0.0)) length_mm = 1.0;
+  double y_max = 0.0;
+  const std::string realised = scratch.Data(
+      "map_realised.dat", MapData(body.realised, body.t_s, samples, length_mm, &y_max));
+  const std::string ideal =
+      with_ideal
+          ? scratch.Data("map_ideal.dat", MapData(body.ideal, body.t_s, samples, length_mm, &y_max))
+          : "";
+  if (!(y_max > 0.0)) y_max = 1.0;
+  SetTitle(report, options, "Lateral deflection along the body over time", RunDescription(summary));
+  // Each sample of the map is a pixel of `with image` centred on its
+  // (x, t); the axes end at the body's ends and the record's. NaN (beyond
+  // the bent body's end) must stay a blank pixel, not a missing one, or
+  // the rest of its row would shift.
+  const std::string common =
+      "unset datafile missing\nunset grid\nunset key\nset tics out front\n"
+      "set palette defined (-1 '#2166ac', -0.5 '#92c5de', 0 '#f7f7f7', 0.5 '#f4a582', 1 "
+      "'#b2182b')\n"
+      "set cbrange [" +
+      N(-y_max) + ":" + N(y_max) +
+      "]\n"
+      "set xrange [0:" +
+      N(length_mm) +
+      "]\n"
+      "set yrange [" +
+      N(body.t_s[samples.front()]) + ":" + N(body.t_s[samples.back()]) +
+      "]\n"
+      "set xlabel 'x along the body from the head [mm]'\n"
+      "set ylabel " +
+      Q(AxisLabel(columns::kTime)) + "\n";
+  Figure figure;
+  figure.height_in = 4.6;
+  const double H = figure.height_in;
+  const double top = 1.0 - 1.0 / H, bottom = 0.8 / H;
+  std::string commands = "set multiplot title " + Heading(report) + "\n" + common;
+  const std::string colour_bar = "set cblabel 'lateral deflection y [mm]'\nset cbtics out\n";
+  if (with_ideal) {
+    figure.width_in = 9.0;
+    commands += PanelBox(0.08, 0.45, bottom, top) +
+                "unset colorbox\nset title 'ideal (references)'\n"
+                "plot " +
+                ideal + " using 1:2:3 with image\n" + PanelBox(0.50, 0.87, bottom, top) +
+                "set colorbox user origin screen 0.895, screen " + N(bottom) +
+                " size screen 0.02, screen " + N(top - bottom) + "\n" + colour_bar +
+                "set title 'realised (tips)'\nset ylabel ''\nset format y ''\n"
+                "plot " +
+                realised + " using 1:2:3 with image\n";
+  } else {
+    figure.width_in = 6.5;
+    commands += PanelBox(0.12, 0.80, bottom, top) +
+                "set colorbox user origin screen 0.84, screen " + N(bottom) +
+                " size screen 0.03, screen " + N(top - bottom) + "\n" + colour_bar +
+                "set title 'realised (tips)'\nplot " + realised + " using 1:2:3 with image\n";
+  }
+  figure.commands = commands + "unset multiplot\n";
+  return figure;
+}
+// ------------------------------------------------------------ trajectory ---
+
+Figure TrajectoryFigure(const CsvTable& table, const std::string& input,
+                        const FigureOptions& options, const FigureScratch& scratch,
+                        FigureReport& report) {
+  RequireRows(table, 2);
+  const nlohmann::json summary = SideJson(input, "summary.json");
+  const std::vector<double> t = table.Numbers(columns::kTime);
+  const std::vector<double> com_x = table.Numbers(columns::kComX);
+  const std::vector<double> com_y = table.Numbers(columns::kComY);
+  const std::vector<double> head_x = table.Numbers(columns::kHeadX);
+  const std::vector<double> head_y = table.Numbers(columns::kHeadY);
+  const size_t n = t.size();
+  // Each point relative to its own start, in the swimming frame of
+  // sim/core/swim_meter.h: "along" is -x (head first), "across" +y. The
+  // head and the centre of mass are half a body apart, many times their
+  // displacement, so each path starts at the origin.
+  std::vector<double> com_along(n), com_across(n), head_along(n), head_across(n);
+  for (size_t i = 0; i < n; ++i) {
+    com_along[i] = -(com_x[i] - com_x[0]);
+    com_across[i] = com_y[i] - com_y[0];
+    head_along[i] = -(head_x[i] - head_x[0]);
+    head_across[i] = head_y[i] - head_y[0];
+  }
+  const std::string data = scratch.Data(
+      "trajectory.dat", GnuplotTable({t, com_along, com_across, head_along, head_across}));
+  // The start of every cycle, on both paths.
+  const double period = Period(options, summary);
+  std::string markers;
+  std::string cycle_lines;
+  if (period > 0.0) {
+    for (int k = 0; k * period <= t.back() + 1e-9 * period; ++k) {
+      const size_t i = NearestSample(t, k * period);
+      markers += GnuplotValue(com_along[i]) + " " + GnuplotValue(com_across[i]) + " " +
+                 GnuplotValue(head_along[i]) + " " + GnuplotValue(head_across[i]) + "\n";
+      cycle_lines += "set arrow from " + N(k * period) + ", graph 0 to " + N(k * period) +
+                     ", graph 1 nohead dt 3 lc rgb 'gray60'\n";
+    }
+  }
+  const std::string marker_data =
+      scratch.Data("cycles.dat", markers.empty() ? "NaN NaN NaN NaN\n" : markers);
+  if (summary.is_object() && summary.contains("per_cycle") && summary["per_cycle"].is_array() &&
+      !summary["per_cycle"].empty()) {
+    report.notes.push_back(
+        "last cycle: " +
+        Format("%.4g", JsonNumber(summary["per_cycle"].back(), "com_along_mm", NAN)) +
+        " mm along the axis");
+  }
+  SetTitle(report, options, "Swimming: net displacement and path in the plane",
+           RunDescription(summary));
+  Figure figure;
+  figure.width_in = 7.5;
+  figure.height_in = 7.0;
+  const double H = figure.height_in;
+  const std::string cycle_key = markers.empty() ? "notitle" : "title 'start of a cycle'";
+  figure.commands =
+      "set multiplot title " + Heading(report) + "\n" + StackedPanel(H, 0.95, 2.45) + cycle_lines +
+      "set title 'displacement against time' offset 0,-0.4\n"
+      "set xlabel " +
+      Q(AxisLabel(columns::kTime)) +
+      " offset 0,0.3\n"
+      "set ylabel 'displacement [mm]'\n"
+      "set key left top samplen 3 box opaque\n"
+      "plot " +
+      data + " using 1:2 with lines lw 2.5 lc " + Rgb(kBlue) +
+      " title 'centre of mass, along', '' using 1:3 with lines lw 1.5 dt (6,4) lc " + Rgb(kBlue) +
+      " title 'centre of mass, across', '' using 1:4 with lines lw 1.2 lc " + Rgb(kOrange) +
+      " title 'head, along'\n"
+      "unset arrow\n"
+      "set title 'path in the plane (each from its start)' offset 0,-0.4\n"
+
+      "set xlabel 'along the swimming axis [mm] (head first)' offset 0,0.3\n"
+      "set ylabel 'across [mm]'\n"
+      "set key noopaque nobox at screen 0.98, screen " +
+      N(1.0 - 4.35 / H) + " right top vertical samplen 2\n" +
+      StackedPanel(H, 4.35, 2.05, 0.12, 0.72) + "plot " + data + " using 4:5 with lines lw 1 lc " +
+      Rgb(kOrange) + " title 'head', " + data + " using 2:3 with lines lw 2.5 lc " + Rgb(kBlue) +
+      " title 'centre of mass', " + marker_data +
+      " using 1:2 with points pt 7 ps 0.9 lc rgb 'black' " + cycle_key + ", " + marker_data +
+      " using 3:4 with points pt 7 ps 0.9 lc rgb 'black' notitle\n"
+      "unset multiplot\n";
+  return figure;
+}
+
+}  // namespace ipmc::figure_parts

@@ -1,0 +1,75 @@
+// A sweep's table of results, one row per point.
+//
+// The table (SweepTable) has one row per point, ordered by point index:
+//   point, <swept keys>, status (ok | error), error,
+//   link<q>_iae_mm_s, link<q>_itae_mm_s2, link<q>_rms_voltage_V,
+//   link<q>_clamped_fraction  (q = 1..links, the most links of any point's model),
+//   last_cycle_com_along_mm, mean_speed_along_mm_s, reynolds_tip, reynolds_swim
+// (sim/runs/closed_loop_run.h, sim/core/swim_meter.h). Swept values are printed as
+// the shortest text that reads back exactly ("" where a list's point keeps
+// the base's value); results with 17 significant digits (max_digits10), so
+// tables compare exactly. Error rows leave the results empty.
+#pragma once
+
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "sim/batch/sweep_file.h"
+
+namespace ipmc {
+
+// Where a row's result comes from: the point's scenario as run (every key,
+// defaults filled in: ResolvedScenarioToml, sim/core/scenario.h) and the
+// SHA-256 of its model's bytes (ScenarioModelSha256, sim/runs/closed_loop_run.h).
+struct PointProvenance {
+  std::string resolved_scenario;
+  std::string model_sha256;
+};
+
+struct SweepTable {
+  std::vector<std::string> columns;
+  std::vector<std::vector<std::string>> rows;  // cells as printed, by point index
+  // The program that made the rows ("" if unknown: a table read from a CSV
+  // without its JSON) and, by point index, each row's provenance (none
+  // for a point whose scenario was refused).
+  std::string program_version;
+  std::map<int, PointProvenance> provenance;
+};
+
+// The table's columns for a plan.
+std::vector<std::string> SweepColumns(const SweepPlan& plan);
+
+// CSV (sim/io/csv.h: RFC 4180, "\n" line ends).
+std::string SweepTableCsv(const SweepTable& table);
+// {"columns": [...], "points": [{column: value, ...}, ...],
+//  "program_version": "...", "provenance": [{"point": i,
+//  "resolved_scenario": "...", "model_sha256": "..."}, ...]}: point is an
+// integer, status and error strings, results numbers (null when empty),
+// swept values numbers, booleans, arrays or strings as their text reads;
+// program_version and provenance only when known. The same table gives
+// the same JSON, whether it was run or merged.
+nlohmann::ordered_json SweepTableJson(const SweepTable& table);
+
+// Reads a table written by SweepTableCsv; throws InputError
+// (plugin/base/error.h) "SOURCE:LINE: ..." if it is not one.
+SweepTable ParseSweepTableCsv(const std::string& csv_text, const std::string& source);
+// The same from PREFIX.csv, with program_version and provenance from
+// PREFIX.json beside it if there is one (InputError if it is not a
+// table's JSON).
+SweepTable LoadSweepTableCsv(const std::string& path);
+
+// Joins the tables of a sweep's shards into one, ordered by point index,
+// with their provenance. Throws InputError (one line, naming the file) if
+// the headers or the program versions differ or a point appears twice, and std::runtime_error if
+// (unless allow_missing) points are missing below the highest index (a missing tail of the sweep
+// cannot be told from a shorter sweep).
+SweepTable MergeSweepTables(const std::vector<SweepTable>& tables,
+                            const std::vector<std::string>& sources, bool allow_missing = false);
+
+// Writes PREFIX.csv and PREFIX.json, each atomically (creating PREFIX's
+// directory if needed).
+void WriteSweepTable(const std::string& prefix, const SweepTable& table);
+
+}  // namespace ipmc
