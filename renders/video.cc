@@ -21,6 +21,13 @@
 namespace ipmc {
 namespace {
 
+// `path` as ffmpeg must read it: a plain file, never a protocol
+// ("tcp://...", "http://...", "pipe:1") or an option ("-x.mp4"). The
+// file: protocol with an absolute path is read only as the file it names.
+std::string FfmpegFileUrl(const std::string& path) {
+  return "file:" + std::filesystem::absolute(path).lexically_normal().string();
+}
+
 void CheckFrameSize(const std::vector<unsigned char>& rgb, int width, int height,
                     const std::string& what) {
   const size_t expected = static_cast<size_t>(width) * height * 3;
@@ -115,7 +122,7 @@ Mp4Writer::Mp4Writer(const std::string& path, int width, int height, double fps)
       "ffmpeg", "-nostdin", "-y", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgb24",
       "-s", std::to_string(width) + "x" + std::to_string(height), "-r", rate.str(), "-i", "-",
       "-c:v", "libx264", "-preset", "veryfast", "-pix_fmt", "yuv420p", "-f", "mp4",
-      output_.temp_path()};
+      FfmpegFileUrl(output_.temp_path())};
   ProgramIo io;
   io.write_input = true;
   io.log_path = log_path_;

@@ -195,5 +195,20 @@ TEST(FilesTest, AnOutputDirectoryIsHeldByOneRunAtATime) {
   fs::remove_all(dir);
 }
 
+// A killed writer's temporaries ("PATH.tmp.PID.XXXXXX" of a process that no
+// longer runs) go with the next write of PATH; a running one's stay.
+TEST(FilesTest, TemporariesOfAKilledWriterAreRemovedByTheNext) {
+  const fs::path dir = ScratchDir("stale");
+  const fs::path table = dir / "table.csv";
+  // PID 2^31 - 1 is beyond Linux's pid_max (at most 2^22): no such process.
+  WriteFileAtomically((dir / "table.csv.tmp.2147483647.AbC123").string(), std::string(1000, 'x'));
+  const std::string live = "table.csv.tmp." + std::to_string(getppid()) + ".XyZ789";
+  WriteFileAtomically((dir / live).string(), "in use");
+  WriteFileAtomically((dir / "table.csv.tmp.notapid").string(), "not ours");
+  WriteFileAtomically(table.string(), "a,b\n");
+  EXPECT_EQ(Entries(dir), (std::vector<std::string>{"table.csv", live, "table.csv.tmp.notapid"}));
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace ipmc::testing

@@ -106,6 +106,20 @@ TEST(ProcessTest, ShellQuoteReadsBackThroughAShell) {
   EXPECT_EQ(exit.output, word);
 }
 
+// A printed command's words are pasted safely: a plain path stays
+// readable, anything the shell would expand or split is quoted, and a
+// directory named $(...) runs nothing when the line is pasted.
+TEST(ProcessTest, ShellWordQuotesOnlyWhatTheShellWouldChange) {
+  EXPECT_EQ(ShellWord("/home/me/runs/lengths"), "/home/me/runs/lengths");
+  EXPECT_EQ(ShellWord("a b"), "'a b'");
+  EXPECT_EQ(ShellWord("-rf"), "'-rf'");
+  EXPECT_EQ(ShellWord(""), "''");
+  const std::string dir = "/tmp/$(touch ipmc_pwned)";
+  EXPECT_EQ(ShellWord(dir), "'/tmp/$(touch ipmc_pwned)'");
+  const ProgramExit exit = RunProgram({"sh", "-c", "printf %s " + ShellWord(dir)});
+  EXPECT_EQ(exit.output, dir);
+}
+
 TEST(ProcessTest, LastLineIsTheLastNonBlankLine) {
   EXPECT_EQ(LastLine(""), "");
   EXPECT_EQ(LastLine("\n \n\t\n"), "");

@@ -19,13 +19,19 @@ sigset_t InterruptSet() {
   sigemptyset(&set);
   sigaddset(&set, SIGINT);
   sigaddset(&set, SIGTERM);
+  sigaddset(&set, SIGHUP);  // the terminal closed: as SIGTERM
   return set;
 }
 
 }  // namespace
 
 std::string Interrupted::SignalName() const {
-  return signal_ == SIGTERM ? "SIGTERM" : signal_ == SIGINT ? "SIGINT" : std::to_string(signal_);
+  switch (signal_) {
+    case SIGINT: return "SIGINT";
+    case SIGTERM: return "SIGTERM";
+    case SIGHUP: return "SIGHUP";
+    default: return std::to_string(signal_);
+  }
 }
 
 void InterruptAtBoundary::ThrowIfRequested(const std::string& what) const {
@@ -50,7 +56,7 @@ void InterruptAtBoundary::Watch() {
   const timespec interval = {0, kPollInterval_ns};
   while (!finished_) {
     const int received = sigtimedwait(&set, nullptr, &interval);
-    if (received != SIGINT && received != SIGTERM) continue;  // timeout or EINTR
+    if (received != SIGINT && received != SIGTERM && received != SIGHUP) continue;  // timeout or EINTR
     if (Requested()) {
       std::fputs("\ninterrupted again: stopping now\n", stderr);
       std::_Exit(128 + received);

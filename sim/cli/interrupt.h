@@ -1,5 +1,6 @@
-// Stopping at a safe point on SIGINT (Ctrl-C) or SIGTERM (kill, a cluster's
-// time limit). While an InterruptAtBoundary lives, neither signal kills the
+// Stopping at a safe point on SIGINT (Ctrl-C), SIGTERM (kill, a cluster's
+// time limit) or SIGHUP (the terminal closed, treated as SIGTERM). While
+// an InterruptAtBoundary lives, none of them kills the
 // process: the first one makes Requested() true and prints `message` on
 // stderr; the work checks Requested() at its safe points (a sweep between
 // points, a run at each recorded sample, a film at each frame), stops
@@ -30,7 +31,7 @@ class Interrupted : public std::runtime_error {
   int signal() const { return signal_; }
   // The shell's exit code for a process the signal stopped: 128 + signal.
   int ExitCode() const { return 128 + signal_; }
-  // "SIGINT" or "SIGTERM".
+  // "SIGINT", "SIGTERM" or "SIGHUP".
   std::string SignalName() const;
 
  private:
@@ -45,7 +46,7 @@ class InterruptAtBoundary {
   InterruptAtBoundary& operator=(const InterruptAtBoundary&) = delete;
 
   bool Requested() const { return signal_ != 0; }
-  // The signal that requested the stop (SIGINT or SIGTERM), 0 if none.
+  // The signal that requested the stop (SIGINT, SIGTERM or SIGHUP), 0 if none.
   int signal() const { return signal_; }
   // Throws Interrupted(signal(), what) if a stop was requested.
   void ThrowIfRequested(const std::string& what) const;

@@ -7,6 +7,7 @@
 #include <system_error>
 
 #include "sim/batch/slurm.h"
+#include "sim/io/process.h"
 #include "sim/batch/sweep.h"
 #include "sim/batch/sweep_status.h"
 
@@ -75,7 +76,7 @@ int RunSlurmSubmission(const SweepArgs& args) {
     print_written();
     std::printf("dry run, nothing submitted; to submit:\n"
                 "  jid=$(sbatch --parsable %s) && sbatch --dependency=afterany:$jid %s\n",
-                job.ArrayScriptPath().c_str(), job.MergeScriptPath().c_str());
+                ShellWord(job.ArrayScriptPath()).c_str(), ShellWord(job.MergeScriptPath()).c_str());
     return 0;
   }
   const SlurmJobIds ids = SubmitSlurmJob(job);
@@ -83,7 +84,7 @@ int RunSlurmSubmission(const SweepArgs& args) {
   std::printf("submitted job array %s and merge job %s (after the array); the table goes to "
               "%s.csv\n",
               ids.array.c_str(), ids.merge.c_str(), job.TablePrefix().c_str());
-  std::printf("progress: ipmc-swim sweep --status %s\n", job.dir.c_str());
+  std::printf("progress: ipmc-swim sweep --status %s\n", ShellWord(job.dir).c_str());
   return 0;
 }
 

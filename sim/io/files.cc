@@ -1,12 +1,14 @@
 #include "sim/io/files.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -22,7 +24,37 @@
 namespace ipmc {
 namespace {
 
-// Makes a new entry "PATH.tmp.XXXXXX" (X: random letters and digits) with
+// The temporaries of PATH are "PATH.tmp.PID.XXXXXX": PID the process
+// that writes it, so that one left by a process that no longer runs (a
+// killed merge, a lost node) is known and removed by the next writer.
+std::string TemporaryPrefix(const std::string& path) { return path + ".tmp."; }
+
+// Removes PATH's temporaries whose process no longer runs.
+void RemoveStaleTemporaries(const std::string& path) {
+  namespace fs = std::filesystem;
+  const fs::path target(path);
+  const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+  const std::string prefix = TemporaryPrefix(target.filename().string());
+  std::error_code error;
+  for (fs::directory_iterator it(dir, error), end; !error && it != end; it.increment(error)) {
+    const std::string name = it->path().filename().string();
+    if (name.compare(0, prefix.size(), prefix) != 0) continue;
+    const std::string rest = name.substr(prefix.size());
+    const size_t dot = rest.find('.');
+    if (dot == 0 || dot == std::string::npos ||
+        rest.find_first_not_of("0123456789") != dot) {
+      continue;  // not PID.XXXXXX
+    }
+    const long pid = std::strtol(rest.substr(0, dot).c_str(), nullptr, 10);
+    if (pid <= 0 || pid == getpid()) continue;
+    if (kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH && it->is_regular_file(error)) {
+      std::error_code ignored;
+      fs::remove(it->path(), ignored);
+    }
+  }
+}
+
+// Makes a new entry "PATH.tmp.PID.XXXXXX" (X: random letters and digits) with
 // `make` (which returns false with errno EEXIST if the name is taken) and
 // returns its name; throws naming `path` and the reason.
 template <typename Make>
@@ -31,8 +63,9 @@ std::string MakeUniqueEntry(const std::string& path, Make make) {
   constexpr int kAttempts = 100;
   std::random_device random;
   std::uniform_int_distribution<int> pick(0, static_cast<int>(sizeof(kAlphabet)) - 2);
+  const std::string prefix = TemporaryPrefix(path) + std::to_string(getpid()) + ".";
   for (int attempt = 0; attempt < kAttempts; ++attempt) {
-    std::string name = path + ".tmp.";
+    std::string name = prefix;
     for (int i = 0; i < 6; ++i) name += kAlphabet[pick(random)];
     if (make(name)) return name;
     if (errno != EEXIST) break;
@@ -70,6 +103,7 @@ bool WriteAll(int fd, const std::string& content) {
 }  // namespace
 
 PendingFile::PendingFile(std::string path) : path_(std::move(path)) {
+  RemoveStaleTemporaries(path_);
   temp_path_ = CreateUniqueFile(path_);
 }
 

@@ -15,7 +15,9 @@ namespace ipmc {
 // goes without Commit() removes the temporary.
 class PendingFile {
  public:
-  // temp_path(): a new empty file "PATH.tmp.XXXXXX" (unique).
+  // temp_path(): a new empty file "PATH.tmp.PID.XXXXXX" (unique; PID this
+  // process). Removes PATH's temporaries left by processes that no longer
+  // run.
   explicit PendingFile(std::string path);
   // temp_path(): "PATH" + temp_suffix, not created (the writer makes it).
   PendingFile(std::string path, const std::string& temp_suffix);

@@ -71,6 +71,10 @@ ProgramExit RunProgram(const std::vector<std::string>& argv, const std::string& 
 // For printing commands (and writing scripts) a user may paste; programs
 // are never started through a shell.
 std::string ShellQuote(const std::string& text);
+// The same, but a word the shell reads as it is (letters, digits and
+// _./:=+,-%@, not starting with -) is left unquoted: for commands printed
+// to be read as well as pasted.
+std::string ShellWord(const std::string& text);
 
 // The last line of `text` that is not blank, without its leading blanks
 // and its line end; "" if there is none.

@@ -242,7 +242,7 @@ def run_case(d, case):
     args = [PROGRAM] + [a.format(d=d, models=MODELS, scenarios=SCENARIOS, readonly=readonly)
                         for a in shlex.split(case["args"])]
     mode = case["mode"].split()
-    signal_name = mode[0] if mode[0] in ("SIGINT", "SIGTERM") else None
+    signal_name = mode[0] if mode[0] in ("SIGINT", "SIGTERM", "SIGHUP") else None
     preexec = full_disk_limits if mode[0] == "full-disk" else None
     if signal_name:
         process = subprocess.Popen(args, cwd=d, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
@@ -297,7 +297,7 @@ def check(d, case, before):
 
 
 def read_cases(path):
-    """Lines `EXIT | MODE | FRAGMENT | ARGS`; MODE is -, full-disk, SIGINT or SIGTERM
+    """Lines `EXIT | MODE | FRAGMENT | ARGS`; MODE is -, full-disk, SIGINT, SIGTERM or SIGHUP
     (optionally followed by `keep SUFFIX`: the files a stop keeps by design)."""
     cases = []
     for number, line in enumerate(open(path), 1):
