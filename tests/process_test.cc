@@ -11,20 +11,16 @@
 #include <vector>
 
 #include "sim/io/files.h"
+#include "tests/cli_util.h"
 
 namespace ipmc {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path FreshDir(const std::string& name) {
-  const fs::path dir = fs::path(::testing::TempDir()) / ("ipmc_process_test_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path FreshDir(const std::string& name) { return ipmc::testing::FreshDir("process_" + name); }
 
-TEST(Process, CapturesOutputAndExitStatus) {
+TEST(ProcessTest, CapturesOutputAndExitStatus) {
   const ProgramExit exit = RunProgram({"sh", "-c", "echo one; echo two >&2; exit 3"});
   EXPECT_EQ(exit.exit_code, 3);
   EXPECT_EQ(exit.signal, 0);
@@ -35,20 +31,20 @@ TEST(Process, CapturesOutputAndExitStatus) {
 }
 
 // Each element is one argument as it stands: no shell splits or expands it.
-TEST(Process, ArgumentsReachTheProgramVerbatim) {
+TEST(ProcessTest, ArgumentsReachTheProgramVerbatim) {
   const ProgramExit exit = RunProgram({"printf", "%s|", "a b", "it's", "$HOME", "*", ""});
   EXPECT_TRUE(exit.ok()) << exit.output;
   EXPECT_EQ(exit.output, "a b|it's|$HOME|*||");
 }
 
-TEST(Process, ReportsTheSignalThatEndedIt) {
+TEST(ProcessTest, ReportsTheSignalThatEndedIt) {
   const ProgramExit exit = RunProgram({"sh", "-c", "kill -9 $$"});
   EXPECT_EQ(exit.exit_code, -1);
   EXPECT_EQ(exit.signal, 9);
   EXPECT_EQ(exit.How(), "killed by signal 9");
 }
 
-TEST(Process, WritesOutputAndErrorsToTheLog) {
+TEST(ProcessTest, WritesOutputAndErrorsToTheLog) {
   const fs::path log = FreshDir("log") / "program.log";
   const ProgramExit exit = RunProgram({"sh", "-c", "echo out; echo err >&2"}, log.string());
   EXPECT_TRUE(exit.ok());
@@ -57,7 +53,7 @@ TEST(Process, WritesOutputAndErrorsToTheLog) {
   EXPECT_EQ(LastLineOfFile(log.string()), "err");
 }
 
-TEST(Process, MissingProgramIsAnErrorNamingIt) {
+TEST(ProcessTest, MissingProgramIsAnErrorNamingIt) {
   try {
     RunProgram({"ipmc-no-such-program"});
     ADD_FAILURE() << "expected an error";
@@ -69,7 +65,7 @@ TEST(Process, MissingProgramIsAnErrorNamingIt) {
   EXPECT_THROW(RunProgram({}), std::invalid_argument);
 }
 
-TEST(Process, FeedsItsInput) {
+TEST(ProcessTest, FeedsItsInput) {
   const fs::path dir = FreshDir("input");
   ProgramIo io;
   io.write_input = true;
@@ -86,7 +82,7 @@ TEST(Process, FeedsItsInput) {
 
 // A program that stops reading makes Write return false instead of
 // raising SIGPIPE in the caller.
-TEST(Process, WriteToAProgramThatStoppedReadingFails) {
+TEST(ProcessTest, WriteToAProgramThatStoppedReadingFails) {
   const fs::path dir = FreshDir("stopped");
   ProgramIo io;
   io.write_input = true;
@@ -99,14 +95,14 @@ TEST(Process, WriteToAProgramThatStoppedReadingFails) {
   EXPECT_TRUE(program.Wait().ok());
 }
 
-TEST(Process, ShellQuoteReadsBackThroughAShell) {
+TEST(ProcessTest, ShellQuoteReadsBackThroughAShell) {
   EXPECT_EQ(ShellQuote("it's"), "'it'\\''s'");
   const std::string word = "a b 'c' \"d\" $HOME `x` \\ *";
   const ProgramExit exit = RunProgram({"sh", "-c", "printf %s " + ShellQuote(word)});
   EXPECT_EQ(exit.output, word);
 }
 
-TEST(Process, LastLineIsTheLastNonBlankLine) {
+TEST(ProcessTest, LastLineIsTheLastNonBlankLine) {
   EXPECT_EQ(LastLine(""), "");
   EXPECT_EQ(LastLine("\n \n\t\n"), "");
   EXPECT_EQ(LastLine("first\n  second error\r\n\n  \n"), "second error");

@@ -45,7 +45,7 @@ std::string Resolved(const std::string& text) {
   return ResolvedScenarioToml(ParseScenario(text, Source()));
 }
 
-TEST(ScenarioKeys, EveryKeyTakesItsDefaultAndItsExampleAndRefusesItsRefusedValue) {
+TEST(ScenarioKeysTest, EveryKeyTakesItsDefaultAndItsExampleAndRefusesItsRefusedValue) {
   int defaults = 0, refusals = 0;
   for (const KeySpec& key : ScenarioKeys()) {
     SCOPED_TRACE(key.name);
@@ -101,7 +101,7 @@ std::string Canonical(const toml::node& node) {
 // Each key's reader and writer are one entry of the table: a key's example
 // value read into a scenario comes back from ResolvedScenarioToml as it was
 // given (the model's path comes back resolved, output.dir not at all).
-TEST(ScenarioKeys, EveryKeysExampleIsWrittenBackAsRead) {
+TEST(ScenarioKeysTest, EveryKeysExampleIsWrittenBackAsRead) {
   int compared = 0;
   for (const KeySpec& key : ScenarioKeys()) {
     SCOPED_TRACE(key.name);
@@ -118,7 +118,7 @@ TEST(ScenarioKeys, EveryKeysExampleIsWrittenBackAsRead) {
   EXPECT_EQ(compared, static_cast<int>(ScenarioKeys().size()) - 2);
 }
 
-TEST(ScenarioKeys, BoundsInTheTableAreTheReadersBounds) {
+TEST(ScenarioKeysTest, BoundsInTheTableAreTheReadersBounds) {
   // A bounded number just outside its bound is refused, just inside accepted.
   for (const KeySpec& key : ScenarioKeys()) {
     if (key.type != KeyType::kNumber || key.lower == Bound::kNone) continue;
@@ -135,7 +135,7 @@ TEST(ScenarioKeys, BoundsInTheTableAreTheReadersBounds) {
   }
 }
 
-TEST(ScenarioKeys, TheReaderAllowsExactlyTheTablesKeys) {
+TEST(ScenarioKeysTest, TheReaderAllowsExactlyTheTablesKeys) {
   EXPECT_EQ(ScenarioKeysUnder("fluid"), std::vector<std::string>{"viscosity_Pa_s"});
   std::vector<std::string> tables = {""};
   for (const std::string& name : ScenarioKeysUnder("")) {
@@ -160,7 +160,7 @@ TEST(ScenarioKeys, TheReaderAllowsExactlyTheTablesKeys) {
   }
 }
 
-TEST(ScenarioKeys, TheResolvedScenarioReadsBackToItself) {
+TEST(ScenarioKeysTest, TheResolvedScenarioReadsBackToItself) {
   const std::string pid = Resolved(ModelLine() + "controller.kp = 0.30000000000000004\n");
   // Doubles keep all their digits.
   EXPECT_NE(pid.find("0.30000000000000004"), std::string::npos) << pid;
@@ -184,7 +184,7 @@ TEST(ScenarioKeys, TheResolvedScenarioReadsBackToItself) {
   EXPECT_EQ(eq15.find("gain"), std::string::npos) << eq15;
 }
 
-TEST(ScenarioKeys, PaperScenarioNamesEveryKeyAndWhereTheReferenceIs) {
+TEST(ScenarioKeysTest, PaperScenarioNamesEveryKeyAndWhereTheReferenceIs) {
   std::ifstream file(ScenariosDir() + "/paper.toml");
   std::stringstream text;
   text << file.rdbuf();
@@ -196,7 +196,7 @@ TEST(ScenarioKeys, PaperScenarioNamesEveryKeyAndWhereTheReferenceIs) {
   EXPECT_NE(text.str().find("docs/SCENARIO_KEYS.md"), std::string::npos);
 }
 
-TEST(ScenarioKeys, TheReferenceListsEveryKeyInBothFormats) {
+TEST(ScenarioKeysTest, TheReferenceListsEveryKeyInBothFormats) {
   const std::string text = KeyReference(KeyFormat::kText);
   const std::string markdown = KeyReference(KeyFormat::kMarkdown);
   for (const auto* keys : {&ScenarioKeys(), &SweepFileKeys()}) {

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -187,6 +188,7 @@ struct RunArgs {
   std::string video_path;
   ipmc::FilmConfig film;
   bool allow_long = false;
+  std::vector<std::string> formats;  // --format, besides CSV and JSON
   CLI::App* command = nullptr;
 };
 
@@ -202,6 +204,10 @@ void AddRunCommand(CLI::App& app, RunArgs& args) {
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   cmd->add_option("--cycles", args.cycles, "Wave periods to run (= --set cycles=N)");
   cmd->add_option("-o,--out", args.out_dir, "Output directory (overrides output.dir)");
+  cmd->add_option("--format", args.formats,
+                  "Also write the whole run as run.mat (mat: MATLAB/Octave) or run.h5 (h5: "
+                  "HDF5); repeatable or comma-separated; csv (always written) is accepted")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   cmd->add_option("--video", args.video_path,
                   "Also film the run into this MP4 (from its recorded states; see `render`)");
   AddAllowLongFlag(cmd, args.allow_long);
@@ -224,8 +230,12 @@ void PrintClosedLoopResult(const ipmc::ClosedLoopResult& r) {
 }
 
 // Where a run's outputs went (sim/runs/output.h).
-void PrintWritten(const std::string& dir) {
-  std::printf("wrote %s/timeseries.csv, states.csv and summary.json\n", dir.c_str());
+void PrintWritten(const std::string& dir, const ipmc::RunFileFormats& formats = {}) {
+  std::string extra;
+  if (formats.mat) extra += std::string(", ") + ipmc::kRunMatFile;
+  if (formats.hdf5) extra += std::string(", ") + ipmc::kRunHdf5File;
+  std::printf("wrote %s/timeseries.csv, states.csv%s and summary.json\n", dir.c_str(),
+              extra.c_str());
 }
 
 // A path made absolute, so that a run's outputs name their inputs from
@@ -270,19 +280,26 @@ int RunScenarioCommand(const RunArgs& args) {
   if (args.command->count("--cycles") > 0) inputs["cycles"] = args.cycles;
   // A re-run writes only where --out says, never over the run it repeats.
   const std::string dir = args.out_dir.empty() && !rerun ? scenario.output_dir : args.out_dir;
+  const ipmc::RunFileFormats formats = ipmc::ParseRunFileFormats(args.formats);
+  if ((formats.mat || formats.hdf5) && dir.empty()) {
+    throw std::invalid_argument("run: --format mat or h5 needs an output directory (--out DIR)");
+  }
   // Output locations are checked before the run, not after it.
   if (!dir.empty()) ipmc::CheckRunOutputDirectory("run", "--out", dir, {args.scenario_path});
   if (!args.video_path.empty()) {
     ipmc::RefuseOverwritingInputs("run", "--video", args.video_path, {args.scenario_path});
     ipmc::RequireWritableParent(args.video_path);
   }
+  // One run per output directory, from the start of the work to its end.
+  std::optional<ipmc::DirectoryLock> hold;
+  if (!dir.empty()) hold.emplace(dir);
   // The results are printed and written before the film is made.
   ipmc::RunScenarioFilmed(scenario, args.film, args.video_path,
                           [&](const ipmc::ClosedLoopResult& result) {
                             PrintClosedLoopResult(result);
                             if (dir.empty()) return;
-                            ipmc::WriteClosedLoopOutputs(dir, result, scenario, inputs);
-                            PrintWritten(dir);
+                            ipmc::WriteClosedLoopOutputs(dir, result, scenario, inputs, formats);
+                            PrintWritten(dir, formats);
                           });
   return 0;
 }
@@ -359,6 +376,8 @@ int RunGaitCommand(const GaitArgs& args) {
   }
   ipmc::Simulation sim(ipmc::LoadModelFile(args.model_path), args.model_path);
   const std::unique_ptr<ipmc::Gait> gait = MakeGait(args, CountServos(sim.model()));
+  std::optional<ipmc::DirectoryLock> hold;  // one run per output directory
+  if (!args.out_dir.empty()) hold.emplace(args.out_dir);
   ipmc::RunWatch watch("gait", args.run.cycles * gait->Period_s());
   ipmc::GaitRunOptions options = args.run;
   options.on_sample = [&](double t_s) { watch.At(t_s); };
