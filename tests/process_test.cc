@@ -11,18 +11,14 @@
 #include <vector>
 
 #include "sim/io/files.h"
+#include "tests/cli_util.h"
 
 namespace ipmc {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path FreshDir(const std::string& name) {
-  const fs::path dir = fs::path(::testing::TempDir()) / ("ipmc_process_test_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path FreshDir(const std::string& name) { return ipmc::testing::FreshDir("process_" + name); }
 
 TEST(ProcessTest, CapturesOutputAndExitStatus) {
   const ProgramExit exit = RunProgram({"sh", "-c", "echo one; echo two >&2; exit 3"});
