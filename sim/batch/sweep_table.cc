@@ -20,6 +20,7 @@
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
 #include "sim/io/files.h"
+#include "sim/io/result_files.h"
 
 namespace ipmc {
 namespace {
@@ -255,10 +256,44 @@ SweepTable MergeSweepTables(const std::vector<SweepTable>& tables,
   return merged;
 }
 
-void WriteSweepTable(const std::string& prefix, const SweepTable& table) {
+nlohmann::ordered_json SweepResultTree(const SweepTable& table) {
+  const nlohmann::ordered_json json = SweepTableJson(table);
+  nlohmann::ordered_json tree;
+  tree["table"] = json["points"];
+  nlohmann::ordered_json points = nlohmann::ordered_json::object();
+  for (const nlohmann::ordered_json& row : json["points"]) {
+    points["point_" + std::to_string(row[columns::kPoint].get<long>())] = row;
+  }
+  if (json.contains("provenance")) {
+    for (const nlohmann::ordered_json& source : json["provenance"]) {
+      nlohmann::ordered_json& point =
+          points["point_" + std::to_string(source[columns::kPoint].get<long>())];
+      for (const auto& [key, value] : source.items()) {
+        if (key != columns::kPoint) point[key] = value;
+      }
+    }
+  }
+  tree["points"] = points;
+  if (json.contains("program_version")) tree["program_version"] = json["program_version"];
+  return tree;
+}
+
+void WriteSweepTable(const std::string& prefix, const SweepTable& table,
+                     const RunFileFormats& formats) {
   EnsureParentDirectory(prefix);
   const std::string json = SweepTableJson(table).dump(2) + "\n";
-  WriteFilesTogether({{prefix + ".csv", SweepTableCsv(table)}, {prefix + ".json", json}});
+  std::vector<std::pair<std::string, std::string>> files;
+  std::vector<std::string> stale;
+  if (formats.mat || formats.hdf5) {
+    const nlohmann::ordered_json tree = SweepResultTree(table);
+    if (formats.mat) files.emplace_back(prefix + ".mat", MatFileBytes("sweep", tree));
+    if (formats.hdf5) files.emplace_back(prefix + ".h5", Hdf5FileBytes(tree));
+  }
+  if (!formats.mat) stale.push_back(prefix + ".mat");
+  if (!formats.hdf5) stale.push_back(prefix + ".h5");
+  files.emplace_back(prefix + ".csv", SweepTableCsv(table));
+  files.emplace_back(prefix + ".json", json);
+  WriteFilesTogether(files, stale);
 }
 
 }  // namespace ipmc

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "sim/batch/sweep_file.h"
+#include "sim/runs/output.h"
 
 namespace ipmc {
 
@@ -68,8 +69,19 @@ SweepTable LoadSweepTableCsv(const std::string& path);
 SweepTable MergeSweepTables(const std::vector<SweepTable>& tables,
                             const std::vector<std::string>& sources, bool allow_missing = false);
 
-// Writes PREFIX.csv and PREFIX.json, each atomically (creating PREFIX's
-// directory if needed).
-void WriteSweepTable(const std::string& prefix, const SweepTable& table);
+// The table as one tree for sim/io/result_files.h:
+//   table        a column per table column (swept lists as matrices, a
+//                row per point; empty results NaN)
+//   points       a group per point, "point_<index>": its row's values and
+//                its provenance (resolved_scenario, model_sha256)
+//   program_version
+nlohmann::ordered_json SweepResultTree(const SweepTable& table);
+
+// Writes PREFIX.csv and PREFIX.json, and PREFIX.mat / PREFIX.h5 as
+// `formats` asks, together or none (creating PREFIX's directory if
+// needed); PREFIX.mat or .h5 of an earlier table that this one does not
+// write goes.
+void WriteSweepTable(const std::string& prefix, const SweepTable& table,
+                     const RunFileFormats& formats = {});
 
 }  // namespace ipmc

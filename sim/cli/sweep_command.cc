@@ -117,6 +117,7 @@ int RunSweepFile(const SweepArgs& args) {
     RefuseOverwritingInputs("sweep", "--out", args.out_prefix + suffix, {args.sweep_path});
   }
   RequireWritableParent(args.out_prefix);
+  ParseRunFileFormats(args.formats);  // an unknown format stops before any point runs
   const SweepPlan plan = LoadSweep(args.sweep_path);
   SweepJournal journal(args.out_prefix + ".journal", plan, args.resume_other_version);
   const ShardRecord record = CountRecorded(plan, shard, journal);
@@ -165,7 +166,7 @@ int RunSweepFile(const SweepArgs& args) {
     throw std::runtime_error("sweep: every point failed (the first: " +
                              table.rows.front()[status + 1] + "); nothing written");
   }
-  WriteSweepTable(args.out_prefix, table);
+  WriteSweepTable(args.out_prefix, table, ParseRunFileFormats(args.formats));
   PrintSummary(table);
   std::string scope = std::to_string(table.rows.size()) + " points";
   if (shard.count > 1) {
@@ -214,6 +215,10 @@ void AddSweepCommands(CLI::App& app, SweepArgs& args) {
   sweep->add_option("-o,--out", args.out_prefix,
                     "Writes PREFIX.csv and PREFIX.json; records each point in PREFIX.journal "
                     "(resume)");
+  sweep->add_option("--format", args.formats,
+                    "Also write the table as PREFIX.mat (mat: MATLAB/Octave) or PREFIX.h5 (h5: "
+                    "HDF5, a group per point); repeatable or comma-separated")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   sweep->add_flag("--resume-other-version", args.resume_other_version,
                   "Resume a journal that another ipmc-swim version wrote (its points may differ "
                   "from this version's)");

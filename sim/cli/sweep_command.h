@@ -48,6 +48,7 @@ struct SweepArgs {
   bool dry_run = false;
   std::string status_dir;  // sweep --status DIR
   bool resume_other_version = false;  // resume a journal another version wrote
+  std::vector<std::string> formats;   // --format, besides CSV and JSON
 };
 
 // Adds subcommands "sweep" and "merge" to app, storing options in args.

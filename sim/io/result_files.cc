@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
@@ -58,14 +59,56 @@ bool IsTable(const Json& value) {
   return true;
 }
 
-// A table as one object of columns: {"a": [a0, a1, ...], "b": [...]}.
+// A table as one object of columns: {"a": [a0, a1, ...], "b": [...]}. A
+// cell left empty (null) is NaN in a column of numbers, [] of NaN in a
+// column of number lists, "" in a column of texts; a column of flags is
+// one of numbers, 1 and 0.
 Json TableColumns(const Json& table) {
   Json columns = Json::object();
-  for (const auto& [key, item] : table.front().items()) columns[key] = Json::array();
-  for (const Json& row : table) {
-    for (const auto& [key, item] : row.items()) columns[key].push_back(item);
+  for (const auto& [key, item] : table.front().items()) {
+    Json column = Json::array();
+    for (const Json& row : table) column.push_back(row.at(key));
+    size_t width = 0;
+    bool numbers = true, lists = true, texts = true, flags = true;
+    for (const Json& cell : column) flags = flags && (cell.is_null() || cell.is_boolean());
+    if (flags) {  // a column of flags: 1 and 0 (NaN where empty)
+      for (Json& cell : column) {
+        if (cell.is_boolean()) cell = cell.get<bool>() ? 1.0 : 0.0;
+      }
+    }
+    for (const Json& cell : column) {
+      if (cell.is_null()) continue;
+      numbers = numbers && cell.is_number();
+      texts = texts && cell.is_string();
+      const bool list = IsNumberArray(cell) && !cell.empty() && (width == 0 || cell.size() == width);
+      if (list) width = cell.size();
+      lists = lists && list;
+    }
+    for (Json& cell : column) {
+      if (!cell.is_null()) continue;
+      if (numbers) {
+        cell = std::numeric_limits<double>::quiet_NaN();
+      } else if (texts) {
+        cell = "";
+      } else if (lists && width > 0) {
+        cell = Json(std::vector<double>(width, std::numeric_limits<double>::quiet_NaN()));
+      }
+    }
+    columns[key] = std::move(column);
   }
   return columns;
+}
+
+// A non-empty array of number arrays of one length: a matrix, a row each.
+bool IsNumberMatrix(const Json& value) {
+  if (!value.is_array() || value.empty() || !IsNumberArray(value.front()) ||
+      value.front().empty()) {
+    return false;
+  }
+  for (const Json& row : value) {
+    if (!IsNumberArray(row) || row.size() != value.front().size()) return false;
+  }
+  return true;
 }
 
 std::invalid_argument NoPlaceFor(const std::string& path) {
@@ -135,6 +178,14 @@ MatVar MatValue(const std::string& name, const Json& value, const std::string& p
   if (value.is_string()) return MatText(name, value.get<std::string>());
   if (IsNumberArray(value)) return MatDoubles(name, Numbers(value), value.size(), 1);
   if (IsTable(value)) return MatStruct(name, TableColumns(value), path);
+  if (IsNumberMatrix(value)) {
+    const size_t rows = value.size(), cols = value.front().size();
+    std::vector<double> column_major(rows * cols);
+    for (size_t i = 0; i < rows; ++i) {
+      for (size_t j = 0; j < cols; ++j) column_major[j * rows + i] = value[i][j].get<double>();
+    }
+    return MatDoubles(name, column_major, rows, cols);
+  }
   if (IsStringArray(value)) {
     // The cell array takes a copy of the pointers and owns the cells.
     std::vector<matvar_t*> cells;
@@ -214,11 +265,14 @@ void LabelUnits(hid_t dataset, const std::string& name) {
   if (!unit.empty()) WriteTextAttribute(dataset, "units", unit);
 }
 
+// `values` as a scalar, a vector, or (columns > 0) a matrix of
+// values.size() / columns rows in row-major order.
 void WriteDoubles(hid_t group, const std::string& name, const std::vector<double>& values,
-                  bool scalar, const std::string& path) {
-  const hsize_t size = values.size();
-  const Hid space(scalar ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &size, nullptr), H5Sclose,
-                  "the dataspace of " + path);
+                  bool scalar, const std::string& path, size_t columns = 0) {
+  const hsize_t size[2] = {columns > 0 ? values.size() / columns : values.size(), columns};
+  const Hid space(scalar ? H5Screate(H5S_SCALAR)
+                         : H5Screate_simple(columns > 0 ? 2 : 1, size, nullptr),
+                  H5Sclose, "the dataspace of " + path);
   const Hid dataset(H5Dcreate2(group, name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT,
                                H5P_DEFAULT, H5P_DEFAULT),
                     H5Dclose, path);
@@ -274,6 +328,13 @@ void WriteHdf5Value(hid_t group, const std::string& name, const Json& value,
   if (value.is_string()) return WriteStrings(group, name, {value.get<std::string>()}, true, path);
   if (IsNumberArray(value)) return WriteDoubles(group, name, Numbers(value), false, path);
   if (IsTable(value)) return WriteHdf5Group(group, name, TableColumns(value), path);
+  if (IsNumberMatrix(value)) {
+    std::vector<double> row_major;
+    for (const Json& row : value) {
+      for (const Json& cell : row) row_major.push_back(cell.get<double>());
+    }
+    return WriteDoubles(group, name, row_major, false, path, value.front().size());
+  }
   if (IsStringArray(value)) {
     return WriteStrings(group, name, value.get<std::vector<std::string>>(), false, path);
   }

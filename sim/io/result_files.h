@@ -8,8 +8,12 @@
 //   string                       MAT: char row            HDF5: scalar string
 //   array of numbers             MAT: double column       HDF5: 1-D double
 //   array of strings             MAT: cell column         HDF5: 1-D strings
+//   array of number arrays of    MAT: double matrix       HDF5: 2-D double
+//   one length (a row each)
 //   array of objects with the    MAT: struct of columns   HDF5: group of
-//   same keys (a table)          (a field per key)        1-D datasets
+//   same keys (a table; a null   (a field per key)        datasets
+//   cell is NaN, [NaN...] or "";
+//   flags are 1 and 0)
 //   null                         MAT: [] (0x0 double)     HDF5: empty dataset
 // Keys become MATLAB names (MatlabName); in HDF5 every dataset whose name
 // ends in a unit (UnitOfName) carries it as the attribute "units".

@@ -6,6 +6,7 @@ and per-link tables and the summary (sim/runs/output.h, RunResultTree)."""
 
 import csv
 import json
+import pathlib
 
 import h5py
 import numpy as np
@@ -80,3 +81,37 @@ def test_an_unknown_format_is_refused_before_any_work(tmp_path, short_scenario):
     message = cli_error("run", short_scenario, "--out", out, "--format", "xlsx")
     assert message == "format must be csv, mat or h5 (hdf5), got 'xlsx'"
     assert not out.exists()
+
+
+def test_a_sweeps_mat_and_hdf5_files_equal_its_table(tmp_path, short_scenario):
+    """sweep --format mat,h5: the table as columns (a swept list as a matrix,
+    a row per point; a failed point's results NaN) and a group per point
+    with its provenance (sim/batch/sweep_table.h, SweepResultTree)."""
+    sweep = tmp_path / "lengths.toml"
+    sweep.write_text(f'base = "{short_scenario.name}"\n[set]\ncycles = 1\n'
+                     '"waveform.frequency_Hz" = 0.5\n'
+                     "[[point]]\nlink_lengths_mm = [10, 10, 10]\n"
+                     "[[point]]\nlink_lengths_mm = [12, 8, 10]\n"
+                     "[[point]]\nlink_lengths_mm = [12, 8, -10]\n")
+    prefix = tmp_path / "out" / "table"
+    run_cli("sweep", sweep, "--out", prefix, "--format", "mat,h5", "--jobs", "1")
+    with open(f"{prefix}.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    speeds = [float(r["mean_speed_along_mm_s"]) if r["mean_speed_along_mm_s"] else np.nan
+              for r in rows]
+    assert [r["status"] for r in rows] == ["ok", "ok", "error"]
+    table = scipy.io.loadmat(f"{prefix}.mat", squeeze_me=True, struct_as_record=False)["sweep"].table
+    np.testing.assert_array_equal(table.link_lengths_mm, [[10, 10, 10], [12, 8, 10], [12, 8, -10]])
+    np.testing.assert_array_equal(table.mean_speed_along_mm_s, speeds)
+    assert list(table.status) == ["ok", "ok", "error"]
+    with h5py.File(f"{prefix}.h5", "r") as f:
+        np.testing.assert_array_equal(f["table/mean_speed_along_mm_s"][()], speeds)
+        assert f["table/mean_speed_along_mm_s"].attrs["units"] == "mm/s"
+        assert set(f["points"].keys()) == {"point_0", "point_1", "point_2"}
+        assert f["points/point_1/mean_speed_along_mm_s"][()] == speeds[1]
+        assert "link_lengths_mm = [12.0, 8.0, 10.0]" in f["points/point_1/resolved_scenario"][()].decode()
+    # The same sweep again (resumed from its journal) without --format: the
+    # table is written again and its .mat and .h5 go.
+    run_cli("sweep", sweep, "--out", prefix, "--jobs", "1")
+    assert not pathlib.Path(f"{prefix}.mat").exists()
+    assert not pathlib.Path(f"{prefix}.h5").exists()
