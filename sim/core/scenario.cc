@@ -4,6 +4,7 @@
 // last as a backstop (its FieldError is placed on the line of the key that
 // set the field). Every error is an InputError, one line "FILE:LINE: key
 // ...", built where it is found with its key and problem.
+#include "controllers/controller_names.h"
 #include "sim/core/scenario.h"
 
 #include <toml++/toml.h>
@@ -79,8 +80,9 @@ constexpr char kDir[] = "dir";
 constexpr char kSamplesPerCycle[] = "samples_per_cycle";
 constexpr char kStartRamp[] = "start_ramp_cycles";
 
-constexpr char kPid[] = "pid";
-constexpr char kFractional[] = "fractional";
+constexpr const char* kPid = controller_names::kPid;
+// The controller kind, and the waveform kind spelt the same.
+constexpr const char* kFractional = controller_names::kFractional;
 constexpr char kOustaloup[] = "oustaloup";
 constexpr char kPolynomial[] = "polynomial";
 // Relative tolerance on "a whole number of timesteps per controller sample".
