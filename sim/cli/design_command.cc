@@ -8,9 +8,6 @@
 namespace ipmc {
 namespace {
 
-// Paper's eq. 12 and eq. 14 (the controllers' defaults), for comparison.
-const PidGains kPaperPid{};
-const FractionalIntegrator::Config kPaperFractional{};
 
 void PrintDesign(const DesignSpec& args, const LinkDesign& result) {
   std::printf("plant: link %d, P = s^-0.5 %s (Table 2%s)\n", args.link,

@@ -77,10 +77,15 @@ auto TranslatingFieldErrors(const OptionTable<Spec>& table, F&& f) {
       ours = ours || (option.info.name == error.field() && !option.info.positional);
     }
     if (!ours) throw;
+    // The command's own name, which leads the message, is not an option.
+    const std::string lead = table.command() + ": ";
     std::string message = error.what();
+    const std::size_t from = message.rfind(lead, 0) == 0 ? lead.size() : 0;
+    std::string text = message.substr(from);
     for (const Option<Spec>& option : table.options()) {
-      if (!option.info.positional) message = WithFlagFor(message, option.info.name);
+      if (!option.info.positional) text = WithFlagFor(text, option.info.name);
     }
+    message = message.substr(0, from) + text;
     throw FieldError(message, OptionFlag(error.field()), error.allowed());
   }
 }

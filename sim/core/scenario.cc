@@ -4,7 +4,6 @@
 // last as a backstop (its FieldError is placed on the line of the key that
 // set the field). Every error is an InputError, one line "FILE:LINE: key
 // ...", built where it is found with its key and problem.
-#include "controllers/controller_names.h"
 #include "sim/core/scenario.h"
 
 #include <toml++/toml.h>
@@ -25,6 +24,7 @@
 #include <utility>
 #include <vector>
 
+#include "controllers/controller_names.h"
 #include "sim/core/scenario_keys.h"
 #include "sim/io/error.h"
 #include "sim/io/files.h"

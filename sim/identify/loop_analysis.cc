@@ -3,11 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iomanip>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
+
+#include <nlohmann/json.hpp>
 
 #include "controllers/controller_names.h"
 #include "controllers/fractional_integrator.h"
@@ -21,8 +24,6 @@
 #include "sim/io/error.h"
 #include "sim/io/files.h"
 #include "sim/io/numbers.h"
-#include <filesystem>
-#include <nlohmann/json.hpp>
 
 namespace ipmc {
 namespace {
@@ -168,7 +169,7 @@ ControllerResponse BodeController(const BodeSpec& spec) {
   return {[](double) { return Complex(1.0, 0.0); }, "C(s) = 1 (no controller)"};
 }
 
-// How far a link's record may be extended for its metrics: --max-horizon-s
+// How far a link's record may be extended for its metrics: max_horizon_s
 // within the sample budget, and never short of the horizon.
 double MetricsHorizon_s(const StepSpec& spec) {
   const double budget_s = kMaxStepSamples / spec.sample_rate_Hz;

@@ -41,9 +41,6 @@ constexpr char kDriveFirst[] = "first";
 
 // The bench records at the data-acquisition board's rate.
 constexpr double kBenchSampleRate_Hz = 1000.0;
-// Paper's eq. 12 and eq. 14 (the controllers' defaults), for comparison.
-const PidGains kPaperPid{};
-const FractionalIntegrator::Config kPaperFractional{};
 // The PID's rate in the pipeline's tuning loop.
 constexpr double kPipelinePidRate_Hz = 1e4;
 // Bounds on the options that size the work.
@@ -176,8 +173,8 @@ std::vector<BenchRecord> RunBenches(const PipelineBench& bench, const BenchSigna
   return records;
 }
 
-// Each link's identification: with --drive each, link q from its own run's
-// voltage and relative deflection; with --drive first, every tip's lateral
+// Each link's identification: with drive each, link q from its own run's
+// voltage and relative deflection; with drive first, every tip's lateral
 // position against link 1's voltage.
 std::vector<PipelineLink> IdentifyLinks(const PipelineSetup& setup, const PipelineBench& bench,
                                         const std::vector<BenchRecord>& records) {

@@ -5,12 +5,17 @@
 
 #include <string>
 
+#include "controllers/fractional_integrator.h"
 #include "controllers/linear/frequency_response.h"
 #include "sim/identify/controller_design.h"
 #include "sim/identify/levy.h"
 #include "sim/identify/welch.h"
 
 namespace ipmc {
+
+// The paper's eq. 12 and eq. 14 (the controllers' defaults), for comparison.
+inline const PidGains kPaperPid{};
+inline const FractionalIntegrator::Config kPaperFractional{};
 
 // "stable" / "UNSTABLE".
 std::string StabilityText(const LinkModelFit& fit);

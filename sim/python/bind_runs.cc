@@ -86,6 +86,14 @@ py::dict Run(const py::object& scenario_arg, const py::dict& overrides, const py
   const ScenarioArgument argument = ReadScenarioArgument(scenario_arg, overrides, "run");
   const ScenarioConfig& scenario = argument.scenario;
   const nlohmann::json& inputs = argument.inputs;
+  // As the command line: the output folder is checked before the run, and
+  // never holds the scenario file.
+  if (!out.is_none()) {
+    const nlohmann::json& source = inputs["scenario"];
+    CheckRunOutputDirectory("run", "out", PathText(out, "out"),
+                            source.is_string() ? std::vector<std::string>{source.get<std::string>()}
+                                               : std::vector<std::string>{});
+  }
   const double total_s = scenario.cycles / std::abs(scenario.waveform.frequency_Hz);
   Progress progress(progress_callback, total_s);
   const SampleObserver observer = [&](const mjModel*, const mjData* d, const ClosedLoopSample&) {

@@ -1,4 +1,3 @@
-#include "controllers/controller_names.h"
 #include "sim/runs/closed_loop_run.h"
 
 #include <algorithm>
@@ -7,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "controllers/controller_names.h"
 #include "ipmc_swim/ipmc_swim.h"
 #include "plugin/coupling.h"
 #include "sim/core/step_count.h"

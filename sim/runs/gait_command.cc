@@ -76,7 +76,7 @@ int CountServos(const mjModel* m) {
 std::unique_ptr<Gait> MakeGait(const GaitCommand& command, int joints) {
   if (command.gait == "csv") {
     if (command.csv.empty()) {
-      throw FieldError("gait: gait csv needs csv (a file)", "csv", "a CSV file");
+      throw FieldError("gait: csv must name the file of the CSV trajectory", "csv", "a CSV file");
     }
     return LoadCsvGait(command.csv, joints);
   }

@@ -127,3 +127,16 @@ def test_output_checks_are_the_librarys(tmp_path):
     with pytest.raises(ipmc_swim.Error, match="bench: out .* would overwrite the input"):
         ipmc_swim.bench(model=model, out=model, duration_s=1.0)
     assert model.read_bytes() == before
+
+
+def test_run_checks_its_output_folder_first(short_scenario, tmp_path):
+    # A scenario file where the run would write its states.csv: refused
+    # before the run by both front ends, the input untouched.
+    scenario = tmp_path / "states.csv"
+    scenario.write_text(short_scenario.read_text())
+    status, _, stderr = run_cli("run", scenario, "--out", tmp_path, check=False)
+    assert status != 0 and "would overwrite the input" in stderr
+    with pytest.raises(ipmc_swim.Error, match="run: out .* would overwrite the input"):
+        ipmc_swim.run(scenario, out=tmp_path)
+    assert scenario.read_text() == short_scenario.read_text()
+    assert not (tmp_path / "summary.json").exists()
