@@ -165,6 +165,8 @@ void ResetState(const mjData* d) {
   if (context.actuators) context.actuators->ResetState(d);
 }
 
-const char* Version() { return "0.1.0"; }
+// The CMake project version (plugin/CMakeLists.txt), the one source of
+// every version string: `ipmc-swim --version`, summary.json, Python.
+const char* Version() { return IPMC_SWIM_VERSION; }
 
 }  // namespace ipmc

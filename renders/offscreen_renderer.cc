@@ -71,6 +71,13 @@ constexpr float kGridMajor[3] = {0.700f, 0.715f, 0.735f};
 constexpr float kGhost[3] = {0.780f, 0.815f, 0.900f};
 constexpr float kClamp[3] = {0.20f, 0.20f, 0.24f};
 constexpr float kScaleBar[3] = {0.15f, 0.15f, 0.15f};
+// The overlay's panels: dark text on a light, opaque panel, legible over
+// any part of the scene. WCAG 2 contrast ratios (L1 + 0.05) / (L2 + 0.05)
+// with relative luminances from the sRGB values: text 16.3, labels 7.4
+// (tests/render_test.cc measures them on a frame).
+constexpr float kPanel[3] = {0.97f, 0.97f, 0.97f};
+constexpr float kPanelText[3] = {0.08f, 0.08f, 0.08f};
+constexpr float kPanelLabel[3] = {0.30f, 0.30f, 0.32f};
 // Trail colours per tip (tip1, tip2, tip3, then repeated); the oldest part
 // of a trail is this far from the background towards its colour.
 constexpr float kTrailColors[][3] = {
@@ -702,27 +709,124 @@ void OffscreenRenderer::DrawOverlay(const FrameSetup& setup) {
   const std::array<double, 2> origin = overlay.origin_m ? *overlay.origin_m : *first_com_m_;
   const double dx_mm = (s->subtree_com[3 * root_body_] - origin[0]) * 1e3;
   const double dy_mm = (s->subtree_com[3 * root_body_ + 1] - origin[1]) * 1e3;
-  std::string labels = "time";
+  std::vector<std::array<std::string, 2>> rows;
   char buffer[256];
   std::snprintf(buffer, sizeof(buffer), "%.2f s", s->time);
-  std::string values = buffer;
+  rows.push_back({"time", buffer});
   if (overlay.period_s > 0.0) {
-    labels += "\ncycle";
     const long cycle = static_cast<long>(std::floor(s->time / overlay.period_s + 1e-9)) + 1;
-    values += "\n" + std::to_string(cycle);
+    rows.push_back({"cycle", std::to_string(cycle)});
   }
-  for (const auto& row : overlay.rows) {
-    labels += "\n" + row[0];
-    values += "\n" + row[1];
-  }
-  labels += "\nnet displacement";
+  for (const auto& row : overlay.rows) rows.push_back(row);
   // (+ 0.0 turns a -0 into 0)
   std::snprintf(buffer, sizeof(buffer), "%+.4f mm along, %+.4f mm across", -dx_mm + 0.0,
                 dy_mm + 0.0);
-  values += std::string("\n") + buffer;
-  const mjrRect viewport = {0, 0, width_, height_};
-  mjr_overlay(mjFONT_NORMAL, mjGRID_TOPLEFT, viewport, labels.c_str(), values.c_str(),
-              &context_->render.con);
+  rows.push_back({"net displacement", buffer});
+  DrawTable(rows);
+  DrawLegend(setup);
+}
+
+int OffscreenRenderer::TextWidth_px(const std::string& text) const {
+  const mjrContext& con = context_->render.con;
+  int width = 0;
+  for (unsigned char ch : text) width += ch < 127 ? con.charWidth[ch] : 0;
+  return width;
+}
+
+// Text whose box starts at pixel (x, y from the bottom) of the image.
+void OffscreenRenderer::DrawText(const std::string& text, int x_px, int y_px,
+                                 const float rgb[3]) const {
+  // mjr_text places the text in the current viewport, which mjr_rectangle
+  // leaves on the last rectangle: back to the whole image.
+  glViewport(0, 0, width_, height_);
+  mjr_text(mjFONT_NORMAL, text.c_str(), &context_->render.con, static_cast<float>(x_px) / width_,
+           static_cast<float>(y_px) / height_, rgb[0], rgb[1], rgb[2]);
+}
+
+// The rows in a light panel at the top left: labels in one column, values
+// in the next, dark on light (contrast ratio kPanelContrast or more).
+void OffscreenRenderer::DrawTable(const std::vector<std::array<std::string, 2>>& rows) {
+  const int line = overlay_line_height_px();
+  int label_px = 0, value_px = 0;
+  for (const auto& row : rows) {
+    label_px = std::max(label_px, TextWidth_px(row[0]));
+    value_px = std::max(value_px, TextWidth_px(row[1]));
+  }
+  const int pad = line / 2;
+  const int panel_w = std::min(width_, 3 * pad + label_px + value_px + pad);
+  const int panel_h = std::min(height_, static_cast<int>(rows.size()) * line + 2 * pad);
+  const mjrRect panel = {0, height_ - panel_h, panel_w, panel_h};
+  mjr_rectangle(panel, kPanel[0], kPanel[1], kPanel[2], 1.0f);
+  for (size_t k = 0; k < rows.size(); ++k) {
+    // mjr_text's y is the bottom of the text's box.
+    const int y = height_ - pad - static_cast<int>(k + 1) * line;
+    DrawText(rows[k][0], pad, y, kPanelLabel);
+    DrawText(rows[k][1], 2 * pad + label_px + pad, y, kPanelText);
+  }
+}
+
+// A light panel at the bottom left: an arrow in the direction the body
+// swims when it goes "+ along" (world -x, as seen by the camera), and the
+// colour of each tip's trail.
+void OffscreenRenderer::DrawLegend(const FrameSetup& setup) {
+  const int line = overlay_line_height_px();
+  const int pad = line / 2;
+  const int arrow_px = 3 * line;
+  const int trails = trail_length_ > 1 ? static_cast<int>(tip_sites_.size()) : 0;
+  const std::string along = "+ along";
+  int text_px = TextWidth_px(along);
+  for (int k = 0; k < trails; ++k) text_px = std::max(text_px, TextWidth_px(TipTrailLabel(k)));
+  const int panel_w = 3 * pad + arrow_px + text_px;
+  const int panel_h = (1 + trails) * line + 2 * pad;
+  if (panel_w > width_ / 2 || panel_h > height_ / 2) return;
+  mjr_rectangle({0, 0, panel_w, panel_h}, kPanel[0], kPanel[1], kPanel[2], 1.0f);
+
+  // The screen direction of world -x: its components on the camera's
+  // right and up vectors, as MuJoCo's free camera sets them from azimuth
+  // and elevation (up = d forward / d elevation, right = forward x up).
+  const mjvCamera& camera = context_->camera;
+  const double el = camera.elevation * kDegToRad, az = camera.azimuth * kDegToRad;
+  const double forward[3] = {std::cos(el) * std::cos(az), std::cos(el) * std::sin(az),
+                             std::sin(el)};
+  const double up[3] = {-std::sin(el) * std::cos(az), -std::sin(el) * std::sin(az), std::cos(el)};
+  const double right_x = forward[1] * up[2] - forward[2] * up[1];
+  const double norm = std::hypot(right_x, up[0]);
+  // (none when the camera looks along the swimming axis)
+  const double dir_x = norm > 1e-6 ? -right_x / norm : 0.0;
+  const double dir_y = norm > 1e-6 ? -up[0] / norm : 0.0;
+  const int row0 = pad + trails * line;  // bottom of the arrow's row
+  const double cx = pad + 0.5 * arrow_px, cy = row0 + 0.5 * line;
+  const double half = 0.5 * (arrow_px - 4);
+  const int dot = std::max(2, line / 8);
+  // Shaft and head as small squares (mjr_rectangle is all GL offers here).
+  const auto square = [&](double x, double y) {
+    mjr_rectangle({static_cast<int>(std::lround(x - 0.5 * dot)),
+                   static_cast<int>(std::lround(y - 0.5 * dot)), dot, dot},
+                  kPanelText[0], kPanelText[1], kPanelText[2], 1.0f);
+  };
+  const double tip_x = cx + half * dir_x, tip_y = cy + half * dir_y;
+  const double head = 0.35 * arrow_px;
+  if (norm > 1e-6) {
+    for (double t = -half; t <= half; t += 0.5 * dot) square(cx + t * dir_x, cy + t * dir_y);
+    for (const double angle : {kPi * 5.0 / 6.0, -kPi * 5.0 / 6.0}) {
+      const double hx = dir_x * std::cos(angle) - dir_y * std::sin(angle);
+      const double hy = dir_x * std::sin(angle) + dir_y * std::cos(angle);
+      for (double t = 0.0; t <= head; t += 0.5 * dot) square(tip_x + t * hx, tip_y + t * hy);
+    }
+  }
+  const int text_x = 2 * pad + arrow_px;
+  DrawText(along, text_x, row0 + (line - context_->render.con.charHeight) / 2, kPanelText);
+  for (int k = 0; k < trails; ++k) {
+    const float* color = kTrailColors[k % (sizeof(kTrailColors) / sizeof(kTrailColors[0]))];
+    const int y = pad + (trails - 1 - k) * line;
+    mjr_rectangle({pad, y + line / 4, arrow_px, line / 2}, color[0], color[1], color[2], 1.0f);
+    DrawText(TipTrailLabel(k), text_x, y + (line - context_->render.con.charHeight) / 2,
+             kPanelText);
+  }
+}
+
+std::string OffscreenRenderer::TipTrailLabel(int k) const {
+  return "tip " + std::to_string(k + 1) + " trail";
 }
 
 }  // namespace ipmc

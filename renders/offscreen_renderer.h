@@ -164,6 +164,11 @@ class OffscreenRenderer {
   void AddTrailGeoms(const double eye[3], double px_per_m);
   void DrawScaleBar(const FrameSetup& setup);
   void DrawOverlay(const FrameSetup& setup);
+  void DrawTable(const std::vector<std::array<std::string, 2>>& rows);
+  void DrawLegend(const FrameSetup& setup);
+  void DrawText(const std::string& text, int x_px, int y_px, const float rgb[3]) const;
+  int TextWidth_px(const std::string& text) const;
+  std::string TipTrailLabel(int k) const;
 
   int width_, height_;
   double body_length_m_ = 0.0;

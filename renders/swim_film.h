@@ -50,8 +50,8 @@ namespace ipmc {
 enum class FilmCamera { kFixed, kFollow };
 
 struct FilmConfig {
-  int width = 640;                 // even, at most the model's offwidth
-  int height = 480;                // even, at most the model's offheight
+  int width = 1280;                // even, at most the model's offwidth
+  int height = 720;                // even, at most the model's offheight
   double fps = 25.0;               // (0, 1000]
   int frames_per_cycle = 100;      // >= 1
   int start_cycle = 1;             // >= 1

@@ -9,7 +9,8 @@ IPMC_PACKAGES=(
   libeigen3-dev libsundials-dev libnlopt-cxx-dev libboost-math-dev
   libcli11-dev libtomlplusplus-dev nlohmann-json3-dev libssl-dev
   libgtest-dev libbenchmark-dev
-  libstb-dev libfftw3-dev ffmpeg gnuplot-nox
+  libstb-dev libfftw3-dev ffmpeg gnuplot-nox poppler-utils
+  libmatio-dev libhdf5-dev octave python3-scipy python3-h5py
   slurm-wlm munge
   pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
 )

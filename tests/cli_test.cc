@@ -39,7 +39,7 @@ void WriteText(const fs::path& path, const std::string& text) {
   std::ofstream(path) << text;
 }
 
-TEST(Cli, GaitWritesPerCycleTableCsvAndJson) {
+TEST(CliTest, GaitWritesPerCycleTableCsvAndJson) {
   const fs::path dir = FreshDir("gait");
   const fs::path model = dir / "fast.xml";
   // The paper's flagellum with a coarser step and a faster gait keeps this quick.
@@ -59,14 +59,14 @@ TEST(Cli, GaitWritesPerCycleTableCsvAndJson) {
   EXPECT_EQ(header.rfind("time_s,com_x_mm,com_y_mm,head_x_mm,head_y_mm,yaw_rad,q_ref1_rad", 0), 0u);
 }
 
-TEST(Cli, MissingModelFile) {
+TEST(CliTest, MissingModelFile) {
   const fs::path dir = FreshDir("missing");
   ExpectOneLineError(RunCli("gait --model " + (dir / "nope.xml").string() + " --out " +
                             (dir / "out").string()),
                      "nope.xml: cannot open model file", dir / "out");
 }
 
-TEST(Cli, MalformedModelFile) {
+TEST(CliTest, MalformedModelFile) {
   const fs::path dir = FreshDir("malformed");
   WriteText(dir / "bad.xml", "<mujoco><worldbody><body></worldbody></mujoco>");
   ExpectOneLineError(RunCli("gait --model " + (dir / "bad.xml").string() + " --out " +
@@ -86,7 +86,7 @@ void WriteModelWithField(const fs::path& path, const std::string& from, const st
   WriteText(path, xml);
 }
 
-TEST(Cli, NegativeViscosity) {
+TEST(CliTest, NegativeViscosity) {
   const fs::path dir = FreshDir("negative_viscosity");
   WriteModelWithField(dir / "m.xml", R"(data="0.001")", R"(data="-0.001")");
   ExpectOneLineError(RunCli("gait --model " + (dir / "m.xml").string() + " --out " +
@@ -94,7 +94,7 @@ TEST(Cli, NegativeViscosity) {
                      "m.xml: rft drag: ipmc_rft_viscosity_Pa_s must be finite and > 0", dir / "out");
 }
 
-TEST(Cli, MissingViscosity) {
+TEST(CliTest, MissingViscosity) {
   const fs::path dir = FreshDir("missing_viscosity");
   WriteModelWithField(dir / "m.xml", R"(<numeric name="ipmc_rft_viscosity_Pa_s" data="0.001"/>)", "");
   ExpectOneLineError(RunCli("gait --model " + (dir / "m.xml").string() + " --out " +
@@ -102,7 +102,7 @@ TEST(Cli, MissingViscosity) {
                      "ipmc_rft_viscosity_Pa_s is missing", dir / "out");
 }
 
-TEST(Cli, NanCoefficient) {
+TEST(CliTest, NanCoefficient) {
   const fs::path dir = FreshDir("nan_coefficient");
   WriteModelWithField(dir / "m.xml", R"(name="ipmc_rft_wavelength_m" data="0.032")",
                       R"(name="ipmc_rft_wavelength_m" data="nan")");
@@ -111,14 +111,14 @@ TEST(Cli, NanCoefficient) {
                      "'ipmc_rft_wavelength_m' must be finite", dir / "out");
 }
 
-TEST(Cli, UnknownOption) {
+TEST(CliTest, UnknownOption) {
   const fs::path dir = FreshDir("unknown_option");
   ExpectOneLineError(RunCli("gait --model " + Model("flagellum3.xml") + " --speed 3 --out " +
                             (dir / "out").string()),
                      "--speed", dir / "out");
 }
 
-TEST(Cli, GaitCsvWithWrongColumnCount) {
+TEST(CliTest, GaitCsvWithWrongColumnCount) {
   const fs::path dir = FreshDir("csv_columns");
   WriteText(dir / "gait.csv", "time_s,q1,q2,q3\n0,0,0,0\n1,0.1,0.2\n");
   ExpectOneLineError(RunCli("gait --model " + Model("flagellum3.xml") + " --gait csv --csv " +
@@ -126,14 +126,14 @@ TEST(Cli, GaitCsvWithWrongColumnCount) {
                      "gait.csv:3: expected 4 columns", dir / "out");
 }
 
-TEST(Cli, OutOfRangeFrequency) {
+TEST(CliTest, OutOfRangeFrequency) {
   const fs::path dir = FreshDir("frequency");
   ExpectOneLineError(RunCli("gait --model " + Model("flagellum3.xml") +
                             " --frequency-hz -1 --out " + (dir / "out").string()),
                      "frequency_Hz must be finite and > 0", dir / "out");
 }
 
-TEST(Cli, UnstableTimeStepIsReportedAsDivergence) {
+TEST(CliTest, UnstableTimeStepIsReportedAsDivergence) {
   const fs::path dir = FreshDir("diverge");
   // Explicit Euler with 20 ms steps cannot hold the 450 rad/s hinge mode.
   ASSERT_EQ(RunCli("generate --timestep-s 0.02 --integrator Euler --out " +
@@ -149,7 +149,7 @@ TEST(Cli, UnstableTimeStepIsReportedAsDivergence) {
 
 namespace {
 
-TEST(Cli, BenchSineWritesTheLaserRecord) {
+TEST(CliTest, BenchSineWritesTheLaserRecord) {
   const fs::path dir = FreshDir("bench");
   const CommandResult result = RunCli("bench --signal sine --frequency-hz 1 --duration-s 2 --links 1,3 --out " +
                                       (dir / "bench.csv").string());
@@ -163,14 +163,14 @@ TEST(Cli, BenchSineWritesTheLaserRecord) {
   EXPECT_EQ(rows, 2000);  // 2 s at 1 kHz
 }
 
-TEST(Cli, BenchNonFiniteVoltage) {
+TEST(CliTest, BenchNonFiniteVoltage) {
   const fs::path dir = FreshDir("bench_nan");
   ExpectOneLineError(RunCli("bench --amplitude-v nan --out " + (dir / "bench.csv").string()),
                      "amplitude_V must be finite", dir);
   EXPECT_FALSE(fs::exists(dir / "bench.csv"));
 }
 
-TEST(Cli, BenchNegativeB2) {
+TEST(CliTest, BenchNegativeB2) {
   const fs::path dir = FreshDir("bench_b2");
   WriteModelWithField(dir / "m.xml", R"(<text name="ipmc_model" data="g1"/>)",
                       R"(<text name="ipmc_model" data="g1"/>
@@ -181,7 +181,7 @@ TEST(Cli, BenchNegativeB2) {
   EXPECT_FALSE(fs::exists(dir / "bench.csv"));
 }
 
-TEST(Cli, BenchAlphaOutOfRange) {
+TEST(CliTest, BenchAlphaOutOfRange) {
   const fs::path dir = FreshDir("bench_alpha");
   WriteModelWithField(dir / "m.xml", R"(<text name="ipmc_model" data="g1"/>)",
                       R"(<text name="ipmc_model" data="g2"/>

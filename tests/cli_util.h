@@ -8,8 +8,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 #include <string>
+#include <system_error>
+#include <vector>
 
 namespace ipmc::testing {
 
@@ -30,13 +33,38 @@ inline CommandResult RunCli(const std::string& args, const std::string& prefix =
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
 }
 
+// The scratch directories this process made (FreshDir), removed with
+// everything in them when the process exits, whatever the tests' outcome.
+class ScratchDirs {
+ public:
+  static ScratchDirs& Instance() {
+    static ScratchDirs dirs;
+    return dirs;
+  }
+  void Add(const std::filesystem::path& dir) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    dirs_.push_back(dir);
+  }
+  ~ScratchDirs() {
+    std::error_code ignored;
+    for (const std::filesystem::path& dir : dirs_) std::filesystem::remove_all(dir, ignored);
+  }
+
+ private:
+  ScratchDirs() = default;
+  std::mutex mutex_;
+  std::vector<std::filesystem::path> dirs_;
+};
+
 // An empty directory under the test's temporary directory, private to
-// this process (CTest runs the tests of one suite in parallel processes).
+// this process (CTest runs the tests of one suite in parallel processes),
+// removed when the process exits.
 inline std::filesystem::path FreshDir(const std::string& name) {
   const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) /
                                     ("ipmc_" + name + "_" + std::to_string(getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
+  ScratchDirs::Instance().Add(dir);
   return dir;
 }
 

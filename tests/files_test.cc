@@ -2,7 +2,14 @@
 // under the umask, or no file and the reason.
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <linux/fs.h>
+#include <sys/ioctl.h>
 #include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <vector>
 
 #include <filesystem>
 #include <fstream>
@@ -82,6 +89,110 @@ TEST(FilesTest, BuildTreeProgramUsesTheSourceTreesModelsAndScenarios) {
   EXPECT_EQ(fs::path(ModelsDir()), fs::path(IPMC_SWIM_SOURCE_DIR) / "models");
   EXPECT_EQ(fs::path(ScenariosDir()), fs::path(IPMC_SWIM_SOURCE_DIR) / "scenarios");
   EXPECT_TRUE(fs::exists(fs::path(ModelsDir()) / "flagellum3.xml"));
+}
+
+// The names in `dir`, sorted.
+std::vector<std::string> Entries(const fs::path& dir) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(dir)) names.push_back(entry.path().filename());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+TEST(FilesTest, FilesWrittenTogetherReplaceTheOldSetAndRemoveItsStaleFiles) {
+  const fs::path dir = ScratchDir("together");
+  const std::string a = (dir / "a.csv").string(), b = (dir / "b.json").string();
+  const std::string extra = (dir / "run.mat").string();
+  WriteFilesTogether({{a, "old a"}, {b, "old b"}, {extra, "old mat"}});
+  WriteFilesTogether({{a, "new a"}, {b, "new b"}}, {extra});
+  EXPECT_EQ(ReadAll(a), "new a");
+  EXPECT_EQ(ReadAll(b), "new b");
+  // The stale file is gone, and no temporary or kept copy is left.
+  EXPECT_EQ(Entries(dir), (std::vector<std::string>{"a.csv", "b.json"}));
+  fs::remove_all(dir);
+}
+
+TEST(FilesTest, ADirectoryInTheWayChangesNothing) {
+  const fs::path dir = ScratchDir("in_the_way");
+  const std::string a = (dir / "a.csv").string();
+  WriteFileAtomically(a, "old a");
+  fs::create_directories(dir / "summary.json");
+  try {
+    WriteFilesTogether({{a, "new a"}, {(dir / "summary.json").string(), "{}"}});
+    FAIL() << "a directory was replaced";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("summary.json: cannot replace it, it is a directory"),
+              std::string::npos)
+        << error.what();
+  }
+  EXPECT_EQ(ReadAll(a), "old a");
+  EXPECT_EQ(Entries(dir), (std::vector<std::string>{"a.csv", "summary.json"}));
+  fs::remove_all(dir);
+}
+
+// Sets or clears the immutable flag of `path` (chattr +i / -i); false if
+// the file system or the process's privileges do not allow it.
+bool SetImmutable(const fs::path& path, bool immutable) {
+  const int fd = open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  int flags = 0;
+  bool done = ioctl(fd, FS_IOC_GETFLAGS, &flags) == 0;
+  flags = immutable ? flags | FS_IMMUTABLE_FL : flags & ~FS_IMMUTABLE_FL;
+  done = done && ioctl(fd, FS_IOC_SETFLAGS, &flags) == 0;
+  close(fd);
+  return done;
+}
+
+TEST(FilesTest, AFileThatCannotBeReplacedChangesNothing) {
+  const fs::path dir = ScratchDir("restore");
+  const std::string a = (dir / "a.csv").string(), b = (dir / "b.csv").string();
+  const std::string last = (dir / "summary.json").string(), stale = (dir / "run.mat").string();
+  WriteFilesTogether({{a, "old a"}, {b, "old b"}, {last, "old summary"}, {stale, "old mat"}});
+  // An immutable summary cannot be replaced, even by root: found before
+  // the first file is renamed, so the old set stays whole.
+  if (!SetImmutable(last, true)) {
+    fs::remove_all(dir);
+    GTEST_SKIP() << "this file system or user cannot make a file immutable (chattr +i)";
+  }
+  std::string message;
+  try {
+    WriteFilesTogether({{a, "new a"}, {b, "new b"}, {last, "new summary"}}, {stale});
+  } catch (const std::runtime_error& error) {
+    message = error.what();
+  }
+  SetImmutable(last, false);
+  EXPECT_EQ(message, last + ": cannot replace it (Operation not permitted)");
+  EXPECT_EQ(ReadAll(a), "old a");
+  EXPECT_EQ(ReadAll(b), "old b");
+  EXPECT_EQ(ReadAll(last), "old summary");
+  EXPECT_EQ(ReadAll(stale), "old mat");
+  EXPECT_EQ(Entries(dir), (std::vector<std::string>{"a.csv", "b.csv", "run.mat", "summary.json"}));
+  fs::remove_all(dir);
+}
+
+TEST(FilesTest, AnOutputDirectoryIsHeldByOneRunAtATime) {
+  const fs::path dir = ScratchDir("lock");
+  const std::string out = (dir / "new" / "run").string();
+  {
+    const DirectoryLock lock(out);
+    EXPECT_TRUE(fs::is_directory(out));
+    try {
+      const DirectoryLock second(out);
+      FAIL() << "two holders of one output directory";
+    } catch (const std::runtime_error& error) {
+      EXPECT_EQ(std::string(error.what()),
+                out + ": in use by another run (one run per output directory)");
+    }
+  }
+  // Released empty: the folders it made are gone again.
+  EXPECT_EQ(Entries(dir), std::vector<std::string>{});
+  {
+    const DirectoryLock lock(out);
+    WriteFileAtomically(out + "/summary.json", "{}");
+  }
+  EXPECT_TRUE(fs::exists(out + "/summary.json"));
+  { const DirectoryLock again(out); }  // free once released
+  fs::remove_all(dir);
 }
 
 }  // namespace

@@ -22,12 +22,12 @@ namespace ipmc::testing {
 namespace {
 
 // Fails on any MuJoCo warning the test does not expect.
-class FlexibleLink : public MujocoWarnings {};
-class LinkPlants : public MujocoWarnings {};
+class FlexibleLinkTest : public MujocoWarnings {};
+class LinkPlantsTest : public MujocoWarnings {};
 
 // ---------------------------------------------------- the chain's shape ---
 
-TEST(ChainShape, OneSegmentIsTheRigidLink) {
+TEST(ChainShapeTest, OneSegmentIsTheRigidLink) {
   const ChainShape shape({0.01});
   EXPECT_DOUBLE_EQ(shape.Reach_m(), 0.01);
   bool clamped = true;
@@ -39,7 +39,7 @@ TEST(ChainShape, OneSegmentIsTheRigidLink) {
   EXPECT_TRUE(clamped);
 }
 
-TEST(ChainShape, CurvatureInvertsTheTipDeflection) {
+TEST(ChainShapeTest, CurvatureInvertsTheTipDeflection) {
   for (int n : {2, 3, 8, 64}) {
     const ChainShape shape(std::vector<double>(n, 0.01 / n));
     // Shares: l/2 at the root, l inside (Voronoi lengths).
@@ -82,7 +82,7 @@ double StaticTipDeflectionUnderUniformMoment_m(int segments, double moment_N_m) 
   return d->site_xpos[3 * tip + 1];
 }
 
-TEST_F(FlexibleLink, UniformMomentBendsTheStripIntoItsArc) {
+TEST_F(FlexibleLinkTest, UniformMomentBendsTheStripIntoItsArc) {
   FlagellumSpec spec;
   const double L_m = 10e-3;
   const double width_m = spec.width_mm * 1e-3, thickness_m = spec.thickness_um * 1e-6;
@@ -155,7 +155,7 @@ Amplitudes SingleActuation(int segments) {
   return a;
 }
 
-TEST_F(FlexibleLink, SingleActuationGainsFollowTheArcsKinematics) {
+TEST_F(FlexibleLinkTest, SingleActuationGainsFollowTheArcsKinematics) {
   // Link 1 bends into its arc; the passive links go on straight along its
   // last sub-segment, which lies at kappa (L - l / 2) (the root hinge's
   // share is l / 2). Small angles, gap g between the links:
@@ -187,7 +187,7 @@ TEST_F(FlexibleLink, SingleActuationGainsFollowTheArcsKinematics) {
 
 // -------------------------------------------------------- the generator ---
 
-TEST_F(FlexibleLink, GeneratorWritesEachLinkAsItsSubSegments) {
+TEST_F(FlexibleLinkTest, GeneratorWritesEachLinkAsItsSubSegments) {
   FlagellumSpec spec;
   spec.segments_per_link = 3;
   auto sim = MakeSimulation(spec);
@@ -212,7 +212,7 @@ TEST_F(FlexibleLink, GeneratorWritesEachLinkAsItsSubSegments) {
 
 // -------------------------------------------- plants and their lengths ---
 
-TEST_F(LinkPlants, TenMillimetreLinksGiveTable2Exactly) {
+TEST_F(LinkPlantsTest, TenMillimetreLinksGiveTable2Exactly) {
   for (IpmcModelKind kind : {IpmcModelKind::kG1, IpmcModelKind::kG2}) {
     for (int link = 1; link <= 3; ++link) {
       const IpmcLinkParams table = PaperLinkParams(link, kind);
@@ -228,7 +228,7 @@ TEST_F(LinkPlants, TenMillimetreLinksGiveTable2Exactly) {
   }
 }
 
-TEST_F(LinkPlants, HalfTheLengthQuartersTheGainAndQuadruplesTheMode) {
+TEST_F(LinkPlantsTest, HalfTheLengthQuartersTheGainAndQuadruplesTheMode) {
   const IpmcLinkParams eq7 = PaperLinkParams(3, IpmcModelKind::kG1);
   const IpmcLinkParams half = ScaleLinkToLength(eq7, 5e-3);
   EXPECT_NEAR(half.a0_mm_per_V, eq7.a0_mm_per_V / 4, 1e-15);
@@ -242,7 +242,7 @@ TEST_F(LinkPlants, HalfTheLengthQuartersTheGainAndQuadruplesTheMode) {
   ExpectInvalidArgument([&] { ScaleLinkToLength(eq7, 0.0); }, "length_m must be finite and > 0");
 }
 
-TEST_F(LinkPlants, GeneratedLinksOfOtherLengthsGetScaledPlants) {
+TEST_F(LinkPlantsTest, GeneratedLinksOfOtherLengthsGetScaledPlants) {
   FlagellumSpec spec;
   spec.link_lengths_mm = {5.0, 10.0, 15.0};
   auto sim = MakeSimulation(spec);
@@ -254,7 +254,7 @@ TEST_F(LinkPlants, GeneratedLinksOfOtherLengthsGetScaledPlants) {
   EXPECT_NEAR(actuators.link_params()[2].a0_mm_per_V, a0 * 2.25, 1e-12);
 }
 
-TEST_F(LinkPlants, AScenarioChoosesThePlantsOverTheModel) {
+TEST_F(LinkPlantsTest, AScenarioChoosesThePlantsOverTheModel) {
   const std::string models = std::string(IPMC_SWIM_SOURCE_DIR) + "/models/";
   IpmcActuatorsOverrides table2;
   table2.plants = PlantAssignment::kTable2;
@@ -273,7 +273,7 @@ TEST_F(LinkPlants, AScenarioChoosesThePlantsOverTheModel) {
 
 // ---------------------------------------------------------- bad input ---
 
-TEST_F(FlexibleLink, BadSettingsNameTheFieldAndItsRange) {
+TEST_F(FlexibleLinkTest, BadSettingsNameTheFieldAndItsRange) {
   FlagellumSpec spec;
   spec.segments_per_link = 0;
   ExpectInvalidArgument([&] { spec.Validate(); },

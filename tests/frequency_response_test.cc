@@ -3,8 +3,9 @@
 // section 5.2 on the link-3 model of eq. 7.
 //
 // The paper's loops are written out here from eq. 7, 12, 14 and 15; the
-// expected numbers are DESIGN.md's "computed" column (numpy/scipy/mpmath),
-// rounded there to the digits quoted. Tolerances are half a unit of the
+// expected numbers are the "computed" column of docs/VALIDATION.md ("The
+// paper's numbers, computed independently": numpy/scipy/mpmath), rounded
+// there to the digits quoted. Tolerances are half a unit of the
 // last quoted digit plus about ten times the residual measured against the
 // unrounded values (crossovers to 1e-9 relative).
 #include "tests/test_util.h"
@@ -157,7 +158,7 @@ TEST(FrequencyResponseTest, MultiplePhaseCrossoversReportTheMostCritical) {
 }
 
 TEST(FrequencyResponseTest, ControllersAtFiveRadPerSecond) {
-  // DESIGN.md: C_I(j5) 15.21 dB, -55.80 deg; PID(j5) 20.94 dB, -43.19 deg.
+  // docs/VALIDATION.md: C_I(j5) 15.21 dB, -55.80 deg; PID(j5) 20.94 dB, -43.19 deg.
   // Measured 15.2064 dB, -55.8000 deg; 20.9352 dB, -43.1880 deg.
   EXPECT_NEAR(MagnitudeDb(Eq14FractionalIntegrator(5.0)), 15.21, 0.01);
   EXPECT_NEAR(PhaseDeg(Eq14FractionalIntegrator(5.0)), -55.80, 1e-12);
@@ -173,7 +174,7 @@ TEST(FrequencyResponseTest, ControllersAtFiveRadPerSecond) {
 }
 
 TEST(FrequencyResponseTest, PidLoopOnEquation7) {
-  // DESIGN.md: 31.12 rad/s, PM 54.1 deg, no finite GM (the paper states 38
+  // docs/VALIDATION.md: 31.12 rad/s, PM 54.1 deg, no finite GM (the paper states 38
   // rad/s and 75 deg; these do not follow from eq. 7 and 12). Measured
   // 31.11722 rad/s, 54.13574 deg; the phase stays within (-180, -90) deg:
   // -135 deg at both ends of the band.
@@ -198,7 +199,7 @@ TEST(FrequencyResponseTest, PidLoopOnEquation7) {
 }
 
 TEST(FrequencyResponseTest, FractionalIntegratorLoopOnEquation7) {
-  // DESIGN.md: 5.075 rad/s, PM 72.1 deg, GM 7.88 dB. Measured
+  // docs/VALIDATION.md: 5.075 rad/s, PM 72.1 deg, GM 7.88 dB. Measured
   // 5.075144 rad/s, 72.0655 deg, 7.87824 dB at 20.6489 rad/s.
   const StabilityMargins margins = ComputeMargins(
       [](double w) { return Eq14FractionalIntegrator(w) * Eq7Plant(w); });
@@ -212,7 +213,7 @@ TEST(FrequencyResponseTest, FractionalIntegratorLoopOnEquation7) {
 }
 
 TEST(FrequencyResponseTest, Equation15LoopOnEquation7) {
-  // DESIGN.md: 4.96 rad/s, PM 76.6 deg. Measured 4.960365 rad/s,
+  // docs/VALIDATION.md: 4.96 rad/s, PM 76.6 deg. Measured 4.960365 rad/s,
   // 76.6209 deg (GM 7.9396 dB at 20.878 rad/s).
   const StabilityMargins margins =
       ComputeMargins([](double w) { return Eq15Oustaloup(w) * Eq7Plant(w); });

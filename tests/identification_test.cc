@@ -439,7 +439,7 @@ TEST(IdentificationTest, SimulatedClampedFlagellumGivesItsOwnLinkModels) {
   }
 
   // The simulator's response is P_q times the rigid hinge's first-order
-  // lag 1/(tau s + 1), tau = c/k = 3.2 ms (README, "IPMC actuators"), and
+  // lag 1/(tau s + 1), tau = c/k = 3.2 ms (docs/MODEL.md, "IPMC actuators"), and
   // 0.5 ms of sampling delay (half the 1 ms hold; the bench records the
   // state at the sample time): about 10.5 deg of extra lag at 50 rad/s.
   // Levy's |D|-weighted error counts
@@ -499,7 +499,7 @@ FrequencyFunction Eq7() {
 
 TEST(ControllerDesignTest, AnalyticFractionalIntegratorOnEq7) {
   const FractionalIntegratorDesign design = DesignFractionalIntegrator(Eq7(), 5.0, 75.0);
-  // DESIGN.md: 14.63 / s^0.589 (the paper prints 15.62 / s^0.62).
+  // docs/VALIDATION.md: 14.63 / s^0.589 (the paper prints 15.62 / s^0.62).
   EXPECT_NEAR(design.order, 0.589, 1e-3 * 0.589);
   EXPECT_NEAR(design.gain, 14.63, 1e-3 * 14.63);
   EXPECT_NEAR(design.plant_phase_deg, -52.018, 1e-3);
@@ -584,7 +584,7 @@ TEST(ControllerDesignTest, CostAtThePaperGainsMatchesTheClosedLoopTools) {
   const double reference =
       ReferenceModelCost(SimulateClosedLoopStep(plant, pid, simulation), ReferenceModel(), 2.0);
   EXPECT_NEAR(j, reference, 1e-12);
-  EXPECT_NEAR(j, 0.0868, 1e-4);  // DESIGN.md; measured 0.086793
+  EXPECT_NEAR(j, 0.0868, 1e-4);  // docs/VALIDATION.md; measured 0.086793
   // A loop the 10 kHz sampling cannot hold costs +infinity.
   EXPECT_EQ(cost(PidGains{1e6, 0.0, 0.0}), std::numeric_limits<double>::infinity());
   ExpectInvalidArgument([&] { cost(PidGains{-1.0, 1.0, 1.0}); }, "kp");

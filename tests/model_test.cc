@@ -20,18 +20,18 @@ std::string ReadFile(const std::string& path) {
 
 const std::string kModels = std::string(IPMC_SWIM_SOURCE_DIR) + "/models/";
 
-TEST(Models, CommittedFilesEqualTheGenerator) {
+TEST(ModelsTest, CommittedFilesEqualTheGenerator) {
   FlagellumSpec free_spec;
   EXPECT_EQ(ReadFile(kModels + "flagellum3.xml"), GenerateFlagellumMjcf(free_spec));
   FlagellumSpec clamped = free_spec;
   clamped.clamped = true;
   clamped.name = "flagellum3_clamped";
   clamped.plants = "table2";  // the bench identifies each link's own Table 2 row
-  clamped.timestep_s = 5e-4;  // README, "Time step and integrator": the bench's step
+  clamped.timestep_s = 5e-4;  // docs/RUNS.md, "Time step and integrator": the bench's step
   EXPECT_EQ(ReadFile(kModels + "flagellum3_clamped.xml"), GenerateFlagellumMjcf(clamped));
 }
 
-TEST(Models, FlagellumGeometryFollowsTable1) {
+TEST(ModelsTest, FlagellumGeometryFollowsTable1) {
   Simulation sim(LoadModelFile(kModels + "flagellum3.xml"), "flagellum3.xml");
   const mjModel* m = sim.model();
   const mjData* d = sim.data();
@@ -58,13 +58,13 @@ TEST(Models, FlagellumGeometryFollowsTable1) {
   EXPECT_GE(mj_name2id(m, mjOBJ_JOINT, "root_yaw"), 0);
 }
 
-TEST(Models, ClampedModelHasOnlyTheHinges) {
+TEST(ModelsTest, ClampedModelHasOnlyTheHinges) {
   Simulation sim(LoadModelFile(kModels + "flagellum3_clamped.xml"), "flagellum3_clamped.xml");
   EXPECT_EQ(sim.model()->nq, 3);
   EXPECT_LT(mj_name2id(sim.model(), mjOBJ_JOINT, "root_x"), 0);
 }
 
-TEST(Models, GeneratorWritesAnyLinkCount) {
+TEST(ModelsTest, GeneratorWritesAnyLinkCount) {
   FlagellumSpec spec;
   spec.link_lengths_mm = {4.0, 6.0, 8.0, 10.0, 12.0};
   spec.head_length_mm = 0.0;
@@ -75,7 +75,7 @@ TEST(Models, GeneratorWritesAnyLinkCount) {
   EXPECT_NEAR(sim.data()->site_xpos[3 * tip5], (40.0 + 4 * 0.5) * 1e-3, 1e-12);
 }
 
-TEST(Models, GeneratorRejectsBadSpecs) {
+TEST(ModelsTest, GeneratorRejectsBadSpecs) {
   FlagellumSpec spec;
   spec.link_lengths_mm = {10.0, -1.0};
   EXPECT_THROW(GenerateFlagellumMjcf(spec), std::invalid_argument);

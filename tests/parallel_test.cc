@@ -12,7 +12,7 @@ namespace ipmc::testing {
 namespace {
 
 // Fails on any MuJoCo warning the test does not expect.
-class Parallel : public MujocoWarnings {};
+class ParallelTest : public MujocoWarnings {};
 
 std::vector<double> RunWave(double viscosity_Pa_s) {
   FlagellumSpec spec;
@@ -32,7 +32,7 @@ std::vector<double> RunWave(double viscosity_Pa_s) {
   return trace;
 }
 
-TEST_F(Parallel, TwoViscositiesInTwoThreadsMatchSequentialRuns) {
+TEST_F(ParallelTest, TwoViscositiesInTwoThreadsMatchSequentialRuns) {
   const std::vector<double> water_alone = RunWave(1e-3);
   const std::vector<double> glycerol_alone = RunWave(1.0);
   ASSERT_NE(water_alone, glycerol_alone);  // the fluids really differ

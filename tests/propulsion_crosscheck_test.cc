@@ -50,8 +50,9 @@ constexpr double kMToMm = 1e3;
 constexpr int kRootBody = 1;
 
 // ---------------------------------------------------------------------------
-// Drag coefficients from the model's <custom> fields (README, "Resistive-force
-// theory"), with the README's defaults for absent fields.
+// Drag coefficients from the model's <custom> fields (docs/MODEL.md,
+// "Resistive-force theory"), with the defaults docs/LIBRARY.md lists for
+// absent fields.
 
 std::optional<double> CustomNumber(const mjModel* m, const std::string& name) {
   const int id = mj_name2id(m, mjOBJ_NUMERIC, name.c_str());
@@ -577,7 +578,7 @@ ModelPtr PaperModel() { return LoadModelFile(IPMC_SWIM_SOURCE_DIR "/models/flage
 
 // The chain's kinematics and mass distribution, built from the rest
 // geometry, against MuJoCo's own forward kinematics at random poses.
-TEST(PropulsionCrossCheck, ChainKinematicsMatchMujoco) {
+TEST(PropulsionCrossCheckTest, ChainKinematicsMatchMujoco) {
   const ModelPtr paper = PaperModel();
   const ModelPtr many = LoadModelString(GenerateFlagellumMjcf(StokesChain(12, 30.0)));
   std::mt19937 random(7);
@@ -619,7 +620,7 @@ TEST(PropulsionCrossCheck, ChainKinematicsMatchMujoco) {
 // RFT drag dissipates and obeys reciprocity: R is symmetric and negative
 // definite. Its diagonal for the straight body is known in closed form:
 //   R_xx = -xi_t L,  R_yy = -xi_n L  (segments along x).
-TEST(PropulsionCrossCheck, ResistanceMatrixIsSymmetricAndDissipative) {
+TEST(PropulsionCrossCheckTest, ResistanceMatrixIsSymmetricAndDissipative) {
   const ModelPtr m = PaperModel();
   const Chain chain = ChainFromModel(m.get());
   const Eigen::Matrix3d straight =
@@ -628,7 +629,7 @@ TEST(PropulsionCrossCheck, ResistanceMatrixIsSymmetricAndDissipative) {
               1e-12 * std::abs(straight(0, 0)));
   EXPECT_NEAR(straight(1, 1), -chain.xi.normal_N_s_m2 * chain.length_m,
               1e-12 * std::abs(straight(1, 1)));
-  // Gray-Hancock coefficients for the README's water and strip: 2.582e-3, 1.625e-3 N s/m^2.
+  // Gray-Hancock coefficients for docs/MODEL.md's water and strip: 2.582e-3, 1.625e-3 N s/m^2.
   EXPECT_NEAR(chain.xi.normal_N_s_m2, 2.582e-3, 1e-6);
   EXPECT_NEAR(chain.xi.tangential_N_s_m2, 1.625e-3, 1e-6);
   std::mt19937 random(3);
@@ -647,7 +648,7 @@ TEST(PropulsionCrossCheck, ResistanceMatrixIsSymmetricAndDissipative) {
 // Scallop theorem: a reciprocal stroke (every hinge in phase, so the shape
 // goes back and forth along one path) gives no net motion; a travelling
 // wave of the same amplitudes does.
-TEST(PropulsionCrossCheck, ReciprocalStrokesGiveNoNetDisplacement) {
+TEST(PropulsionCrossCheckTest, ReciprocalStrokesGiveNoNetDisplacement) {
   const ModelPtr m = PaperModel();
   const Chain chain = ChainFromModel(m.get());
   const int n = chain.Hinges();
@@ -688,7 +689,7 @@ TEST(PropulsionCrossCheck, ReciprocalStrokesGiveNoNetDisplacement) {
 // finite free swimmer recoils sideways and in yaw, which slows it by a few
 // percent: 9.0 % with two wavelengths on the body and 3.6 % with four in
 // the MuJoCo runs of tests/swimming_test.cc (same chain and wave).
-TEST(PropulsionCrossCheck, ManySegmentChainMatchesGrayHancock) {
+TEST(PropulsionCrossCheckTest, ManySegmentChainMatchesGrayHancock) {
   constexpr int kLinks = 48;
   constexpr double kLength_mm = 32.0;
   constexpr double kBk = 0.1;
@@ -716,7 +717,8 @@ TEST(PropulsionCrossCheck, ManySegmentChainMatchesGrayHancock) {
     deficits.push_back(deficit);
   }
   // Measured 8.88 % and 3.25 % slower (the MuJoCo runs' small extra gap
-  // is their inertia and time step). Within the README's few percent, and
+  // is their inertia and time step). Within the few percent of
+  // docs/VALIDATION.md (classical RFT speed), and
   // fading with more wavelengths:
   EXPECT_GT(deficits[0], deficits[1]);
   EXPECT_GT(deficits[1], 0.0);
@@ -733,7 +735,7 @@ TEST(PropulsionCrossCheck, ManySegmentChainMatchesGrayHancock) {
 // cycle by 1.9e-5.
 constexpr int kSamplesPerCycle = 2000;
 
-TEST(PropulsionCrossCheck, DefaultRunMatchesInertiaFreeRft) {
+TEST(PropulsionCrossCheckTest, DefaultRunMatchesInertiaFreeRft) {
   ScenarioConfig scenario = LoadScenario(IPMC_SWIM_SOURCE_DIR "/scenarios/paper.toml");
   scenario.samples_per_cycle = kSamplesPerCycle;
   std::optional<Chain> chain;

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_util.h"
+#include "ipmc_swim/ipmc_swim.h"
 #include "sim/core/data_paths.h"
 #include "sim/core/sha256.h"
 
@@ -47,7 +48,7 @@ nlohmann::json Summary(const fs::path& dir) {
   return nlohmann::json::parse(ReadFile(dir / "summary.json"));
 }
 
-class Provenance : public ::testing::Test {
+class ProvenanceTest : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = FreshDir(std::string("provenance_") +
@@ -61,7 +62,7 @@ class Provenance : public ::testing::Test {
   fs::path dir_, model_, scenario_;
 };
 
-TEST_F(Provenance, ARunMadeAgainFromItsSummaryIsTheSameBitForBit) {
+TEST_F(ProvenanceTest, ARunMadeAgainFromItsSummaryIsTheSameBitForBit) {
   const CommandResult first = RunCli("run " + Quoted(scenario_) + " --out " + Quoted(dir_ / "a"));
   ASSERT_EQ(first.exit_code, 0) << first.output;
   const nlohmann::json a = Summary(dir_ / "a");
@@ -87,7 +88,7 @@ TEST_F(Provenance, ARunMadeAgainFromItsSummaryIsTheSameBitForBit) {
   EXPECT_EQ(b, a_results);
 }
 
-TEST_F(Provenance, AChangedModelIsRefused) {
+TEST_F(ProvenanceTest, AChangedModelIsRefused) {
   ASSERT_EQ(RunCli("run " + Quoted(scenario_) + " --out " + Quoted(dir_ / "a")).exit_code, 0);
   std::ofstream(model_, std::ios::app) << "<!-- edited -->\n";
   const CommandResult again = RunCli("run " + Quoted(dir_ / "a" / "summary.json") + " --out " +
@@ -101,7 +102,7 @@ TEST_F(Provenance, AChangedModelIsRefused) {
   EXPECT_FALSE(fs::exists(dir_ / "b"));
 }
 
-TEST_F(Provenance, SetAndCyclesActLikeTheKeysInTheFile) {
+TEST_F(ProvenanceTest, SetAndCyclesActLikeTheKeysInTheFile) {
   // The same scenario with controller.kp = 4 and 2 cycles in the file.
   std::ofstream(dir_ / "edited.toml") << ReadFile(scenario_) << "[controller]\nkp = 4.0\n";
   std::string edited = ReadFile(dir_ / "edited.toml");
@@ -121,7 +122,7 @@ TEST_F(Provenance, SetAndCyclesActLikeTheKeysInTheFile) {
   EXPECT_EQ(inputs["cycles"], 2);
 }
 
-TEST_F(Provenance, BadOverridesNameTheOptionAndTheKey) {
+TEST_F(ProvenanceTest, BadOverridesNameTheOptionAndTheKey) {
   const std::string run = "run " + Quoted(scenario_) + " --out " + Quoted(dir_ / "out");
   const struct {
     std::string options, message;
@@ -154,7 +155,7 @@ TEST_F(Provenance, BadOverridesNameTheOptionAndTheKey) {
       << summary.output;
 }
 
-TEST_F(Provenance, ASweepTableKeepsEachPointsResolvedScenario) {
+TEST_F(ProvenanceTest, ASweepTableKeepsEachPointsResolvedScenario) {
   std::ofstream(dir_ / "sweep.toml") << "base = \"short.toml\"\n"
                                      << "[grid]\n\"controller.kp\" = [4.0, 8.5]\n";
   const CommandResult sweep = RunCli("sweep " + Quoted(dir_ / "sweep.toml") + " --jobs 2 --out " +
@@ -174,7 +175,7 @@ TEST_F(Provenance, ASweepTableKeepsEachPointsResolvedScenario) {
   }
 }
 
-TEST_F(Provenance, AMissingModelNamesTheScenarioFileAndTheKey) {
+TEST_F(ProvenanceTest, AMissingModelNamesTheScenarioFileAndTheKey) {
   std::ofstream(dir_ / "moved.toml") << "cycles = 1\nmodel = \"models/none.xml\"\n";
   const CommandResult result = RunCli("run " + Quoted(dir_ / "moved.toml"));
   EXPECT_EQ(result.exit_code, 1);
@@ -182,6 +183,18 @@ TEST_F(Provenance, AMissingModelNamesTheScenarioFileAndTheKey) {
                                (dir_ / "models" / "none.xml").string() + "'"),
             std::string::npos)
       << result.output;
+}
+
+// Every version string is the CMake project version (CMakeLists.txt
+// `project(ipmc_swim VERSION ...)`, passed to the tests as
+// IPMC_SWIM_PROJECT_VERSION): the library's, the program's and
+// `ipmc-swim --version`'s.
+TEST(VersionTest, EveryVersionStringIsTheCMakeProjectVersion) {
+  EXPECT_STREQ(Version(), IPMC_SWIM_PROJECT_VERSION);
+  EXPECT_STREQ(ProgramVersion(), IPMC_SWIM_PROJECT_VERSION);
+  const CommandResult printed = RunCli("--version");
+  ASSERT_EQ(printed.exit_code, 0) << printed.output;
+  EXPECT_EQ(printed.output, std::string("ipmc-swim ") + IPMC_SWIM_PROJECT_VERSION + "\n");
 }
 
 }  // namespace

@@ -141,7 +141,7 @@ TEST(MittagLefflerTest, RejectsArgumentsOutsideTheDomain) {
 TEST(ReferenceModelTest, StepResponseMatchesIndependentValues) {
   // mpmath (see the file comment): y(0.5) = 1.0102339510316141,
   // y(1) = 1.0431269829415702, first peak 1.0539220492462820 at
-  // t = 0.75832996510144555 s. DESIGN.md rounds them to 1.01023, 1.04313,
+  // t = 0.75832996510144555 s. docs/VALIDATION.md rounds them to 1.01023, 1.04313,
   // 1.05392 at 0.758 s. Measured residuals: values 0 (to the last bit),
   // peak time 1.5e-8 s (the peak is flat); tolerances 1e-15 and 2e-7 s.
   const ReferenceModel model;

@@ -97,7 +97,7 @@ int WaitForExit(pid_t pid) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-class Resume : public ::testing::Test {
+class ResumeTest : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = FreshDir(std::string("resume_") +
@@ -121,7 +121,7 @@ class Resume : public ::testing::Test {
   std::string sweep_;
 };
 
-TEST_F(Resume, SigkillMidwayLosesOnlyThePointsInFlightAndTheResumedTableIsTheSame) {
+TEST_F(ResumeTest, SigkillMidwayLosesOnlyThePointsInFlightAndTheResumedTableIsTheSame) {
   const std::string out = (dir_ / "killed" / "table").string();
   const fs::path journal = out + ".journal";
   const pid_t pid = StartCli({"sweep", sweep_, "--jobs", "2", "--out", out}, dir_ / "killed.log");
@@ -159,7 +159,7 @@ TEST_F(Resume, SigkillMidwayLosesOnlyThePointsInFlightAndTheResumedTableIsTheSam
   EXPECT_EQ(ReadFile(out + ".csv"), csv);
 }
 
-TEST_F(Resume, SigintStopsAtAPointBoundaryAndSaysHowToResume) {
+TEST_F(ResumeTest, SigintStopsAtAPointBoundaryAndSaysHowToResume) {
   const std::string out = (dir_ / "stopped" / "table").string();
   const fs::path journal = out + ".journal";
   const fs::path log = dir_ / "stopped.log";
@@ -190,7 +190,7 @@ TEST_F(Resume, SigintStopsAtAPointBoundaryAndSaysHowToResume) {
   EXPECT_EQ(ReadFile(out + ".json"), json);
 }
 
-TEST_F(Resume, AJournalOfAnotherSweepIsRefusedAndLeftAlone) {
+TEST_F(ResumeTest, AJournalOfAnotherSweepIsRefusedAndLeftAlone) {
   const std::string sweep = (dir_ / "fast_sweep.toml").string();
   WriteFile(sweep, "base = \"fast.toml\"\n[grid]\ncycles = [1]\n");
   const std::string out = (dir_ / "out" / "table").string();
@@ -215,7 +215,7 @@ TEST_F(Resume, AJournalOfAnotherSweepIsRefusedAndLeftAlone) {
   EXPECT_EQ(ReadFile(out + ".csv"), table);
 }
 
-TEST_F(Resume, ATornLastRecordIsDroppedAndTheJournalGoesOn) {
+TEST_F(ResumeTest, ATornLastRecordIsDroppedAndTheJournalGoesOn) {
   const SweepPlan plan = ParseSweep(
       "base = \"fast.toml\"\n[grid]\n\"controller.kp\" = [8.12, 4, 2]\n", sweep_);
   const std::string path = (dir_ / "j" / "table.journal").string();
@@ -253,7 +253,7 @@ TEST_F(Resume, ATornLastRecordIsDroppedAndTheJournalGoesOn) {
   }
 }
 
-TEST_F(Resume, PartialMergeAndStatusListWhatIsMissing) {
+TEST_F(ResumeTest, PartialMergeAndStatusListWhatIsMissing) {
   // Six points, the fourth refused by the scenario reader (recorded as failed).
   const std::string sweep = (dir_ / "six.toml").string();
   WriteFile(sweep,
@@ -341,7 +341,7 @@ int CpusAllowedByProc() {
   return -1;
 }
 
-TEST(CpuAffinity, TheDefaultJobsAreTheCpusTheProcessMayUse) {
+TEST(CpuAffinityTest, TheDefaultJobsAreTheCpusTheProcessMayUse) {
   EXPECT_EQ(AvailableCpus(), CpusAllowedByProc());
   cpu_set_t all;
   ASSERT_EQ(sched_getaffinity(0, sizeof(all), &all), 0);

@@ -27,7 +27,7 @@ Segment RandomSegment(std::mt19937& rng) {
   return s;
 }
 
-TEST(RftDrag, GrayHancockAndLighthillCoefficients) {
+TEST(RftDragTest, GrayHancockAndLighthillCoefficients) {
   // Gray & Hancock (1955) with mu = 1e-3 Pa s, a = 0.8125 mm, lambda = 32 mm:
   // ln(2 lambda / a) = ln(78.769) = 4.36652, xi_n = 4 pi mu / 4.86652,
   // xi_t = 2 pi mu / 3.86652 (evaluated by hand).
@@ -43,7 +43,7 @@ TEST(RftDrag, GrayHancockAndLighthillCoefficients) {
   EXPECT_DOUBLE_EQ(gh2.normal_N_s_m2, 2 * gh.normal_N_s_m2);
 }
 
-TEST(RftDrag, ZeroVelocityGivesZeroForce) {
+TEST(RftDragTest, ZeroVelocityGivesZeroForce) {
   Segment s;
   s.center_W = Eigen::Vector3d(1, 2, 3);
   s.tangent_W = Eigen::Vector3d(0, 1, 0);
@@ -55,7 +55,7 @@ TEST(RftDrag, ZeroVelocityGivesZeroForce) {
   EXPECT_EQ(w.torque_center_W.norm(), 0.0);
 }
 
-TEST(RftDrag, DragNeverDoesPositiveWork) {
+TEST(RftDragTest, DragNeverDoesPositiveWork) {
   std::mt19937 rng(7);
   for (int i = 0; i < 10000; ++i) {
     const Segment s = RandomSegment(rng);
@@ -63,7 +63,7 @@ TEST(RftDrag, DragNeverDoesPositiveWork) {
   }
 }
 
-TEST(RftDrag, ExactSegmentIntegralEqualsFineQuadrature) {
+TEST(RftDragTest, ExactSegmentIntegralEqualsFineQuadrature) {
   std::mt19937 rng(11);
   for (int i = 0; i < 100; ++i) {
     const Segment s = RandomSegment(rng);
@@ -82,7 +82,7 @@ TEST(RftDrag, ExactSegmentIntegralEqualsFineQuadrature) {
   }
 }
 
-TEST(RftDrag, SegmentAlongItsAxisFeelsTangentialCoefficientOnly) {
+TEST(RftDragTest, SegmentAlongItsAxisFeelsTangentialCoefficientOnly) {
   Segment s;
   s.center_W.setZero();
   s.tangent_W = Eigen::Vector3d(1, 0, 0);
@@ -101,7 +101,7 @@ TEST(RftDrag, SegmentAlongItsAxisFeelsTangentialCoefficientOnly) {
 
 // In MuJoCo: the generalised drag force the callback adds never does
 // positive work along the motion (qfrc_drag . qvel <= 0).
-TEST(RftDrag, CallbackPowerIsNeverPositiveInMuJoCo) {
+TEST(RftDragTest, CallbackPowerIsNeverPositiveInMuJoCo) {
   FlagellumSpec spec;
   auto sim = MakeSimulation(spec);
   mjModel* m = sim->model();
@@ -130,7 +130,7 @@ TEST(RftDrag, CallbackPowerIsNeverPositiveInMuJoCo) {
 // mj_objectVelocity's) agree on random states of a free
 // and a clamped flagellum with sub-segments (a deeper tree), to rounding:
 // measured 4.1e-16 / 4.8e-16 of the largest entry.
-TEST(RftDrag, OnePassEqualsMujocosApplyFtPerSegment) {
+TEST(RftDragTest, OnePassEqualsMujocosApplyFtPerSegment) {
   for (bool clamped : {false, true}) {
     FlagellumSpec spec;
     spec.clamped = clamped;
@@ -188,7 +188,7 @@ TEST(RftDrag, OnePassEqualsMujocosApplyFtPerSegment) {
   }
 }
 
-TEST(RftDrag, ModelWithoutFieldsGetsNoDragAndNoCrash) {
+TEST(RftDragTest, ModelWithoutFieldsGetsNoDragAndNoCrash) {
   auto m = LoadModelString(R"(<mujoco><worldbody><body><joint type="slide" axis="1 0 0"/>
       <geom type="box" size="0.01 0.001 0.001"/></body></worldbody></mujoco>)");
   mjData* d = mj_makeData(m.get());
@@ -199,7 +199,7 @@ TEST(RftDrag, ModelWithoutFieldsGetsNoDragAndNoCrash) {
   mj_deleteData(d);
 }
 
-TEST(RftDrag, AttachedFreeBodyDecaysAtTheRftRate) {
+TEST(RftDragTest, AttachedFreeBodyDecaysAtTheRftRate) {
   // One free segment pushed along its axis: m dv/dt = -xi_t L v, so
   // v(t) = v0 exp(-xi_t L t / m).
   FlagellumSpec spec;
@@ -218,7 +218,7 @@ TEST(RftDrag, AttachedFreeBodyDecaysAtTheRftRate) {
   EXPECT_NEAR(d->qvel[0] / expected, 1.0, 1e-6);  // RK4, tau / dt = 9e4
 }
 
-TEST(RftDrag, MalformedFieldsAreRejectedWithTheFieldName) {
+TEST(RftDragTest, MalformedFieldsAreRejectedWithTheFieldName) {
   const auto load = [](const std::string& custom) {
     return LoadModelString("<mujoco><custom>" + custom +
                            "</custom><worldbody><body><joint type=\"slide\" axis=\"1 0 0\"/>"

@@ -42,7 +42,7 @@ std::string Resolved(const std::string& text) {
   return ResolvedScenarioToml(ParseScenario(text, Source()));
 }
 
-TEST(ScenarioKeys, EveryKeyTakesItsDefaultAndItsExampleAndRefusesItsRefusedValue) {
+TEST(ScenarioKeysTest, EveryKeyTakesItsDefaultAndItsExampleAndRefusesItsRefusedValue) {
   int defaults = 0, refusals = 0;
   for (const KeySpec& key : ScenarioKeys()) {
     SCOPED_TRACE(key.name);
@@ -81,7 +81,7 @@ TEST(ScenarioKeys, EveryKeyTakesItsDefaultAndItsExampleAndRefusesItsRefusedValue
   EXPECT_GE(refusals, 20);
 }
 
-TEST(ScenarioKeys, BoundsInTheTableAreTheReadersBounds) {
+TEST(ScenarioKeysTest, BoundsInTheTableAreTheReadersBounds) {
   // A bounded number just outside its bound is refused, just inside accepted.
   for (const KeySpec& key : ScenarioKeys()) {
     if (key.type != KeyType::kNumber || key.lower == Bound::kNone) continue;
@@ -98,7 +98,7 @@ TEST(ScenarioKeys, BoundsInTheTableAreTheReadersBounds) {
   }
 }
 
-TEST(ScenarioKeys, TheReaderAllowsExactlyTheTablesKeys) {
+TEST(ScenarioKeysTest, TheReaderAllowsExactlyTheTablesKeys) {
   EXPECT_EQ(ScenarioKeysUnder("fluid"), std::vector<std::string>{"viscosity_Pa_s"});
   std::vector<std::string> tables = {""};
   for (const std::string& name : ScenarioKeysUnder("")) {
@@ -123,7 +123,7 @@ TEST(ScenarioKeys, TheReaderAllowsExactlyTheTablesKeys) {
   }
 }
 
-TEST(ScenarioKeys, TheResolvedScenarioReadsBackToItself) {
+TEST(ScenarioKeysTest, TheResolvedScenarioReadsBackToItself) {
   const std::string pid = Resolved(ModelLine() + "controller.kp = 0.30000000000000004\n");
   // Doubles keep all their digits.
   EXPECT_NE(pid.find("0.30000000000000004"), std::string::npos) << pid;
@@ -147,7 +147,7 @@ TEST(ScenarioKeys, TheResolvedScenarioReadsBackToItself) {
   EXPECT_EQ(eq15.find("gain"), std::string::npos) << eq15;
 }
 
-TEST(ScenarioKeys, PaperScenarioNamesEveryKeyAndWhereTheReferenceIs) {
+TEST(ScenarioKeysTest, PaperScenarioNamesEveryKeyAndWhereTheReferenceIs) {
   std::ifstream file(ScenariosDir() + "/paper.toml");
   std::stringstream text;
   text << file.rdbuf();
@@ -159,7 +159,7 @@ TEST(ScenarioKeys, PaperScenarioNamesEveryKeyAndWhereTheReferenceIs) {
   EXPECT_NE(text.str().find("docs/SCENARIO_KEYS.md"), std::string::npos);
 }
 
-TEST(ScenarioKeys, TheReferenceListsEveryKeyInBothFormats) {
+TEST(ScenarioKeysTest, TheReferenceListsEveryKeyInBothFormats) {
   const std::string text = KeyReference(KeyFormat::kText);
   const std::string markdown = KeyReference(KeyFormat::kMarkdown);
   for (const auto* keys : {&ScenarioKeys(), &SweepFileKeys()}) {

@@ -32,7 +32,7 @@ const std::vector<sunindextype> kLengths = {1, 2, 3, 7, 30, 31, 101};
 // below, 20 trials each: 1.3 eps (|a x| + |b y|) (printed by the test).
 constexpr double kFactoredSumBound = 2.0;
 
-class SerialKernels : public ::testing::Test {
+class SerialKernelsTest : public ::testing::Test {
  protected:
   void SetUp() override { ASSERT_EQ(SUNContext_Create(nullptr, &context_), 0); }
   void TearDown() override {
@@ -107,7 +107,7 @@ class SerialKernels : public ::testing::Test {
   double largest_factored_difference_ = 0;
 };
 
-TEST_F(SerialKernels, InstallReplacesEveryListedOperationOfTheVectorAndItsClones) {
+TEST_F(SerialKernelsTest, InstallReplacesEveryListedOperationOfTheVectorAndItsClones) {
   Pair pair = Make(4);
   const N_Vector_Ops ours = pair.ours->ops;
   const N_Vector_Ops stock = pair.stock->ops;
@@ -151,7 +151,7 @@ TEST_F(SerialKernels, InstallReplacesEveryListedOperationOfTheVectorAndItsClones
   }
 }
 
-TEST_F(SerialKernels, LinearSumEqualsStockInEveryCaseOfItsCoefficients) {
+TEST_F(SerialKernelsTest, LinearSumEqualsStockInEveryCaseOfItsCoefficients) {
   for (sunindextype n : kLengths) {
     const Pair x = Make(n), y = Make(n), z = Make(n);
     const double a = RandomScalar(), b = RandomScalar();
@@ -178,7 +178,7 @@ TEST_F(SerialKernels, LinearSumEqualsStockInEveryCaseOfItsCoefficients) {
   }
 }
 
-TEST_F(SerialKernels, LinearSumWithEqualOrOppositeCoefficientsIsWithinRounding) {
+TEST_F(SerialKernelsTest, LinearSumWithEqualOrOppositeCoefficientsIsWithinRounding) {
   for (sunindextype n : kLengths) {
     for (int trial = 0; trial < 20; ++trial) {
       const Pair x = Make(n), y = Make(n), z = Make(n);
@@ -192,7 +192,7 @@ TEST_F(SerialKernels, LinearSumWithEqualOrOppositeCoefficientsIsWithinRounding) 
   }
 }
 
-TEST_F(SerialKernels, ElementwiseKernelsEqualStock) {
+TEST_F(SerialKernelsTest, ElementwiseKernelsEqualStock) {
   for (sunindextype n : kLengths) {
     const Pair x = Make(n), y = Make(n), z = Make(n);
     const double c = RandomScalar();
@@ -235,7 +235,7 @@ TEST_F(SerialKernels, ElementwiseKernelsEqualStock) {
   }
 }
 
-TEST_F(SerialKernels, CompareAndInvTestEqualStockIncludingTiesAndZeros) {
+TEST_F(SerialKernelsTest, CompareAndInvTestEqualStockIncludingTiesAndZeros) {
   for (sunindextype n : kLengths) {
     const Pair x = Make(n), z = Make(n), z_tested = Make(n);
     const double c = std::abs(RandomValue());
@@ -261,7 +261,7 @@ TEST_F(SerialKernels, CompareAndInvTestEqualStockIncludingTiesAndZeros) {
   }
 }
 
-TEST_F(SerialKernels, ReductionsEqualStockWithMasksAndWeights) {
+TEST_F(SerialKernelsTest, ReductionsEqualStockWithMasksAndWeights) {
   for (sunindextype n : kLengths) {
     const Pair x = Make(n), y = Make(n), w = Make(n), id = Make(n);
     // CVODE's weights are positive; SUNDIALS defines the norms for any.
@@ -297,7 +297,7 @@ TEST_F(SerialKernels, ReductionsEqualStockWithMasksAndWeights) {
   }
 }
 
-TEST_F(SerialKernels, FusedOperationsEqualStock) {
+TEST_F(SerialKernelsTest, FusedOperationsEqualStock) {
   for (sunindextype n : kLengths) {
     for (int count : {1, 2, 3, 5}) {
       std::vector<Pair> xs;
@@ -353,7 +353,7 @@ TEST_F(SerialKernels, FusedOperationsEqualStock) {
   }
 }
 
-TEST_F(SerialKernels, FusedOperationsRejectAnEmptyListAsStockDoes) {
+TEST_F(SerialKernelsTest, FusedOperationsRejectAnEmptyListAsStockDoes) {
   const Pair x = Make(3), z = Make(3);
   N_Vector ours[] = {x.ours}, stock[] = {x.stock}, zs_ours[] = {z.ours}, zs_stock[] = {z.stock};
   double c[] = {2.0};

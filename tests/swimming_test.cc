@@ -25,7 +25,7 @@ SineGaitConfig ChainWave(int joints, double frequency_Hz, double amplitude_rad,
   return TravellingWave(joints, frequency_Hz, amplitude_rad, phase_lag_rad);
 }
 
-TEST(Swimming, ReciprocalStrokeGivesNoNetDisplacement) {
+TEST(SwimmingTest, ReciprocalStrokeGivesNoNetDisplacement) {
   FlagellumSpec spec = StokesChain(6, 30.0);
   // All joints in phase: the stroke retraces itself (scallop theorem).
   const auto reciprocal = MakeSineGait(ChainWave(5, kStokesFrequency_Hz, 0.4, 0.0));
@@ -46,7 +46,7 @@ TEST(Swimming, ReciprocalStrokeGivesNoNetDisplacement) {
   EXPECT_NEAR(coarse.com_along / fine.com_along, 2.0, 0.1);
 }
 
-TEST(Swimming, ReversingTheWaveReversesTheSwim) {
+TEST(SwimmingTest, ReversingTheWaveReversesTheSwim) {
   const FlagellumSpec spec = StokesChain(6, 30.0);
   const auto forward = MakeSineGait(ChainWave(5, kStokesFrequency_Hz, 0.4, 1.0));
   const auto backward = MakeSineGait(ChainWave(5, kStokesFrequency_Hz, 0.4, -1.0));
@@ -66,7 +66,7 @@ TEST(Swimming, ReversingTheWaveReversesTheSwim) {
   EXPECT_NEAR(forward_mm + backward_mm, 0.0, 3e-3 * forward_mm);
 }
 
-TEST(Swimming, StokesLimitDisplacementIndependentOfFrequencyAndViscosity) {
+TEST(SwimmingTest, StokesLimitDisplacementIndependentOfFrequencyAndViscosity) {
   FlagellumSpec spec = StokesChain(6, 30.0);
   const auto base = MakeSineGait(ChainWave(5, kStokesFrequency_Hz, 0.4, 1.0));
   const double base_mm = SecondCycleAlong_mm(spec, *base);
@@ -89,7 +89,7 @@ TEST(Swimming, StokesLimitDisplacementIndependentOfFrequencyAndViscosity) {
 // c = w / k, to second order in b k. Per cycle: (xi_n/xi_t - 1)(bk)^2 lambda/2.
 // A finite free swimmer recoils sideways and in yaw, which slows it by a
 // few percent, less with more wavelengths on the body.
-TEST(Swimming, ManyLinkChainMatchesClassicalRftSpeed) {
+TEST(SwimmingTest, ManyLinkChainMatchesClassicalRftSpeed) {
   constexpr int kLinks = 48;
   constexpr double kLength_mm = 32.0;
   constexpr double kBk = 0.1;
@@ -118,7 +118,7 @@ TEST(Swimming, ManyLinkChainMatchesClassicalRftSpeed) {
   EXPECT_LT(previous_error, 0.05);
 }
 
-TEST(Swimming, PurcellSquareStrokeSwimsAndCsvGaitReproducesIt) {
+TEST(SwimmingTest, PurcellSquareStrokeSwimsAndCsvGaitReproducesIt) {
   const FlagellumSpec spec = StokesChain(3, 30.0);
   SquareStrokeConfig square;
   square.frequency_Hz = kStokesFrequency_Hz;
@@ -140,6 +140,7 @@ TEST(Swimming, PurcellSquareStrokeSwimsAndCsvGaitReproducesIt) {
     }
   }
   const auto from_csv = LoadCsvGait(path, 2);
+  std::remove(path.c_str());
   EXPECT_DOUBLE_EQ(from_csv->Period_s(), stroke->Period_s());
   const double csv_mm = SecondCycleAlong_mm(spec, *from_csv);
   std::printf("Purcell square stroke: %.6f mm per cycle, from CSV %.6f mm\n", square_mm, csv_mm);
@@ -148,7 +149,7 @@ TEST(Swimming, PurcellSquareStrokeSwimsAndCsvGaitReproducesIt) {
   EXPECT_NEAR(csv_mm / square_mm, 1.0, 2e-4);
 }
 
-TEST(Swimming, HalvingTheTimeStepChangesDisplacementByLessThanHalfAPercent) {
+TEST(SwimmingTest, HalvingTheTimeStepChangesDisplacementByLessThanHalfAPercent) {
   // The paper's flagellum (models/flagellum3.xml defaults) at the paper's
   // 0.01 Hz, one cycle, default step 1e-4 s against 5e-5 s.
   FlagellumSpec spec;

@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <nlohmann/json.hpp>
@@ -17,6 +18,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "sim/core/data_paths.h"
+#include "sim/core/sha256.h"
 #include "sim/io/files.h"
 
 namespace ipmc {
@@ -25,13 +28,17 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr char kFormatKey[] = "ipmc_swim_sweep_journal";
-constexpr int kFormatVersion = 1;
+// Format 2 added the program version to the header and a checksum to
+// every record.
+constexpr int kFormatVersion = 2;
+constexpr char kProgramVersionKey[] = "program_version";
 constexpr char kSweepKey[] = "sweep";
 constexpr char kFingerprintKey[] = "fingerprint";
 constexpr char kPointsKey[] = "points";
 constexpr char kColumnsKey[] = "columns";
 constexpr char kPointKey[] = "point";
 constexpr char kRowKey[] = "row";
+constexpr char kCheckKey[] = "check";
 
 // FNV-1a, 64 bit (offset basis and prime from Fowler, Noll and Vo).
 class Fnv1a {
@@ -102,6 +109,7 @@ void SyncDirectoryOf(const std::string& path) {
 
 std::string HeaderLine(const SweepJournalHeader& header) {
   nlohmann::ordered_json json = {{kFormatKey, kFormatVersion},
+                                 {kProgramVersionKey, header.program_version},
                                  {kSweepKey, header.sweep},
                                  {kFingerprintKey, header.fingerprint},
                                  {kPointsKey, header.points},
@@ -111,11 +119,30 @@ std::string HeaderLine(const SweepJournalHeader& header) {
 
 SweepJournalHeader HeaderOf(const SweepPlan& plan) {
   SweepJournalHeader header;
+  header.program_version = ProgramVersion();
   header.sweep = plan.source;
   header.fingerprint = SweepFingerprint(plan);
   header.points = static_cast<int>(plan.points.size());
   header.columns = SweepColumns(plan);
   return header;
+}
+
+// A record's checksum: SHA-256 over the sweep's fingerprint (the resolved
+// inputs of every point, SweepFingerprint), the point's index and every
+// cell of its row, each with its length first. A record edited by hand,
+// copied from another sweep or given another status no longer matches.
+std::string RecordCheck(const std::string& fingerprint, int point,
+                        const std::vector<std::string>& row) {
+  std::string bytes;
+  const auto add = [&bytes](const std::string& field) {
+    bytes += std::to_string(field.size());
+    bytes += ':';
+    bytes += field;
+  };
+  add(fingerprint);
+  add(std::to_string(point));
+  for (const std::string& cell : row) add(cell);
+  return Sha256Hex(bytes);
 }
 
 template <typename T>
@@ -147,8 +174,15 @@ SweepJournalContents ParseJournal(const std::string& text, const std::string& pa
     if (number == 1) {
       SweepJournalHeader& header = contents.header;
       int version = 0;
+      if (!json.is_discarded() && ReadField(json, kFormatKey, &version) &&
+          version != kFormatVersion) {
+        throw std::runtime_error(where + ": a sweep journal of format " + std::to_string(version) +
+                                 ", this program reads format " + std::to_string(kFormatVersion) +
+                                 "; remove it to start over, or choose another output");
+      }
       if (json.is_discarded() || !ReadField(json, kFormatKey, &version) ||
-          version != kFormatVersion || !ReadField(json, kSweepKey, &header.sweep) ||
+          !ReadField(json, kProgramVersionKey, &header.program_version) ||
+          !ReadField(json, kSweepKey, &header.sweep) ||
           !ReadField(json, kFingerprintKey, &header.fingerprint) ||
           !ReadField(json, kPointsKey, &header.points) ||
           !ReadField(json, kColumnsKey, &header.columns) || header.points < 0) {
@@ -158,14 +192,26 @@ SweepJournalContents ParseJournal(const std::string& text, const std::string& pa
     }
     int point = -1;
     std::vector<std::string> row;
+    std::string check;
     if (json.is_discarded() || !ReadField(json, kPointKey, &point) ||
-        !ReadField(json, kRowKey, &row) || point < 0 || point >= contents.header.points ||
+        !ReadField(json, kRowKey, &row) || !ReadField(json, kCheckKey, &check) || point < 0 ||
+        point >= contents.header.points ||
         row.size() != contents.header.columns.size() || row[0] != std::to_string(point)) {
       throw std::runtime_error(where + ": not a record of this journal's sweep (" +
                                std::to_string(contents.header.points) + " points, " +
                                std::to_string(contents.header.columns.size()) + " columns)");
     }
-    contents.rows.emplace(point, std::move(row));  // a repeat is the same row: keep the first
+    if (check != RecordCheck(contents.header.fingerprint, point, row)) {
+      throw std::runtime_error(where + ": the record of point " + std::to_string(point) +
+                               " fails its checksum (edited, or not written by this sweep); "
+                               "delete that line to run the point again, or remove the journal");
+    }
+    const auto [recorded, inserted] = contents.rows.emplace(point, row);
+    if (!inserted && recorded->second != row) {
+      throw std::runtime_error(where + ": a second, different record of point " +
+                               std::to_string(point) +
+                               "; delete the wrong line to go on, or remove the journal");
+    }
   }
   if (number == 0) throw std::runtime_error(path + ": empty journal (no header)");
   return contents;
@@ -206,12 +252,25 @@ std::string JournalPathOf(const std::string& table_csv_path) {
   return path.string() + ".journal";
 }
 
-SweepJournal::SweepJournal(const std::string& path, const SweepPlan& plan) : path_(path) {
+SweepJournal::SweepJournal(const std::string& path, const SweepPlan& plan,
+                           bool accept_other_version)
+    : path_(path) {
   const std::string dir = fs::path(path).parent_path().string();
   if (!dir.empty()) EnsureDirectory(dir);
   const SweepJournalHeader expected = HeaderOf(plan);
-  fd_ = open(path.c_str(), O_RDWR | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+  fingerprint_ = expected.fingerprint;
+  // Never written through a symbolic link: it could point at any file.
+  fd_ = open(path.c_str(), O_RDWR | O_CREAT | O_APPEND | O_CLOEXEC | O_NOFOLLOW, 0644);
+  if (fd_ < 0 && errno == ELOOP) {
+    throw std::runtime_error(path + ": is a symbolic link; a journal is never written through one "
+                                    "(remove it, or choose another output)");
+  }
   if (fd_ < 0) throw std::runtime_error(SystemError(path, "cannot open the journal"));
+  struct stat status {};
+  if (fstat(fd_, &status) != 0 || !S_ISREG(status.st_mode)) {
+    close(fd_);
+    throw std::runtime_error(path + ": is not a regular file; a journal must be one");
+  }
   try {
     // One sweep per journal. A file system without locks (ENOLCK) is
     // let through: the user then keeps sweeps apart.
@@ -239,6 +298,12 @@ SweepJournal::SweepJournal(const std::string& path, const SweepPlan& plan) : pat
           " points, fingerprint " + expected.fingerprint +
           "); remove it to start over, or choose another output");
     }
+    if (found.program_version != expected.program_version && !accept_other_version) {
+      throw std::runtime_error(path + ": written by ipmc-swim " + found.program_version +
+                               ", this is " + expected.program_version +
+                               "; its points may differ from this version's: remove it to start "
+                               "over, or resume it anyway with --resume-other-version");
+    }
     if (complete_size < text.size() &&
         ftruncate(fd_, static_cast<off_t>(complete_size)) != 0) {
       throw std::runtime_error(SystemError(path, "cannot drop the torn last record"));
@@ -263,7 +328,8 @@ void SweepJournal::Remove() {
 
 void SweepJournal::Record(const std::vector<std::string>& row) {
   const int point = std::stoi(row.at(0));
-  const nlohmann::ordered_json json = {{kPointKey, point}, {kRowKey, row}};
+  const nlohmann::ordered_json json = {
+      {kPointKey, point}, {kRowKey, row}, {kCheckKey, RecordCheck(fingerprint_, point, row)}};
   WriteAll(fd_, json.dump() + "\n", path_);
   if (fdatasync(fd_) != 0) throw std::runtime_error(SystemError(path_, "cannot sync the journal"));
   rows_.emplace(point, row);

@@ -6,9 +6,15 @@
 // byte for byte the same.
 //
 // Format: PREFIX.journal, lines of JSON, appended and never rewritten.
-//   {"ipmc_swim_sweep_journal": 1, "sweep": "sweep.toml", "fingerprint": "9f0c...",
-//    "points": 12, "columns": ["point", ...]}       the header, first line
-//   {"point": 3, "row": ["3", "0.01", "ok", "", ...]}  one per finished point
+//   {"ipmc_swim_sweep_journal": 2, "program_version": "0.1.0", "sweep": "sweep.toml",
+//    "fingerprint": "9f0c...", "points": 12, "columns": ["point", ...]}   the header
+//   {"point": 3, "row": ["3", "0.01", "ok", "", ...], "check": "5e1a..."}  one per point
+// "check" is SHA-256 over the fingerprint, the point and its row: a record
+// that fails it (edited by hand, pasted from another sweep, a status
+// changed), or a second record of a point that differs from the first, is
+// an error naming its line. A journal written by another program version
+// is refused unless the caller accepts it. The journal is never opened
+// through a symbolic link.
 // Each record is written with one write() and flushed to the disk
 // (fdatasync) before the next point is reported, so a kill at any moment
 // loses at most the points still running; a torn last line (a kill in
@@ -34,6 +40,7 @@ namespace ipmc {
 std::string SweepFingerprint(const SweepPlan& plan);
 
 struct SweepJournalHeader {
+  std::string program_version;  // of the program that created the journal
   std::string sweep;        // the sweep file, as it was given
   std::string fingerprint;  // SweepFingerprint
   int points = 0;           // in the whole sweep (all shards)
@@ -58,8 +65,9 @@ class SweepJournal {
   // header if it does not exist. Throws std::runtime_error (one line,
   // naming the path) if it records another sweep (a different
   // fingerprint), is not a journal, or another sweep holds it; nothing is
-  // written then.
-  SweepJournal(const std::string& path, const SweepPlan& plan);
+  // written then. A journal created by another program version is refused
+  // too, unless `accept_other_version`.
+  SweepJournal(const std::string& path, const SweepPlan& plan, bool accept_other_version = false);
   ~SweepJournal();
   SweepJournal(const SweepJournal&) = delete;
   SweepJournal& operator=(const SweepJournal&) = delete;
@@ -75,6 +83,7 @@ class SweepJournal {
 
  private:
   std::string path_;
+  std::string fingerprint_;  // of the sweep it records (each record's check)
   int fd_ = -1;
   std::map<int, std::vector<std::string>> rows_;
 };

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -110,6 +111,10 @@ void AddRunCommand(CLI::App& app, RunArgs& args) {
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   cmd->add_option("--cycles", args.cycles, "Wave periods to run (= --set cycles=N)");
   cmd->add_option("-o,--out", args.out_dir, "Output directory (overrides output.dir)");
+  cmd->add_option("--format", args.formats,
+                  "Also write the whole run as run.mat (mat: MATLAB/Octave) or run.h5 (h5: "
+                  "HDF5); repeatable or comma-separated; csv (always written) is accepted")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   cmd->add_option("--video", args.video_path,
                   "Also film the run into this MP4 (from its recorded states; see `render`)");
   AddAllowLongFlag(cmd, args.allow_long);
@@ -137,19 +142,26 @@ int RunScenarioCommand(const RunArgs& args) {
   if (args.command->count("--cycles") > 0) inputs["cycles"] = args.cycles;
   // A re-run writes only where --out says, never over the run it repeats.
   const std::string dir = args.out_dir.empty() && !rerun ? scenario.output_dir : args.out_dir;
+  const RunFileFormats formats = ParseRunFileFormats(args.formats);
+  if ((formats.mat || formats.hdf5) && dir.empty()) {
+    throw std::invalid_argument("run: --format mat or h5 needs an output directory (--out DIR)");
+  }
   // Output locations are checked before the run, not after it.
   if (!dir.empty()) CheckRunOutputDirectory("run", "--out", dir, {args.scenario_path});
   if (!args.video_path.empty()) {
     RefuseOverwritingInputs("run", "--video", args.video_path, {args.scenario_path});
     RequireWritableParent(args.video_path);
   }
+  // One run per output directory, from the start of the work to its end.
+  std::optional<DirectoryLock> hold;
+  if (!dir.empty()) hold.emplace(dir);
   // The results are printed and written before the film is made.
   RunScenarioFilmed(scenario, args.film, args.video_path,
                           [&](const ClosedLoopResult& result) {
                             PrintClosedLoopResult(result);
                             if (dir.empty()) return;
-                            WriteClosedLoopOutputs(dir, result, scenario, inputs);
-                            PrintWritten(dir);
+                            WriteClosedLoopOutputs(dir, result, scenario, inputs, formats);
+                            PrintWritten(dir, formats);
                           });
   return 0;
 }

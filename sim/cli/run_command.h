@@ -3,7 +3,7 @@
 // (timeseries.csv, states.csv, summary.json) and optionally its film.
 //
 //   ipmc-swim run SCENARIO [--set KEY=VALUE ...] [--cycles N] [--out DIR]
-//       [--video FILE.mp4 ...] [--allow-long]
+//       [--format mat,h5] [--video FILE.mp4 ...] [--allow-long]
 //
 // The run is sim/runs/closed_loop_run.h, its files sim/runs/output.h.
 #pragma once
@@ -25,6 +25,7 @@ struct RunArgs {
   std::string video_path;
   FilmConfig film;
   bool allow_long = false;
+  std::vector<std::string> formats;  // --format, besides CSV and JSON
   CLI::App* command = nullptr;
 };
 

@@ -1,6 +1,7 @@
 #include "sim/cli/run_print.h"
 
 #include <cstdio>
+#include <string>
 
 namespace ipmc {
 
@@ -20,8 +21,12 @@ void PrintSwimMetrics(const SwimMetrics& swim) {
   }
 }
 
-void PrintWritten(const std::string& dir) {
-  std::printf("wrote %s/timeseries.csv, states.csv and summary.json\n", dir.c_str());
+void PrintWritten(const std::string& dir, const RunFileFormats& formats) {
+  std::string extra;
+  if (formats.mat) extra += std::string(", ") + kRunMatFile;
+  if (formats.hdf5) extra += std::string(", ") + kRunHdf5File;
+  std::printf("wrote %s/timeseries.csv, states.csv%s and summary.json\n", dir.c_str(),
+              extra.c_str());
 }
 
 }  // namespace ipmc

@@ -6,12 +6,14 @@
 #include <string>
 
 #include "sim/core/swim_meter.h"
+#include "sim/runs/output.h"
 
 namespace ipmc {
 
 void PrintSwimMetrics(const SwimMetrics& swim);
 
-// "wrote DIR/timeseries.csv, states.csv and summary.json" (sim/runs/output.h).
-void PrintWritten(const std::string& dir);
+// "wrote DIR/timeseries.csv, states.csv and summary.json", with run.mat
+// and run.h5 if written (sim/runs/output.h).
+void PrintWritten(const std::string& dir, const RunFileFormats& formats = {});
 
 }  // namespace ipmc

@@ -118,7 +118,7 @@ int RunSweepFile(const SweepArgs& args) {
   }
   RequireWritableParent(args.out_prefix);
   const SweepPlan plan = LoadSweep(args.sweep_path);
-  SweepJournal journal(args.out_prefix + ".journal", plan);
+  SweepJournal journal(args.out_prefix + ".journal", plan, args.resume_other_version);
   const ShardRecord record = CountRecorded(plan, shard, journal);
   if (record.recorded > 0) {
     std::fprintf(stderr, "resuming from %s: %d of %d points done before\n", journal.path().c_str(),
@@ -214,6 +214,9 @@ void AddSweepCommands(CLI::App& app, SweepArgs& args) {
   sweep->add_option("-o,--out", args.out_prefix,
                     "Writes PREFIX.csv and PREFIX.json; records each point in PREFIX.journal "
                     "(resume)");
+  sweep->add_flag("--resume-other-version", args.resume_other_version,
+                  "Resume a journal that another ipmc-swim version wrote (its points may differ "
+                  "from this version's)");
   AddSlurmOptions(sweep, args);
 
   CLI::App* merge =

@@ -47,6 +47,7 @@ struct SweepArgs {
   SlurmOptions slurm;  // sweep --slurm DIR (sim/cli/slurm_command.h)
   bool dry_run = false;
   std::string status_dir;  // sweep --status DIR
+  bool resume_other_version = false;  // resume a journal another version wrote
 };
 
 // Adds subcommands "sweep" and "merge" to app, storing options in args.

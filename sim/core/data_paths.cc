@@ -1,5 +1,7 @@
 #include "sim/core/data_paths.h"
 
+#include "ipmc_swim/ipmc_swim.h"
+
 #include <filesystem>
 #include <system_error>
 
@@ -23,6 +25,6 @@ std::string ShippedDir(const char* folder, const char* source_tree_dir) {
 
 std::string ModelsDir() { return ShippedDir("models", IPMC_SWIM_MODELS_DIR); }
 std::string ScenariosDir() { return ShippedDir("scenarios", IPMC_SWIM_SCENARIOS_DIR); }
-const char* ProgramVersion() { return IPMC_SWIM_VERSION; }
+const char* ProgramVersion() { return Version(); }
 
 }  // namespace ipmc

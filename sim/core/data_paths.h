@@ -10,7 +10,8 @@ namespace ipmc {
 std::string ModelsDir();
 std::string ScenariosDir();
 
-// The program's version, as `ipmc-swim --version` prints it.
+// The program's version, as `ipmc-swim --version` prints it: the library's
+// Version(), the CMake project version.
 const char* ProgramVersion();
 
 }  // namespace ipmc

@@ -32,7 +32,7 @@ ModelPtr LoadModelString(const std::string& xml);
 // its own fluid model, while Euler too integrates the joints' damping
 // implicitly; the callback forces are explicit in both. So with none of
 // those three in the model Euler gives the same stability at 0.4 of the
-// cost of a step (README, "Time step and integrator"). The closed-loop and
+// cost of a step (docs/RUNS.md, "Time step and integrator"). The closed-loop and
 // bench runs call it; a gait's servos have velocity gains and keep
 // implicit. Returns true if it switched.
 bool UseEulerWhereImplicitAddsNothing(mjModel* m);

@@ -28,6 +28,7 @@ class PendingFile {
   // Renames the temporary into place; throws std::runtime_error naming
   // the path.
   void Commit();
+  bool committed() const { return committed_; }
 
  private:
   std::string path_;
@@ -39,11 +40,37 @@ class PendingFile {
 // the path on failure.
 void WriteFileAtomically(const std::string& path, const std::string& content);
 
-// Writes each (path, content) pair atomically, and all of them or none:
-// every temporary is written before the first is renamed into place (a
-// table's CSV and JSON appear together). Throws std::runtime_error naming
-// the path that failed and the reason.
-void WriteFilesTogether(const std::vector<std::pair<std::string, std::string>>& files);
+// Writes each (path, content) pair atomically, in order, and removes each
+// of `stale` (files of the same set that this write does not make, so
+// that no file of an older set stays beside the new ones), all of it or
+// nothing: every temporary is written before the first is renamed into
+// place (a table's CSV and JSON appear together), and if a rename or a
+// removal fails every file is put back as it was before the call. Throws
+// std::runtime_error naming the path that failed and the reason (also,
+// before any change, if a path is a directory).
+void WriteFilesTogether(const std::vector<std::pair<std::string, std::string>>& files,
+                        const std::vector<std::string>& stale = {});
+
+// Holds an output directory for one writer at a time (flock on the
+// directory itself) for as long as it lives: two runs into one folder
+// cannot mix their files, the second is refused at its start. Creates the
+// directory (and parents) if needed, and removes what it created if it
+// is still empty when released (a run that failed leaves nothing).
+// Throws std::runtime_error "DIR: in use by another run (...)" or
+// naming the reason it cannot be created or opened.
+class DirectoryLock {
+ public:
+  explicit DirectoryLock(const std::string& dir);
+  ~DirectoryLock();
+  DirectoryLock(const DirectoryLock&) = delete;
+  DirectoryLock& operator=(const DirectoryLock&) = delete;
+
+ private:
+  void Release();
+  std::string dir_;
+  std::vector<std::string> created_;  // the folders this lock made, deepest first
+  int fd_ = -1;
+};
 
 // Throws std::invalid_argument "WHO: OPTION PATH would overwrite the
 // input PATH" if `output` is (or names the same file as) one of `inputs`.

@@ -1,10 +1,12 @@
 #include "sim/runs/gait_command.h"
 
 #include <filesystem>
+#include <optional>
 
 #include "sim/core/data_paths.h"
 #include "sim/core/simulation.h"
 #include "sim/io/error.h"
+#include "sim/io/files.h"
 #include "sim/runs/output.h"
 
 namespace ipmc {
@@ -111,6 +113,8 @@ GaitRunResult RunGaitCommand(const GaitCommand& command,
   }
   Simulation sim(LoadModelFile(command.model), command.model);
   const std::unique_ptr<Gait> gait = MakeGait(command, CountServos(sim.model()));
+  std::optional<DirectoryLock> hold;  // one run per output directory
+  if (!command.out.empty()) hold.emplace(command.out);
   if (on_start) on_start(gait->Period_s());
   GaitRunOptions options = command.run;
   options.on_sample = on_sample;

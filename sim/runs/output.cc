@@ -1,6 +1,8 @@
 #include "sim/runs/output.h"
 
 #include <filesystem>
+#include <functional>
+#include <sstream>
 #include <iterator>
 
 #include "sim/core/data_paths.h"
@@ -10,6 +12,7 @@
 #include "sim/io/csv.h"
 #include "sim/io/error.h"
 #include "sim/io/files.h"
+#include "sim/io/result_files.h"
 
 namespace ipmc {
 namespace {
@@ -50,14 +53,52 @@ std::string RunOutputPath(const std::string& dir, int file) {
   return (std::filesystem::path(dir) / kRunOutputFiles[file]).string();
 }
 
-// kRunOutputFiles (the summary with the inputs), together or not at all.
+// A CSV text as an object of columns, each an array of its numbers.
+nlohmann::ordered_json CsvColumns(const std::string& csv, const std::string& source,
+                                  const std::function<void(std::string&, std::vector<double>&)>&
+                                      relabel = nullptr) {
+  const CsvTable table = CsvTable::Parse(csv, source);
+  nlohmann::ordered_json columns = nlohmann::ordered_json::object();
+  for (const std::string& column : table.columns()) {
+    std::string name = column;
+    std::vector<double> values = table.Numbers(column);
+    if (relabel) relabel(name, values);
+    columns[name] = values;
+  }
+  return columns;
+}
+
+bool EndsWith(const std::string& text, const std::string& end) {
+  return text.size() >= end.size() && text.compare(text.size() - end.size(), end.size(), end) == 0;
+}
+
+// kRunOutputFiles (the summary with the inputs) and the files `formats`
+// asks for, together or not at all.
 void WriteRunOutputs(const std::string& dir, const std::string& csv, const std::string& states_csv,
-                     nlohmann::json summary, const nlohmann::json& inputs) {
+                     nlohmann::json summary, const nlohmann::json& inputs,
+                     const RunFileFormats& formats) {
   EnsureDirectory(dir);
   summary[kInputs] = inputs;
-  WriteFilesTogether({{RunOutputPath(dir, 0), csv},
-                      {RunOutputPath(dir, 1), states_csv},
-                      {RunOutputPath(dir, 2), summary.dump(2) + "\n"}});
+  // Renamed into place in this order: the summary, which marks a complete
+  // run folder, last.
+  // A file of an earlier run that this one does not write goes, so the
+  // folder never holds two runs' files.
+  std::vector<std::pair<std::string, std::string>> files;
+  std::vector<std::string> stale;
+  const std::filesystem::path folder(dir);
+  const std::string mat_path = (folder / kRunMatFile).string();
+  const std::string hdf5_path = (folder / kRunHdf5File).string();
+  if (formats.mat || formats.hdf5) {
+    const nlohmann::ordered_json tree = RunResultTree(csv, states_csv, summary);
+    if (formats.mat) files.emplace_back(mat_path, MatFileBytes(kRunMatVariable, tree));
+    if (formats.hdf5) files.emplace_back(hdf5_path, Hdf5FileBytes(tree));
+  }
+  if (!formats.mat) stale.push_back(mat_path);
+  if (!formats.hdf5) stale.push_back(hdf5_path);
+  files.emplace_back(RunOutputPath(dir, 0), csv);
+  files.emplace_back(RunOutputPath(dir, 1), states_csv);
+  files.emplace_back(RunOutputPath(dir, 2), summary.dump(2) + "\n");
+  WriteFilesTogether(files, stale);
 }
 
 }  // namespace
@@ -67,7 +108,49 @@ void CheckRunOutputDirectory(const std::string& who, const std::string& option,
   for (int file = 0; file < static_cast<int>(std::size(kRunOutputFiles)); ++file) {
     RefuseOverwritingInputs(who, option, RunOutputPath(dir, file), inputs);
   }
+  for (const char* file : {kRunMatFile, kRunHdf5File}) {
+    RefuseOverwritingInputs(who, option, (std::filesystem::path(dir) / file).string(), inputs);
+  }
   RequireWritableDirectory(dir);
+}
+
+RunFileFormats ParseRunFileFormats(const std::vector<std::string>& names) {
+  RunFileFormats formats;
+  for (const std::string& entry : names) {
+    std::stringstream list(entry);
+    for (std::string name; std::getline(list, name, ',');) {
+      if (name == "mat") {
+        formats.mat = true;
+      } else if (name == "h5" || name == "hdf5") {
+        formats.hdf5 = true;
+      } else if (name != "csv") {
+        throw FieldError("format must be csv, mat or h5 (hdf5), got '" + name + "'", "format",
+                         "csv, mat, h5");
+      }
+    }
+  }
+  return formats;
+}
+
+nlohmann::ordered_json RunResultTree(const std::string& samples_csv, const std::string& states_csv,
+                                     const nlohmann::json& summary) {
+  nlohmann::ordered_json tree;
+  tree["timeseries"] = CsvColumns(samples_csv, kRunOutputFiles[0]);
+  // states.csv keeps MuJoCo's metres; the tree is in millimetres throughout.
+  tree["states"] = CsvColumns(states_csv, kRunOutputFiles[1],
+                              [](std::string& name, std::vector<double>& values) {
+                                if (!EndsWith(name, "_m")) return;
+                                name += "m";
+                                for (double& value : values) value *= 1e3;
+                              });
+  nlohmann::ordered_json rest = summary;
+  for (const char* table : {"per_cycle", "links"}) {
+    if (!rest.contains(table)) continue;
+    tree[std::string(table) == "per_cycle" ? "cycles" : table] = rest[table];
+    rest.erase(table);
+  }
+  tree["summary"] = rest;
+  return tree;
 }
 
 std::string GaitSamplesCsv(const GaitRunResult& result) {
@@ -119,14 +202,14 @@ nlohmann::json GaitSummaryJson(const GaitRunResult& result) {
 }
 
 void WriteGaitOutputs(const std::string& dir, const GaitRunResult& result,
-                      const nlohmann::json& inputs) {
+                      const nlohmann::json& inputs, const RunFileFormats& formats) {
   nlohmann::json all = inputs;
   all[kProgramVersion] = ProgramVersion();
   if (inputs.contains("model") && inputs["model"].is_string()) {
     all[kModelSha256] = Sha256Hex(ReadTextFile(inputs["model"].get<std::string>(), "model file"));
   }
   WriteRunOutputs(dir, GaitSamplesCsv(result), RecordedStatesCsv(result.states),
-                  GaitSummaryJson(result), all);
+                  GaitSummaryJson(result), all, formats);
 }
 
 std::string ClosedLoopSamplesCsv(const ClosedLoopResult& result) {
@@ -212,11 +295,12 @@ ScenarioConfig ScenarioOfSummary(const std::string& summary_path) {
 }
 
 void WriteClosedLoopOutputs(const std::string& dir, const ClosedLoopResult& result,
-                            const ScenarioConfig& scenario, const nlohmann::json& inputs) {
+                            const ScenarioConfig& scenario, const nlohmann::json& inputs,
+                            const RunFileFormats& formats) {
   nlohmann::json all = inputs;
   all.update(ClosedLoopProvenance(scenario));
   WriteRunOutputs(dir, ClosedLoopSamplesCsv(result), RecordedStatesCsv(result.states),
-                  ClosedLoopSummaryJson(result), all);
+                  ClosedLoopSummaryJson(result), all, formats);
 }
 
 }  // namespace ipmc

@@ -16,6 +16,22 @@ namespace ipmc {
 // summary last: a run folder with a summary is complete.
 inline constexpr const char* kRunOutputFiles[] = {"timeseries.csv", "states.csv",
                                                   "summary.json"};
+// Written besides them on request (RunFileFormats): the whole run in one
+// file, for MATLAB/Octave and for HDF5 readers (RunResultTree).
+inline constexpr char kRunMatFile[] = "run.mat";
+inline constexpr char kRunHdf5File[] = "run.h5";
+// The name of the struct variable in run.mat.
+inline constexpr char kRunMatVariable[] = "run";
+
+struct RunFileFormats {
+  bool mat = false;   // run.mat
+  bool hdf5 = false;  // run.h5
+};
+// The file formats a run writes, by name: "csv" (the CSV and JSON files,
+// always written), "mat", "h5" (or "hdf5"); each entry may also be a
+// comma-separated list. Throws FieldError naming the field "format" and
+// the allowed names.
+RunFileFormats ParseRunFileFormats(const std::vector<std::string>& names);
 
 // Before a run, so that nothing is simulated in vain: throws if one of
 // DIR's outputs would overwrite one of `inputs` (`who` and `option` name
@@ -23,6 +39,18 @@ inline constexpr const char* kRunOutputFiles[] = {"timeseries.csv", "states.csv"
 // (sim/io/files.h). Creates nothing.
 void CheckRunOutputDirectory(const std::string& who, const std::string& option,
                              const std::string& dir, const std::vector<std::string>& inputs);
+
+// A run as one tree for sim/io/result_files.h, in one unit system (mm,
+// s, rad, V; the time series' and summary's): the struct
+//   timeseries  timeseries.csv, a column vector per column
+//   states      states.csv, a column per coordinate; slides in mm
+//               (`<joint>_mm`, the CSV's `<joint>_m` times 1000)
+//   cycles      summary.json's per_cycle table, a column per field
+//   links       summary.json's links table (closed-loop runs)
+//   summary     every other field of summary.json, with its inputs
+// Throws InputError if a CSV text does not parse (it is the program's own).
+nlohmann::ordered_json RunResultTree(const std::string& samples_csv, const std::string& states_csv,
+                                     const nlohmann::json& summary);
 
 nlohmann::json SwimMetricsJson(const SwimMetrics& swim);
 std::string GaitSamplesCsv(const GaitRunResult& result);
@@ -32,7 +60,7 @@ nlohmann::json GaitSummaryJson(const GaitRunResult& result);
 // and DIR/summary.json; its "inputs" holds `inputs`, program_version and
 // model_sha256 (of inputs.model, the model file).
 void WriteGaitOutputs(const std::string& dir, const GaitRunResult& result,
-                      const nlohmann::json& inputs);
+                      const nlohmann::json& inputs, const RunFileFormats& formats = {});
 
 std::string ClosedLoopSamplesCsv(const ClosedLoopResult& result);
 nlohmann::json ClosedLoopSummaryJson(const ClosedLoopResult& result);
@@ -52,9 +80,11 @@ nlohmann::json ClosedLoopProvenance(const ScenarioConfig& scenario);
 ScenarioConfig ScenarioOfSummary(const std::string& summary_path);
 
 // Writes DIR/timeseries.csv, DIR/states.csv and DIR/summary.json of a
-// closed-loop run; summary.json's "inputs" holds `inputs` and
+// closed-loop run, and run.mat / run.h5 as `formats` asks, all together or
+// none; summary.json's "inputs" holds `inputs` and
 // ClosedLoopProvenance(scenario).
 void WriteClosedLoopOutputs(const std::string& dir, const ClosedLoopResult& result,
-                            const ScenarioConfig& scenario, const nlohmann::json& inputs);
+                            const ScenarioConfig& scenario, const nlohmann::json& inputs,
+                            const RunFileFormats& formats = {});
 
 }  // namespace ipmc

@@ -43,3 +43,15 @@ if(NOT EXISTS ${prefix}/share/ipmc_swim/scenarios/paper.toml)
   message(FATAL_ERROR "scenarios not installed under share/ipmc_swim/scenarios")
 endif()
 message(STATUS "installed program: ${last_output}")
+
+# The documentation is installed: README.md and every docs/*.md with the
+# gallery the documents show.
+set(doc_dir ${prefix}/share/doc/ipmc_swim)
+file(GLOB source_docs RELATIVE ${SOURCE_DIR} ${SOURCE_DIR}/README.md ${SOURCE_DIR}/docs/*.md
+     ${SOURCE_DIR}/docs/gallery/*)
+foreach(doc ${source_docs})
+  string(REGEX REPLACE "^docs/" "" installed_doc ${doc})
+  if(NOT EXISTS ${doc_dir}/${installed_doc})
+    message(FATAL_ERROR "${doc} is not installed as ${doc_dir}/${installed_doc}")
+  endif()
+endforeach()

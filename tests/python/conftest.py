@@ -6,6 +6,7 @@ the project; the module is imported from the build tree (PYTHONPATH).
 
 import os
 import pathlib
+import shutil
 import subprocess
 
 import pytest
@@ -67,3 +68,11 @@ def short_scenario(tmp_path):
     path = tmp_path / "short.toml"
     path.write_text(SHORT_SCENARIO)
     return path
+
+
+def pytest_sessionfinish(session):
+    """Removes tmp_path's folders with the session when CTest names them
+    (--basetemp, tests/CMakeLists.txt): pytest keeps them otherwise."""
+    basetemp = session.config.option.basetemp
+    if basetemp:
+        shutil.rmtree(basetemp, ignore_errors=True)

@@ -91,3 +91,10 @@ def test_an_exception_in_the_progress_callback_stops_the_run(short_scenario, tmp
     with pytest.raises(KeyError, match="stop here"):
         ipmc_swim.run(short_scenario, out=tmp_path / "never", progress=stop)
     assert not (tmp_path / "never").exists()
+
+
+def test_version_is_the_programs():
+    # One source for every version string, the CMake project version: the
+    # module's __version__ is what `ipmc-swim --version` prints.
+    _, out, _ = run_cli("--version")
+    assert out == f"ipmc-swim {ipmc_swim.__version__}\n"

@@ -1,6 +1,8 @@
-"""Every command in README.md's code blocks runs, so the examples cannot rot.
+"""Every command in the code blocks of README.md and docs/*.md runs, so the
+examples cannot rot.
 
-The README's fenced blocks are read in order:
+The documents are README.md and then every docs/*.md in name order; their
+fenced blocks are read in order:
 - ```sh, ```bash, ```shell: every line that is not blank or a comment is a
   command (a trailing backslash continues it on the next line), unless the
   block starts with `#!`: then it shows a script file, which is not run;
@@ -13,17 +15,17 @@ The README's fenced blocks are read in order:
   listed in the data file (skip, naming that test);
 - other blocks (```toml) are file contents and are not run.
 
-All commands run in README order in one scratch folder, so a block can use
+All commands run in that order in one scratch folder, so a block can use
 an earlier block's output. The folder holds copies of scenarios/ and
 models/ (edited there when the data file says so), `build` as a link to the
 build tree and `sim`, `bench` as links to the source folders that hold
-scripts the README runs; nothing is written into the source tree. A command
+scripts the documents run; nothing is written into the source tree. A command
 must exit 0 (or the code the data file expects) and print what the data file
 expects on stdout or stderr.
 
 The data file (overrides.txt next to this script) lists, one a line,
-`KIND | README TEXT | VALUE`, where README TEXT is the command as the README
-shows it (continuations joined, trailing shell comment dropped, runs of
+`KIND | TEXT | VALUE`, where TEXT is the command as the document shows
+it (continuations joined, trailing shell comment dropped, runs of
 white space as one space), or the first line of a python/c++/cmake block:
   skip    | TEXT | why it cannot run here
   append  | TEXT | arguments added at the end
@@ -33,14 +35,17 @@ white space as one space), or the first line of a python/c++/cmake block:
   stderr  | TEXT | a fragment the command must print on stderr
   edit    | FILE | OLD -> NEW   (in the scratch copy; OLD must occur)
   file    | FILE | contents written into the scratch folder (\\n: newline)
-Every group of entries starts with a comment saying why. The test fails when
-a README command is neither run nor skipped, when an entry matches no README
-command, and when an edit or replacement finds nothing to change.
+Every group of entries starts with a comment saying why. An entry applies
+to the command wherever a document shows it. The test fails when a command
+is neither run nor skipped, when an entry matches no command of any
+document, and when an edit or replacement finds nothing to change.
 
 Usage: readme_examples.py README DATA SOURCE_DIR BUILD_DIR [--without-python] [--without-bench]
+(the docs/*.md beside README are read too)
 (a build without the Python module or the benchmarks: their commands are
 reported as not run)
 """
+import glob
 import os
 import re
 import shutil
@@ -66,13 +71,13 @@ COPIED_SOURCE_FOLDERS = ["scenarios", "models"]
 
 
 class Unit:
-    """One thing the README shows to run: a shell command or a program."""
+    """One thing a document shows to run: a shell command or a program."""
 
-    def __init__(self, kind, key, code, line):
+    def __init__(self, kind, key, code, where):
         self.kind = kind  # "shell", "python" or "code"
         self.key = key
         self.code = code
-        self.line = line
+        self.where = where  # "DOCUMENT:LINE"
 
 
 def squeeze(text):
@@ -93,7 +98,7 @@ def without_shell_comment(line):
     return line
 
 
-def shell_units(lines, first_line, is_command):
+def shell_units(lines, name, first_line, is_command):
     """The commands among lines, continuations joined."""
     units = []
     pending, start = None, 0
@@ -109,10 +114,10 @@ def shell_units(lines, first_line, is_command):
         if pending.endswith("\\"):
             continue
         joined = re.sub(r"\\\n\s*", " ", pending)
-        units.append(Unit("shell", squeeze(without_shell_comment(joined)), joined, start))
+        units.append(Unit("shell", squeeze(without_shell_comment(joined)), joined, f"{name}:{start}"))
         pending = None
     if pending is not None:
-        raise SystemExit(f"README.md:{start}: a command ends with a backslash")
+        raise SystemExit(f"{name}:{start}: a command ends with a backslash")
     return units
 
 
@@ -130,15 +135,16 @@ def output_block_command(prompted):
     return is_command
 
 
-def python_unit(lines, first_line):
+def python_unit(lines, name, first_line):
     if any(l.startswith(">>> ") for l in lines):
         code = [l[4:] for l in lines if l.startswith((">>> ", "... "))]
     else:
         code = lines
-    return Unit("python", squeeze(lines[0]), "\n".join(code) + "\n", first_line)
+    return Unit("python", squeeze(lines[0]), "\n".join(code) + "\n", f"{name}:{first_line}")
 
 
-def readme_units(path):
+def document_units(path, name):
+    """The units of one document; name is its path in the source tree."""
     lines = open(path, encoding="utf-8").read().split("\n")
     units, i = [], 0
     while i < len(lines):
@@ -151,19 +157,19 @@ def readme_units(path):
         while end < len(lines) and not FENCE.match(lines[end]):
             end += 1
         if end == len(lines):
-            raise SystemExit(f"{path}:{i + 1}: code block not closed")
+            raise SystemExit(f"{name}:{i + 1}: code block not closed")
         body = [l[len(indent):] if l.startswith(indent) else l for l in lines[i + 1:end]]
-        first = i + 2  # README line of the block's first line
+        first = i + 2  # the document's line of the block's first line
         if tag in SHELL_TAGS:
             if not body or not body[0].startswith("#!"):
-                units += shell_units(body, first, sh_command)
+                units += shell_units(body, name, first, sh_command)
         elif tag in OUTPUT_TAGS:
             prompted = any(l.strip().startswith("$ ") for l in body)
-            units += shell_units(body, first, output_block_command(prompted))
+            units += shell_units(body, name, first, output_block_command(prompted))
         elif tag in PYTHON_TAGS:
-            units.append(python_unit(body, first))
+            units.append(python_unit(body, name, first))
         elif tag in CODE_TAGS:
-            units.append(Unit("code", squeeze(body[0]), "", first))
+            units.append(Unit("code", squeeze(body[0]), "", f"{name}:{first}"))
         i = end + 1
     return units
 
@@ -183,7 +189,7 @@ def read_entries(path):
         key, sep2, value = rest.rpartition(" | ")
         where = f"{path}:{number}"
         if not sep or not sep2 or kind.strip() not in KINDS:
-            raise SystemExit(f"{where}: expected `KIND | README TEXT | VALUE` with KIND one of "
+            raise SystemExit(f"{where}: expected `KIND | TEXT | VALUE` with KIND one of "
                              f"{', '.join(sorted(KINDS))}")
         if not commented:
             raise SystemExit(f"{where}: entry without a comment above its group saying why")
@@ -266,20 +272,23 @@ def main():
     for flag in flags:
         if flag not in absent:
             raise SystemExit(f"unknown option {flag} (allowed: {', '.join(absent)})")
-    units = readme_units(readme)
+    # README.md, then every docs/*.md by name.
+    documents = [readme] + sorted(glob.glob(os.path.join(os.path.dirname(readme), "docs", "*.md")))
+    units = [unit for path in documents
+             for unit in document_units(path, os.path.relpath(path, os.path.dirname(readme)))]
     entries = read_entries(data)
     keys = {u.key for u in units}
     failures = []
     for kind, key, value, where in entries:
         if kind not in FILE_KINDS and key not in keys:
-            failures.append(f"{where}: no README command reads `{key}`; update or remove the entry")
+            failures.append(f"{where}: no command of the documents reads `{key}`; update or remove the entry")
     for unit in units:
         kinds = {k for k, key, _, _ in entries if key == unit.key}
         if unit.kind == "code" and "skip" not in kinds:
-            failures.append(f"README.md:{unit.line}: `{unit.key}` is code another test builds; "
+            failures.append(f"{unit.where}: `{unit.key}` is code another test builds; "
                             f"list it in {os.path.basename(data)} as skipped, naming that test")
         if "skip" in kinds and len(kinds) > 1:
-            failures.append(f"README.md:{unit.line}: `{unit.key}` is skipped and also overridden")
+            failures.append(f"{unit.where}: `{unit.key}` is skipped and also overridden")
     if failures:
         raise SystemExit("\n".join(failures))
 
@@ -300,7 +309,7 @@ def main():
         for unit in units:
             mine = [(k, v) for k, key, v, _ in entries if key == unit.key]
             reasons = [v for k, v in mine if k == "skip"]
-            label = f"README.md:{unit.line}: {unit.key}"
+            label = f"{unit.where}: {unit.key}"
             if reasons:
                 print(f"skipped  {label}\n         ({reasons[0]})")
                 skipped += 1
@@ -334,7 +343,7 @@ def main():
                                 f"  stderr:\n{tail(err)}")
     finally:
         shutil.rmtree(scratch, ignore_errors=True)
-    print(f"{ran} README commands run, {skipped} skipped")
+    print(f"{ran} commands of {len(documents)} documents run, {skipped} skipped")
     if failures:
         print("\n".join(failures), file=sys.stderr)
         sys.exit(1)

@@ -1,7 +1,7 @@
 // ipmc-swim: resistive-force-theory drag and IPMC actuators for MuJoCo 2.2.
 //
 // A model declares what it needs in <custom> fields (ipmc_rft_* for the
-// drag, ipmc_link* for the actuators; see the README). A program loads
+// drag, ipmc_link* for the actuators; see docs/LIBRARY.md). A program loads
 // the model, makes its mjData, and calls Attach once per mjData before
 // stepping; mj_step then applies the drag (mjcb_passive) and advances the
 // IPMC link models to d->time, writing their active moments into the

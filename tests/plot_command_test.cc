@@ -244,45 +244,45 @@ void ExpectRefused(const std::string& args, const fs::path& out,
 }
 
 // Tests that use the program's outputs (each made on first use).
-class PlotCli : public ::testing::Test {
+class PlotCommandTest : public ::testing::Test {
  protected:
   const ProgramOutputs outputs{};
 };
 
-TEST_F(PlotCli, BodeOfEveryCurveAndOfTheControllerAlone) {
+TEST_F(PlotCommandTest, BodeOfEveryCurveAndOfTheControllerAlone) {
   const fs::path dir = FreshDir("bode");
   ExpectFigure("bode " + Quoted(outputs.bode_csv()), dir / "bode.png");
   ExpectFigure("bode " + Quoted(outputs.bode_csv()) + " --curves controller --title 'Fig. 9'",
                dir / "controller.png");
 }
 
-TEST_F(PlotCli, Step) {
+TEST_F(PlotCommandTest, Step) {
   ExpectFigure("step " + Quoted(outputs.step_csv()), FreshDir("step") / "step.png");
 }
 
-TEST_F(PlotCli, Tracking) {
+TEST_F(PlotCommandTest, Tracking) {
   ExpectFigure("tracking " + Quoted(outputs.timeseries_csv()), FreshDir("tracking") / "t.png");
 }
 
 // Default instants (the last period from summary.json) and chosen ones.
-TEST_F(PlotCli, Waveform) {
+TEST_F(PlotCommandTest, Waveform) {
   const fs::path dir = FreshDir("waveform");
   ExpectFigure("waveform " + Quoted(outputs.timeseries_csv()), dir / "default.png");
   ExpectFigure("waveform " + Quoted(outputs.timeseries_csv()) + " --times-s 2.5,3,3.5",
                dir / "chosen.png");
 }
 
-TEST_F(PlotCli, SurfaceIntoANewDirectory) {
+TEST_F(PlotCommandTest, SurfaceIntoANewDirectory) {
   ExpectFigure("surface " + Quoted(outputs.timeseries_csv()) + " --max-lines 40",
                FreshDir("surface") / "new" / "surface.png");
 }
 
-TEST_F(PlotCli, Trajectory) {
+TEST_F(PlotCommandTest, Trajectory) {
   ExpectFigure("trajectory " + Quoted(outputs.timeseries_csv()), FreshDir("trajectory") / "t.png");
 }
 
 // One figure in each format, the extension in either case.
-TEST_F(PlotCli, FormatFollowsTheExtension) {
+TEST_F(PlotCommandTest, FormatFollowsTheExtension) {
   const fs::path dir = FreshDir("formats");
   for (const char* name : {"tracking.pdf", "tracking.svg", "tracking.png", "upper.PDF"}) {
     ExpectFigure("tracking " + Quoted(outputs.timeseries_csv()), dir / name);
@@ -292,7 +292,7 @@ TEST_F(PlotCli, FormatFollowsTheExtension) {
 // The default title says what is drawn and of which run (summary.json
 // beside the input: PID, the clamp, the actuation), never where the
 // input is; the caller's title replaces it.
-TEST_F(PlotCli, TitleSaysWhatIsShownNotWhere) {
+TEST_F(PlotCommandTest, TitleSaysWhatIsShownNotWhere) {
   const fs::path dir = FreshDir("title");
   const std::string printed =
       ExpectFigure("tracking " + Quoted(outputs.timeseries_csv()), dir / "tracking.svg");
@@ -312,7 +312,7 @@ TEST_F(PlotCli, TitleSaysWhatIsShownNotWhere) {
 }
 
 // Sweep axes carry the labels of the table, not the raw column names.
-TEST_F(PlotCli, SweepAxesLabelledFromTheTable) {
+TEST_F(PlotCommandTest, SweepAxesLabelledFromTheTable) {
   const fs::path out = FreshDir("labels") / "sweep.svg";
   ExpectFigure("sweep " + Quoted(outputs.sweep_csv()) +
                    " --x waveform.frequency_Hz --y mean_speed_along_mm_s --group actuation",
@@ -325,7 +325,7 @@ TEST_F(PlotCli, SweepAxesLabelledFromTheTable) {
   EXPECT_EQ(text.find("frequency_Hz"), std::string::npos) << text;
 }
 
-TEST(AxisLabel, TableNumberedColumnsAndUnitSuffixes) {
+TEST(AxisLabelTest, TableNumberedColumnsAndUnitSuffixes) {
   EXPECT_EQ(ipmc::AxisLabel("mean_speed_along_mm_s"), "mean speed along the swimming axis [mm/s]");
   EXPECT_EQ(ipmc::AxisLabel("voltage2_V"), "link 2 voltage [V]");
   EXPECT_EQ(ipmc::AxisLabel("q3_rad"), "joint 3 angle [rad]");
@@ -350,7 +350,7 @@ double NumberAfter(const std::string& text, const std::string& label) {
 // gain margin, for the fractional integrator also a gain margin of
 // 7.88 dB at 20.649 rad/s. The figure prints Pm to 0.1 deg, Gm to 0.01 dB
 // and w to 4 digits; the grid's interpolation error is below that.
-TEST_F(PlotCli, BodeMarginsAgreeWithTheBodeCommand) {
+TEST_F(PlotCommandTest, BodeMarginsAgreeWithTheBodeCommand) {
   const fs::path dir = FreshDir("margins");
   const std::string pid = ExpectFigure("bode " + Quoted(outputs.bode_csv()), dir / "pid.png");
   const CommandResult pid_exact = RunCli("bode --controller pid --links 3");
@@ -371,7 +371,7 @@ TEST_F(PlotCli, BodeMarginsAgreeWithTheBodeCommand) {
   EXPECT_NEAR(NumberAfter(figure, "dB (at "), w180_rad_s, 2e-3 * w180_rad_s);
 }
 
-TEST_F(PlotCli, UnknownExtensionIsRefusedAndLeavesNothing) {
+TEST_F(PlotCommandTest, UnknownExtensionIsRefusedAndLeavesNothing) {
   const fs::path dir = FreshDir("extension");
   for (const char* name : {"tracking.jpg", "tracking"}) {
     ExpectRefused("tracking " + Quoted(outputs.timeseries_csv()), dir / name,
@@ -382,7 +382,7 @@ TEST_F(PlotCli, UnknownExtensionIsRefusedAndLeavesNothing) {
 
 // Numeric x with one curve per actuation, and a categorical x; the failed
 // point (no metrics) is skipped.
-TEST_F(PlotCli, SweepNumericAndCategorical) {
+TEST_F(PlotCommandTest, SweepNumericAndCategorical) {
   const fs::path dir = FreshDir("sweep");
   ExpectFigure("sweep " + Quoted(outputs.sweep_csv()) +
                    " --x waveform.frequency_Hz --y mean_speed_along_mm_s --group actuation --log-x",
@@ -392,7 +392,7 @@ TEST_F(PlotCli, SweepNumericAndCategorical) {
                dir / "categorical.png");
 }
 
-TEST_F(PlotCli, MissingColumnNamesTheFileAndTheColumn) {
+TEST_F(PlotCommandTest, MissingColumnNamesTheFileAndTheColumn) {
   const fs::path dir = FreshDir("missing");
   std::string step = ReadText(outputs.step_csv());
   step.replace(step.find("reference_model"), std::strlen("reference_model"), "model");
@@ -407,7 +407,7 @@ TEST_F(PlotCli, MissingColumnNamesTheFileAndTheColumn) {
                 {outputs.bode_csv().string(), "time_s"});
 }
 
-TEST_F(PlotCli, OptionOfAnotherKindIsRefused) {
+TEST_F(PlotCommandTest, OptionOfAnotherKindIsRefused) {
   const fs::path dir = FreshDir("option");
   ExpectRefused("bode " + Quoted(outputs.bode_csv()) + " --x w_rad_s", dir / "bode.png",
                 {"--x", "sweep"});
@@ -417,7 +417,7 @@ TEST_F(PlotCli, OptionOfAnotherKindIsRefused) {
 
 // gnuplot's own failure (a log axis with no positive value) is reported
 // with its message.
-TEST(PlotCliFailure, GnuplotFailureLeavesNoFile) {
+TEST(PlotCommandFailureTest, GnuplotFailureLeavesNoFile) {
   const fs::path dir = FreshDir("gnuplot_failure");
   WriteText(dir / "negative.csv", "point,a,status,error,m\n1,1,ok,,-1\n2,2,ok,,-2\n");
   ExpectRefused("sweep " + Quoted(dir / "negative.csv") + " --x a --y m --log-y",
@@ -426,7 +426,7 @@ TEST(PlotCliFailure, GnuplotFailureLeavesNoFile) {
 
 // A gait's outputs (one 1 Hz cycle): tracking draws the joints, the
 // waveform and the map draw the ideal body from the joint references.
-TEST(PlotGait, TrackingWaveformSurface) {
+TEST(PlotGaitTest, TrackingWaveformSurface) {
   const fs::path dir = FreshDir("gait");
   const CommandResult gait =
       RunCli("gait --model '" + std::string(IPMC_SWIM_SOURCE_DIR) +
@@ -442,7 +442,7 @@ TEST(PlotGait, TrackingWaveformSurface) {
 
 // Fig. 7 from a short chirp on the bench (10 s, 0.5 to 20 Hz) identified
 // over 3 to 50 rad/s: the measured response, the coherence and both fits.
-TEST(PlotIdentification, MeasuredResponseCoherenceAndFits) {
+TEST(PlotIdentificationTest, MeasuredResponseCoherenceAndFits) {
   const fs::path dir = FreshDir("identification");
   const CommandResult bench =
       RunCli("bench --signal chirp --links 1 --duration-s 10 --f0-hz 0.5 --f1-hz 20 --out " +

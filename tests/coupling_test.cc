@@ -20,7 +20,7 @@
 namespace ipmc::testing {
 namespace {
 
-class StateSemantics : public MujocoWarnings {};
+class CouplingStateTest : public MujocoWarnings {};
 
 constexpr int kLinks = 3;
 constexpr int kStepsPerVoltage = 10;  // 1 ms at the model's 0.1 ms step
@@ -89,7 +89,7 @@ int Mismatches(const std::vector<double>& a, const std::vector<double>& b) {
 constexpr long kBefore = 2000;  // 0.2 s before the snapshot
 constexpr long kAfter = 1500;   // 0.15 s after it, 150 voltage changes
 
-TEST_F(StateSemantics, RestoredCopyStepsBitIdentically) {
+TEST_F(CouplingStateTest, RestoredCopyStepsBitIdentically) {
   const ModelPtr m = FreeFlagellum();
   AttachedData original(m.get());
   Drive(m.get(), original.get(), 0, kBefore);
@@ -112,7 +112,7 @@ TEST_F(StateSemantics, RestoredCopyStepsBitIdentically) {
   EXPECT_GT(Mismatches(continued, Drive(m.get(), unrestored.get(), kBefore, kAfter)), 0);
 }
 
-TEST_F(StateSemantics, RestoringIntoTheSameDataRewindsIt) {
+TEST_F(CouplingStateTest, RestoringIntoTheSameDataRewindsIt) {
   const ModelPtr m = FreeFlagellum();
   AttachedData data(m.get());
   Drive(m.get(), data.get(), 0, kBefore);
@@ -125,7 +125,7 @@ TEST_F(StateSemantics, RestoringIntoTheSameDataRewindsIt) {
   ExpectBitIdentical(first, Drive(m.get(), data.get(), kBefore, kAfter));
 }
 
-TEST_F(StateSemantics, SavingChangesTheOriginalOnlyWithinTheTolerance) {
+TEST_F(CouplingStateTest, SavingChangesTheOriginalOnlyWithinTheTolerance) {
   const ModelPtr m = FreeFlagellum();
   AttachedData saved_once(m.get()), never_saved(m.get());
   Drive(m.get(), saved_once.get(), 0, kBefore);
@@ -148,7 +148,7 @@ TEST_F(StateSemantics, SavingChangesTheOriginalOnlyWithinTheTolerance) {
   EXPECT_LT(largest_relative, 1e-6);
 }
 
-TEST_F(StateSemantics, ResetStateAfterResetDataStartsFromRest) {
+TEST_F(CouplingStateTest, ResetStateAfterResetDataStartsFromRest) {
   const ModelPtr m = FreeFlagellum();
   AttachedData fresh(m.get());
   const std::vector<double> from_rest = Drive(m.get(), fresh.get(), 0, kAfter);
@@ -165,7 +165,7 @@ TEST_F(StateSemantics, ResetStateAfterResetDataStartsFromRest) {
   ExpectBitIdentical(from_rest, Drive(m.get(), reused.get(), 0, kAfter));
 }
 
-TEST_F(StateSemantics, UndeclaredRewindWarnsAndStartsFromRest) {
+TEST_F(CouplingStateTest, UndeclaredRewindWarnsAndStartsFromRest) {
   ExpectWarning("d->time went back from 0.1999 s to 0 s", 1);
   const ModelPtr m = FreeFlagellum();
   AttachedData fresh(m.get());
@@ -180,7 +180,7 @@ TEST_F(StateSemantics, UndeclaredRewindWarnsAndStartsFromRest) {
   for (const std::string& warning : Received()) std::printf("warning: %s\n", warning.c_str());
 }
 
-TEST_F(StateSemantics, CopiedDataHasNoCouplingUntilAttached) {
+TEST_F(CouplingStateTest, CopiedDataHasNoCouplingUntilAttached) {
   const ModelPtr m = FreeFlagellum();
   AttachedData data(m.get());
   Drive(m.get(), data.get(), 0, 100);
@@ -192,7 +192,7 @@ TEST_F(StateSemantics, CopiedDataHasNoCouplingUntilAttached) {
   ExpectInvalidArgument([&] { ResetState(copy.get()); }, "not attached");
 }
 
-TEST_F(StateSemantics, RestoreRejectsAMalformedStateNamingTheFieldAndLeavesTheStateAlone) {
+TEST_F(CouplingStateTest, RestoreRejectsAMalformedStateNamingTheFieldAndLeavesTheStateAlone) {
   const ModelPtr m = FreeFlagellum();
   AttachedData data(m.get());
   Drive(m.get(), data.get(), 0, 200);

@@ -1,5 +1,6 @@
 // The analysis subcommands of ipmc-swim: "bode" reproduces the open-loop
-// margins of section 5.2 (DESIGN.md, "The paper's numbers"), "step" the
+// margins of section 5.2 (docs/VALIDATION.md, "The paper's numbers,
+// computed independently"), "step" the
 // closed-loop step overshoots; bad option values give one line and no
 // files.
 #include <gtest/gtest.h>
@@ -92,9 +93,9 @@ void ExpectOneLineError(const CommandResult& result, const std::string& what,
   EXPECT_FALSE(fs::exists(out_dir / "step.csv"));
 }
 
-// DESIGN.md: open loop PID x eq. 7: 31.12 rad/s, 54.1 deg, no finite GM
+// docs/VALIDATION.md: open loop PID x eq. 7: 31.12 rad/s, 54.1 deg, no finite GM
 // (printed 31.124 rad/s, 54.14 deg). Tolerances cover the printed rounding.
-TEST(AnalysisCli, BodePidOnLink3) {
+TEST(AnalysisCommandsTest, BodePidOnLink3) {
   const CommandResult result = RunCli("bode --controller pid --links 3");
   ASSERT_EQ(result.exit_code, 0) << result.output;
   const BodeNumbers numbers = ParseBode(result.output);
@@ -107,9 +108,9 @@ TEST(AnalysisCli, BodePidOnLink3) {
       << result.output;
 }
 
-// DESIGN.md: C_I x eq. 7: 5.075 rad/s, 72.1 deg, 7.88 dB (printed 5.075,
+// docs/VALIDATION.md: C_I x eq. 7: 5.075 rad/s, 72.1 deg, 7.88 dB (printed 5.075,
 // 72.07, 7.88); C_I(j5) = 15.21 dB, -55.80 deg.
-TEST(AnalysisCli, BodeFractionalOnLink3) {
+TEST(AnalysisCommandsTest, BodeFractionalOnLink3) {
   const CommandResult result = RunCli("bode --controller fractional --links 3");
   ASSERT_EQ(result.exit_code, 0) << result.output;
   const BodeNumbers numbers = ParseBode(result.output);
@@ -120,8 +121,8 @@ TEST(AnalysisCli, BodeFractionalOnLink3) {
       << result.output;
 }
 
-// DESIGN.md: eq. 15 x eq. 7: 4.96 rad/s, 76.6 deg (printed 4.960, 76.62).
-TEST(AnalysisCli, BodeEquation15OnLink3) {
+// docs/VALIDATION.md: eq. 15 x eq. 7: 4.96 rad/s, 76.6 deg (printed 4.960, 76.62).
+TEST(AnalysisCommandsTest, BodeEquation15OnLink3) {
   const CommandResult result = RunCli("bode --controller fractional-eq15 --links 3");
   ASSERT_EQ(result.exit_code, 0) << result.output;
   const BodeNumbers numbers = ParseBode(result.output);
@@ -130,9 +131,9 @@ TEST(AnalysisCli, BodeEquation15OnLink3) {
 }
 
 // The Oustaloup realisation of order 0.6248 is eq. 15 to 0.05 % in its
-// coefficients (DESIGN.md): the same margins (printed 4.958 rad/s,
+// coefficients (docs/VALIDATION.md): the same margins (printed 4.958 rad/s,
 // 76.62 deg).
-TEST(AnalysisCli, BodeOustaloupOfOrder06248MatchesEquation15) {
+TEST(AnalysisCommandsTest, BodeOustaloupOfOrder06248MatchesEquation15) {
   const CommandResult result =
       RunCli("bode --controller fractional-oustaloup --links 3 --order 0.6248 --oustaloup-pairs 4 --band-rad-s 1e-3,1e2");
   ASSERT_EQ(result.exit_code, 0) << result.output;
@@ -141,7 +142,7 @@ TEST(AnalysisCli, BodeOustaloupOfOrder06248MatchesEquation15) {
   EXPECT_NEAR(numbers.phase_margin_deg, 76.6, 0.05) << result.output;
 }
 
-TEST(AnalysisCli, BodeCsvColumns) {
+TEST(AnalysisCommandsTest, BodeCsvColumns) {
   const fs::path dir = FreshDir("bode_csv");
   const CommandResult result = RunCli("bode --controller fractional --links 3 --w-min 0.1 --w-max 100 "
                                       "--points-per-decade 20 --out " + (dir / "out").string());
@@ -170,11 +171,12 @@ TEST(AnalysisCli, BodeCsvColumns) {
   EXPECT_TRUE(fs::exists(dir / "out" / "bode.json"));
 }
 
-// DESIGN.md, links 3/2/1: PID overshoot 9.0 / 20.3 / 25.3 %; the sampled
-// linear loop at 1 kHz gives 9.008 / 20.137 / 25.178 (controllers_test).
+// docs/VALIDATION.md, links 3/2/1: PID overshoot 9.03 / 20.14 / 25.18 %
+// (continuous; 9.0 / 20.3 / 25.3 % by an earlier hand computation); the sampled
+// linear loop at 1 kHz gives 9.008 / 20.137 / 25.178 (closed_loop_test).
 // Reference model peak 1.05392 at 0.758 s; J at 10 s 0.1421 (continuous),
 // 0.1424 at 1 kHz.
-TEST(AnalysisCli, StepPidLinearOvershootsAndCsv) {
+TEST(AnalysisCommandsTest, StepPidLinearOvershootsAndCsv) {
   const fs::path dir = FreshDir("step_pid");
   const CommandResult result =
       RunCli("step --controller pid --no-clamp --out " + (dir / "out").string());
@@ -200,7 +202,7 @@ TEST(AnalysisCli, StepPidLinearOvershootsAndCsv) {
 
 // With the default +-6 V clamp (Kp alone asks 8.12 V for the 1 mm step)
 // the voltage never exceeds 6 V; link 3 still settles.
-TEST(AnalysisCli, StepPidClampedStaysWithinTheLimit) {
+TEST(AnalysisCommandsTest, StepPidClampedStaysWithinTheLimit) {
   const CommandResult result = RunCli("step --controller pid --links 3,1");
   ASSERT_EQ(result.exit_code, 0) << result.output;
   auto rows = ParseStepTable(result.output);
@@ -224,10 +226,10 @@ TEST(AnalysisCli, StepPidClampedStaysWithinTheLimit) {
 // The step metrics do not depend on where the record stops. C_I's link 1
 // peaks at 16.4 s and settles at 27.0 s, past the 10 s horizon (which had
 // printed 0.000 % for it). Links 3/2/1 at 1 kHz: 5.685 / 3.692 / 3.626 %
-// (controllers_test: the continuous loop gives 5.520 / 3.682 / 3.620; the
+// (closed_loop_test: the continuous loop gives 5.520 / 3.682 / 3.620; the
 // sampling adds 0.16 points on link 3). A record allowed to run twice as
 // long prints the same table.
-TEST(AnalysisCli, StepFractionalMetricsDoNotDependOnTheRecord) {
+TEST(AnalysisCommandsTest, StepFractionalMetricsDoNotDependOnTheRecord) {
   const CommandResult result = RunCli("step --controller fractional --no-clamp");
   ASSERT_EQ(result.exit_code, 0) << result.output;
   auto rows = ParseStepTable(result.output);
@@ -245,7 +247,7 @@ TEST(AnalysisCli, StepFractionalMetricsDoNotDependOnTheRecord) {
       << longer.output;
 }
 
-TEST(AnalysisCli, BadValuesGiveOneLineAndNoFiles) {
+TEST(AnalysisCommandsTest, BadValuesGiveOneLineAndNoFiles) {
   const fs::path dir = FreshDir("bad");
   const std::string out = " --out " + (dir / "out").string();
   ExpectOneLineError(RunCli("bode --controller pid --links 4" + out), "--links", dir / "out");

@@ -142,7 +142,7 @@ std::string ReadText(const fs::path& path) {
 // The command's files: 12 rows (2 indices x 3 links x 2 controllers) with
 // the paper's values; one cycle of the transfer-function loop keeps it
 // short.
-TEST(Table5Cli, WritesTheTableAsCsvAndJson) {
+TEST(Table5CommandTest, WritesTheTableAsCsvAndJson) {
   const fs::path dir = ::ipmc::testing::FreshDir("table5_out");
   const CommandResult result =
       RunCli("table5 --loop transfer-function --cycles 1 --out " + (dir / "out").string());
@@ -176,7 +176,7 @@ void ExpectOneLineError(const std::string& args, const std::string& what) {
   EXPECT_FALSE(fs::exists(dir / "out")) << args;
 }
 
-TEST(Table5Cli, BadOptionsGiveOneLineAndNoFiles) {
+TEST(Table5CommandTest, BadOptionsGiveOneLineAndNoFiles) {
   ExpectOneLineError("--cycles 0", "table5: --cycles must be in [1, 100], got 0");
   ExpectOneLineError("--cycles 101", "table5: --cycles must be in [1, 100], got 101");
   ExpectOneLineError("--start-ramp-cycles -0.5",

@@ -20,7 +20,7 @@ namespace ipmc::testing {
 namespace {
 
 // Fails on any MuJoCo warning the test does not expect.
-class IpmcCoupling : public MujocoWarnings {};
+class IpmcActuatorsTest : public MujocoWarnings {};
 
 struct Phasor {
   double amplitude;
@@ -53,7 +53,7 @@ BenchRecord RunSine(const FlagellumSpec& spec, double w_rad_s, int driven, int p
   return RunBench(*sim, signal, (periods - record_periods) / signal.frequency_Hz);
 }
 
-TEST_F(IpmcCoupling, ClampedLinksFollowTheirTransferFunctions) {
+TEST_F(IpmcActuatorsTest, ClampedLinksFollowTheirTransferFunctions) {
   FlagellumSpec spec;
   spec.clamped = true;
   spec.plants = "table2";  // each link its own Table 2 row
@@ -72,7 +72,8 @@ TEST_F(IpmcCoupling, ClampedLinksFollowTheirTransferFunctions) {
       // Driven alone, each link follows P_q within the measured 0.41 % /
       // 0.68 deg up to 2 rad/s; the gap grows with frequency (the hinge's
       // first-order lag c/k = 3.2 ms, the 1 kHz hold and the drag: 1.3 % /
-      // 2.1 deg at 10 rad/s) - see the README table.
+      // 2.1 deg at 10 rad/s) - see the table in docs/MODEL.md,
+      // "IPMC actuators".
       EXPECT_LT(std::abs(gain_error), w < 5.0 ? 0.02 : 0.05);
       EXPECT_LT(std::abs(phase_error_deg), w < 5.0 ? 2.0 : 5.0);
     }
@@ -84,7 +85,7 @@ TEST_F(IpmcCoupling, ClampedLinksFollowTheirTransferFunctions) {
 // each link driven alone: the recorded relative deflection's amplitude and
 // phase (the bench records the state at the sample time, so the step
 // enters only through the integration).
-TEST_F(IpmcCoupling, BenchRecordConvergesOnHalvingTheStep) {
+TEST_F(IpmcActuatorsTest, BenchRecordConvergesOnHalvingTheStep) {
   FlagellumSpec spec;
   spec.clamped = true;
   spec.plants = "table2";
@@ -109,7 +110,7 @@ TEST_F(IpmcCoupling, BenchRecordConvergesOnHalvingTheStep) {
   }
 }
 
-TEST_F(IpmcCoupling, SingleActuationMovesThePassiveLinksWithLinkOne) {
+TEST_F(IpmcActuatorsTest, SingleActuationMovesThePassiveLinksWithLinkOne) {
   FlagellumSpec spec;
   spec.clamped = true;
   spec.actuation = "single";
@@ -138,7 +139,7 @@ TEST_F(IpmcCoupling, SingleActuationMovesThePassiveLinksWithLinkOne) {
 // the free deflection a0 V 2 sqrt(t / pi) past the 10 mm link's reach
 // after about 0.2 s (a0 = 0.376 mm/V). The clamp is reported through
 // mju_warning, once.
-TEST_F(IpmcCoupling, ClampedDeflectionWarnsOnceThroughMujoco) {
+TEST_F(IpmcActuatorsTest, ClampedDeflectionWarnsOnceThroughMujoco) {
   ExpectWarning("exceeds the link's reach", 1);
   FlagellumSpec spec;
   spec.clamped = true;

@@ -38,7 +38,7 @@ std::string TimeError(const std::string& text) {
   return "no error";
 }
 
-TEST(SlurmTimeLimit, SlurmsFormatsInMinutes) {
+TEST(SlurmTimeLimitTest, SlurmsFormatsInMinutes) {
   EXPECT_EQ(ParseSlurmTimeLimit("90"), 90);
   EXPECT_EQ(ParseSlurmTimeLimit("1:30"), 2);  // 1 min 30 s, rounded up
   EXPECT_EQ(ParseSlurmTimeLimit("1:30:00"), 90);
@@ -54,7 +54,7 @@ TEST(SlurmTimeLimit, SlurmsFormatsInMinutes) {
   }
 }
 
-class SlurmJob : public ::testing::Test {
+class SlurmJobTest : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = testing::FreshDir(std::string("slurm_") +
@@ -83,7 +83,7 @@ class SlurmJob : public ::testing::Test {
   std::string sweep_;
 };
 
-TEST_F(SlurmJob, BadOptionsAreOneLineErrorsAndNothingIsWritten) {
+TEST_F(SlurmJobTest, BadOptionsAreOneLineErrorsAndNothingIsWritten) {
   const std::string job = " --slurm " + (dir_ / "job").string();
   ExpectRefused("sweep " + sweep_ + job + " --array-size 6 --dry-run",
                 "sweep: --array-size must be in [1, 5] (the sweep's points; got 6)");
@@ -107,7 +107,7 @@ TEST_F(SlurmJob, BadOptionsAreOneLineErrorsAndNothingIsWritten) {
   EXPECT_FALSE(fs::exists(dir_ / "job"));
 }
 
-TEST_F(SlurmJob, TheScriptsRunAsSlurmRunsThemGiveTheLocalTable) {
+TEST_F(SlurmJobTest, TheScriptsRunAsSlurmRunsThemGiveTheLocalTable) {
   const fs::path job = dir_ / "job";
   const testing::CommandResult written =
       RunCli("sweep " + sweep_ + " --slurm " + job.string() +
@@ -162,7 +162,7 @@ TEST_F(SlurmJob, TheScriptsRunAsSlurmRunsThemGiveTheLocalTable) {
   EXPECT_EQ(ReadFile(job / "shards" / "shard_1.journal"), journal);
 }
 
-TEST_F(SlurmJob, SubmissionChainsTheMergeJobAfterTheArray) {
+TEST_F(SlurmJobTest, SubmissionChainsTheMergeJobAfterTheArray) {
   // A stand-in sbatch: records its arguments, answers job ids 4242, 4243.
   const fs::path bin = dir_ / "bin";
   fs::create_directories(bin);

@@ -1,0 +1,119 @@
+// Closed-loop swimming of the paper's flagellum (Table 4 wave, eq. 12 PID
+// or eq. 14 fractional integrator, 1 kHz, +-6 V unless the clamp is off).
+#include "sim/runs/closed_loop_run.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "tests/test_util.h"
+
+namespace ipmc::testing {
+namespace {
+
+ScenarioConfig PaperScenario(ControllerKind controller, const std::string& actuation, int cycles,
+                             bool clamp) {
+  ScenarioConfig scenario;
+  scenario.source = "test scenario";
+  scenario.model_path = std::string(IPMC_SWIM_SOURCE_DIR) + "/models/flagellum3.xml";
+  scenario.actuation = actuation;
+  scenario.cycles = cycles;
+  scenario.timestep_s = 5e-4;
+  scenario.controller = controller;
+  scenario.pid.clamp_enabled = clamp;
+  scenario.fractional.clamp_enabled = clamp;
+  return scenario;
+}
+
+void Print(const char* name, const ClosedLoopResult& r) {
+  std::printf("%s:\n", name);
+  for (size_t q = 0; q < r.links.size(); ++q) {
+    const LinkTracking& t = r.links[q];
+    std::printf("  link %zu: IAE %.4g mm s, ITAE %.5g mm s^2, rms %.3g V, clamped %.0f %%\n", q + 1,
+                t.iae_mm_s, t.itae_mm_s2, t.rms_voltage_V, 100 * t.saturated_fraction);
+  }
+  for (const Displacement_mm& c : r.swim.per_cycle) {
+    std::printf("  cycle: centre of mass %.6f mm along, %.6f mm across\n", c.com_along,
+                c.com_across);
+  }
+}
+
+// Regression value of the paper's setting (every link eq. 7's plant, PID,
+// +-6 V clamp, time step 0.5 ms), second cycle, measured with
+// `ipmc-swim run scenarios/paper.toml` (0.499191 mm in cycles 2 and 3).
+// Halving the time step moves it by 2e-5 relative, so the 2 % band only
+// lets a change of the physics or the controllers through if it is
+// revisited; tests/propulsion_crosscheck_test.cc recomputes it
+// independently.
+constexpr double kDistributedSecondCycle_mm = 0.499191;
+
+TEST(ClosedLoopRunTest, DistributedActuationSwimsAndSingleActuationDoesNot) {
+  const ClosedLoopResult distributed =
+      RunScenario(PaperScenario(ControllerKind::kPid, "distributed", 2, true));
+  const ClosedLoopResult single = RunScenario(PaperScenario(ControllerKind::kPid, "single", 2, true));
+  Print("distributed", distributed);
+  Print("single", single);
+  const double distributed_mm = distributed.swim.per_cycle[1].com_along;
+  const double single_mm = single.swim.per_cycle[1].com_along;
+  // Head first, against the wave that runs from head to tail.
+  EXPECT_NEAR(distributed_mm, kDistributedSecondCycle_mm, 0.02 * kDistributedSecondCycle_mm);
+  // Link 1 alone makes the passive links swing in phase with it: a
+  // reciprocal stroke. Measured 1.6e-8 mm in the second cycle (ratio 1e7).
+  EXPECT_LT(std::abs(single_mm), 1e-6 * distributed_mm);
+  // With eq. 7's gain on every link, Table 4's wave needs at most about
+  // 6 V: links 1 and 2 never reach the clamp, link 3 for 2 % of the time.
+  EXPECT_EQ(distributed.links[0].saturated_fraction, 0.0);
+  EXPECT_EQ(distributed.links[1].saturated_fraction, 0.0);
+  EXPECT_LT(distributed.links[2].saturated_fraction, 0.2);
+  EXPECT_LT(distributed.swim.reynolds_tip, 1.0);
+}
+
+TEST(ClosedLoopRunTest, PidTracksBetterThanTheFractionalIntegrator) {
+  // The paper's linear setting (no clamp), one cycle.
+  const ClosedLoopResult pid = RunScenario(PaperScenario(ControllerKind::kPid, "distributed", 1, false));
+  const ClosedLoopResult fractional =
+      RunScenario(PaperScenario(ControllerKind::kFractional, "distributed", 1, false));
+  Print("PID, no clamp", pid);
+  Print("fractional integrator, no clamp", fractional);
+  for (size_t q = 0; q < 3; ++q) {
+    EXPECT_LT(pid.links[q].iae_mm_s, fractional.links[q].iae_mm_s);
+    EXPECT_LT(pid.links[q].itae_mm_s2, fractional.links[q].itae_mm_s2);
+    // Tracks: mean |error| over the cycle relative to the reference
+    // amplitude, measured 1.6 / 0.41 / 0.056 % for links 1 / 2 / 3.
+    const double duration_s = pid.period_s;
+    EXPECT_LT(pid.links[q].iae_mm_s, 0.03 * pid.links[q].max_abs_reference_mm * duration_s);
+  }
+  // And the free swimmer moves head first.
+  EXPECT_GT(pid.swim.per_cycle[0].com_along, 0.1);
+}
+
+}  // namespace
+}  // namespace ipmc::testing
+
+namespace ipmc::testing {
+namespace {
+
+// link_lengths_mm replaces the model by the generated flagellum, so link
+// lengths can be swept; two links of 15.5 mm make a two-link swimmer.
+TEST(ClosedLoopRunTest, LinkLengthsGenerateTheFlagellum) {
+  const ScenarioConfig scenario = ParseScenario(
+      "link_lengths_mm = [15, 15.5]\ncycles = 1\ntimestep_s = 5e-4\n"
+      "[waveform]\nfrequency_Hz = 0.5\n",
+      std::string(IPMC_SWIM_SOURCE_DIR) + "/scenarios/two_links.toml");
+  ASSERT_EQ(scenario.link_lengths_mm.size(), 2u);
+  const ClosedLoopResult result = RunScenario(scenario);
+  EXPECT_EQ(result.links.size(), 2u);
+  EXPECT_GT(result.links[1].max_abs_reference_mm, 0.0);
+}
+
+TEST(ClosedLoopRunTest, BadLinkLengthsNameTheKey) {
+  ExpectThrowMentioning<std::runtime_error>(
+      [] { ParseScenario("link_lengths_mm = [10, -1]\n", "s.toml"); },
+      "s.toml:1: link_lengths_mm[1] must be > 0");
+  ExpectThrowMentioning<std::runtime_error>([] { ParseScenario("cycles = 2\n", "s.toml"); },
+                                            "model is required (or link_lengths_mm)");
+}
+
+}  // namespace
+}  // namespace ipmc::testing

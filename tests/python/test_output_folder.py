@@ -1,0 +1,83 @@
+"""A run's output folder holds one run's files, whatever happens: two runs
+started into one folder never mix their files (the second is refused while
+the first holds the folder, or replaces the first's set whole), a run that
+fails leaves the previous results as they were, and files of an earlier
+run's set that a new run does not write (run.mat, run.h5) go
+(sim/io/files.h: DirectoryLock, WriteFilesTogether)."""
+
+import subprocess
+
+import pytest
+
+from conftest import CLI, run_cli
+
+FILES = ["timeseries.csv", "states.csv", "summary.json"]
+
+# Two runs of the short scenario that differ in every file.
+RUN_A = ["--cycles", "1", "--set", "waveform.frequency_Hz=0.5"]
+RUN_B = ["--cycles", "1", "--set", "waveform.frequency_Hz=0.4"]
+
+
+def contents(folder):
+    return {name: (folder / name).read_bytes() for name in FILES}
+
+
+@pytest.fixture(scope="module")
+def references(tmp_path_factory):
+    from conftest import SHORT_SCENARIO
+
+    folder = tmp_path_factory.mktemp("references")
+    scenario = folder / "short.toml"
+    scenario.write_text(SHORT_SCENARIO)
+    outputs = {}
+    for name, args in (("a", RUN_A), ("b", RUN_B)):
+        run_cli("run", scenario, "--out", folder / name, *args)
+        outputs[name] = contents(folder / name)
+    assert outputs["a"]["timeseries.csv"] != outputs["b"]["timeseries.csv"]
+    return scenario, outputs
+
+
+def test_two_runs_into_one_folder_never_mix_their_files(tmp_path, references):
+    scenario, outputs = references
+    refused = 0
+    for attempt in range(25):
+        out = tmp_path / f"shared{attempt}"
+        first = subprocess.Popen([CLI, "run", scenario, "--out", out, *RUN_A],
+                                 stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        second = subprocess.Popen([CLI, "run", scenario, "--out", out, *RUN_B],
+                                  stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        errors = [first.communicate()[1], second.communicate()[1]]
+        statuses = [first.returncode, second.returncode]
+        for status, error in zip(statuses, errors):
+            assert status == 0 or "in use by another run" in error, error
+        refused += statuses.count(1)
+        found = contents(out)
+        assert found in (outputs["a"], outputs["b"]), f"attempt {attempt}: files of two runs"
+    print(f"{refused} of 25 second runs refused while the first held the folder")
+
+
+def test_a_failed_run_leaves_the_previous_results_as_they_were(tmp_path, references):
+    scenario, outputs = references
+    out = tmp_path / "kept"
+    run_cli("run", scenario, "--out", out, *RUN_A)
+    # summary.json cannot be replaced: a directory of that name is in the way.
+    (out / "summary.json").unlink()
+    (out / "summary.json").mkdir()
+    before = {name: (out / name).read_bytes() for name in FILES[:2]}
+    status, _, error = run_cli("run", scenario, "--out", out, *RUN_B, check=False)
+    assert status == 1
+    assert "summary.json: cannot replace it, it is a directory" in error
+    assert {name: (out / name).read_bytes() for name in FILES[:2]} == before
+    assert sorted(p.name for p in out.iterdir()) == sorted(FILES)
+
+
+def test_a_run_without_a_format_removes_the_earlier_runs_file_of_it(tmp_path, references):
+    scenario, outputs = references
+    out = tmp_path / "formats"
+    run_cli("run", scenario, "--out", out, *RUN_A, "--format", "mat,h5")
+    assert (out / "run.mat").exists() and (out / "run.h5").exists()
+    run_cli("run", scenario, "--out", out, *RUN_B, "--format", "h5")
+    assert not (out / "run.mat").exists()
+    run_cli("run", scenario, "--out", out, *RUN_A)
+    assert sorted(p.name for p in out.iterdir()) == sorted(FILES)
+    assert contents(out) == outputs["a"]
