@@ -97,8 +97,9 @@ class Options {
 };
 
 // Reads a command's options (its table, sim/io/option_table.h) from the
-// keywords by their names (and their aliases); positional options are the
-// call's own arguments, and a table option left out keeps its default.
+// keywords by their names (and their aliases, but for one-letter ones,
+// which are command-line short flags); positional options are the call's
+// own arguments, and a table option left out keeps its default.
 template <typename Spec>
 void ReadTableOptions(Options& options, const OptionTable<Spec>& table, Spec* spec) {
   for (const Option<Spec>& option : table.options()) {
@@ -106,6 +107,7 @@ void ReadTableOptions(Options& options, const OptionTable<Spec>& table, Spec* sp
     std::vector<std::string> names = option.info.aliases;
     names.insert(names.begin(), option.info.name);
     for (const std::string& name : names) {
+      if (name.size() == 1) continue;
       std::visit(
           [&](const auto& field) {
             auto& value = field(*spec);
