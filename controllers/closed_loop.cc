@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace ipmc {
 namespace {
@@ -55,6 +56,25 @@ double CrossingTime(double t0, double y0, double t1, double y1, double level) {
 }
 
 }  // namespace
+
+HeldPlant::HeldPlant(const StateSpace& plant, double hold_s)
+    : HeldPlant(DiscretizeZeroOrderHold(plant, hold_s)) {}
+
+HeldPlant::HeldPlant(DiscreteStateSpace hold)
+    : hold_(std::move(hold)),
+      x_(Eigen::VectorXd::Zero(hold_.a.rows())),
+      next_(hold_.a.rows()) {}
+
+double HeldPlant::Output() const {
+  return (x_.size() > 0 ? (hold_.c * x_)(0, 0) : 0.0) + hold_.d(0, 0) * u_;
+}
+
+void HeldPlant::Advance() {
+  if (x_.size() == 0) return;
+  next_.noalias() = hold_.a * x_;
+  next_ += hold_.b.col(0) * u_;
+  x_.swap(next_);
+}
 
 void StepSimulation::Validate() const {
   if (!std::isfinite(horizon_s) || !(horizon_s > 0)) {
@@ -106,9 +126,7 @@ ClosedLoopResponse SimulateClosedLoopStep(const StateSpace& plant,
                    sample_period_s);
   const int substeps = simulation.output_substeps;
   const double substep_s = sample_period_s / substeps;
-  const DiscreteStateSpace hold = DiscretizeZeroOrderHold(plant, substep_s);
-  const double d = plant.d(0, 0);
-  const int n = plant.States();
+  HeldPlant held(plant, substep_s);
 
   ClosedLoopResponse response;
   response.step_amplitude = simulation.step_amplitude;
@@ -118,31 +136,25 @@ ClosedLoopResponse SimulateClosedLoopStep(const StateSpace& plant,
   response.output.reserve(points);
   response.control.reserve(points);
 
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(n);
-  Eigen::VectorXd next(n);
-  const auto state_output = [&]() { return n > 0 ? (plant.c * x)(0, 0) : 0.0; };
   double u = 0.0;
   long long k = 0;
   // Samples k up to `end` (exclusive), recording [t_k, t_(k+1)).
   const auto advance_to = [&](long long end) {
     for (; k < end; ++k) {
-      const double measured = state_output() + d * u;  // y(t_k^-)
+      const double measured = held.Output();  // y(t_k^-)
       u = controller(simulation.step_amplitude - measured);
       if (!std::isfinite(u)) {
         throw std::runtime_error(
             "SimulateClosedLoopStep: controller output is not finite at t = " +
             FormatDouble(k * sample_period_s) + " s");
       }
+      held.Hold(u);
       for (int j = 0; j < substeps; ++j) {
         response.time_s.push_back(static_cast<double>(k * substeps + j) *
                                   substep_s);
-        response.output.push_back(state_output() + d * u);
+        response.output.push_back(held.Output());
         response.control.push_back(u);
-        if (n > 0) {
-          next.noalias() = hold.a * x;
-          next += hold.b.col(0) * u;
-          x.swap(next);
-        }
+        held.Advance();
       }
     }
   };
@@ -154,7 +166,7 @@ ClosedLoopResponse SimulateClosedLoopStep(const StateSpace& plant,
     advance_to(std::min(max_samples, k + samples));
   }
   response.time_s.push_back(static_cast<double>(k * substeps) * substep_s);
-  response.output.push_back(state_output() + d * u);
+  response.output.push_back(held.Output());
   response.control.push_back(u);
   return response;
 }

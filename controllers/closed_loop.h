@@ -22,6 +22,7 @@
 #ifndef IPMC_SWIM_CONTROLLERS_CLOSED_LOOP_H_
 #define IPMC_SWIM_CONTROLLERS_CLOSED_LOOP_H_
 
+#include <cmath>
 #include <functional>
 #include <optional>
 #include <vector>
@@ -32,6 +33,43 @@
 #include "controllers/linear/state_space.h"
 
 namespace ipmc {
+
+// A continuous SISO plant behind a zero-order hold, the one sampled loop
+// of the program (the step responses here, the PID tuning's eq. 11 loop,
+// Table 5's transfer-function loop): the input u is held over each
+// interval, over which the state advances exactly by the plant's
+// zero-order-hold discretisation (x <- a x + b u).
+class HeldPlant {
+ public:
+  // Discretises `plant` over `hold_s`; throws std::invalid_argument for an
+  // invalid plant or hold.
+  HeldPlant(const StateSpace& plant, double hold_s);
+  // From a discretisation made once (copied), for many loops.
+  explicit HeldPlant(DiscreteStateSpace hold);
+
+  // y = c x + d u with the input now held: before Hold(u_k), y(t_k^-).
+  double Output() const;
+  void Hold(double u) { u_ = u; }
+  // x over one hold interval under the held input.
+  void Advance();
+
+ private:
+  DiscreteStateSpace hold_;
+  Eigen::VectorXd x_, next_;
+  double u_ = 0.0;
+};
+
+// The tracking indices of an error e [mm] sampled every T [s] from t = 0,
+// by the rectangle rule: IAE = sum |e_k| T [mm s], ITAE = sum t_k |e_k| T
+// [mm s^2] (the `run` command's and Table 5's).
+struct TrackingIndices {
+  double iae_mm_s = 0.0;
+  double itae_mm_s2 = 0.0;
+  void Add(double t_s, double error_mm, double sample_period_s) {
+    iae_mm_s += std::abs(error_mm) * sample_period_s;
+    itae_mm_s2 += t_s * std::abs(error_mm) * sample_period_s;
+  }
+};
 
 struct StepSimulation {
   double horizon_s = 10.0;      // finite and > 0

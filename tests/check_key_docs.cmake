@@ -1,14 +1,21 @@
-# Fails when docs/SCENARIO_KEYS.md is not what `ipmc-swim keys --format
-# markdown` prints, i.e. when the documented keys and the parser's key
-# table (sim/core/scenario_keys.cc) disagree. Run by CTest as
-#   cmake -DCLI=<ipmc-swim> -DDOC=<project>/docs/SCENARIO_KEYS.md -P tests/check_key_docs.cmake
-execute_process(COMMAND ${CLI} keys --format markdown
+# Fails when a generated reference is not what the program prints:
+# docs/SCENARIO_KEYS.md and `ipmc-swim keys --format markdown` (the
+# parser's key table, sim/core/scenario_keys.cc), or docs/OPTIONS.md and
+# `ipmc-swim options --format markdown` (the commands' option tables,
+# sim/io/option_table.h). Run by CTest as
+#   cmake -DCLI=<ipmc-swim> -DDOC=<project>/docs/SCENARIO_KEYS.md [-DSUBCOMMAND=keys]
+#         -P tests/check_key_docs.cmake
+if(NOT SUBCOMMAND)
+  set(SUBCOMMAND keys)
+endif()
+execute_process(COMMAND ${CLI} ${SUBCOMMAND} --format markdown
   OUTPUT_VARIABLE printed RESULT_VARIABLE status)
 if(NOT status EQUAL 0)
-  message(FATAL_ERROR "ipmc-swim keys --format markdown failed (${status})")
+  message(FATAL_ERROR "ipmc-swim ${SUBCOMMAND} --format markdown failed (${status})")
 endif()
 file(READ ${DOC} committed)
 if(NOT printed STREQUAL committed)
-  message(FATAL_ERROR "${DOC} differs from `ipmc-swim keys --format markdown`; "
-    "regenerate it: build/sim/ipmc-swim keys --format markdown > docs/SCENARIO_KEYS.md")
+  get_filename_component(doc_name ${DOC} NAME)
+  message(FATAL_ERROR "${DOC} differs from `ipmc-swim ${SUBCOMMAND} --format markdown`; "
+    "regenerate it: build/sim/ipmc-swim ${SUBCOMMAND} --format markdown > docs/${doc_name}")
 endif()

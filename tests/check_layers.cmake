@@ -38,7 +38,7 @@ set(below_sim plugin/base sim/io controllers/linear controllers plugin/include p
   plugin/fluid plugin/actuators plugin)
 set(allowed_sim/core ${below_sim})
 set(allowed_sim/runs sim/core ${below_sim})
-set(allowed_sim/identify sim/core ${below_sim})
+set(allowed_sim/identify sim/runs sim/core ${below_sim})
 set(allowed_sim/batch sim/runs sim/core ${below_sim})
 set(allowed_renders sim/runs sim/core ${below_sim})
 set(allowed_sim/cli renders sim/batch sim/identify sim/runs sim/core ${below_sim})

@@ -37,7 +37,9 @@
 #include "plugin/actuators/ipmc_link_model.h"
 #include "sim/runs/bench_run.h"
 #include "sim/identify/controller_design.h"
+#include "sim/cli/design_command.h"
 #include "sim/cli/identify_command.h"
+#include "sim/cli/pipeline_command.h"
 #include "sim/identify/levy.h"
 #include "sim/core/simulation.h"
 #include "sim/identify/welch.h"
@@ -626,13 +628,18 @@ struct CommandRun {
 CommandRun RunCommand(const std::vector<std::string>& argv) {
   CLI::App app{"test"};
   app.require_subcommand(1);
-  IdentifyArgs args;
-  AddIdentifyCommands(app, args);
+  IdentifyArgs identify;
+  DesignArgs design;
+  PipelineArgs pipeline;
+  AddIdentifyCommand(app, identify);
+  AddDesignCommand(app, design);
+  AddPipelineCommand(app, pipeline);
   std::vector<std::string> reversed(argv.rbegin(), argv.rend());
   app.parse(reversed);
   CommandRun run;
   try {
-    run.status = RunIdentifyCommand(app, args);
+    run.status = std::max({RunIdentifyCommandLine(identify), RunDesignCommandLine(design),
+                           RunPipelineCommandLine(pipeline)});
   } catch (const std::exception& error) {
     run.status = 1;
     run.error = error.what();
@@ -721,7 +728,7 @@ TEST(IdentifyCommandTest, BadDataAndOptionsGiveOneLineAndNoFiles) {
   expect_error({"design", "--horizon-s", "0.00015"}, "whole number of samples");
   expect_error({"pipeline", "--repeats", "0"}, "pipeline: --repeats must be in [1, 100], got 0");
   expect_error({"pipeline", "--noise-mm", "-1"}, "--noise-mm must be finite and >= 0");
-  expect_error({"pipeline", "--f1-hz", "600"}, "pipeline: --f1-hz must be in (0.1, 500)");
+  expect_error({"pipeline", "--f1-hz", "600"}, "pipeline: --end-hz must be in (0.1, 500)");
 }
 
 TEST(IdentifyCommandTest, PipelineWritesTheReport) {

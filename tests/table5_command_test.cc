@@ -1,10 +1,10 @@
-// Table 5 of the paper (section 5.3), reproduced by sim/cli/table5_command.h:
+// Table 5 of the paper (section 5.3), reproduced by sim/runs/table5_run.h:
 // under the uniform plant assignment, at the command's default reading
 // (scenarios/paper.toml in the linear loop, 3 cycles, references faded in
 // over a quarter period, multibody run), C_I through eq. 15 and the PID
 // of eq. 12. The expected values are the paper's Table 5 (PaperTable5());
 // the residuals quoted are those of this simulator.
-#include "sim/cli/table5_command.h"
+#include "sim/runs/table5_run.h"
 
 #include <gtest/gtest.h>
 

@@ -6,116 +6,28 @@
 //                    [--start-ramp-cycles X] [--loop multibody|transfer-function]
 //                    [--jobs 1|2] [--out DIR]
 //
-// Both controllers run in the paper's linear loop (no clamp) on
-// scenarios/paper.toml's setting (model, time step, waveform, sample rate,
-// PID gains): C_I through eq. 15 as printed (controllers/paper_eq15.h;
-// section 5.3: "the results of the non-integer order controller
-// correspond to its approximation") and the PID of eq. 12. Per link, with
-// e = r - y the error of the link's relative tip deflection [mm] over the
-// horizon H of `cycles` wave periods (rectangle rule at the controller's
-// sample rate, as `run` computes them):
-//   IAE = int_0^H |e| dt [mm s],  ITAE = int_0^H t |e| dt [mm s^2],
-// printed beside the paper's value with the relative error
-// (here - paper) / paper.
-//
-// Readings the paper leaves open, as options:
-//  - plants: uniform (every link eq. 7's plant, section 5.3's "same
-//    dynamics"; default) or table2 (Table 2's row per link);
-//  - cycles: the horizon in wave periods (default: the scenario's, 3);
-//  - start-ramp-cycles: the references' fade-in (default: the scenario's
-//    waveform.start_ramp_cycles, 0.25); 0 starts the references at their
-//    t = 0 values, a step;
-//  - loop: multibody (the MuJoCo run of `run`; default) or
-//    transfer-function (each link's plant P_q(s) of the model, alone in
-//    its loop: no body, drag or coupling between the links; the output is
-//    the plant's free deflection, advanced exactly over each sample by
-//    zero-order hold).
-// With --jobs 2 (default) the two controllers run on two threads; each
-// run owns its model, data and controller state, so the table does not
-// depend on --jobs. --out DIR writes DIR/table5.csv and DIR/table5.json
-// (each atomically) once both runs have succeeded. A bad option value is
-// one line naming the option and its allowed range, a non-zero exit code
-// and no files.
+// The experiment, its readings, its options (Table5Options()) and its
+// files (RunTable5Command) are sim/runs/table5_run.h; this prints the
+// table. A bad option value is one line naming the option and its allowed
+// range, a non-zero exit code and no files.
 #pragma once
 
-#include <string>
-#include <vector>
-
 #include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
 
-#include "plugin/actuators/ipmc_link_model.h"
-#include "sim/core/scenario.h"
+#include "sim/cli/option_flags.h"
+#include "sim/runs/table5_run.h"
 
 namespace ipmc {
 
-enum class Table5Loop { kMultibody, kTransferFunction };
+using Table5Args = TableCommand<Table5Command>;
 
-// "multibody" / "transfer-function".
-const char* Table5LoopName(Table5Loop loop);
-
-struct Table5Reading {
-  PlantAssignment plants = PlantAssignment::kUniform;
-  int cycles = 3;                   // horizon [wave periods], [1, kMaxTable5Cycles]
-  double start_ramp_cycles = 0.25;  // fade-in [wave periods], [0, cycles]; 0: step start
-  Table5Loop loop = Table5Loop::kMultibody;
-
-  // Throws std::invalid_argument "table5: --OPTION must be ..., got ...".
-  void Validate() const;
-};
-
-constexpr int kMaxTable5Cycles = 100;
-
-struct TrackingIndices {
-  double iae_mm_s = 0.0;
-  double itae_mm_s2 = 0.0;
-};
-
-// One Table 5: per link (1..n), each controller's indices.
-struct Table5Values {
-  std::vector<TrackingIndices> fractional;  // C_I through eq. 15
-  std::vector<TrackingIndices> pid;         // eq. 12
-};
-
-// The paper's Table 5 as printed.
-Table5Values PaperTable5();
-
-// scenarios/paper.toml of the source tree.
-std::string PaperScenarioPath();
-
-// The scenario of one controller's run: `setting` in the linear loop (no
-// clamp) under `reading`, with the PID of the setting (kind kPid) or C_I
-// through eq. 15 at the setting's sample rate (kind kFractional), and no
-// output files.
-ScenarioConfig Table5Scenario(const ScenarioConfig& setting, ControllerKind controller,
-                              const Table5Reading& reading);
-
-// Runs both controllers, on `jobs` (1 or 2) threads. Throws
-// std::invalid_argument for a bad reading or jobs, std::runtime_error for
-// a failing run.
-Table5Values RunTable5(const ScenarioConfig& setting, const Table5Reading& reading, int jobs);
-
-// The table as CSV (index, link, controller, here, paper,
-// relative_error) and as JSON (the reading and the same rows).
-std::string Table5Csv(const Table5Values& here, const Table5Values& paper);
-nlohmann::json Table5Json(const Table5Values& here, const Table5Values& paper,
-                          const Table5Reading& reading);
-
-struct Table5Args {
-  std::string plants = "uniform";
-  int cycles = 3;                   // used if given; else the scenario's
-  double start_ramp_cycles = 0.25;  // used if given; else the scenario's
-  std::string loop = "multibody";
-  int jobs = 2;
-  std::string out_dir;
-};
-
-// Adds subcommand "table5" to app, storing options in args.
+// Adds subcommand "table5" to app, storing its options in args.
 void AddTable5Command(CLI::App& app, Table5Args& args);
 
-// Runs it if app parsed it; returns its exit code, or -1 if it was not
-// chosen. Throws std::invalid_argument for bad option values and
-// std::runtime_error for failing runs and output failures.
-int RunTable5Command(const CLI::App& app, const Table5Args& args);
+// Runs it and prints, if the command line chose it; returns its exit code,
+// or -1 if it was not chosen. Throws FieldError (with the flag in place of
+// the field) for bad options and std::runtime_error for failing runs and
+// output failures.
+int RunTable5CommandLine(const Table5Args& args);
 
 }  // namespace ipmc

@@ -1,5 +1,7 @@
 #include "sim/core/scenario_keys.h"
 
+#include "controllers/controller_names.h"
+
 #include <toml++/toml.h>
 
 #include <algorithm>
@@ -11,6 +13,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "controllers/controller_names.h"
 #include "controllers/fractional_integrator.h"
 #include "plugin/actuators/ipmc_actuators.h"
 #include "plugin/base/numbers.h"
@@ -85,8 +88,9 @@ class Key {
 constexpr char kControllerKind[] = "controller.kind";
 constexpr char kRealisation[] = "controller.realisation";
 constexpr char kWaveformKind[] = "waveform.kind";
-constexpr char kPid[] = "pid";
-constexpr char kFractional[] = "fractional";
+constexpr const char* kPid = controller_names::kPid;
+// The controller kind, and the waveform kind spelt the same.
+constexpr const char* kFractional = controller_names::kFractional;
 constexpr char kOustaloup[] = "oustaloup";
 constexpr char kPolynomial[] = "polynomial";
 constexpr int kMaxLinks = 20;

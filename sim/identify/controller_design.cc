@@ -215,11 +215,7 @@ void PidTuningOptions::Validate() const {
 PidStepCost::PidStepCost(const StateSpace& plant, const PidTuningOptions& options) {
   options.Validate();
   plant.Validate("pid tuning: plant");
-  const DiscreteStateSpace hold = DiscretizeZeroOrderHold(plant, options.sample_period_s);
-  a_ = hold.a;
-  b_ = hold.b.col(0);
-  c_ = hold.c.row(0);
-  d_ = hold.d(0, 0);
+  hold_ = DiscretizeZeroOrderHold(plant, options.sample_period_s);
   sample_period_s_ = options.sample_period_s;
   samples_ = static_cast<int>(std::lround(options.horizon_s / options.sample_period_s));
   const ReferenceModel model(options.reference);
@@ -243,24 +239,16 @@ double PidStepCost::operator()(const PidGains& gains) const {
   config.clamp_enabled = false;
   PidController pid(config);
 
-  const int n = static_cast<int>(a_.rows());
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(n);
-  Eigen::VectorXd next(n);
-  double u = 0.0;
+  HeldPlant plant(hold_);
   double cost = 0.0;
-  const auto output = [&]() { return (n > 0 ? c_.dot(x) : 0.0) + d_ * u; };
   for (int k = 0; k < samples_; ++k) {
-    const double measured = output();  // y(t_k^-), before the new voltage
+    const double measured = plant.Output();  // y(t_k^-), before the new voltage
     if (!std::isfinite(measured) || std::abs(measured) > kDivergedOutput) return kInfinity;
-    u = pid.Update(1.0 - measured);
-    cost += weight_[k] * std::abs(reference_[k] - output());
-    if (n > 0) {
-      next.noalias() = a_ * x;
-      next += b_ * u;
-      x.swap(next);
-    }
+    plant.Hold(pid.Update(1.0 - measured));
+    cost += weight_[k] * std::abs(reference_[k] - plant.Output());
+    plant.Advance();
   }
-  const double last = output();
+  const double last = plant.Output();
   if (!std::isfinite(last) || std::abs(last) > kDivergedOutput) return kInfinity;
   cost += weight_[samples_] * std::abs(reference_[samples_] - last);
   return cost;

@@ -40,6 +40,7 @@
 
 #include <Eigen/Dense>
 
+#include "controllers/closed_loop.h"
 #include "controllers/linear/frequency_response.h"
 #include "controllers/pid.h"
 #include "controllers/reference_model.h"
@@ -144,10 +145,7 @@ class PidStepCost {
   int samples() const { return samples_; }
 
  private:
-  Eigen::MatrixXd a_;  // zero-order-hold discretisation
-  Eigen::VectorXd b_;
-  Eigen::RowVectorXd c_;
-  double d_ = 0;
+  DiscreteStateSpace hold_;  // the plant's zero-order-hold discretisation
   double sample_period_s_ = 0;
   int samples_ = 0;                // N, the horizon is N T
   std::vector<double> reference_;  // y_r(k T), k = 0..N

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <complex>
 #include <cstdio>
+#include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <utility>
 
@@ -13,6 +15,8 @@
 #include "sim/io/csv.h"
 #include "plugin/base/error.h"
 #include "plugin/base/numbers.h"
+#include "sim/identify/loop_analysis.h"
+#include "sim/io/files.h"
 
 namespace ipmc {
 namespace {
@@ -70,7 +74,7 @@ double Seconds(Clock::time_point start) {
 
 void RequirePhaseMargin(const std::string& command, double value) {
   if (!std::isfinite(value) || !(value > 0) || !(value < 180)) {
-    ThrowOption(command, "--phase-margin-deg", "in (0, 180)", FormatDouble(value));
+    ThrowOption(command, "phase_margin_deg", "in (0, 180)", FormatDouble(value));
   }
 }
 
@@ -78,12 +82,12 @@ void RequirePhaseMargin(const std::string& command, double value) {
 
 LevyOptions BandOptions(const std::string& command, const std::vector<double>& band) {
   if (band.size() != 2) {
-    ThrowOption(command, "--band-rad-s", "two values LOW,HIGH",
+    ThrowOption(command, "band_rad_s", "two values LOW,HIGH",
                 std::to_string(band.size()) + " values");
   }
   if (!std::isfinite(band[0]) || !std::isfinite(band[1]) || !(band[0] > 0) ||
       !(band[1] > band[0])) {
-    ThrowOption(command, "--band-rad-s", "0 < LOW < HIGH",
+    ThrowOption(command, "band_rad_s", "0 < LOW < HIGH",
                 FormatDouble(band[0]) + "," + FormatDouble(band[1]));
   }
   LevyOptions options;
@@ -94,10 +98,10 @@ LevyOptions BandOptions(const std::string& command, const std::vector<double>& b
 
 void IdentifySpec::Validate() const {
   const std::string name = kIdentifyCommand;
-  RequireFinitePositive(name, "--sample-rate-hz", sample_rate_hz);
+  RequireFinitePositive(name, "sample_rate_Hz", sample_rate_Hz);
   BandOptions(name, band_rad_s);
   if (input_column == output_column) {
-    ThrowOption(name, "--output", "a column other than --input", output_column);
+    ThrowOption(name, "output", "a column other than input", output_column);
   }
 }
 
@@ -107,16 +111,18 @@ RecordIdentification IdentifyRecord(const IdentifySpec& spec, const std::vector<
   const std::string name = kIdentifyCommand;
   spec.Validate();
   RecordIdentification result;
+  result.samples = input.size();
   result.levy = BandOptions(name, spec.band_rad_s);
   if (time_s && time_s->size() >= 2) {
     const std::vector<double>& t = *time_s;
     const double spacing = (t.back() - t.front()) / (t.size() - 1);
     if (!(spacing > 0) ||
-        std::abs(spacing * spec.sample_rate_hz - 1.0) > kSampleRateTolerance) {
-      throw std::invalid_argument(
-          name + ": --sample-rate-hz " + FormatDouble(spec.sample_rate_hz) +
+        std::abs(spacing * spec.sample_rate_Hz - 1.0) > kSampleRateTolerance) {
+      throw FieldError(
+          name + ": sample_rate_Hz " + FormatDouble(spec.sample_rate_Hz) +
           " disagrees with the time_s column of " + spec.data_path + " (mean spacing " +
-          FormatDouble(spacing) + " s, i.e. " + FormatDouble(1.0 / spacing) + " Hz)");
+          FormatDouble(spacing) + " s, i.e. " + FormatDouble(1.0 / spacing) + " Hz)",
+          "sample_rate_Hz", "the time_s column's rate");
     }
   }
   for (const auto& [column, values] : {std::pair{spec.input_column, &input},
@@ -128,7 +134,7 @@ RecordIdentification IdentifyRecord(const IdentifySpec& spec, const std::vector<
     }
   }
   WelchOptions welch;
-  welch.sample_rate_Hz = spec.sample_rate_hz;
+  welch.sample_rate_Hz = spec.sample_rate_Hz;
   try {
     result.estimate = EstimateFrequencyResponse(input, output, welch);
   } catch (const std::invalid_argument& error) {
@@ -137,11 +143,11 @@ RecordIdentification IdentifyRecord(const IdentifySpec& spec, const std::vector<
   if (result.levy.w_low_rad_s < result.estimate.w_rad_s.front()) {
     // Welch's first bin is 2 pi fs / L with L = N / 4.5.
     const double needed_s = 4.5 * kTwoPi / result.levy.w_low_rad_s;
-    throw std::invalid_argument(FormatText(
-        "%s: --band-rad-s low end %.4g rad/s is below the first Welch bin %.4g rad/s of this "
+    throw FieldError(FormatText(
+        "%s: band_rad_s low end %.4g rad/s is below the first Welch bin %.4g rad/s of this "
         "%.4g s record (8 sections with 50 %% overlap reach it from about %.4g s of data)",
         name.c_str(), result.levy.w_low_rad_s, result.estimate.w_rad_s.front(),
-        input.size() / spec.sample_rate_hz, needed_s));
+        input.size() / spec.sample_rate_Hz, needed_s), "band_rad_s", "above the first Welch bin");
   }
   result.id = IdentifyLinkModels(result.estimate, result.levy);
   return result;
@@ -152,7 +158,7 @@ nlohmann::json IdentificationJson(const IdentifySpec& spec, const RecordIdentifi
   return {{"data", spec.data_path},
           {"input", spec.input_column},
           {"output", spec.output_column},
-          {"sample_rate_Hz", spec.sample_rate_hz},
+          {"sample_rate_Hz", spec.sample_rate_Hz},
           {"band_rad_s", {result.levy.w_low_rad_s, result.levy.w_high_rad_s}},
           {"welch",
            {{"records", estimate.records},
@@ -196,40 +202,40 @@ std::string ResponseCsv(const FrequencyResponseEstimate& e, const LinkIdentifica
 // ----------------------------------------------------------------- design ---
 
 PidTuningOptions TuningOptions(const std::string& command, double crossover_rad_s,
-                               double reference_order, double horizon_s, double sample_rate_hz) {
-  RequireFinitePositive(command, "--horizon-s", horizon_s);
-  RequireFinitePositive(command, "--sample-rate-hz", sample_rate_hz);
-  const double samples = horizon_s * sample_rate_hz;
+                               double reference_order, double horizon_s, double sample_rate_Hz) {
+  RequireFinitePositive(command, "horizon_s", horizon_s);
+  RequireFinitePositive(command, "sample_rate_Hz", sample_rate_Hz);
+  const double samples = horizon_s * sample_rate_Hz;
   if (std::abs(samples - std::round(samples)) > 1e-9 * samples || samples < 2 ||
       samples > kMaxTuningSamples) {
-    ThrowOption(command, "--horizon-s x --sample-rate-hz",
-                "a whole number of samples in [2, " + FormatDouble(kMaxTuningSamples) + "]",
+    ThrowOption(command, "horizon_s",
+                "a whole number of samples (horizon_s x sample_rate_Hz) in [2, " + FormatDouble(kMaxTuningSamples) + "]",
                 FormatDouble(samples));
   }
   if (!std::isfinite(reference_order) || !(reference_order > 0) || reference_order > 2) {
-    ThrowOption(command, "--reference-order", "in (0, 2]", FormatDouble(reference_order));
+    ThrowOption(command, "reference_order", "in (0, 2]", FormatDouble(reference_order));
   }
   PidTuningOptions options;
   options.reference.crossover_rad_s = crossover_rad_s;
   options.reference.order = reference_order;
   options.horizon_s = horizon_s;
-  options.sample_period_s = 1.0 / sample_rate_hz;
+  options.sample_period_s = 1.0 / sample_rate_Hz;
   return options;
 }
 
 LinkDesign DesignLink(const DesignSpec& spec) {
   const std::string name = kDesignCommand;
   if (spec.link < 1 || spec.link > 3) {
-    ThrowOption(name, "--links", "1, 2 or 3", std::to_string(spec.link));
+    ThrowOption(name, "links", "1, 2 or 3", std::to_string(spec.link));
   }
   if (spec.plant != "g1" && spec.plant != "g2") {
-    ThrowOption(name, "--plant", "g1 or g2", spec.plant);
+    ThrowOption(name, "plant", "g1 or g2", spec.plant);
   }
-  RequireFinitePositive(name, "--crossover-rad-s", spec.crossover_rad_s);
+  RequireFinitePositive(name, "crossover_rad_s", spec.crossover_rad_s);
   RequirePhaseMargin(name, spec.phase_margin_deg);
   LinkDesign result;
   result.tuning = TuningOptions(name, spec.crossover_rad_s, spec.reference_order,
-                                spec.horizon_s, spec.sample_rate_hz);
+                                spec.horizon_s, spec.sample_rate_Hz);
   result.params =
       PaperLinkParams(spec.link, spec.plant == "g2" ? IpmcModelKind::kG2 : IpmcModelKind::kG1);
   const IpmcLinkParams params = result.params;
@@ -242,6 +248,106 @@ LinkDesign DesignLink(const DesignSpec& spec) {
   result.tuned = pid.tuned;
   result.pid_margins = pid.margins;
   return result;
+}
+
+// ------------------------------------------------------ the commands ---
+
+namespace {
+
+OptionTable<IdentifyCommand> MakeIdentifyOptions() {
+  OptionTable<IdentifyCommand> table(
+      kIdentifyCommand, "Frequency response (Welch) and Levy fits of G1 and G2 from bench data");
+  OptionInfo data{"data", "", "a CSV file with a header row", "The record"};
+  data.positional = true;
+  data.required = true;
+  table.AddPath(data, [](IdentifyCommand& c) -> std::string& { return c.data_path; });
+  OptionInfo input{"input", "", "a column of the record", "Input column [V], e.g. voltage1_V"};
+  input.required = true;
+  table.Add<std::string>(input, [](IdentifyCommand& c) -> std::string& { return c.input_column; });
+  OptionInfo output{"output", "", "a column other than input",
+                    "Output column [mm], e.g. relative3_mm"};
+  output.required = true;
+  table.Add<std::string>(output,
+                         [](IdentifyCommand& c) -> std::string& { return c.output_column; });
+  table.Add<double>({"sample_rate_Hz", "Hz", "finite and > 0; agrees with a time_s column",
+                     "Sample rate of the record"},
+                    [](IdentifyCommand& c) -> double& { return c.sample_rate_Hz; });
+  table.Add<std::vector<double>>(
+      {"band_rad_s", "rad/s", "LOW,HIGH with 0 < LOW < HIGH", "Identification band"},
+      [](IdentifyCommand& c) -> std::vector<double>& { return c.band_rad_s; });
+  OptionInfo out{"out", "", "a folder", "Folder for response.csv and identification.json"};
+  out.aliases = {"o"};
+  table.AddPath(out, [](IdentifyCommand& c) -> std::string& { return c.out; });
+  return table;
+}
+
+OptionTable<DesignCommand> MakeDesignOptions() {
+  OptionTable<DesignCommand> table(
+      kDesignCommand, "Fractional integrator (analytic) and PID (Nelder-Mead) for each link");
+  table.Add<std::vector<int>>({"links", "", "distinct links 1..3", "Links to design for (Table 2)"},
+                              [](DesignCommand& c) -> std::vector<int>& { return c.links; });
+  OptionInfo plant{"plant", "", "", "Link model: g1 (eq. 5) or g2 (eq. 6)"};
+  plant.choices = {"g1", "g2"};
+  table.Add<std::string>(plant, [](DesignCommand& c) -> std::string& { return c.plant; });
+  table.Add<double>({"crossover_rad_s", "rad/s", "finite and > 0", "Gain crossover w_c"},
+                    [](DesignCommand& c) -> double& { return c.crossover_rad_s; });
+  table.Add<double>({"phase_margin_deg", "deg", "in (0, 180)", "Phase margin"},
+                    [](DesignCommand& c) -> double& { return c.phase_margin_deg; });
+  table.Add<double>({"reference_order", "", "in (0, 2]", "Reference model order gamma (eq. 9)"},
+                    [](DesignCommand& c) -> double& { return c.reference_order; });
+  table.Add<double>({"horizon_s", "s", "finite and > 0", "Horizon of J (eq. 11)"},
+                    [](DesignCommand& c) -> double& { return c.horizon_s; });
+  table.Add<double>({"sample_rate_Hz", "Hz", "finite and > 0", "PID rate in the tuning loop"},
+                    [](DesignCommand& c) -> double& { return c.sample_rate_Hz; });
+  return table;
+}
+
+}  // namespace
+
+const OptionTable<IdentifyCommand>& IdentifyOptions() {
+  static const OptionTable<IdentifyCommand> table = MakeIdentifyOptions();
+  return table;
+}
+
+const OptionTable<DesignCommand>& DesignOptions() {
+  static const OptionTable<DesignCommand> table = MakeDesignOptions();
+  return table;
+}
+
+RecordIdentification RunIdentifyCommand(const IdentifyCommand& command,
+                                        const std::vector<double>& input,
+                                        const std::vector<double>& output,
+                                        const std::vector<double>* time_s) {
+  RecordIdentification result = IdentifyRecord(command, input, output, time_s);
+  if (!command.out.empty()) {
+    const std::string json = IdentificationJson(command, result).dump(2) + "\n";
+    EnsureDirectory(command.out);
+    const std::filesystem::path dir(command.out);
+    WriteFilesTogether({{(dir / "response.csv").string(), ResponseCsv(result.estimate, result.id)},
+                        {(dir / "identification.json").string(), json}});
+  }
+  return result;
+}
+
+RecordIdentification RunIdentifyCommandOnFile(const IdentifyCommand& command) {
+  command.Validate();
+  const CsvTable data = CsvTable::Read(command.data_path);
+  const std::vector<double> input = data.FiniteNumbers(command.input_column);
+  const std::vector<double> output = data.FiniteNumbers(command.output_column);
+  std::optional<std::vector<double>> time_s;
+  if (data.Has(columns::kTime)) time_s = data.FiniteNumbers(columns::kTime);
+  return RunIdentifyCommand(command, input, output, time_s ? &*time_s : nullptr);
+}
+
+std::vector<LinkDesign> RunDesignCommand(const DesignCommand& command) {
+  ValidateLinkList(kDesignCommand, command.links);
+  std::vector<LinkDesign> designs;
+  for (const int link : command.links) {
+    DesignSpec spec = command;
+    spec.link = link;
+    designs.push_back(DesignLink(spec));
+  }
+  return designs;
 }
 
 }  // namespace ipmc

@@ -11,8 +11,8 @@
 //    margins of its exact open loop, and the PID tuned by Nelder-Mead
 //    against the reference model over a horizon (sim/identify/controller_design.h).
 //
-// Option values are checked with the command line's words: every error is
-// std::invalid_argument "COMMAND: --option must be ..., got ...".
+// Option values are checked by field: every error is a FieldError
+// "COMMAND: FIELD must be ..., got ..." naming the option's field.
 #pragma once
 
 #include <string>
@@ -25,6 +25,7 @@
 #include "sim/identify/controller_design.h"
 #include "sim/identify/levy.h"
 #include "sim/identify/welch.h"
+#include "sim/io/option_table.h"
 
 namespace ipmc {
 
@@ -34,15 +35,16 @@ struct IdentifySpec {
   std::string data_path;      // the record's file (or name), for messages
   std::string input_column;   // [V]
   std::string output_column;  // [mm]
-  double sample_rate_hz = 1000.0;
+  double sample_rate_Hz = 1000.0;
   std::vector<double> band_rad_s = {0.2, 50.0};
 
   // The sample rate, the band and distinct columns; throws
-  // std::invalid_argument "identify: --option ...".
+  // std::invalid_argument naming the field.
   void Validate() const;
 };
 
 struct RecordIdentification {
+  std::size_t samples = 0;  // of the record
   LevyOptions levy;  // the band
   FrequencyResponseEstimate estimate;
   LinkIdentification id;
@@ -64,18 +66,18 @@ nlohmann::json IdentificationJson(const IdentifySpec& spec, const RecordIdentifi
 std::string ResponseCsv(const FrequencyResponseEstimate& estimate, const LinkIdentification& id);
 
 // The band LOW,HIGH of `command` as Levy options; throws
-// std::invalid_argument naming --band-rad-s.
+// std::invalid_argument naming band_rad_s.
 LevyOptions BandOptions(const std::string& command, const std::vector<double>& band);
 
 // ----------------------------------------------------------------- design ---
 
-// --phase-margin-deg in (0, 180); throws std::invalid_argument naming it.
+// phase_margin_deg in (0, 180); throws std::invalid_argument naming it.
 void RequirePhaseMargin(const std::string& command, double value);
 
 // Tuning options for a reference model, horizon and loop rate given as
 // `command`'s options; throws std::invalid_argument naming the option.
 PidTuningOptions TuningOptions(const std::string& command, double crossover_rad_s,
-                               double reference_order, double horizon_s, double sample_rate_hz);
+                               double reference_order, double horizon_s, double sample_rate_Hz);
 
 struct DesignSpec {
   int link = 3;                  // 1..3 (Table 2)
@@ -84,7 +86,7 @@ struct DesignSpec {
   double phase_margin_deg = 75.0;
   double reference_order = 1.16;
   double horizon_s = 2.0;
-  double sample_rate_hz = 10000.0;
+  double sample_rate_Hz = 10000.0;
 };
 
 struct LinkDesign {
@@ -97,7 +99,36 @@ struct LinkDesign {
   double tuning_s = 0;           // wall time of the PID tuning
 };
 
-// Validates (std::invalid_argument "design: --option ...") and designs.
+// Validates (std::invalid_argument naming the field) and designs.
 LinkDesign DesignLink(const DesignSpec& spec);
+
+// ------------------------------------------------------ the commands ---
+
+// `identify` as both front ends run it: the record's columns and rate,
+// the band, and the output folder (response.csv, identification.json).
+struct IdentifyCommand : IdentifySpec {
+  std::string out;  // "": no files
+};
+const OptionTable<IdentifyCommand>& IdentifyOptions();
+// Identifies the record (IdentifyRecord) and writes OUT/response.csv and
+// OUT/identification.json together.
+RecordIdentification RunIdentifyCommand(const IdentifyCommand& command,
+                                        const std::vector<double>& input,
+                                        const std::vector<double>& output,
+                                        const std::vector<double>* time_s);
+
+// The same on the record in the file command.data_path (a CSV with a
+// header row, sim/io/csv.h; a time_s column, if present, is checked
+// against the rate). Throws InputError naming the file, line and column
+// for bad data.
+RecordIdentification RunIdentifyCommandOnFile(const IdentifyCommand& command);
+
+// `design` as both front ends run it: the links designed in turn.
+struct DesignCommand : DesignSpec {
+  std::vector<int> links = {1, 2, 3};
+};
+const OptionTable<DesignCommand>& DesignOptions();
+// Checks the links first, then designs each (DesignLink).
+std::vector<LinkDesign> RunDesignCommand(const DesignCommand& command);
 
 }  // namespace ipmc

@@ -3,12 +3,16 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iomanip>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
 
+#include <nlohmann/json.hpp>
+
+#include "controllers/controller_names.h"
 #include "controllers/fractional_integrator.h"
 #include "controllers/linear/oustaloup.h"
 #include "controllers/linear/state_space.h"
@@ -16,7 +20,9 @@
 #include "controllers/pid.h"
 #include "controllers/reference_model.h"
 #include "plugin/actuators/ipmc_link_model.h"
+#include "plugin/base/error.h"
 #include "plugin/base/numbers.h"
+#include "sim/identify/controller_design.h"
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
 #include "sim/io/files.h"
@@ -24,23 +30,29 @@
 namespace ipmc {
 namespace {
 
+// The margins the bode command prints (the root search of
+// controllers/linear/frequency_response.h), null where there is none; the
+// Bode figure marks these.
+nlohmann::json MarginsJson(const StabilityMargins& margins) {
+  const auto number = [](const std::optional<double>& value) {
+    return value ? nlohmann::json(*value) : nlohmann::json();
+  };
+  return {{"gain_crossover_rad_s", number(margins.gain_crossover_rad_s)},
+          {"phase_margin_deg", number(margins.phase_margin_deg)},
+          {"phase_crossover_rad_s", number(margins.phase_crossover_rad_s)},
+          {"gain_margin_db", number(margins.gain_margin_db)}};
+}
+
 using Complex = std::complex<double>;
 
-constexpr char kPid[] = "pid";
-constexpr char kFractional[] = "fractional";
-constexpr char kFractionalEq15[] = "fractional-eq15";
-constexpr char kFractionalOustaloup[] = "fractional-oustaloup";
+using controller_names::kFractional;
+using controller_names::kFractionalEq15;
+using controller_names::kFractionalOustaloup;
+using controller_names::kNone;
+using controller_names::kPid;
 
 // The controllers are compared at the reference model's crossover.
 constexpr double kDesignFrequency_rad_s = 5.0;
-
-// Time-domain realisation of s^-0.5 (plant) and s^-lambda (fractional
-// controller): two Oustaloup pairs per decade over ten decades, so the
-// approximation is far below the other errors over any horizon of interest
-// (1/w_b = 1e5 s).
-constexpr int kAccurateOustaloupPairs = 20;
-constexpr double kAccurateBandLow_rad_s = 1e-5;
-constexpr double kAccurateBandHigh_rad_s = 1e5;
 
 constexpr double kSettlingBand = 0.02;
 // Samples per link in a step run (memory: three doubles per sample).
@@ -49,19 +61,6 @@ constexpr double kMaxStepSamples = 1e6;
 // Gains and bands in descriptions: printf's %g.
 std::string Short(double value) { return FormatDouble(value, 6); }
 
-[[noreturn]] void ThrowOption(const std::string& command, const std::string& option,
-                              const std::string& requirement, const std::string& got) {
-  throw std::invalid_argument(command + ": " + option + " must be " + requirement + ", got " +
-                              got);
-}
-
-void RequireFinitePositive(const std::string& command, const std::string& option,
-                           double value) {
-  if (!std::isfinite(value) || !(value > 0)) {
-    ThrowOption(command, option, "finite and > 0", FormatDouble(value));
-  }
-}
-
 void RequireLink(const std::string& command, const std::string& option, int link) {
   if (link < 1 || link > 3) ThrowOption(command, option, "1, 2 or 3", std::to_string(link));
 }
@@ -69,11 +68,11 @@ void RequireLink(const std::string& command, const std::string& option, int link
 }  // namespace
 
 void ValidateLinkList(const std::string& command, const std::vector<int>& links) {
-  if (links.empty()) ThrowOption(command, "--links", "a list of links 1..3", "none");
+  if (links.empty()) ThrowOption(command, "links", "a list of links 1..3", "none");
   for (std::size_t i = 0; i < links.size(); ++i) {
-    RequireLink(command, "--links", links[i]);
+    RequireLink(command, "links", links[i]);
     if (std::count(links.begin(), links.begin() + i, links[i]) > 0) {
-      ThrowOption(command, "--links", "distinct", "link " + std::to_string(links[i]) + " twice");
+      ThrowOption(command, "links", "distinct", "link " + std::to_string(links[i]) + " twice");
     }
   }
 }
@@ -81,7 +80,7 @@ void ValidateLinkList(const std::string& command, const std::vector<int>& links)
 namespace {
 
 void RequirePlant(const std::string& command, const std::string& plant) {
-  if (plant != "g1" && plant != "g2") ThrowOption(command, "--plant", "g1 or g2", plant);
+  if (plant != "g1" && plant != "g2") ThrowOption(command, "plant", "g1 or g2", plant);
 }
 
 // Rejects an option the chosen controller does not take, so that a gain
@@ -89,28 +88,28 @@ void RequirePlant(const std::string& command, const std::string& plant) {
 void RejectIfGiven(const std::string& command, const OptionGiven& given,
                    const std::string& option, bool applies, const std::string& controller) {
   if (!applies && given && given(option)) {
-    throw std::invalid_argument(command + ": " + option + " does not apply to --controller " +
-                                controller);
+    throw FieldError(command + ": " + option + " does not apply to controller " + controller,
+                     option, "");
   }
 }
 
 void ValidatePidGains(const std::string& command, const ControllerGains& gains) {
   const std::pair<const char*, double> terms[] = {
-      {"--kp", gains.kp}, {"--ki", gains.ki}, {"--kd", gains.kd}};
+      {"kp", gains.kp}, {"ki", gains.ki}, {"kd", gains.kd}};
   for (const auto& [option, value] : terms) {
     if (!std::isfinite(value) || value < 0) {
       ThrowOption(command, option, "finite and >= 0", FormatDouble(value));
     }
   }
   if (gains.kp == 0 && gains.ki == 0 && gains.kd == 0) {
-    throw std::invalid_argument(command + ": at least one of --kp, --ki, --kd must be > 0");
+    throw FieldError(command + ": at least one of kp, ki, kd must be > 0", "kp", "> 0");
   }
 }
 
 void ValidateFractionalGains(const std::string& command, const ControllerGains& gains) {
-  RequireFinitePositive(command, "--gain", gains.gain);
+  RequireFinitePositive(command, "gain", gains.gain);
   if (!std::isfinite(gains.order) || !(gains.order > 0) || gains.order > 1) {
-    ThrowOption(command, "--order", "in (0, 1]", FormatDouble(gains.order));
+    ThrowOption(command, "order", "in (0, 1]", FormatDouble(gains.order));
   }
 }
 
@@ -185,33 +184,25 @@ ControllerResponse BodeController(const BodeSpec& spec) {
   return {[](double) { return Complex(1.0, 0.0); }, "C(s) = 1 (no controller)"};
 }
 
-// How far a link's record may be extended for its metrics: --max-horizon-s
+// How far a link's record may be extended for its metrics: max_horizon_s
 // within the sample budget, and never short of the horizon.
 double MetricsHorizon_s(const StepSpec& spec) {
-  const double budget_s = kMaxStepSamples / spec.sample_rate_hz;
+  const double budget_s = kMaxStepSamples / spec.sample_rate_Hz;
   return std::max(spec.horizon_s, std::min(spec.max_horizon_s, budget_s));
 }
 
-StateSpace AccurateLinkPlant(const std::string& plant, int link) {
-  IpmcLinkParams params = PaperLinkParams(link, PlantKind(plant));
-  params.integrator.w_low_rad_s = kAccurateBandLow_rad_s;
-  params.integrator.w_high_rad_s = kAccurateBandHigh_rad_s;
-  params.integrator.n = kAccurateOustaloupPairs;
-  return LinkStateSpace(params);
-}
-
 ClosedLoopResponse SimulateLink(const StepSpec& spec, int link) {
-  const StateSpace plant = AccurateLinkPlant(spec.plant, link);
+  const StateSpace plant = AccurateLinkPlant(PaperLinkParams(link, PlantKind(spec.plant)));
   StepSimulation simulation;
   simulation.horizon_s = spec.horizon_s;
   simulation.max_horizon_s = MetricsHorizon_s(spec);
   simulation.settling_band = kSettlingBand;
-  const double sample_period_s = 1.0 / spec.sample_rate_hz;
+  const double sample_period_s = 1.0 / spec.sample_rate_Hz;
   if (spec.controller == kPid) {
     PidController::Config config = PidConfig(spec.gains);
     config.sample_period_s = sample_period_s;
     config.clamp_enabled = !spec.no_clamp;
-    config.v_max = spec.v_max;
+    config.v_max = spec.v_max_V;
     PidController pid(config);
     return SimulateClosedLoopStep(plant, pid, simulation);
   }
@@ -223,7 +214,7 @@ ClosedLoopResponse SimulateLink(const StepSpec& spec, int link) {
   config.w_high_rad_s = kAccurateBandHigh_rad_s;
   config.sample_period_s = sample_period_s;
   config.clamp_enabled = !spec.no_clamp;
-  config.v_max = spec.v_max;
+  config.v_max = spec.v_max_V;
   FractionalIntegrator integrator(config);
   return SimulateClosedLoopStep(plant, integrator, simulation);
 }
@@ -246,44 +237,48 @@ void ValidateBodeSpec(const std::string& command, const BodeSpec& spec, const Op
   const std::string& name = command;
   const std::string& c = spec.controller;
   const bool known = c == kPid || c == kFractional || c == kFractionalEq15 ||
-                     c == kFractionalOustaloup || c == "none";
+                     c == kFractionalOustaloup || c == kNone;
   if (!known) {
-    ThrowOption(name, "--controller",
+    ThrowOption(name, "controller",
                 "pid, fractional, fractional-eq15, fractional-oustaloup or none", "'" + c + "'");
   }
-  RequireLink(name, "--links", spec.link);
+  RequireLink(name, "links", spec.link);
   RequirePlant(name, spec.plant);
-  RejectIfGiven(name, given, "--kp", c == kPid, c);
-  RejectIfGiven(name, given, "--ki", c == kPid, c);
-  RejectIfGiven(name, given, "--kd", c == kPid, c);
+  RejectIfGiven(name, given, "kp", c == kPid, c);
+  RejectIfGiven(name, given, "ki", c == kPid, c);
+  RejectIfGiven(name, given, "kd", c == kPid, c);
   const bool fractional = c == kFractional || c == kFractionalOustaloup;
-  RejectIfGiven(name, given, "--gain", fractional, c);
-  RejectIfGiven(name, given, "--order", fractional, c);
-  RejectIfGiven(name, given, "--oustaloup-pairs", c == kFractionalOustaloup, c);
-  RejectIfGiven(name, given, "--band-rad-s", c == kFractionalOustaloup, c);
+  RejectIfGiven(name, given, "gain", fractional, c);
+  RejectIfGiven(name, given, "order", fractional, c);
+  RejectIfGiven(name, given, "oustaloup_pairs", c == kFractionalOustaloup, c);
+  RejectIfGiven(name, given, "band_rad_s", c == kFractionalOustaloup, c);
   if (c == kPid) ValidatePidGains(name, spec.gains);
   if (fractional) ValidateFractionalGains(name, spec.gains);
   if (spec.oustaloup_n < 1 || spec.oustaloup_n > kMaxOustaloupPairs) {
-    ThrowOption(name, "--oustaloup-pairs", "in [1, " + std::to_string(kMaxOustaloupPairs) + "]",
+    ThrowOption(name, "oustaloup_pairs", "in [1, " + std::to_string(kMaxOustaloupPairs) + "]",
                 std::to_string(spec.oustaloup_n));
   }
   if (spec.band_rad_s.size() != 2) {
     const std::size_t count = spec.band_rad_s.size();
-    ThrowOption(name, "--band-rad-s", "two frequencies LOW,HIGH",
+    ThrowOption(name, "band_rad_s", "two frequencies LOW,HIGH",
                 std::to_string(count) + (count == 1 ? " value" : " values"));
   }
-  RequireFinitePositive(name, "--band-rad-s (low)", spec.band_rad_s[0]);
+  if (!std::isfinite(spec.band_rad_s[0]) || !(spec.band_rad_s[0] > 0)) {
+    ThrowOption(name, "band_rad_s", "LOW,HIGH with LOW finite and > 0",
+                FormatDouble(spec.band_rad_s[0]));
+  }
   if (!std::isfinite(spec.band_rad_s[1]) || !(spec.band_rad_s[1] > spec.band_rad_s[0])) {
-    ThrowOption(name, "--band-rad-s (high)", "finite and > the low end",
+    ThrowOption(name, "band_rad_s", "LOW,HIGH with HIGH finite and > LOW",
                 FormatDouble(spec.band_rad_s[1]));
   }
-  RequireFinitePositive(name, "--w-min", spec.w_min_rad_s);
+  RequireFinitePositive(name, "w_min_rad_s", spec.w_min_rad_s);
   if (!std::isfinite(spec.w_max_rad_s) || !(spec.w_max_rad_s > spec.w_min_rad_s)) {
-    ThrowOption(name, "--w-max", "finite and > --w-min (" + FormatDouble(spec.w_min_rad_s) + ")",
+    ThrowOption(name, "w_max_rad_s",
+                "finite and > w_min_rad_s (" + FormatDouble(spec.w_min_rad_s) + ")",
                 FormatDouble(spec.w_max_rad_s));
   }
   if (spec.points_per_decade < 1 || spec.points_per_decade > 100000) {
-    ThrowOption(name, "--points-per-decade", "in [1, 100000]",
+    ThrowOption(name, "points_per_decade", "in [1, 100000]",
                 std::to_string(spec.points_per_decade));
   }
 }
@@ -361,29 +356,29 @@ void ValidateStepSpec(const std::string& command, const StepSpec& spec, const Op
   const std::string& name = command;
   const std::string& c = spec.controller;
   if (c != kPid && c != kFractional) {
-    ThrowOption(name, "--controller", "pid or fractional", "'" + c + "'");
+    ThrowOption(name, "controller", "pid or fractional", "'" + c + "'");
   }
   RequirePlant(name, spec.plant);
-  RejectIfGiven(name, given, "--kp", c == kPid, c);
-  RejectIfGiven(name, given, "--ki", c == kPid, c);
-  RejectIfGiven(name, given, "--kd", c == kPid, c);
-  RejectIfGiven(name, given, "--gain", c == kFractional, c);
-  RejectIfGiven(name, given, "--order", c == kFractional, c);
-  if (spec.no_clamp && given && given("--v-max")) {
-    throw std::invalid_argument(name + ": --v-max does not apply with --no-clamp");
+  RejectIfGiven(name, given, "kp", c == kPid, c);
+  RejectIfGiven(name, given, "ki", c == kPid, c);
+  RejectIfGiven(name, given, "kd", c == kPid, c);
+  RejectIfGiven(name, given, "gain", c == kFractional, c);
+  RejectIfGiven(name, given, "order", c == kFractional, c);
+  if (spec.no_clamp && given && given("v_max_V")) {
+    throw FieldError(name + ": v_max_V does not apply with no_clamp", "v_max_V", "");
   }
   if (c == kPid) ValidatePidGains(name, spec.gains);
   if (c == kFractional) ValidateFractionalGains(name, spec.gains);
   ValidateLinkList(name, spec.links);
-  RequireFinitePositive(name, "--horizon-s", spec.horizon_s);
-  RequireFinitePositive(name, "--sample-rate-hz", spec.sample_rate_hz);
-  if (spec.horizon_s * spec.sample_rate_hz > kMaxStepSamples) {
-    throw std::invalid_argument(name + ": --horizon-s x --sample-rate-hz must be at most " +
-                                Short(kMaxStepSamples) + " samples, got " +
-                                FormatDouble(spec.horizon_s * spec.sample_rate_hz));
+  RequireFinitePositive(name, "horizon_s", spec.horizon_s);
+  RequireFinitePositive(name, "sample_rate_Hz", spec.sample_rate_Hz);
+  if (spec.horizon_s * spec.sample_rate_Hz > kMaxStepSamples) {
+    ThrowOption(name, "horizon_s",
+                "at most " + Short(kMaxStepSamples) + " samples (horizon_s x sample_rate_Hz)",
+                FormatDouble(spec.horizon_s * spec.sample_rate_Hz));
   }
-  if (!spec.no_clamp) RequireFinitePositive(name, "--v-max", spec.v_max);
-  RequireFinitePositive(name, "--max-horizon-s", spec.max_horizon_s);
+  if (!spec.no_clamp) RequireFinitePositive(name, "v_max_V", spec.v_max_V);
+  RequireFinitePositive(name, "max_horizon_s", spec.max_horizon_s);
 }
 
 StepAnalysis AnalyseStep(const StepSpec& spec) {
@@ -447,6 +442,161 @@ std::string StepCsv(const StepAnalysis& analysis) {
     csv << "\n";
   }
   return csv.str();
+}
+
+// ------------------------------------------------------ the commands ---
+
+namespace {
+
+const std::vector<std::string> kPlants = {"g1", "g2"};
+
+// kp, ki, kd (PID) and gain, order (fractional integrator) of a spec
+// holding `gains`.
+template <typename Spec>
+void AddGainOptions(OptionTable<Spec>& table) {
+  table.template Add<double>({"kp", "V/mm", "finite and >= 0", "PID proportional gain"},
+                             [](Spec& s) -> double& { return s.gains.kp; });
+  table.template Add<double>({"ki", "V/(mm s)", "finite and >= 0", "PID integral gain"},
+                             [](Spec& s) -> double& { return s.gains.ki; });
+  table.template Add<double>({"kd", "V s/mm", "finite and >= 0", "PID derivative gain"},
+                             [](Spec& s) -> double& { return s.gains.kd; });
+  table.template Add<double>(
+      {"gain", "V/(mm s^lambda)", "finite and > 0", "Fractional integrator gain K"},
+      [](Spec& s) -> double& { return s.gains.gain; });
+  table.template Add<double>({"order", "", "in (0, 1]", "Fractional integrator order lambda"},
+                             [](Spec& s) -> double& { return s.gains.order; });
+}
+
+OptionTable<BodeCommand> MakeBodeOptions() {
+  OptionTable<BodeCommand> table("bode", "Frequency response and margins of one link's open loop");
+  OptionInfo controller{"controller", "", "", "The controller C of L = C P"};
+  controller.choices = {kPid, kFractional, kFractionalEq15, kFractionalOustaloup, kNone};
+  controller.required = true;
+  table.Add<std::string>(controller, [](BodeCommand& c) -> std::string& { return c.controller; });
+  table.Add<std::vector<int>>({"links", "", "distinct links 1..3", "Links to analyse (Table 2)"},
+                              [](BodeCommand& c) -> std::vector<int>& { return c.links; });
+  OptionInfo plant{"plant", "", "", "Link model: g1 (eq. 5) or g2 (eq. 6)"};
+  plant.choices = kPlants;
+  table.Add<std::string>(plant, [](BodeCommand& c) -> std::string& { return c.plant; });
+  AddGainOptions(table);
+  table.Add<int>({"oustaloup_pairs", "", "in [1, " + std::to_string(kMaxOustaloupPairs) + "]",
+                  "fractional-oustaloup: Oustaloup pairs N"},
+                 [](BodeCommand& c) -> int& { return c.oustaloup_n; });
+  table.Add<std::vector<double>>({"band_rad_s", "rad/s", "LOW,HIGH with 0 < LOW < HIGH",
+                                  "fractional-oustaloup: the realisation's band"},
+                                 [](BodeCommand& c) -> std::vector<double>& { return c.band_rad_s; });
+  OptionInfo w_min{"w_min_rad_s", "rad/s", "finite and > 0", "bode.csv: lowest frequency"};
+  w_min.aliases = {"w_min"};
+  table.Add<double>(w_min, [](BodeCommand& c) -> double& { return c.w_min_rad_s; });
+  OptionInfo w_max{"w_max_rad_s", "rad/s", "finite and > w_min_rad_s",
+                   "bode.csv: highest frequency"};
+  w_max.aliases = {"w_max"};
+  table.Add<double>(w_max, [](BodeCommand& c) -> double& { return c.w_max_rad_s; });
+  table.Add<int>({"points_per_decade", "", "in [1, 100000]", "bode.csv: grid density"},
+                 [](BodeCommand& c) -> int& { return c.points_per_decade; });
+  OptionInfo out{"out", "", "a folder", "Folder for bode.csv and bode.json (one link)"};
+  out.aliases = {"o"};
+  table.AddPath(out, [](BodeCommand& c) -> std::string& { return c.out; });
+  return table;
+}
+
+OptionTable<StepCommand> MakeStepOptions() {
+  OptionTable<StepCommand> table(
+      "step", "Closed-loop unit step of each link against the reference model");
+  OptionInfo controller{"controller", "", "", "The controller: pid (eq. 12) or fractional (eq. 14)"};
+  controller.choices = {kPid, kFractional};
+  controller.required = true;
+  table.Add<std::string>(controller, [](StepCommand& c) -> std::string& { return c.controller; });
+  table.Add<std::vector<int>>({"links", "", "distinct links 1..3", "Links to simulate"},
+                              [](StepCommand& c) -> std::vector<int>& { return c.links; });
+  OptionInfo plant{"plant", "", "", "Link model: g1 (eq. 5) or g2 (eq. 6)"};
+  plant.choices = kPlants;
+  table.Add<std::string>(plant, [](StepCommand& c) -> std::string& { return c.plant; });
+  AddGainOptions(table);
+  table.Add<double>({"horizon_s", "s", "finite and > 0", "Horizon of step.csv and of J (eq. 11)"},
+                    [](StepCommand& c) -> double& { return c.horizon_s; });
+  table.Add<double>({"max_horizon_s", "s", "finite and > 0",
+                     "Longest record for the step metrics: each link's simulation goes on past "
+                     "horizon_s until its metrics are determined"},
+                    [](StepCommand& c) -> double& { return c.max_horizon_s; });
+  OptionInfo rate{"sample_rate_Hz", "Hz", "finite and > 0", "Controller sample rate"};
+  table.Add<double>(rate, [](StepCommand& c) -> double& { return c.sample_rate_Hz; });
+  table.Add<bool>({"no_clamp", "", "", "No output clamp (the paper's linear setting)"},
+                  [](StepCommand& c) -> bool& { return c.no_clamp; });
+  OptionInfo v_max{"v_max_V", "V", "finite and > 0", "Output clamp"};
+  v_max.aliases = {"v_max"};
+  table.Add<double>(v_max, [](StepCommand& c) -> double& { return c.v_max_V; });
+  OptionInfo out{"out", "", "a folder", "Folder for step.csv and step.json"};
+  out.aliases = {"o"};
+  table.AddPath(out, [](StepCommand& c) -> std::string& { return c.out; });
+  return table;
+}
+
+std::string OutFile(const std::string& dir, const char* name) {
+  return (std::filesystem::path(dir) / name).string();
+}
+
+}  // namespace
+
+const OptionTable<BodeCommand>& BodeOptions() {
+  static const OptionTable<BodeCommand> table = MakeBodeOptions();
+  return table;
+}
+
+const OptionTable<StepCommand>& StepOptions() {
+  static const OptionTable<StepCommand> table = MakeStepOptions();
+  return table;
+}
+
+std::vector<BodeLink> RunBodeCommand(const BodeCommand& command, const OptionGiven& given) {
+  const std::string name = BodeOptions().command();
+  ValidateLinkList(name, command.links);
+  if (!command.out.empty() && command.links.size() != 1) {
+    ThrowOption(name, "links", "one link with out (bode.csv is one link's)",
+                std::to_string(command.links.size()) + " links");
+  }
+  std::vector<BodeLink> links;
+  for (const int link : command.links) {
+    BodeSpec spec = command;
+    spec.link = link;
+    ValidateBodeSpec(name, spec, given);
+    links.push_back({spec, {}, {}});
+  }
+  for (BodeLink& link : links) {
+    link.analysis = AnalyseBode(link.spec);
+    link.columns = ComputeBodeColumns(link.analysis, link.spec);
+  }
+  if (!command.out.empty()) {
+    const BodeLink& link = links.front();
+    // What the curves are and the loop's margins, for the figure's title,
+    // legend and marks.
+    const nlohmann::json about = {{"controller", link.spec.controller},
+                                  {"controller_description", link.analysis.controller_description},
+                                  {"plant", link.spec.plant},
+                                  {"plant_description", link.analysis.plant_description},
+                                  {"link", link.spec.link},
+                                  {"margins", MarginsJson(link.analysis.margins)}};
+    EnsureDirectory(command.out);
+    WriteFilesTogether({{OutFile(command.out, "bode.csv"), BodeCsv(link.columns)},
+                        {OutFile(command.out, "bode.json"), about.dump(2) + "\n"}});
+  }
+  return links;
+}
+
+StepAnalysis RunStepCommand(const StepCommand& command, const OptionGiven& given) {
+  ValidateStepSpec(StepOptions().command(), command, given);
+  StepAnalysis analysis = AnalyseStep(command);
+  if (!command.out.empty()) {
+    const nlohmann::json about = {{"controller", command.controller},
+                                  {"controller_description", analysis.controller_description},
+                                  {"plant", command.plant},
+                                  {"clamp_enabled", !command.no_clamp},
+                                  {"v_max_V", command.v_max_V}};
+    EnsureDirectory(command.out);
+    WriteFilesTogether({{OutFile(command.out, "step.csv"), StepCsv(analysis)},
+                        {OutFile(command.out, "step.json"), about.dump(2) + "\n"}});
+  }
+  return analysis;
 }
 
 }  // namespace ipmc

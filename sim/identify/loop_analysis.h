@@ -15,8 +15,9 @@
 //    determine them, and J of eq. 11 against the reference model over the
 //    horizon.
 //
-// Option values are checked with the command line's words: every error is
-// std::invalid_argument "COMMAND: --option must be ..., got ...".
+// Option values are checked by field: every error is a FieldError
+// "COMMAND: FIELD must be ..., got ..." naming the option's field (the
+// option tables below; the command line puts its flag in its place).
 #pragma once
 
 #include <complex>
@@ -29,6 +30,7 @@
 #include "controllers/fractional_integrator.h"
 #include "controllers/linear/frequency_response.h"
 #include "controllers/pid.h"
+#include "sim/io/option_table.h"
 
 namespace ipmc {
 
@@ -42,13 +44,14 @@ struct ControllerGains {
   double order = FractionalIntegrator::Config{}.order;  // lambda
 };
 
-// Whether the caller gave an option explicitly ("--kp"): an option the
-// chosen controller does not take is an error rather than ignored.
+// Whether the caller gave an option explicitly, by field ("kp"): an
+// option the chosen controller does not take is an error rather than
+// ignored.
 using OptionGiven = std::function<bool(const std::string& option)>;
 
-// Throws std::invalid_argument "COMMAND: --links must be ..." unless
+// Throws FieldError "COMMAND: links must be ..." unless
 // `links` is a non-empty list of distinct links 1..3 (every command that
-// chooses links takes them as --links).
+// chooses links takes them as links).
 void ValidateLinkList(const std::string& command, const std::vector<int>& links);
 
 // ------------------------------------------------------------------ bode ---
@@ -66,7 +69,7 @@ struct BodeSpec {
   int points_per_decade = 100;
 };
 
-// Throws std::invalid_argument naming `command` and the option.
+// Throws FieldError naming `command` and the field.
 void ValidateBodeSpec(const std::string& command, const BodeSpec& spec, const OptionGiven& given);
 
 struct BodeAnalysis {
@@ -104,12 +107,12 @@ struct StepSpec {
   ControllerGains gains;
   double horizon_s = 10.0;           // step.csv and J of eq. 11
   double max_horizon_s = 300.0;      // longest record for the step metrics
-  double sample_rate_hz = 1000.0;
+  double sample_rate_Hz = 1000.0;
   bool no_clamp = false;
-  double v_max = 6.0;
+  double v_max_V = 6.0;
 };
 
-// Throws std::invalid_argument naming `command` and the option.
+// Throws FieldError naming `command` and the field.
 void ValidateStepSpec(const std::string& command, const StepSpec& spec, const OptionGiven& given);
 
 struct LinkStep {
@@ -137,5 +140,31 @@ struct StepAnalysis {
 StepAnalysis AnalyseStep(const StepSpec& spec);
 // step.csv: time_s, reference_model, y_link<q>, u_link<q> over the horizon.
 std::string StepCsv(const StepAnalysis& analysis);
+
+// ------------------------------------------------------ the commands ---
+
+// `bode` as both front ends run it: the links analysed in turn, and the
+// output folder (one link's bode.csv and bode.json).
+struct BodeCommand : BodeSpec {
+  std::vector<int> links = {1, 2, 3};
+  std::string out;  // "": no files
+};
+struct BodeLink {
+  BodeSpec spec;  // with its link
+  BodeAnalysis analysis;
+  BodeColumns columns;
+};
+const OptionTable<BodeCommand>& BodeOptions();
+// Checks every link before the first is analysed, and `out` (one link, a
+// writable folder); then analyses and writes OUT/bode.csv and
+// OUT/bode.json together. Throws FieldError naming the field.
+std::vector<BodeLink> RunBodeCommand(const BodeCommand& command, const OptionGiven& given);
+
+// `step` as both front ends run it, with OUT/step.csv and OUT/step.json.
+struct StepCommand : StepSpec {
+  std::string out;  // "": no files
+};
+const OptionTable<StepCommand>& StepOptions();
+StepAnalysis RunStepCommand(const StepCommand& command, const OptionGiven& given);
 
 }  // namespace ipmc

@@ -1,9 +1,10 @@
 // Analyses from Python: Bode data and margins, closed-loop steps,
 // identification of a record and the controller design of one link, each
 // as its ipmc-swim command computes it (sim/identify/loop_analysis.h,
-// sim/identify/identify_run.h). The options are the command's, with
-// underscores for dashes (--band-rad-s is band_rad_s), and so are the
-// error messages.
+// sim/identify/identify_run.h): the keywords are the names of the
+// command's option table, which the command line reads too, and the
+// checks and the files are the library's, so both front ends write the
+// same bytes.
 #include <algorithm>
 #include <complex>
 #include <filesystem>
@@ -13,21 +14,10 @@
 
 #include "sim/identify/identify_run.h"
 #include "sim/identify/loop_analysis.h"
-#include "sim/io/files.h"
 #include "sim/python/convert.h"
 
 namespace ipmc::python {
 namespace {
-
-// Whether the keyword of a command-line option ("--band-rad-s": band_rad_s)
-// was given.
-OptionGiven GivenIn(const Options& options) {
-  return [&options](const std::string& option) {
-    std::string key = option.substr(2);
-    std::replace(key.begin(), key.end(), '-', '_');
-    return options.Given(key);
-  };
-}
 
 py::object Optional(const std::optional<double>& value) {
   return value ? py::object(py::float_(*value)) : py::object(py::none());
@@ -54,40 +44,11 @@ py::dict StepMetricsDict(const StepMetrics& m) {
   return dict;
 }
 
-void ReadGains(Options& options, ControllerGains* gains) {
-  options.Read("kp", &gains->kp);
-  options.Read("ki", &gains->ki);
-  options.Read("kd", &gains->kd);
-  options.Read("gain", &gains->gain);
-  options.Read("order", &gains->order);
-}
-
-void WriteInto(const py::object& out, const std::string& file, const std::string& content) {
-  const std::string dir = PathText(out, "out");
-  EnsureDirectory(dir);
-  WriteFileAtomically((std::filesystem::path(dir) / file).string(), content);
-}
-
 // ------------------------------------------------------------------ bode ---
 
-py::dict Bode(const std::string& controller, const py::dict& kwargs, const py::object& out) {
-  Options options("bode", kwargs);
-  BodeSpec spec;
-  spec.controller = controller;
-  options.Read("link", &spec.link);
-  options.Read("plant", &spec.plant);
-  ReadGains(options, &spec.gains);
-  options.Read("oustaloup_pairs", &spec.oustaloup_n);
-  options.Read("band_rad_s", &spec.band_rad_s);
-  options.Read("w_min", &spec.w_min_rad_s);
-  options.Read("w_max", &spec.w_max_rad_s);
-  options.Read("points_per_decade", &spec.points_per_decade);
-  options.RejectUnknown();
-  ValidateBodeSpec("bode", spec, GivenIn(options));
-  const BodeAnalysis analysis = AnalyseBode(spec);
-  const BodeColumns columns = ComputeBodeColumns(analysis, spec);
-  if (!out.is_none()) WriteInto(out, "bode.csv", BodeCsv(columns));
-
+py::dict BodeLinkDict(const BodeLink& link) {
+  const BodeAnalysis& analysis = link.analysis;
+  const BodeColumns& columns = link.columns;
   py::dict response;
   response["w_rad_s"] = Array(columns.plant.w_rad_s);
   const std::pair<const char*, const BodeData*> parts[] = {
@@ -106,6 +67,7 @@ py::dict Bode(const std::string& controller, const py::dict& kwargs, const py::o
   at_design["open_loop"] = analysis.controller_at_design * analysis.plant_at_design;
 
   py::dict result;
+  result["link"] = link.spec.link;
   result["controller"] = analysis.controller_description;
   result["plant"] = analysis.plant_description;
   result["margins"] = MarginsDict(analysis.margins);
@@ -114,24 +76,27 @@ py::dict Bode(const std::string& controller, const py::dict& kwargs, const py::o
   return result;
 }
 
+py::list Bode(const py::dict& kwargs) {
+  Options options("bode", kwargs);
+  BodeCommand command;
+  ReadTableOptions(options, BodeOptions(), &command);
+  options.RejectUnknown();
+  const std::vector<BodeLink> links =
+      WithoutGil([&] { return RunBodeCommand(command, GivenKeywords(options, BodeOptions())); });
+  py::list result;
+  for (const BodeLink& link : links) result.append(BodeLinkDict(link));
+  return result;
+}
+
 // ------------------------------------------------------------------ step ---
 
-py::dict Step(const std::string& controller, const py::dict& kwargs, const py::object& out) {
+py::dict Step(const py::dict& kwargs) {
   Options options("step", kwargs);
-  StepSpec spec;
-  spec.controller = controller;
-  options.Read("plant", &spec.plant);
-  options.Read("links", &spec.links);
-  ReadGains(options, &spec.gains);
-  options.Read("horizon_s", &spec.horizon_s);
-  options.Read("max_horizon_s", &spec.max_horizon_s);
-  options.Read("sample_rate_hz", &spec.sample_rate_hz);
-  options.Read("no_clamp", &spec.no_clamp);
-  options.Read("v_max", &spec.v_max);
+  StepCommand command;
+  ReadTableOptions(options, StepOptions(), &command);
   options.RejectUnknown();
-  ValidateStepSpec("step", spec, GivenIn(options));
-  const StepAnalysis analysis = WithoutGil([&] { return AnalyseStep(spec); });
-  if (!out.is_none()) WriteInto(out, "step.csv", StepCsv(analysis));
+  const StepAnalysis analysis =
+      WithoutGil([&] { return RunStepCommand(command, GivenKeywords(options, StepOptions())); });
 
   py::list links;
   for (const LinkStep& step : analysis.links) {
@@ -200,29 +165,25 @@ py::array_t<std::complex<double>> FittedArray(const LinkModelFit& fit,
   return Array(response);
 }
 
-py::dict Identify(const py::object& data, const std::string& input, const std::string& output,
-                  const py::dict& kwargs, const py::object& out) {
+// data: the record, by column names; `name` (the record's name in
+// messages and identification.json) is a keyword of its own: the command
+// line's is the file's path.
+py::dict Identify(const py::object& data, const py::dict& kwargs) {
   Options options("identify", kwargs);
-  IdentifySpec spec;
-  spec.data_path = "data";
-  options.Read("name", &spec.data_path);
-  spec.input_column = input;
-  spec.output_column = output;
-  options.Read("sample_rate_hz", &spec.sample_rate_hz);
-  options.Read("band_rad_s", &spec.band_rad_s);
+  IdentifyCommand command;
+  command.data_path = "data";
+  options.ReadPath("name", &command.data_path);
+  ReadTableOptions(options, IdentifyOptions(), &command);
   options.RejectUnknown();
-  spec.Validate();
-  const std::vector<double> u = Column(data, input, spec.data_path);
-  const std::vector<double> y = Column(data, output, spec.data_path);
+  command.Validate();
+  const IdentifySpec& spec = command;
+  const std::vector<double> u = Column(data, spec.input_column, spec.data_path);
+  const std::vector<double> y = Column(data, spec.output_column, spec.data_path);
   std::optional<std::vector<double>> t;
   if (HasColumn(data, "time_s")) t = Column(data, "time_s", spec.data_path);
   const RecordIdentification result =
-      WithoutGil([&] { return IdentifyRecord(spec, u, y, t ? &*t : nullptr); });
+      WithoutGil([&] { return RunIdentifyCommand(command, u, y, t ? &*t : nullptr); });
   const nlohmann::json json = IdentificationJson(spec, result);
-  if (!out.is_none()) {
-    WriteInto(out, "response.csv", ResponseCsv(result.estimate, result.id));
-    WriteInto(out, "identification.json", json.dump(2) + "\n");
-  }
   const FrequencyResponseEstimate& e = result.estimate;
   py::dict response;
   response["w_rad_s"] = Array(e.w_rad_s);
@@ -242,19 +203,7 @@ py::dict Identify(const py::object& data, const std::string& input, const std::s
 
 // ---------------------------------------------------------------- design ---
 
-py::dict Design(const py::dict& kwargs) {
-  Options options("design", kwargs);
-  DesignSpec spec;
-  options.Read("link", &spec.link);
-  options.Read("plant", &spec.plant);
-  options.Read("crossover_rad_s", &spec.crossover_rad_s);
-  options.Read("phase_margin_deg", &spec.phase_margin_deg);
-  options.Read("reference_order", &spec.reference_order);
-  options.Read("horizon_s", &spec.horizon_s);
-  options.Read("sample_rate_hz", &spec.sample_rate_hz);
-  options.RejectUnknown();
-  const LinkDesign design = WithoutGil([&] { return DesignLink(spec); });
-
+py::dict DesignDict(int link, const LinkDesign& design) {
   py::dict fractional;
   fractional["gain"] = design.fractional.design.gain;
   fractional["order"] = design.fractional.design.order;
@@ -287,19 +236,32 @@ py::dict Design(const py::dict& kwargs) {
   pid["runs"] = runs;
 
   py::dict result;
+  result["link"] = link;
   result["fractional"] = fractional;
   result["pid"] = pid;
   result["tuning_s"] = design.tuning_s;
   return result;
 }
 
+py::list Design(const py::dict& kwargs) {
+  Options options("design", kwargs);
+  DesignCommand command;
+  ReadTableOptions(options, DesignOptions(), &command);
+  options.RejectUnknown();
+  const std::vector<LinkDesign> designs = WithoutGil([&] { return RunDesignCommand(command); });
+  py::list result;
+  for (std::size_t i = 0; i < designs.size(); ++i) {
+    result.append(DesignDict(command.links[i], designs[i]));
+  }
+  return result;
+}
+
 }  // namespace
 
 void BindAnalysis(py::module_& m) {
-  m.def("bode", &Bode, py::arg("controller"), py::arg("options"), py::arg("out"));
-  m.def("step", &Step, py::arg("controller"), py::arg("options"), py::arg("out"));
-  m.def("identify", &Identify, py::arg("data"), py::arg("input"), py::arg("output"),
-        py::arg("options"), py::arg("out"));
+  m.def("bode", &Bode, py::arg("options"));
+  m.def("step", &Step, py::arg("options"));
+  m.def("identify", &Identify, py::arg("data"), py::arg("options"));
   m.def("design", &Design, py::arg("options"));
 }
 

@@ -10,11 +10,11 @@
 #include <vector>
 
 #include "sim/batch/sweep.h"
-#include "sim/core/model_generator.h"
+#include "sim/core/generate_command.h"
 #include "sim/core/simulation.h"
 #include "sim/io/files.h"
 #include "sim/python/convert.h"
-#include "sim/runs/bench_run.h"
+#include "sim/runs/bench_command.h"
 #include "sim/runs/closed_loop_run.h"
 #include "sim/runs/output.h"
 
@@ -86,6 +86,14 @@ py::dict Run(const py::object& scenario_arg, const py::dict& overrides, const py
   const ScenarioArgument argument = ReadScenarioArgument(scenario_arg, overrides, "run");
   const ScenarioConfig& scenario = argument.scenario;
   const nlohmann::json& inputs = argument.inputs;
+  // As the command line: the output folder is checked before the run, and
+  // never holds the scenario file.
+  if (!out.is_none()) {
+    const nlohmann::json& source = inputs["scenario"];
+    CheckRunOutputDirectory("run", "out", PathText(out, "out"),
+                            source.is_string() ? std::vector<std::string>{source.get<std::string>()}
+                                               : std::vector<std::string>{});
+  }
   const double total_s = scenario.cycles / std::abs(scenario.waveform.frequency_Hz);
   Progress progress(progress_callback, total_s);
   const SampleObserver observer = [&](const mjModel*, const mjData* d, const ClosedLoopSample&) {
@@ -134,72 +142,27 @@ py::object Sweep(const py::object& path_arg, const py::object& jobs_arg,
 
 // ----------------------------------------------------------------- bench ---
 
-py::dict Bench(const py::dict& kwargs, const py::object& out, const py::object& progress_callback) {
+py::dict Bench(const py::dict& kwargs, const py::object& progress_callback) {
   Options options("bench", kwargs);
-  std::string model_path;
-  options.ReadPath("model", &model_path);
-  std::string kind = "sine";
-  options.Read("signal", &kind);
-  BenchSignal signal;
-  options.Read("amplitude_V", &signal.amplitude_V);
-  options.Read("frequency_Hz", &signal.frequency_Hz);
-  options.Read("start_Hz", &signal.start_Hz);
-  options.Read("end_Hz", &signal.end_Hz);
-  options.Read("duration_s", &signal.duration_s);
-  options.Read("sample_rate_Hz", &signal.sample_rate_Hz);
-  options.Read("driven_links", &signal.driven_links);
+  BenchCommand command;
+  ReadTableOptions(options, BenchOptions(), &command);
   options.RejectUnknown();
-  if (kind != "sine" && kind != "chirp") {
-    throw std::invalid_argument("bench: signal must be sine or chirp (got '" + kind + "')");
-  }
-  signal.kind = kind == "chirp" ? BenchSignal::Kind::kChirp : BenchSignal::Kind::kSine;
-  signal.Validate();
-  Progress progress(progress_callback, signal.duration_s);
+  Progress progress(progress_callback, command.bench.duration_s);
   const BenchRecord record = WithoutGil([&] {
-    Simulation sim(LoadModelFile(model_path), model_path);
-    return RunBench(sim, signal, 0.0, [&](double t_s) { progress.Report(t_s); });
+    return RunBenchCommand(command, [&](double t_s) { progress.Report(t_s); });
   });
-  progress.Report(signal.duration_s, true);
-  if (!out.is_none()) {
-    const std::string path = PathText(out, "out");
-    WithoutGil([&] { WriteFileAtomically(path, BenchCsv(record)); });
-  }
+  progress.Report(command.bench.duration_s, true);
   return BenchColumns(record);
 }
 
 // -------------------------------------------------------------- generate ---
 
-std::string GenerateModel(const py::dict& kwargs, const py::object& out) {
+std::string GenerateModel(const py::dict& kwargs) {
   Options options("generate_model", kwargs);
-  FlagellumSpec s;
-  options.Read("link_lengths_mm", &s.link_lengths_mm);
-  options.Read("segments_per_link", &s.segments_per_link);
-  options.Read("gap_mm", &s.gap_mm);
-  options.Read("width_mm", &s.width_mm);
-  options.Read("thickness_um", &s.thickness_um);
-  options.Read("head_length_mm", &s.head_length_mm);
-  options.Read("density_kg_m3", &s.density_kg_m3);
-  options.Read("bending_modulus_Pa", &s.bending_modulus_Pa);
-  options.Read("hinge_damping_ratio", &s.hinge_damping_ratio);
-  options.Read("clamped", &s.clamped);
-  options.Read("timestep_s", &s.timestep_s);
-  options.Read("integrator", &s.integrator);
-  options.Read("viscosity_Pa_s", &s.viscosity_Pa_s);
-  options.Read("coefficients", &s.coefficients);
-  options.Read("wavelength_mm", &s.wavelength_mm);
-  options.Read("equivalent_radius_mm", &s.equivalent_radius_mm);
-  options.Read("xi_normal_N_s_m2", &s.xi_normal_N_s_m2);
-  options.Read("xi_tangential_N_s_m2", &s.xi_tangential_N_s_m2);
-  options.Read("fluid_density_kg_m3", &s.fluid_density_kg_m3);
-  options.Read("ipmc_actuators", &s.ipmc_actuators);
-  options.Read("plants", &s.plants);
-  options.Read("ipmc_model", &s.ipmc_model);
-  options.Read("actuation", &s.actuation);
-  options.Read("name", &s.name);
+  GenerateCommand command;
+  ReadTableOptions(options, GenerateOptions(), &command);
   options.RejectUnknown();
-  const std::string xml = GenerateFlagellumMjcf(s);
-  if (!out.is_none()) WriteFileAtomically(PathText(out, "out"), xml);
-  return xml;
+  return RunGenerateCommand(command);
 }
 
 }  // namespace
@@ -209,8 +172,8 @@ void BindRuns(py::module_& m) {
         py::arg("progress"));
   m.def("sweep", &Sweep, py::arg("sweep"), py::arg("jobs"), py::arg("shard"), py::arg("out"),
         py::arg("progress"));
-  m.def("bench", &Bench, py::arg("options"), py::arg("out"), py::arg("progress"));
-  m.def("generate_model", &GenerateModel, py::arg("options"), py::arg("out"));
+  m.def("bench", &Bench, py::arg("options"), py::arg("progress"));
+  m.def("generate_model", &GenerateModel, py::arg("options"));
 }
 
 }  // namespace ipmc::python

@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "controllers/controller_names.h"
 #include "ipmc_swim/ipmc_swim.h"
 #include "plugin/coupling.h"
 #include "sim/core/link_sensors.h"
@@ -171,7 +172,7 @@ class PythonSimulation {
     const ScenarioConfig& s = RequireScenario("controller");
     py::dict dict;
     const bool pid = s.controller == ControllerKind::kPid;
-    dict["kind"] = pid ? "pid" : "fractional";
+    dict["kind"] = pid ? controller_names::kPid : controller_names::kFractional;
     dict["sample_rate_Hz"] = s.sample_rate_Hz;
     if (pid) {
       dict["kp"] = s.pid.kp;

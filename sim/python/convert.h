@@ -10,6 +10,8 @@
 #include <pybind11/stl.h>
 
 #include <chrono>
+#include <functional>
+#include <variant>
 #include <complex>
 #include <set>
 #include <string>
@@ -20,6 +22,7 @@
 #include <toml++/toml.h>
 
 #include "sim/core/scenario.h"
+#include "sim/io/option_table.h"
 
 namespace ipmc::python {
 
@@ -92,6 +95,51 @@ class Options {
   py::dict options_;
   std::set<std::string> known_;
 };
+
+// Reads a command's options (its table, sim/io/option_table.h) from the
+// keywords by their names (and their aliases, but for one-letter ones,
+// which are command-line short flags); positional options are the call's
+// own arguments, and a table option left out keeps its default.
+template <typename Spec>
+void ReadTableOptions(Options& options, const OptionTable<Spec>& table, Spec* spec) {
+  for (const Option<Spec>& option : table.options()) {
+    if (option.info.positional) continue;
+    std::vector<std::string> names = option.info.aliases;
+    names.insert(names.begin(), option.info.name);
+    for (const std::string& name : names) {
+      if (name.size() == 1) continue;
+      std::visit(
+          [&](const auto& field) {
+            auto& value = field(*spec);
+            using T = std::decay_t<decltype(value)>;
+            if constexpr (std::is_same_v<T, std::string>) {
+              if (option.info.type == OptionType::kPath) {
+                options.ReadPath(name, &value);
+                return;
+              }
+            }
+            options.Read(name, &value);
+          },
+          option.field);
+    }
+  }
+}
+
+// The keywords given, by their table names (an alias counts as its name).
+template <typename Spec>
+std::function<bool(const std::string&)> GivenKeywords(const Options& options,
+                                                      const OptionTable<Spec>& table) {
+  return [&options, &table](const std::string& name) {
+    if (options.Given(name)) return true;
+    for (const Option<Spec>& option : table.options()) {
+      if (option.info.name != name) continue;
+      for (const std::string& alias : option.info.aliases) {
+        if (options.Given(alias)) return true;
+      }
+    }
+    return false;
+  };
+}
 
 // Reports progress, done of total (simulated seconds, points), to a Python
 // callable `callback(done, total)` (or None) first at once, then at most

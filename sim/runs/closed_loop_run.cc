@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "controllers/controller_names.h"
 #include "ipmc_swim/ipmc_swim.h"
 #include "plugin/coupling.h"
 #include "sim/core/step_count.h"
@@ -164,7 +165,7 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
   const double v_max = pid ? scenario.pid.v_max : scenario.fractional.v_max;
 
   ClosedLoopResult result;
-  result.controller = pid ? "pid" : "fractional";
+  result.controller = pid ? controller_names::kPid : controller_names::kFractional;
   result.actuation = scenario.actuation;
   result.clamp_enabled = clamped;
   result.v_max_V = v_max;
@@ -188,8 +189,7 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
           measured[q] = sensors.RelativeDeflection_mm(d, q);
           const double error = reference[q] - measured[q];
           LinkTracking& track = result.links[q];
-          track.iae_mm_s += std::abs(error) * sample_period_s;
-          track.itae_mm_s2 += t * std::abs(error) * sample_period_s;
+          track.Add(t, error, sample_period_s);
           track.max_abs_error_mm = std::max(track.max_abs_error_mm, std::abs(error));
           track.max_abs_reference_mm = std::max(track.max_abs_reference_mm, std::abs(reference[q]));
           volts[q] = q < driven ? controllers[q].Update(error) : 0.0;

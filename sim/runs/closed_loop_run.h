@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "controllers/closed_loop.h"
 #include "sim/core/scenario.h"
 #include "sim/core/simulation.h"
 #include "sim/core/swim_meter.h"
@@ -26,9 +27,8 @@
 
 namespace ipmc {
 
-struct LinkTracking {
-  double iae_mm_s = 0.0;
-  double itae_mm_s2 = 0.0;
+// IAE and ITAE (TrackingIndices), and the rest of the link's tracking.
+struct LinkTracking : TrackingIndices {
   double max_abs_error_mm = 0.0;
   double max_abs_reference_mm = 0.0;
   double rms_voltage_V = 0.0;

@@ -10,16 +10,16 @@ from conftest import run_cli
 
 
 def test_generate_model_is_the_generators_text(tmp_path):
-    _, stdout, _ = run_cli("generate", "--links-mm", "5,10,15", "--head-mm", "0.5")
+    _, stdout, _ = run_cli("generate", "--link-lengths-mm", "5,10,15", "--head-length-mm", "0.5")
     assert ipmc_swim.generate_model(link_lengths_mm=[5, 10, 15], head_length_mm=0.5) == stdout
     ipmc_swim.generate_model(out=tmp_path / "m.xml")
     assert (tmp_path / "m.xml").read_text() == run_cli("generate")[1]
 
 
 def test_bench_equals_the_command_line(tmp_path):
-    run_cli("bench", "--signal", "chirp", "--duration-s", "1", "--f1-hz", "20", "--links", "1,3",
+    run_cli("bench", "--signal", "chirp", "--duration-s", "1", "--end-hz", "20", "--links", "1,3",
             "--out", tmp_path / "cli.csv")
-    record = ipmc_swim.bench(signal="chirp", duration_s=1.0, end_Hz=20.0, driven_links=[1, 3],
+    record = ipmc_swim.bench(signal="chirp", duration_s=1.0, end_Hz=20.0, links=[1, 3],
                              out=tmp_path / "python.csv")
     assert (tmp_path / "python.csv").read_bytes() == (tmp_path / "cli.csv").read_bytes()
     header = (tmp_path / "cli.csv").read_text().splitlines()[0].split(",")
@@ -31,8 +31,10 @@ def test_bench_equals_the_command_line(tmp_path):
 
 def test_bode_equals_the_command_line(tmp_path):
     _, stdout, _ = run_cli("bode", "--controller", "pid", "--links", "3", "--out", tmp_path / "cli")
-    result = ipmc_swim.bode("pid", link=3, out=tmp_path / "python")
-    assert (tmp_path / "python" / "bode.csv").read_bytes() == (tmp_path / "cli" / "bode.csv").read_bytes()
+    [result] = ipmc_swim.bode("pid", links=[3], out=tmp_path / "python")
+    for name in ("bode.csv", "bode.json"):
+        assert (tmp_path / "python" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes()
+    assert result.link == 3
     margins = result["margins"]
     assert f"gain crossover: {margins['gain_crossover_rad_s']:.3f} rad/s" in stdout
     assert f"phase margin: {margins['phase_margin_deg']:.2f} deg" in stdout
@@ -50,7 +52,8 @@ def test_step_equals_the_command_line(tmp_path):
     _, stdout, _ = run_cli("step", "--controller", "pid", *args, "--out", tmp_path / "cli")
     result = ipmc_swim.step("pid", links=[3, 1], horizon_s=1.0, max_horizon_s=3.0, no_clamp=True,
                             out=tmp_path / "python")
-    assert (tmp_path / "python" / "step.csv").read_bytes() == (tmp_path / "cli" / "step.csv").read_bytes()
+    for name in ("step.csv", "step.json"):
+        assert (tmp_path / "python" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes()
     rows = {line.split()[0]: line.split() for line in stdout.splitlines() if line[:4].strip() in ("1", "3")}
     for link in result["links"]:
         row = rows[str(link["link"])]
@@ -64,7 +67,7 @@ def test_identify_equals_the_command_line(tmp_path):
     # A chirp long enough for a band from 5 rad/s; the CLI reads the CSV's
     # 10 digits, so the Python call gets the same numbers parsed from it.
     csv = tmp_path / "chirp.csv"
-    run_cli("bench", "--signal", "chirp", "--duration-s", "8", "--f1-hz", "50", "--out", csv)
+    run_cli("bench", "--signal", "chirp", "--duration-s", "8", "--end-hz", "50", "--out", csv)
     run_cli("identify", csv, "--input", "voltage1_V", "--output", "relative1_mm",
             "--band-rad-s", "5,50", "--out", tmp_path / "cli")
     data = np.genfromtxt(csv, delimiter=",", names=True)
@@ -88,7 +91,7 @@ def test_identify_equals_the_command_line(tmp_path):
 def test_design_equals_the_command_line():
     args = ["--links", "3", "--horizon-s", "0.5", "--sample-rate-hz", "2000"]
     _, stdout, _ = run_cli("design", *args)
-    result = ipmc_swim.design(link=3, horizon_s=0.5, sample_rate_hz=2000.0)
+    [result] = ipmc_swim.design(links=[3], horizon_s=0.5, sample_rate_Hz=2000.0)
     fractional = result["fractional"]
     assert f"C_I(s) = {fractional['gain']:.4f} / s^{fractional['order']:.4f}" in stdout
     pid = result["pid"]

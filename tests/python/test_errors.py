@@ -47,22 +47,44 @@ def test_a_wrong_toml_type_is_the_scenario_readers_error(short_scenario):
         ipmc_swim.run(short_scenario, cycles=1.5)
 
 
+def with_flags(message, names):
+    """A library message with the option names replaced by their flags, as
+    the command line relocates it."""
+    for name in names:
+        message = re.sub(r"(?<![\w-])" + re.escape(name) + r"(?!\w)",
+                         "--" + name.lower().replace("_", "-"), message)
+    return message
+
+
 def test_analysis_and_bench_errors_are_the_command_lines(tmp_path):
+    # The library names the field (the keyword); the command line puts the
+    # flag in its place.
     cases = [
         (lambda: ipmc_swim.bode("fractional", kp=1.0),
-         ("bode", "--controller", "fractional", "--kp", "1")),
-        (lambda: ipmc_swim.step("pid", links=[4]), ("step", "--controller", "pid", "--links", "4")),
-        (lambda: ipmc_swim.design(phase_margin_deg=200.0), ("design", "--phase-margin-deg", "200")),
+         ("bode", "--controller", "fractional", "--kp", "1"), ["kp", "controller"]),
+        (lambda: ipmc_swim.step("pid", links=[4]), ("step", "--controller", "pid", "--links", "4"),
+         ["links"]),
+        (lambda: ipmc_swim.step("pid", v_max_V=0.0),
+         ("step", "--controller", "pid", "--v-max-v", "0"), ["v_max_V"]),
+        (lambda: ipmc_swim.design(phase_margin_deg=200.0), ("design", "--phase-margin-deg", "200"),
+         ["phase_margin_deg"]),
         (lambda: ipmc_swim.bench(duration_s=-1.0),
-         ("bench", "--duration-s", "-1", "--out", tmp_path / "bench.csv")),
-        (lambda: ipmc_swim.generate_model(gap_mm=-1.0), ("generate", "--gap-mm", "-1")),
+         ("bench", "--duration-s", "-1", "--out", tmp_path / "bench.csv"), []),
+        (lambda: ipmc_swim.generate_model(gap_mm=-1.0), ("generate", "--gap-mm", "-1"), []),
     ]
-    for call, command in cases:
+    for call, command, names in cases:
         expected = cli_error(*command)
         with pytest.raises(ipmc_swim.Error) as error:
             call()
-        assert str(error.value) == expected
+        assert with_flags(str(error.value), names) == expected
+        for name in names:
+            assert name in str(error.value)
     assert not (tmp_path / "bench.csv").exists()
+
+
+def test_a_wrong_keyword_type_names_the_keyword():
+    with pytest.raises(TypeError, match="step\\(\\): v_max_V has the wrong type"):
+        ipmc_swim.step("pid", v_max_V="six")
 
 
 def test_nothing_is_written_when_the_run_fails(short_scenario, tmp_path):

@@ -2,7 +2,11 @@
 
 The calls mirror the ipmc-swim commands and compute exactly what they
 compute (the same library code), returning numpy arrays and dicts instead
-of printing; each writes the command's files only when given ``out``.
+of printing; each writes the command's files only when given ``out``, the
+same bytes as the command line. Their keywords are the names of the
+command's option table (``ipmc-swim options``, docs/OPTIONS.md; the flag
+is the name in lower case with ``-`` for ``_``: ``sample_rate_Hz`` is
+``--sample-rate-hz``), spelt as docs/CONVENTIONS.md says.
 
 - ``run(scenario, **overrides)``: a closed-loop swimming run (``ipmc-swim run``);
 - ``sweep(sweep_file)``: a sweep's table (``ipmc-swim sweep``);
@@ -67,6 +71,13 @@ def _columns(rows):
     return columns
 
 
+def _options(options, **arguments):
+    """The keyword options with the call's own arguments, those not None."""
+    merged = dict(options)
+    merged.update({name: value for name, value in arguments.items() if value is not None})
+    return merged
+
+
 def run(scenario, *, out=None, progress=None, **overrides):
     """Runs a closed-loop scenario, as ``ipmc-swim run SCENARIO [--out DIR]``.
 
@@ -109,40 +120,44 @@ def bench(model=None, *, out=None, progress=None, **signal):
     """A voltage experiment on the test bench, as ``ipmc-swim bench``.
 
     model: the MJCF (default models/flagellum3_clamped.xml). signal: the
-    fields of the bench signal, signal="sine" or "chirp", amplitude_V,
-    frequency_Hz (sine), start_Hz and end_Hz (chirp), duration_s,
-    sample_rate_Hz, driven_links (1-based). out: the CSV file to write.
-    Returns the record, a numpy array per column of the bench CSV (time_s,
-    voltage1_V, relative1_mm, tip1_lateral_mm, free1_mm, voltage2_V, ...).
+    bench's options, signal="sine" or "chirp", amplitude_V, frequency_Hz
+    (sine), start_Hz and end_Hz (chirp), duration_s, sample_rate_Hz, links
+    (driven, 1-based), allow_long. out: the CSV file to write (never the
+    model). Returns the record, a numpy array per column of the bench CSV
+    (time_s, voltage1_V, relative1_mm, tip1_lateral_mm, free1_mm,
+    voltage2_V, ...).
     """
     if model is None:
         model = os.path.join(MODELS_DIR, "flagellum3_clamped.xml")
-    return _core.bench(dict(signal, model=model), out, progress)
+    return _core.bench(_options(signal, model=model, out=out), progress)
 
 
 def bode(controller, *, out=None, **options):
-    """One link's open loop and margins, as ``ipmc-swim bode``.
+    """The open loop and margins of each link, as ``ipmc-swim bode``.
 
     controller: pid, fractional, fractional-eq15, fractional-oustaloup or
-    none. options: link, plant, kp, ki, kd, gain, order, oustaloup_pairs, band_rad_s,
-    w_min, w_max, points_per_decade (the command's options; an option the
-    controller does not take is an error). out: a directory for bode.csv.
-    Returns the descriptions, the margins, the values at 5 rad/s and the
-    response (bode.csv's columns as arrays).
+    none. options: links, plant, kp, ki, kd, gain, order, oustaloup_pairs,
+    band_rad_s, w_min_rad_s, w_max_rad_s, points_per_decade (an option the
+    controller does not take is an error). out: a folder for bode.csv and
+    bode.json (with one link). Returns a list, one Result per link: link,
+    the descriptions, the margins, the values at 5 rad/s and the response
+    (bode.csv's columns as arrays).
     """
-    return _core.bode(controller, options, out)
+    links = _core.bode(_options(options, controller=controller, out=out))
+    return [Result(link) for link in links]
 
 
 def step(controller, *, out=None, **options):
     """Closed-loop unit steps of the links, as ``ipmc-swim step``.
 
     controller: pid or fractional. options: links, plant, kp, ki, kd, gain,
-    order, horizon_s, max_horizon_s, sample_rate_hz, no_clamp, v_max. out: a
-    directory for step.csv. Returns per link its record (time_s, output_mm,
-    control_V), step metrics, whether the record determines them, the
-    largest voltage and J of eq. 11; and the reference model's step.
+    order, horizon_s, max_horizon_s, sample_rate_Hz, no_clamp, v_max_V.
+    out: a folder for step.csv and step.json. Returns per link its record
+    (time_s, output_mm, control_V), step metrics, whether the record
+    determines them, the largest voltage and J of eq. 11; and the
+    reference model's step.
     """
-    return _core.step(controller, options, out)
+    return _core.step(_options(options, controller=controller, out=out))
 
 
 def identify(data, input, output, *, out=None, **options):
@@ -151,21 +166,24 @@ def identify(data, input, output, *, out=None, **options):
     data: the record, anything indexed by column names (a bench() result, a
     dict of arrays, numpy.genfromtxt(path, delimiter=",", names=True) of a
     bench CSV); input, output: the columns [V] and [mm]; a time_s column, if
-    present, must agree with the sample rate. options: sample_rate_hz,
-    band_rad_s, name (the record's name in messages). out: a directory for
-    response.csv and identification.json. Returns identification.json's
-    contents and the response (w_rad_s, measured, coherence, p1, p2, ...).
+    present, must agree with the sample rate. options: sample_rate_Hz,
+    band_rad_s, name (the record's name in messages and
+    identification.json; the command line's is the file's path). out: a
+    folder for response.csv and identification.json. Returns
+    identification.json's contents and the response (w_rad_s, measured,
+    coherence, p1, p2, ...).
     """
-    return _core.identify(data, input, output, options, out)
+    return _core.identify(data, _options(options, input=input, output=output, out=out))
 
 
 def design(**options):
-    """The fractional integrator and the tuned PID of one link, as ``ipmc-swim design``.
+    """The fractional integrator and the tuned PID of each link, as ``ipmc-swim design``.
 
-    options: link, plant, crossover_rad_s, phase_margin_deg,
-    reference_order, horizon_s, sample_rate_hz.
+    options: links, plant, crossover_rad_s, phase_margin_deg,
+    reference_order, horizon_s, sample_rate_Hz. Returns a list, one Result
+    per link (link, fractional, pid, tuning_s).
     """
-    return _core.design(options)
+    return [Result(link) for link in _core.design(options)]
 
 
 def generate_model(*, out=None, **spec):
@@ -179,4 +197,4 @@ def generate_model(*, out=None, **spec):
     ipmc_actuators, plants, ipmc_model, actuation, name). out: a file to
     write. Returns the XML text (``Simulation.from_xml`` loads it).
     """
-    return _core.generate_model(spec, out)
+    return _core.generate_model(_options(spec, out=out))

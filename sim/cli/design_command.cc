@@ -1,0 +1,63 @@
+#include "sim/cli/design_command.h"
+
+#include <cstdio>
+
+#include "controllers/fractional_integrator.h"
+#include "sim/identify/report_text.h"
+
+namespace ipmc {
+namespace {
+
+
+void PrintDesign(const DesignSpec& args, const LinkDesign& result) {
+  std::printf("plant: link %d, P = s^-0.5 %s (Table 2%s)\n", args.link,
+              args.plant == "g2" ? "G2" : "G1",
+              args.link == 3 && args.plant == "g1" ? ", eq. 7" : "");
+  const FractionalIntegratorDesign& d = result.fractional.design;
+  std::printf("fractional integrator for crossover %g rad/s, phase margin %g deg:\n",
+              args.crossover_rad_s, args.phase_margin_deg);
+  std::printf("  |P(j w_c)| = %.6g mm/V, arg P(j w_c) = %.4f deg\n", d.plant_magnitude,
+              d.plant_phase_deg);
+  std::printf("  C_I(s) = %.4f / s^%.4f  (lambda = (arg P + 180 - PM) / 90, K = w_c^lambda / "
+              "|P|; paper eq. 14: %.2f / s^%.2f)\n",
+              d.gain, d.order, kPaperFractional.gain, kPaperFractional.order);
+  std::printf("  open loop (exact): %s\n", MarginsText(result.fractional.margins).c_str());
+
+  const PidTuningResult& tuned = result.tuned;
+  std::printf("PID tuned by Nelder-Mead against 1/((s/%g)^%g + 1), J of eq. 11 over %g s, loop "
+              "sampled at %g Hz (linear, no clamp):\n",
+              args.crossover_rad_s, args.reference_order, args.horizon_s, args.sample_rate_Hz);
+  std::printf("  %-34s %-34s %10s %10s %6s\n", "start", "result", "J_start", "J", "evals");
+  for (const PidTuningRun& run : tuned.runs) {
+    std::printf("  %-34s %-34s %10.6f %10.6f %6d%s\n", PidText(run.start).c_str(),
+                PidText(run.gains).c_str(), run.start_cost, run.cost, run.evaluations,
+                run.converged ? "" : " (not converged)");
+  }
+  std::printf("  paper (eq. 12): %s, J = %.6f\n", PidText(kPaperPid).c_str(), result.paper_cost);
+  std::printf("  tuned:          %s, J = %.6f (%.1f %% of the paper's)\n",
+              PidText(tuned.gains).c_str(), tuned.cost, 100 * tuned.cost / result.paper_cost);
+  std::printf("  tuned open loop (exact plant, continuous PID): %s\n",
+              MarginsText(result.pid_margins).c_str());
+  std::printf("  tuning time %.2f s\n", result.tuning_s);
+}
+
+}  // namespace
+
+void AddDesignCommand(CLI::App& app, DesignArgs& args) {
+  AddTableCommand(app, DesignOptions(), args);
+}
+
+int RunDesignCommandLine(const DesignArgs& args) {
+  if (!args.Chosen()) return -1;
+  const std::vector<LinkDesign> designs =
+      TranslatingFieldErrors(DesignOptions(), [&] { return RunDesignCommand(args.spec); });
+  for (std::size_t i = 0; i < designs.size(); ++i) {
+    if (i > 0) std::printf("\n");
+    DesignSpec spec = args.spec;
+    spec.link = args.spec.links[i];
+    PrintDesign(spec, designs[i]);
+  }
+  return 0;
+}
+
+}  // namespace ipmc
