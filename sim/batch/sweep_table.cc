@@ -256,6 +256,20 @@ SweepTable MergeSweepTables(const std::vector<SweepTable>& tables,
   return merged;
 }
 
+void CheckTablePrefix(const std::string& who, const std::string& option,
+                      const std::string& prefix) {
+  std::error_code error;
+  if (prefix.empty() || prefix.back() == '/' || std::filesystem::is_directory(prefix, error)) {
+    throw FieldError(who + ": " + option + " '" + prefix +
+                         "' must name the table's files (PREFIX gives PREFIX.csv and "
+                         "PREFIX.json), not a directory: add a name, e.g. " +
+                         (prefix.empty() ? std::string("out/") : prefix +
+                                                                  (prefix.back() == '/' ? "" : "/")) +
+                         "table",
+                     option, "a file name prefix");
+  }
+}
+
 nlohmann::ordered_json SweepResultTree(const SweepTable& table) {
   const nlohmann::ordered_json json = SweepTableJson(table);
   nlohmann::ordered_json tree;

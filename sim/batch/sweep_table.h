@@ -77,6 +77,11 @@ SweepTable MergeSweepTables(const std::vector<SweepTable>& tables,
 //   program_version
 nlohmann::ordered_json SweepResultTree(const SweepTable& table);
 
+// Before the work: throws FieldError naming `option` (--out) if PREFIX
+// cannot name a table's files: empty, ending in '/', or a directory
+// (PREFIX.csv would be a hidden file ".csv" in it).
+void CheckTablePrefix(const std::string& who, const std::string& option, const std::string& prefix);
+
 // Writes PREFIX.csv and PREFIX.json, and PREFIX.mat / PREFIX.h5 as
 // `formats` asks, together or none (creating PREFIX's directory if
 // needed); PREFIX.mat or .h5 of an earlier table that this one does not

@@ -108,6 +108,7 @@ int RunSweepFile(const SweepArgs& args) {
   if (args.out_prefix.empty()) {
     throw std::invalid_argument("sweep: --out PREFIX is required (or --slurm DIR)");
   }
+  CheckTablePrefix("sweep", "--out", args.out_prefix);
   const SweepShard shard = ParseSweepShard(args.shard);
   if (args.jobs < 1) {
     throw std::invalid_argument("sweep: --jobs must be >= 1 (got " + std::to_string(args.jobs) +
@@ -182,6 +183,7 @@ int RunMergeTables(const SweepArgs& args) {
   for (const char* suffix : {".csv", ".json"}) {
     RefuseOverwritingInputs("merge", "--out", args.merge_out_prefix + suffix, args.merge_tables);
   }
+  CheckTablePrefix("merge", "--out", args.merge_out_prefix);
   RequireWritableParent(args.merge_out_prefix);
   if (args.merge_partial) return RunPartialMerge(args);
   for (const std::string& path : args.merge_tables) {

@@ -23,6 +23,7 @@ namespace {
 using Json = nlohmann::ordered_json;
 
 constexpr size_t kMatlabNameLength = 63;  // namelengthmax
+constexpr char kMatHeader[] = "MATLAB 5.0 MAT-file, written by ipmc-swim";
 
 bool EndsWith(const std::string& text, const std::string& end) {
   return text.size() >= end.size() && text.compare(text.size() - end.size(), end.size(), end) == 0;
@@ -234,7 +235,10 @@ class Hid {
   Hid(hid_t id, herr_t (*close)(hid_t), const std::string& what) : id_(id), close_(close) {
     if (id_ < 0) throw std::runtime_error("HDF5: cannot create " + what);
   }
-  ~Hid() { close_(id_); }
+  ~Hid() {
+    if (id_ >= 0) close_(id_);
+  }
+  Hid(Hid&& other) noexcept : id_(other.id_), close_(other.close_) { other.id_ = -1; }
   Hid(const Hid&) = delete;
   Hid& operator=(const Hid&) = delete;
   hid_t get() const { return id_; }
@@ -246,6 +250,15 @@ class Hid {
 
 void Check(herr_t status, const std::string& what) {
   if (status < 0) throw std::runtime_error("HDF5: cannot write " + what);
+}
+
+// A creation property list (H5P_DATASET_CREATE or H5P_GROUP_CREATE) that
+// records no modification times, so that the same results give the same
+// bytes.
+Hid Untimed(hid_t property_class) {
+  Hid list(H5Pcreate(property_class), H5Pclose, "a creation property list");
+  Check(H5Pset_obj_track_times(list.get(), 0), "the creation property list");
+  return list;
 }
 
 // A variable-length UTF-8 string, which h5py reads as str.
@@ -274,7 +287,7 @@ void WriteDoubles(hid_t group, const std::string& name, const std::vector<double
                          : H5Screate_simple(columns > 0 ? 2 : 1, size, nullptr),
                   H5Sclose, "the dataspace of " + path);
   const Hid dataset(H5Dcreate2(group, name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT,
-                               H5P_DEFAULT, H5P_DEFAULT),
+                               Untimed(H5P_DATASET_CREATE).get(), H5P_DEFAULT),
                     H5Dclose, path);
   if (!values.empty()) {
     Check(H5Dwrite(dataset.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()),
@@ -292,7 +305,7 @@ void WriteStrings(hid_t group, const std::string& name, const std::vector<std::s
   const Hid space(scalar ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &size, nullptr), H5Sclose,
                   "the dataspace of " + path);
   const Hid dataset(H5Dcreate2(group, name.c_str(), type.get(), space.get(), H5P_DEFAULT,
-                               H5P_DEFAULT, H5P_DEFAULT),
+                               Untimed(H5P_DATASET_CREATE).get(), H5P_DEFAULT),
                     H5Dclose, path);
   std::vector<const char*> pointers;
   for (const std::string& text : texts) pointers.push_back(text.c_str());
@@ -304,7 +317,8 @@ void WriteHdf5Value(hid_t group, const std::string& name, const Json& value,
 
 void WriteHdf5Group(hid_t parent, const std::string& name, const Json& object,
                     const std::string& path) {
-  const Hid group(H5Gcreate2(parent, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+  const Hid group(H5Gcreate2(parent, name.c_str(), H5P_DEFAULT, Untimed(H5P_GROUP_CREATE).get(),
+                             H5P_DEFAULT),
                   H5Gclose, "the group " + path);
   for (const auto& [key, item] : object.items()) {
     WriteHdf5Value(group.get(), key, item, path + "/" + key);
@@ -319,7 +333,7 @@ void WriteHdf5Value(hid_t group, const std::string& name, const Json& value,
     const unsigned char flag = value.get<bool>() ? 1 : 0;
     const Hid space(H5Screate(H5S_SCALAR), H5Sclose, "the dataspace of " + path);
     const Hid dataset(H5Dcreate2(group, name.c_str(), H5T_STD_U8LE, space.get(), H5P_DEFAULT,
-                                 H5P_DEFAULT, H5P_DEFAULT),
+                                 Untimed(H5P_DATASET_CREATE).get(), H5P_DEFAULT),
                       H5Dclose, path);
     Check(H5Dwrite(dataset.get(), H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, &flag), path);
     return;
@@ -375,7 +389,9 @@ std::string MatFileBytes(const std::string& variable, const nlohmann::ordered_js
   if (!tree.is_object()) throw std::invalid_argument(variable + ": a MAT-file holds a struct");
   MatVar root = MatStruct(MatlabName(variable), tree, variable);
   const ScratchFile scratch;
-  mat_t* file = Mat_CreateVer(scratch.path().c_str(), nullptr, MAT_FT_MAT5);
+  // A fixed header text (libmatio's default holds the creation date), so
+  // that the same results give the same bytes.
+  mat_t* file = Mat_CreateVer(scratch.path().c_str(), kMatHeader, MAT_FT_MAT5);
   if (!file) throw std::runtime_error(scratch.path() + ": libmatio cannot create a MAT-file");
   const int status = Mat_VarWrite(file, root.get(), MAT_COMPRESSION_ZLIB);
   Mat_Close(file);

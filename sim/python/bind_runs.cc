@@ -4,6 +4,7 @@
 // writing the command's files only when asked to.
 #include <algorithm>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 #include <utility>
@@ -82,8 +83,12 @@ py::dict BenchColumns(const BenchRecord& record) {
 // ------------------------------------------------------------------- run ---
 
 py::dict Run(const py::object& scenario_arg, const py::dict& overrides, const py::object& out,
-             const py::object& progress_callback) {
+             const std::vector<std::string>& format_names, const py::object& progress_callback) {
   const ScenarioArgument argument = ReadScenarioArgument(scenario_arg, overrides, "run");
+  const RunFileFormats formats = ParseRunFileFormats(format_names);
+  if ((formats.mat || formats.hdf5) && out.is_none()) {
+    throw std::invalid_argument("run: formats mat or h5 need an output directory (out=DIR)");
+  }
   const ScenarioConfig& scenario = argument.scenario;
   const nlohmann::json& inputs = argument.inputs;
   // As the command line: the output folder is checked before the run, and
@@ -94,6 +99,9 @@ py::dict Run(const py::object& scenario_arg, const py::dict& overrides, const py
                             source.is_string() ? std::vector<std::string>{source.get<std::string>()}
                                                : std::vector<std::string>{});
   }
+  // One run per output directory, from the start of the work to its end.
+  std::optional<DirectoryLock> hold;
+  if (!out.is_none()) hold.emplace(PathText(out, "out"));
   const double total_s = scenario.cycles / std::abs(scenario.waveform.frequency_Hz);
   Progress progress(progress_callback, total_s);
   const SampleObserver observer = [&](const mjModel*, const mjData* d, const ClosedLoopSample&) {
@@ -103,7 +111,7 @@ py::dict Run(const py::object& scenario_arg, const py::dict& overrides, const py
   progress.Report(total_s, true);
   if (!out.is_none()) {
     const std::string dir = PathText(out, "out");
-    WithoutGil([&] { WriteClosedLoopOutputs(dir, result, scenario, inputs); });
+    WithoutGil([&] { WriteClosedLoopOutputs(dir, result, scenario, inputs, formats); });
   }
   py::dict dict;
   dict["timeseries"] = ClosedLoopColumns(result);
@@ -115,8 +123,11 @@ py::dict Run(const py::object& scenario_arg, const py::dict& overrides, const py
 
 py::object Sweep(const py::object& path_arg, const py::object& jobs_arg,
                  const std::string& shard_text, const py::object& out,
+                 const std::vector<std::string>& format_names,
                  const py::object& progress_callback) {
   const std::string path = PathText(path_arg, "sweep");
+  const RunFileFormats formats = ParseRunFileFormats(format_names);
+  if (!out.is_none()) CheckTablePrefix("sweep", "out", PathText(out, "out"));
   SweepOptions options;
   const int threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   options.jobs = jobs_arg.is_none() ? threads : jobs_arg.cast<int>();
@@ -135,7 +146,7 @@ py::object Sweep(const py::object& path_arg, const py::object& jobs_arg,
   const SweepTable table = WithoutGil([&] { return RunSweep(plan, options); });
   if (!out.is_none()) {
     const std::string prefix = PathText(out, "out");
-    WithoutGil([&] { WriteSweepTable(prefix, table); });
+    WithoutGil([&] { WriteSweepTable(prefix, table, formats); });
   }
   return ToPython(SweepTableJson(table));
 }
@@ -169,9 +180,9 @@ std::string GenerateModel(const py::dict& kwargs) {
 
 void BindRuns(py::module_& m) {
   m.def("run", &Run, py::arg("scenario"), py::arg("overrides"), py::arg("out"),
-        py::arg("progress"));
+        py::arg("formats"), py::arg("progress"));
   m.def("sweep", &Sweep, py::arg("sweep"), py::arg("jobs"), py::arg("shard"), py::arg("out"),
-        py::arg("progress"));
+        py::arg("formats"), py::arg("progress"));
   m.def("bench", &Bench, py::arg("options"), py::arg("progress"));
   m.def("generate_model", &GenerateModel, py::arg("options"));
 }

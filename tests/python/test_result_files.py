@@ -115,3 +115,19 @@ def test_a_sweeps_mat_and_hdf5_files_equal_its_table(tmp_path, short_scenario):
     run_cli("sweep", sweep, "--out", prefix, "--jobs", "1")
     assert not pathlib.Path(f"{prefix}.mat").exists()
     assert not pathlib.Path(f"{prefix}.h5").exists()
+
+
+def test_python_writes_the_same_files_as_the_command_line(tmp_path, short_scenario):
+    """ipmc_swim.run(..., out=DIR, formats=["mat", "h5"]) writes run.mat and
+    run.h5 byte for byte as `run --format mat,h5` does (one writer,
+    sim/runs/output.h)."""
+    import ipmc_swim
+
+    cli_dir, python_dir = tmp_path / "cli", tmp_path / "python"
+    run_cli("run", short_scenario, "--out", cli_dir, "--format", "mat,h5")
+    ipmc_swim.run(str(short_scenario), out=str(python_dir), formats=["mat", "h5"])
+    for name in ("run.mat", "run.h5", "timeseries.csv", "states.csv"):
+        assert (cli_dir / name).read_bytes() == (python_dir / name).read_bytes(), name
+    with pytest.raises(ipmc_swim.Error, match="format must be csv, mat or h5"):
+        ipmc_swim.run(str(short_scenario), out=str(tmp_path / "never"), formats=["xlsx"])
+    assert not (tmp_path / "never").exists()

@@ -78,7 +78,7 @@ def _options(options, **arguments):
     return merged
 
 
-def run(scenario, *, out=None, progress=None, **overrides):
+def run(scenario, *, out=None, formats=(), progress=None, **overrides):
     """Runs a closed-loop scenario, as ``ipmc-swim run SCENARIO [--out DIR]``.
 
     scenario: a scenario file (TOML, see scenarios/paper.toml) or a dict of
@@ -87,6 +87,8 @@ def run(scenario, *, out=None, progress=None, **overrides):
     ``run("scenarios/paper.toml", cycles=1, **{"waveform.frequency_Hz": 0.02})``
     or ``controller={"kind": "fractional"}``. out: a directory for
     timeseries.csv and summary.json (the scenario's output.dir is not used).
+    formats: also write the run as run.mat ("mat") or run.h5 ("h5") into
+    out, as ``run --format`` does (docs/MATLAB.md).
 
     Returns a Result with ``timeseries`` (a numpy array per column of
     timeseries.csv: time_s, com_x_mm, ..., reference1_mm, measured1_mm,
@@ -95,23 +97,24 @@ def run(scenario, *, out=None, progress=None, **overrides):
     ``links`` (per-link metrics: link, iae_mm_s, itae_mm_s2, ...) and
     ``summary`` (summary.json's contents, without its inputs, as a dict).
     """
-    raw = _core.run(scenario, overrides, out, progress)
+    raw = _core.run(scenario, overrides, out, list(formats), progress)
     summary = raw["summary"]
     return Result(timeseries=raw["timeseries"], cycles=_columns(summary["per_cycle"]),
                   links=_columns(summary["links"]), summary=summary)
 
 
-def sweep(sweep_file, *, jobs=None, shard="1/1", out=None, progress=None):
+def sweep(sweep_file, *, jobs=None, shard="1/1", out=None, formats=(), progress=None):
     """Runs a sweep file, as ``ipmc-swim sweep SWEEP --out PREFIX``.
 
     jobs: threads (default: the hardware's); shard: "i/n" runs the points
-    with index % n == i - 1; out: writes PREFIX.csv and PREFIX.json.
+    with index % n == i - 1; out: writes PREFIX.csv and PREFIX.json, and with
+    formats ("mat", "h5") PREFIX.mat and PREFIX.h5.
     progress(done, total) is called after each point. Returns the table as a
     dict of numpy arrays, one per column (point, the swept keys, status,
     error, link<q>_iae_mm_s, ..., reynolds_swim; NaN for a failed point's
     results).
     """
-    table = _core.sweep(sweep_file, jobs, shard, out, progress)
+    table = _core.sweep(sweep_file, jobs, shard, out, list(formats), progress)
     columns = _columns(table["points"])
     return {name: columns.get(name, np.array([], dtype=object)) for name in table["columns"]}
 
