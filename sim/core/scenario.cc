@@ -27,6 +27,7 @@
 #include "sim/core/scenario_keys.h"
 #include "sim/io/error.h"
 #include "sim/io/files.h"
+#include "sim/core/model_generator.h"
 #include "sim/io/numbers.h"
 #include "sim/io/toml.h"
 
@@ -40,6 +41,7 @@ constexpr int kMaxLinks = 20;
 constexpr char kSegmentsPerLink[] = "segments_per_link";
 constexpr char kPlants[] = "plants";
 constexpr char kActuation[] = "actuation";
+constexpr char kDynamics[] = "dynamics";
 constexpr char kCycles[] = "cycles";
 constexpr char kTimestep[] = "timestep_s";
 constexpr char kController[] = "controller";
@@ -532,10 +534,26 @@ ScenarioConfig ScenarioReader::Read(const toml::table& root) const {
   if (const auto entry = Find(root, "", kLinkLengths)) ReadLinkLengths(*entry, &config);
   if (const auto entry = Find(root, "", kSegmentsPerLink)) {
     config.segments_per_link = Integer(*entry);
+    // The generated flagellum (the generator's defaults but the links)
+    // nests its bodies; MuJoCo's reader limits the nesting.
+    const FlagellumSpec spec;
+    const int links = config.link_lengths_mm.empty() ? spec.Links()
+                                                     : static_cast<int>(config.link_lengths_mm.size());
+    const int most = MaxSegmentsPerLink(links, spec.head_length_mm > 0);
+    if (config.segments_per_link > most) {
+      const std::string allowed = "[1, " + std::to_string(most) + "] for " +
+                                  std::to_string(links) + " links and the head";
+      FailValue(*entry,
+                entry->name + " must be in " + allowed + " (got " +
+                    std::to_string(config.segments_per_link) + "): MuJoCo 2.2 reads at most " +
+                    std::to_string(kMaxNestedBodies) + " nested bodies",
+                allowed);
+    }
   }
   if (const auto entry = Find(root, "", kPlants)) {
     config.plants = *ParsePlantAssignment(Choice(*entry));
   }
+  if (const auto entry = Find(root, "", kDynamics)) config.dynamics = ParseDynamics(Choice(*entry));
   const std::optional<Entry> model = Find(root, "", kModel);
   if (!model && !config.GeneratesModel()) {
     Fail(InputProblem::kMissing, 0, kModel,
@@ -640,6 +658,7 @@ std::map<std::string, std::string> ResolvedValues(const ScenarioConfig& config) 
   if (config.segments_per_link > 0) set(kSegmentsPerLink, std::to_string(config.segments_per_link));
   if (config.plants) set(kPlants, TomlString(PlantAssignmentName(*config.plants)));
   set(kActuation, TomlString(config.actuation));
+  if (config.dynamics) set(kDynamics, TomlString(DynamicsName(*config.dynamics)));
   set(kCycles, std::to_string(config.cycles));
   if (config.timestep_s) set(kTimestep, TomlFloat(*config.timestep_s));
 

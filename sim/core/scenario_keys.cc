@@ -65,7 +65,9 @@ std::vector<KeySpec> MakeScenarioKeys() {
           .Example("[8, 10, 12]")
           .Refused("[10, -1]")
           .Above(0.0),
-      Key("segments_per_link", T::kInteger, "", "[1, 64]", "none: the model file",
+      Key("segments_per_link", T::kInteger, "",
+          "[1, 64] and 1 + links x segments_per_link <= 96 (31 on three links): MuJoCo 2.2 "
+          "nests at most 96 bodies, the head included", "none: the model file",
           "Rigid sub-segments per link; also generates the flagellum (links of 10 mm "
           "unless link_lengths_mm)")
           .Example("2")
@@ -83,6 +85,13 @@ std::vector<KeySpec> MakeScenarioKeys() {
           .Example("\"single\"")
           .Refused("\"none\"")
           .Choices("distributed|single"),
+      Key("dynamics", T::kChoice, "", "\"inertial\" or \"stokes\"",
+          "the model's `ipmc_dynamics` (inertial if absent)",
+          "inertial: mj_step with the bodies' inertia; stokes: no inertia, velocities from the "
+          "force balance, implicit in the hinge stiffness (docs/DYNAMICS.md)")
+          .Example("\"stokes\"")
+          .Refused("\"quasi_static\"")
+          .Choices("inertial|stokes"),
       Key("cycles", T::kInteger, "", ">= 1", "3", "Wave periods to run")
           .Default("3")
           .Refused("0")

@@ -1,0 +1,84 @@
+// Time stepping of a body in Stokes flow (Reynolds number << 1): no
+// inertia, the generalised velocity follows from the balance of forces.
+//
+// With the RFT drag linear in the velocity, -D(q) qdot with
+// D = sum over segments J_s^T S_s J_s (S_s the segment's spatial
+// resistance, plugin/fluid/rft_drag.h, J_s its body's Jacobian), the
+// joints' damping C and stiffness K (diagonal) and every other force f
+// (the active moments in qfrc_actuator, qfrc_applied, other passive
+// forces), the balance is
+//   D(q) qdot + C qdot = f(q, t) - K (q - q_spring).
+// One step of h is backward Euler in the stiffness (linearly implicit in
+// the position, D taken at the step's start):
+//   (D(q_n) + C + h K) v = f(q_n, t_n) - K (q_n - q_spring),
+//   q_(n+1) = q_n + h v,
+// which is stable at any h for K, C >= 0: the step is set by what drives
+// the body (the controller's sample, the wave), not by the hinges' stiff
+// relaxation (D/K ~ microseconds for a sub-segment of the IPMC strip). An
+// affine actuator bias (a servo's -kp q - kv qdot on a joint) enters the
+// same way, as stiffness and damping. The matrix is never formed: the
+// solve is the articulated-body recursion (Featherstone, "Rigid Body
+// Dynamics Algorithms", 2008, ch. 7) with the spatial resistances in place
+// of the spatial inertias, one pass leaf to root and one back over the
+// dofs of MuJoCo's tree, so a step costs O(number of dofs).
+//
+// MuJoCo computes everything else: kinematics, the passive and actuator
+// forces (mjcb_passive, mjcb_control run as in mj_forward), sensors. After
+// a step qvel holds v (the velocity over the step), qacc is zero,
+// qfrc_passive holds the passive forces at zero velocity (so without the
+// drag), sensordata is computed from q_n and v, and time has advanced by h.
+// Not supported (the constructor refuses them): contacts, joint or tendon
+// limits, equality constraints, and actuators with activation dynamics.
+#pragma once
+
+#include <mujoco/mujoco.h>
+
+#include <Eigen/Core>
+#include <Eigen/StdVector>
+#include <string>
+#include <vector>
+
+#include "plugin/fluid/rft_drag.h"
+
+namespace ipmc {
+
+// How a coupled model is stepped: mj_step (MuJoCo's integrator, with the
+// bodies' inertia) or StokesStepper. MJCF: text ipmc_dynamics, inertial
+// (default) | stokes.
+enum class Dynamics { kInertial, kStokes };
+constexpr char kAttrDynamics[] = "ipmc_dynamics";
+// Throws std::invalid_argument naming the field and its choices.
+Dynamics ParseDynamics(const std::string& text);
+const char* DynamicsName(Dynamics dynamics);
+
+class StokesStepper {
+ public:
+  // Throws std::invalid_argument naming what the model has that the
+  // stepper does not support.
+  explicit StokesStepper(const mjModel* m);
+
+  // One step of m->opt.timestep. `drag` may be null (no RFT drag: the
+  // joints' damping alone must then resist every dof). Returns false and
+  // leaves d's position and time unchanged if a dof has no resistance at
+  // all (the force balance is singular); the caller reports that.
+  bool Step(const mjModel* m, mjData* d, const RftDrag* drag);
+
+  // Solves (D(q) + diag(extra)) v = f for v (d's positions, after
+  // mj_comPos). Returns false if the system is singular.
+  bool Solve(const mjModel* m, const mjData* d, const RftDrag* drag, const double* extra,
+             const double* f, double* v);
+
+ private:
+  using Vector6 = Eigen::Matrix<double, 6, 1>;
+  using Matrix6 = Eigen::Matrix<double, 6, 6>;
+  // The last dof of each body's chain of dofs (its own last dof or its
+  // nearest moving ancestor's), -1 for a body fixed to the world.
+  std::vector<int> body_node_;
+  // Per dof: articulated resistance, bias, U = A s, u, and s.A.s + extra.
+  std::vector<Matrix6, Eigen::aligned_allocator<Matrix6>> articulated_;
+  std::vector<Vector6, Eigen::aligned_allocator<Vector6>> bias_, u_vector_, velocity_;
+  std::vector<double> u_, pivot_, diagonal_, force_;
+  RftDrag::BodyResistances resistances_;
+};
+
+}  // namespace ipmc
