@@ -95,6 +95,8 @@ StokesStepper::StokesStepper(const mjModel* m) {
   pivot_.resize(m->nv);
   diagonal_.resize(m->nv);
   force_.resize(m->nv);
+  cdof_.resize(6 * m->nv);
+  qpos_.resize(m->nq);
 }
 
 // Minimising 1/2 sum_b V_b^T S_b V_b + 1/2 sum_j e_j v_j^2 - f^T v over v,
@@ -104,22 +106,19 @@ StokesStepper::StokesStepper(const mjModel* m) {
 // parent A += A_j - U U^T / D_j, p += p_j + U u_j / D_j with U = A_j s_j,
 // D_j = s_j.U + e_j, u_j = f_j - s_j.p_j; then, from the root,
 // v_j = (u_j - U.V_parent) / D_j.
-bool StokesStepper::Solve(const mjModel* m, const mjData* d, const RftDrag* drag,
-                          const double* extra, const double* f, double* v) {
+bool StokesStepper::Solve(const mjModel* m, const double* cdof, const double* extra,
+                          const double* f, double* v) {
   const int nv = m->nv;
   for (int j = 0; j < nv; ++j) {
     articulated_[j].setZero();
     bias_[j].setZero();
   }
-  if (drag) {
-    drag->Resistances(m, d, &resistances_);
-    for (const RftDrag::BodyResistance& segment : resistances_) {
-      const int node = body_node_[segment.body];
-      if (node >= 0) articulated_[node] += segment.resistance;
-    }
+  for (const RftDrag::BodyResistance& segment : resistances_) {
+    const int node = body_node_[segment.body];
+    if (node >= 0) articulated_[node] += segment.resistance;
   }
   for (int j = nv - 1; j >= 0; --j) {
-    const Eigen::Map<const Vector6> s(d->cdof + 6 * j);
+    const Eigen::Map<const Vector6> s(cdof + 6 * j);
     u_vector_[j].noalias() = articulated_[j] * s;
     pivot_[j] = s.dot(u_vector_[j]) + extra[j];
     if (!(pivot_[j] > 0)) return false;
@@ -131,7 +130,7 @@ bool StokesStepper::Solve(const mjModel* m, const mjData* d, const RftDrag* drag
     bias_[parent] += bias_[j] + u_vector_[j] * (u_[j] / pivot_[j]);
   }
   for (int j = 0; j < nv; ++j) {
-    const Eigen::Map<const Vector6> s(d->cdof + 6 * j);
+    const Eigen::Map<const Vector6> s(cdof + 6 * j);
     const int parent = m->dof_parentid[j];
     const Vector6 parent_velocity = parent < 0 ? Vector6::Zero() : velocity_[parent];
     v[j] = (u_[j] - u_vector_[j].dot(parent_velocity)) / pivot_[j];
@@ -143,6 +142,15 @@ bool StokesStepper::Solve(const mjModel* m, const mjData* d, const RftDrag* drag
 bool StokesStepper::Step(const mjModel* m, mjData* d, const RftDrag* drag) {
   const double h = m->opt.timestep;
   const bool sensors = !(m->opt.disableflags & mjDSBL_SENSOR);
+  // The resistance and the dofs' motions at the extrapolated midpoint.
+  mju_copy(qpos_.data(), d->qpos, m->nq);
+  mj_integratePos(m, d->qpos, d->qvel, 0.5 * h);
+  mj_kinematics(m, d);
+  mj_comPos(m, d);
+  resistances_.clear();
+  if (drag) drag->Resistances(m, d, &resistances_);
+  mju_copy(cdof_.data(), d->cdof, 6 * m->nv);
+  mju_copy(d->qpos, qpos_.data(), m->nq);
   // Position stage without the mass matrix (mj_fwdPosition less mj_crb,
   // mj_factorM and the constraints).
   mj_kinematics(m, d);
@@ -164,7 +172,7 @@ bool StokesStepper::Step(const mjModel* m, mjData* d, const RftDrag* drag) {
     force_[j] = d->qfrc_passive[j] + d->qfrc_actuator[j] + d->qfrc_applied[j];
   }
   ImplicitDiagonal(m, d, h, diagonal_.data());
-  if (!Solve(m, d, drag, diagonal_.data(), force_.data(), d->qvel)) return false;
+  if (!Solve(m, cdof_.data(), diagonal_.data(), force_.data(), d->qvel)) return false;
   mju_zero(d->qacc, m->nv);
   mj_comVel(m, d);
   if (sensors) mj_sensorVel(m, d);

@@ -8,11 +8,13 @@
 // (the active moments in qfrc_actuator, qfrc_applied, other passive
 // forces), the balance is
 //   D(q) qdot + C qdot = f(q, t) - K (q - q_spring).
-// One step of h is backward Euler in the stiffness (linearly implicit in
-// the position, D taken at the step's start):
-//   (D(q_n) + C + h K) v = f(q_n, t_n) - K (q_n - q_spring),
+// One step of h is backward Euler in the stiffness, with the resistance at
+// the step's midpoint (extrapolated with the last step's velocity v_(n-1)):
+//   (D(q_n + h/2 v_(n-1)) + C + h K) v = f(q_n, t_n) - K (q_n - q_spring),
 //   q_(n+1) = q_n + h v,
-// which is stable at any h for K, C >= 0: the step is set by what drives
+// which is stable at any h for K, C >= 0 (the position enters D only, not
+// the stiff terms), and makes the body's swim per cycle second order in h
+// where D at q_n alone gives first order (docs/DYNAMICS.md). The step is set by what drives
 // the body (the controller's sample, the wave), not by the hinges' stiff
 // relaxation (D/K ~ microseconds for a sub-segment of the IPMC strip). An
 // affine actuator bias (a servo's -kp q - kv qdot on a joint) enters the
@@ -63,12 +65,13 @@ class StokesStepper {
   // all (the force balance is singular); the caller reports that.
   bool Step(const mjModel* m, mjData* d, const RftDrag* drag);
 
-  // Solves (D(q) + diag(extra)) v = f for v (d's positions, after
-  // mj_comPos). Returns false if the system is singular.
-  bool Solve(const mjModel* m, const mjData* d, const RftDrag* drag, const double* extra,
-             const double* f, double* v);
-
  private:
+  // Solves (D + diag(extra)) v = f for v, D from the dofs' motions cdof
+  // and resistances_ (taken at one configuration). Returns false if the
+  // system is singular.
+  bool Solve(const mjModel* m, const double* cdof, const double* extra, const double* f,
+             double* v);
+
   using Vector6 = Eigen::Matrix<double, 6, 1>;
   using Matrix6 = Eigen::Matrix<double, 6, 6>;
   // The last dof of each body's chain of dofs (its own last dof or its
@@ -77,7 +80,7 @@ class StokesStepper {
   // Per dof: articulated resistance, bias, U = A s, u, and s.A.s + extra.
   std::vector<Matrix6, Eigen::aligned_allocator<Matrix6>> articulated_;
   std::vector<Vector6, Eigen::aligned_allocator<Vector6>> bias_, u_vector_, velocity_;
-  std::vector<double> u_, pivot_, diagonal_, force_;
+  std::vector<double> u_, pivot_, diagonal_, force_, cdof_, qpos_;
   RftDrag::BodyResistances resistances_;
 };
 
