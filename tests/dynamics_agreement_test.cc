@@ -60,7 +60,7 @@ TEST(DynamicsAgreement, PaperRunDisplacementPerCycle) {
   std::printf("displacement per cycle: stokes (1 ms) %.6f mm, inertial (0.125 ms) at 0.01 of "
               "the mass %.6f mm (%+.3e), at the full mass %.6f mm (%+.3e)\n",
               stokes, light, relative, full, full / stokes - 1);
-  // Measured +8.3e-4 (the full mass: -1.5e-2).
+  // Measured +2.1e-4 (the full mass: -1.4e-2).
   EXPECT_LT(std::abs(relative), 2e-3);
 }
 

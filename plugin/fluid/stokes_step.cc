@@ -1,5 +1,6 @@
 #include "plugin/fluid/stokes_step.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -96,7 +97,9 @@ StokesStepper::StokesStepper(const mjModel* m) {
   diagonal_.resize(m->nv);
   force_.resize(m->nv);
   cdof_.resize(6 * m->nv);
-  qpos_.resize(m->nq);
+  last_cdof_.resize(6 * m->nv);
+  midpoint_cdof_.resize(6 * m->nv);
+  end_qpos_.resize(m->nq);
 }
 
 // Minimising 1/2 sum_b V_b^T S_b V_b + 1/2 sum_j e_j v_j^2 - f^T v over v,
@@ -113,7 +116,7 @@ bool StokesStepper::Solve(const mjModel* m, const double* cdof, const double* ex
     articulated_[j].setZero();
     bias_[j].setZero();
   }
-  for (const RftDrag::BodyResistance& segment : resistances_) {
+  for (const RftDrag::BodyResistance& segment : midpoint_resistances_) {
     const int node = body_node_[segment.body];
     if (node >= 0) articulated_[node] += segment.resistance;
   }
@@ -142,15 +145,6 @@ bool StokesStepper::Solve(const mjModel* m, const double* cdof, const double* ex
 bool StokesStepper::Step(const mjModel* m, mjData* d, const RftDrag* drag) {
   const double h = m->opt.timestep;
   const bool sensors = !(m->opt.disableflags & mjDSBL_SENSOR);
-  // The resistance and the dofs' motions at the extrapolated midpoint.
-  mju_copy(qpos_.data(), d->qpos, m->nq);
-  mj_integratePos(m, d->qpos, d->qvel, 0.5 * h);
-  mj_kinematics(m, d);
-  mj_comPos(m, d);
-  resistances_.clear();
-  if (drag) drag->Resistances(m, d, &resistances_);
-  mju_copy(cdof_.data(), d->cdof, 6 * m->nv);
-  mju_copy(d->qpos, qpos_.data(), m->nq);
   // Position stage without the mass matrix (mj_fwdPosition less mj_crb,
   // mj_factorM and the constraints).
   mj_kinematics(m, d);
@@ -159,12 +153,13 @@ bool StokesStepper::Step(const mjModel* m, mjData* d, const RftDrag* drag) {
   mj_tendon(m, d);
   mj_transmission(m, d);
   if (sensors) mj_sensorPos(m, d);
+  ExtrapolateToMidpoint(m, d, drag);
   // The forces at zero velocity, in mj_forward's order: passive (springs;
   // the drag vanishes), control callback, actuation.
   mju_zero(d->qvel, m->nv);
   mju_zero(d->actuator_velocity, m->nu);
   mju_zero(d->ten_velocity, m->ntendon);
-  mj_comVel(m, d);
+  mju_zero(d->cvel, 6 * m->nbody);
   mj_passive(m, d);
   if (mjcb_control) mjcb_control(m, d);
   mj_fwdActuation(m, d);
@@ -172,13 +167,41 @@ bool StokesStepper::Step(const mjModel* m, mjData* d, const RftDrag* drag) {
     force_[j] = d->qfrc_passive[j] + d->qfrc_actuator[j] + d->qfrc_applied[j];
   }
   ImplicitDiagonal(m, d, h, diagonal_.data());
-  if (!Solve(m, cdof_.data(), diagonal_.data(), force_.data(), d->qvel)) return false;
+  if (!Solve(m, midpoint_cdof_.data(), diagonal_.data(), force_.data(), d->qvel)) return false;
   mju_zero(d->qacc, m->nv);
   mj_comVel(m, d);
   if (sensors) mj_sensorVel(m, d);
   mj_integratePos(m, d->qpos, d->qvel, h);
   d->time += h;
+  mju_copy(end_qpos_.data(), d->qpos, m->nq);
+  end_time_ = d->time;
   return true;
+}
+
+// The midpoint's S and cdof, 3/2 of this step's minus 1/2 of the last
+// one's (second order), if d continues the last step; this step's
+// otherwise (the first step, or after a reset or rewind).
+void StokesStepper::ExtrapolateToMidpoint(const mjModel* m, const mjData* d, const RftDrag* drag) {
+  const bool continues = have_last_ && d->time == end_time_ &&
+                         std::equal(end_qpos_.begin(), end_qpos_.end(), d->qpos);
+  last_resistances_.swap(resistances_);
+  resistances_.clear();
+  if (drag) drag->Resistances(m, d, &resistances_);
+  last_cdof_.swap(cdof_);
+  mju_copy(cdof_.data(), d->cdof, 6 * m->nv);
+  have_last_ = true;
+  if (!continues || last_resistances_.size() != resistances_.size()) {
+    midpoint_resistances_ = resistances_;
+    midpoint_cdof_ = cdof_;
+    return;
+  }
+  midpoint_resistances_.resize(resistances_.size());
+  for (size_t i = 0; i < resistances_.size(); ++i) {
+    midpoint_resistances_[i].body = resistances_[i].body;
+    midpoint_resistances_[i].resistance =
+        1.5 * resistances_[i].resistance - 0.5 * last_resistances_[i].resistance;
+  }
+  for (size_t i = 0; i < cdof_.size(); ++i) midpoint_cdof_[i] = 1.5 * cdof_[i] - 0.5 * last_cdof_[i];
 }
 
 }  // namespace ipmc

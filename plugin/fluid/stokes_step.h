@@ -9,12 +9,12 @@
 // forces), the balance is
 //   D(q) qdot + C qdot = f(q, t) - K (q - q_spring).
 // One step of h is backward Euler in the stiffness, with the resistance at
-// the step's midpoint (extrapolated with the last step's velocity v_(n-1)):
-//   (D(q_n + h/2 v_(n-1)) + C + h K) v = f(q_n, t_n) - K (q_n - q_spring),
-//   q_(n+1) = q_n + h v,
+// the step's midpoint, extrapolated from this step's and the last one's:
+//   (D_(n+1/2) + C + h K) v = f(q_n, t_n) - K (q_n - q_spring),
+//   q_(n+1) = q_n + h v,  D_(n+1/2) = 3/2 D(q_n) - 1/2 D(q_(n-1)),
 // which is stable at any h for K, C >= 0 (the position enters D only, not
 // the stiff terms), and makes the body's swim per cycle second order in h
-// where D at q_n alone gives first order (docs/DYNAMICS.md). The step is set by what drives
+// where D(q_n) alone gives first order (docs/DYNAMICS.md). The step is set by what drives
 // the body (the controller's sample, the wave), not by the hinges' stiff
 // relaxation (D/K ~ microseconds for a sub-segment of the IPMC strip). An
 // affine actuator bias (a servo's -kp q - kv qdot on a joint) enters the
@@ -80,8 +80,16 @@ class StokesStepper {
   // Per dof: articulated resistance, bias, U = A s, u, and s.A.s + extra.
   std::vector<Matrix6, Eigen::aligned_allocator<Matrix6>> articulated_;
   std::vector<Vector6, Eigen::aligned_allocator<Vector6>> bias_, u_vector_, velocity_;
-  std::vector<double> u_, pivot_, diagonal_, force_, cdof_, qpos_;
-  RftDrag::BodyResistances resistances_;
+  // Extrapolates S and cdof to the step's midpoint (Step).
+  void ExtrapolateToMidpoint(const mjModel* m, const mjData* d, const RftDrag* drag);
+
+  std::vector<double> u_, pivot_, diagonal_, force_;
+  // This step's, the last step's and the midpoint's cdof and S, and where
+  // the last step ended (a step that starts elsewhere does not extrapolate).
+  std::vector<double> cdof_, last_cdof_, midpoint_cdof_, end_qpos_;
+  RftDrag::BodyResistances resistances_, last_resistances_, midpoint_resistances_;
+  double end_time_ = 0;
+  bool have_last_ = false;
 };
 
 }  // namespace ipmc
