@@ -94,24 +94,21 @@ Complex BenchResponse(Dynamics dynamics, double timestep_s, double mass_scale,
   return Amplitude(t, y, w) / Amplitude(t, v, w);
 }
 
-// The recorded deflection is the sensors' value from the start of the
-// sample's last step (MuJoCo fills sensordata from the state at a step's
-// start), so a record at a 1 ms step lags one at 0.125 ms by 0.875 ms:
-// omega (h_stokes - h_inertial) of phase, taken out before comparing.
+// The Stokes step takes the active moments at the step's end (backward
+// Euler), so its 1 ms step puts no lag of its own into the response.
 TEST(DynamicsAgreement, ClampedSineResponses) {
   const double h_stokes = 1e-3, h_inertial = 1.25e-4;
   for (const double f_Hz : {0.1, 1.0, 5.0}) {
     const Complex stokes = BenchResponse(Dynamics::kStokes, h_stokes, 1.0, f_Hz);
     const Complex light = BenchResponse(Dynamics::kInertial, h_inertial, kLight, f_Hz);
     const Complex full = BenchResponse(Dynamics::kInertial, h_inertial, 1.0, f_Hz);
-    const double record_lag_deg = 360 * f_Hz * (h_stokes - h_inertial);
     const double gain = std::abs(stokes) / std::abs(light) - 1;
-    const double phase_deg = std::arg(stokes / light) * 180 / kPi + record_lag_deg;
+    const double phase_deg = std::arg(stokes / light) * 180 / kPi;
     std::printf("%.1f Hz: stokes %.6f mm/V; inertial at 0.01 of the mass: gain %+.3e, phase "
-                "%+.3f deg (record lag removed); at the full mass: gain %+.3e\n",
+                "%+.4f deg; at the full mass: gain %+.3e\n",
                 f_Hz, std::abs(stokes), gain, phase_deg, std::abs(full) / std::abs(stokes) - 1);
-    // Measured: gain -2.3e-6 / -4.0e-4 / -2.6e-3, phase -0.004 / -0.033 /
-    // -0.21 deg at 0.1 / 1 / 5 Hz.
+    // Measured: gain -1.0e-6 / -3.8e-4 / -2.5e-3, phase +0.0000 / +0.012 /
+    // +0.016 deg at 0.1 / 1 / 5 Hz.
     EXPECT_LT(std::abs(gain), 5e-3) << f_Hz << " Hz";
     EXPECT_LT(std::abs(phase_deg), 0.5) << f_Hz << " Hz";
   }

@@ -161,7 +161,14 @@ bool StokesStepper::Step(const mjModel* m, mjData* d, const RftDrag* drag) {
   mju_zero(d->ten_velocity, m->ntendon);
   mju_zero(d->cvel, 6 * m->nbody);
   mj_passive(m, d);
-  if (mjcb_control) mjcb_control(m, d);
+  // The active moments at the step's end, t_n + h (backward Euler in them
+  // too): the control callback advances the actuators to d->time.
+  if (mjcb_control) {
+    const double start_s = d->time;
+    d->time = start_s + h;
+    mjcb_control(m, d);
+    d->time = start_s;
+  }
   mj_fwdActuation(m, d);
   for (int j = 0; j < m->nv; ++j) {
     force_[j] = d->qfrc_passive[j] + d->qfrc_actuator[j] + d->qfrc_applied[j];

@@ -10,7 +10,7 @@
 //   D(q) qdot + C qdot = f(q, t) - K (q - q_spring).
 // One step of h is backward Euler in the stiffness, with the resistance at
 // the step's midpoint, extrapolated from this step's and the last one's:
-//   (D_(n+1/2) + C + h K) v = f(q_n, t_n) - K (q_n - q_spring),
+//   (D_(n+1/2) + C + h K) v = f(q_n, t_n + h) - K (q_n - q_spring),
 //   q_(n+1) = q_n + h v,  D_(n+1/2) = 3/2 D(q_n) - 1/2 D(q_(n-1)),
 // which is stable at any h for K, C >= 0 (the position enters D only, not
 // the stiff terms), and makes the body's swim per cycle second order in h
@@ -25,7 +25,11 @@
 // dofs of MuJoCo's tree, so a step costs O(number of dofs).
 //
 // MuJoCo computes everything else: kinematics, the passive and actuator
-// forces (mjcb_passive, mjcb_control run as in mj_forward), sensors. After
+// forces (mjcb_passive, mjcb_control run as in mj_forward, but
+// mjcb_control with d->time set to the step's end, so that the IPMC
+// actuators' active moments are those of t_n + h and the shape at t_n + h
+// balances them; after a step the actuators' state is at the new d->time),
+// sensors. After
 // a step qvel holds v (the velocity over the step), qacc is zero,
 // qfrc_passive holds the passive forces at zero velocity (so without the
 // drag), sensordata is computed from q_n and v, and time has advanced by h.
