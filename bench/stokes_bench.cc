@@ -4,10 +4,10 @@
 //    with dynamics = stokes at the 1 kHz controller sample, against bare
 //    mj_step (MuJoCo's Euler, no callbacks) of the same model at 0.5 ms for
 //    the same 100 s, and against the inertial run at its 0.5 ms;
-//  - the same cycle with c1 = 150 um/mm and n = 1, 2, 4, 8, 16, 32 rigid
-//    sub-segments per link (31: the nesting limit with the head), Stokes at 1 ms (the same step
-//    for every n), and inertial at 0.5 ms for n = 1, 2 (n = 4 diverges at
-//    0.5 ms);
+//  - the same cycle with c1 = 150 um/mm and n = 1, 2, 4, 8, 16, 31 rigid
+//    sub-segments per link (31: the nesting limit with the head), Stokes at
+//    1 ms (the same step for every n), and inertial at 0.5 ms for n = 1, 2
+//    (n = 4 diverges at 0.5 ms);
 //  - the Stokes step alone against the number of hinges (3 to 96) on the
 //    clamped flagellum, 3 V sines, counter step_hinge: the time per step
 //    and hinge, flat if the cost is linear in the number of segments.

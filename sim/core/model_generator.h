@@ -48,7 +48,7 @@ int MaxSegmentsPerLink(int links, bool head);
 
 struct FlagellumSpec {
   std::vector<double> link_lengths_mm = {10.0, 10.0, 10.0};
-  int segments_per_link = 1;            // [1, kMaxSegmentsPerLink]
+  int segments_per_link = 1;            // [1, MaxSegmentsPerLink(links, head)]
   double gap_mm = 0.5;
   double width_mm = 3.0;
   double thickness_um = 250.0;

@@ -10,7 +10,8 @@
 //                                      # these links (1-20, > 0) and the
 //                                      # generator's other defaults; wins
 //                                      # over model
-//   segments_per_link = 4              # rigid sub-segments per link, [1, 64];
+//   segments_per_link = 4              # rigid sub-segments per link, [1, 31] on
+//                                      # three links (MuJoCo's nesting limit);
 //                                      # also generates the flagellum (links
 //                                      # of 10 mm unless link_lengths_mm)
 //   plants = "uniform"                 # uniform | table2, over the model's

@@ -32,8 +32,10 @@
 // Dynamics. A model with the text field ipmc_dynamics = stokes (or a
 // program's override) is stepped without inertia, its velocity taken from
 // the balance of drag, hinge and active forces at every step; call Step
-// instead of mj_step to get it (docs/DYNAMICS.md). Step also runs mj_step
-// for an inertial model and reports the callbacks' failures.
+// instead of mj_step to get it (docs/DYNAMICS.md): for such a model the
+// drag callback adds nothing (the Stokes step solves for the drag), so
+// mj_step would step it without drag. Step also runs mj_step for an
+// inertial model and reports the callbacks' failures.
 //
 // Callbacks. The coupling installs mjcb_passive (drag) and mjcb_control
 // (actuators) at the first Attach and chains to the callbacks that were
