@@ -69,17 +69,6 @@ void ImplicitDiagonal(const mjModel* m, const mjData* d, double h, double* diago
 
 }  // namespace
 
-Dynamics ParseDynamics(const std::string& text) {
-  if (text == "inertial") return Dynamics::kInertial;
-  if (text == "stokes") return Dynamics::kStokes;
-  throw std::invalid_argument(std::string(kAttrDynamics) + " must be inertial or stokes (got '" +
-                              text + "')");
-}
-
-const char* DynamicsName(Dynamics dynamics) {
-  return dynamics == Dynamics::kStokes ? "stokes" : "inertial";
-}
-
 StokesStepper::StokesStepper(const mjModel* m) {
   RequireSupported(m);
   body_node_.assign(m->nbody, -1);

@@ -45,17 +45,9 @@
 #include <vector>
 
 #include "plugin/fluid/rft_drag.h"
+#include "plugin/mjcf/dynamics.h"
 
 namespace ipmc {
-
-// How a coupled model is stepped: mj_step (MuJoCo's integrator, with the
-// bodies' inertia) or StokesStepper. MJCF: text ipmc_dynamics, inertial
-// (default) | stokes.
-enum class Dynamics { kInertial, kStokes };
-constexpr char kAttrDynamics[] = "ipmc_dynamics";
-// Throws std::invalid_argument naming the field and its choices.
-Dynamics ParseDynamics(const std::string& text);
-const char* DynamicsName(Dynamics dynamics);
 
 class StokesStepper {
  public:
