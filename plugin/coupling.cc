@@ -33,18 +33,43 @@ Registry& GetRegistry() {
   return registry;
 }
 
+// No exception leaves a callback (MuJoCo's C code calls them): the first
+// failure is kept in the context and reported through mju_warning, and
+// Step returns false until the caller has seen it (LastError).
+void RecordFailure(CouplingContext* context, const char* what) {
+  if (!context->error.empty()) return;
+  context->error = what;
+  mju_warning((std::string("ipmc_swim: ") + what).c_str());
+}
+
 void PassiveCallback(const mjModel* m, mjData* d) {
   Registry& registry = GetRegistry();
   if (registry.previous_passive) registry.previous_passive(m, d);
-  const CouplingContext* context = FindCoupling(d);
-  if (context && context->model == m && context->drag) context->drag->Apply(m, d);
+  CouplingContext* context = FindMutableCoupling(d);
+  if (!context || context->model != m) return;
+  ++context->passive_calls;
+  // The Stokes step asks for the passive forces at zero velocity, where
+  // the drag vanishes; it solves for the drag itself.
+  if (!context->drag || context->dynamics == Dynamics::kStokes) return;
+  try {
+    context->drag->Apply(m, d);
+  } catch (const std::exception& e) {
+    RecordFailure(context, e.what());
+  }
 }
 
 void ControlCallback(const mjModel* m, mjData* d) {
   Registry& registry = GetRegistry();
   if (registry.previous_control) registry.previous_control(m, d);
   CouplingContext* context = FindMutableCoupling(d);
-  if (context && context->model == m && context->actuators) context->actuators->Update(m, d);
+  if (!context || context->model != m) return;
+  ++context->control_calls;
+  if (!context->actuators) return;
+  try {
+    context->actuators->Update(m, d);
+  } catch (const std::exception& e) {
+    RecordFailure(context, e.what());
+  }
 }
 
 void InstallCallbacksOnce(Registry& registry) {
@@ -103,6 +128,7 @@ bool AttachWithOverrides(const mjModel* m, mjData* d, const IpmcActuatorsOverrid
   std::vector<std::string> known(std::begin(kRftDragFields), std::end(kRftDragFields));
   known.insert(known.end(), IpmcActuatorFields().begin(), IpmcActuatorFields().end());
   known.push_back(kStripWidthField);
+  known.push_back(kAttrDynamics);
   RequireKnownCustomFields(m, "ipmc_", known);
   if (const std::optional<double> width_m = FindCustomScalar(m, kStripWidthField);
       width_m && !(*width_m > 0)) {  // FindCustomScalar refuses a non-finite value
@@ -118,6 +144,11 @@ bool AttachWithOverrides(const mjModel* m, mjData* d, const IpmcActuatorsOverrid
     context->actuators = std::make_unique<IpmcActuators>(std::move(*actuators));
     context->actuators->ResetState(d);  // at rest at d->time
   }
+  if (std::optional<std::string> text = FindCustomText(m, kAttrDynamics)) {
+    context->dynamics = ParseDynamics(*text);
+  }
+  if (overrides.dynamics) context->dynamics = *overrides.dynamics;
+  if (context->dynamics == Dynamics::kStokes) context->stokes = std::make_unique<StokesStepper>(m);
   Registry& registry = GetRegistry();
   std::unique_lock<std::shared_mutex> lock(registry.mutex);
   InstallCallbacksOnce(registry);
@@ -168,5 +199,53 @@ void ResetState(const mjData* d) {
 // The CMake project version (plugin/CMakeLists.txt), the one source of
 // every version string: `ipmc-swim --version`, summary.json, Python.
 const char* Version() { return IPMC_SWIM_VERSION; }
+
+namespace {
+
+// A callback that did not run during a step for d was replaced by the
+// host after Attach: warn once (the drag or the actuators are off).
+void WarnIfCallbackReplaced(CouplingContext* context, unsigned long passive_before,
+                            unsigned long control_before) {
+  if (context->warned_replaced_callback) return;
+  const char* which = nullptr;
+  if (context->drag && context->passive_calls == passive_before) which = "mjcb_passive";
+  if (context->actuators && context->control_calls == control_before) which = "mjcb_control";
+  if (!which) return;
+  context->warned_replaced_callback = true;
+  mju_warning_s("ipmc_swim: %s was replaced after ipmc::Attach: the coupling's drag or "
+                "actuators are off (chain to the previous callback or Attach again)",
+                which);
+}
+
+}  // namespace
+
+bool Step(const mjModel* m, mjData* d) {
+  CouplingContext* context = FindMutableCoupling(d);
+  if (!context || context->model != m) {
+    mj_step(m, d);
+    return true;
+  }
+  context->error.clear();
+  const unsigned long passive_before = context->passive_calls;
+  const unsigned long control_before = context->control_calls;
+  if (context->stokes) {
+    if (!context->stokes->Step(m, d, context->drag ? &*context->drag : nullptr) &&
+        context->error.empty()) {
+      context->error =
+          "dynamics = stokes: the force balance is singular (a dof has neither drag nor "
+          "joint damping or stiffness)";
+    }
+  } else {
+    mj_step(m, d);
+  }
+  WarnIfCallbackReplaced(context, passive_before, control_before);
+  return context->error.empty();
+}
+
+const char* LastError(const mjData* d) {
+  const CouplingContext* context = FindCoupling(d);
+  return context ? context->error.c_str() : "";
+}
+
 
 }  // namespace ipmc

@@ -6,9 +6,11 @@
 
 #include <memory>
 #include <optional>
+#include <string>
 
 #include "plugin/actuators/ipmc_actuators.h"
 #include "plugin/fluid/rft_drag.h"
+#include "plugin/fluid/stokes_step.h"
 
 namespace ipmc {
 
@@ -16,6 +18,13 @@ struct CouplingContext {
   const mjModel* model = nullptr;
   std::optional<RftDrag> drag;
   std::unique_ptr<IpmcActuators> actuators;
+  Dynamics dynamics = Dynamics::kInertial;
+  std::unique_ptr<StokesStepper> stokes;  // with Dynamics::kStokes
+  // The first failure of a callback since the last Step (LastError), and
+  // how often each callback ran for d (Step detects a replaced callback).
+  std::string error;
+  unsigned long passive_calls = 0, control_calls = 0;
+  bool warned_replaced_callback = false;
 };
 
 // Attach (ipmc_swim.h) with settings imposed over the model's fields.

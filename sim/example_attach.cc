@@ -27,7 +27,12 @@ int main(int argc, char** argv) {
   }
   d->qvel[0] = 1e-3;  // push the root along x [m/s] and let the drag stop it
   const int steps = argc > 2 ? std::atoi(argv[2]) : 1000;
-  for (int i = 0; i < steps; ++i) mj_step(m, d);
+  for (int i = 0; i < steps; ++i) {
+    if (!ipmc::Step(m, d)) {  // mj_step with the coupling; false if a callback failed
+      std::fprintf(stderr, "%s: %s\n", argv[1], ipmc::LastError(d));
+      return 1;
+    }
+  }
   std::printf("t = %g s, qvel[0] = %g m/s (library %s)\n", d->time, d->qvel[0], ipmc::Version());
   ipmc::Detach(d);
   mj_deleteData(d);

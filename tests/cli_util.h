@@ -86,4 +86,18 @@ inline void WriteFile(const std::filesystem::path& path, const std::string& text
   std::ofstream(path) << text;
 }
 
+// A scenario of one wave period at 0.5 ms steps on the shipped flagellum:
+// 0.1 s of CPU at `frequency_Hz` = 0.5 (4000 steps); slower waves run
+// longer.
+inline std::string OneCycleScenario(double frequency_Hz) {
+  return "model = \"" +
+         (std::filesystem::path(IPMC_SWIM_SOURCE_DIR) / "models" / "flagellum3.xml").string() +
+         "\"\n"
+         "actuation = \"distributed\"\n"
+         "cycles = 1\n"
+         "timestep_s = 5e-4\n"
+         "[waveform]\n"
+         "frequency_Hz = " + std::to_string(frequency_Hz) + "\n";
+}
+
 }  // namespace ipmc::testing

@@ -28,18 +28,6 @@ using testing::FreshDir;
 using testing::ReadFile;
 using testing::WriteFile;
 
-const fs::path kSourceDir = IPMC_SWIM_SOURCE_DIR;
-
-// One wave period of 2 s at 0.5 ms steps (4000 steps a point).
-std::string FastBase() {
-  return "model = \"" + (kSourceDir / "models" / "flagellum3.xml").string() +
-         "\"\n"
-         "actuation = \"distributed\"\n"
-         "cycles = 1\n"
-         "timestep_s = 5e-4\n"
-         "[waveform]\n"
-         "frequency_Hz = 0.5\n";
-}
 
 std::vector<std::string> Lines(const std::string& text) {
   std::vector<std::string> lines;
@@ -70,7 +58,7 @@ class JournalTest : public ::testing::Test {
   void SetUp() override {
     dir_ = FreshDir(std::string("journal_") +
                     ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    WriteFile(dir_ / "fast.toml", FastBase());
+    WriteFile(dir_ / "fast.toml", testing::OneCycleScenario(0.5));
     const std::string sweep = (dir_ / "sweep.toml").string();
     WriteFile(sweep, "base = \"fast.toml\"\n[grid]\n\"controller.kp\" = [8.12, 4]\n");
     plan_ = LoadSweep(sweep);

@@ -20,14 +20,14 @@
 namespace ipmc {
 namespace {
 
-TEST(OptionTable, TheFlagIsTheNameInLowerCaseWithDashes) {
+TEST(OptionTableTest, TheFlagIsTheNameInLowerCaseWithDashes) {
   EXPECT_EQ(OptionFlag("sample_rate_Hz"), "--sample-rate-hz");
   EXPECT_EQ(OptionFlag("v_max_V"), "--v-max-v");
   EXPECT_EQ(OptionFlag("band_rad_s"), "--band-rad-s");
   EXPECT_EQ(OptionFlag("o"), "-o");
 }
 
-TEST(OptionTable, MessagesGetTheFlagInPlaceOfWholeWords) {
+TEST(OptionTableTest, MessagesGetTheFlagInPlaceOfWholeWords) {
   EXPECT_EQ(WithFlagFor("step: v_max_V must be > 0, got 0 (v_max_V)", "v_max_V"),
             "step: --v-max-v must be > 0, got 0 (--v-max-v)");
   // Not inside a longer name, nor a flag already there.
@@ -42,7 +42,7 @@ struct Spec {
   std::string out;
 };
 
-TEST(OptionTable, DefaultsAreTheSpecsAndTypesTheFields) {
+TEST(OptionTableTest, DefaultsAreTheSpecsAndTypesTheFields) {
   OptionTable<Spec> table("test", "a test");
   table.Add<double>({"frequency_Hz", "Hz", "> 0", "f"}, [](Spec& s) -> double& {
     return s.frequency_Hz;
@@ -60,7 +60,7 @@ TEST(OptionTable, DefaultsAreTheSpecsAndTypesTheFields) {
   EXPECT_EQ(infos[2].default_text, "");
 }
 
-TEST(OptionTable, TwoSpellingsOfOneFlagAreRefused) {
+TEST(OptionTableTest, TwoSpellingsOfOneFlagAreRefused) {
   OptionTable<Spec> table("test", "a test");
   table.Add<double>({"frequency_Hz", "Hz", "> 0", "f"}, [](Spec& s) -> double& {
     return s.frequency_Hz;
@@ -76,7 +76,7 @@ TEST(OptionTable, TwoSpellingsOfOneFlagAreRefused) {
 
 // Every command's table builds (no flag twice) and names its options by
 // the convention: lower-case words, with capitals only in a unit suffix.
-TEST(OptionTable, EveryCommandsTableFollowsTheConvention) {
+TEST(OptionTableTest, EveryCommandsTableFollowsTheConvention) {
   const std::vector<OptionTableInfo> tables = {
       InfoOf(GenerateOptions()), InfoOf(GaitOptions()),     InfoOf(BenchOptions()),
       InfoOf(BodeOptions()),     InfoOf(StepOptions()),     InfoOf(IdentifyOptions()),

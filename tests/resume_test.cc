@@ -35,19 +35,6 @@ using testing::RunCli;
 using testing::ReadFile;
 using testing::WriteFile;
 
-const fs::path kSourceDir = IPMC_SWIM_SOURCE_DIR;
-
-// A base scenario of one wave period at 0.5 ms steps: 0.1 s of CPU at
-// `frequency_Hz` = 0.5 (4000 steps); slower waves run longer.
-std::string Base(double frequency_Hz) {
-  return "model = \"" + (kSourceDir / "models" / "flagellum3.xml").string() +
-         "\"\n"
-         "actuation = \"distributed\"\n"
-         "cycles = 1\n"
-         "timestep_s = 5e-4\n"
-         "[waveform]\n"
-         "frequency_Hz = " + std::to_string(frequency_Hz) + "\n";
-}
 
 // Eight points of 0.2 Hz waves (5 s, 10000 steps, about 0.2 s each):
 // long enough to be killed in the middle.
@@ -102,8 +89,8 @@ class ResumeTest : public ::testing::Test {
   void SetUp() override {
     dir_ = FreshDir(std::string("resume_") +
                     ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    WriteFile(dir_ / "slow.toml", Base(0.2));
-    WriteFile(dir_ / "fast.toml", Base(0.5));
+    WriteFile(dir_ / "slow.toml", testing::OneCycleScenario(0.2));
+    WriteFile(dir_ / "fast.toml", testing::OneCycleScenario(0.5));
     sweep_ = (dir_ / "sweep.toml").string();
     WriteFile(sweep_, kSlowSweep);
   }
@@ -203,7 +190,7 @@ TEST_F(ResumeTest, AJournalOfAnotherSweepIsRefusedAndLeftAlone) {
   WriteFile(sweep, "# one point\nbase = \"fast.toml\"\n[grid]\ncycles = [1]\n");
   EXPECT_EQ(SweepFingerprint(LoadSweep(sweep)), SweepFingerprint(plan));
   // A value of the base changes every point.
-  WriteFile(dir_ / "fast.toml", Base(0.25));
+  WriteFile(dir_ / "fast.toml", testing::OneCycleScenario(0.25));
   EXPECT_NE(SweepFingerprint(LoadSweep(sweep)), SweepFingerprint(plan));
 
   const testing::CommandResult refused = RunCli("sweep " + sweep + " --out " + out);

@@ -79,9 +79,9 @@ TEST(ScenarioKeysTest, EveryKeyTakesItsDefaultAndItsExampleAndRefusesItsRefusedV
     }
   }
   // Every key but those whose default is the model's (model, link_lengths_mm,
-  // segments_per_link, plants, timestep_s, fluid.viscosity_Pa_s) has one; every
-  // key but the booleans and the unbounded ones has a refused value.
-  EXPECT_EQ(defaults, static_cast<int>(ScenarioKeys().size()) - 6);
+  // segments_per_link, plants, dynamics, timestep_s, fluid.viscosity_Pa_s) has
+  // one; every key but the booleans and the unbounded ones has a refused value.
+  EXPECT_EQ(defaults, static_cast<int>(ScenarioKeys().size()) - 7);
   EXPECT_GE(refusals, 20);
 }
 

@@ -29,17 +29,6 @@ using testing::ReadFile;
 
 const fs::path kSourceDir = IPMC_SWIM_SOURCE_DIR;
 
-// A fast scenario: one cycle at 0.5 Hz, 4000 steps.
-std::string FastBase() {
-  return "model = \"" + (kSourceDir / "models" / "flagellum3.xml").string() +
-         "\"\n"
-         "actuation = \"distributed\"\n"
-         "cycles = 1\n"
-         "timestep_s = 5e-4\n"
-         "[waveform]\n"
-         "frequency_Hz = 0.5\n";
-}
-
 // Eight points, the keys written out of alphabetical order; the second
 // key is a nested table.
 constexpr char kEightPoints[] =
@@ -57,7 +46,7 @@ class SweepTest : public ::testing::Test {
     dir_ = fs::temp_directory_path() / (std::string("ipmc_sweep_test_") + info->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
-    Write("fast.toml", FastBase());
+    Write("fast.toml", testing::OneCycleScenario(0.5));
   }
   void TearDown() override { fs::remove_all(dir_); }
 
@@ -380,7 +369,7 @@ TEST_F(SweepTest, BadSweepFilesGiveOneLineErrorsBeforeAnyRun) {
        ":3: unknown key 'waveform.frequencyHz' (allowed: kind, c0_um, c1_um_per_mm, "
        "c2_um_per_mm2, c_um, alpha, frequency_Hz, wavelength_mm, start_ramp_cycles)"},
       {"base = \"fast.toml\"\n[grid]\nspeed = [1]\n",
-       ":3: unknown key 'speed' (allowed: model, link_lengths_mm, segments_per_link, plants, actuation, cycles, timestep_s, controller, "
+       ":3: unknown key 'speed' (allowed: model, link_lengths_mm, segments_per_link, plants, actuation, dynamics, cycles, timestep_s, controller, "
        "waveform, fluid, output)"},
       {"base = \"fast.toml\"\n[grid]\nactuation = [\"single\"]\ncycles = [1, 1.5]\n",
        ":4: cycles must be an integer (got float)"},

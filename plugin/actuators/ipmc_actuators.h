@@ -56,6 +56,7 @@
 #include "ipmc_swim/ipmc_swim.h"
 #include "plugin/actuators/ipmc_actuator_bank.h"
 #include "plugin/actuators/ipmc_link_model.h"
+#include "plugin/mjcf/dynamics.h"
 
 namespace ipmc {
 
@@ -126,6 +127,9 @@ class ChainShape {
 // Settings that a program may impose over the model's fields.
 struct IpmcActuatorsOverrides {
   std::optional<PlantAssignment> plants;
+  // Over the model's ipmc_dynamics (plugin/mjcf/dynamics.h); also
+  // applies to a model with drag and no actuators.
+  std::optional<Dynamics> dynamics;
 };
 
 struct IpmcActuatorsConfig {

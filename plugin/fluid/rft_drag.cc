@@ -140,6 +140,31 @@ Wrench SegmentDragExact(const Segment& segment, const DragCoefficients& xi) {
   return wrench;
 }
 
+namespace {
+Eigen::Matrix3d Cross(const Eigen::Vector3d& r) {
+  Eigen::Matrix3d x;
+  x << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
+  return x;
+}
+}  // namespace
+
+SpatialResistance SegmentResistance(const Eigen::Vector3d& center_W,
+                                    const Eigen::Vector3d& tangent_W, double length_m,
+                                    const Eigen::Vector3d& c_W, const DragCoefficients& xi) {
+  const Eigen::Matrix3d tt = tangent_W * tangent_W.transpose();
+  const Eigen::Matrix3d normal = Eigen::Matrix3d::Identity() - tt;
+  const Eigen::Matrix3d lr = length_m * (xi.tangential_N_s_m2 * tt + xi.normal_N_s_m2 * normal);
+  const Eigen::Matrix3d rx = Cross(center_W - c_W);
+  const Eigen::Matrix3d rx_lr = rx * lr;
+  SpatialResistance s;
+  s.topLeftCorner<3, 3>() =
+      xi.normal_N_s_m2 * length_m * length_m * length_m / 12.0 * normal - rx_lr * rx;
+  s.topRightCorner<3, 3>() = rx_lr;
+  s.bottomLeftCorner<3, 3>() = rx_lr.transpose();
+  s.bottomRightCorner<3, 3>() = lr;
+  return s;
+}
+
 Wrench SegmentDragQuadrature(const Segment& segment, const DragCoefficients& xi, int intervals) {
   if (intervals < 1) throw std::invalid_argument("rft drag: quadrature intervals must be >= 1");
   const Eigen::Vector3d& t = segment.tangent_W;
@@ -229,22 +254,38 @@ std::vector<Segment> RftDrag::Segments(const mjModel* m, const mjData* d) const 
 // torque T is the wrench [T + (p - c) x F; F]; the generalised force of
 // dof j is cdof_j . (the sum of the wrenches on the subtree of its body),
 // summed leaf to root.
+void RftDrag::Resistances(const mjModel* m, const mjData* d, BodyResistances* out) const {
+  out->resize(slender_.size());
+  for (size_t i = 0; i < slender_.size(); ++i) {
+    const SlenderGeom& geom = slender_[i];
+    const int body = m->geom_bodyid[geom.geom_id];
+    const mjtNum* xmat = d->geom_xmat + 9 * geom.geom_id;  // row-major
+    const Eigen::Vector3d tangent(xmat[geom.axis], xmat[3 + geom.axis], xmat[6 + geom.axis]);
+    (*out)[i].body = body;
+    (*out)[i].resistance = SegmentResistance(
+        Eigen::Vector3d(d->geom_xpos + 3 * geom.geom_id), tangent, geom.length_m,
+        Eigen::Vector3d(d->subtree_com + 3 * m->body_rootid[body]), coefficients_);
+  }
+}
+
+// J^T of every segment's wrench in one pass over the tree, what
+// mj_applyFT computes one wrench at a time (through a Jacobian per
+// segment). MuJoCo's dof motions cdof = [w_j; v_j] are given at the
+// subtree centre of mass c of each body's root, as is the body's spatial
+// velocity cvel = [w; v]; the drag wrench at c is -S cvel (S from
+// SegmentResistance), and the generalised force of dof j is
+// cdof_j . (the sum of the wrenches on the subtree of its body), summed
+// leaf to root.
 void RftDrag::Apply(const mjModel* m, mjData* d) const {
   mjMARKSTACK
   mjtNum* wrench_c = mj_stackAlloc(d, 6 * m->nbody);  // [torque; force] at c, per body
   mju_zero(wrench_c, 6 * m->nbody);
-  for (const SlenderGeom& geom : slender_) {
-    const Segment segment = SegmentOf(m, d, geom);
-    const Wrench wrench = SegmentDragExact(segment, coefficients_);
-    const int body = m->geom_bodyid[geom.geom_id];
-    const Eigen::Vector3d c(d->subtree_com + 3 * m->body_rootid[body]);
-    const Eigen::Vector3d torque_c =
-        wrench.torque_center_W + (segment.center_W - c).cross(wrench.force_W);
-    mjtNum* target = wrench_c + 6 * body;
-    for (int i = 0; i < 3; ++i) {
-      target[i] += torque_c[i];
-      target[3 + i] += wrench.force_W[i];
-    }
+  thread_local BodyResistances resistances;
+  Resistances(m, d, &resistances);
+  for (const BodyResistance& segment : resistances) {
+    Eigen::Map<Eigen::Matrix<double, 6, 1>> target(wrench_c + 6 * segment.body);
+    target.noalias() -= segment.resistance *
+                        Eigen::Map<const Eigen::Matrix<double, 6, 1>>(d->cvel + 6 * segment.body);
   }
   // Bodies are numbered parents first; a tree's wrenches stop at its root.
   for (int body = m->nbody - 1; body > 0; --body) {

@@ -9,6 +9,15 @@
 //   T_c = -xi_n L^3 / 12 (w - (w.t) t)      (torque about the centre)
 // The wrenches are added to qfrc_passive from mjcb_passive as J^T [F; T],
 // what mj_applyFT gives, for all segments in one pass over the tree.
+// Both are linear in the segment's spatial velocity V = [w; v] at any point
+// c (v the velocity of the body point at c): with r = p_center - c and
+// [r x] its cross-product matrix, [T_c; F] = -S V with the symmetric,
+// positive semi-definite 6 x 6 spatial resistance
+//   S = [ K_w - L [r x] R [r x]    L [r x] R ]
+//       [ -L R [r x]               L R       ],  K_w = xi_n L^3/12 (I - t t^T),
+// T_c = T + r x F the torque about c. The drag callback applies -S V and
+// the Stokes stepper (plugin/fluid/stokes_step.h) assembles J^T S J from
+// the same S, so the two share one formula.
 //
 // Coefficients [N s/m^2] from the viscosity mu, the equivalent radius a and
 // the wavelength lambda:
@@ -37,6 +46,7 @@
 #include <mujoco/mujoco.h>
 
 #include <Eigen/Core>
+#include <Eigen/StdVector>
 #include <optional>
 #include <string>
 #include <vector>
@@ -100,6 +110,13 @@ struct Wrench {
 };
 
 Wrench SegmentDragExact(const Segment& segment, const DragCoefficients& xi);
+
+using SpatialResistance = Eigen::Matrix<double, 6, 6>;
+// S of a segment (centre, unit tangent, length) about the point c_W
+// (see above): the drag wrench [torque about c; force] is -S [w; v_c].
+SpatialResistance SegmentResistance(const Eigen::Vector3d& center_W,
+                                    const Eigen::Vector3d& tangent_W, double length_m,
+                                    const Eigen::Vector3d& c_W, const DragCoefficients& xi);
 // Gauss-Legendre quadrature of the same integral with `points` nodes per
 // sub-interval over `intervals` equal sub-intervals (cross-check only).
 Wrench SegmentDragQuadrature(const Segment& segment, const DragCoefficients& xi, int intervals);
@@ -116,6 +133,17 @@ class RftDrag {
   void Apply(const mjModel* m, mjData* d) const;
   // The current segments (positions and velocities from d).
   std::vector<Segment> Segments(const mjModel* m, const mjData* d) const;
+
+  // One segment's body and spatial resistance S about the subtree centre of
+  // mass of its body's root (where MuJoCo gives cdof and cvel), from d's
+  // positions (valid after mj_comPos).
+  struct BodyResistance {
+    int body;
+    SpatialResistance resistance;
+  };
+  using BodyResistances =
+      std::vector<BodyResistance, Eigen::aligned_allocator<BodyResistance>>;
+  void Resistances(const mjModel* m, const mjData* d, BodyResistances* out) const;
 
   const RftDragConfig& config() const { return config_; }
   const DragCoefficients& coefficients() const { return coefficients_; }

@@ -1,5 +1,6 @@
 #include "sim/core/model_generator.h"
 
+#include <algorithm>
 #include <cctype>
 
 #include <cmath>
@@ -138,6 +139,15 @@ void FlagellumSpec::Validate() const {
                                 std::to_string(kMaxSegmentsPerLink) + "] (got " +
                                 std::to_string(segments_per_link) + ")");
   }
+  const bool head = head_length_mm > 0.0;
+  if (segments_per_link > MaxSegmentsPerLink(Links(), head)) {
+    throw std::invalid_argument(
+        "flagellum spec: segments_per_link must be <= " +
+        std::to_string(MaxSegmentsPerLink(Links(), head)) + " for " + std::to_string(Links()) +
+        " links" + (head ? " and a head" : "") + " (got " + std::to_string(segments_per_link) +
+        "): MuJoCo 2.2 reads at most " + std::to_string(kMaxNestedBodies) +
+        " nested bodies");
+  }
   if (!ParsePlantAssignment(plants)) {
     throw std::invalid_argument("flagellum spec: plants must be uniform or table2 (got '" +
                                 plants + "')");
@@ -153,6 +163,11 @@ void FlagellumSpec::Validate() const {
   if (clamped && head_length_mm == 0.0 && Links() < 1) {
     throw std::invalid_argument("flagellum spec: a clamped model needs at least one link");
   }
+}
+
+int MaxSegmentsPerLink(int links, bool head) {
+  return links < 1 ? kMaxSegmentsPerLink
+                   : std::min(kMaxSegmentsPerLink, (kMaxNestedBodies - (head ? 1 : 0)) / links);
 }
 
 SegmentMechanics ComputeSegmentMechanics(const FlagellumSpec& spec, int q, int segment) {

@@ -34,9 +34,21 @@ namespace ipmc {
 // ("XML parse error 18"); 90 still load.
 constexpr std::size_t kMaxGeneratedLinks = 64;
 
+// Most bodies the generator nests: every link and sub-segment is a body in
+// the one before (a kinematic chain is a nesting of bodies in MJCF), and
+// MuJoCo 2.2's XML reader (tinyxml2) refuses elements nested deeper than
+// 99 (XML_ELEMENT_DEPTH_EXCEEDED): <mujoco>, <worldbody>, the bodies and
+// the innermost body's <joint>/<geom>. So head + links x segments_per_link
+// <= 96: 31 sub-segments per link on the paper's three links and head, 32
+// on three links without a head, 48 on two. tests/nesting_limit_test.cc
+// checks that the limit loads and one body more does not.
+constexpr int kMaxNestedBodies = 96;
+// The largest segments_per_link for `links` links with or without a head.
+int MaxSegmentsPerLink(int links, bool head);
+
 struct FlagellumSpec {
   std::vector<double> link_lengths_mm = {10.0, 10.0, 10.0};
-  int segments_per_link = 1;            // [1, kMaxSegmentsPerLink]
+  int segments_per_link = 1;            // [1, MaxSegmentsPerLink(links, head)]
   double gap_mm = 0.5;
   double width_mm = 3.0;
   double thickness_um = 250.0;

@@ -10,12 +10,15 @@
 //                                      # these links (1-20, > 0) and the
 //                                      # generator's other defaults; wins
 //                                      # over model
-//   segments_per_link = 4              # rigid sub-segments per link, [1, 64];
+//   segments_per_link = 4              # rigid sub-segments per link, [1, 31] on
+//                                      # three links (MuJoCo's nesting limit);
 //                                      # also generates the flagellum (links
 //                                      # of 10 mm unless link_lengths_mm)
 //   plants = "uniform"                 # uniform | table2, over the model's
 //                                      # ipmc_plants (plugin/actuators/ipmc_actuators.h)
 //   actuation = "distributed"          # distributed | single
+//   dynamics = "stokes"                # inertial | stokes, over the model's
+//                                      # ipmc_dynamics (plugin/fluid/stokes_step.h)
 //   cycles = 3                         # >= 1
 //   timestep_s = 5e-4                  # overrides the model's step; (0, 1e-3]
 //   [controller]
@@ -62,6 +65,7 @@ struct ScenarioConfig {
   int segments_per_link = 0;            // > 0: generate the model instead
   std::optional<PlantAssignment> plants;  // over the model's ipmc_plants
   std::string actuation = "distributed";
+  std::optional<Dynamics> dynamics;       // over the model's ipmc_dynamics
   int cycles = 3;
   std::optional<double> timestep_s;
   ControllerKind controller = ControllerKind::kPid;

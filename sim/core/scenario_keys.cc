@@ -17,6 +17,7 @@
 #include "controllers/fractional_integrator.h"
 #include "plugin/actuators/ipmc_actuators.h"
 #include "plugin/base/numbers.h"
+#include "sim/core/model_generator.h"
 #include "sim/core/scenario.h"
 
 namespace ipmc {
@@ -217,14 +218,34 @@ std::vector<KeySpec> MakeScenarioKeys() {
           .Writes([](const ScenarioConfig& c) {
             return c.link_lengths_mm.empty() ? kLeftOut : TomlFloats(c.link_lengths_mm);
           }),
-      Key("segments_per_link", T::kInteger, "", "[1, 64]", "none: the model file",
+      Key("segments_per_link", T::kInteger, "",
+          "[1, 64] and 1 + links x segments_per_link <= 96 (31 on three links): MuJoCo 2.2 "
+          "nests at most 96 bodies, the head included", "none: the model file",
           "Rigid sub-segments per link; also generates the flagellum (links of 10 mm "
           "unless link_lengths_mm)")
           .Example("2")
           .Refused("65")
           .AtLeast(1)
           .AtMost(kMaxSegmentsPerLink)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.segments_per_link = v.Integer(); })
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.segments_per_link = v.Integer();
+            // The generated flagellum (the generator's defaults but the
+            // links) nests its bodies; MuJoCo's reader limits the nesting.
+            // link_lengths_mm, read before this key, gives the links.
+            const FlagellumSpec spec;
+            const int links = c.link_lengths_mm.empty()
+                                  ? spec.Links()
+                                  : static_cast<int>(c.link_lengths_mm.size());
+            const int most = MaxSegmentsPerLink(links, spec.head_length_mm > 0);
+            if (c.segments_per_link > most) {
+              const std::string allowed = "[1, " + std::to_string(most) + "] for " +
+                                          std::to_string(links) + " links and the head";
+              v.Fail(v.name() + " must be in " + allowed + " (got " +
+                         std::to_string(c.segments_per_link) + "): MuJoCo 2.2 reads at most " +
+                         std::to_string(kMaxNestedBodies) + " nested bodies",
+                     allowed);
+            }
+          })
           .Writes([](const ScenarioConfig& c) {
             return c.segments_per_link > 0 ? TomlInteger(c.segments_per_link) : kLeftOut;
           }),
@@ -247,6 +268,17 @@ std::vector<KeySpec> MakeScenarioKeys() {
           .Choices("distributed|single")
           .Reads([](const KeyValue& v, ScenarioConfig& c) { c.actuation = v.Choice(); })
           .Writes([](const ScenarioConfig& c) { return TomlString(c.actuation); }),
+      Key("dynamics", T::kChoice, "", "\"inertial\" or \"stokes\"",
+          "the model's `ipmc_dynamics` (inertial if absent)",
+          "inertial: mj_step with the bodies' inertia; stokes: no inertia, velocities from the "
+          "force balance, implicit in the hinge stiffness (docs/DYNAMICS.md)")
+          .Example("\"stokes\"")
+          .Refused("\"quasi_static\"")
+          .Choices("inertial|stokes")
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.dynamics = ParseDynamics(v.Choice()); })
+          .Writes([](const ScenarioConfig& c) {
+            return c.dynamics ? TomlString(DynamicsName(*c.dynamics)) : kLeftOut;
+          }),
       Key("cycles", T::kInteger, "", ">= 1", "3", "Wave periods to run")
           .Default("3")
           .Refused("0")

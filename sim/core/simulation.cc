@@ -128,13 +128,14 @@ Simulation::~Simulation() { Detach(data_.get()); }
 void Simulation::Step(bool compute_sensors) {
   mjModel* m = model_.get();
   const double time_s = data_->time;
-  if (compute_sensors) {
-    mj_step(m, data_.get());
-  } else {
-    const int flags = m->opt.disableflags;
-    m->opt.disableflags = flags | mjDSBL_SENSOR;
-    mj_step(m, data_.get());
-    m->opt.disableflags = flags;
+  const int flags = m->opt.disableflags;
+  if (!compute_sensors) m->opt.disableflags = flags | mjDSBL_SENSOR;
+  const bool stepped = ipmc::Step(m, data_.get());
+  m->opt.disableflags = flags;
+  if (!stepped) {
+    std::ostringstream msg;
+    msg << source_ << ": step at t = " << time_s << " s failed: " << LastError(data_.get());
+    throw std::runtime_error(msg.str());
   }
   CheckState(time_s);
 }

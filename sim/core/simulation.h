@@ -54,7 +54,10 @@ class Simulation {
   const mjData* data() const { return data_.get(); }
   const std::string& source() const { return source_; }
 
-  // One mj_step; throws std::runtime_error naming the time and what
+  // One step (ipmc::Step: mj_step, or the Stokes-flow step for a model
+  // with ipmc_dynamics = stokes or the override); throws
+  // std::runtime_error naming the time and the failure if a callback
+  // failed (ipmc::LastError), and naming what
   // diverged if MuJoCo reports a bad state (and resets it) or a position,
   // velocity or force stops being finite. With compute_sensors = false
   // MuJoCo skips its sensor stages in this step and sensordata keeps the

@@ -71,6 +71,10 @@ class PythonSimulation {
     return sim_->data()->time;
   }
   double Timestep() const { return sim_->model()->opt.timestep; }
+  std::string DynamicsText() const {
+    const CouplingContext* coupling = FindCoupling(sim_->data());
+    return DynamicsName(coupling ? coupling->dynamics : Dynamics::kInertial);
+  }
   int Links() const { return sensors_ ? sensors_->Links() : 0; }
   const std::string& Source() const { return sim_->source(); }
   const std::vector<std::string>& JointNames() const { return joint_names_; }
@@ -265,6 +269,9 @@ parallel.)")
            "Sets every link's voltage [V] from now on (one value per link).")
       .def_property_readonly("time", &PythonSimulation::Time, "Simulated time [s].")
       .def_property_readonly("timestep", &PythonSimulation::Timestep, "Physics step [s].")
+      .def_property_readonly("dynamics", &PythonSimulation::DynamicsText,
+                             "How a step advances: \"inertial\" (mj_step) or \"stokes\" "
+                             "(docs/DYNAMICS.md).")
       .def_property_readonly("links", &PythonSimulation::Links, "IPMC links.")
       .def_property_readonly("source", &PythonSimulation::Source, "The model, for messages.")
       .def_property_readonly("joint_names", &PythonSimulation::JointNames,

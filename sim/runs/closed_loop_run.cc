@@ -119,6 +119,7 @@ std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenari
   UseEulerWhereImplicitAddsNothing(model.get());  // as RunClosedLoop steps it
   IpmcActuatorsOverrides overrides;
   overrides.plants = scenario.plants;
+  overrides.dynamics = scenario.dynamics;
   return std::make_unique<Simulation>(std::move(model), source, overrides);
 }
 

@@ -29,6 +29,24 @@
 // Attach (also on an attached d) gives the state of ResetState at
 // d->time.
 //
+// Dynamics. A model with the text field ipmc_dynamics = stokes (or a
+// program's override) is stepped without inertia, its velocity taken from
+// the balance of drag, hinge and active forces at every step; call Step
+// instead of mj_step to get it (docs/DYNAMICS.md): for such a model the
+// drag callback adds nothing (the Stokes step solves for the drag), so
+// mj_step would step it without drag. Step also runs mj_step for an
+// inertial model and reports the callbacks' failures.
+//
+// Callbacks. The coupling installs mjcb_passive (drag) and mjcb_control
+// (actuators) at the first Attach and chains to the callbacks that were
+// set before. A host that sets mjcb_passive or mjcb_control after Attach
+// replaces them: the drag or the actuators are silently off under mj_step;
+// Step notices a callback that did not run and warns once through
+// mju_warning. No C++ exception crosses a callback: a failure inside one
+// (for example the actuators' ODE solver giving up) is recorded for d,
+// reported through mju_warning, and returned by LastError; Step returns
+// false after such a step.
+//
 // Warnings (a clamped free deflection, an undeclared rewind) go through
 // mju_warning: MuJoCo prints them to stdout and appends them to
 // MUJOCO_LOG.TXT unless the program sets mju_user_warning. Each names the
@@ -87,6 +105,18 @@ void RestoreState(const mjData* d, const CouplingState& state);
 // every link, no clamps counted. Call after mj_resetData. Throws
 // std::invalid_argument if d is not attached.
 void ResetState(const mjData* d);
+
+// One time step of d: the Stokes-flow step for a model attached with
+// ipmc_dynamics = stokes, mj_step otherwise (also for a d not attached).
+// Returns false if a callback failed during the step or the Stokes force
+// balance was singular; LastError(d) says why (the state may be partly
+// advanced: stop or restore).
+bool Step(const mjModel* m, mjData* d);
+
+// The failure of d's last Step (or of a callback run since, e.g. by
+// mj_forward), one line; "" if none or d is not attached. Valid until the
+// next Step of d.
+const char* LastError(const mjData* d);
 
 // Library version, "MAJOR.MINOR.PATCH".
 const char* Version();

@@ -1,0 +1,238 @@
+// The Stokes-flow stepper (plugin/fluid/stokes_step.h) against the linear
+// elastohydrodynamics of a passive elastic filament whose base angle is
+// driven, theta(0, t) = eps cos(omega t), in RFT drag (Lauga, "Floppy
+// swimming", PRE 75, 041916, 2007; Wiggins & Goldstein, PRL 80, 3879, 1998):
+//   xi_n y_t = -E I y_xxxx,  y(0) = 0, y_x(0) = eps cos(omega t),
+//   y_xx(L) = y_xxx(L) = 0,
+// whose periodic solution y = Re(Y(x) e^(i omega t)) solves
+// Y'''' = -i (Sp / L)^4 Y with the sperm number Sp = L (xi_n omega / E I)^(1/4),
+// and whose mean propulsive force is (to second order in eps)
+//   <F_x> = (xi_n - xi_t) int_0^L <y_t y_x> dx
+//         = (xi_n - xi_t) / 2 int_0^L Re(i omega Y conj(Y')) dx.
+// The discrete chain: n rigid segments of l = L / n joined by hinges of
+// stiffness E I / l (E I / (l / 2) at the base, whose other side is the
+// driven clamp), as the model generator builds a link
+// (plugin/actuators/ipmc_actuators.h); the clamp's angle is a very stiff
+// hinge whose spring reference follows the drive. The tip's complex
+// amplitude and the mean force converge to the theory as n grows; the
+// measured errors are in docs/DYNAMICS.md ("Validation").
+#include <gtest/gtest.h>
+#include <mujoco/mujoco.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "ipmc_swim/ipmc_swim.h"
+#include "plugin/coupling.h"
+#include "sim/core/simulation.h"
+
+namespace ipmc {
+namespace {
+
+using Complex = std::complex<double>;
+constexpr double kPi = 3.14159265358979323846;
+
+// The paper's strip (README, "Flexible links"): E I [N m^2], xi_n, xi_t
+// [N s/m^2] (xi_t = xi_n / 2, the slender-body ratio), L [m].
+constexpr double kBendingStiffness = 9.77e-7;
+constexpr double kXiNormal = 2.58e-3;
+constexpr double kXiTangential = 0.5 * kXiNormal;
+constexpr double kLength_m = 31e-3;
+constexpr double kDriveAngle_rad = 0.01;  // eps: small, the theory is linear
+
+double Omega_rad_s(double sperm_number) {
+  return std::pow(sperm_number, 4) * kBendingStiffness / (kXiNormal * std::pow(kLength_m, 4));
+}
+
+// The linear theory: Y(x) = sum_m a_m exp(r_m x'), r_m^4 = -i k^4,
+// k = Sp / L, with x' = x for the roots decaying from the base and
+// x' = x - L for those growing towards the tip (well conditioned for any Sp).
+class LinearFilament {
+ public:
+  explicit LinearFilament(double sperm_number) : k_(sperm_number / kLength_m) {
+    Eigen::Matrix4cd a;
+    Eigen::Vector4cd b(0, kDriveAngle_rad, 0, 0);
+    for (int m = 0; m < 4; ++m) {
+      root_[m] = k_ * std::polar(1.0, -kPi / 8 + m * kPi / 2);
+      shift_[m] = root_[m].real() > 0 ? kLength_m : 0.0;
+      for (int order = 0; order < 2; ++order) {  // Y(0) = 0, Y'(0) = eps
+        a(order, m) = std::pow(root_[m], order) * std::exp(-root_[m] * shift_[m]);
+      }
+      for (int order = 2; order < 4; ++order) {  // Y''(L) = Y'''(L) = 0
+        a(order, m) = std::pow(root_[m], order) * std::exp(root_[m] * (kLength_m - shift_[m]));
+      }
+    }
+    coefficient_ = a.fullPivLu().solve(b);
+  }
+  Complex Derivative(double x, int order) const {
+    Complex y = 0;
+    for (int m = 0; m < 4; ++m) {
+      y += coefficient_[m] * std::pow(root_[m], order) * std::exp(root_[m] * (x - shift_[m]));
+    }
+    return y;
+  }
+  // <F_x> [N] by Simpson's rule on 2000 intervals.
+  double MeanForce_N(double omega) const {
+    const int intervals = 2000;
+    double sum = 0;
+    for (int i = 0; i <= intervals; ++i) {
+      const double x = kLength_m * i / intervals;
+      const double weight = (i == 0 || i == intervals) ? 1 : (i % 2 ? 4 : 2);
+      const Complex integrand =
+          Complex(0, omega) * Derivative(x, 0) * std::conj(Derivative(x, 1));
+      sum += weight * integrand.real();
+    }
+    return (kXiNormal - kXiTangential) / 2 * sum * kLength_m / intervals / 3;
+  }
+
+ private:
+  double k_;
+  Complex root_[4];
+  double shift_[4];
+  Eigen::Vector4cd coefficient_;
+};
+
+std::string Num(double value) {
+  std::ostringstream out;
+  out.precision(12);
+  out << value;
+  return out.str();
+}
+
+// The driven chain in Stokes mode (the drive hinge's stiffness 1e6 times a
+// segment's: its angle follows the reference within 1e-6 relative).
+std::string ChainMjcf(int segments, double timestep_s) {
+  const double l = kLength_m / segments;
+  std::ostringstream xml;
+  xml << "<mujoco>\n  <option timestep=\"" << Num(timestep_s)
+      << "\" gravity=\"0 0 0\"><flag contact=\"disable\"/></option>\n"
+      << "  <custom>\n"
+      << "    <numeric name=\"ipmc_rft_viscosity_Pa_s\" data=\"1e-3\"/>\n"
+      << "    <text name=\"ipmc_rft_coefficients\" data=\"direct\"/>\n"
+      << "    <numeric name=\"ipmc_rft_xi_normal_N_s_m2\" data=\"" << Num(kXiNormal) << "\"/>\n"
+      << "    <numeric name=\"ipmc_rft_xi_tangential_N_s_m2\" data=\"" << Num(kXiTangential)
+      << "\"/>\n"
+      << "    <text name=\"ipmc_dynamics\" data=\"stokes\"/>\n  </custom>\n  <worldbody>\n"
+      << "    <body name=\"clamp\">\n"
+      << "      <inertial pos=\"0 0 0\" mass=\"1e-6\" diaginertia=\"1e-12 1e-12 1e-12\"/>\n"
+      << "      <joint name=\"drive\" type=\"hinge\" axis=\"0 0 1\" stiffness=\""
+      << Num(1e6 * kBendingStiffness / l) << "\"/>\n";
+  for (int s = 0; s < segments; ++s) {
+    const double share = s == 0 ? 0.5 * l : l;
+    xml << "<body name=\"s" << s << "\" pos=\"" << (s == 0 ? 0.0 : l) << " 0 0\">\n"
+        << "<joint type=\"hinge\" axis=\"0 0 1\" stiffness=\"" << Num(kBendingStiffness / share)
+        << "\"/>\n<geom name=\"g" << s << "\" type=\"box\" pos=\"" << Num(0.5 * l)
+        << " 0 0\" size=\"" << Num(0.5 * l) << " 1e-4 1e-3\" density=\"1e7\"/>\n";
+  }
+  for (int s = 0; s < segments; ++s) xml << "</body>\n";
+  xml << "    </body>\n  </worldbody>\n</mujoco>\n";
+  return xml.str();
+}
+
+struct ChainResponse {
+  Complex tip;           // complex amplitude of the tip's y [m]
+  double mean_force_N;   // <F_x> of the drag on the filament
+};
+
+// Starts from the theory's shape at t = 0 (so no slow transient of the
+// first bending mode), runs `periods`, and projects the last one.
+ChainResponse RunChain(int segments, double sperm_number, int steps_per_period, int periods) {
+  const double omega = Omega_rad_s(sperm_number);
+  const double period_s = 2 * kPi / omega;
+  const double h = period_s / steps_per_period;
+  Simulation sim(LoadModelString(ChainMjcf(segments, h)), "driven filament");
+  mjModel* m = sim.model();
+  mjData* d = sim.data();
+  const LinearFilament theory(sperm_number);
+  const double l = kLength_m / segments;
+  // Segment s lies at the theory's slope angle at its middle, relative to
+  // the one before it.
+  d->qpos[0] = kDriveAngle_rad;
+  double previous = kDriveAngle_rad;
+  for (int s = 0; s < segments; ++s) {
+    const double angle = std::atan(theory.Derivative((s + 0.5) * l, 1).real());
+    d->qpos[1 + s] = angle - previous;
+    previous = angle;
+  }
+  const CouplingContext* coupling = FindCoupling(d);
+  EXPECT_TRUE(coupling && coupling->drag);
+  const int last_geom = m->ngeom - 1;
+  ChainResponse response{0.0, 0.0};
+  for (int period = 0; period < periods; ++period) {
+    for (int step = 1; step <= steps_per_period; ++step) {
+      const double t_end = (period * steps_per_period + step) * h;
+      m->qpos_spring[0] = kDriveAngle_rad * std::cos(omega * t_end);
+      std::vector<double> start(d->qpos, d->qpos + m->nq);
+      sim.Step(false);
+      if (period + 1 < periods) continue;
+      // The tip at t_end (positions q_(n+1)).
+      mj_kinematics(m, d);
+      const mjtNum* xmat = d->geom_xmat + 9 * last_geom;
+      const double tip_y = d->geom_xpos[3 * last_geom + 1] + 0.5 * l * xmat[3];
+      response.tip += tip_y * std::exp(Complex(0, -omega * t_end)) * (2.0 / steps_per_period);
+      // The drag at the step's midpoint (q_n + q_(n+1)) / 2 with its
+      // velocity v = (q_(n+1) - q_n) / h: centred, so the sum over a period
+      // has no O(h) bias (at the end point, v . q sums to h/2 <v^2>).
+      std::vector<double> end(d->qpos, d->qpos + m->nq);
+      for (int i = 0; i < m->nq; ++i) d->qpos[i] = 0.5 * (start[i] + end[i]);
+      mj_kinematics(m, d);
+      mj_comPos(m, d);
+      mj_comVel(m, d);
+      double force_x = 0;
+      for (const Segment& segment : coupling->drag->Segments(m, d)) {
+        force_x += SegmentDragExact(segment, coupling->drag->coefficients()).force_W.x();
+      }
+      mju_copy(d->qpos, end.data(), m->nq);
+      response.mean_force_N += force_x / steps_per_period;
+    }
+  }
+  return response;
+}
+
+struct Errors {
+  double tip, force;
+};
+
+Errors RelativeErrors(int segments, double sperm_number, int steps_per_period) {
+  const LinearFilament theory(sperm_number);
+  const Complex tip = theory.Derivative(kLength_m, 0);
+  const double force = theory.MeanForce_N(Omega_rad_s(sperm_number));
+  const ChainResponse chain = RunChain(segments, sperm_number, steps_per_period, 2);
+  return {std::abs(chain.tip - tip) / std::abs(tip), std::abs(chain.mean_force_N - force) / std::abs(force)};
+}
+
+// Steps per drive period: backward Euler's own error is about
+// omega h / 2 = pi / steps, 0.08 % here.
+constexpr int kStepsPerPeriod = 4000;
+
+// Prints the table docs/DYNAMICS.md quotes ("Validation"):
+//   sperm number, n, tip amplitude error, mean force error.
+TEST(StokesFilamentTest, ConvergesToLinearTheoryWithSegments) {
+  std::printf("Sp n tip_error force_error\n");
+  for (const double sperm_number : {0.11, 1.0, 2.0, 5.0, 10.0}) {
+    for (const int n : {4, 8, 16, 32, 64}) {
+      const Errors e = RelativeErrors(n, sperm_number, kStepsPerPeriod);
+      std::printf("%.2f %d %.3e %.3e\n", sperm_number, n, e.tip, e.force);
+      // Second order in the segment length against the decay length L / Sp
+      // of the driven wave: measured tip error <= 0.28 (Sp / n)^2 plus
+      // backward Euler's 1e-4 floor, force error <= 1.6 max(1, Sp)^2 / n^2
+      // (docs/DYNAMICS.md); tolerances twice those.
+      const double h = std::max(1.0, sperm_number) / n;
+      EXPECT_LT(e.tip, 0.6 * h * h + 2e-4) << "Sp " << sperm_number << " n " << n;
+      EXPECT_LT(e.force, 3.2 * h * h) << "Sp " << sperm_number << " n " << n;
+    }
+  }
+  // Within 1 % (shape and force) at n = 32 up to Sp = 2, the shape up to
+  // Sp = 5; at n = 64 the shape up to Sp = 10 and the force up to Sp = 5.
+  EXPECT_LT(RelativeErrors(32, 2.0, kStepsPerPeriod).force, 0.01);
+  EXPECT_LT(RelativeErrors(32, 5.0, kStepsPerPeriod).tip, 0.01);
+}
+
+}  // namespace
+}  // namespace ipmc
