@@ -49,14 +49,35 @@ class PythonSimulation {
     meter_.Start(sim_->data());
   }
 
+  // Called without the GIL. Ctrl-C (a pending Python signal) stops it at a
+  // step boundary, every kSignalCheckSteps steps, raising KeyboardInterrupt.
+  // A diverged simulation raises, and refuses every later step: its state
+  // is MuJoCo's reset one, not the run's.
   void Step(long steps) {
     if (steps < 0) {
       throw std::invalid_argument("step: n must be >= 0 (got " + std::to_string(steps) + ")");
     }
     std::lock_guard<std::mutex> lock(mutex_);
+    RequireNotDiverged("step");
     for (long k = 0; k < steps; ++k) {
-      sim_->Step();
+      if (k % kSignalCheckSteps == kSignalCheckSteps - 1) {
+        py::gil_scoped_acquire acquire;
+        if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+      }
+      try {
+        sim_->Step();
+      } catch (const std::runtime_error& error) {
+        diverged_ = error.what();
+        throw;
+      }
       meter_.Observe(sim_->model(), sim_->data());
+    }
+  }
+
+  void RequireNotDiverged(const char* call) const {
+    if (!diverged_.empty()) {
+      throw std::runtime_error(std::string(call) + ": the simulation diverged before (" +
+                               diverged_ + "); make a new Simulation");
     }
   }
 
@@ -66,7 +87,10 @@ class PythonSimulation {
     ipmc::SetVoltages(sim_->data(), volts.data(), static_cast<int>(volts.size()));
   }
 
+  // Waits for a step running in another thread without holding the GIL,
+  // so the interpreter goes on meanwhile.
   double Time() {
+    py::gil_scoped_release release;
     std::lock_guard<std::mutex> lock(mutex_);
     return sim_->data()->time;
   }
@@ -157,6 +181,7 @@ class PythonSimulation {
 
   py::object Swim() {
     std::lock_guard<std::mutex> lock(mutex_);
+    RequireNotDiverged("swim");
     return ToPython(SwimMetricsJson(meter_.Finish(sim_->model(), sim_->data())));
   }
 
@@ -221,6 +246,8 @@ class PythonSimulation {
   std::vector<int> joint_qpos_, motors_;
   std::vector<std::string> joint_names_;
   std::mutex mutex_;
+  std::string diverged_;  // what diverged, once it has
+  static constexpr long kSignalCheckSteps = 2000;
 };
 
 std::unique_ptr<PythonSimulation> FromScenario(const py::object& scenario_arg,

@@ -2,6 +2,7 @@
 
 import sys
 import threading
+import time
 
 import numpy as np
 import pytest
@@ -69,6 +70,45 @@ def test_stepping_errors(short_scenario):
         ipmc_swim.Simulation.from_model("no_such_model.xml")
 
 
+def test_a_diverged_simulation_raises_and_refuses_further_steps():
+    """The flagellum with RK4 at a 50 ms step (the hinge mode needs < 5 ms)
+    diverges under a voltage: step() raises, and so does every later step()
+    or swim() (sim/python/bind_simulation.cc)."""
+    xml = (SOURCE_DIR / "models" / "flagellum3.xml").read_text()
+    xml = xml.replace('timestep="0.0001" integrator="implicit"', 'timestep="0.05" integrator="RK4"')
+    sim = ipmc_swim.Simulation.from_xml(xml)
+    sim.set_voltages([3.0, 3.0, 3.0])
+    with pytest.raises(ipmc_swim.Error, match="diverged"):
+        sim.step(1000)
+    with pytest.raises(ipmc_swim.Error, match="diverged before"):
+        sim.step(1)
+    with pytest.raises(ipmc_swim.Error, match="diverged before"):
+        sim.swim()
+
+
+def test_reading_the_time_while_another_thread_steps_leaves_python_running(short_scenario):
+    """time waits for a step in another thread without the GIL: the
+    interpreter runs other threads meanwhile, so ticks recorded by a third
+    thread fall before the step ends (holding the GIL they all came after)."""
+    sim = ipmc_swim.Simulation(short_scenario)
+    steps = 200000  # about 1 s of CPU
+    finished = []
+    stepping = threading.Thread(target=lambda: (sim.step(steps), finished.append(time.monotonic())))
+    stepping.start()
+    time.sleep(0.05)
+    reader = threading.Thread(target=lambda: sim.time)
+    reader.start()
+    ticks = []
+    ticker = threading.Thread(target=lambda: [ticks.append(time.monotonic()) or time.sleep(0.001)
+                                              for _ in range(20)])
+    ticker.start()
+    for thread in (ticker, reader, stepping):
+        thread.join(timeout=120)
+    assert len(ticks) == 20 and finished
+    assert min(ticks) < finished[0]
+    assert sim.time == pytest.approx(steps * sim.timestep)
+
+
 def test_a_generated_model_loads_from_its_text():
     sim = ipmc_swim.Simulation.from_xml(ipmc_swim.generate_model(link_lengths_mm=[8.0, 12.0]))
     assert sim.links == 2
@@ -121,3 +161,24 @@ def test_runs_in_two_threads_equal_them_run_one_after_the_other(short_scenario):
         thread.join()
     assert serial[0] != serial[1]
     assert parallel == serial
+
+
+def test_ctrl_c_stops_a_long_step(short_scenario):
+    """SIGINT during step(n) raises KeyboardInterrupt at a step boundary
+    (checked every 2000 steps), not after the n steps."""
+    import os
+    import signal
+    import subprocess
+
+    program = ("import ipmc_swim, sys\n"
+               f"s = ipmc_swim.Simulation({str(short_scenario)!r})\n"
+               "print('stepping', flush=True)\n"
+               "s.step(10**9)\n")
+    child = subprocess.Popen([sys.executable, "-c", program], stdout=subprocess.PIPE,
+                             stderr=subprocess.PIPE, text=True, env=os.environ)
+    assert child.stdout.readline().strip() == "stepping"
+    time.sleep(0.5)
+    child.send_signal(signal.SIGINT)
+    _, stderr = child.communicate(timeout=30)  # 10**9 steps would take an hour
+    assert child.returncode != 0
+    assert "KeyboardInterrupt" in stderr
