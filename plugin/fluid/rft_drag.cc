@@ -247,25 +247,22 @@ std::vector<Segment> RftDrag::Segments(const mjModel* m, const mjData* d) const 
   return segments;
 }
 
-// J^T of every segment's wrench in one pass over the tree, what
-// mj_applyFT computes one wrench at a time (through a Jacobian per
-// segment). MuJoCo's dof motions cdof = [w_j; v_j] are given at the
-// subtree centre of mass c of each body's root, where a force F at p with
-// torque T is the wrench [T + (p - c) x F; F]; the generalised force of
-// dof j is cdof_j . (the sum of the wrenches on the subtree of its body),
-// summed leaf to root.
+// The spatial resistance of one slender geom at the subtree centre of mass
+// of its body's root (where MuJoCo gives cdof and cvel).
+RftDrag::BodyResistance RftDrag::ResistanceOf(const mjModel* m, const mjData* d,
+                                              const SlenderGeom& geom) const {
+  const int body = m->geom_bodyid[geom.geom_id];
+  const mjtNum* xmat = d->geom_xmat + 9 * geom.geom_id;  // row-major
+  const Eigen::Vector3d tangent(xmat[geom.axis], xmat[3 + geom.axis], xmat[6 + geom.axis]);
+  return {body, SegmentResistance(Eigen::Vector3d(d->geom_xpos + 3 * geom.geom_id), tangent,
+                                  geom.length_m,
+                                  Eigen::Vector3d(d->subtree_com + 3 * m->body_rootid[body]),
+                                  coefficients_)};
+}
+
 void RftDrag::Resistances(const mjModel* m, const mjData* d, BodyResistances* out) const {
-  out->resize(slender_.size());
-  for (size_t i = 0; i < slender_.size(); ++i) {
-    const SlenderGeom& geom = slender_[i];
-    const int body = m->geom_bodyid[geom.geom_id];
-    const mjtNum* xmat = d->geom_xmat + 9 * geom.geom_id;  // row-major
-    const Eigen::Vector3d tangent(xmat[geom.axis], xmat[3 + geom.axis], xmat[6 + geom.axis]);
-    (*out)[i].body = body;
-    (*out)[i].resistance = SegmentResistance(
-        Eigen::Vector3d(d->geom_xpos + 3 * geom.geom_id), tangent, geom.length_m,
-        Eigen::Vector3d(d->subtree_com + 3 * m->body_rootid[body]), coefficients_);
-  }
+  out->clear();
+  for (const SlenderGeom& geom : slender_) out->push_back(ResistanceOf(m, d, geom));
 }
 
 // J^T of every segment's wrench in one pass over the tree, what
@@ -280,9 +277,8 @@ void RftDrag::Apply(const mjModel* m, mjData* d) const {
   mjMARKSTACK
   mjtNum* wrench_c = mj_stackAlloc(d, 6 * m->nbody);  // [torque; force] at c, per body
   mju_zero(wrench_c, 6 * m->nbody);
-  thread_local BodyResistances resistances;
-  Resistances(m, d, &resistances);
-  for (const BodyResistance& segment : resistances) {
+  for (const SlenderGeom& geom : slender_) {
+    const BodyResistance segment = ResistanceOf(m, d, geom);
     Eigen::Map<Eigen::Matrix<double, 6, 1>> target(wrench_c + 6 * segment.body);
     target.noalias() -= segment.resistance *
                         Eigen::Map<const Eigen::Matrix<double, 6, 1>>(d->cvel + 6 * segment.body);

@@ -156,6 +156,7 @@ class RftDrag {
     double length_m;
   };
   static Segment SegmentOf(const mjModel* m, const mjData* d, const SlenderGeom& geom);
+  BodyResistance ResistanceOf(const mjModel* m, const mjData* d, const SlenderGeom& geom) const;
   RftDragConfig config_;
   DragCoefficients coefficients_;
   std::vector<int> geom_ids_;
