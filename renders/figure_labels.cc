@@ -95,7 +95,7 @@ constexpr LabelEntry kUnitSuffixes[] = {
     {"_Hz", "Hz"},
     {"_rad", "rad"},
     {"_deg", "deg"},
-    {"_db", "dB"},
+    {"_dB", "dB"},
     {"_V", "V"},
     {"_s", "s"},
 };

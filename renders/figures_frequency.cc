@@ -27,7 +27,7 @@ namespace {
 struct Margins {
   bool known = false;  // bode.json holds them
   std::optional<double> crossover_rad_s, phase_margin_deg;
-  std::optional<double> phase_crossover_rad_s, gain_margin_db;
+  std::optional<double> phase_crossover_rad_s, gain_margin_dB;
 };
 
 Margins MarginsOf(const nlohmann::json& about) {
@@ -38,7 +38,7 @@ Margins MarginsOf(const nlohmann::json& about) {
     return margins[key].get<double>();
   };
   return {margins.is_object(), number("gain_crossover_rad_s"), number("phase_margin_deg"),
-          number("phase_crossover_rad_s"), number("gain_margin_db")};
+          number("phase_crossover_rad_s"), number("gain_margin_dB")};
 }
 
 std::string BodeLabel(const std::string& curve, const nlohmann::json& about) {
@@ -89,8 +89,8 @@ Figure BodeFigure(const CsvTable& table, const std::string& input, const FigureO
   if (has_loop && !margins.known) {
     report.notes.push_back("no margins marked: bode.json of `bode --out` is not beside the input");
   } else if (has_loop) {
-    margin_text = margins.gain_margin_db
-                      ? "Gm = " + Format("%.2f", *margins.gain_margin_db) + " dB (at " +
+    margin_text = margins.gain_margin_dB
+                      ? "Gm = " + Format("%.2f", *margins.gain_margin_dB) + " dB (at " +
                             Format("%.3f", *margins.phase_crossover_rad_s) + " rad/s)"
                       : "Gm = inf (the phase does not reach -180 deg)";
     margin_text += ", ";
@@ -146,12 +146,12 @@ Figure BodeFigure(const CsvTable& table, const std::string& input, const FigureO
     magnitude_marks += "set arrow from " + w180 + ", graph 0 to " + w180 +
                        ", graph 1 nohead dt 3 lc rgb 'gray40'\n"
                        "set arrow from " +
-                       w180 + ", " + N(-*margins.gain_margin_db) + " to " + w180 +
+                       w180 + ", " + N(-*margins.gain_margin_dB) + " to " + w180 +
                        ", 0 nohead lw 3 lc " + Rgb(kRed) +
                        " front\n"
                        "set label " +
-                       Q("Gm " + Format("%.2f", *margins.gain_margin_db) + " dB") + " at " + w180 +
-                       ", " + N(-0.5 * *margins.gain_margin_db) +
+                       Q("Gm " + Format("%.2f", *margins.gain_margin_dB) + " dB") + " at " + w180 +
+                       ", " + N(-0.5 * *margins.gain_margin_dB) +
                        " offset 1,0 front boxed tc " + Rgb(kRed) + "\n";
     phase_marks += "set arrow from " + w180 + ", graph 0 to " + w180 +
                    ", graph 1 nohead dt 3 lc rgb 'gray40'\n";

@@ -95,7 +95,7 @@ Figure LinkTrackingFigure(const CsvTable& table, const std::vector<int>& links,
       // The run's own fraction (every step, summary.json) if it is there,
       // else that of the recorded samples.
       const double fraction =
-          LinkSummaryNumber(summary, q, "saturated_fraction")
+          LinkSummaryNumber(summary, q, "clamped_fraction")
               .value_or(static_cast<double>(at_clamp) / std::max<size_t>(1, t.size()));
       panel_title += Format(": voltage at the clamp %.1f %% of the time", 100.0 * fraction);
     }

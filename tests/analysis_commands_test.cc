@@ -39,7 +39,7 @@ double NumberAfter(const std::string& output, const std::string& label) {
 }
 
 struct BodeNumbers {
-  double crossover_rad_s, phase_margin_deg, gain_margin_db;
+  double crossover_rad_s, phase_margin_deg, gain_margin_dB;
 };
 
 BodeNumbers ParseBode(const std::string& output) {
@@ -101,7 +101,7 @@ TEST(AnalysisCommandsTest, BodePidOnLink3) {
   const BodeNumbers numbers = ParseBode(result.output);
   EXPECT_NEAR(numbers.crossover_rad_s, 31.12, 0.01) << result.output;
   EXPECT_NEAR(numbers.phase_margin_deg, 54.1, 0.05) << result.output;
-  EXPECT_TRUE(std::isnan(numbers.gain_margin_db)) << result.output;
+  EXPECT_TRUE(std::isnan(numbers.gain_margin_dB)) << result.output;
   EXPECT_NE(result.output.find("no finite gain margin"), std::string::npos) << result.output;
   // The PID at 5 rad/s: 20.94 dB, -43.19 deg.
   EXPECT_NE(result.output.find("controller 20.94 dB, -43.19 deg"), std::string::npos)
@@ -116,7 +116,7 @@ TEST(AnalysisCommandsTest, BodeFractionalOnLink3) {
   const BodeNumbers numbers = ParseBode(result.output);
   EXPECT_NEAR(numbers.crossover_rad_s, 5.08, 0.01) << result.output;
   EXPECT_NEAR(numbers.phase_margin_deg, 72.1, 0.05) << result.output;
-  EXPECT_NEAR(numbers.gain_margin_db, 7.88, 0.01) << result.output;
+  EXPECT_NEAR(numbers.gain_margin_dB, 7.88, 0.01) << result.output;
   EXPECT_NE(result.output.find("controller 15.21 dB, -55.80 deg"), std::string::npos)
       << result.output;
 }
@@ -150,8 +150,8 @@ TEST(AnalysisCommandsTest, BodeCsvColumns) {
   const std::vector<std::string> lines = ReadLines(dir / "out" / "bode.csv");
   ASSERT_EQ(lines.size(), 1u + 3 * 20 + 1);  // header, 3 decades at 20 per decade
   EXPECT_EQ(lines[0],
-            "w_rad_s,plant_db,plant_deg,controller_db,controller_deg,open_loop_db,open_loop_deg,"
-            "reference_open_loop_db,reference_open_loop_deg");
+            "w_rad_s,plant_dB,plant_deg,controller_dB,controller_deg,open_loop_dB,open_loop_deg,"
+            "reference_open_loop_dB,reference_open_loop_deg");
   EXPECT_NEAR(CsvRow(lines[1])[0], 0.1, 1e-12);
   EXPECT_NEAR(CsvRow(lines.back())[0], 100.0, 1e-9);
   for (size_t i = 1; i < lines.size(); ++i) {

@@ -31,7 +31,7 @@ void Print(const char* name, const ClosedLoopResult& r) {
   for (size_t q = 0; q < r.links.size(); ++q) {
     const LinkTracking& t = r.links[q];
     std::printf("  link %zu: IAE %.4g mm s, ITAE %.5g mm s^2, rms %.3g V, clamped %.0f %%\n", q + 1,
-                t.iae_mm_s, t.itae_mm_s2, t.rms_voltage_V, 100 * t.saturated_fraction);
+                t.iae_mm_s, t.itae_mm_s2, t.rms_voltage_V, 100 * t.clamped_fraction);
   }
   for (const Displacement_mm& c : r.swim.per_cycle) {
     std::printf("  cycle: centre of mass %.6f mm along, %.6f mm across\n", c.com_along,
@@ -63,9 +63,9 @@ TEST(ClosedLoopRunTest, DistributedActuationSwimsAndSingleActuationDoesNot) {
   EXPECT_LT(std::abs(single_mm), 1e-6 * distributed_mm);
   // With eq. 7's gain on every link, Table 4's wave needs at most about
   // 6 V: links 1 and 2 never reach the clamp, link 3 for 2 % of the time.
-  EXPECT_EQ(distributed.links[0].saturated_fraction, 0.0);
-  EXPECT_EQ(distributed.links[1].saturated_fraction, 0.0);
-  EXPECT_LT(distributed.links[2].saturated_fraction, 0.2);
+  EXPECT_EQ(distributed.links[0].clamped_fraction, 0.0);
+  EXPECT_EQ(distributed.links[1].clamped_fraction, 0.0);
+  EXPECT_LT(distributed.links[2].clamped_fraction, 0.2);
   EXPECT_LT(distributed.swim.reynolds_tip, 1.0);
 }
 

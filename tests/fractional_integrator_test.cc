@@ -71,30 +71,30 @@ TEST(FractionalIntegratorTest, RealisationAgainstEquation15AndExact) {
   config.order = 0.6248;
   const FractionalIntegrator printed(config);
   const FractionalIntegrator paper(FractionalIntegrator::Config{});
-  double worst_ratio = 0, worst_db = 0, worst_deg = 0;
+  double worst_ratio = 0, worst_dB = 0, worst_deg = 0;
   for (double w = 1e-3; w <= 1e3; w *= 1.1) {
     worst_ratio = std::max(
         worst_ratio, std::abs(printed.Evaluate({0.0, w}) / eq15(w) - 1.0));
     const Complex ratio = paper.Evaluate({0.0, w}) / eq15(w);
-    worst_db = std::max(worst_db, std::abs(Db(ratio)));
+    worst_dB = std::max(worst_dB, std::abs(Db(ratio)));
     worst_deg = std::max(worst_deg, std::abs(Deg(ratio)));
   }
   EXPECT_LT(worst_ratio, 1e-3);
-  EXPECT_LT(worst_db, 0.3);
+  EXPECT_LT(worst_dB, 0.3);
   EXPECT_LT(worst_deg, 0.5);
 
   // The wide-band realisation follows K (j w)^-0.62 closely in the
   // decades that matter for the loop. Measured on [1e-2, 1e2] rad/s:
   // 0.0031 dB, 0.055 deg; tolerances 0.03 dB and 0.5 deg.
   const FractionalIntegrator wide(WideBandIntegrator(1e-3));
-  double wide_db = 0, wide_deg = 0;
+  double wide_dB = 0, wide_deg = 0;
   for (double w = 1e-2; w <= 1e2; w *= 1.05) {
     const Complex ratio =
         wide.Evaluate({0.0, w}) / wide.EvaluateExact({0.0, w});
-    wide_db = std::max(wide_db, std::abs(Db(ratio)));
+    wide_dB = std::max(wide_dB, std::abs(Db(ratio)));
     wide_deg = std::max(wide_deg, std::abs(Deg(ratio)));
   }
-  EXPECT_LT(wide_db, 0.03);
+  EXPECT_LT(wide_dB, 0.03);
   EXPECT_LT(wide_deg, 0.5);
 }
 

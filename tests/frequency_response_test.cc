@@ -66,17 +66,17 @@ TEST(FrequencyResponseTest, BodeOfFirstOrderLag) {
   const BodeData bode =
       ComputeBode([](double w) { return 1.0 / Complex(1.0, w); }, grid);
   ASSERT_EQ(bode.w_rad_s.size(), 201u);
-  ASSERT_EQ(bode.magnitude_db.size(), bode.w_rad_s.size());
+  ASSERT_EQ(bode.magnitude_dB.size(), bode.w_rad_s.size());
   ASSERT_EQ(bode.phase_deg.size(), bode.w_rad_s.size());
   EXPECT_DOUBLE_EQ(bode.w_rad_s.front(), 1e-2);
   EXPECT_DOUBLE_EQ(bode.w_rad_s.back(), 1e2);
   // w = 1 rad/s is grid point 100: -10 log10(2) dB, -45 deg.
   EXPECT_NEAR(bode.w_rad_s[100], 1.0, 1e-14);
-  EXPECT_NEAR(bode.magnitude_db[100], -10 * std::log10(2.0), 1e-12);
+  EXPECT_NEAR(bode.magnitude_dB[100], -10 * std::log10(2.0), 1e-12);
   EXPECT_NEAR(bode.phase_deg[100], -45.0, 1e-12);
   for (std::size_t i = 0; i < bode.w_rad_s.size(); ++i) {
     const double w = bode.w_rad_s[i];
-    EXPECT_NEAR(bode.magnitude_db[i], -10 * std::log10(1 + w * w), 1e-12);
+    EXPECT_NEAR(bode.magnitude_dB[i], -10 * std::log10(1 + w * w), 1e-12);
     EXPECT_NEAR(bode.phase_deg[i], -std::atan(w) * 180 / kPi, 1e-12);
   }
 }
@@ -87,13 +87,13 @@ TEST(FrequencyResponseTest, PhaseIsUnwrapped) {
       [](double w) { return std::exp(Complex(0.0, -w)); }, {0.1, 100.0, 200});
   for (std::size_t i = 0; i < bode.w_rad_s.size(); ++i) {
     EXPECT_NEAR(bode.phase_deg[i], -bode.w_rad_s[i] * 180 / kPi, 1e-9);
-    EXPECT_NEAR(bode.magnitude_db[i], 0.0, 1e-12);
+    EXPECT_NEAR(bode.magnitude_dB[i], 0.0, 1e-12);
   }
   // An integrator starts at -90 deg, not +270.
   const BodeData integrator = ComputeBode(
       [](double w) { return 1.0 / Complex(0.0, w); }, {1.0, 10.0, 10});
   EXPECT_NEAR(integrator.phase_deg.front(), -90.0, 1e-12);
-  EXPECT_NEAR(integrator.magnitude_db.back(), -20.0, 1e-12);
+  EXPECT_NEAR(integrator.magnitude_dB.back(), -20.0, 1e-12);
 }
 
 TEST(FrequencyResponseTest, MarginsOfThirdOrderLoopMatchClosedForm) {
@@ -117,12 +117,12 @@ TEST(FrequencyResponseTest, MarginsOfThirdOrderLoopMatchClosedForm) {
   const StabilityMargins margins = ComputeMargins(loop);
   ASSERT_TRUE(margins.gain_crossover_rad_s.has_value());
   ASSERT_TRUE(margins.phase_margin_deg.has_value());
-  ASSERT_TRUE(margins.gain_margin_db.has_value());
+  ASSERT_TRUE(margins.gain_margin_dB.has_value());
   ASSERT_TRUE(margins.phase_crossover_rad_s.has_value());
   EXPECT_NEAR(*margins.gain_crossover_rad_s, w_gc, 1e-10);
   EXPECT_NEAR(*margins.phase_margin_deg, pm, 1e-8);
   EXPECT_NEAR(*margins.phase_crossover_rad_s, std::sqrt(2.0), 1e-10);
-  EXPECT_NEAR(*margins.gain_margin_db, 20 * std::log10(6.0 / k), 1e-9);
+  EXPECT_NEAR(*margins.gain_margin_dB, 20 * std::log10(6.0 / k), 1e-9);
   EXPECT_EQ(margins.gain_crossovers_rad_s.size(), 1u);
   EXPECT_EQ(margins.phase_crossovers.size(), 1u);
 }
@@ -144,18 +144,18 @@ TEST(FrequencyResponseTest, MultiplePhaseCrossoversReportTheMostCritical) {
     const double turns = (w + std::atan(w)) / kPi;
     EXPECT_NEAR(turns, std::round(turns), 1e-9);
     EXPECT_EQ(static_cast<int>(std::round(turns)) % 2, 1);
-    EXPECT_NEAR(crossover.gain_margin_db,
+    EXPECT_NEAR(crossover.gain_margin_dB,
                 -20 * std::log10(5.0 / std::sqrt(1 + w * w)), 1e-9);
   }
-  ASSERT_TRUE(margins.gain_margin_db.has_value());
+  ASSERT_TRUE(margins.gain_margin_dB.has_value());
   // The gain margin closest to 0 dB.
-  double best = margins.phase_crossovers.front().gain_margin_db;
+  double best = margins.phase_crossovers.front().gain_margin_dB;
   for (const PhaseCrossover& crossover : margins.phase_crossovers) {
-    if (std::abs(crossover.gain_margin_db) < std::abs(best)) {
-      best = crossover.gain_margin_db;
+    if (std::abs(crossover.gain_margin_dB) < std::abs(best)) {
+      best = crossover.gain_margin_dB;
     }
   }
-  EXPECT_EQ(*margins.gain_margin_db, best);
+  EXPECT_EQ(*margins.gain_margin_dB, best);
 }
 
 TEST(FrequencyResponseTest, ControllersAtFiveRadPerSecond) {
@@ -184,7 +184,7 @@ TEST(FrequencyResponseTest, PidLoopOnEquation7) {
   ASSERT_TRUE(margins.gain_crossover_rad_s.has_value());
   EXPECT_NEAR(*margins.gain_crossover_rad_s, 31.12, 0.005);
   EXPECT_NEAR(*margins.phase_margin_deg, 54.1, 0.05);
-  EXPECT_FALSE(margins.gain_margin_db.has_value());
+  EXPECT_FALSE(margins.gain_margin_dB.has_value());
   EXPECT_FALSE(margins.phase_crossover_rad_s.has_value());
   EXPECT_TRUE(margins.phase_crossovers.empty());
   EXPECT_EQ(margins.gain_crossovers_rad_s.size(), 1u);
@@ -205,10 +205,10 @@ TEST(FrequencyResponseTest, FractionalIntegratorLoopOnEquation7) {
   const StabilityMargins margins = ComputeMargins(
       [](double w) { return Eq14FractionalIntegrator(w) * Eq7Plant(w); });
   ASSERT_TRUE(margins.gain_crossover_rad_s.has_value());
-  ASSERT_TRUE(margins.gain_margin_db.has_value());
+  ASSERT_TRUE(margins.gain_margin_dB.has_value());
   EXPECT_NEAR(*margins.gain_crossover_rad_s, 5.075, 5e-4);
   EXPECT_NEAR(*margins.phase_margin_deg, 72.1, 0.05);
-  EXPECT_NEAR(*margins.gain_margin_db, 7.88, 0.005);
+  EXPECT_NEAR(*margins.gain_margin_dB, 7.88, 0.005);
   EXPECT_NEAR(*margins.phase_crossover_rad_s, 20.65, 0.005);
   EXPECT_EQ(margins.phase_crossovers.size(), 1u);
 }
@@ -221,8 +221,8 @@ TEST(FrequencyResponseTest, Equation15LoopOnEquation7) {
   ASSERT_TRUE(margins.gain_crossover_rad_s.has_value());
   EXPECT_NEAR(*margins.gain_crossover_rad_s, 4.96, 0.005);
   EXPECT_NEAR(*margins.phase_margin_deg, 76.6, 0.05);
-  ASSERT_TRUE(margins.gain_margin_db.has_value());
-  EXPECT_NEAR(*margins.gain_margin_db, 7.94, 0.005);
+  ASSERT_TRUE(margins.gain_margin_dB.has_value());
+  EXPECT_NEAR(*margins.gain_margin_dB, 7.94, 0.005);
 }
 
 TEST(FrequencyResponseTest, BodeCsvRoundTrip) {
@@ -240,7 +240,7 @@ TEST(FrequencyResponseTest, BodeCsvRoundTrip) {
   std::ifstream in(path);
   std::string line;
   ASSERT_TRUE(std::getline(in, line));
-  EXPECT_EQ(line, "w_rad_s,magnitude_db,phase_deg");
+  EXPECT_EQ(line, "w_rad_s,magnitude_dB,phase_deg");
   std::size_t rows = 0;
   while (std::getline(in, line)) {
     std::istringstream fields(line);
@@ -250,7 +250,7 @@ TEST(FrequencyResponseTest, BodeCsvRoundTrip) {
     ASSERT_LT(rows, bode.w_rad_s.size());
     // 17 significant digits: exact round trip.
     EXPECT_EQ(w, bode.w_rad_s[rows]);
-    EXPECT_EQ(magnitude, bode.magnitude_db[rows]);
+    EXPECT_EQ(magnitude, bode.magnitude_dB[rows]);
     EXPECT_EQ(phase, bode.phase_deg[rows]);
     ++rows;
   }

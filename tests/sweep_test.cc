@@ -234,7 +234,7 @@ TEST_F(SweepTest, TableDoesNotDependOnJobsAndHoldsTheRunsNumbersExactly) {
   const ClosedLoopResult alone = RunScenario(*plan.points[6].scenario);
   const std::vector<std::string>& row = one.rows[6];
   EXPECT_EQ(std::stod(row[column("link2_iae_mm_s")]), alone.links[1].iae_mm_s);
-  EXPECT_EQ(std::stod(row[column("link3_clamped_fraction")]), alone.links[2].saturated_fraction);
+  EXPECT_EQ(std::stod(row[column("link3_clamped_fraction")]), alone.links[2].clamped_fraction);
   EXPECT_EQ(std::stod(row[column("last_cycle_com_along_mm")]), alone.swim.per_cycle.back().com_along);
   EXPECT_EQ(std::stod(row[column("mean_speed_along_mm_s")]), alone.swim.mean_speed_along_mm_s);
   EXPECT_EQ(std::stod(row[column("reynolds_swim")]), alone.swim.reynolds_swim);

@@ -102,11 +102,11 @@ BodeData ComputeBode(const FrequencyFunction& response,
   BodeData bode;
   bode.w_rad_s = grid.Frequencies();
   const std::size_t n = bode.w_rad_s.size();
-  bode.magnitude_db.resize(n);
+  bode.magnitude_dB.resize(n);
   bode.phase_deg.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const std::complex<double> h = EvaluateChecked(response, bode.w_rad_s[i]);
-    bode.magnitude_db[i] = MagnitudeDb(h);
+    bode.magnitude_dB[i] = MagnitudeDb(h);
     bode.phase_deg[i] =
         i == 0 ? PhaseDeg(h) : PhaseNear(h, bode.phase_deg[i - 1]);
   }
@@ -169,8 +169,8 @@ StabilityMargins ComputeMargins(const FrequencyFunction& loop,
   std::vector<double> gain_crossovers;
   std::vector<double> gain_crossover_phase_deg;
   for (std::size_t i = 0; i + 1 < n; ++i) {
-    const bool above_lo = bode.magnitude_db[i] >= 0;
-    const bool above_hi = bode.magnitude_db[i + 1] >= 0;
+    const bool above_lo = bode.magnitude_dB[i] >= 0;
+    const bool above_hi = bode.magnitude_dB[i + 1] >= 0;
     if (above_lo == above_hi) continue;
     const double x = BracketedRoot(
         [&](double log10_w) {
@@ -215,11 +215,11 @@ StabilityMargins ComputeMargins(const FrequencyFunction& loop,
   for (const double w : phase_crossovers) {
     PhaseCrossover crossover;
     crossover.w_rad_s = w;
-    crossover.gain_margin_db = -MagnitudeDb(EvaluateChecked(loop, w));
+    crossover.gain_margin_dB = -MagnitudeDb(EvaluateChecked(loop, w));
     margins.phase_crossovers.push_back(crossover);
-    if (!margins.gain_margin_db || std::abs(crossover.gain_margin_db) <
-                                       std::abs(*margins.gain_margin_db)) {
-      margins.gain_margin_db = crossover.gain_margin_db;
+    if (!margins.gain_margin_dB || std::abs(crossover.gain_margin_dB) <
+                                       std::abs(*margins.gain_margin_dB)) {
+      margins.gain_margin_dB = crossover.gain_margin_dB;
       margins.phase_crossover_rad_s = w;
     }
   }

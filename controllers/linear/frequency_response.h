@@ -53,7 +53,7 @@ struct FrequencyGrid {
 // Bode data: parallel arrays of equal length.
 struct BodeData {
   std::vector<double> w_rad_s;
-  std::vector<double> magnitude_db;
+  std::vector<double> magnitude_dB;
   std::vector<double> phase_deg;  // unwrapped along increasing w
 };
 
@@ -66,7 +66,7 @@ BodeData ComputeBode(const FrequencyFunction& response,
 // One phase crossover and the gain margin it gives.
 struct PhaseCrossover {
   double w_rad_s = 0;
-  double gain_margin_db = 0;  // -20 log10 |L(j w)|
+  double gain_margin_dB = 0;  // -20 log10 |L(j w)|
 };
 
 struct StabilityMargins {
@@ -84,7 +84,7 @@ struct StabilityMargins {
   // critical one, as MATLAB's `margin` reports) and its frequency. Empty
   // ("no finite gain margin") when the phase never reaches -180 deg
   // (mod 360) within the search range.
-  std::optional<double> gain_margin_db;
+  std::optional<double> gain_margin_dB;
   std::optional<double> phase_crossover_rad_s;
 };
 

@@ -55,7 +55,7 @@ std::vector<std::string> RunPoint(const SweepPlan& plan, const SweepPoint& point
     if (result && q < static_cast<int>(result->links.size())) {
       const LinkTracking& link = result->links[q];
       for (double value :
-           {link.iae_mm_s, link.itae_mm_s2, link.rms_voltage_V, link.saturated_fraction}) {
+           {link.iae_mm_s, link.itae_mm_s2, link.rms_voltage_V, link.clamped_fraction}) {
         row.push_back(FormatShortest(value));
       }
     } else {

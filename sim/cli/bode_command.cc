@@ -28,8 +28,8 @@ void PrintBode(const BodeSpec& spec, const BodeAnalysis& analysis) {
   } else {
     std::printf("gain crossover: none (|L| does not cross 1)\n");
   }
-  if (margins.gain_margin_db) {
-    std::printf("gain margin: %.2f dB at %.3f rad/s\n", *margins.gain_margin_db,
+  if (margins.gain_margin_dB) {
+    std::printf("gain margin: %.2f dB at %.3f rad/s\n", *margins.gain_margin_dB,
                 *margins.phase_crossover_rad_s);
   } else {
     std::printf("gain margin: no finite gain margin (the phase does not reach -180 deg)\n");

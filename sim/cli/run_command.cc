@@ -33,13 +33,13 @@ void AddAllowLongFlag(CLI::App* cmd, bool& allow) {
 void PrintClosedLoopResult(const ClosedLoopResult& r) {
   std::printf("%s controller, %s actuation, wave period %.6g s, time step %.3g s\n",
               r.controller.c_str(), r.actuation.c_str(), r.period_s, r.timestep_s);
-  std::printf("%4s %12s %14s %14s %12s %12s %10s\n", "link", "IAE_mm_s", "ITAE_mm_s2",
-              "max_error_mm", "max_ref_mm", "rms_V", "clamped_%");
+  std::printf("%4s %12s %14s %16s %20s %13s %16s\n", "link", "iae_mm_s", "itae_mm_s2",
+              "max_abs_error_mm", "max_abs_reference_mm", "rms_voltage_V", "clamped_fraction");
   for (size_t q = 0; q < r.links.size(); ++q) {
     const LinkTracking& t = r.links[q];
-    std::printf("%4zu %12.5g %14.6g %14.5g %12.5g %12.4g %10.1f\n", q + 1, t.iae_mm_s,
+    std::printf("%4zu %12.5g %14.6g %16.5g %20.5g %13.4g %16.4f\n", q + 1, t.iae_mm_s,
                 t.itae_mm_s2, t.max_abs_error_mm, t.max_abs_reference_mm, t.rms_voltage_V,
-                100.0 * t.saturated_fraction);
+                t.clamped_fraction);
   }
   PrintSwimMetrics(r.swim);
 }

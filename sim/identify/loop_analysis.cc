@@ -40,7 +40,7 @@ nlohmann::json MarginsJson(const StabilityMargins& margins) {
   return {{"gain_crossover_rad_s", number(margins.gain_crossover_rad_s)},
           {"phase_margin_deg", number(margins.phase_margin_deg)},
           {"phase_crossover_rad_s", number(margins.phase_crossover_rad_s)},
-          {"gain_margin_db", number(margins.gain_margin_db)}};
+          {"gain_margin_dB", number(margins.gain_margin_dB)}};
 }
 
 using Complex = std::complex<double>;
@@ -318,17 +318,17 @@ BodeColumns ComputeBodeColumns(const BodeAnalysis& analysis, const BodeSpec& spe
 
 void WriteBodeCsv(const BodeData& bode, const std::filesystem::path& path) {
   const std::size_t n = bode.w_rad_s.size();
-  if (bode.magnitude_db.size() != n || bode.phase_deg.size() != n) {
+  if (bode.magnitude_dB.size() != n || bode.phase_deg.size() != n) {
     throw std::invalid_argument(
-        "WriteBodeCsv: w_rad_s, magnitude_db and phase_deg must have equal "
+        "WriteBodeCsv: w_rad_s, magnitude_dB and phase_deg must have equal "
         "lengths, got " +
-        std::to_string(n) + ", " + std::to_string(bode.magnitude_db.size()) +
+        std::to_string(n) + ", " + std::to_string(bode.magnitude_dB.size()) +
         ", " + std::to_string(bode.phase_deg.size()));
   }
   CsvWriter csv;
   csv.Row({columns::kFrequency, columns::kMagnitudeDb, columns::kPhaseDeg});
   for (std::size_t i = 0; i < n; ++i) {
-    csv.Add(bode.w_rad_s[i]).Add(bode.magnitude_db[i]).Add(bode.phase_deg[i]).EndRow();
+    csv.Add(bode.w_rad_s[i]).Add(bode.magnitude_dB[i]).Add(bode.phase_deg[i]).EndRow();
   }
   WriteFileAtomically(path.string(), csv.Text());
 }
@@ -338,12 +338,12 @@ std::string BodeCsv(const BodeColumns& bode) {
                                &bode.reference_open_loop};
   std::ostringstream csv;
   csv << std::setprecision(12);
-  csv << "w_rad_s,plant_db,plant_deg,controller_db,controller_deg,open_loop_db,open_loop_deg,"
-         "reference_open_loop_db,reference_open_loop_deg\n";
+  csv << "w_rad_s,plant_dB,plant_deg,controller_dB,controller_deg,open_loop_dB,open_loop_deg,"
+         "reference_open_loop_dB,reference_open_loop_deg\n";
   for (std::size_t i = 0; i < bode.plant.w_rad_s.size(); ++i) {
     csv << bode.plant.w_rad_s[i];
     for (const BodeData* column : columns) {
-      csv << "," << column->magnitude_db[i] << "," << column->phase_deg[i];
+      csv << "," << column->magnitude_dB[i] << "," << column->phase_deg[i];
     }
     csv << "\n";
   }

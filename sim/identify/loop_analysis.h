@@ -91,7 +91,7 @@ struct BodeColumns {
 BodeColumns ComputeBodeColumns(const BodeAnalysis& analysis, const BodeSpec& spec);
 std::string BodeCsv(const BodeColumns& columns);
 
-// Writes one response as "w_rad_s,magnitude_db,phase_deg" and one row per
+// Writes one response as "w_rad_s,magnitude_dB,phase_deg" and one row per
 // point (17 significant digits) to a temporary file beside `path`, then
 // renames it to `path`, so readers never see a partial file. Throws
 // std::invalid_argument if the arrays differ in length and

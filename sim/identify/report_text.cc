@@ -54,7 +54,7 @@ std::string MarginsText(const StabilityMargins& m) {
                          ? FormatText("crossover %.4f rad/s, phase margin %.2f deg",
                                       *m.gain_crossover_rad_s, *m.phase_margin_deg)
                          : std::string("no gain crossover");
-  text += m.gain_margin_db ? FormatText(", gain margin %.2f dB at %.4g rad/s", *m.gain_margin_db,
+  text += m.gain_margin_dB ? FormatText(", gain margin %.2f dB at %.4g rad/s", *m.gain_margin_dB,
                                         *m.phase_crossover_rad_s)
                            : std::string(", no finite gain margin");
   return text;

@@ -42,10 +42,10 @@ constexpr char kPlantCurve[] = "plant";
 constexpr char kControllerCurve[] = "controller";
 constexpr char kOpenLoopCurve[] = "open_loop";
 constexpr char kReferenceOpenLoopCurve[] = "reference_open_loop";
-inline std::string MagnitudeDb(const std::string& curve) { return curve + "_db"; }
+inline std::string MagnitudeDb(const std::string& curve) { return curve + "_dB"; }
 inline std::string PhaseDeg(const std::string& curve) { return curve + "_deg"; }
 // One response alone (WriteBodeCsv, sim/identify/loop_analysis.h).
-constexpr char kMagnitudeDb[] = "magnitude_db";
+constexpr char kMagnitudeDb[] = "magnitude_dB";
 constexpr char kPhaseDeg[] = "phase_deg";
 
 // step.csv of "ipmc-swim step": the reference model and each link's

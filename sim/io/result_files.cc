@@ -373,7 +373,7 @@ std::string UnitOfName(const std::string& name) {
       {"_um_per_mm", "um/mm"}, {"_mm_per_V", "mm/V"}, {"_N_s_m2", "N s/m^2"},
       {"_kg_m3", "kg/m^3"},    {"_Pa_s", "Pa s"},     {"_mm_s2", "mm s^2"},
       {"_rad_s", "rad/s"},     {"_mm", "mm"},         {"_rad", "rad"},
-      {"_deg", "deg"},         {"_db", "dB"},         {"_Hz", "Hz"},
+      {"_deg", "deg"},         {"_dB", "dB"},         {"_Hz", "Hz"},
       {"_V", "V"},             {"_m", "m"},           {"_s", "s"}};
   if (EndsWith(name, "_mm_s")) {
     // A speed is mm/s; an integral over time of a deflection (IAE) mm s.

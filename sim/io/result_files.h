@@ -33,7 +33,7 @@ std::string MatlabName(const std::string& key);
 
 // The unit a name ends in, as text ("mm", "mm/s", "V", "rad", "mm s"), or
 // "" if it names none: "_mm" mm, "_s" s, "_rad" rad, "_V" V, "_Hz" Hz,
-// "_deg" deg, "_db" dB, "_mm_s" mm/s for speeds and mm s for integrals
+// "_deg" deg, "_dB" dB, "_mm_s" mm/s for speeds and mm s for integrals
 // (iae_mm_s), "_mm_s2" mm s^2, "_rad_s" rad/s, "_Pa_s" Pa s, "_kg_m3"
 // kg/m^3, "_N_s_m2" N s/m^2, "_um_per_mm" um/mm, "_mm_per_V" mm/V.
 std::string UnitOfName(const std::string& name);

@@ -27,7 +27,7 @@ py::dict MarginsDict(const StabilityMargins& m) {
   py::dict dict;
   dict["gain_crossover_rad_s"] = Optional(m.gain_crossover_rad_s);
   dict["phase_margin_deg"] = Optional(m.phase_margin_deg);
-  dict["gain_margin_db"] = Optional(m.gain_margin_db);
+  dict["gain_margin_dB"] = Optional(m.gain_margin_dB);
   dict["phase_crossover_rad_s"] = Optional(m.phase_crossover_rad_s);
   dict["gain_crossovers_rad_s"] = Array(m.gain_crossovers_rad_s);
   return dict;
@@ -57,7 +57,7 @@ py::dict BodeLinkDict(const BodeLink& link) {
       {"open_loop", &columns.open_loop},
       {"reference_open_loop", &columns.reference_open_loop}};
   for (const auto& [name, data] : parts) {
-    response[py::str(std::string(name) + "_db")] = Array(data->magnitude_db);
+    response[py::str(std::string(name) + "_dB")] = Array(data->magnitude_dB);
     response[py::str(std::string(name) + "_deg")] = Array(data->phase_deg);
   }
   py::dict at_design;

@@ -215,7 +215,7 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
   }
   for (int q = 0; q < links; ++q) {
     result.links[q].rms_voltage_V = std::sqrt(sum_v2[q] / std::max<long>(1, samples));
-    result.links[q].saturated_fraction = static_cast<double>(saturated[q]) / std::max<long>(1, samples);
+    result.links[q].clamped_fraction = static_cast<double>(saturated[q]) / std::max<long>(1, samples);
   }
   result.swim = meter.Finish(m, d);
   RequireFiniteMetrics(result.swim, sim.source());

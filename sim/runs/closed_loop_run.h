@@ -33,7 +33,7 @@ struct LinkTracking : TrackingIndices {
   double max_abs_reference_mm = 0.0;
   double rms_voltage_V = 0.0;
   double peak_voltage_V = 0.0;
-  double saturated_fraction = 0.0;
+  double clamped_fraction = 0.0;
 };
 
 struct ClosedLoopSample {

@@ -246,7 +246,7 @@ nlohmann::json ClosedLoopSummaryJson(const ClosedLoopResult& result) {
                      {"max_abs_reference_mm", t.max_abs_reference_mm},
                      {"rms_voltage_V", t.rms_voltage_V},
                      {"peak_voltage_V", t.peak_voltage_V},
-                     {"saturated_fraction", t.saturated_fraction}});
+                     {"clamped_fraction", t.clamped_fraction}});
   }
   summary["controller"] = result.controller;
   summary["actuation"] = result.actuation;

@@ -193,7 +193,7 @@ def make_fixtures(d):
     write(f"{d}/gait_decreasing.csv", "time_s,q1,q2,q3\n0,0,0,0\n10,0.1,0.1,0.1\n5,0,0,0\n")
     write(f"{d}/gait_text.csv", "time_s,q1,q2,q3\n0,0,0,0\n10,a,b,c\n")
     write(f"{d}/gait_one.csv", "time_s,q1,q2,q3\n0,0,0,0\n")
-    write(f"{d}/bode.csv", "w_rad_s,open_loop_db,open_loop_deg\n1,0,-90\n10,-20,-120\n")
+    write(f"{d}/bode.csv", "w_rad_s,open_loop_dB,open_loop_deg\n1,0,-90\n10,-20,-120\n")
     os.mkdir(f"{d}/readonly")
     os.chmod(f"{d}/readonly", 0o555)
     write(f"{d}/a_file", "not a folder\n")

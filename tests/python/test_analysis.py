@@ -38,13 +38,13 @@ def test_bode_equals_the_command_line(tmp_path):
     margins = result["margins"]
     assert f"gain crossover: {margins['gain_crossover_rad_s']:.3f} rad/s" in stdout
     assert f"phase margin: {margins['phase_margin_deg']:.2f} deg" in stdout
-    assert margins["gain_margin_db"] is None
+    assert margins["gain_margin_dB"] is None
     assert result["controller"] in stdout and result["plant"] in stdout
     response = result["response"]
-    assert response["w_rad_s"].shape == response["open_loop_db"].shape
+    assert response["w_rad_s"].shape == response["open_loop_dB"].shape
     # The open loop is the product: dB add.
-    np.testing.assert_allclose(response["open_loop_db"],
-                               response["plant_db"] + response["controller_db"], atol=1e-9)
+    np.testing.assert_allclose(response["open_loop_dB"],
+                               response["plant_dB"] + response["controller_dB"], atol=1e-9)
 
 
 def test_step_equals_the_command_line(tmp_path):

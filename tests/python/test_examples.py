@@ -15,5 +15,5 @@ def test_the_frequency_study_draws_its_figure(short_scenario, tmp_path):
     assert done.returncode == 0, done.stderr
     assert figure.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     lines = done.stdout.splitlines()
-    assert lines[0].split() == ["frequency_Hz", "mean_speed_mm_s", "last_cycle_mm", "link3_clamped_%"]
+    assert lines[0].split() == ["frequency_Hz", "mean_speed_along_mm_s", "last_cycle_mm", "link3_clamped_fraction"]
     assert [line.split()[0] for line in lines[1:3]] == ["0.1", "0.2"]

@@ -42,10 +42,10 @@ def main():
         results = list(pool.map(lambda f: run_at(args.scenario, f, args.cycles),
                                 args.frequencies_hz))
 
-    print(f"{'frequency_Hz':>12} {'mean_speed_mm_s':>16} {'last_cycle_mm':>14} {'link3_clamped_%':>16}")
+    print(f"{'frequency_Hz':>12} {'mean_speed_along_mm_s':>22} {'last_cycle_mm':>14} {'link3_clamped_fraction':>23}")
     for f, r in zip(args.frequencies_hz, results):
-        print(f"{f:>12g} {r.summary['mean_speed_along_mm_s']:>16.4g} "
-              f"{r.cycles['com_along_mm'][-1]:>14.4g} {100 * r.links['saturated_fraction'][-1]:>16.1f}")
+        print(f"{f:>12g} {r.summary['mean_speed_along_mm_s']:>22.4g} "
+              f"{r.cycles['com_along_mm'][-1]:>14.4g} {r.links['clamped_fraction'][-1]:>23.4f}")
 
     figure, (speed, tracking) = plt.subplots(1, 2, figsize=(10, 4))
     speed.plot(args.frequencies_hz, [r.summary["mean_speed_along_mm_s"] for r in results], "o-",
@@ -53,7 +53,7 @@ def main():
     speed.set_xlabel("wave frequency [Hz]")
     speed.set_ylabel("mean speed along the axis [mm/s]")
     clamp = speed.twinx()
-    clamp.plot(args.frequencies_hz, [100 * r.links["saturated_fraction"][-1] for r in results],
+    clamp.plot(args.frequencies_hz, [100 * r.links["clamped_fraction"][-1] for r in results],
                "s--", color="tab:red", label="link 3 at the clamp")
     clamp.set_ylabel("link 3 samples at the +-6 V clamp [%]", color="tab:red")
     speed.set_title("PID, +-6 V, distributed actuation")
