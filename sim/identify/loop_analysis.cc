@@ -334,15 +334,20 @@ void WriteBodeCsv(const BodeData& bode, const std::filesystem::path& path) {
 }
 
 std::string BodeCsv(const BodeColumns& bode) {
-  const BodeData* columns[] = {&bode.plant, &bode.controller, &bode.open_loop,
-                               &bode.reference_open_loop};
+  const BodeData* responses[] = {&bode.plant, &bode.controller, &bode.open_loop,
+                                 &bode.reference_open_loop};
+  const char* curves[] = {columns::kPlantCurve, columns::kControllerCurve,
+                          columns::kOpenLoopCurve, columns::kReferenceOpenLoopCurve};
   std::ostringstream csv;
   csv << std::setprecision(12);
-  csv << "w_rad_s,plant_dB,plant_deg,controller_dB,controller_deg,open_loop_dB,open_loop_deg,"
-         "reference_open_loop_dB,reference_open_loop_deg\n";
+  csv << columns::kFrequency;
+  for (const char* curve : curves) {
+    csv << "," << columns::MagnitudeDb(curve) << "," << columns::PhaseDeg(curve);
+  }
+  csv << "\n";
   for (std::size_t i = 0; i < bode.plant.w_rad_s.size(); ++i) {
     csv << bode.plant.w_rad_s[i];
-    for (const BodeData* column : columns) {
+    for (const BodeData* column : responses) {
       csv << "," << column->magnitude_dB[i] << "," << column->phase_deg[i];
     }
     csv << "\n";

@@ -14,6 +14,7 @@
 
 #include "sim/identify/identify_run.h"
 #include "sim/identify/loop_analysis.h"
+#include "sim/io/columns.h"
 #include "sim/python/convert.h"
 
 namespace ipmc::python {
@@ -48,17 +49,17 @@ py::dict StepMetricsDict(const StepMetrics& m) {
 
 py::dict BodeLinkDict(const BodeLink& link) {
   const BodeAnalysis& analysis = link.analysis;
-  const BodeColumns& columns = link.columns;
+  const BodeColumns& curves = link.columns;
   py::dict response;
-  response["w_rad_s"] = Array(columns.plant.w_rad_s);
+  response[columns::kFrequency] = Array(curves.plant.w_rad_s);
   const std::pair<const char*, const BodeData*> parts[] = {
-      {"plant", &columns.plant},
-      {"controller", &columns.controller},
-      {"open_loop", &columns.open_loop},
-      {"reference_open_loop", &columns.reference_open_loop}};
+      {columns::kPlantCurve, &curves.plant},
+      {columns::kControllerCurve, &curves.controller},
+      {columns::kOpenLoopCurve, &curves.open_loop},
+      {columns::kReferenceOpenLoopCurve, &curves.reference_open_loop}};
   for (const auto& [name, data] : parts) {
-    response[py::str(std::string(name) + "_dB")] = Array(data->magnitude_dB);
-    response[py::str(std::string(name) + "_deg")] = Array(data->phase_deg);
+    response[py::str(columns::MagnitudeDb(name))] = Array(data->magnitude_dB);
+    response[py::str(columns::PhaseDeg(name))] = Array(data->phase_deg);
   }
   py::dict at_design;
   at_design["w_rad_s"] = analysis.design_frequency_rad_s;

@@ -175,7 +175,7 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
   result.links.resize(links);
   result.states = RecordedStates::For(m);
   std::vector<double> sum_v2(links, 0.0);
-  std::vector<long> saturated(links, 0);
+  std::vector<long> clamped_samples(links, 0);
   std::vector<double> volts(links, 0.0), reference(links, 0.0), measured(links, 0.0);
   long samples = 0;
 
@@ -196,7 +196,7 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
           volts[q] = q < driven ? controllers[q].Update(error) : 0.0;
           sum_v2[q] += volts[q] * volts[q];
           track.peak_voltage_V = std::max(track.peak_voltage_V, std::abs(volts[q]));
-          if (clamped && q < driven && std::abs(volts[q]) >= v_max * (1.0 - 1e-12)) ++saturated[q];
+          if (clamped && q < driven && std::abs(volts[q]) >= v_max * (1.0 - 1e-12)) ++clamped_samples[q];
         }
         SetVoltages(d, volts.data(), links);
         if (samples % record_every == 0) {
@@ -215,7 +215,7 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
   }
   for (int q = 0; q < links; ++q) {
     result.links[q].rms_voltage_V = std::sqrt(sum_v2[q] / std::max<long>(1, samples));
-    result.links[q].clamped_fraction = static_cast<double>(saturated[q]) / std::max<long>(1, samples);
+    result.links[q].clamped_fraction = static_cast<double>(clamped_samples[q]) / std::max<long>(1, samples);
   }
   result.swim = meter.Finish(m, d);
   RequireFiniteMetrics(result.swim, sim.source());
