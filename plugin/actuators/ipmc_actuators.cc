@@ -127,6 +127,15 @@ PlantAssignment Plants(const mjModel* m) {
   Fail(std::string(kAttrPlants) + " must be uniform or table2 (got '" + *word + "')");
 }
 
+ActuatorIntegration IntegrationOf(const mjModel* m) {
+  const std::optional<std::string> word = FindCustomText(m, kAttrIntegration);
+  if (!word) return ActuatorIntegration::kExact;
+  if (const std::optional<ActuatorIntegration> integration = ParseActuatorIntegration(*word)) {
+    return *integration;
+  }
+  Fail(std::string(kAttrIntegration) + " must be exact or cvode (got '" + *word + "')");
+}
+
 Actuation ActuationOf(const mjModel* m) {
   const std::optional<std::string> actuation = FindCustomText(m, kAttrActuation);
   if (!actuation || *actuation == "distributed") return Actuation::kDistributed;
@@ -244,6 +253,7 @@ std::optional<IpmcActuatorsConfig> IpmcActuatorsConfig::FromModel(
   if (auto pairs = FindCustomInteger(m, kAttrPairs, 1, kMaxIntegratorPairs)) {
     for (IpmcLinkParams& p : config.links) p.integrator.n = *pairs;
   }
+  config.integration = IntegrationOf(m);
   if (auto rel_tol = FindCustomScalar(m, kAttrRelTol)) config.cvode.rel_tol = *rel_tol;
   try {
     config.cvode.Validate();
@@ -263,7 +273,7 @@ std::optional<IpmcActuatorsConfig> IpmcActuatorsConfig::FromModel(
 const std::vector<std::string>& IpmcActuatorFields() {
   static const std::vector<std::string> fields = {
       kAttrLinks, kAttrSegments, kAttrPlants, kAttrModel, kAttrActuation, kAttrBand,
-      kAttrPairs, kAttrRelTol,   kAttrA0,     kAttrB1,    kAttrB2,        kAttrAlpha};
+      kAttrPairs, kAttrRelTol,   kAttrIntegration, kAttrA0, kAttrB1, kAttrB2, kAttrAlpha};
   return fields;
 }
 
@@ -274,7 +284,7 @@ IpmcActuators::IpmcActuators(IpmcActuatorsConfig config) : config_(std::move(con
   }
   curvature_1_m_.assign(config_.chains.size(), 0.0);
   voltage_V_.assign(config_.chains.size(), 0.0);
-  bank_ = IpmcActuatorBank::Create(config_.links, config_.cvode);
+  bank_ = IpmcActuatorBank::Create(config_.links, config_.cvode, config_.integration);
 }
 
 void IpmcActuators::AdvanceTo(const mjData* d) {
