@@ -151,6 +151,14 @@ struct ProgramOutputs {
     }();
     return Made(InputsDir() / "run" / "timeseries.csv", failure);
   }
+  // The closed-loop run again with single actuation.
+  fs::path single_run_dir() const {
+    static const std::string failure = [] {
+      const fs::path scenario = ShortScenario(InputsDir(), "single", 0.5, 2, "single");
+      return RunOrDescribe("run " + Quoted(scenario) + " --out " + Quoted(InputsDir() / "single"));
+    }();
+    return Made(InputsDir() / "single", failure);
+  }
   fs::path sweep_csv() const {
     static const std::string failure = [] {
       std::string made;
@@ -279,6 +287,37 @@ TEST_F(PlotCommandTest, SurfaceIntoANewDirectory) {
 
 TEST_F(PlotCommandTest, Trajectory) {
   ExpectFigure("trajectory " + Quoted(outputs.timeseries_csv()), FreshDir("trajectory") / "t.png");
+}
+
+// Two runs that differ in their actuation: the legend and the title say
+// so, the notes give each run's last cycle and steady tracking error.
+TEST_F(PlotCommandTest, CompareNamesWhatDiffers) {
+  const fs::path dir = FreshDir("compare");
+  const std::string run = outputs.timeseries_csv().parent_path().string();
+  const std::string printed =
+      ExpectFigure("compare " + Quoted(run) + " " + Quoted(outputs.single_run_dir()),
+                   dir / "compare.svg");
+  EXPECT_NE(printed.find("Comparison of 2 runs: differing in actuation"), std::string::npos)
+      << printed;
+  EXPECT_NE(printed.find("run 1 (actuation = distributed): last cycle"), std::string::npos)
+      << printed;
+  EXPECT_NE(printed.find("RMS tracking error over cycle 2, per link"), std::string::npos)
+      << printed;
+  const std::string text = SvgText(dir / "compare.svg");
+  for (const char* shown : {"actuation = distributed", "actuation = single",
+                            "link 3: tracking error, measured - reference", "link 1: voltage",
+                            "displacement per cycle", "RMS over cycle 2: "}) {
+    EXPECT_NE(text.find(shown), std::string::npos) << shown << " not in " << text;
+  }
+  ExpectFigure("compare " + Quoted(run) + " " + Quoted(outputs.single_run_dir()),
+               dir / "compare.pdf");
+  ExpectRefused("compare " + Quoted(run), dir / "one.png", {"needs 2 to 8 run directories"});
+  const fs::path empty = FreshDir("compare_empty");
+  ExpectRefused("compare " + Quoted(run) + " " + Quoted(empty), dir / "empty.png",
+                {empty.string(), "no timeseries.csv"});
+  ExpectRefused("tracking " + Quoted(outputs.timeseries_csv()) + " " +
+                    Quoted(outputs.timeseries_csv()),
+                dir / "two.png", {"needs one input, got 2"});
 }
 
 // One figure in each format, the extension in either case.
