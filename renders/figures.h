@@ -19,14 +19,20 @@
 //  - step (Fig. 11), step.csv of `step --out`: each link's unit step and
 //    the reference model's; below, each link's voltage with the clamp.
 //  - tracking (Fig. 12a), timeseries.csv: per link, reference and measured
-//    relative tip deflection and, below, the voltage with the clamp limits
-//    and the intervals at the clamp shaded; for a gait run, per joint the
-//    reference and measured angle.
+//    relative tip deflection, the tracking error (measured - reference)
+//    with its RMS over the steady cycles (every cycle after the first, if
+//    there are two; in the panel and the notes), and the voltage with the
+//    clamp limits and the intervals at the clamp shaded; for a gait run,
+//    per joint the reference and measured angle.
 //  - waveform (Fig. 12b), timeseries.csv: the body in the head's frame at a
-//    few instants, realised and (closed loop) ideal.
-//  - surface (Fig. 13), timeseries.csv: the lateral deflection y(x, t) in
-//    the head's frame as an x-t colour map, ideal beside realised with a
-//    shared colour bar (realised alone for a gait run).
+//    few instants: realised, the ideal (closed loop: the wave projected
+//    onto the links, whose references it gives) and the scenario's
+//    continuous wave y(x, t) (summary.json's resolved scenario).
+//  - surface (Fig. 13), timeseries.csv: the lateral deflection in the
+//    head's frame against time and the distance s along the body (so that
+//    the map ends at the tail at every instant, which along x a bent body
+//    does not reach), ideal beside realised with a shared colour bar, and
+//    realised - ideal on its own scale (realised alone without an ideal).
 //  - trajectory, timeseries.csv: the centre of mass's and the head's path
 //    in the plane with a marker at the start of every cycle, and the net
 //    displacement along and across the swimming axis against time.
