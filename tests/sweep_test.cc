@@ -419,9 +419,9 @@ TEST_F(SweepTest, BadSweepFilesGiveOneLineErrorsBeforeAnyRun) {
     }
     return std::string("no error");
   };
-  EXPECT_EQ(shard_error("3/2"), "sweep: --shard must be i/n with 1 <= i <= n (got '3/2')");
-  EXPECT_EQ(shard_error("0/2"), "sweep: --shard must be i/n with 1 <= i <= n (got '0/2')");
-  EXPECT_EQ(shard_error("2"), "sweep: --shard must be i/n with 1 <= i <= n (got '2')");
+  EXPECT_EQ(shard_error("3/2"), "sweep: shard must be i/n with 1 <= i <= n (got '3/2')");
+  EXPECT_EQ(shard_error("0/2"), "sweep: shard must be i/n with 1 <= i <= n (got '0/2')");
+  EXPECT_EQ(shard_error("2"), "sweep: shard must be i/n with 1 <= i <= n (got '2')");
   EXPECT_EQ(ParseSweepShard("2/3").index, 2);
   EXPECT_EQ(ParseSweepShard("2/3").count, 3);
   SweepOptions options;

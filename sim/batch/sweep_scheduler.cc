@@ -85,7 +85,8 @@ SweepShard ParseSweepShard(const std::string& text) {
     count = ParseInteger(std::string_view(text).substr(slash + 1));
   }
   if (!index || !count || *count < 1 || *index < 1 || *index > *count || *count > INT_MAX) {
-    throw std::invalid_argument("sweep: --shard must be i/n with 1 <= i <= n (got '" + text + "')");
+    throw FieldError("sweep: shard must be i/n with 1 <= i <= n (got '" + text + "')", "shard",
+                     "i/n with 1 <= i <= n");
   }
   SweepShard shard;
   shard.index = static_cast<int>(*index);
@@ -95,14 +96,14 @@ SweepShard ParseSweepShard(const std::string& text) {
 
 SweepTable RunSweep(const SweepPlan& plan, const SweepOptions& options) {
   if (options.jobs < 1) {
-    throw std::invalid_argument("sweep: --jobs must be >= 1 (got " + std::to_string(options.jobs) +
-                                ")");
+    throw FieldError("sweep: jobs must be >= 1 (got " + std::to_string(options.jobs) + ")",
+                     "jobs", ">= 1");
   }
   const SweepShard& shard = options.shard;
   if (shard.count < 1 || shard.index < 1 || shard.index > shard.count) {
-    throw std::invalid_argument("sweep: --shard must be i/n with 1 <= i <= n (got " +
-                                std::to_string(shard.index) + "/" + std::to_string(shard.count) +
-                                ")");
+    throw FieldError("sweep: shard must be i/n with 1 <= i <= n (got " +
+                         std::to_string(shard.index) + "/" + std::to_string(shard.count) + ")",
+                     "shard", "i/n with 1 <= i <= n");
   }
   std::vector<const SweepPoint*> todo;
   for (const SweepPoint& point : plan.points) {

@@ -16,7 +16,7 @@ struct SweepShard {
   int index = 1;
   int count = 1;
 };
-// Reads "i/n"; throws std::invalid_argument naming --shard.
+// Reads "i/n"; throws FieldError naming the field shard.
 SweepShard ParseSweepShard(const std::string& text);
 
 struct SweepProgress {

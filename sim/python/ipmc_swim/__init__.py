@@ -80,7 +80,7 @@ def _options(options, **arguments):
     return merged
 
 
-def run(scenario, *, out=None, formats=(), progress=None, **overrides):
+def run(scenario, *, out=None, formats=(), allow_long=False, progress=None, **overrides):
     """Runs a closed-loop scenario, as ``ipmc-swim run SCENARIO [--out DIR]``.
 
     scenario: a scenario file (TOML, see scenarios/paper.toml) or a dict of
@@ -90,7 +90,8 @@ def run(scenario, *, out=None, formats=(), progress=None, **overrides):
     or ``controller={"kind": "fractional"}``. out: a directory for
     timeseries.csv and summary.json (the scenario's output.dir is not used).
     formats: also write the run as run.mat ("mat") or run.h5 ("h5") into
-    out, as ``run --format`` does (docs/MATLAB.md).
+    out, as ``run --format`` does (docs/MATLAB.md). allow_long: run even
+    beyond 1e8 steps or 2 GB of recorded samples (docs/OPTIONS.md, run).
 
     Returns a Result with ``timeseries`` (a numpy array per column of
     timeseries.csv: time_s, com_x_mm, ..., reference1_mm, measured1_mm,
@@ -99,7 +100,8 @@ def run(scenario, *, out=None, formats=(), progress=None, **overrides):
     ``links`` (per-link metrics: link, iae_mm_s, itae_mm_s2, ...) and
     ``summary`` (summary.json's contents, without its inputs, as a dict).
     """
-    raw = _core.run(scenario, overrides, out, list(formats), progress)
+    raw = _core.run(scenario, overrides,
+                    _options({}, out=out, formats=list(formats), allow_long=allow_long), progress)
     summary = raw["summary"]
     return Result(timeseries=raw["timeseries"], cycles=_columns(summary["per_cycle"]),
                   links=_columns(summary["links"]), summary=summary)
@@ -108,7 +110,7 @@ def run(scenario, *, out=None, formats=(), progress=None, **overrides):
 def sweep(sweep_file, *, jobs=None, shard="1/1", out=None, formats=(), progress=None):
     """Runs a sweep file, as ``ipmc-swim sweep SWEEP --out PREFIX``.
 
-    jobs: threads (default: the hardware's); shard: "i/n" runs the points
+    jobs: threads (default: the CPUs this process may use); shard: "i/n" runs the points
     with index % n == i - 1; out: writes PREFIX.csv and PREFIX.json, and with
     formats ("mat", "h5") PREFIX.mat and PREFIX.h5.
     progress(done, total) is called after each point. Returns the table as a
@@ -116,7 +118,8 @@ def sweep(sweep_file, *, jobs=None, shard="1/1", out=None, formats=(), progress=
     error, link<q>_iae_mm_s, ..., reynolds_swim; NaN for a failed point's
     results).
     """
-    table = _core.sweep(sweep_file, jobs, shard, out, list(formats), progress)
+    table = _core.sweep(sweep_file, _options({}, jobs=jobs, shard=shard, out=out,
+                                             formats=list(formats)), progress)
     columns = _columns(table["points"])
     return {name: columns.get(name, np.array([], dtype=object)) for name in table["columns"]}
 
