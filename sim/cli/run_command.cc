@@ -42,6 +42,7 @@ void PrintClosedLoopResult(const ClosedLoopResult& r) {
                 t.clamped_fraction);
   }
   PrintSwimMetrics(r.swim);
+  PrintEnergy(r.energy);
 }
 
 // A path made absolute, so that a run's outputs name their inputs from
