@@ -219,7 +219,7 @@ TEST_F(SweepTest, TableDoesNotDependOnJobsAndHoldsTheRunsNumbersExactly) {
 
   ASSERT_EQ(one.rows.size(), 8u);
   const std::vector<std::string>& columns = one.columns;
-  EXPECT_EQ(columns.size(), 1 + 3 + 2 + 3 * 4 + 4u);
+  EXPECT_EQ(columns.size(), 1 + 3 + 2 + 3 * 5 + 10u);
   auto column = [&](const std::string& name) {
     const auto it = std::find(columns.begin(), columns.end(), name);
     EXPECT_NE(it, columns.end()) << name;
@@ -238,6 +238,9 @@ TEST_F(SweepTest, TableDoesNotDependOnJobsAndHoldsTheRunsNumbersExactly) {
   EXPECT_EQ(std::stod(row[column("last_cycle_com_along_mm")]), alone.swim.per_cycle.back().com_along);
   EXPECT_EQ(std::stod(row[column("mean_speed_along_mm_s")]), alone.swim.mean_speed_along_mm_s);
   EXPECT_EQ(std::stod(row[column("reynolds_swim")]), alone.swim.reynolds_swim);
+  EXPECT_EQ(std::stod(row[column("link1_actuator_power_W")]), alone.energy.actuator_power_W[0]);
+  EXPECT_EQ(std::stod(row[column("fluid_power_W")]), alone.energy.fluid_power_W);
+  EXPECT_EQ(std::stod(row[column("cost_of_transport_J_m")]), alone.energy.cost_of_transport_J_m);
   EXPECT_GT(alone.swim.mean_speed_along_mm_s, 0.0);
 
   const nlohmann::ordered_json json = SweepTableJson(one);
@@ -369,7 +372,7 @@ TEST_F(SweepTest, BadSweepFilesGiveOneLineErrorsBeforeAnyRun) {
        ":3: unknown key 'waveform.frequencyHz' (allowed: kind, c0_um, c1_um_per_mm, "
        "c2_um_per_mm2, c_um, alpha, frequency_Hz, wavelength_mm, start_ramp_cycles)"},
       {"base = \"fast.toml\"\n[grid]\nspeed = [1]\n",
-       ":3: unknown key 'speed' (allowed: model, link_lengths_mm, segments_per_link, plants, actuation, dynamics, cycles, timestep_s, controller, "
+       ":3: unknown key 'speed' (allowed: model, link_lengths_mm, segments_per_link, plants, actuation, dynamics, hinge_damping_scale, cycles, timestep_s, controller, "
        "waveform, fluid, output)"},
       {"base = \"fast.toml\"\n[grid]\nactuation = [\"single\"]\ncycles = [1, 1.5]\n",
        ":4: cycles must be an integer (got float)"},

@@ -54,8 +54,9 @@ std::vector<std::string> RunPoint(const SweepPlan& plan, const SweepPoint& point
   for (int q = 0; q < plan.links; ++q) {
     if (result && q < static_cast<int>(result->links.size())) {
       const LinkTracking& link = result->links[q];
-      for (double value :
-           {link.iae_mm_s, link.itae_mm_s2, link.rms_voltage_V, link.clamped_fraction}) {
+      const std::vector<double>& power_W = result->energy.actuator_power_W;
+      for (double value : {link.iae_mm_s, link.itae_mm_s2, link.rms_voltage_V,
+                           link.clamped_fraction, q < static_cast<int>(power_W.size()) ? power_W[q] : 0.0}) {
         row.push_back(FormatShortest(value));
       }
     } else {
@@ -65,8 +66,12 @@ std::vector<std::string> RunPoint(const SweepPlan& plan, const SweepPoint& point
   if (result) {
     const SwimMetrics& swim = result->swim;
     const double last_cycle = swim.per_cycle.empty() ? 0.0 : swim.per_cycle.back().com_along;
+    const EnergyMetrics& energy = result->energy;
     for (double value :
-         {last_cycle, swim.mean_speed_along_mm_s, swim.reynolds_tip, swim.reynolds_swim}) {
+         {last_cycle, swim.mean_speed_along_mm_s, swim.reynolds_tip, swim.reynolds_swim,
+          energy.actuator_power_W_total, energy.fluid_power_W, energy.hinge_damping_power_W,
+          energy.stepping_power_W,
+          energy.lighthill_efficiency, energy.cost_of_transport_J_m}) {
       row.push_back(FormatShortest(value));
     }
   } else {
