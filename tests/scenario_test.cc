@@ -201,7 +201,8 @@ TEST_F(ScenarioErrorTest, UnknownKeysNameTheKeyAndTheAllowedOnes) {
       ":3: unknown key 'waveform.c3_um' (allowed: kind, c0_um, c1_um_per_mm, c2_um_per_mm2, "
       "c_um, alpha, frequency_Hz, wavelength_mm, start_ramp_cycles)");
   ExpectError(std::string(kModelLine) + "[fluid]\ndensity = 1000\n",
-              ":3: unknown key 'fluid.density' (allowed: viscosity_Pa_s)");
+              ":3: unknown key 'fluid.density' (allowed: viscosity_Pa_s, rft_coefficients, "
+              "rft_wavelength_mm)");
   ExpectError(std::string(kModelLine) + "[output]\ndir = \"x\"\nformat = \"csv\"\n",
               ":4: unknown key 'output.format' (allowed: dir, samples_per_cycle)");
   // The earliest of several.

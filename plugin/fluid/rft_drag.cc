@@ -23,14 +23,6 @@ void RequirePositive(double value, const char* field) {
   }
 }
 
-CoefficientModel ParseCoefficientModel(const std::string& text) {
-  if (text == "gray_hancock") return CoefficientModel::kGrayHancock;
-  if (text == "lighthill") return CoefficientModel::kLighthill;
-  if (text == "direct") return CoefficientModel::kDirect;
-  throw std::invalid_argument(std::string("rft drag: ") + kAttrCoefficients +
-                              " must be gray_hancock, lighthill or direct (got '" + text + "')");
-}
-
 // Applied drag per unit length for velocity u on a tangent t.
 Eigen::Vector3d DragPerLength(const Eigen::Vector3d& u, const Eigen::Vector3d& t,
                               const DragCoefficients& xi) {
@@ -39,6 +31,14 @@ Eigen::Vector3d DragPerLength(const Eigen::Vector3d& u, const Eigen::Vector3d& t
 }
 
 }  // namespace
+
+CoefficientModel ParseCoefficientModel(const std::string& text) {
+  if (text == "gray_hancock") return CoefficientModel::kGrayHancock;
+  if (text == "lighthill") return CoefficientModel::kLighthill;
+  if (text == "direct") return CoefficientModel::kDirect;
+  throw std::invalid_argument(std::string("rft drag: ") + kAttrCoefficients +
+                              " must be gray_hancock, lighthill or direct (got '" + text + "')");
+}
 
 DragCoefficients GrayHancockCoefficients(double viscosity_Pa_s, double radius_m,
                                          double wavelength_m) {
@@ -54,7 +54,8 @@ DragCoefficients LighthillCoefficients(double viscosity_Pa_s, double radius_m,
   return {4.0 * kPi * viscosity_Pa_s / (log_term + 0.5), 2.0 * kPi * viscosity_Pa_s / log_term};
 }
 
-std::optional<RftDragConfig> RftDragConfig::FromModel(const mjModel* m) {
+std::optional<RftDragConfig> RftDragConfig::FromModel(const mjModel* m,
+                                                     const RftDragOverrides& overrides) {
   const std::optional<double> viscosity = FindCustomScalar(m, kAttrViscosity);
   if (!viscosity) {
     if (HasCustomFieldWithPrefix(m, "ipmc_rft_")) {
@@ -66,8 +67,10 @@ std::optional<RftDragConfig> RftDragConfig::FromModel(const mjModel* m) {
   RftDragConfig config;
   config.viscosity_Pa_s = *viscosity;
   if (auto text = FindCustomText(m, kAttrCoefficients)) config.model = ParseCoefficientModel(*text);
+  if (overrides.model) config.model = *overrides.model;
   if (auto radius = FindCustomScalar(m, kAttrEquivalentRadius)) config.equivalent_radius_m = *radius;
   if (auto wavelength = FindCustomScalar(m, kAttrWavelength)) config.wavelength_m = *wavelength;
+  if (overrides.wavelength_m) config.wavelength_m = *overrides.wavelength_m;
   if (auto density = FindCustomScalar(m, kAttrFluidDensity)) config.fluid_density_kg_m3 = *density;
   const std::optional<double> xi_n = FindCustomScalar(m, kAttrXiNormal);
   const std::optional<double> xi_t = FindCustomScalar(m, kAttrXiTangential);
@@ -77,7 +80,7 @@ std::optional<RftDragConfig> RftDragConfig::FromModel(const mjModel* m) {
                                   kAttrXiNormal + " and " + kAttrXiTangential + " (> 0 N s/m^2)");
     }
     config.direct = {*xi_n, *xi_t};
-  } else if (xi_n || xi_t) {
+  } else if ((xi_n || xi_t) && !overrides.model) {
     throw std::invalid_argument(std::string("rft drag: ") + kAttrXiNormal + "/" +
                                 kAttrXiTangential + " are only allowed with " + kAttrCoefficients +
                                 " = direct");

@@ -77,6 +77,18 @@ DragCoefficients LighthillCoefficients(double viscosity_Pa_s, double radius_m,
                                        double wavelength_m);
 
 enum class CoefficientModel { kGrayHancock, kLighthill, kDirect };
+// Throws std::invalid_argument naming the allowed set.
+CoefficientModel ParseCoefficientModel(const std::string& text);
+
+// Settings that a program may impose over the model's fields (a scenario:
+// the coefficient set, and the wavelength of the wave it drives, so that the
+// coefficients follow the wave). With model set to gray_hancock or lighthill
+// a model's direct coefficients are ignored; wavelength_m is used by those
+// two sets only.
+struct RftDragOverrides {
+  std::optional<CoefficientModel> model;
+  std::optional<double> wavelength_m;
+};
 
 struct RftDragConfig {
   double viscosity_Pa_s = 1.0e-3;
@@ -89,7 +101,8 @@ struct RftDragConfig {
 
   // nullopt if the model has no ipmc_rft_viscosity_Pa_s field. Throws
   // std::invalid_argument naming the field if a field is malformed.
-  static std::optional<RftDragConfig> FromModel(const mjModel* m);
+  static std::optional<RftDragConfig> FromModel(const mjModel* m,
+                                                const RftDragOverrides& overrides = {});
   void Validate() const;  // throws std::invalid_argument naming the field
   DragCoefficients Coefficients() const;
 };

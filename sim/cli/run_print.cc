@@ -18,8 +18,8 @@ void PrintSwimMetrics(const SwimMetrics& swim) {
   std::printf("mean speed along the swimming axis: %.6g mm/s\n", swim.mean_speed_along_mm_s);
   std::printf("Reynolds number: %.3g (peak lateral tip speed x width), %.3g (mean speed x length)\n",
               swim.reynolds_tip, swim.reynolds_swim);
-  if (swim.reynolds_tip > 1.0 || swim.reynolds_swim > 1.0) {
-    std::fprintf(stderr, "warning: Reynolds number above 1; resistive-force theory assumes Re << 1\n");
+  for (const std::string& warning : swim.warnings) {
+    std::fprintf(stderr, "warning: %s\n", warning.c_str());
   }
 }
 

@@ -1,5 +1,5 @@
 // What run and gait print about a swim: the per-cycle displacements, the
-// mean speed and the Reynolds numbers (with a warning above 1), and where
+// mean speed and the Reynolds numbers (and the swim's warnings), and where
 // a run's files went.
 #pragma once
 

@@ -41,6 +41,8 @@
 //   start_ramp_cycles = 0.25           # references fade in over this; [0, cycles]
 //   [fluid]
 //   viscosity_Pa_s = 1e-3              # overrides the model's; > 0
+//   rft_coefficients = "lighthill"     # gray_hancock | lighthill, over the model's
+//   rft_wavelength_mm = 32.0           # in the coefficients; default the wave's
 //   [output]
 //   dir = "out/paper"                  # relative to the working directory
 //   samples_per_cycle = 200
@@ -79,6 +81,10 @@ struct ScenarioConfig {
   // t < T_r = start_ramp_cycles / f, so the run starts without a jump.
   double start_ramp_cycles = 0.25;
   std::optional<double> viscosity_Pa_s;
+  // Over the model's ipmc_rft_coefficients: gray_hancock or lighthill.
+  std::optional<std::string> rft_coefficients;
+  // The wavelength in those coefficients; waveform.wavelength_mm if unset.
+  std::optional<double> rft_wavelength_mm;
   std::string output_dir;   // empty: no files
   int samples_per_cycle = 200;
   // Not a file key: the command line's --allow-long, which lifts the run

@@ -508,6 +508,27 @@ std::vector<KeySpec> MakeScenarioKeys() {
           .Writes([](const ScenarioConfig& c) {
             return c.viscosity_Pa_s ? TomlFloat(*c.viscosity_Pa_s) : kLeftOut;
           }),
+      Key("fluid.rft_coefficients", T::kChoice, "", "\"gray_hancock\" or \"lighthill\"",
+          "the model's `ipmc_rft_coefficients`",
+          "RFT drag coefficients (plugin/fluid/rft_drag.h), overriding the model's; either "
+          "follows fluid.rft_wavelength_mm")
+          .Example("\"lighthill\"")
+          .Refused("\"direct\"")
+          .Choices("gray_hancock|lighthill")
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.rft_coefficients = v.Choice(); })
+          .Writes([](const ScenarioConfig& c) {
+            return c.rft_coefficients ? TomlString(*c.rft_coefficients) : kLeftOut;
+          }),
+      Key("fluid.rft_wavelength_mm", T::kNumber, "mm", "finite and > 0", "waveform.wavelength_mm",
+          "Wavelength in the Gray-Hancock and Lighthill coefficients, over the model's "
+          "`ipmc_rft_wavelength_m`")
+          .Example("32.0")
+          .Refused("0")
+          .Above(0.0)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.rft_wavelength_mm = v.Number(); })
+          .Writes([](const ScenarioConfig& c) {
+            return c.rft_wavelength_mm ? TomlFloat(*c.rft_wavelength_mm) : kLeftOut;
+          }),
       Key("output.dir", T::kString, "", "a directory; relative to the working directory",
           "\"\": no files", "Where timeseries.csv, states.csv and summary.json go")
           .Default("\"\"")

@@ -121,7 +121,23 @@ std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenari
   IpmcActuatorsOverrides overrides;
   overrides.plants = scenario.plants;
   overrides.dynamics = scenario.dynamics;
-  return std::make_unique<Simulation>(std::move(model), source, overrides);
+  auto sim = std::make_unique<Simulation>(std::move(model), source, overrides,
+                                          ScenarioFluidOverrides(scenario));
+  const CouplingContext* coupling = FindCoupling(sim->data());
+  if ((scenario.rft_coefficients || scenario.rft_wavelength_mm) && !(coupling && coupling->drag)) {
+    throw std::runtime_error(scenario.source +
+                             ": fluid.rft_coefficients and fluid.rft_wavelength_mm need a model "
+                             "with RFT drag");
+  }
+  return sim;
+}
+
+RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario) {
+  RftDragOverrides fluid;
+  if (scenario.rft_coefficients) fluid.model = ParseCoefficientModel(*scenario.rft_coefficients);
+  fluid.wavelength_m =
+      scenario.rft_wavelength_mm.value_or(scenario.waveform.wavelength_mm) * 1e-3;  // mm to m
+  return fluid;
 }
 
 ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserver& observer) {
@@ -222,6 +238,7 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
     result.links[q].clamped_fraction = static_cast<double>(clamped_samples[q]) / std::max<long>(1, samples);
   }
   result.swim = meter.Finish(m, d);
+  result.swim.warnings = FluidWarnings(result.swim, scenario.waveform.wavelength_mm);
   RequireFiniteMetrics(result.swim, sim.source());
   result.energy = energy.Finish(result.swim, period_s, 1);
   return result;

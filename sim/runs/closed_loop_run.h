@@ -99,6 +99,10 @@ std::string ScenarioModelSha256(const ScenarioConfig& scenario);
 // (UseEulerWhereImplicitAddsNothing), so that a caller stepping it itself
 // gets the run's numbers.
 std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenario);
+// The fluid settings the scenario imposes: fluid.rft_coefficients, and the
+// wavelength in the RFT coefficients, fluid.rft_wavelength_mm or else the
+// wave's (waveform.wavelength_mm), so that the drag follows the wave.
+RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario);
 
 // Loads the scenario's model (LoadScenarioSimulation) and runs it. Throws
 // std::runtime_error naming the file on bad input or divergence.

@@ -188,7 +188,8 @@ nlohmann::json SwimMetricsJson(const SwimMetrics& swim) {
           {"mean_speed_along_mm_s", swim.mean_speed_along_mm_s},
           {"peak_lateral_tip_speed_mm_s", swim.peak_lateral_tip_speed_mm_s},
           {"reynolds_tip", swim.reynolds_tip},
-          {"reynolds_swim", swim.reynolds_swim}};
+          {"reynolds_swim", swim.reynolds_swim},
+          {"warnings", swim.warnings}};
 }
 
 nlohmann::json GaitSummaryJson(const GaitRunResult& result) {
