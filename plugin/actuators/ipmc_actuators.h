@@ -108,6 +108,9 @@ struct LinkChain {
 // the angle kappa c_j to the link's root tangent, c_j = sum_{i <= j} s_i,
 // with the hinges' shares s_0 = l_0 / 2, s_i = (l_(i-1) + l_i) / 2, so the
 // tip's deflection from that tangent is f(kappa) = sum_j l_j sin(kappa c_j).
+// For equal sub-segments (the generator's) f and df/dkappa are evaluated in
+// closed form, so a curvature costs the same whatever the number of
+// sub-segments.
 class ChainShape {
  public:
   explicit ChainShape(const std::vector<double>& segment_length_m);
@@ -128,6 +131,10 @@ class ChainShape {
 
   std::vector<double> segment_length_m_, share_m_, cumulative_share_m_;
   double max_curvature_1_m_ = 0, reach_m_ = 0;
+  // Equal sub-segments (within 1e-9, the model file's digits): f and f' in
+  // closed form.
+  bool uniform_ = false;
+  double uniform_length_m_ = 0, total_length_m_ = 0;
 };
 
 // Settings that a program may impose over the model's fields.
