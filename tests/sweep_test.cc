@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <filesystem>
@@ -17,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "plugin/base/numbers.h"
 #include "sim/runs/closed_loop_run.h"
 #include "sim/cli/sweep_command.h"
 #include "tests/cli_util.h"
@@ -308,6 +310,43 @@ TEST_F(SweepTest, ShardsMergeIntoTheWholeTable) {
             "a, \"b\"");
 }
 
+// With runs_dir (sweep --keep-runs, keep_runs in the sweep file) every
+// point that ran keeps its run directory, whose summary names the sweep
+// and the point and holds the point's own numbers; a refused point has
+// none.
+TEST_F(SweepTest, KeptRunsHoldEachPointsOutputs) {
+  SweepPlan plan = Parse(
+      "base = \"fast.toml\"\nkeep_runs = true\n"
+      "[[point]]\nactuation = \"single\"\n"
+      "[[point]]\nwaveform.frequency_Hz = 0\n"
+      "[[point]]\nactuation = \"distributed\"\n");
+  EXPECT_TRUE(plan.keep_runs);
+  EXPECT_FALSE(Parse("base = \"fast.toml\"\n[grid]\ncycles = [1]\n").keep_runs);
+  SweepOptions options;
+  options.jobs = 2;
+  options.runs_dir = SweepRunsDir((dir_ / "table").string());
+  EXPECT_EQ(options.runs_dir, (dir_ / "table_runs").string());
+  const SweepTable table = RunSweep(plan, options);
+  ASSERT_EQ(table.rows.size(), 3u);
+  const size_t last_cycle = std::find(table.columns.begin(), table.columns.end(),
+                                      "last_cycle_com_along_mm") - table.columns.begin();
+  ASSERT_LT(last_cycle, table.columns.size());
+  for (int index : {0, 2}) {
+    const fs::path run = SweepPointRunDir(options.runs_dir, index);
+    EXPECT_EQ(run, dir_ / "table_runs" / ("point_" + std::to_string(index)));
+    for (const char* file : {"timeseries.csv", "states.csv", "summary.json"}) {
+      EXPECT_TRUE(fs::is_regular_file(run / file)) << run / file;
+    }
+    const nlohmann::json summary = nlohmann::json::parse(ReadFile(run / "summary.json"));
+    EXPECT_EQ(summary["inputs"]["sweep"], (dir_ / "sweep.toml").string());
+    EXPECT_EQ(summary["inputs"]["sweep_point"], index);
+    EXPECT_EQ(summary["actuation"], index == 0 ? "single" : "distributed");
+    EXPECT_EQ(FormatShortest(summary["per_cycle"].back()["com_along_mm"].get<double>()),
+              table.rows[index][last_cycle]);
+  }
+  EXPECT_FALSE(fs::exists(SweepPointRunDir(options.runs_dir, 1)));
+}
+
 TEST_F(SweepTest, FailingPointsAreRecordedAndTheOthersRun) {
   // No time step in this base: a point that does not set one runs at the
   // model's 1e-4 s, where 3 kHz sampling is not a whole number of steps
@@ -404,7 +443,9 @@ TEST_F(SweepTest, BadSweepFilesGiveOneLineErrorsBeforeAnyRun) {
       {"base = \"missing.toml\"\n[grid]\ncycles = [1]\n",
        ":1: base: cannot open '" + (dir_ / "missing.toml").string() + "'"},
       {"base = \"fast.toml\"\njobs = 2\n[grid]\ncycles = [1]\n",
-       ":2: unknown key 'jobs' (allowed: base, set, grid, point)"},
+       ":2: unknown key 'jobs' (allowed: base, set, grid, point, keep_runs)"},
+      {"base = \"fast.toml\"\nkeep_runs = 1\n[grid]\ncycles = [1]\n",
+       ":2: keep_runs must be true or false (got integer)"},
       {"base = \"fast.toml\"\n[grid\n", ":2:6: Error while parsing table header: expected ']', "
                                         "saw '\\n'"},
   };

@@ -8,6 +8,7 @@
 #include <climits>
 #include <cmath>
 #include <exception>
+#include <filesystem>
 #include <iterator>
 #include <mutex>
 #include <optional>
@@ -21,6 +22,7 @@
 #include "sim/core/fan_out.h"
 #include "sim/io/columns.h"
 #include "sim/runs/closed_loop_run.h"
+#include "sim/runs/output.h"
 
 namespace ipmc {
 namespace {
@@ -35,9 +37,10 @@ double EstimatedSteps(const SweepPoint& point) {
          scenario.timestep_s.value_or(kDefaultStep_s);
 }
 
-// One point's row; `error` receives the failure, if any.
+// One point's row; `error` receives the failure, if any. With runs_dir,
+// the run's outputs are written there too.
 std::vector<std::string> RunPoint(const SweepPlan& plan, const SweepPoint& point,
-                                  std::string* error) {
+                                  const std::string& runs_dir, std::string* error) {
   std::vector<std::string> row = {std::to_string(point.index)};
   row.insert(row.end(), point.values.begin(), point.values.end());
   std::optional<ClosedLoopResult> result;
@@ -45,7 +48,14 @@ std::vector<std::string> RunPoint(const SweepPlan& plan, const SweepPoint& point
   if (point.scenario) {
     try {
       result = RunScenario(*point.scenario);
+      if (!runs_dir.empty()) {
+        const nlohmann::json inputs = {
+            {"scenario", plan.base_path}, {"sweep", plan.source}, {"sweep_point", point.index}};
+        WriteClosedLoopOutputs(SweepPointRunDir(runs_dir, point.index), *result,
+                               *point.scenario, inputs);
+      }
     } catch (const std::exception& failure) {
+      result.reset();
       *error = OneLine(failure.what());
     }
   }
@@ -81,6 +91,12 @@ std::vector<std::string> RunPoint(const SweepPlan& plan, const SweepPoint& point
 }
 
 }  // namespace
+
+std::string SweepPointRunDir(const std::string& runs_dir, int index) {
+  return (std::filesystem::path(runs_dir) / ("point_" + std::to_string(index))).string();
+}
+
+std::string SweepRunsDir(const std::string& out_prefix) { return out_prefix + "_runs"; }
 
 SweepShard ParseSweepShard(const std::string& text) {
   const std::string::size_type slash = text.find('/');
@@ -142,7 +158,7 @@ SweepTable RunSweep(const SweepPlan& plan, const SweepOptions& options) {
     if (stopped || (options.stop_requested && options.stop_requested())) return;
     const size_t k = schedule[slot];
     std::string error;
-    table.rows[k] = RunPoint(plan, *todo[k], &error);
+    table.rows[k] = RunPoint(plan, *todo[k], options.runs_dir, &error);
     std::lock_guard<std::mutex> lock(progress_mutex);
     ++done;
     if (!options.on_point_done || callback_failure) return;

@@ -557,6 +557,9 @@ std::vector<KeySpec> MakeSweepFileKeys() {
           "The Cartesian product of the arrays, the first key outermost"),
       Key("point", T::kTableArray, "", "tables of scenario keys; not with grid", "none",
           "One point per [[point]] table, in file order"),
+      Key("keep_runs", T::kBoolean, "", "true or false", "false",
+          "Keep each point's run directory (timeseries.csv, states.csv, summary.json) in "
+          "PREFIX_runs/point_N, as sweep --keep-runs does"),
   };
 }
 
