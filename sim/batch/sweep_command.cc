@@ -41,6 +41,11 @@ OptionTable<SweepCommand> MakeSweepOptions() {
   table.Add<std::vector<std::string>>(
       FormatsInfo("the table as PREFIX.mat or PREFIX.h5 (a group per point)"),
       [](SweepCommand& c) -> std::vector<std::string>& { return c.formats; });
+  table.Add<bool>({"keep_runs", "", "",
+                   "Keep each point's run directory (timeseries.csv, states.csv, summary.json) "
+                   "in PREFIX_runs/point_N, to plot, film or run again; also keep_runs = true in "
+                   "the sweep file"},
+                  [](SweepCommand& c) -> bool& { return c.keep_runs; });
   OptionInfo other{"resume_other_version", "", "",
                    "Resume a journal that another ipmc-swim version wrote (its points may differ "
                    "from this version's)"};
@@ -114,6 +119,14 @@ SweepCommandPlan PlanSweepCommand(const SweepCommand& command) {
   plan.jobs = command.jobs;
   plan.formats = ParseRunFileFormats(command.formats);  // before any point runs
   plan.plan = LoadSweep(command.sweep);
+  if (command.keep_runs || plan.plan.keep_runs) {
+    if (plan.out.empty()) {
+      throw FieldError("sweep: keep_runs needs out (the runs go to PREFIX_runs)", "keep_runs",
+                       "with out");
+    }
+    plan.runs_dir = SweepRunsDir(plan.out);
+    RequireWritableDirectory(plan.runs_dir);
+  }
   plan.points = static_cast<int>(std::count_if(
       plan.plan.points.begin(), plan.plan.points.end(), [&](const SweepPoint& point) {
         return point.index % plan.shard.count == plan.shard.index - 1;
@@ -125,6 +138,7 @@ SweepOptions SweepRunOptions(const SweepCommandPlan& plan) {
   SweepOptions options;
   options.jobs = plan.jobs;
   options.shard = plan.shard;
+  options.runs_dir = plan.runs_dir;
   return options;
 }
 

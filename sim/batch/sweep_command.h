@@ -3,7 +3,8 @@
 // of every output before a point runs, and the table's files.
 //
 //   ipmc-swim sweep SWEEP.toml --out PREFIX [--jobs N] [--shard i/n] [--format mat,h5]
-//   ipmc_swim.sweep(SWEEP, out=PREFIX, jobs=N, shard="i/n", formats=[...])
+//                   [--keep-runs]
+//   ipmc_swim.sweep(SWEEP, out=PREFIX, jobs=N, shard="i/n", formats=[...], keep_runs=True)
 //   ipmc-swim merge --out PREFIX A.csv B.csv ...
 //
 // The command line also keeps a resume journal (PREFIX.journal) and offers
@@ -26,6 +27,7 @@ struct SweepCommand {
   std::string shard = "1/1";         // i/n
   std::string out;                   // PREFIX of PREFIX.csv and PREFIX.json
   std::vector<std::string> formats;  // besides CSV and JSON: mat, h5
+  bool keep_runs = false;            // or keep_runs in the sweep file: PREFIX_runs/point_N
   bool resume_other_version = false;  // command line: a journal of another version
   SweepCommand();
 };
@@ -40,15 +42,17 @@ struct SweepCommandPlan {
   SweepShard shard;
   RunFileFormats formats;
   std::string out;
+  std::string runs_dir;  // each point's run directory under it (keep_runs); "" for none
   int jobs = 1;
   int points = 0;  // points of the shard
 };
 
-// Throws FieldError naming the field (jobs, shard, out, formats) before
-// anything runs; InputError for the sweep file.
+// Throws FieldError naming the field (jobs, shard, out, formats,
+// keep_runs: it needs out) before anything runs; InputError for the sweep
+// file.
 SweepCommandPlan PlanSweepCommand(const SweepCommand& command);
 
-// The options RunSweep takes (jobs, shard; no callbacks).
+// The options RunSweep takes (jobs, shard, runs_dir; no callbacks).
 SweepOptions SweepRunOptions(const SweepCommandPlan& plan);
 
 // Writes OUT.csv and OUT.json (and the formats' files); nothing if out is "".

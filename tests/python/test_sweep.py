@@ -46,3 +46,29 @@ def test_a_shard_is_every_nth_point(short_scenario, tmp_path):
                           '[grid]\n"waveform.frequency_Hz" = [0.1, 0.2, 0.4]\n')
     table = ipmc_swim.sweep(sweep_file, jobs=1, shard="2/2")
     assert table["point"].tolist() == [1]
+
+
+def test_kept_runs_are_the_command_lines(short_scenario, tmp_path):
+    """keep_runs=True (sweep --keep-runs) keeps each point's run directory,
+    the same bytes from both front ends; without out it is refused."""
+    sweep_file = tmp_path / "sweep.toml"
+    sweep_file.write_text(f'base = "{short_scenario.name}"\n[set]\ncycles = 1\n'
+                          '[grid]\nactuation = ["single", "distributed"]\n')
+    run_cli("sweep", sweep_file, "--keep-runs", "--out", tmp_path / "cli")
+    table = ipmc_swim.sweep(sweep_file, out=tmp_path / "python", keep_runs=True)
+    for point in (0, 1):
+        for name in ("timeseries.csv", "states.csv"):
+            cli = tmp_path / "cli_runs" / f"point_{point}" / name
+            assert cli.read_bytes() == (tmp_path / "python_runs" / f"point_{point}" /
+                                        name).read_bytes()
+    result = ipmc_swim.plot("compare", [tmp_path / "python_runs" / "point_0",
+                                        tmp_path / "python_runs" / "point_1"],
+                            out=tmp_path / "compare.png")
+    assert result.title == "Comparison of 2 runs: differing in actuation"
+    assert str(table["last_cycle_com_along_mm"][1])[:6] in result.notes[1]
+    try:
+        ipmc_swim.sweep(sweep_file, keep_runs=True)
+    except ipmc_swim.Error as error:
+        assert "keep_runs needs out" in str(error)
+    else:
+        raise AssertionError("keep_runs without out was accepted")

@@ -107,19 +107,23 @@ def run(scenario, *, out=None, formats=(), allow_long=False, progress=None, **ov
                   links=_columns(summary["links"]), summary=summary)
 
 
-def sweep(sweep_file, *, jobs=None, shard="1/1", out=None, formats=(), progress=None):
+def sweep(sweep_file, *, jobs=None, shard="1/1", out=None, formats=(), keep_runs=None,
+          progress=None):
     """Runs a sweep file, as ``ipmc-swim sweep SWEEP --out PREFIX``.
 
     jobs: threads (default: the CPUs this process may use); shard: "i/n" runs the points
     with index % n == i - 1; out: writes PREFIX.csv and PREFIX.json, and with
-    formats ("mat", "h5") PREFIX.mat and PREFIX.h5.
+    formats ("mat", "h5") PREFIX.mat and PREFIX.h5; keep_runs=True (or
+    keep_runs = true in the sweep file) also keeps each point's run directory
+    as PREFIX_runs/point_N (to plot, film or run again).
     progress(done, total) is called after each point. Returns the table as a
     dict of numpy arrays, one per column (point, the swept keys, status,
     error, link<q>_iae_mm_s, ..., reynolds_swim; NaN for a failed point's
     results).
     """
     table = _core.sweep(sweep_file, _options({}, jobs=jobs, shard=shard, out=out,
-                                             formats=list(formats)), progress)
+                                             formats=list(formats), keep_runs=keep_runs),
+                        progress)
     columns = _columns(table["points"])
     return {name: columns.get(name, np.array([], dtype=object)) for name in table["columns"]}
 
