@@ -21,6 +21,7 @@ void PrintClosedLoopResult(const ClosedLoopResult& r) {
                 t.clamped_fraction);
   }
   PrintSwimMetrics(r.swim);
+  PrintEnergy(r.energy);
 }
 
 }  // namespace

@@ -189,5 +189,6 @@ auto WithoutGil(F&& f) {
 void BindRuns(py::module_& m);
 void BindAnalysis(py::module_& m);
 void BindSimulation(py::module_& m);
+void BindPlot(py::module_& m);
 
 }  // namespace ipmc::python

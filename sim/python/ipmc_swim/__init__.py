@@ -14,6 +14,8 @@ is the name in lower case with ``-`` for ``_``: ``sample_rate_Hz`` is
 - ``bode(controller, ...)``, ``step(controller, ...)``: one link's loop;
 - ``identify(data, input, output)``, ``design(...)``: identification and design;
 - ``generate_model(...)``: the MJCF of an N-link flagellum;
+- ``plot(kind, input, out=...)``: a figure (``ipmc-swim plot``), e.g.
+  ``plot("compare", [run_dir, other_run_dir], out="compare.pdf")``;
 - ``Simulation(scenario, **overrides)``: one model to step from a controller
   written in Python.
 
@@ -35,7 +37,7 @@ from ._core import Error, Simulation, __version__
 from ._paths import MODELS_DIR, SCENARIOS_DIR
 
 __all__ = ["Error", "Result", "Simulation", "bench", "bode", "design", "generate_model",
-           "identify", "run", "step", "sweep", "MODELS_DIR", "SCENARIOS_DIR"]
+           "identify", "plot", "run", "step", "sweep", "MODELS_DIR", "SCENARIOS_DIR"]
 
 
 class Result(dict):
@@ -204,3 +206,21 @@ def generate_model(*, out=None, **spec):
     write. Returns the XML text (``Simulation.from_xml`` loads it).
     """
     return _core.generate_model(_options(spec, out=out))
+
+
+def plot(kind, input, *, out, **options):
+    """A figure, as ``ipmc-swim plot KIND INPUT... --out OUT`` draws it (the same bytes).
+
+    kind: bode, step, tracking, waveform, surface, trajectory,
+    identification, sweep or compare. input: the file the kind draws
+    (bode.csv, step.csv, timeseries.csv, response.csv, a sweep table), or
+    for compare a list of two or more run directories (their
+    timeseries.csv and summary.json). out: FILE.pdf, FILE.svg or FILE.png.
+    options: title, width_px, height_px, and the kind's own (curves,
+    instants, times_s, period_s, max_lines, x, y, group, log_x, log_y; one
+    the kind does not use is an error). Returns a Result with the title
+    (title, title_lines) and what the figure found (notes: for compare,
+    each run's last-cycle displacement and steady tracking error).
+    """
+    inputs = [input] if isinstance(input, (str, os.PathLike)) else list(input)
+    return Result(_core.plot(kind, inputs, out, options))
