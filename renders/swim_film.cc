@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "plugin/base/error.h"
 #include "renders/offscreen_renderer.h"
 #include "renders/video.h"
 #include "sim/core/simulation.h"
@@ -36,10 +37,10 @@ constexpr int kGhostPoints = 64;
 constexpr int kRootBody = 1;
 
 template <typename T>
-[[noreturn]] void ThrowOption(const std::string& option, const std::string& requirement, T value) {
+[[noreturn]] void ThrowOption(const std::string& field, const std::string& requirement, T value) {
   std::ostringstream msg;
-  msg << "video: " << option << " must be " << requirement << " (got " << value << ")";
-  throw std::invalid_argument(msg.str());
+  msg << "video: " << field << " must be " << requirement << " (got " << value << ")";
+  throw FieldError(msg.str(), field, requirement);
 }
 
 std::string FramePath(const std::string& dir, int index) {
@@ -131,37 +132,38 @@ std::string Speedup(double factor) {
 }  // namespace
 
 void FilmConfig::Validate() const {
-  if (width <= 0 || width % 2 != 0) ThrowOption("--width-px", "positive and even", width);
-  if (height <= 0 || height % 2 != 0) ThrowOption("--height-px", "positive and even", height);
-  if (!(fps > 0.0 && fps <= 1000.0)) ThrowOption("--fps", "in (0, 1000]", fps);
+  if (width <= 0 || width % 2 != 0) ThrowOption("width_px", "positive and even", width);
+  if (height <= 0 || height % 2 != 0) ThrowOption("height_px", "positive and even", height);
+  if (!(fps > 0.0 && fps <= 1000.0)) ThrowOption("fps", "in (0, 1000]", fps);
   if (frames_per_cycle < 1 || frames_per_cycle > kMaxFramesPerCycle) {
-    ThrowOption("--frames-per-cycle", "in [1, " + std::to_string(kMaxFramesPerCycle) + "]",
+    ThrowOption("frames_per_cycle", "in [1, " + std::to_string(kMaxFramesPerCycle) + "]",
                 frames_per_cycle);
   }
-  if (start_cycle < 1) ThrowOption("--start-cycle", ">= 1", start_cycle);
-  if (cycles < 0) ThrowOption("--cycles", ">= 1", cycles);
+  if (start_cycle < 1) ThrowOption("start_cycle", ">= 1", start_cycle);
+  if (cycles < 0) ThrowOption("cycles", ">= 1", cycles);
   if (trail_frames > kMaxTrailFrames) {
-    ThrowOption("--trail-frames", "<= " + std::to_string(kMaxTrailFrames), trail_frames);
+    ThrowOption("trail_frames", "<= " + std::to_string(kMaxTrailFrames), trail_frames);
   }
   if (!(view_mm >= 0.0 && view_mm <= kMaxView_mm)) {
-    ThrowOption("--view-mm", "in (0, 10000] (or 0: fit)", view_mm);
+    ThrowOption("view_mm", "in (0, 10000] (or 0: fit)", view_mm);
   }
   if (!center_mm.empty()) {
-    if (center_mm.size() != 2) ThrowOption("--center-mm", "two numbers X,Y", center_mm.size());
+    if (center_mm.size() != 2) ThrowOption("center_mm", "two numbers X,Y", center_mm.size());
     for (double v : center_mm) {
-      if (!std::isfinite(v)) ThrowOption("--center-mm", "finite", v);
+      if (!std::isfinite(v)) ThrowOption("center_mm", "finite", v);
     }
     if (camera == FilmCamera::kFollow) {
-      throw std::invalid_argument("video: --center-mm is for --camera fixed (follow looks at the centre of mass)");
+      throw FieldError("video: center_mm is for camera fixed (follow looks at the centre of mass)",
+                       "center_mm", "camera fixed");
     }
   }
   if (!(elevation_deg >= -90.0 && elevation_deg <= -5.0)) {
-    ThrowOption("--elevation-deg", "in [-90, -5] (-90: top-down)", elevation_deg);
+    ThrowOption("elevation_deg", "in [-90, -5] (-90: top-down)", elevation_deg);
   }
-  if (!(std::abs(azimuth_deg) <= 360.0)) ThrowOption("--azimuth-deg", "in [-360, 360]", azimuth_deg);
+  if (!(std::abs(azimuth_deg) <= 360.0)) ThrowOption("azimuth_deg", "in [-360, 360]", azimuth_deg);
   if (strip_thickness_mm &&
       !(*strip_thickness_mm >= 0.0 && *strip_thickness_mm <= kMaxStripThickness_mm)) {
-    ThrowOption("--strip-thickness-mm", "in [0, 10] (0: the model's own)", *strip_thickness_mm);
+    ThrowOption("strip_thickness_mm", "in [0, 10] (0: the model's own)", *strip_thickness_mm);
   }
 }
 
@@ -169,7 +171,8 @@ void CheckFilmFits(const mjModel* m, const FilmConfig& config) {
   try {
     OffscreenRenderer::CheckImageSize(m, config.width, config.height);
   } catch (const std::invalid_argument& error) {
-    throw std::invalid_argument(std::string("video: --width-px/--height-px: ") + error.what());
+    throw FieldError(std::string("video: width_px/height_px: ") + error.what(), "width_px",
+                     "at most the model's offscreen buffer");
   }
 }
 
@@ -190,13 +193,15 @@ FilmSummary FilmRun(const FilmedRun& run, const FilmConfig& config, const std::s
   const int first_cycle = config.start_cycle;
   const int last_cycle = config.cycles == 0 ? run.cycles : first_cycle + config.cycles - 1;
   if (first_cycle > run.cycles) {
-    throw std::invalid_argument("video: --start-cycle " + std::to_string(first_cycle) +
-                                " is after the run's last cycle " + std::to_string(run.cycles));
+    throw FieldError("video: start_cycle " + std::to_string(first_cycle) +
+                         " is after the run's last cycle " + std::to_string(run.cycles),
+                     "start_cycle", "<= " + std::to_string(run.cycles));
   }
   if (last_cycle > run.cycles) {
-    throw std::invalid_argument("video: --cycles " + std::to_string(config.cycles) + " from cycle " +
-                                std::to_string(first_cycle) + " go past the run's last cycle " +
-                                std::to_string(run.cycles));
+    throw FieldError("video: cycles " + std::to_string(config.cycles) + " from cycle " +
+                         std::to_string(first_cycle) + " go past the run's last cycle " +
+                         std::to_string(run.cycles),
+                     "cycles", "<= " + std::to_string(run.cycles - first_cycle + 1));
   }
 
   // The frames' states.

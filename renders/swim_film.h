@@ -67,8 +67,9 @@ struct FilmConfig {
   bool ghost = true;
   std::string png_dir;             // non-empty: also write PNG frames there
 
-  // Throws std::invalid_argument "video: --option must be RANGE (got V)"
-  // naming the command-line option.
+  // Throws FieldError "video: FIELD must be RANGE (got V)" naming the
+  // option by its name (width_px, frames_per_cycle, center_mm, ...: the
+  // flag's name with '_' for '-'); the command line puts its flag in place.
   void Validate() const;
 };
 
@@ -120,7 +121,7 @@ struct RunRecording {
 // field.
 RunRecording LoadRunRecording(const std::string& dir);
 
-// Throws std::invalid_argument naming --width-px/--height-px and the model's
+// Throws FieldError naming width_px/height_px and the model's
 // offscreen buffer if the frames do not fit it (checked before a run so a
 // long run does not end in this error).
 void CheckFilmFits(const mjModel* m, const FilmConfig& config);

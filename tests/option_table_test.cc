@@ -9,12 +9,15 @@
 #include <string>
 #include <vector>
 
+#include "sim/batch/sweep_command.h"
 #include "sim/core/generate_command.h"
+#include "sim/core/keys_command.h"
 #include "sim/identify/identify_run.h"
 #include "sim/identify/loop_analysis.h"
 #include "sim/identify/pipeline_run.h"
 #include "sim/runs/bench_command.h"
 #include "sim/runs/gait_command.h"
+#include "sim/runs/run_command.h"
 #include "sim/runs/table5_run.h"
 
 namespace ipmc {
@@ -60,6 +63,37 @@ TEST(OptionTableTest, DefaultsAreTheSpecsAndTypesTheFields) {
   EXPECT_EQ(infos[2].default_text, "");
 }
 
+struct Words {
+  std::vector<std::string> set = {"cycles=1"};
+  std::vector<std::string> formats;
+};
+
+// A list of words (run --set) is a type of its own, and an option of the
+// command line alone says so in the reference (Python does not read it).
+TEST(OptionTableTest, TextListsAndCommandLineOnlyOptions) {
+  OptionTable<Words> table("test", "a test");
+  OptionInfo set{"set", "", "KEY=VALUE", "a setting"};
+  set.command_line_only = true;
+  table.Add<std::vector<std::string>>(set, [](Words& w) -> std::vector<std::string>& {
+    return w.set;
+  });
+  table.Add<std::vector<std::string>>({"formats", "", "mat, h5", "files"},
+                                      [](Words& w) -> std::vector<std::string>& {
+                                        return w.formats;
+                                      });
+  const std::vector<OptionInfo> infos = table.Infos();
+  EXPECT_EQ(infos[0].type, OptionType::kTextList);
+  EXPECT_EQ(infos[0].default_text, "cycles=1");
+  const std::string reference = OptionReference({InfoOf(table)}, "text");
+  EXPECT_NE(reference.find("set (--set) texts, KEY=VALUE, default cycles=1: a setting "
+                           "(command line only)"),
+            std::string::npos)
+      << reference;
+  EXPECT_NE(reference.find("formats (--formats) texts, mat, h5, default none: files\n"),
+            std::string::npos)
+      << reference;
+}
+
 TEST(OptionTableTest, TwoSpellingsOfOneFlagAreRefused) {
   OptionTable<Spec> table("test", "a test");
   table.Add<double>({"frequency_Hz", "Hz", "> 0", "f"}, [](Spec& s) -> double& {
@@ -78,9 +112,11 @@ TEST(OptionTableTest, TwoSpellingsOfOneFlagAreRefused) {
 // the convention: lower-case words, with capitals only in a unit suffix.
 TEST(OptionTableTest, EveryCommandsTableFollowsTheConvention) {
   const std::vector<OptionTableInfo> tables = {
+      InfoOf(RunOptions()),      InfoOf(SweepOptionTable()), InfoOf(MergeOptionTable()),
       InfoOf(GenerateOptions()), InfoOf(GaitOptions()),     InfoOf(BenchOptions()),
       InfoOf(BodeOptions()),     InfoOf(StepOptions()),     InfoOf(IdentifyOptions()),
-      InfoOf(DesignOptions()),   InfoOf(PipelineOptions()), InfoOf(Table5Options())};
+      InfoOf(DesignOptions()),   InfoOf(PipelineOptions()), InfoOf(Table5Options()),
+      InfoOf(KeysOptions()),     InfoOf(OptionsOptions())};
   for (const OptionTableInfo& table : tables) {
     EXPECT_FALSE(table.options.empty()) << table.command;
     for (const OptionInfo& option : table.options) {

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "plugin/base/error.h"
 #include "renders/swim_film.h"
 #include "sim/core/simulation.h"
 #include "sim/runs/recorded_states.h"
@@ -298,6 +299,29 @@ TEST(SwimFilmTest, FilmingTheRunAndItsOutputsGiveTheSameFrames) {
   ASSERT_EQ(after.size(), 10u);
   for (size_t k = 0; k < during.size(); ++k) EXPECT_TRUE(during[k] == after[k]) << "frame " << k;
   EXPECT_FALSE(during[0] == during[5]);  // the body moves
+}
+
+// The film's checks name its fields, not flags: the command line puts its
+// flag in place (above), Python would keep the name.
+TEST(SwimFilmTest, ValidateNamesTheField) {
+  FilmConfig film;
+  film.width = 641;
+  try {
+    film.Validate();
+    ADD_FAILURE() << "an odd width passed";
+  } catch (const FieldError& error) {
+    EXPECT_EQ(error.field(), "width_px");
+    EXPECT_STREQ(error.what(), "video: width_px must be positive and even (got 641)");
+  }
+  film = FilmConfig{};
+  film.camera = FilmCamera::kFollow;
+  film.center_mm = {1.0, 2.0};
+  try {
+    film.Validate();
+    ADD_FAILURE() << "a centre for the follow camera passed";
+  } catch (const FieldError& error) {
+    EXPECT_EQ(error.field(), "center_mm");
+  }
 }
 
 TEST(SwimFilmTest, BadVideoOptionsStopWithOneLineAndNoFile) {

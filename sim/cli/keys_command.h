@@ -1,6 +1,6 @@
 // ipmc-swim keys: the key reference (sim/core/scenario_keys.h), every
 // scenario key and sweep-file key with its type, unit, allowed range,
-// default and meaning.
+// default and meaning; its option table is sim/core/keys_command.h.
 //
 //   ipmc-swim keys [--format text|markdown]
 //
@@ -8,21 +8,18 @@
 // docs/SCENARIO_KEYS.md, which a test compares with this output.
 #pragma once
 
-#include <string>
-
 #include <CLI/CLI.hpp>
+
+#include "sim/cli/option_flags.h"
+#include "sim/core/keys_command.h"
 
 namespace ipmc {
 
-struct KeysArgs {
-  std::string format = "text";
-};
+using KeysArgs = TableCommand<ReferenceCommand>;
 
-// Adds subcommand "keys" to app, storing options in args.
 void AddKeysCommand(CLI::App& app, KeysArgs& args);
 
-// Prints the reference if app parsed "keys"; returns its exit code, or -1
-// if it was not chosen.
-int RunKeysCommand(const CLI::App& app, const KeysArgs& args);
+// Prints the reference if `keys` was chosen; -1 if not.
+int RunKeysCommand(const KeysArgs& args);
 
 }  // namespace ipmc

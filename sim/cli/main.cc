@@ -122,8 +122,8 @@ int main(int argc, char** argv) {
     if (int s = ipmc::RunPipelineCommandLine(pipeline); s >= 0) status = s;
     if (int s = ipmc::RunSweepCommand(app, sweep); s >= 0) status = s;
     if (int s = ipmc::RunTable5CommandLine(table5); s >= 0) status = s;
-    if (int s = ipmc::RunKeysCommand(app, keys); s >= 0) status = s;
-    if (int s = ipmc::RunOptionsCommand(app, options); s >= 0) status = s;
+    if (int s = ipmc::RunKeysCommand(keys); s >= 0) status = s;
+    if (int s = ipmc::RunOptionsCommand(options); s >= 0) status = s;
     PrintMujocoWarnings();
     return status;
   } catch (const ipmc::Interrupted& stop) {

@@ -3,9 +3,9 @@
 #include <cstdio>
 #include <vector>
 
-#include "sim/cli/command.h"
 #include "sim/batch/sweep_command.h"
 #include "sim/core/generate_command.h"
+#include "sim/core/keys_command.h"
 #include "sim/identify/identify_run.h"
 #include "sim/identify/loop_analysis.h"
 #include "sim/identify/pipeline_run.h"
@@ -15,28 +15,20 @@
 #include "sim/runs/table5_run.h"
 
 namespace ipmc {
-namespace {
-
-constexpr char kCommand[] = "options";
-
-}  // namespace
 
 void AddOptionsCommand(CLI::App& app, OptionsArgs& args) {
-  CLI::App* cmd = AddCommand(app, kCommand,
-                             "Print every command's options: name, flag, type, unit, range, "
-                             "default, meaning");
-  cmd->add_option("--format", args.format, "text | markdown (docs/OPTIONS.md)")
-      ->check(CLI::IsMember({"text", "markdown"}));
+  AddTableCommand(app, OptionsOptions(), args);
 }
 
-int RunOptionsCommand(const CLI::App& app, const OptionsArgs& args) {
-  if (!app.got_subcommand(kCommand)) return -1;
+int RunOptionsCommand(const OptionsArgs& args) {
+  if (!args.Chosen()) return -1;
   const std::vector<OptionTableInfo> tables = {
       InfoOf(RunOptions()),      InfoOf(SweepOptionTable()), InfoOf(MergeOptionTable()),
-      InfoOf(GenerateOptions()), InfoOf(GaitOptions()),     InfoOf(BenchOptions()),
-      InfoOf(BodeOptions()),     InfoOf(StepOptions()),     InfoOf(IdentifyOptions()),
-      InfoOf(DesignOptions()),   InfoOf(PipelineOptions()), InfoOf(Table5Options())};
-  const std::string reference = OptionReference(tables, args.format);
+      InfoOf(GenerateOptions()), InfoOf(GaitOptions()),      InfoOf(BenchOptions()),
+      InfoOf(BodeOptions()),     InfoOf(StepOptions()),      InfoOf(IdentifyOptions()),
+      InfoOf(DesignOptions()),   InfoOf(PipelineOptions()),  InfoOf(Table5Options()),
+      InfoOf(KeysOptions()),     InfoOf(OptionsOptions())};
+  const std::string reference = OptionReference(tables, args.spec.format);
   std::fwrite(reference.data(), 1, reference.size(), stdout);
   return 0;
 }

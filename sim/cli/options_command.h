@@ -8,21 +8,18 @@
 // which a test compares with this output.
 #pragma once
 
-#include <string>
-
 #include <CLI/CLI.hpp>
+
+#include "sim/cli/option_flags.h"
 
 namespace ipmc {
 
-struct OptionsArgs {
-  std::string format = "text";
-};
+// The table is OptionsOptions() (sim/io/option_table.h).
+using OptionsArgs = TableCommand<ReferenceCommand>;
 
-// Adds subcommand "options" to app, storing options in args.
 void AddOptionsCommand(CLI::App& app, OptionsArgs& args);
 
-// Prints the reference if app parsed "options"; returns its exit code, or
-// -1 if it was not chosen.
-int RunOptionsCommand(const CLI::App& app, const OptionsArgs& args);
+// Prints the reference if `options` was chosen; -1 if not.
+int RunOptionsCommand(const OptionsArgs& args);
 
 }  // namespace ipmc

@@ -2,6 +2,7 @@
 
 #include "sim/cli/command.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -14,7 +15,9 @@
 #include "sim/cli/interrupt.h"
 #include "sim/cli/run_watch.h"
 #include "sim/io/files.h"
+#include "plugin/base/error.h"
 #include "plugin/base/numbers.h"
+#include "sim/io/option_table.h"
 #include "sim/io/progress_bar.h"
 
 namespace ipmc {
@@ -151,6 +154,34 @@ void AddVideoOptions(CLI::App* cmd, FilmConfig& film, const std::string& group,
   g->add_option("--png-dir", film.png_dir, "Also write every frame as DIR/frame_NNNNN.png");
 }
 
+void TranslatingFilmErrors(const std::string& cycles_option, const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const FieldError& error) {
+    const std::string lead = "video: ";
+    std::string message = error.what();
+    if (message.rfind(lead, 0) != 0) throw;
+    std::string field = error.field();
+    for (const char* option : kVideoOptions) {
+      std::string name = std::string(option).substr(2);
+      std::replace(name.begin(), name.end(), '-', '_');
+      if (name == "film_cycles") name = "cycles";
+      const std::string flag = name == "cycles" ? cycles_option : OptionFlag(name);
+      // WithFlagFor gives OptionFlag(name); run's cycles is --film-cycles.
+      std::string text = WithFlagFor(message.substr(lead.size()), name);
+      if (flag != OptionFlag(name)) {
+        for (std::size_t at = text.find(OptionFlag(name)); at != std::string::npos;
+             at = text.find(OptionFlag(name), at + flag.size())) {
+          text.replace(at, OptionFlag(name).size(), flag);
+        }
+      }
+      message = lead + text;
+      if (field == name) field = flag;
+    }
+    throw FieldError(message, field, error.allowed());
+  }
+}
+
 bool AnyVideoOptionGiven(const CLI::App* cmd) {
   for (const char* option : kVideoOptions) {
     if (cmd->count(option) > 0) return true;
@@ -196,7 +227,8 @@ void AddRenderCommand(CLI::App& app, RenderArgs& args) {
 
 int RunRenderCommand(const CLI::App& app, const RenderArgs& args) {
   if (!app.got_subcommand(kRenderCommand)) return -1;
-  return RunRender(args);
+  TranslatingFilmErrors("--cycles", [&] { RunRender(args); });
+  return 0;
 }
 
 }  // namespace ipmc

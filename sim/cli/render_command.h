@@ -17,8 +17,8 @@
 // --elevation-deg --azimuth-deg --strip-thickness-mm --no-grid --no-ghost
 // --png-dir DIR. --out gets an H.264 MP4 at --fps; --png-dir DIR also gets
 // every frame as DIR/frame_00000.png, ... Nothing is written unless the
-// whole film succeeded. Bad option values throw std::invalid_argument
-// naming the option. A progress bar goes to stderr while frames are
+// whole film succeeded. Bad option values throw FieldError naming the
+// option. A progress bar goes to stderr while frames are
 // rendered and encoded.
 #pragma once
 
@@ -48,6 +48,11 @@ void AddVideoOptions(CLI::App* cmd, FilmConfig& film, const std::string& group =
 // Whether any video option was given on cmd's command line (the options
 // of `run`, whose cycles option is --film-cycles).
 bool AnyVideoOptionGiven(const CLI::App* cmd);
+
+// Runs f(), rethrowing a film's FieldError ("video: FIELD ...",
+// FilmConfig::Validate) with the flags in place of the fields' names;
+// `cycles_option` is the flag of FilmConfig::cycles.
+void TranslatingFilmErrors(const std::string& cycles_option, const std::function<void()>& f);
 
 // Runs the scenario once and hands the result to `before_filming` (if
 // set); then, with a non-empty video_path, films the run from its recorded

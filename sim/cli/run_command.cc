@@ -40,11 +40,13 @@ int RunScenarioCommand(const RunArgs& args) {
     return PlanRunCommand(command, args.Given());
   });
   // The results are printed and written before the film is made.
-  RunScenarioFilmed(plan.scenario, args.film, plan.video, [&](const ClosedLoopResult& result) {
-    PrintClosedLoopResult(result);
-    if (plan.dir.empty()) return;
-    WriteRunOutputs(plan, result);
-    PrintWritten(plan.dir, plan.formats);
+  TranslatingFilmErrors("--film-cycles", [&] {
+    RunScenarioFilmed(plan.scenario, args.film, plan.video, [&](const ClosedLoopResult& result) {
+      PrintClosedLoopResult(result);
+      if (plan.dir.empty()) return;
+      WriteRunOutputs(plan, result);
+      PrintWritten(plan.dir, plan.formats);
+    });
   });
   return 0;
 }

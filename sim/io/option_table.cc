@@ -129,4 +129,23 @@ std::string OptionReference(const std::vector<OptionTableInfo>& tables,
   return text;
 }
 
+OptionTable<ReferenceCommand> ReferenceOptions(const std::string& command,
+                                               const std::string& summary,
+                                               const std::string& markdown_file) {
+  OptionTable<ReferenceCommand> table(command, summary);
+  OptionInfo format{"format", "", "", "text | markdown (" + markdown_file + ")"};
+  format.choices = {"text", "markdown"};
+  table.Add<std::string>(format, [](ReferenceCommand& c) -> std::string& { return c.format; });
+  return table;
+}
+
+const OptionTable<ReferenceCommand>& OptionsOptions() {
+  static const OptionTable<ReferenceCommand> table =
+      ReferenceOptions("options",
+                       "Print every command's options: name, flag, type, unit, range, default, "
+                       "meaning",
+                       "docs/OPTIONS.md");
+  return table;
+}
+
 }  // namespace ipmc

@@ -177,4 +177,16 @@ OptionTableInfo InfoOf(const OptionTable<Spec>& table) {
 // (docs/OPTIONS.md).
 std::string OptionReference(const std::vector<OptionTableInfo>& tables, const std::string& format);
 
+// A command that prints a reference (`keys`, `options`): its one option.
+struct ReferenceCommand {
+  std::string format = "text";  // text | markdown
+};
+// The table of such a command; `markdown_file` is the docs file that
+// --format markdown gives.
+OptionTable<ReferenceCommand> ReferenceOptions(const std::string& command,
+                                               const std::string& summary,
+                                               const std::string& markdown_file);
+// `options`: every command's options (docs/OPTIONS.md).
+const OptionTable<ReferenceCommand>& OptionsOptions();
+
 }  // namespace ipmc

@@ -1,0 +1,16 @@
+// `keys`: the reference of every scenario and sweep-file key
+// (sim/core/scenario_keys.h), as text or as docs/SCENARIO_KEYS.md.
+#pragma once
+
+#include <string>
+
+#include "sim/io/option_table.h"
+
+namespace ipmc {
+
+const OptionTable<ReferenceCommand>& KeysOptions();
+
+// The reference in command.format.
+std::string KeysReference(const ReferenceCommand& command);
+
+}  // namespace ipmc
