@@ -41,6 +41,9 @@
 //   start_ramp_cycles = 0.25           # references fade in over this; [0, cycles]
 //   [fluid]
 //   viscosity_Pa_s = 1e-3              # overrides the model's; > 0
+//   [metrics]
+//   from_cycle = 2                     # IAE/ITAE, clamp share, mean speed and
+//                                      # powers over cycles 2..cycles; [1, cycles]
 //   [output]
 //   dir = "out/paper"                  # relative to the working directory
 //   samples_per_cycle = 200
@@ -79,6 +82,9 @@ struct ScenarioConfig {
   // t < T_r = start_ramp_cycles / f, so the run starts without a jump.
   double start_ramp_cycles = 0.25;
   std::optional<double> viscosity_Pa_s;
+  // The first cycle (1-based, <= cycles) of the run's link metrics, mean
+  // speed and mean powers; the per-cycle tables keep every cycle.
+  int metrics_from_cycle = 1;
   std::string output_dir;   // empty: no files
   int samples_per_cycle = 200;
   // Not a file key: the command line's --allow-long, which lifts the run
