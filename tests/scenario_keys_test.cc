@@ -143,7 +143,7 @@ TEST(ScenarioKeysTest, TheReaderAllowsExactlyTheTablesKeys) {
   for (const std::string& name : ScenarioKeysUnder("")) {
     if (!ScenarioKeysUnder(name).empty()) tables.push_back(name);
   }
-  EXPECT_EQ(tables.size(), 5u);  // the top level, controller, waveform, fluid, output
+  EXPECT_EQ(tables.size(), 6u);  // the top level, controller, waveform, fluid, metrics, output
   for (const std::string& table : tables) {
     SCOPED_TRACE(table);
     const std::string unknown = table.empty() ? "speed" : table + ".speed";

@@ -23,6 +23,11 @@ void PrintSwimMetrics(const SwimMetrics& swim) {
   }
 }
 
+void PrintMetricCycles(const SwimMetrics& swim) {
+  std::printf("link metrics, mean speed and mean powers over cycles %d-%zu (metrics.from_cycle = %d)\n",
+              swim.from_cycle, swim.per_cycle.size(), swim.from_cycle);
+}
+
 void PrintEnergy(const EnergyMetrics& energy) {
   std::printf("%5s %16s %14s %21s %16s %16s %20s %21s\n", "cycle", columns::kActuatorPower,
               columns::kFluidPower, columns::kHingeDampingPower, columns::kSteppingPower,

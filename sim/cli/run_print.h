@@ -13,6 +13,10 @@ namespace ipmc {
 
 void PrintSwimMetrics(const SwimMetrics& swim);
 
+// Which cycles the link table, the mean speed and the mean powers are
+// taken over (metrics.from_cycle).
+void PrintMetricCycles(const SwimMetrics& swim);
+
 // The energy table of a closed-loop run (sim/core/energy.h): every cycle's
 // mean powers, elastic energy, efficiency and cost of transport, then the
 // means over the cycles they were taken over.

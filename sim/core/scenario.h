@@ -43,6 +43,9 @@
 //   viscosity_Pa_s = 1e-3              # overrides the model's; > 0
 //   rft_coefficients = "lighthill"     # gray_hancock | lighthill, over the model's
 //   rft_wavelength_mm = 32.0           # in the coefficients; default the wave's
+//   [metrics]
+//   from_cycle = 2                     # IAE/ITAE, clamp share, mean speed and
+//                                      # powers over cycles 2..cycles; [1, cycles]
 //   [output]
 //   dir = "out/paper"                  # relative to the working directory
 //   samples_per_cycle = 200
@@ -85,6 +88,9 @@ struct ScenarioConfig {
   std::optional<std::string> rft_coefficients;
   // The wavelength in those coefficients; waveform.wavelength_mm if unset.
   std::optional<double> rft_wavelength_mm;
+  // The first cycle (1-based, <= cycles) of the run's link metrics, mean
+  // speed and mean powers; the per-cycle tables keep every cycle.
+  int metrics_from_cycle = 1;
   std::string output_dir;   // empty: no files
   int samples_per_cycle = 200;
   // Not a file key: the command line's --allow-long, which lifts the run

@@ -529,6 +529,25 @@ std::vector<KeySpec> MakeScenarioKeys() {
           .Writes([](const ScenarioConfig& c) {
             return c.rft_wavelength_mm ? TomlFloat(*c.rft_wavelength_mm) : kLeftOut;
           }),
+      Key("metrics.from_cycle", T::kInteger, "", "[1, cycles]", "1",
+          "The first cycle of the links' IAE, ITAE, RMS and peak voltage and clamped fraction, the "
+          "mean speed and the mean powers (2: leave the fade-in out); per-cycle tables keep every "
+          "cycle")
+          .Default("1")
+          .Example("2")
+          .Refused("0")
+          .AtLeast(1)
+          .AtMost(INT_MAX)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            const int first = v.Integer();
+            if (first > c.cycles) {
+              const std::string allowed = "in [1, cycles] = [1, " + std::to_string(c.cycles) + "]";
+              v.Fail(v.name() + " must be " + allowed + " (got " + std::to_string(first) + ")",
+                     allowed);
+            }
+            c.metrics_from_cycle = first;
+          })
+          .Writes([](const ScenarioConfig& c) { return TomlInteger(c.metrics_from_cycle); }),
       Key("output.dir", T::kString, "", "a directory; relative to the working directory",
           "\"\": no files", "Where timeseries.csv, states.csv and summary.json go")
           .Default("\"\"")

@@ -45,6 +45,7 @@ BodyPose SwimMeter::Pose(const mjData* d) const {
 
 void SwimMeter::Start(const mjData* d) {
   run_start_ = cycle_start_ = Pose(d);
+  cycle_starts_.clear();
   metrics_ = SwimMetrics();
 }
 
@@ -64,15 +65,23 @@ void SwimMeter::EndCycle(const mjData* d) {
                                 end.com_y_mm - cycle_start_.com_y_mm,
                                 -(end.head_x_mm - cycle_start_.head_x_mm),
                                 end.head_y_mm - cycle_start_.head_y_mm});
+  cycle_starts_.push_back(cycle_start_);
   cycle_start_ = end;
 }
 
-SwimMetrics SwimMeter::Finish(const mjModel* m, const mjData* d) const {
+SwimMetrics SwimMeter::Finish(const mjModel* m, const mjData* d, int from_cycle) const {
   SwimMetrics metrics = metrics_;
   const BodyPose end = Pose(d);
-  const double elapsed_s = end.t_s - run_start_.t_s;
+  // Cycle `from_cycle` began at the start of the run (cycle 1), at the
+  // start recorded when it ended, or at the start of the cycle running.
+  const size_t first = static_cast<size_t>(std::max(1, from_cycle) - 1);
+  const BodyPose* start = &run_start_;
+  if (first > 0 && first < cycle_starts_.size()) start = &cycle_starts_[first];
+  if (first > 0 && first == cycle_starts_.size()) start = &cycle_start_;
+  metrics.from_cycle = start == &run_start_ ? 1 : from_cycle;
+  const double elapsed_s = end.t_s - start->t_s;
   if (elapsed_s > 0.0) {
-    metrics.mean_speed_along_mm_s = -(end.com_x_mm - run_start_.com_x_mm) / elapsed_s;
+    metrics.mean_speed_along_mm_s = -(end.com_x_mm - start->com_x_mm) / elapsed_s;
   }
   const CouplingContext* coupling = FindCoupling(d);
   if (!coupling || !coupling->drag) return metrics;

@@ -27,7 +27,8 @@ struct Displacement_mm {
 
 struct SwimMetrics {
   std::vector<Displacement_mm> per_cycle;
-  double mean_speed_along_mm_s = 0.0;       // centre of mass, over all cycles
+  int from_cycle = 1;                        // the mean speed's first cycle
+  double mean_speed_along_mm_s = 0.0;       // centre of mass, over cycles from from_cycle
   double peak_lateral_tip_speed_mm_s = 0.0;  // last tip, across the axis
   double reynolds_tip = 0.0;                 // rho v_tip w / mu
   double reynolds_swim = 0.0;                // rho |U| L_body / mu
@@ -68,14 +69,15 @@ class SwimMeter {
   void Observe(const mjModel* m, const mjData* d);
   // At the end of each cycle: records its net displacement.
   void EndCycle(const mjData* d);
-  // Mean speed since Start and the Reynolds numbers (needs the model's RFT
-  // fields through the coupling of d; without them both are 0), with
-  // FluidWarnings for no wave.
-  SwimMetrics Finish(const mjModel* m, const mjData* d) const;
+  // Mean speed since the start of cycle `from_cycle` (1: since Start) and
+  // the Reynolds numbers (needs the model's RFT fields through the
+  // coupling of d; without them both are 0), with FluidWarnings for no wave.
+  SwimMetrics Finish(const mjModel* m, const mjData* d, int from_cycle = 1) const;
 
  private:
   std::vector<int> tip_sites_;
   BodyPose run_start_, cycle_start_;
+  std::vector<BodyPose> cycle_starts_;  // of every cycle ended, the first first
   SwimMetrics metrics_;
 };
 

@@ -194,12 +194,14 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
   std::vector<double> sum_v2(links, 0.0);
   std::vector<long> clamped_samples(links, 0);
   std::vector<double> volts(links, 0.0), reference(links, 0.0), measured(links, 0.0);
-  long samples = 0;
+  long samples = 0, measured_samples = 0;
 
   SwimMeter meter(m);
   meter.Start(d);
   EnergyMeter energy(m, d);
   for (int cycle = 0; cycle < scenario.cycles; ++cycle) {
+    // The link metrics are taken over the cycles from metrics.from_cycle.
+    const bool measuring = cycle + 1 >= scenario.metrics_from_cycle;
     for (long step = 0; step < steps_per_cycle; ++step) {
       if (step % steps_per_sample == 0) {
         const double t = d->time;
@@ -207,15 +209,17 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
         for (int q = 0; q < links; ++q) {
           measured[q] = sensors.RelativeDeflection_mm(d, q);
           const double error = reference[q] - measured[q];
+          volts[q] = q < driven ? controllers[q].Update(error) : 0.0;
+          if (!measuring) continue;
           LinkTracking& track = result.links[q];
           track.Add(t, error, sample_period_s);
           track.max_abs_error_mm = std::max(track.max_abs_error_mm, std::abs(error));
           track.max_abs_reference_mm = std::max(track.max_abs_reference_mm, std::abs(reference[q]));
-          volts[q] = q < driven ? controllers[q].Update(error) : 0.0;
           sum_v2[q] += volts[q] * volts[q];
           track.peak_voltage_V = std::max(track.peak_voltage_V, std::abs(volts[q]));
           if (clamped && q < driven && std::abs(volts[q]) >= v_max * (1.0 - 1e-12)) ++clamped_samples[q];
         }
+        if (measuring) ++measured_samples;
         SetVoltages(d, volts.data(), links);
         if (samples % record_every == 0) {
           result.samples.push_back({meter.Pose(d), reference, measured, volts});
@@ -234,13 +238,14 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
     energy.EndCycle(m, d);
   }
   for (int q = 0; q < links; ++q) {
-    result.links[q].rms_voltage_V = std::sqrt(sum_v2[q] / std::max<long>(1, samples));
-    result.links[q].clamped_fraction = static_cast<double>(clamped_samples[q]) / std::max<long>(1, samples);
+    result.links[q].rms_voltage_V = std::sqrt(sum_v2[q] / std::max<long>(1, measured_samples));
+    result.links[q].clamped_fraction =
+        static_cast<double>(clamped_samples[q]) / std::max<long>(1, measured_samples);
   }
-  result.swim = meter.Finish(m, d);
+  result.swim = meter.Finish(m, d, scenario.metrics_from_cycle);
   result.swim.warnings = FluidWarnings(result.swim, scenario.waveform.wavelength_mm);
   RequireFiniteMetrics(result.swim, sim.source());
-  result.energy = energy.Finish(result.swim, period_s, 1);
+  result.energy = energy.Finish(result.swim, period_s, scenario.metrics_from_cycle);
   return result;
 }
 

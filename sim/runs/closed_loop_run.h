@@ -8,10 +8,13 @@
 // tracks its own reference); the other links get 0 V and are passive.
 // The references fade in over the scenario's start ramp.
 //
-// Tracking indices per link, over the whole run (rectangle rule at the
-// sample rate), e = r - y [mm]:
-//   IAE = int |e| dt [mm s],  ITAE = int t |e| dt [mm s^2]
-// plus the RMS and peak voltage and the fraction of samples at the clamp.
+// Tracking indices per link, over the cycles from the scenario's
+// metrics.from_cycle (all by default; rectangle rule at the sample rate),
+// e = r - y [mm]:
+//   IAE = int |e| dt [mm s],  ITAE = int t |e| dt [mm s^2]  (t from the run's start)
+// plus the RMS and peak voltage and the fraction of samples at the clamp;
+// the mean speed and the energy's means are over the same cycles, the
+// per-cycle tables keep every cycle.
 #pragma once
 
 #include <functional>

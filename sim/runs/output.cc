@@ -254,6 +254,7 @@ nlohmann::json ClosedLoopSummaryJson(const ClosedLoopResult& result) {
     cycles[k][columns::kLighthillEfficiency] = c.lighthill_efficiency;
     cycles[k][columns::kCostOfTransport] = c.cost_of_transport_J_m;
   }
+  summary["metrics_from_cycle"] = result.swim.from_cycle;
   summary[columns::kActuatorPower] = energy.actuator_power_W_total;
   summary[columns::kFluidPower] = energy.fluid_power_W;
   summary[columns::kHingeDampingPower] = energy.hinge_damping_power_W;
