@@ -1,15 +1,12 @@
-"""A run's output folder holds one run's files, whatever happens: two runs
-started into one folder never mix their files (the second is refused while
-the first holds the folder, or replaces the first's set whole), a run that
+"""A run's output folder holds one run's files, whatever happens: a run that
 fails leaves the previous results as they were, and files of an earlier
 run's set that a new run does not write (run.mat, run.h5) go
-(sim/io/files.h: DirectoryLock, WriteFilesTogether)."""
-
-import subprocess
+(sim/io/files.h: WriteFilesTogether). Two runs at once into one folder:
+test_concurrent_outputs.py."""
 
 import pytest
 
-from conftest import CLI, run_cli
+from conftest import run_cli
 
 FILES = ["timeseries.csv", "states.csv", "summary.json"]
 
@@ -35,25 +32,6 @@ def references(tmp_path_factory):
         outputs[name] = contents(folder / name)
     assert outputs["a"]["timeseries.csv"] != outputs["b"]["timeseries.csv"]
     return scenario, outputs
-
-
-def test_two_runs_into_one_folder_never_mix_their_files(tmp_path, references):
-    scenario, outputs = references
-    refused = 0
-    for attempt in range(25):
-        out = tmp_path / f"shared{attempt}"
-        first = subprocess.Popen([CLI, "run", scenario, "--out", out, *RUN_A],
-                                 stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-        second = subprocess.Popen([CLI, "run", scenario, "--out", out, *RUN_B],
-                                  stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-        errors = [first.communicate()[1], second.communicate()[1]]
-        statuses = [first.returncode, second.returncode]
-        for status, error in zip(statuses, errors):
-            assert status == 0 or "in use by another run" in error, error
-        refused += statuses.count(1)
-        found = contents(out)
-        assert found in (outputs["a"], outputs["b"]), f"attempt {attempt}: files of two runs"
-    print(f"{refused} of 25 second runs refused while the first held the folder")
 
 
 def test_a_failed_run_leaves_the_previous_results_as_they_were(tmp_path, references):
