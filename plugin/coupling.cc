@@ -123,7 +123,8 @@ const CouplingContext* FindCoupling(const mjData* d) { return FindMutableCouplin
 
 bool Attach(const mjModel* m, mjData* d) { return AttachWithOverrides(m, d, {}); }
 
-bool AttachWithOverrides(const mjModel* m, mjData* d, const IpmcActuatorsOverrides& overrides) {
+bool AttachWithOverrides(const mjModel* m, mjData* d, const IpmcActuatorsOverrides& overrides,
+                         const RftDragOverrides& fluid) {
   if (!HasCustomFieldWithPrefix(m, "ipmc_")) return false;
   std::vector<std::string> known(std::begin(kRftDragFields), std::end(kRftDragFields));
   known.insert(known.end(), IpmcActuatorFields().begin(), IpmcActuatorFields().end());
@@ -137,7 +138,7 @@ bool AttachWithOverrides(const mjModel* m, mjData* d, const IpmcActuatorsOverrid
   }
   auto context = std::make_unique<CouplingContext>();
   context->model = m;
-  if (std::optional<RftDragConfig> drag = RftDragConfig::FromModel(m)) {
+  if (std::optional<RftDragConfig> drag = RftDragConfig::FromModel(m, fluid)) {
     context->drag.emplace(m, *drag);
   }
   if (std::optional<IpmcActuatorsConfig> actuators = IpmcActuatorsConfig::FromModel(m, overrides)) {

@@ -28,7 +28,8 @@ struct CouplingContext {
 };
 
 // Attach (ipmc_swim.h) with settings imposed over the model's fields.
-bool AttachWithOverrides(const mjModel* m, mjData* d, const IpmcActuatorsOverrides& overrides);
+bool AttachWithOverrides(const mjModel* m, mjData* d, const IpmcActuatorsOverrides& overrides,
+                         const RftDragOverrides& fluid = {});
 
 // The context attached to d, or nullptr. The pointer stays valid until d
 // is detached or re-attached.

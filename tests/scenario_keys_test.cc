@@ -79,9 +79,10 @@ TEST(ScenarioKeysTest, EveryKeyTakesItsDefaultAndItsExampleAndRefusesItsRefusedV
     }
   }
   // Every key but those whose default is the model's (model, link_lengths_mm,
-  // segments_per_link, plants, dynamics, timestep_s, fluid.viscosity_Pa_s) has
+  // segments_per_link, plants, dynamics, timestep_s, fluid.viscosity_Pa_s,
+  // fluid.rft_coefficients) or the wave's (fluid.rft_wavelength_mm) has
   // one; every key but the booleans and the unbounded ones has a refused value.
-  EXPECT_EQ(defaults, static_cast<int>(ScenarioKeys().size()) - 7);
+  EXPECT_EQ(defaults, static_cast<int>(ScenarioKeys().size()) - 9);
   EXPECT_GE(refusals, 20);
 }
 
@@ -136,7 +137,8 @@ TEST(ScenarioKeysTest, BoundsInTheTableAreTheReadersBounds) {
 }
 
 TEST(ScenarioKeysTest, TheReaderAllowsExactlyTheTablesKeys) {
-  EXPECT_EQ(ScenarioKeysUnder("fluid"), std::vector<std::string>{"viscosity_Pa_s"});
+  EXPECT_EQ(ScenarioKeysUnder("fluid"),
+            (std::vector<std::string>{"viscosity_Pa_s", "rft_coefficients", "rft_wavelength_mm"}));
   std::vector<std::string> tables = {""};
   for (const std::string& name : ScenarioKeysUnder("")) {
     if (!ScenarioKeysUnder(name).empty()) tables.push_back(name);

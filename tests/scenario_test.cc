@@ -190,7 +190,7 @@ TEST_F(ScenarioErrorTest, SyntaxErrorsGiveLineAndColumn) {
 
 TEST_F(ScenarioErrorTest, UnknownKeysNameTheKeyAndTheAllowedOnes) {
   ExpectError(std::string(kModelLine) + "cycles = 3\n\n\n\n\ncontroler = 1\n",
-              ":7: unknown key 'controler' (allowed: model, link_lengths_mm, segments_per_link, plants, actuation, dynamics, cycles, timestep_s, "
+              ":7: unknown key 'controler' (allowed: model, link_lengths_mm, segments_per_link, plants, actuation, dynamics, hinge_damping_scale, cycles, timestep_s, "
               "controller, waveform, fluid, output)");
   ExpectError(
       std::string(kModelLine) + "[controller]\nkp = 1.0\nkpp = 2.0\n",
@@ -201,12 +201,13 @@ TEST_F(ScenarioErrorTest, UnknownKeysNameTheKeyAndTheAllowedOnes) {
       ":3: unknown key 'waveform.c3_um' (allowed: kind, c0_um, c1_um_per_mm, c2_um_per_mm2, "
       "c_um, alpha, frequency_Hz, wavelength_mm, start_ramp_cycles)");
   ExpectError(std::string(kModelLine) + "[fluid]\ndensity = 1000\n",
-              ":3: unknown key 'fluid.density' (allowed: viscosity_Pa_s)");
+              ":3: unknown key 'fluid.density' (allowed: viscosity_Pa_s, rft_coefficients, "
+              "rft_wavelength_mm)");
   ExpectError(std::string(kModelLine) + "[output]\ndir = \"x\"\nformat = \"csv\"\n",
               ":4: unknown key 'output.format' (allowed: dir, samples_per_cycle)");
   // The earliest of several.
   ExpectError(std::string(kModelLine) + "zz = 1\naa = 2\n",
-              ":2: unknown key 'zz' (allowed: model, link_lengths_mm, segments_per_link, plants, actuation, dynamics, cycles, timestep_s, controller, "
+              ":2: unknown key 'zz' (allowed: model, link_lengths_mm, segments_per_link, plants, actuation, dynamics, hinge_damping_scale, cycles, timestep_s, controller, "
               "waveform, fluid, output)");
   // Dotted keys are walked like tables.
   ExpectError(

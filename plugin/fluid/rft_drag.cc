@@ -23,14 +23,6 @@ void RequirePositive(double value, const char* field) {
   }
 }
 
-CoefficientModel ParseCoefficientModel(const std::string& text) {
-  if (text == "gray_hancock") return CoefficientModel::kGrayHancock;
-  if (text == "lighthill") return CoefficientModel::kLighthill;
-  if (text == "direct") return CoefficientModel::kDirect;
-  throw std::invalid_argument(std::string("rft drag: ") + kAttrCoefficients +
-                              " must be gray_hancock, lighthill or direct (got '" + text + "')");
-}
-
 // Applied drag per unit length for velocity u on a tangent t.
 Eigen::Vector3d DragPerLength(const Eigen::Vector3d& u, const Eigen::Vector3d& t,
                               const DragCoefficients& xi) {
@@ -39,6 +31,14 @@ Eigen::Vector3d DragPerLength(const Eigen::Vector3d& u, const Eigen::Vector3d& t
 }
 
 }  // namespace
+
+CoefficientModel ParseCoefficientModel(const std::string& text) {
+  if (text == "gray_hancock") return CoefficientModel::kGrayHancock;
+  if (text == "lighthill") return CoefficientModel::kLighthill;
+  if (text == "direct") return CoefficientModel::kDirect;
+  throw std::invalid_argument(std::string("rft drag: ") + kAttrCoefficients +
+                              " must be gray_hancock, lighthill or direct (got '" + text + "')");
+}
 
 DragCoefficients GrayHancockCoefficients(double viscosity_Pa_s, double radius_m,
                                          double wavelength_m) {
@@ -54,7 +54,8 @@ DragCoefficients LighthillCoefficients(double viscosity_Pa_s, double radius_m,
   return {4.0 * kPi * viscosity_Pa_s / (log_term + 0.5), 2.0 * kPi * viscosity_Pa_s / log_term};
 }
 
-std::optional<RftDragConfig> RftDragConfig::FromModel(const mjModel* m) {
+std::optional<RftDragConfig> RftDragConfig::FromModel(const mjModel* m,
+                                                     const RftDragOverrides& overrides) {
   const std::optional<double> viscosity = FindCustomScalar(m, kAttrViscosity);
   if (!viscosity) {
     if (HasCustomFieldWithPrefix(m, "ipmc_rft_")) {
@@ -66,8 +67,10 @@ std::optional<RftDragConfig> RftDragConfig::FromModel(const mjModel* m) {
   RftDragConfig config;
   config.viscosity_Pa_s = *viscosity;
   if (auto text = FindCustomText(m, kAttrCoefficients)) config.model = ParseCoefficientModel(*text);
+  if (overrides.model) config.model = *overrides.model;
   if (auto radius = FindCustomScalar(m, kAttrEquivalentRadius)) config.equivalent_radius_m = *radius;
   if (auto wavelength = FindCustomScalar(m, kAttrWavelength)) config.wavelength_m = *wavelength;
+  if (overrides.wavelength_m) config.wavelength_m = *overrides.wavelength_m;
   if (auto density = FindCustomScalar(m, kAttrFluidDensity)) config.fluid_density_kg_m3 = *density;
   const std::optional<double> xi_n = FindCustomScalar(m, kAttrXiNormal);
   const std::optional<double> xi_t = FindCustomScalar(m, kAttrXiTangential);
@@ -77,7 +80,7 @@ std::optional<RftDragConfig> RftDragConfig::FromModel(const mjModel* m) {
                                   kAttrXiNormal + " and " + kAttrXiTangential + " (> 0 N s/m^2)");
     }
     config.direct = {*xi_n, *xi_t};
-  } else if (xi_n || xi_t) {
+  } else if ((xi_n || xi_t) && !overrides.model) {
     throw std::invalid_argument(std::string("rft drag: ") + kAttrXiNormal + "/" +
                                 kAttrXiTangential + " are only allowed with " + kAttrCoefficients +
                                 " = direct");
@@ -245,6 +248,29 @@ std::vector<Segment> RftDrag::Segments(const mjModel* m, const mjData* d) const 
   segments.reserve(slender_.size());
   for (const SlenderGeom& geom : slender_) segments.push_back(SegmentOf(m, d, geom));
   return segments;
+}
+
+double RftDrag::DissipatedPower_W(const mjModel* m, const mjData* d) const {
+  double power_W = 0.0;
+  for (const SlenderGeom& geom : slender_) {
+    const Segment segment = SegmentOf(m, d, geom);
+    power_W -= SegmentDragPower(segment, SegmentDragExact(segment, coefficients_));
+  }
+  return power_W;
+}
+
+double RftDrag::TowingDrag_N(double speed_m_s) const {
+  double drag_N = 0.0;
+  for (const SlenderGeom& geom : slender_) {
+    Segment segment;
+    segment.center_W = Eigen::Vector3d::Zero();
+    segment.tangent_W = Eigen::Vector3d::UnitX();
+    segment.length_m = geom.length_m;
+    segment.velocity_center_W = Eigen::Vector3d(speed_m_s, 0.0, 0.0);
+    segment.angular_velocity_W = Eigen::Vector3d::Zero();
+    drag_N -= SegmentDragExact(segment, coefficients_).force_W.x();
+  }
+  return drag_N;
 }
 
 // The spatial resistance of one slender geom at the subtree centre of mass

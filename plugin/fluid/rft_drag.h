@@ -77,6 +77,18 @@ DragCoefficients LighthillCoefficients(double viscosity_Pa_s, double radius_m,
                                        double wavelength_m);
 
 enum class CoefficientModel { kGrayHancock, kLighthill, kDirect };
+// Throws std::invalid_argument naming the allowed set.
+CoefficientModel ParseCoefficientModel(const std::string& text);
+
+// Settings that a program may impose over the model's fields (a scenario:
+// the coefficient set, and the wavelength of the wave it drives, so that the
+// coefficients follow the wave). With model set to gray_hancock or lighthill
+// a model's direct coefficients are ignored; wavelength_m is used by those
+// two sets only.
+struct RftDragOverrides {
+  std::optional<CoefficientModel> model;
+  std::optional<double> wavelength_m;
+};
 
 struct RftDragConfig {
   double viscosity_Pa_s = 1.0e-3;
@@ -89,7 +101,8 @@ struct RftDragConfig {
 
   // nullopt if the model has no ipmc_rft_viscosity_Pa_s field. Throws
   // std::invalid_argument naming the field if a field is malformed.
-  static std::optional<RftDragConfig> FromModel(const mjModel* m);
+  static std::optional<RftDragConfig> FromModel(const mjModel* m,
+                                                const RftDragOverrides& overrides = {});
   void Validate() const;  // throws std::invalid_argument naming the field
   DragCoefficients Coefficients() const;
 };
@@ -133,6 +146,15 @@ class RftDrag {
   void Apply(const mjModel* m, mjData* d) const;
   // The current segments (positions and velocities from d).
   std::vector<Segment> Segments(const mjModel* m, const mjData* d) const;
+  // The power the body loses to the fluid [W], minus the sum over the
+  // segments of the drag wrench's power (F . v_c + T_c . w, the integral
+  // of -f . u along each segment), from d's positions and velocities
+  // (xpos, cvel); never negative.
+  double DissipatedPower_W(const mjModel* m, const mjData* d) const;
+  // The drag [N] on the segments laid straight along one axis and towed
+  // along it at `speed_m_s` (the resistance of the straightened body:
+  // the sum of xi_t L, by SegmentDragExact).
+  double TowingDrag_N(double speed_m_s) const;
 
   // One segment's body and spatial resistance S about the subtree centre of
   // mass of its body's root (where MuJoCo gives cdof and cvel), from d's

@@ -1,16 +1,22 @@
 // What run and gait print about a swim: the per-cycle displacements, the
-// mean speed and the Reynolds numbers (with a warning above 1), and where
+// mean speed and the Reynolds numbers (and the swim's warnings), and where
 // a run's files went.
 #pragma once
 
 #include <string>
 
+#include "sim/core/energy.h"
 #include "sim/core/swim_meter.h"
 #include "sim/runs/output.h"
 
 namespace ipmc {
 
 void PrintSwimMetrics(const SwimMetrics& swim);
+
+// The energy table of a closed-loop run (sim/core/energy.h): every cycle's
+// mean powers, elastic energy, efficiency and cost of transport, then the
+// means over the cycles they were taken over.
+void PrintEnergy(const EnergyMetrics& energy);
 
 // "wrote DIR/timeseries.csv, states.csv and summary.json", with run.mat
 // and run.h5 if written (sim/runs/output.h).

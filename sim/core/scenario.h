@@ -19,6 +19,7 @@
 //   actuation = "distributed"          # distributed | single
 //   dynamics = "stokes"                # inertial | stokes, over the model's
 //                                      # ipmc_dynamics (plugin/fluid/stokes_step.h)
+//   hinge_damping_scale = 1.0          # times the joints' damping; >= 0
 //   cycles = 3                         # >= 1
 //   timestep_s = 5e-4                  # overrides the model's step; (0, 1e-3]
 //   [controller]
@@ -40,6 +41,8 @@
 //   start_ramp_cycles = 0.25           # references fade in over this; [0, cycles]
 //   [fluid]
 //   viscosity_Pa_s = 1e-3              # overrides the model's; > 0
+//   rft_coefficients = "lighthill"     # gray_hancock | lighthill, over the model's
+//   rft_wavelength_mm = 32.0           # in the coefficients; default the wave's
 //   [output]
 //   dir = "out/paper"                  # relative to the working directory
 //   samples_per_cycle = 200
@@ -66,6 +69,7 @@ struct ScenarioConfig {
   std::optional<PlantAssignment> plants;  // over the model's ipmc_plants
   std::string actuation = "distributed";
   std::optional<Dynamics> dynamics;       // over the model's ipmc_dynamics
+  double hinge_damping_scale = 1.0;       // times every joint's damping
   int cycles = 3;
   std::optional<double> timestep_s;
   ControllerKind controller = ControllerKind::kPid;
@@ -77,6 +81,10 @@ struct ScenarioConfig {
   // t < T_r = start_ramp_cycles / f, so the run starts without a jump.
   double start_ramp_cycles = 0.25;
   std::optional<double> viscosity_Pa_s;
+  // Over the model's ipmc_rft_coefficients: gray_hancock or lighthill.
+  std::optional<std::string> rft_coefficients;
+  // The wavelength in those coefficients; waveform.wavelength_mm if unset.
+  std::optional<double> rft_wavelength_mm;
   std::string output_dir;   // empty: no files
   int samples_per_cycle = 200;
   // Not a file key: the command line's --allow-long, which lifts the run

@@ -279,6 +279,15 @@ std::vector<KeySpec> MakeScenarioKeys() {
           .Writes([](const ScenarioConfig& c) {
             return c.dynamics ? TomlString(DynamicsName(*c.dynamics)) : kLeftOut;
           }),
+      Key("hinge_damping_scale", T::kNumber, "", ">= 0", "1",
+          "Multiplies the damping of every joint of the model (the hinges' `damping`, not the "
+          "paper's plant: docs/ENERGY.md); below about 0.08 the inertial step diverges")
+          .Default("1.0")
+          .Example("0.5")
+          .Refused("-1")
+          .AtLeast(0.0)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.hinge_damping_scale = v.Number(); })
+          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.hinge_damping_scale); }),
       Key("cycles", T::kInteger, "", ">= 1", "3", "Wave periods to run")
           .Default("3")
           .Refused("0")
@@ -499,6 +508,27 @@ std::vector<KeySpec> MakeScenarioKeys() {
           .Writes([](const ScenarioConfig& c) {
             return c.viscosity_Pa_s ? TomlFloat(*c.viscosity_Pa_s) : kLeftOut;
           }),
+      Key("fluid.rft_coefficients", T::kChoice, "", "\"gray_hancock\" or \"lighthill\"",
+          "the model's `ipmc_rft_coefficients`",
+          "RFT drag coefficients (plugin/fluid/rft_drag.h), overriding the model's; either "
+          "follows fluid.rft_wavelength_mm")
+          .Example("\"lighthill\"")
+          .Refused("\"direct\"")
+          .Choices("gray_hancock|lighthill")
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.rft_coefficients = v.Choice(); })
+          .Writes([](const ScenarioConfig& c) {
+            return c.rft_coefficients ? TomlString(*c.rft_coefficients) : kLeftOut;
+          }),
+      Key("fluid.rft_wavelength_mm", T::kNumber, "mm", "finite and > 0", "waveform.wavelength_mm",
+          "Wavelength in the Gray-Hancock and Lighthill coefficients, over the model's "
+          "`ipmc_rft_wavelength_m`")
+          .Example("32.0")
+          .Refused("0")
+          .Above(0.0)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.rft_wavelength_mm = v.Number(); })
+          .Writes([](const ScenarioConfig& c) {
+            return c.rft_wavelength_mm ? TomlFloat(*c.rft_wavelength_mm) : kLeftOut;
+          }),
       Key("output.dir", T::kString, "", "a directory; relative to the working directory",
           "\"\": no files", "Where timeseries.csv, states.csv and summary.json go")
           .Default("\"\"")
@@ -527,6 +557,9 @@ std::vector<KeySpec> MakeSweepFileKeys() {
           "The Cartesian product of the arrays, the first key outermost"),
       Key("point", T::kTableArray, "", "tables of scenario keys; not with grid", "none",
           "One point per [[point]] table, in file order"),
+      Key("keep_runs", T::kBoolean, "", "true or false", "false",
+          "Keep each point's run directory (timeseries.csv, states.csv, summary.json) in "
+          "PREFIX_runs/point_N, as sweep --keep-runs does"),
   };
 }
 

@@ -113,10 +113,10 @@ ModelPtr LoadModelString(const std::string& xml) {
 }
 
 Simulation::Simulation(ModelPtr m, const std::string& source,
-                       const IpmcActuatorsOverrides& overrides)
+                       const IpmcActuatorsOverrides& overrides, const RftDragOverrides& fluid)
     : model_(std::move(m)), data_(mj_makeData(model_.get())), source_(source) {
   try {
-    AttachWithOverrides(model_.get(), data_.get(), overrides);
+    AttachWithOverrides(model_.get(), data_.get(), overrides, fluid);
   } catch (const std::exception& e) {
     throw std::runtime_error(source_ + ": " + e.what());
   }

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "plugin/actuators/ipmc_actuators.h"
+#include "plugin/fluid/rft_drag.h"
 
 namespace ipmc {
 
@@ -40,10 +41,10 @@ bool UseEulerWhereImplicitAddsNothing(mjModel* m);
 class Simulation {
  public:
   // Takes ownership of m, makes its data and attaches the coupling, with
-  // `overrides` imposed over the model's fields. Errors from the model's
-  // ipmc_* fields are prefixed with `source` (the file).
+  // `overrides` and `fluid` imposed over the model's fields. Errors from
+  // the model's ipmc_* fields are prefixed with `source` (the file).
   Simulation(ModelPtr m, const std::string& source,
-             const IpmcActuatorsOverrides& overrides = {});
+             const IpmcActuatorsOverrides& overrides = {}, const RftDragOverrides& fluid = {});
   ~Simulation();
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;

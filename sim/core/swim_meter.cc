@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -74,9 +76,13 @@ SwimMetrics SwimMeter::Finish(const mjModel* m, const mjData* d) const {
   }
   const CouplingContext* coupling = FindCoupling(d);
   if (!coupling || !coupling->drag) return metrics;
-  double body_length_m = 0.0;
-  for (const Segment& segment : coupling->drag->Segments(m, d)) body_length_m += segment.length_m;
+  double body_length_m = 0.0, longest_m = 0.0;
+  for (const Segment& segment : coupling->drag->Segments(m, d)) {
+    body_length_m += segment.length_m;
+    longest_m = std::max(longest_m, segment.length_m);
+  }
   metrics.body_length_mm = body_length_m * kMToMm;
+  metrics.longest_segment_mm = longest_m * kMToMm;
   const RftDragConfig& fluid = coupling->drag->config();
   const int width_id = mj_name2id(m, mjOBJ_NUMERIC, kStripWidthField);
   const double width_m = width_id >= 0 ? m->numeric_data[m->numeric_adr[width_id]]
@@ -85,7 +91,31 @@ SwimMetrics SwimMeter::Finish(const mjModel* m, const mjData* d) const {
   metrics.reynolds_tip = rho_over_mu * metrics.peak_lateral_tip_speed_mm_s / kMToMm * width_m;
   metrics.reynolds_swim =
       rho_over_mu * std::abs(metrics.mean_speed_along_mm_s) / kMToMm * body_length_m;
+  metrics.warnings = FluidWarnings(metrics, 0.0);
   return metrics;
+}
+
+std::vector<std::string> FluidWarnings(const SwimMetrics& swim, double wavelength_mm) {
+  std::vector<std::string> warnings;
+  const double reynolds = std::max(swim.reynolds_tip, swim.reynolds_swim);
+  if (reynolds > kReynoldsWarning) {
+    std::ostringstream msg;
+    msg << "Reynolds number " << std::setprecision(3) << reynolds << " is above "
+        << kReynoldsWarning << "; the drag models assume Stokes flow, Re << 1 (inertia adds about "
+        << std::setprecision(2) << 100.0 * 3.0 / 16.0 * reynolds << " % to a sphere's drag)";
+    warnings.push_back(msg.str());
+  }
+  if (wavelength_mm > 0.0 && swim.longest_segment_mm > 0.0 &&
+      wavelength_mm / swim.longest_segment_mm < kMinSegmentsPerWavelength) {
+    std::ostringstream msg;
+    msg << "the wave (wavelength " << std::setprecision(4) << wavelength_mm << " mm) spans "
+        << std::setprecision(3) << wavelength_mm / swim.longest_segment_mm
+        << " drag segments of " << swim.longest_segment_mm << " mm, fewer than "
+        << kMinSegmentsPerWavelength
+        << " per wavelength: the links cannot represent it (more segments_per_link or links)";
+    warnings.push_back(msg.str());
+  }
+  return warnings;
 }
 
 void RequireFiniteMetrics(const SwimMetrics& swim, const std::string& what) {

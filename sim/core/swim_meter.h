@@ -32,7 +32,24 @@ struct SwimMetrics {
   double reynolds_tip = 0.0;                 // rho v_tip w / mu
   double reynolds_swim = 0.0;                // rho |U| L_body / mu
   double body_length_mm = 0.0;               // sum of the drag segments
+  double longest_segment_mm = 0.0;           // the longest drag segment
+  // What the run's numbers should be read with (FluidWarnings).
+  std::vector<std::string> warnings;
 };
+
+// A Reynolds number above this warns that the drag models (all of them
+// Stokes flow) lose accuracy: Oseen's first inertial correction to the
+// Stokes drag of a sphere is a factor 1 + 3/16 Re (Re on the diameter),
+// 9 % at 0.5 and 15 % at the paper run's 0.79 (docs/FLUIDS.md).
+constexpr double kReynoldsWarning = 0.5;
+// Fewer drag segments than this per wavelength cannot represent the wave
+// (three straight chords of a sine are the fewest that bend both ways).
+constexpr double kMinSegmentsPerWavelength = 3.0;
+
+// The warnings for a swim: a Reynolds number above kReynoldsWarning and,
+// for a wave of `wavelength_mm` (0: none), fewer than
+// kMinSegmentsPerWavelength drag segments per wavelength.
+std::vector<std::string> FluidWarnings(const SwimMetrics& swim, double wavelength_mm);
 
 // Throws std::runtime_error "WHAT: METRIC is not finite" for the first
 // metric (per-cycle displacement, speed, Reynolds number) that is not: a
@@ -52,7 +69,8 @@ class SwimMeter {
   // At the end of each cycle: records its net displacement.
   void EndCycle(const mjData* d);
   // Mean speed since Start and the Reynolds numbers (needs the model's RFT
-  // fields through the coupling of d; without them both are 0).
+  // fields through the coupling of d; without them both are 0), with
+  // FluidWarnings for no wave.
   SwimMetrics Finish(const mjModel* m, const mjData* d) const;
 
  private:

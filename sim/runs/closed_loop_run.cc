@@ -110,6 +110,7 @@ ModelPtr LoadScenarioModel(const ScenarioConfig& scenario, std::string* source) 
   }
   if (scenario.timestep_s) model->opt.timestep = *scenario.timestep_s;
   if (scenario.viscosity_Pa_s) OverrideViscosity(model.get(), *scenario.viscosity_Pa_s, scenario.source);
+  for (int dof = 0; dof < model->nv; ++dof) model->dof_damping[dof] *= scenario.hinge_damping_scale;
   return model;
 }
 
@@ -120,7 +121,23 @@ std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenari
   IpmcActuatorsOverrides overrides;
   overrides.plants = scenario.plants;
   overrides.dynamics = scenario.dynamics;
-  return std::make_unique<Simulation>(std::move(model), source, overrides);
+  auto sim = std::make_unique<Simulation>(std::move(model), source, overrides,
+                                          ScenarioFluidOverrides(scenario));
+  const CouplingContext* coupling = FindCoupling(sim->data());
+  if ((scenario.rft_coefficients || scenario.rft_wavelength_mm) && !(coupling && coupling->drag)) {
+    throw std::runtime_error(scenario.source +
+                             ": fluid.rft_coefficients and fluid.rft_wavelength_mm need a model "
+                             "with RFT drag");
+  }
+  return sim;
+}
+
+RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario) {
+  RftDragOverrides fluid;
+  if (scenario.rft_coefficients) fluid.model = ParseCoefficientModel(*scenario.rft_coefficients);
+  fluid.wavelength_m =
+      scenario.rft_wavelength_mm.value_or(scenario.waveform.wavelength_mm) * 1e-3;  // mm to m
+  return fluid;
 }
 
 ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserver& observer) {
@@ -183,6 +200,7 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
 
   SwimMeter meter(m);
   meter.Start(d);
+  EnergyMeter energy(m, d);
   for (int cycle = 0; cycle < scenario.cycles; ++cycle) {
     for (long step = 0; step < steps_per_cycle; ++step) {
       if (step % steps_per_sample == 0) {
@@ -212,15 +230,19 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
       const long next = step + 1 == steps_per_cycle ? 0 : step + 1;
       sim.Step(next % steps_per_sample == 0);
       meter.Observe(m, d);
+      energy.Observe(m, d);
     }
     meter.EndCycle(d);
+    energy.EndCycle(m, d);
   }
   for (int q = 0; q < links; ++q) {
     result.links[q].rms_voltage_V = std::sqrt(sum_v2[q] / std::max<long>(1, samples));
     result.links[q].clamped_fraction = static_cast<double>(clamped_samples[q]) / std::max<long>(1, samples);
   }
   result.swim = meter.Finish(m, d);
+  result.swim.warnings = FluidWarnings(result.swim, scenario.waveform.wavelength_mm);
   RequireFiniteMetrics(result.swim, sim.source());
+  result.energy = energy.Finish(result.swim, period_s, 1);
   return result;
 }
 

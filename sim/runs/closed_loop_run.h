@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "controllers/closed_loop.h"
+#include "sim/core/energy.h"
 #include "sim/core/scenario.h"
 #include "sim/core/simulation.h"
 #include "sim/core/swim_meter.h"
@@ -50,6 +51,7 @@ struct ClosedLoopResult {
   double timestep_s = 0.0;
   std::vector<LinkTracking> links;
   SwimMetrics swim;
+  EnergyMetrics energy;
   std::vector<ClosedLoopSample> samples;
   RecordedStates states;  // the model's qpos at every recorded sample
 };
@@ -97,6 +99,10 @@ std::string ScenarioModelSha256(const ScenarioConfig& scenario);
 // (UseEulerWhereImplicitAddsNothing), so that a caller stepping it itself
 // gets the run's numbers.
 std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenario);
+// The fluid settings the scenario imposes: fluid.rft_coefficients, and the
+// wavelength in the RFT coefficients, fluid.rft_wavelength_mm or else the
+// wave's (waveform.wavelength_mm), so that the drag follows the wave.
+RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario);
 
 // Loads the scenario's model (LoadScenarioSimulation) and runs it. Throws
 // std::runtime_error naming the file on bad input or divergence.

@@ -1,0 +1,114 @@
+// RFT coefficients that follow the scenario: the Gray-Hancock and Lighthill
+// coefficients take the scenario's wavelength (fluid.rft_wavelength_mm, or
+// else the wave's), fluid.rft_coefficients picks the set, and a run warns
+// when the Reynolds number approaches 1 or the wave is too short for the
+// drag segments.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "ipmc_swim/ipmc_swim.h"
+#include "plugin/coupling.h"
+#include "plugin/fluid/rft_drag.h"
+#include "sim/core/scenario.h"
+#include "sim/core/simulation.h"
+#include "sim/core/swim_meter.h"
+#include "sim/runs/closed_loop_run.h"
+#include "tests/test_util.h"
+
+namespace ipmc::testing {
+namespace {
+
+const std::string kPaper = std::string(IPMC_SWIM_SOURCE_DIR) + "/scenarios/paper.toml";
+
+ScenarioConfig PaperWith(const std::string& extra) {
+  return ParseScenario("model = \"../models/flagellum3.xml\"\n" + extra, kPaper);
+}
+
+RftDragConfig DragOf(const ScenarioConfig& scenario) {
+  const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(scenario);
+  const CouplingContext* coupling = FindCoupling(sim->data());
+  EXPECT_TRUE(coupling && coupling->drag);
+  return coupling->drag->config();
+}
+
+TEST(RftScenarioTest, CoefficientsFollowTheWavelength) {
+  // The model file says 32 mm; the wave of 16 mm wins unless the scenario
+  // names the coefficients' wavelength itself.
+  EXPECT_DOUBLE_EQ(DragOf(PaperWith("")).wavelength_m, 0.032);
+  const RftDragConfig wave = DragOf(PaperWith("[waveform]\nwavelength_mm = 16.0\n"));
+  EXPECT_DOUBLE_EQ(wave.wavelength_m, 0.016);
+  EXPECT_EQ(wave.model, CoefficientModel::kGrayHancock);
+  const DragCoefficients expected = GrayHancockCoefficients(1e-3, 0.8125e-3, 0.016);
+  const std::unique_ptr<Simulation> sim =
+      LoadScenarioSimulation(PaperWith("[waveform]\nwavelength_mm = 16.0\n"));
+  EXPECT_DOUBLE_EQ(FindCoupling(sim->data())->drag->coefficients().normal_N_s_m2,
+                   expected.normal_N_s_m2);
+  const RftDragConfig given =
+      DragOf(PaperWith("[waveform]\nwavelength_mm = 16.0\n[fluid]\nrft_wavelength_mm = 40.0\n"));
+  EXPECT_DOUBLE_EQ(given.wavelength_m, 0.040);
+}
+
+TEST(RftScenarioTest, CoefficientSetIsAScenarioKey) {
+  const RftDragConfig lighthill = DragOf(PaperWith("[fluid]\nrft_coefficients = \"lighthill\"\n"));
+  EXPECT_EQ(lighthill.model, CoefficientModel::kLighthill);
+  ExpectThrowMentioning<std::runtime_error>(
+      [] { PaperWith("[fluid]\nrft_coefficients = \"direct\"\n"); }, "fluid.rft_coefficients");
+  ExpectThrowMentioning<std::runtime_error>(
+      [] { PaperWith("[fluid]\nrft_wavelength_mm = 0\n"); }, "fluid.rft_wavelength_mm");
+}
+
+TEST(RftScenarioTest, OverridesReplaceTheModelsFields) {
+  // A model with direct coefficients: the override to gray_hancock drops
+  // them instead of refusing them.
+  const ModelPtr model = LoadModelString(R"(<mujoco><custom>
+      <numeric name="ipmc_rft_viscosity_Pa_s" data="0.001"/>
+      <text name="ipmc_rft_coefficients" data="direct"/>
+      <numeric name="ipmc_rft_xi_normal_N_s_m2" data="0.002"/>
+      <numeric name="ipmc_rft_xi_tangential_N_s_m2" data="0.001"/>
+    </custom><worldbody><body><freejoint/><geom type="capsule" size="0.001 0.01"/></body>
+    </worldbody></mujoco>)");
+  EXPECT_EQ(RftDragConfig::FromModel(model.get())->model, CoefficientModel::kDirect);
+  RftDragOverrides overrides;
+  overrides.model = CoefficientModel::kGrayHancock;
+  overrides.wavelength_m = 0.02;
+  const RftDragConfig config = *RftDragConfig::FromModel(model.get(), overrides);
+  EXPECT_EQ(config.model, CoefficientModel::kGrayHancock);
+  EXPECT_DOUBLE_EQ(config.wavelength_m, 0.02);
+}
+
+TEST(RftScenarioTest, WarnsOnReynoldsNumberAndShortWaves) {
+  SwimMetrics swim;
+  swim.longest_segment_mm = 10.0;
+  swim.reynolds_tip = 0.4;
+  EXPECT_TRUE(FluidWarnings(swim, 32.0).empty());  // 3.2 segments per wavelength
+  swim.reynolds_tip = 0.789;                        // the paper run's
+  const std::vector<std::string> reynolds = FluidWarnings(swim, 32.0);
+  ASSERT_EQ(reynolds.size(), 1u);
+  EXPECT_NE(reynolds[0].find("Reynolds number 0.789 is above 0.5"), std::string::npos)
+      << reynolds[0];
+  swim.reynolds_tip = 0.1;
+  const std::vector<std::string> short_wave = FluidWarnings(swim, 16.0);
+  ASSERT_EQ(short_wave.size(), 1u);
+  EXPECT_NE(short_wave[0].find("spans 1.6 drag segments of 10 mm"), std::string::npos)
+      << short_wave[0];
+  EXPECT_TRUE(FluidWarnings(swim, 0.0).empty());  // no wave: no resolution check
+}
+
+TEST(RftScenarioTest, ARunCarriesItsWarnings) {
+  // The issue's example: a 16 mm wave on 10 mm links is under-resolved.
+  ScenarioConfig scenario =
+      PaperWith("cycles = 1\ntimestep_s = 1e-3\n[waveform]\nwavelength_mm = 16.0\n"
+                "frequency_Hz = 0.5\n");
+  scenario.dynamics = Dynamics::kStokes;
+  const ClosedLoopResult result = RunScenario(scenario);
+  bool resolution = false;
+  for (const std::string& warning : result.swim.warnings) {
+    resolution = resolution || warning.find("drag segments") != std::string::npos;
+  }
+  EXPECT_TRUE(resolution);
+  EXPECT_DOUBLE_EQ(result.swim.longest_segment_mm, 10.0);
+}
+
+}  // namespace
+}  // namespace ipmc::testing
