@@ -135,7 +135,7 @@ RecordIdentification IdentifyRecord(const IdentifySpec& spec, const std::vector<
       const double step_s = t[k] - t[k - 1];
       if (std::abs(step_s - period_s) <= kTimeStepTolerance * period_s) continue;
       throw FieldError(name + ": the time_s column of " + spec.data_path + " " +
-                           (step_s <= 0 ? "runs backward" : "jumps") + " at data row " +
+                           (step_s < 0 ? "runs backward" : step_s == 0 ? "repeats a time" : "jumps") + " at data row " +
                            std::to_string(k + 1) + " (t = " + FormatDouble(t[k]) + " s after " +
                            FormatDouble(t[k - 1]) + " s; every row must follow the one before by " +
                            FormatDouble(period_s) + " s)",
