@@ -4,6 +4,9 @@ run's set that a new run does not write (run.mat, run.h5) go
 (sim/io/files.h: WriteFilesTogether). Two runs at once into one folder:
 test_concurrent_outputs.py."""
 
+import os
+import subprocess
+
 import pytest
 
 from conftest import run_cli
@@ -59,3 +62,32 @@ def test_a_run_without_a_format_removes_the_earlier_runs_file_of_it(tmp_path, re
     run_cli("run", scenario, "--out", out, *RUN_A)
     assert sorted(p.name for p in out.iterdir()) == sorted(FILES)
     assert contents(out) == outputs["a"]
+
+
+def dead_pid():
+    """The PID of a process that has ended (and been reaped)."""
+    child = subprocess.Popen(["true"])
+    child.wait()
+    return child.pid
+
+
+def test_a_killed_writers_temporaries_go_with_the_next_write(tmp_path, references):
+    """A merge or run killed mid-write leaves NAME.tmp.PID.XXXXXX files; the
+    next write of the same outputs removes those of processes that no
+    longer run, and keeps those of one that runs (it may be writing)."""
+    scenario, _ = references
+    header = "point,cycles,status,error,mean_speed_along_mm_s\n"
+    (tmp_path / "s1.csv").write_text(header + "0,1,ok,,0.5\n")
+    (tmp_path / "s2.csv").write_text(header + "1,2,ok,,0.6\n")
+    stale = [tmp_path / f"m.csv.tmp.{dead_pid()}.abcdef", tmp_path / f"m.json.tmp.{dead_pid()}.ghijkl"]
+    out = tmp_path / "run"
+    out.mkdir()
+    stale += [out / f"{name}.tmp.{dead_pid()}.mnopqr" for name in FILES]
+    alive = tmp_path / f"m.csv.tmp.{os.getpid()}.stuvwx"
+    for path in stale + [alive]:
+        path.write_text("half a table")
+    run_cli("merge", tmp_path / "s1.csv", tmp_path / "s2.csv", "--out", tmp_path / "m")
+    run_cli("run", scenario, "--out", out, *RUN_A)
+    assert [path for path in stale if path.exists()] == []
+    assert alive.exists()
+    assert sorted(p.name for p in out.iterdir()) == sorted(FILES)
