@@ -171,8 +171,8 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
   // At least kMinSamplesPerWaveCycle controller samples per wave cycle.
   const long steps_per_cycle = CheckedStepCount(
       period_s, dt, kMinSamplesPerWaveCycle * steps_per_sample,
-      scenario.source + ": one wave cycle (waveform.frequency_Hz; at least " +
-          std::to_string(kMinSamplesPerWaveCycle) + " controller samples)");
+      scenario.source + ": one wave cycle (waveform.frequency_Hz), at least " +
+          std::to_string(kMinSamplesPerWaveCycle) + " controller samples,");
   const long samples_per_cycle = steps_per_cycle / steps_per_sample;
   const long record_every =
       std::max<long>(1, samples_per_cycle / std::max(1, scenario.samples_per_cycle));
