@@ -281,6 +281,13 @@ std::optional<IpmcActuatorsConfig> IpmcActuatorsConfig::FromModel(
   }
   config.integration = IntegrationOf(m);
   if (auto rel_tol = FindCustomScalar(m, kAttrRelTol)) config.cvode.rel_tol = *rel_tol;
+  if (auto limit = FindCustomScalar(m, kAttrVoltageLimit)) {
+    if (!std::isfinite(*limit) || !(*limit > 0.0)) {
+      Fail(std::string(kAttrVoltageLimit) + " must be finite and > 0 V (got " +
+           FormatShortest(*limit) + ")");
+    }
+    config.voltage_limit_V = *limit;
+  }
   try {
     config.cvode.Validate();
   } catch (const std::invalid_argument& e) {
@@ -299,7 +306,8 @@ std::optional<IpmcActuatorsConfig> IpmcActuatorsConfig::FromModel(
 const std::vector<std::string>& IpmcActuatorFields() {
   static const std::vector<std::string> fields = {
       kAttrLinks, kAttrSegments, kAttrPlants, kAttrModel, kAttrActuation, kAttrBand,
-      kAttrPairs, kAttrRelTol,   kAttrIntegration, kAttrA0, kAttrB1, kAttrB2, kAttrAlpha};
+      kAttrPairs, kAttrRelTol,   kAttrIntegration, kAttrA0, kAttrB1, kAttrB2, kAttrAlpha,
+      kAttrVoltageLimit};
   return fields;
 }
 
@@ -402,6 +410,11 @@ void IpmcActuators::SetVoltages(const mjData* d, const std::vector<double>& volt
   }
   for (size_t q = 0; q < voltage_V.size(); ++q) {
     if (!std::isfinite(voltage_V[q])) Fail("voltage of link " + std::to_string(q + 1) + " is not finite");
+    if (std::abs(voltage_V[q]) > config_.voltage_limit_V) {
+      Fail("voltage of link " + std::to_string(q + 1) + " is " + FormatShortest(voltage_V[q]) +
+           " V, outside the model's range [-" + FormatShortest(config_.voltage_limit_V) + ", " +
+           FormatShortest(config_.voltage_limit_V) + "] V (" + kAttrVoltageLimit + ")");
+    }
   }
   AdvanceTo(d);  // the old voltages hold up to now
   voltage_V_ = voltage_V;

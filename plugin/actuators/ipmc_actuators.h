@@ -78,6 +78,8 @@ constexpr char kAttrBand[] = "ipmc_integrator_band_rad_s";
 constexpr char kAttrPairs[] = "ipmc_integrator_pairs";
 constexpr char kAttrRelTol[] = "ipmc_cvode_rel_tol";
 constexpr char kAttrIntegration[] = "ipmc_actuator_integration";
+// The largest |voltage| a link accepts [V]; kDefaultVoltageLimit_V if absent.
+constexpr char kAttrVoltageLimit[] = "ipmc_voltage_limit_V";
 // The per-link overrides of Table 2's parameters.
 constexpr char kAttrA0[] = "ipmc_a0_mm_per_V";
 constexpr char kAttrB1[] = "ipmc_b1";
@@ -92,6 +94,11 @@ inline CvodeOptions DefaultCvodeOptions() {
   options.rel_tol = 1e-6;
   return options;
 }
+
+// The links' voltage range without ipmc_voltage_limit_V: +-100 V, the
+// bench's range, far beyond the few volts Table 2's strips were driven
+// with; a voltage outside it is a mistake, not an experiment.
+constexpr double kDefaultVoltageLimit_V = 100.0;
 
 // Largest ipmc_segments_per_link.
 constexpr int kMaxSegmentsPerLink = 64;
@@ -160,6 +167,8 @@ struct IpmcActuatorsConfig {
   // steps at each voltage change; cvode keeps the integrator the link
   // models were validated with.
   ActuatorIntegration integration = ActuatorIntegration::kExact;
+  // SetVoltages refuses |voltage| above this (ipmc_voltage_limit_V).
+  double voltage_limit_V = kDefaultVoltageLimit_V;
 
   // nullopt if the model has no ipmc_links field; throws
   // std::invalid_argument naming the field on a malformed one.
@@ -184,7 +193,10 @@ class IpmcActuators {
   // Voltages from d->time on [V]; in single actuation links 2..n are held
   // at 0 V. Throws std::invalid_argument on a wrong count or a non-finite
   // value (naming the link).
+  // Throws std::invalid_argument for a wrong count, a non-finite voltage
+  // or one outside [-voltage_limit_V, voltage_limit_V].
   void SetVoltages(const mjData* d, const std::vector<double>& voltage_V);
+  double VoltageLimit_V() const { return config_.voltage_limit_V; }
   const std::vector<double>& Voltages_V() const { return voltage_V_; }
 
   // Advances the link models to d->time and writes the active moments

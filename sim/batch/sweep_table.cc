@@ -268,6 +268,8 @@ void CheckTablePrefix(const std::string& who, const std::string& option,
                          "table",
                      option, "a file name prefix");
   }
+  // Its longest file is PREFIX.journal; the place and the names must take it.
+  RequireWritableParent(prefix, ".journal");
 }
 
 nlohmann::ordered_json SweepResultTree(const SweepTable& table) {

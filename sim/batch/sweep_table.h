@@ -82,7 +82,9 @@ nlohmann::ordered_json SweepResultTree(const SweepTable& table);
 
 // Before the work: throws FieldError naming `option` (--out) if PREFIX
 // cannot name a table's files: empty, ending in '/', or a directory
-// (PREFIX.csv would be a hidden file ".csv" in it).
+// (PREFIX.csv would be a hidden file ".csv" in it); and throws as
+// RequireWritableParent (sim/io/files.h) if its folder cannot take
+// PREFIX.journal (not writable, a name too long).
 void CheckTablePrefix(const std::string& who, const std::string& option, const std::string& prefix);
 
 // Writes PREFIX.csv and PREFIX.json, and PREFIX.mat / PREFIX.h5 as

@@ -57,6 +57,15 @@ void AddTableOptions(CLI::App* command, const OptionTable<Spec>& table, Spec& sp
             }
           }
           if (!info.choices.empty()) added->check(CLI::IsMember(info.choices));
+          if (info.type == OptionType::kPath) {
+            // --out '' names nothing (Python's out='' is refused alike).
+            added->check(CLI::Validator(
+                [](std::string& text) {
+                  return text.empty() ? std::string("an empty path names no file or folder")
+                                      : std::string();
+                },
+                ""));
+          }
           if (info.required) added->required();
           if (info.default_text.empty()) added->default_str("");
         },

@@ -88,6 +88,7 @@ const OptionTable<GenerateCommand>& GenerateOptions() {
 }
 
 std::string RunGenerateCommand(const GenerateCommand& command) {
+  if (!command.out.empty()) RequireWritableParent(command.out);  // a file, where it can be
   const std::string xml = GenerateFlagellumMjcf(command);
   if (!command.out.empty()) WriteFileAtomically(command.out, xml);
   return xml;

@@ -163,6 +163,25 @@ void FlagellumSpec::Validate() const {
   if (clamped && head_length_mm == 0.0 && Links() < 1) {
     throw std::invalid_argument("flagellum spec: a clamped model needs at least one link");
   }
+  // The drag the loader makes of the written fields must accept them: the
+  // wavelength must be long against the equivalent radius.
+  if (coefficients != "direct") {
+    RftDragConfig drag;
+    drag.viscosity_Pa_s = viscosity_Pa_s;
+    drag.model = coefficients == "lighthill" ? CoefficientModel::kLighthill
+                                             : CoefficientModel::kGrayHancock;
+    drag.equivalent_radius_m = EquivalentRadius_m(*this);
+    drag.wavelength_m = wavelength_mm * kMmToM;
+    drag.fluid_density_kg_m3 = fluid_density_kg_m3;
+    try {
+      drag.Validate();
+    } catch (const std::invalid_argument& error) {
+      throw std::invalid_argument("flagellum spec: wavelength_mm = " + FormatShortest(wavelength_mm) +
+                                  " is too short for the equivalent radius " +
+                                  FormatShortest(drag.equivalent_radius_m / kMmToM) + " mm (" +
+                                  error.what() + ")");
+    }
+  }
 }
 
 int MaxSegmentsPerLink(int links, bool head) {

@@ -1,6 +1,10 @@
 #include "sim/core/scenario_overrides.h"
 
 #include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
 #include <cstddef>
 #include <sstream>
 #include <utility>
@@ -230,11 +234,77 @@ ScenarioSetting SetOption(const std::string& command, const std::string& key_val
   return {"--set " + key_value, key_value};
 }
 
+namespace {
+
+std::string Trimmed(const std::string& text) {
+  const std::string::size_type first = text.find_first_not_of(" \t");
+  if (first == std::string::npos) return "";
+  return text.substr(first, text.find_last_not_of(" \t") - first + 1);
+}
+
+// Whether a VALUE that TOML could not read is meant as a string: a bare
+// word (letters first, then letters, digits, '_', '-', '.', '/'), which
+// quoting makes a string. Numbers, arrays and the like are not.
+bool LooksLikeBareWord(const std::string& value) {
+  if (value.empty() || !std::isalpha(static_cast<unsigned char>(value.front()))) return false;
+  if (value == "inf" || value == "nan" || value == "true" || value == "false") return false;
+  return std::all_of(value.begin(), value.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.' ||
+           c == '/';
+  });
+}
+
+// Checks what TOML would report less clearly, before parsing: an empty
+// VALUE, a key set twice (or a key and a key inside it), a number beyond
+// a double's range.
+void CheckSettings(const std::string& command, const std::vector<ScenarioSetting>& settings) {
+  const std::string allowed_value = "a TOML value: a number, true or false, a \"quoted string\"";
+  std::vector<std::string> keys;
+  for (const ScenarioSetting& setting : settings) {
+    const std::string::size_type equals = setting.assignment.find('=');
+    const std::string key = Trimmed(setting.assignment.substr(0, equals));
+    const std::string value = Trimmed(setting.assignment.substr(equals + 1));
+    const std::string option = setting.option.substr(0, setting.option.find(' '));
+    if (value.empty()) {
+      throw FieldError(command + ": " + setting.option + ": no value after '=' (give " +
+                           allowed_value + ")",
+                       option, allowed_value);
+    }
+    for (size_t k = 0; k < keys.size(); ++k) {
+      const std::string& other = keys[k];
+      const bool same = other == key;
+      const bool nested = key.rfind(other + ".", 0) == 0 || other.rfind(key + ".", 0) == 0;
+      if (same || nested) {
+        throw FieldError(command + ": " + setting.option + ": " + key +
+                             (same ? " is already set by " : " conflicts with ") +
+                             settings[k].option + " (set each key once)",
+                         option, "each key once");
+      }
+    }
+    keys.push_back(key);
+    const char first = value.front();
+    if (std::isdigit(static_cast<unsigned char>(first)) || first == '-' || first == '+' ||
+        first == '.') {
+      errno = 0;
+      char* end = nullptr;
+      const double number = std::strtod(value.c_str(), &end);
+      if (end == value.c_str() + value.size() && errno == ERANGE && std::isinf(number)) {
+        throw FieldError(command + ": " + setting.option + ": " + value +
+                             " is beyond the range of a number (at most about 1.8e308)",
+                         option, "a finite number");
+      }
+    }
+  }
+}
+
+}  // namespace
+
 // The settings are one TOML document, line k the k-th setting, so that an
 // error's line names the setting it came from.
 ScenarioConfig ScenarioWithSettings(const std::string& command, const std::string& scenario_path,
                                     const std::vector<ScenarioSetting>& settings) {
   constexpr char kSource[] = "--set";
+  CheckSettings(command, settings);
   std::string text;
   for (const ScenarioSetting& setting : settings) {
     const std::string::size_type equals = setting.assignment.find('=');
@@ -248,12 +318,14 @@ ScenarioConfig ScenarioWithSettings(const std::string& command, const std::strin
     if (error.where().file != kSource || line == 0 || line > settings.size()) throw;
     const ScenarioSetting& setting = settings[line - 1];
     std::string hint;
-    if (error.problem() == InputProblem::kSyntax) {
-      const std::string& assignment = setting.assignment;
-      const std::string::size_type equals = assignment.find('=');
+    const std::string& assignment = setting.assignment;
+    const std::string::size_type equals = assignment.find('=');
+    const std::string value = Trimmed(assignment.substr(equals + 1));
+    // Quoting is the fix only for a word meant as a string.
+    if (error.problem() == InputProblem::kSyntax && LooksLikeBareWord(value)) {
       const std::string quoted = setting.option.rfind("--set ", 0) == 0
                                      ? "--set '" + assignment.substr(0, equals + 1) + "\"" +
-                                           assignment.substr(equals + 1) + "\"'"
+                                           value + "\"'"
                                      : setting.option;
       hint = " (VALUE is TOML: quote strings, " + quoted + ")";
     }

@@ -11,6 +11,12 @@ namespace ipmc {
 // count no machine runs (the practical limit is CheckRunSize's).
 constexpr double kMaxStepsPerInterval = 1e15;
 
+// Fewest samples of one wave cycle (controller samples in a closed-loop
+// run, physics steps in a gait run): a wave read at fewer points is not
+// one the body can follow (at two, a sine is read at its zeros and the
+// run moves nothing).
+constexpr long kMinSamplesPerWaveCycle = 10;
+
 // round(interval_s / timestep_s), at least `min_steps`. Throws
 // std::invalid_argument naming `what` (e.g. "scenario.toml: one wave cycle")
 // when the time step is not finite and > 0, the interval is not finite and

@@ -29,6 +29,10 @@ constexpr char kDesignCommand[] = "design";
 
 // The time_s column must give the sample rate to this relative tolerance.
 constexpr double kSampleRateTolerance = 1e-3;
+// And each of its steps must be one sample period to within this fraction
+// of a period (a record written at 3 decimals of a 1 ms period is exact to
+// float rounding; a missing sample is a step of 2 periods).
+constexpr double kTimeStepTolerance = 0.25;
 constexpr double kMaxTuningSamples = 1e7;
 
 std::vector<double> UnwrappedPhaseDeg(const std::vector<Complex>& values) {
@@ -123,6 +127,19 @@ RecordIdentification IdentifyRecord(const IdentifySpec& spec, const std::vector<
           " disagrees with the time_s column of " + spec.data_path + " (mean spacing " +
           FormatDouble(spacing) + " s, i.e. " + FormatDouble(1.0 / spacing) + " Hz)",
           "sample_rate_Hz", "the time_s column's rate");
+    }
+    // Evenly sampled: each row one sample period after the one before,
+    // to within kTimeStepTolerance of a period (no gap, no step back).
+    const double period_s = 1.0 / spec.sample_rate_Hz;
+    for (size_t k = 1; k < t.size(); ++k) {
+      const double step_s = t[k] - t[k - 1];
+      if (std::abs(step_s - period_s) <= kTimeStepTolerance * period_s) continue;
+      throw FieldError(name + ": the time_s column of " + spec.data_path + " " +
+                           (step_s < 0 ? "runs backward" : step_s == 0 ? "repeats a time" : "jumps") + " at data row " +
+                           std::to_string(k + 1) + " (t = " + FormatDouble(t[k]) + " s after " +
+                           FormatDouble(t[k - 1]) + " s; every row must follow the one before by " +
+                           FormatDouble(period_s) + " s)",
+                       "time_s", "evenly sampled at sample_rate_Hz");
     }
   }
   for (const auto& [column, values] : {std::pair{spec.input_column, &input},

@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <climits>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -284,15 +285,65 @@ void EnsureDirectory(const std::string& dir) {
   }
 }
 
-void RequireWritableDirectory(const std::string& dir) {
-  // The nearest folder that exists must be one and take a new file; the
-  // missing ones below it are made when the outputs are written.
-  std::filesystem::path existing = std::filesystem::path(dir).lexically_normal();
+namespace {
+
+// The nearest folder of `path` that exists ("." if none is named).
+std::filesystem::path NearestExisting(const std::string& path) {
+  std::filesystem::path existing = std::filesystem::path(path).lexically_normal();
   std::error_code error;
   while (!existing.empty() && !std::filesystem::exists(existing, error)) {
     existing = existing.parent_path();
   }
-  if (existing.empty()) existing = ".";
+  return existing.empty() ? std::filesystem::path(".") : existing;
+}
+
+// Throws std::runtime_error "PATH: name too long ..." if a part of `path`
+// (the last with `last_suffix` appended, the longest name written for it)
+// is longer than the file system takes, or the whole is longer than a
+// path may be: such a name would fail only when the work is done.
+void RequireNamesThatFit(const std::string& path, const std::filesystem::path& existing,
+                         const std::string& last_suffix) {
+  long name_max = pathconf(existing.c_str(), _PC_NAME_MAX);
+  if (name_max <= 0) name_max = NAME_MAX;
+  const std::filesystem::path parts = std::filesystem::path(path).lexically_normal();
+  std::string last;
+  for (const std::filesystem::path& part : parts) {
+    if (!part.empty() && part != "/") last = part.string();
+  }
+  for (const std::filesystem::path& part : parts) {
+    const std::string name = part.string();
+    const size_t length = name.size() + (name == last ? last_suffix.size() : 0);
+    if (length > static_cast<size_t>(name_max)) {
+      throw std::runtime_error(
+          path + ": name too long for the file system (" + std::to_string(name.size()) +
+          " characters in '" + name.substr(0, 16) + "...'" +
+          (last_suffix.empty() || name != last
+               ? ""
+               : ", " + std::to_string(last_suffix.size()) + " more for its temporary") +
+          "; at most " + std::to_string(name_max) + ")");
+    }
+  }
+  const std::string absolute = std::filesystem::absolute(parts).string() + last_suffix;
+  if (absolute.size() >= PATH_MAX) {
+    throw std::runtime_error(path + ": path too long (" + std::to_string(absolute.size()) +
+                             " characters; at most " + std::to_string(PATH_MAX - 1) + ")");
+  }
+}
+
+// The longest name a file PATH gets while being written: its temporary's suffix.
+std::string TemporarySuffix() { return ".tmp." + std::to_string(getpid()) + ".XXXXXX"; }
+
+}  // namespace
+
+void RequireWritableDirectory(const std::string& dir) {
+  if (dir.empty()) {
+    throw std::runtime_error("cannot create output directory '' (an empty path; name a folder)");
+  }
+  // The nearest folder that exists must be one and take a new file; the
+  // missing ones below it are made when the outputs are written.
+  const std::filesystem::path existing = NearestExisting(dir);
+  std::error_code error;
+  RequireNamesThatFit(dir, existing, "");
   if (!std::filesystem::is_directory(existing, error)) {
     throw std::runtime_error(dir + ": cannot create output directory (" + existing.string() +
                              " is not a directory)");
@@ -305,9 +356,17 @@ void RequireWritableDirectory(const std::string& dir) {
   }
 }
 
-void RequireWritableParent(const std::string& path) {
+void RequireWritableParent(const std::string& path, const std::string& longest_suffix) {
+  if (path.empty()) {
+    throw std::runtime_error("cannot create file '' (an empty path; name a file)");
+  }
+  std::error_code error;
+  if (path.back() == '/' || std::filesystem::is_directory(path, error)) {
+    throw std::runtime_error(path + ": is a directory, not a file (name a file in it)");
+  }
   const std::filesystem::path parent = std::filesystem::path(path).parent_path();
   RequireWritableDirectory(parent.empty() ? "." : parent.string());
+  RequireNamesThatFit(path, NearestExisting(path), longest_suffix + TemporarySuffix());
 }
 
 void EnsureParentDirectory(const std::string& path) {

@@ -87,9 +87,14 @@ void EnsureDirectory(const std::string& dir);
 // `dir` that exists (nothing is left, nothing is created). Throws
 // std::runtime_error "DIR: cannot write in the output directory (REASON)"
 // or "DIR: cannot create output directory (...)".
+// Throws also for an empty `dir`, and if a name in it is longer than the
+// file system takes (or the path longer than PATH_MAX), "PATH: name too long ...".
 void RequireWritableDirectory(const std::string& dir);
-// The same for the directory of an output file PATH (its parent, or ".").
-void RequireWritableParent(const std::string& path);
+// The same for the directory of an output file PATH (its parent, or "."),
+// and PATH itself: not empty, not a directory, and a name that fits with
+// its temporary's suffix (and `longest_suffix`, for a prefix of names such
+// as a table's PREFIX.journal).
+void RequireWritableParent(const std::string& path, const std::string& longest_suffix = "");
 // The same for the directory `path` is in, if it names one.
 void EnsureParentDirectory(const std::string& path);
 

@@ -99,10 +99,14 @@ py::dict Run(const py::object& scenario_arg, const py::dict& overrides, const py
   const ScenarioConfig& scenario = plan.scenario;
   const double total_s = scenario.cycles / std::abs(scenario.waveform.frequency_Hz);
   Progress progress(progress_callback, total_s);
-  const SampleObserver observer = [&](const mjModel*, const mjData* d, const ClosedLoopSample&) {
-    progress.Report(d->time);
-  };
-  const ClosedLoopResult result = WithoutGil([&] { return RunScenario(scenario, observer); });
+  // Ctrl-C stops the run at its next recorded sample, as on the command line.
+  const ClosedLoopResult result = Interruptible([&](const std::atomic<bool>& stop) {
+    const SampleObserver observer = [&](const mjModel*, const mjData* d, const ClosedLoopSample&) {
+      ThrowIfStopRequested(stop);
+      progress.Report(d->time);
+    };
+    return RunScenario(scenario, observer);
+  });
   progress.Report(total_s, true);
   WithoutGil([&] { WriteRunOutputs(plan, result); });
   py::dict dict;
@@ -124,7 +128,11 @@ py::object Sweep(const py::object& path_arg, const py::dict& kwargs,
   Progress progress(progress_callback, plan.points);
   SweepOptions run = SweepRunOptions(plan);
   run.on_point_done = [&](const SweepProgress& p) { progress.Report(p.done, true); };
-  const SweepTable table = WithoutGil([&] { return RunSweep(plan.plan, run); });
+  // Ctrl-C lets the running points finish and starts no other.
+  const SweepTable table = Interruptible([&](const std::atomic<bool>& stop) {
+    run.stop_requested = [&stop] { return stop.load(); };
+    return RunSweep(plan.plan, run);
+  });
   WithoutGil([&] { WriteSweepOutputs(plan, table); });
   return ToPython(SweepTableJson(table));
 }
@@ -137,8 +145,11 @@ py::dict Bench(const py::dict& kwargs, const py::object& progress_callback) {
   ReadTableOptions(options, BenchOptions(), &command);
   options.RejectUnknown();
   Progress progress(progress_callback, command.bench.duration_s);
-  const BenchRecord record = WithoutGil([&] {
-    return RunBenchCommand(command, [&](double t_s) { progress.Report(t_s); });
+  const BenchRecord record = Interruptible([&](const std::atomic<bool>& stop) {
+    return RunBenchCommand(command, [&](double t_s) {
+      ThrowIfStopRequested(stop);
+      progress.Report(t_s);
+    });
   });
   progress.Report(command.bench.duration_s, true);
   return BenchColumns(record);

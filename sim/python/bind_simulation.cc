@@ -81,7 +81,16 @@ class PythonSimulation {
     }
   }
 
-  void SetVoltages(const std::vector<double>& volts) {
+  // Each within the model's range (ipmc_voltage_limit_V, +-100 V by
+  // default): the actuators refuse any other.
+  void SetVoltages(const py::object& given) {
+    std::vector<double> volts;
+    try {
+      volts = Cast<std::vector<double>>(given);
+    } catch (const py::cast_error&) {
+      throw py::type_error("set_voltages(): voltages_V must be " +
+                           ExpectedType<std::vector<double>>() + " (got " + Described(given) + ")");
+    }
     std::lock_guard<std::mutex> lock(mutex_);
     RequireActuators("set_voltages");
     ipmc::SetVoltages(sim_->data(), volts.data(), static_cast<int>(volts.size()));

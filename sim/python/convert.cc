@@ -5,8 +5,10 @@
 #include <mujoco/mujoco.h>
 
 #include <cstdint>
+#include <limits>
 #include <mutex>
 #include <sstream>
+#include <stdexcept>
 #include <utility>
 
 namespace ipmc::python {
@@ -24,14 +26,31 @@ bool IsNumpyBool(const py::handle& value) { return TypeName(value) == "bool_"; }
 
 toml::array TomlArray(const py::handle& sequence, const std::string& key);
 
+bool IsNumpyScalar(const py::handle& value) {
+  return py::hasattr(value, "dtype") && py::hasattr(value, "item") && py::hasattr(value, "ndim") &&
+         value.attr("ndim").cast<int>() == 0;
+}
+
 // One value; dicts become tables, sequences arrays.
 template <typename Insert>
 void InsertToml(const py::handle& value, const std::string& key, Insert&& insert) {
-  if (py::isinstance<py::bool_>(value) || IsNumpyBool(value)) {
+  if (IsNumpyScalar(value) && !IsNumpyBool(value)) {
+    // np.float32(2), np.int64(3): as the Python number they hold.
+    InsertToml(value.attr("item")(), key, insert);
+  } else if (py::hasattr(value, "dtype") && py::hasattr(value, "tolist") &&
+             !IsNumpyScalar(value)) {
+    insert(TomlArray(value, key));  // an array (before ints: a 1-element one has __index__)
+  } else if (py::isinstance<py::bool_>(value) || IsNumpyBool(value)) {
     insert(value.cast<bool>());
   } else if (py::isinstance<py::int_>(value) || (!py::isinstance<py::float_>(value) &&
                                                  PyIndex_Check(value.ptr()))) {
-    insert(value.cast<std::int64_t>());
+    try {
+      insert(value.cast<std::int64_t>());
+    } catch (const py::cast_error&) {
+      throw py::type_error(key + ": the int " + std::string(py::str(value)) +
+                           " is beyond a scenario integer's range (a 64-bit int, at most " +
+                           std::to_string(std::numeric_limits<std::int64_t>::max()) + ")");
+    }
   } else if (py::isinstance<py::float_>(value)) {
     insert(value.cast<double>());
   } else if (py::isinstance<py::str>(value)) {
@@ -171,11 +190,24 @@ py::array_t<std::complex<double>> Array(const std::vector<std::complex<double>>&
   return ArrayOf(values);
 }
 
+std::string Described(const py::handle& value) {
+  std::string text = TypeName(value);
+  if (py::isinstance<py::int_>(value) && !py::isinstance<py::bool_>(value)) {
+    const std::string digits = py::str(value);
+    text += " " + (digits.size() > 24 ? digits.substr(0, 20) + "..." : digits);
+  }
+  return text;
+}
+
 std::string PathText(const py::handle& path, const std::string& what) {
-  if (py::isinstance<py::str>(path)) return path.cast<std::string>();
+  if (py::isinstance<py::str>(path)) {
+    const std::string text = path.cast<std::string>();
+    if (text.empty()) throw std::invalid_argument(what + " must name a path (got '')");
+    return text;
+  }
   if (py::hasattr(path, "__fspath__")) {
     const py::object text = path.attr("__fspath__")();
-    if (py::isinstance<py::str>(text)) return text.cast<std::string>();
+    if (py::isinstance<py::str>(text)) return PathText(text, what);
   }
   throw py::type_error(what + " must be a path (str or os.PathLike), got " + TypeName(path));
 }
@@ -211,6 +243,8 @@ void Progress::Report(double done, bool force) {
   started_ = true;
   last_ = now;
   py::gil_scoped_acquire gil;
+  // A call that runs its work in the calling thread sees signals here (in
+  // Interruptible's worker Python reports none: the waiting thread does).
   if (PyErr_CheckSignals() != 0) throw py::error_already_set();
   if (!callback_.is_none()) callback_(done, total_);
 }

@@ -9,8 +9,14 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <atomic>
 #include <chrono>
+#include <future>
+#include <optional>
+#include <thread>
+#include <utility>
 #include <functional>
+#include <limits>
 #include <variant>
 #include <complex>
 #include <set>
@@ -59,6 +65,64 @@ py::array_t<std::complex<double>> Array(const std::vector<std::complex<double>>&
 // A path argument (str or os.PathLike) as text; TypeError naming `what`.
 std::string PathText(const py::handle& path, const std::string& what);
 
+// What a value of C++ type T is in Python's words, for messages: "an int
+// (within [-2147483648, 2147483647])", "a number (int or float)", "a str",
+// "a bool", "a list of ...".
+template <typename T>
+struct IsVector : std::false_type {};
+template <typename T>
+struct IsVector<std::vector<T>> : std::true_type {};
+
+template <typename T>
+std::string ExpectedType(bool plural = false) {
+  const std::string s = plural ? "s" : "";
+  const std::string a = plural ? "" : "a ";
+  if constexpr (std::is_same_v<T, bool>) {
+    return a + "bool" + s;
+  } else if constexpr (std::is_integral_v<T>) {
+    return (plural ? "" : "an ") + std::string("int") + s + " (within [" +
+           std::to_string(std::numeric_limits<T>::min()) + ", " +
+           std::to_string(std::numeric_limits<T>::max()) + "])";
+  } else if constexpr (std::is_floating_point_v<T>) {
+    return a + "number" + s + " (int or float)";
+  } else if constexpr (std::is_same_v<T, std::string>) {
+    return a + "str" + s;
+  } else if constexpr (IsVector<T>::value) {
+    return "a list of " + ExpectedType<typename T::value_type>(true);
+  } else {
+    return "of another type";
+  }
+}
+
+// The type of a value and, for an int, the int: "float", "int 2**70-like
+// 1180591620717411303424".
+std::string Described(const py::handle& value);
+
+// value as T, as a command line would read it: numpy scalars and arrays
+// as Python numbers and lists, a bool is no number and a float no int.
+// Throws py::cast_error otherwise (or for an int out of T's range).
+template <typename T>
+T Cast(const py::handle& given) {
+  py::object value = py::reinterpret_borrow<py::object>(given);
+  if (py::hasattr(value, "dtype") && py::hasattr(value, "tolist")) value = value.attr("tolist")();
+  if constexpr (std::is_same_v<T, bool>) {
+    if (!py::isinstance<py::bool_>(value)) throw py::cast_error();
+  } else if constexpr (std::is_arithmetic_v<T>) {
+    if (py::isinstance<py::bool_>(value)) throw py::cast_error();
+    if constexpr (std::is_integral_v<T>) {
+      if (!py::isinstance<py::int_>(value)) throw py::cast_error();
+    }
+  } else if constexpr (IsVector<T>::value) {
+    if (!py::isinstance<py::sequence>(value) || py::isinstance<py::str>(value)) {
+      throw py::cast_error();
+    }
+    T items;
+    for (const py::handle item : value) items.push_back(Cast<typename T::value_type>(item));
+    return items;
+  }
+  return value.cast<T>();
+}
+
 // The keyword options of one call, read with their types checked and
 // unknown names refused (TypeError naming the function and the option).
 class Options {
@@ -70,12 +134,12 @@ class Options {
   bool Read(const std::string& key, T* value) {
     known_.insert(key);
     if (!options_.contains(key)) return false;
+    const py::handle given = options_[key.c_str()];
     try {
-      *value = options_[key.c_str()].cast<T>();
+      *value = Cast<T>(given);
     } catch (const py::cast_error&) {
-      const py::handle type = py::type::of(options_[key.c_str()]);
-      throw py::type_error(function_ + "(): " + key + " has the wrong type (got " +
-                           std::string(py::str(type.attr("__name__"))) + ")");
+      throw py::type_error(function_ + "(): " + key + " must be " + ExpectedType<T>() + " (got " +
+                           Described(given) + ")");
     }
     return true;
   }
@@ -144,10 +208,10 @@ std::function<bool(const std::string&)> GivenKeywords(const Options& options,
 
 // Reports progress, done of total (simulated seconds, points), to a Python
 // callable `callback(done, total)` (or None) first at once, then at most
-// every 0.2 s of wall time; at the same times raises pending signals (Ctrl-C's
-// KeyboardInterrupt), so long calls can be interrupted. Report is called
-// without the GIL; it throws py::error_already_set when the callback
-// raises. Made and destroyed with the GIL held.
+// every 0.2 s of wall time, and raises pending signals when called in the
+// main thread. Report is called without the GIL, from any thread
+// (Interruptible's worker); it throws py::error_already_set when
+// the callback raises. Made and destroyed with the GIL held.
 class Progress {
  public:
   Progress(py::object callback, double total);
@@ -183,6 +247,49 @@ auto WithoutGil(F&& f) {
     EmitMujocoWarnings();
     return result;
   }
+}
+
+// Runs work(stop) without the GIL on a thread of its own while the
+// calling thread waits, looking for Python's signals every 0.1 s (in the
+// main thread; Python handles signals only there). When a handler raises
+// (Ctrl-C's KeyboardInterrupt), `stop` becomes true, the work ends at its
+// next safe point (a run's recorded sample, a bench's sample, between a
+// sweep's points: it returns or throws, it does not matter which), and the
+// handler's exception is raised then, with nothing written. Otherwise the
+// work's result is returned or its exception rethrown. MuJoCo's warnings
+// are emitted after. work(const std::atomic<bool>& stop) may report
+// Progress (which takes the GIL).
+template <typename F>
+auto Interruptible(F&& work) {
+  using Result = decltype(work(std::declval<const std::atomic<bool>&>()));
+  constexpr auto kSignalInterval = std::chrono::milliseconds(100);
+  std::atomic<bool> stop{false};
+  std::packaged_task<Result()> task([&] { return work(stop); });
+  std::future<Result> done = task.get_future();
+  std::optional<py::error_already_set> raised;
+  {
+    py::gil_scoped_release release;
+    std::thread worker(std::move(task));
+    while (done.wait_for(kSignalInterval) != std::future_status::ready) {
+      if (stop) continue;
+      py::gil_scoped_acquire gil;
+      if (PyErr_CheckSignals() != 0) {
+        raised.emplace();
+        stop = true;
+      }
+    }
+    worker.join();
+  }
+  EmitMujocoWarnings();
+  if (raised) throw std::move(*raised);
+  return done.get();
+}
+
+// What a run's observer throws at its safe point once `stop` is set, to
+// end the run (Interruptible raises the signal's exception instead).
+struct StopRequested {};
+inline void ThrowIfStopRequested(const std::atomic<bool>& stop) {
+  if (stop) throw StopRequested{};
 }
 
 // The module's parts.

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "ipmc_swim/ipmc_swim.h"
+#include "plugin/actuators/ipmc_actuators.h"
 #include "plugin/coupling.h"
 #include "sim/core/step_count.h"
 #include "sim/core/link_sensors.h"
@@ -27,9 +28,10 @@ void RequirePositive(double value, const char* field) {
 }  // namespace
 
 void BenchSignal::Validate() const {
-  if (!std::isfinite(amplitude_V) || std::abs(amplitude_V) > 100.0) {
+  if (!std::isfinite(amplitude_V) || std::abs(amplitude_V) > kDefaultVoltageLimit_V) {
     std::ostringstream msg;
-    msg << "bench: amplitude_V must be finite and within [-100, 100] V (got " << amplitude_V << ")";
+    msg << "bench: amplitude_V must be finite and within [-" << kDefaultVoltageLimit_V << ", "
+        << kDefaultVoltageLimit_V << "] V (got " << amplitude_V << ")";
     throw std::invalid_argument(msg.str());
   }
   RequirePositive(duration_s, "duration_s");

@@ -168,9 +168,11 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
                    scenario.source + ": one controller sample (controller.sample_rate_Hz)");
   const long steps_per_sample = StepsPerSample(scenario.sample_rate_Hz, dt, scenario.source);
   const double sample_period_s = steps_per_sample * dt;
-  // At least one controller sample per wave cycle.
+  // At least kMinSamplesPerWaveCycle controller samples per wave cycle.
   const long steps_per_cycle = CheckedStepCount(
-      period_s, dt, steps_per_sample, scenario.source + ": one wave cycle (waveform.frequency_Hz)");
+      period_s, dt, kMinSamplesPerWaveCycle * steps_per_sample,
+      scenario.source + ": one wave cycle (waveform.frequency_Hz), at least " +
+          std::to_string(kMinSamplesPerWaveCycle) + " controller samples,");
   const long samples_per_cycle = steps_per_cycle / steps_per_sample;
   const long record_every =
       std::max<long>(1, samples_per_cycle / std::max(1, scenario.samples_per_cycle));

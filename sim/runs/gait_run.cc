@@ -124,7 +124,10 @@ GaitRunResult RunGait(Simulation& sim, const Gait& gait, const GaitRunOptions& o
   result.gait = gait.Describe();
   result.period_s = gait.Period_s();
   result.timestep_s = dt;
-  const long steps_per_cycle = CheckedStepCount(gait.Period_s(), dt, 1, "gait: one cycle (the gait's period)");
+  const long steps_per_cycle = CheckedStepCount(
+      gait.Period_s(), dt, kMinSamplesPerWaveCycle,
+      "gait: one cycle (the gait's period; at least " + std::to_string(kMinSamplesPerWaveCycle) +
+          " steps)");
   const long sample_every =
       std::max<long>(1, steps_per_cycle / options.samples_per_cycle);
   CheckRunSize(static_cast<double>(options.cycles) * steps_per_cycle,

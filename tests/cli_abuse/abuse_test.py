@@ -27,6 +27,9 @@ CLAMPED_MODEL = os.path.join(MODELS, "flagellum3_clamped.xml")
 TIMEOUT_S = 60
 FULL_DISK_BYTES = 512
 FIXTURES = set()  # everything in the scratch folder before the cases
+# {long} in a case: a name that fits in a folder (255 bytes) but not with
+# its temporary's suffix.
+LONG_NAME = "n" * 245
 
 
 def write(path, text, mode="w"):
@@ -97,6 +100,10 @@ def make_fixtures(d):
     write(f"{d}/actuation_bad.xml", model_with('name="ipmc_actuation" data="distributed"',
                                                'name="ipmc_actuation" data="everywhere"'))
     write(f"{d}/coefficients_bad.xml", model_with('data="gray_hancock"', 'data="stokes"'))
+    # The links' voltage range (ipmc_voltage_limit_V): none, and 1 V.
+    for name, limit in (("limit_zero", "0"), ("limit_low", "1")):
+        write(f"{d}/{name}.xml", model_with('<custom>', '<custom>\n    <numeric '
+              f'name="ipmc_voltage_limit_V" data="{limit}"/>', CLAMPED_MODEL))
     # Scenarios.
     write(f"{d}/short.toml", SHORT_SCENARIO)
     write(f"{d}/long.toml", scenario(**{"waveform.frequency_Hz": "0.01", "cycles": "3"}))
@@ -164,6 +171,8 @@ def make_fixtures(d):
     write(f"{d}/sweep_hugegrid.toml", 'base = "short.toml"\n[grid]\ncycles = [' +
           ", ".join(str(i) for i in range(1, 1002)) + ']\n"waveform.frequency_Hz" = [' +
           ", ".join(str(i) for i in range(1, 1001)) + "]\n")
+    write(f"{d}/sweep_fast.toml", 'base = "short.toml"\n[grid]\n"waveform.frequency_Hz" = '
+          '[1000.0, 2000.0]\n')
     write(f"{d}/sweep_syntax.toml", 'base = "short.toml"\n[grid\n')
     write(f"{d}/sweep_long.toml", 'base = "long.toml"\n[grid]\n"waveform.frequency_Hz" = '
           '[0.01, 0.011, 0.012, 0.013]\n')
@@ -187,6 +196,12 @@ def make_fixtures(d):
     write(f"{d}/bench_text.csv", bench[0] + "\n0,1,x,0\n0.001,1,2,0\n")
     write(f"{d}/bench_ragged.csv", bench[0] + "\n0,1\n")
     write(f"{d}/bench_header_only.csv", bench[0] + "\n")
+    # Time columns that are not evenly sampled: a missing row, a step back, a repeat.
+    write(f"{d}/bench_jump.csv", "\n".join(bench[:2001] + bench[2002:]) + "\n")
+    backward = list(bench)
+    backward[3001] = "2.998" + backward[3001][backward[3001].index(","):]
+    write(f"{d}/bench_backward.csv", "\n".join(backward) + "\n")
+    write(f"{d}/bench_repeat.csv", "\n".join(bench[:1001] + bench[1000:]) + "\n")
     write(f"{d}/gait_ok.csv", "time_s,q1,q2,q3\n0,0,0,0\n10,0.1,0.1,0.1\n20,0,0,0\n")
     write(f"{d}/gait_cols.csv", "time_s,q1,q2\n0,0,0\n1,0.1,0.1\n")
     write(f"{d}/gait_huge.csv", "time_s,q1,q2,q3\n0,0,0,0\n10,1e300,1e300,1e300\n20,0,0,0\n")
@@ -239,7 +254,8 @@ def full_disk_limits():
 def run_case(d, case):
     # Root writes into a mode-555 folder: it gets /proc/self instead.
     readonly = "/proc/self" if os.geteuid() == 0 else f"{d}/readonly"
-    args = [PROGRAM] + [a.format(d=d, models=MODELS, scenarios=SCENARIOS, readonly=readonly)
+    args = [PROGRAM] + [a.format(d=d, models=MODELS, scenarios=SCENARIOS, readonly=readonly,
+                                 long=LONG_NAME)
                         for a in shlex.split(case["args"])]
     mode = case["mode"].split()
     signal_name = mode[0] if mode[0] in ("SIGINT", "SIGTERM", "SIGHUP") else None

@@ -83,7 +83,8 @@ def test_analysis_and_bench_errors_are_the_command_lines(tmp_path):
 
 
 def test_a_wrong_keyword_type_names_the_keyword():
-    with pytest.raises(TypeError, match="step\\(\\): v_max_V has the wrong type"):
+    with pytest.raises(TypeError, match=r"step\(\): v_max_V must be a number \(int or float\) "
+                                        r"\(got str\)"):
         ipmc_swim.step("pid", v_max_V="six")
 
 

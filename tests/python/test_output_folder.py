@@ -1,15 +1,15 @@
-"""A run's output folder holds one run's files, whatever happens: two runs
-started into one folder never mix their files (the second is refused while
-the first holds the folder, or replaces the first's set whole), a run that
+"""A run's output folder holds one run's files, whatever happens: a run that
 fails leaves the previous results as they were, and files of an earlier
 run's set that a new run does not write (run.mat, run.h5) go
-(sim/io/files.h: DirectoryLock, WriteFilesTogether)."""
+(sim/io/files.h: WriteFilesTogether). Two runs at once into one folder:
+test_concurrent_outputs.py."""
 
+import os
 import subprocess
 
 import pytest
 
-from conftest import CLI, run_cli
+from conftest import run_cli
 
 FILES = ["timeseries.csv", "states.csv", "summary.json"]
 
@@ -37,25 +37,6 @@ def references(tmp_path_factory):
     return scenario, outputs
 
 
-def test_two_runs_into_one_folder_never_mix_their_files(tmp_path, references):
-    scenario, outputs = references
-    refused = 0
-    for attempt in range(25):
-        out = tmp_path / f"shared{attempt}"
-        first = subprocess.Popen([CLI, "run", scenario, "--out", out, *RUN_A],
-                                 stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-        second = subprocess.Popen([CLI, "run", scenario, "--out", out, *RUN_B],
-                                  stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-        errors = [first.communicate()[1], second.communicate()[1]]
-        statuses = [first.returncode, second.returncode]
-        for status, error in zip(statuses, errors):
-            assert status == 0 or "in use by another run" in error, error
-        refused += statuses.count(1)
-        found = contents(out)
-        assert found in (outputs["a"], outputs["b"]), f"attempt {attempt}: files of two runs"
-    print(f"{refused} of 25 second runs refused while the first held the folder")
-
-
 def test_a_failed_run_leaves_the_previous_results_as_they_were(tmp_path, references):
     scenario, outputs = references
     out = tmp_path / "kept"
@@ -81,3 +62,32 @@ def test_a_run_without_a_format_removes_the_earlier_runs_file_of_it(tmp_path, re
     run_cli("run", scenario, "--out", out, *RUN_A)
     assert sorted(p.name for p in out.iterdir()) == sorted(FILES)
     assert contents(out) == outputs["a"]
+
+
+def dead_pid():
+    """The PID of a process that has ended (and been reaped)."""
+    child = subprocess.Popen(["true"])
+    child.wait()
+    return child.pid
+
+
+def test_a_killed_writers_temporaries_go_with_the_next_write(tmp_path, references):
+    """A merge or run killed mid-write leaves NAME.tmp.PID.XXXXXX files; the
+    next write of the same outputs removes those of processes that no
+    longer run, and keeps those of one that runs (it may be writing)."""
+    scenario, _ = references
+    header = "point,cycles,status,error,mean_speed_along_mm_s\n"
+    (tmp_path / "s1.csv").write_text(header + "0,1,ok,,0.5\n")
+    (tmp_path / "s2.csv").write_text(header + "1,2,ok,,0.6\n")
+    stale = [tmp_path / f"m.csv.tmp.{dead_pid()}.abcdef", tmp_path / f"m.json.tmp.{dead_pid()}.ghijkl"]
+    out = tmp_path / "run"
+    out.mkdir()
+    stale += [out / f"{name}.tmp.{dead_pid()}.mnopqr" for name in FILES]
+    alive = tmp_path / f"m.csv.tmp.{os.getpid()}.stuvwx"
+    for path in stale + [alive]:
+        path.write_text("half a table")
+    run_cli("merge", tmp_path / "s1.csv", tmp_path / "s2.csv", "--out", tmp_path / "m")
+    run_cli("run", scenario, "--out", out, *RUN_A)
+    assert [path for path in stale if path.exists()] == []
+    assert alive.exists()
+    assert sorted(p.name for p in out.iterdir()) == sorted(FILES)

@@ -12,7 +12,7 @@ import subprocess
 
 import pytest
 
-from conftest import CLI
+from conftest import CLI, SOURCE_DIR
 
 # One 2 s cycle filmed at 4 frames: a fraction of a second.
 FAST = ["--cycles", "1", "--set", "waveform.frequency_Hz=0.5", "--frames-per-cycle", "4",
@@ -69,3 +69,55 @@ def test_render_to_a_url_like_path_connects_nowhere(tmp_path, short_scenario, li
     assert done.returncode == 0, done.stderr
     assert connections(listener) == 0
     assert (tmp_path / target).is_file()
+
+
+# Every other output, by the command line and by Python: a URL-like name
+# is a relative path like any other, written where it says, and nothing
+# connects.
+URL_NAMES = ["tcp:127.0.0.1:{port}", "http:127.0.0.1:{port}", "-dash"]
+
+
+def command_outputs(folder, short_scenario, target):
+    clamped = SOURCE_DIR / "models" / "flagellum3_clamped.xml"
+    (folder / "sweep.toml").write_text(f'base = "{short_scenario}"\n[set]\ncycles = 1\n'
+                                       '"waveform.frequency_Hz" = 0.5\n[grid]\n'
+                                       'segments_per_link = [1]\n')
+    return [
+        (["bench", "--model", clamped, "--duration-s", "4", f"--out={target}.csv"],
+         [f"{target}.csv"]),
+        (["generate", f"--out={target}.xml"], [f"{target}.xml"]),
+        (["run", short_scenario, "--cycles", "1", "--set", "waveform.frequency_Hz=0.5",
+          f"--out={target}_run"], [f"{target}_run/summary.json"]),
+        (["sweep", "sweep.toml", "--jobs", "1", f"--out={target}_table"],
+         [f"{target}_table.csv", f"{target}_table.json"]),
+        # Inputs as ./NAME: a positional "-dash..." would be read as an option.
+        (["merge", f"--out={target}_merged", f"./{target}_table.csv"], [f"{target}_merged.csv"]),
+        (["identify", f"./{target}.csv", "--input", "voltage1_V", "--output", "relative1_mm",
+          "--band-rad-s", "8,50", f"--out={target}_id"], [f"{target}_id/identification.json"]),
+    ]
+
+
+@pytest.mark.parametrize("name", URL_NAMES)
+def test_no_output_of_any_command_connects_anywhere(tmp_path, short_scenario, listener, name):
+    target = name.format(port=listener.getsockname()[1])
+    for args, written in command_outputs(tmp_path, short_scenario, target):
+        done = run_in(tmp_path, *args)
+        assert done.returncode == 0, (args, done.stderr)
+        assert connections(listener, wait_s=0.2) == 0, args
+        for path in written:
+            assert (tmp_path / pathlib.Path(path)).is_file(), (args, sorted(tmp_path.rglob("*")))
+
+
+@pytest.mark.parametrize("name", URL_NAMES)
+def test_no_python_output_connects_anywhere(tmp_path, short_scenario, listener, name, monkeypatch):
+    import ipmc_swim
+
+    monkeypatch.chdir(tmp_path)
+    target = name.format(port=listener.getsockname()[1])
+    clamped = str(SOURCE_DIR / "models" / "flagellum3_clamped.xml")
+    ipmc_swim.bench(clamped, duration_s=0.5, out=f"{target}.csv")
+    ipmc_swim.generate_model(out=f"{target}.xml")
+    ipmc_swim.run(short_scenario, out=f"{target}_run", cycles=1, **{"waveform.frequency_Hz": 0.5})
+    assert connections(listener, wait_s=0.2) == 0
+    for path in (f"{target}.csv", f"{target}.xml", f"{target}_run/summary.json"):
+        assert (tmp_path / pathlib.Path(path)).is_file(), sorted(tmp_path.rglob("*"))

@@ -101,7 +101,7 @@ def run(scenario, *, out=None, formats=(), allow_long=False, progress=None, **ov
     ``summary`` (summary.json's contents, without its inputs, as a dict).
     """
     raw = _core.run(scenario, overrides,
-                    _options({}, out=out, formats=list(formats), allow_long=allow_long), progress)
+                    _options({}, out=out, formats=formats, allow_long=allow_long), progress)
     summary = raw["summary"]
     return Result(timeseries=raw["timeseries"], cycles=_columns(summary["per_cycle"]),
                   links=_columns(summary["links"]), summary=summary)
@@ -122,7 +122,7 @@ def sweep(sweep_file, *, jobs=None, shard="1/1", out=None, formats=(), keep_runs
     results).
     """
     table = _core.sweep(sweep_file, _options({}, jobs=jobs, shard=shard, out=out,
-                                             formats=list(formats), keep_runs=keep_runs),
+                                             formats=formats, keep_runs=keep_runs),
                         progress)
     columns = _columns(table["points"])
     return {name: columns.get(name, np.array([], dtype=object)) for name in table["columns"]}

@@ -1,0 +1,226 @@
+"""Bad input from Python, as a table: every call with a wrong value raises
+ipmc_swim.Error (a ValueError) with the command line's one line, every
+wrong type a TypeError naming the keyword and the type it takes (never
+pybind11's "Unable to cast"), before any work and with nothing written;
+numpy scalars and arrays count as the numbers and lists they hold. The
+command line's table is tests/cli_abuse/cases.txt."""
+
+import os
+
+import numpy as np
+import pytest
+
+import ipmc_swim
+from conftest import SHORT_SCENARIO
+
+CLAMPED = os.path.join(ipmc_swim.MODELS_DIR, "flagellum3_clamped.xml")
+FREE = os.path.join(ipmc_swim.MODELS_DIR, "flagellum3.xml")
+# One 2 s cycle: quick enough for the cases that run.
+QUICK = {"cycles": 1, "waveform.frequency_Hz": 0.5}
+OK = None  # the call succeeds
+
+
+def bench(**options):
+    return lambda d: ipmc_swim.bench(CLAMPED, **{"duration_s": 0.2, **options})
+
+
+def run(**options):
+    return lambda d: ipmc_swim.run(d / "short.toml", **{**QUICK, **options})
+
+
+def sweep(**options):
+    return lambda d: ipmc_swim.sweep(d / "sweep.toml", **{"jobs": 1, **options})
+
+
+def generate(**options):
+    return lambda d: ipmc_swim.generate_model(**options)
+
+
+def simulation(*voltages):
+    def call(d):
+        s = ipmc_swim.Simulation(d / "short.toml")
+        for volts in voltages:
+            s.set_voltages(volts)
+        s.step(10)
+    return call
+
+
+def identify(time_s, **options):
+    def call(d):
+        n = len(time_s)
+        k = np.arange(n)
+        data = {"time_s": np.asarray(time_s, dtype=float),
+                "voltage1_V": np.sin(0.37 * k) + np.sin(1.3 * k),
+                "relative1_mm": np.sin(0.37 * k - 0.2) + 0.5 * np.sin(1.3 * k - 0.4)}
+        return ipmc_swim.identify(data, "voltage1_V", "relative1_mm", band_rad_s=[8.0, 50.0],
+                                  **options)
+    return call
+
+
+EVEN = np.arange(4000) / 1000.0
+JUMP = EVEN.copy()
+JUMP[2000:] += 1e-3  # one sample missing
+BACKWARD = EVEN.copy()
+BACKWARD[3000] = BACKWARD[2999] - 1e-3
+
+# (name, call, exception, fragment of the message).
+CASES = [
+    # Scenario keys: numbers, numpy, the range of a scenario integer.
+    ("cycles 2**70", run(cycles=2 ** 70), TypeError, "cycles: the int 1180591620717411303424 is beyond"),
+    ("cycles -2**70", run(cycles=-2 ** 70), TypeError, "cycles: the int"),
+    ("cycles float", run(cycles=1.5), ipmc_swim.Error, "cycles must be an integer (got float)"),
+    ("cycles bool", run(cycles=True), ipmc_swim.Error, "cycles must be an integer"),
+    ("cycles str", run(cycles="1"), ipmc_swim.Error, "cycles must be an integer"),
+    ("cycles object", run(cycles=object()), TypeError, "cycles"),
+    ("cycles np.int64", run(cycles=np.int64(1)), OK, ""),
+    ("cycles np.float32", run(cycles=np.float32(1.5)), ipmc_swim.Error, "cycles must be an integer"),
+    ("frequency np.float32", run(**{"waveform.frequency_Hz": np.float32(0.5)}), OK, ""),
+    ("frequency np.float64", run(**{"waveform.frequency_Hz": np.float64(0.5)}), OK, ""),
+    ("frequency array", run(**{"waveform.frequency_Hz": np.array([0.5])}), ipmc_swim.Error,
+     "frequency_Hz"),
+    ("frequency two steps", run(**{"waveform.frequency_Hz": 1000.0}), ipmc_swim.Error,
+     "at least 10 controller samples"),
+    ("frequency nan", run(**{"waveform.frequency_Hz": float("nan")}), ipmc_swim.Error,
+     "frequency_Hz"),
+    ("frequency str", run(**{"waveform.frequency_Hz": "fast"}), ipmc_swim.Error, "frequency_Hz"),
+    ("kp np.float32", run(controller={"kp": np.float32(8.0)}), OK, ""),
+    ("kp list", run(controller={"kp": [1.0, 2.0]}), ipmc_swim.Error, "kp"),
+    ("v_max_V negative", run(controller={"v_max_V": -1.0}), ipmc_swim.Error, "v_max_V"),
+    ("controller not a table", run(controller=3), ipmc_swim.Error, "controller"),
+    ("unknown key", run(colour="blue"), ipmc_swim.Error, "unknown key 'colour'"),
+    ("key not a str", lambda d: ipmc_swim.run({1: 2}), TypeError, "scenario keys must be strings"),
+    ("link lengths array", run(link_lengths_mm=np.array([10.0, 10.0, 10.0]),
+                               segments_per_link=1), OK, ""),
+    ("link lengths with str", run(link_lengths_mm=[10.0, "x", 10.0], segments_per_link=1),
+     ipmc_swim.Error, "link_lengths_mm"),
+    # run's own arguments.
+    ("run out empty", run(out=""), ipmc_swim.Error, "out must name a path (got '')"),
+    ("run out int", run(out=5), TypeError, "out must be a path"),
+    ("run out is the scenario", lambda d: ipmc_swim.run(d / "short.toml", out=d / "short.toml"),
+     ipmc_swim.Error, "short.toml"),
+    ("run scenario empty", lambda d: ipmc_swim.run(""), ipmc_swim.Error, "scenario must name a path"),
+    ("run scenario int", lambda d: ipmc_swim.run(7), TypeError, "scenario must be a path"),
+    ("run formats unknown", run(out="x", formats=["xls"]), ipmc_swim.Error, "format"),
+    ("run formats mat without out", run(formats=["mat"]), ipmc_swim.Error, "need an output folder (out)"),
+    ("run progress not callable", run(progress=5), TypeError, "progress must be callable"),
+    # sweep
+    ("sweep jobs 1.5", sweep(jobs=1.5), TypeError, "sweep(): jobs must be an int"),
+    ("sweep jobs 2**70", sweep(jobs=2 ** 70), TypeError, "jobs must be an int (within"),
+    ("sweep jobs str", sweep(jobs="2"), TypeError, "jobs must be an int"),
+    ("sweep jobs bool", sweep(jobs=True), TypeError, "jobs must be an int"),
+    ("sweep jobs np.int64", sweep(jobs=np.int64(1)), OK, ""),
+    ("sweep jobs 0", sweep(jobs=0), ipmc_swim.Error, "jobs"),
+    ("sweep formats int", sweep(formats=5), TypeError, "formats must be a list of strs (got int 5)"),
+    ("run formats str", run(out="x", formats="mat"), TypeError, "formats must be a list of strs"),
+    ("sweep shard 3/2", sweep(shard="3/2"), ipmc_swim.Error, "shard"),
+    ("sweep shard text", sweep(shard="x"), ipmc_swim.Error, "shard"),
+    ("sweep out empty", sweep(out=""), ipmc_swim.Error, "out must name a path (got '')"),
+    ("sweep out dir/", sweep(out="tables/"), ipmc_swim.Error, "must name the table's files"),
+    ("sweep out a folder", lambda d: ipmc_swim.sweep(d / "sweep.toml", jobs=1, out=d),
+     ipmc_swim.Error, "must name the table's files"),
+    ("sweep out name too long", lambda d: ipmc_swim.sweep(d / "sweep.toml", jobs=1,
+                                                          out=d / ("t" * 240)),
+     ipmc_swim.Error, "name too long"),
+    ("sweep file missing", lambda d: ipmc_swim.sweep(d / "none.toml"), ipmc_swim.Error,
+     "cannot open"),
+    ("sweep file empty path", lambda d: ipmc_swim.sweep(""), ipmc_swim.Error, "must name a path"),
+    # bench: the option table's types.
+    ("bench duration str", bench(duration_s="1"), TypeError,
+     "bench(): duration_s must be a number (int or float) (got str)"),
+    ("bench duration bool", bench(duration_s=True), TypeError, "duration_s must be a number"),
+    ("bench duration np.float32", bench(duration_s=np.float32(0.2)), OK, ""),
+    ("bench duration np.int64", bench(duration_s=np.int64(1)), OK, ""),
+    ("bench amplitude 1e6", bench(amplitude_V=1e6), ipmc_swim.Error, "amplitude_V"),
+    ("bench amplitude nan", bench(amplitude_V=float("nan")), ipmc_swim.Error, "amplitude_V"),
+    ("bench amplitude 2**70", bench(amplitude_V=2 ** 70), ipmc_swim.Error, "amplitude_V"),
+    ("bench links array", bench(links=np.array([1, 3])), OK, ""),
+    ("bench links floats", bench(links=[1.5]), TypeError, "links must be a list of ints"),
+    ("bench links int", bench(links=1), TypeError, "links must be a list of ints"),
+    ("bench links str", bench(links="1"), TypeError, "links must be a list of ints"),
+    ("bench links 2**70", bench(links=[2 ** 70]), TypeError, "links must be a list of ints"),
+    ("bench links float array", bench(links=np.array([1.0])), TypeError,
+     "links must be a list of ints"),
+    ("bench links 4", bench(links=[4]), ipmc_swim.Error, "driven link"),
+    ("bench allow_long str", bench(allow_long="yes"), TypeError, "allow_long must be a bool"),
+    ("bench allow_long np.bool_", bench(allow_long=np.bool_(False)), OK, ""),
+    ("bench signal int", bench(signal=3), TypeError, "signal must be a str"),
+    ("bench signal square", bench(signal="square"), ipmc_swim.Error, "signal"),
+    ("bench unknown keyword", bench(duration=1.0), TypeError, "unexpected keyword argument 'duration'"),
+    ("bench out empty", bench(out=""), ipmc_swim.Error, "must name a path (got '')"),
+    ("bench out is the model", bench(out=CLAMPED), ipmc_swim.Error, "would overwrite the input"),
+    ("bench out a folder", lambda d: ipmc_swim.bench(CLAMPED, duration_s=0.2, out=d),
+     ipmc_swim.Error, "is a directory"),
+    ("bench out name too long", lambda d: ipmc_swim.bench(CLAMPED, duration_s=0.2,
+                                                          out=d / ("b" * 250 + ".csv")),
+     ipmc_swim.Error, "name too long"),
+    # Simulation: voltages within the model's range (ipmc_voltage_limit_V).
+    ("voltages 1e6", simulation([1e6] * 3), ipmc_swim.Error, "outside the model's range [-100, 100] V"),
+    ("voltages 101", simulation([0.0, 101.0, 0.0]), ipmc_swim.Error, "voltage of link 2 is 101 V"),
+    ("voltages -101", simulation([-101.0, 0.0, 0.0]), ipmc_swim.Error, "outside the model's range"),
+    ("voltages at the limit", simulation([100.0, -100.0, 0.0]), OK, ""),
+    ("voltages array", simulation(np.array([1.0, 2.0, 3.0])), OK, ""),
+    ("voltages float32", simulation([np.float32(1.0)] * 3), OK, ""),
+    ("voltages nan", simulation([float("nan"), 0.0, 0.0]), ipmc_swim.Error, "not finite"),
+    ("voltages inf", simulation([0.0, float("inf"), 0.0]), ipmc_swim.Error, "not finite"),
+    ("voltages two", simulation([1.0, 2.0]), ipmc_swim.Error, "2 voltages for 3 links"),
+    ("voltages str", simulation(["a", "b", "c"]), TypeError, "voltages_V"),
+    # generate_model: what the loader would reject is refused.
+    ("generate wavelength 0.5 mm", generate(wavelength_mm=0.5), ipmc_swim.Error,
+     "wavelength_mm = 0.5 is too short"),
+    ("generate lighthill wavelength 2 mm", generate(coefficients="lighthill", wavelength_mm=2.0),
+     ipmc_swim.Error, "wavelength_mm = 2 is too short"),
+    ("generate 64 x 2 segments", generate(link_lengths_mm=[0.4] * 64, segments_per_link=2),
+     ipmc_swim.Error, "segments_per_link must be <= 1"),
+    ("generate segments float", generate(segments_per_link=1.5), TypeError,
+     "segments_per_link must be an int"),
+    ("generate segments 2**70", generate(segments_per_link=2 ** 70), TypeError,
+     "segments_per_link must be an int"),
+    ("generate lengths array", generate(link_lengths_mm=np.array([10.0, 10.0])), OK, ""),
+    ("generate lengths str", generate(link_lengths_mm="10,10"), TypeError,
+     "link_lengths_mm must be a list of numbers"),
+    ("generate name int", generate(name=5), TypeError, "name must be a str"),
+    ("generate out empty", generate(out=""), ipmc_swim.Error, "must name a path (got '')"),
+    ("generate out a folder", lambda d: ipmc_swim.generate_model(out=d), ipmc_swim.Error,
+     "is a directory"),
+    # The analyses.
+    ("bode kp np.float32", lambda d: ipmc_swim.bode("pid", links=[1], kp=np.float32(2.0)), OK, ""),
+    ("bode links array", lambda d: ipmc_swim.bode("pid", links=np.array([1, 2])), OK, ""),
+    ("bode kp str", lambda d: ipmc_swim.bode("pid", kp="2"), TypeError, "kp must be a number"),
+    ("bode links 2**70", lambda d: ipmc_swim.bode("pid", links=[2 ** 70]), TypeError,
+     "links must be a list of ints"),
+    ("step horizon bool", lambda d: ipmc_swim.step("pid", horizon_s=True), TypeError,
+     "horizon_s must be a number"),
+    ("design links floats", lambda d: ipmc_swim.design(links=[1.0]), TypeError,
+     "links must be a list of ints"),
+    ("identify even time", identify(EVEN), OK, ""),
+    ("identify time jumps", identify(JUMP), ipmc_swim.Error, "jumps at data row 2001"),
+    ("identify time backward", identify(BACKWARD), ipmc_swim.Error, "runs backward at data row 3001"),
+    ("identify rate np.float64", identify(EVEN, sample_rate_Hz=np.float64(1000.0)), OK, ""),
+    ("identify rate str", identify(EVEN, sample_rate_Hz="1000"), TypeError,
+     "sample_rate_Hz must be a number"),
+]
+
+
+@pytest.fixture
+def folder(tmp_path):
+    (tmp_path / "short.toml").write_text(SHORT_SCENARIO)
+    (tmp_path / "sweep.toml").write_text('base = "short.toml"\n[set]\ncycles = 1\n'
+                                         '"waveform.frequency_Hz" = 0.5\n[grid]\n'
+                                         'segments_per_link = [1]\n')
+    return tmp_path
+
+
+@pytest.mark.parametrize("name, call, error, fragment", CASES, ids=[case[0] for case in CASES])
+def test_bad_input(folder, monkeypatch, name, call, error, fragment):
+    monkeypatch.chdir(folder)
+    before = sorted(folder.rglob("*"))
+    if error is OK:
+        call(folder)
+        return
+    with pytest.raises(error) as raised:
+        call(folder)
+    message = str(raised.value)
+    assert fragment in message, message
+    assert "Unable to cast" not in message
+    assert "\n" not in message.strip(), message
+    assert sorted(folder.rglob("*")) == before, "a failed call left files"

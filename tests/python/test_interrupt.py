@@ -1,0 +1,93 @@
+"""Ctrl-C stops run(), sweep() and bench() at a safe point, as it stops the
+command line: the work runs without the GIL while the calling thread looks
+for signals (convert.h, Interruptible), so SIGINT raises KeyboardInterrupt
+at the next recorded sample of a run or bench, or between a sweep's
+points, and nothing is written. Each call runs in a child interpreter that
+reports its first progress; the test sends SIGINT then and waits a bounded
+time for the child to end."""
+
+import os
+import signal
+import subprocess
+import sys
+
+import pytest
+
+from conftest import SOURCE_DIR
+
+MODELS = SOURCE_DIR / "models"
+
+# 300 s of swimming at 0.5 ms steps: minutes of work, stopped in seconds.
+LONG_SCENARIO = f"""
+model = "{MODELS / 'flagellum3.xml'}"
+cycles = 3
+timestep_s = 5e-4
+[controller]
+kind = "pid"
+[waveform]
+frequency_Hz = 0.01
+[output]
+samples_per_cycle = 20
+"""
+
+# Six points of one 1 s cycle each, run one at a time.
+SHORT_POINT = LONG_SCENARIO.replace("cycles = 3", "cycles = 1").replace(
+    "frequency_Hz = 0.01", "frequency_Hz = 1.0")
+SWEEP = ('base = "point.toml"\n[grid]\n"waveform.frequency_Hz" = '
+         '[1.0, 0.9, 0.8, 0.7, 0.6, 0.5, 0.45, 0.4, 0.35, 0.3]\n')
+
+CALLS = {
+    "run": "ipmc_swim.run('long.toml', out='out', progress=progress)",
+    "sweep": "ipmc_swim.sweep('sweep.toml', jobs=1, out='out/table', progress=progress)",
+    "bench": ("ipmc_swim.bench(os.path.join(ipmc_swim.MODELS_DIR, 'flagellum3_clamped.xml'), "
+              "duration_s=2000, out='out/bench.csv', progress=progress)"),
+}
+
+PROGRAM = """
+import os, sys
+import ipmc_swim
+calls = []
+def progress(done, total):
+    calls.append(done)
+    print(f"progress {{done}} {{total}}", flush=True)
+try:
+    {call}
+except KeyboardInterrupt:
+    print(f"interrupted after {{len(calls)}} reports", flush=True)
+    sys.exit(130)
+print("finished", flush=True)
+"""
+
+STOP_TIMEOUT_S = 60
+
+
+@pytest.mark.parametrize("function", sorted(CALLS))
+def test_ctrl_c_stops_the_call_at_a_safe_point(tmp_path, function):
+    (tmp_path / "long.toml").write_text(LONG_SCENARIO)
+    (tmp_path / "point.toml").write_text(SHORT_POINT)
+    (tmp_path / "sweep.toml").write_text(SWEEP)
+    program = PROGRAM.format(call=CALLS[function])
+    child = subprocess.Popen([sys.executable, "-c", program], cwd=tmp_path,
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                             env=os.environ)
+    try:
+        first = child.stdout.readline()
+        assert first.startswith("progress "), first + child.stderr.read()
+        if function == "sweep":  # the first report comes after the first point
+            total = int(float(first.split()[2]))
+        child.send_signal(signal.SIGINT)
+        stdout, stderr = child.communicate(timeout=STOP_TIMEOUT_S)
+    finally:
+        if child.poll() is None:
+            child.kill()
+            child.communicate()
+    assert child.returncode == 130, stdout + stderr
+    assert "interrupted after" in stdout, stdout + stderr
+    assert "finished" not in stdout
+    if function == "sweep":
+        reports = [line for line in (first + stdout).splitlines() if line.startswith("progress")]
+        assert int(float(reports[-1].split()[1])) < total, "every point ran"
+    # Nothing written: no table, no run folder, no bench CSV, no temporary.
+    left = sorted(p.relative_to(tmp_path).as_posix() for p in (tmp_path / "out").rglob("*")) \
+        if (tmp_path / "out").exists() else []
+    assert left == [], left
