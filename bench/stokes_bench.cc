@@ -10,7 +10,10 @@
 //    (n = 4 diverges at 0.5 ms);
 //  - the Stokes step alone against the number of hinges (3 to 96) on the
 //    clamped flagellum, 3 V sines, counter step_hinge: the time per step
-//    and hinge, flat if the cost is linear in the number of segments.
+//    and hinge, flat if the cost is linear in the number of segments;
+//  - one 100 s cycle of that clamped flagellum at 1 and 32 sub-segments
+//    per link (96 hinges: 32 per link fit the nesting limit without the
+//    head).
 // Ratios at the end: CPU time relative to BM_BareEuler, and the sub-segment
 // rows relative to the rigid Stokes row.
 //
@@ -86,32 +89,41 @@ void BM_SegmentsInertial(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(RunScenario(scenario));
 }
 
-// 10 000 Stokes steps of 1 ms of the clamped flagellum with n sub-segments
+// `steps` Stokes steps of 1 ms of the clamped flagellum (no head, so 32
+// sub-segments per link fit MuJoCo's nesting limit) with n sub-segments
 // per link, voltages 3 sin(2 pi t - q pi / 4) new every step.
-void BM_StepPerHinge(benchmark::State& state) {
+void StepClamped(int segments_per_link, long steps) {
   FlagellumSpec spec;
   spec.clamped = true;
   spec.head_length_mm = 0;
-  spec.segments_per_link = static_cast<int>(state.range(0));
+  spec.segments_per_link = segments_per_link;
   spec.timestep_s = 1e-3;
   spec.integrator = "Euler";
   IpmcActuatorsOverrides overrides;
   overrides.dynamics = Dynamics::kStokes;
-  const long steps = 10000;
-  const int hinges = 3 * spec.segments_per_link;
-  for (auto _ : state) {
-    Simulation sim(LoadModelString(GenerateFlagellumMjcf(spec)), "clamped flagellum", overrides);
-    std::vector<double> volts(3);
-    for (long i = 0; i < steps; ++i) {
-      for (int q = 0; q < 3; ++q) volts[q] = 3.0 * std::sin(kTwoPi * sim.data()->time - 0.785 * q);
-      SetVoltages(sim.data(), volts.data(), 3);
-      sim.Step(false);
-    }
+  Simulation sim(LoadModelString(GenerateFlagellumMjcf(spec)), "clamped flagellum", overrides);
+  std::vector<double> volts(3);
+  for (long i = 0; i < steps; ++i) {
+    for (int q = 0; q < 3; ++q) volts[q] = 3.0 * std::sin(kTwoPi * sim.data()->time - 0.785 * q);
+    SetVoltages(sim.data(), volts.data(), 3);
+    sim.Step(false);
   }
+}
+
+// 10 000 steps: the cost per step and hinge.
+void BM_StepPerHinge(benchmark::State& state) {
+  const long steps = 10000;
+  const int hinges = 3 * static_cast<int>(state.range(0));
+  for (auto _ : state) StepClamped(static_cast<int>(state.range(0)), steps);
   const auto per_item = benchmark::Counter::kIsRate | benchmark::Counter::kInvert;
   const double total = static_cast<double>(steps) * state.iterations();
   state.counters["step"] = benchmark::Counter(total, per_item);
   state.counters["step_hinge"] = benchmark::Counter(total * hinges, per_item);
+}
+
+// One 100 s cycle (100 000 steps) of the clamped flagellum.
+void BM_ClampedCycle(benchmark::State& state) {
+  for (auto _ : state) StepClamped(static_cast<int>(state.range(0)), 100000);
 }
 
 void Long(benchmark::internal::Benchmark* b) {
@@ -127,6 +139,7 @@ BENCHMARK(BM_BareEuler)->Apply(Long);
 BENCHMARK(BM_SegmentsStokes)->Arg(1)->Arg(2)->Arg(4)->Arg(8)->Arg(16)->Arg(31)->Apply(Once);
 BENCHMARK(BM_SegmentsInertial)->Arg(1)->Arg(2)->Apply(Once);
 BENCHMARK(BM_StepPerHinge)->Arg(1)->Arg(2)->Arg(4)->Arg(8)->Arg(16)->Arg(32)->Apply(Long);
+BENCHMARK(BM_ClampedCycle)->Arg(1)->Arg(32)->Apply(Once);
 
 }  // namespace
 }  // namespace ipmc

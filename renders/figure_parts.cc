@@ -122,4 +122,26 @@ std::string StackedPanel(double height_in, double top_in, double tall_in, double
   return PanelBox(left, right, 1.0 - (top_in + tall_in) / height_in, 1.0 - top_in / height_in);
 }
 
+SteadyCycles SteadyCyclesOf(const std::vector<double>& t_s, double period_s) {
+  if (t_s.empty() || !(period_s > 0.0)) return {t_s.empty() ? 0.0 : t_s.front(), "the run"};
+  // The samples end a sample short of the last cycle's end.
+  const int cycles = static_cast<int>(std::lround((t_s.back() - t_s.front()) / period_s));
+  if (cycles < 2) return {t_s.front(), "the run"};
+  return {t_s.front() + period_s,
+          cycles == 2 ? "cycle 2" : "cycles 2-" + std::to_string(cycles)};
+}
+
+double RmsError(const std::vector<double>& t_s, const std::vector<double>& reference,
+                const std::vector<double>& measured, double from_s) {
+  double sum = 0.0;
+  size_t count = 0;
+  for (size_t i = 0; i < t_s.size(); ++i) {
+    if (t_s[i] < from_s - 1e-9 * std::abs(from_s)) continue;
+    const double error = measured[i] - reference[i];
+    sum += error * error;
+    ++count;
+  }
+  return count ? std::sqrt(sum / count) : NAN;
+}
+
 }  // namespace ipmc::figure_parts

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -67,6 +68,21 @@ void SetTitle(FigureReport& report, const FigureOptions& options, const std::str
               const std::string& context);
 std::string Heading(const FigureReport& report);
 
+// The steady cycles of a run recorded at times t [s] with wave period
+// `period_s`: every cycle after the first (whose start ramp and transient
+// are not steady), from t = period_s on, if the record holds at least two
+// cycles; else the whole record. `what` says which ("cycles 2-3", "the
+// run").
+struct SteadyCycles {
+  double from_s = 0.0;
+  std::string what;
+};
+SteadyCycles SteadyCyclesOf(const std::vector<double>& t_s, double period_s);
+// The root mean square of measured - reference over the samples from
+// from_s on; NaN without samples.
+double RmsError(const std::vector<double>& t_s, const std::vector<double>& reference,
+                const std::vector<double>& measured, double from_s);
+
 // The builders: the figure of one kind from its CSV table (read from
 // `input`); throw InputError for input without the columns or rows needed.
 #define IPMC_FIGURE_BUILDER(name)                                                         \
@@ -81,5 +97,8 @@ IPMC_FIGURE_BUILDER(TrajectoryFigure);      // renders/figures_run.cc
 IPMC_FIGURE_BUILDER(IdentificationFigure);  // renders/figures_identification.cc
 IPMC_FIGURE_BUILDER(SweepFigure);           // renders/figures_sweep.cc
 #undef IPMC_FIGURE_BUILDER
+// Several run directories (renders/figures_compare.cc).
+Figure CompareFigure(const std::vector<std::string>& run_dirs, const FigureOptions& options,
+                     const FigureScratch& scratch, FigureReport& report);
 
 }  // namespace ipmc::figure_parts

@@ -19,14 +19,20 @@
 //  - step (Fig. 11), step.csv of `step --out`: each link's unit step and
 //    the reference model's; below, each link's voltage with the clamp.
 //  - tracking (Fig. 12a), timeseries.csv: per link, reference and measured
-//    relative tip deflection and, below, the voltage with the clamp limits
-//    and the intervals at the clamp shaded; for a gait run, per joint the
-//    reference and measured angle.
+//    relative tip deflection, the tracking error (measured - reference)
+//    with its RMS over the steady cycles (every cycle after the first, if
+//    there are two; in the panel and the notes), and the voltage with the
+//    clamp limits and the intervals at the clamp shaded; for a gait run,
+//    per joint the reference and measured angle.
 //  - waveform (Fig. 12b), timeseries.csv: the body in the head's frame at a
-//    few instants, realised and (closed loop) ideal.
-//  - surface (Fig. 13), timeseries.csv: the lateral deflection y(x, t) in
-//    the head's frame as an x-t colour map, ideal beside realised with a
-//    shared colour bar (realised alone for a gait run).
+//    few instants: realised, the ideal (closed loop: the wave projected
+//    onto the links, whose references it gives) and the scenario's
+//    continuous wave y(x, t) (summary.json's resolved scenario).
+//  - surface (Fig. 13), timeseries.csv: the lateral deflection in the
+//    head's frame against time and the distance s along the body (so that
+//    the map ends at the tail at every instant, which along x a bent body
+//    does not reach), ideal beside realised with a shared colour bar, and
+//    realised - ideal on its own scale (realised alone without an ideal).
 //  - trajectory, timeseries.csv: the centre of mass's and the head's path
 //    in the plane with a marker at the start of every cycle, and the net
 //    displacement along and across the swimming axis against time.
@@ -34,6 +40,12 @@
 //    measured frequency response (Welch's H1) with its coherence and the
 //    fitted G1 and G2 over the fit's band.
 //  - sweep, a sweep table: --y against --x, one curve per --group.
+//  - compare, two or more run directories (timeseries.csv and summary.json
+//    of `run`): their centre of mass's displacement along the swimming axis
+//    against time, the displacement per cycle, and per link the tracking
+//    error (measured minus reference) and the voltage, one colour per run;
+//    the legend names what differs between the runs' resolved scenarios
+//    (summary.json inputs.resolved_scenario), e.g. "controller.kind = pid".
 //
 // The ideal body of waveform and surface is sim/runs/body_record.h's.
 #pragma once
@@ -54,8 +66,12 @@ enum class FigureKind {
   kSurface,
   kTrajectory,
   kIdentification,
-  kSweep
+  kSweep,
+  kCompare
 };
+
+// At most this many runs in a compare figure.
+constexpr int kMaxComparedRuns = 8;
 
 // The kinds' names, as the command line spells them.
 const std::vector<std::string>& FigureKindNames();
@@ -64,7 +80,7 @@ FigureKind FigureKindOf(const std::string& name);
 
 struct FigureOptions {
   std::string title;  // empty: what is shown
-  FigureSize size;    // 0: the kind's own
+  FigureSize size;    // 0: the kind's own; else in [200, 10000] px
   // bode
   std::vector<std::string> curves = {"plant", "controller", "open_loop", "reference_open_loop"};
   // waveform
@@ -84,6 +100,14 @@ struct FigureOptions {
   void Validate(FigureKind kind) const;
 };
 
+// The kind-specific options (FigureOptions' members, named as the command
+// line's flags without "--": "instants", "times-s", ...) and the kinds
+// each applies to. Throws FieldError "plot: --OPTION applies to plot KINDS
+// only, not KIND" for a given option the kind does not use, so that none
+// is silently ignored; an unknown name is a FieldError too.
+const std::vector<std::string>& FigureKindOptionNames();
+void CheckFigureOptionsApply(FigureKind kind, const std::vector<std::string>& given);
+
 struct FigureReport {
   std::string title;                     // on one line
   std::vector<std::string> title_lines;  // as drawn
@@ -98,6 +122,11 @@ struct FigureReport {
 // written then.
 FigureReport DrawFigureOf(FigureKind kind, const std::string& input, const FigureOptions& options,
                           const std::string& out_path);
+// The same for a list of inputs: one for every kind but compare, which
+// takes 2 to kMaxComparedRuns run directories. Throws FieldError (field
+// "input") for another count.
+FigureReport DrawFigureOf(FigureKind kind, const std::vector<std::string>& inputs,
+                          const FigureOptions& options, const std::string& out_path);
 
 
 }  // namespace ipmc

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <exception>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -13,6 +15,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "renders/swim_film.h"  // ScenarioIdealShape
+#include "sim/core/scenario.h"
 #include "sim/runs/body_record.h"
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
@@ -48,17 +52,23 @@ std::optional<double> LinkSummaryNumber(const nlohmann::json& summary, int q, co
 // Closed loop: per link, deflection above and voltage below.
 Figure LinkTrackingFigure(const CsvTable& table, const std::vector<int>& links,
                           const nlohmann::json& summary, const FigureScratch& scratch,
-                          const std::string& heading) {
+                          const std::string& heading, FigureReport& report) {
   const bool clamp = summary.contains("clamp_enabled") && summary["clamp_enabled"].is_boolean() &&
                      summary["clamp_enabled"].get<bool>();
   const double v_max = JsonNumber(summary, "v_max_V", 0.0);
   const std::vector<double> t = table.Numbers(columns::kTime);
   const int n = static_cast<int>(links.size());
-  // Inches: title and key, then per link its heading, deflection and
-  // voltage panels, then the time axis.
-  constexpr double kHead = 1.05, kLinkHeading = 0.3, kDeflection = 1.45, kGap = 0.06,
-                   kVoltage = 0.95, kBlock = kLinkHeading + kDeflection + kGap + kVoltage + 0.12,
+  // The error's RMS over the steady cycles (after the first, whose start
+  // ramp and transient are not steady).
+  const SteadyCycles steady = SteadyCyclesOf(t, JsonNumber(summary, "period_s", 0.0));
+  // Inches: title and key, then per link its heading, deflection, error
+  // and voltage panels, then the time axis.
+  constexpr double kHead = 1.05, kLinkHeading = 0.3, kDeflection = 1.35, kGap = 0.06,
+                   kError = 0.8, kVoltage = 0.9,
+                   kBlock = kLinkHeading + kDeflection + kGap + kError + kGap + kVoltage + 0.12,
                    kFoot = 0.5;
+  // The panels' left edge, with room for the error's tick labels.
+  constexpr double kLeft = 0.14;
   Figure figure;
   figure.width_in = 7.5;
   figure.height_in = kHead + n * kBlock + kFoot;
@@ -99,25 +109,46 @@ Figure LinkTrackingFigure(const CsvTable& table, const std::vector<int>& links,
               .value_or(static_cast<double>(at_clamp) / std::max<size_t>(1, t.size()));
       panel_title += Format(": voltage at the clamp %.1f %% of the time", 100.0 * fraction);
     }
-    double deflection_max = 0.0;
+    double deflection_max = 0.0, error_max = 0.0;
     for (size_t i = 0; i < t.size(); ++i) {
       deflection_max = std::max({deflection_max, std::abs(reference[i]), std::abs(measured[i])});
+      if (std::isfinite(measured[i] - reference[i])) {
+        error_max = std::max(error_max, std::abs(measured[i] - reference[i]));
+      }
     }
-    commands += StackedPanel(H, top + kLinkHeading, kDeflection) + "set title " + Q(panel_title) +
+    if (!(error_max > 0.0)) error_max = 1e-3;
+    const double rms = RmsError(t, reference, measured, steady.from_s);
+    const std::string rms_text =
+        "RMS over " + steady.what + ": " + Format("%.4g", rms) + " mm";
+    report.notes.push_back("link " + std::to_string(q) + ": tracking error " + rms_text);
+    // The error's axis leaves its top fifth to the RMS.
+    const std::string error_axis = "set yrange [" + N(-1.1 * error_max) + ":" +
+                                   N(1.1 * error_max + 0.5 * error_max) + "]\nset ytics " +
+                                   N(NiceStep(2.2 * error_max, 3)) + "\n";
+    commands += StackedPanel(H, top + kLinkHeading, kDeflection, kLeft) + "set title " + Q(panel_title) +
                 " offset 0,-0.4\nset format x ''\nunset xlabel\n"
                 "set ylabel 'deflection [mm]'\nset ytics " +
                 N(NiceStep(2.0 * deflection_max, 4)) + "\nset key at screen 0.545, screen " +
-                key_y + " center top horizontal samplen 4\n" + "plot " + data +
+                key_y + " center top horizontal maxrows 1 samplen 4\n" + "plot " + data +
                 " using 1:2 with lines lw 2 dt 2 lc rgb 'black' " +
                 (k == 0 ? "title 'reference'" : "notitle") +
                 ", '' using 1:3 with lines lw 1.6 lc " + Rgb(kBlue) + " " +
-                (k == 0 ? "title 'measured'" : "notitle") + "\n" + "unset title\n" +
-                StackedPanel(H, top + kLinkHeading + kDeflection + kGap, kVoltage) +
+                (k == 0 ? "title 'measured'" : "notitle") +
+                "\n" + "unset title\n" + StackedPanel(H, top + kLinkHeading + kDeflection + kGap, kError, kLeft) +
+                "set ylabel 'error [mm]'\nset key off\n" + error_axis +
+                "set style textbox opaque noborder margins 2, 1\nset label 1 " +
+                Q("measured - reference; " + rms_text) +
+                " at graph 0.01, graph 0.86 left front boxed textcolor " + Rgb(kGreen) + "\n" +
+                "plot 0 with lines lc rgb 'gray50' notitle, " + data +
+                " using 1:($3 - $2) with lines lw 1.4 lc " + Rgb(kGreen) +
+                " notitle\nunset label 1\nset autoscale y\nset ytics autofreq\nset key on\n" +
+                StackedPanel(H, top + kLinkHeading + kDeflection + kGap + kError + kGap, kVoltage,
+                             kLeft) +
                 (last ? "set format x '%g'\nset xlabel " + Q(AxisLabel(columns::kTime)) + "\n"
                       : std::string()) +
                 "set ylabel 'voltage [V]'\n"
                 "set key at screen 0.545, screen " +
-                voltage_key_y + " center top horizontal samplen 4\n" +
+                voltage_key_y + " center top horizontal maxrows 1 samplen 4\n" +
                 (clamp ? "set yrange [" + N(-1.2 * v_max) + ":" + N(1.2 * v_max) + "]\nset ytics " +
                              N(v_max / 2) + "\n"
                        : std::string("set autoscale y\n")) +
@@ -186,7 +217,7 @@ Figure TrackingFigure(const CsvTable& table, const std::string& input, const Fig
   if (!links.empty()) {
     SetTitle(report, options, "Tracking of each link's relative tip deflection",
              RunDescription(summary));
-    return LinkTrackingFigure(table, links, summary, scratch, Heading(report));
+    return LinkTrackingFigure(table, links, summary, scratch, Heading(report), report);
   }
   const std::vector<int> joints = Numbered(table, &columns::JointReference);
   if (!joints.empty()) {
@@ -224,11 +255,38 @@ std::string PointsBlock(const std::vector<BodyPoint>& points) {
 
 }  // namespace
 
+namespace {
+
+// The scenario's continuous travelling wave y(x, t) [mm] in the head's
+// frame (Table 4's for the paper's scenario; faded in as the references
+// are), from summary.json's resolved scenario; empty for a run without one
+// (a gait) or whose scenario does not read back.
+std::function<double(double, double)> ContinuousWave(const nlohmann::json& summary,
+                                                     const std::string& input,
+                                                     FigureReport& report) {
+  const nlohmann::json inputs =
+      summary.is_object() && summary.contains("inputs") ? summary["inputs"] : nlohmann::json();
+  const std::string resolved = JsonText(inputs, "resolved_scenario");
+  if (resolved.empty()) return {};
+  try {
+    const std::function<double(double, double)> y_m = ScenarioIdealShape(
+        ParseScenario(resolved, input + " (summary.json inputs.resolved_scenario)"));
+    return [y_m](double x_mm, double t_s) { return 1e3 * y_m(1e-3 * x_mm, t_s); };
+  } catch (const std::exception& error) {
+    report.notes.push_back(std::string("no continuous wave: ") + error.what());
+    return {};
+  }
+}
+
+}  // namespace
+
 Figure WaveformFigure(const CsvTable& table, const std::string& input, const FigureOptions& options,
                       const FigureScratch& scratch, FigureReport& report) {
   const nlohmann::json summary = SideJson(input, "summary.json");
   const BodyRecord body = ReadBodyRecord(table);
   const bool with_ideal = !body.ideal.empty();
+  const std::function<double(double, double)> wave =
+      with_ideal ? ContinuousWave(summary, input, report) : nullptr;
   std::vector<size_t> instants;
   if (!options.times_s.empty()) {
     for (double t : options.times_s) instants.push_back(NearestSample(body.t_s, t));
@@ -240,11 +298,26 @@ Figure WaveformFigure(const CsvTable& table, const std::string& input, const Fig
       instants.push_back(NearestSample(body.t_s, t_last - period + period * k / options.instants));
     }
   }
+  // Per instant three blocks: realised, projected onto the links, and the
+  // continuous wave over the body's reach along x.
+  constexpr int kWavePoints = 121;
   std::string text;
   double x_low = 0.0, x_high = 0.0, y_max = 0.0;
   for (size_t sample : instants) {
+    std::string continuous = "NaN NaN\n";
+    if (wave) {
+      continuous.clear();
+      const double reach = body.realised[sample].back().x;
+      for (int c = 0; c < kWavePoints; ++c) {
+        const double x = reach * c / (kWavePoints - 1);
+        const double y = wave(x, body.t_s[sample]);
+        y_max = std::max(y_max, std::abs(y));
+        continuous += GnuplotValue(x) + " " + GnuplotValue(y) + "\n";
+      }
+    }
     text += PointsBlock(body.realised[sample]) + "\n\n" +
-            (with_ideal ? PointsBlock(body.ideal[sample]) : std::string("NaN NaN\n")) + "\n\n";
+            (with_ideal ? PointsBlock(body.ideal[sample]) : std::string("NaN NaN\n")) + "\n\n" +
+            continuous + "\n\n";
     for (const auto* shapes : {&body.realised, &body.ideal}) {
       if (shapes->empty()) continue;
       for (const BodyPoint& p : (*shapes)[sample]) {
@@ -256,29 +329,39 @@ Figure WaveformFigure(const CsvTable& table, const std::string& input, const Fig
   }
   const std::string data = scratch.Data("waveform.dat", text);
   SetTitle(report, options,
-           with_ideal ? "Body shape in the head's frame, ideal and realised"
-                      : "Body shape in the head's frame",
+           wave        ? "Body shape in the head's frame: the wave, its projection onto the links, "
+                         "realised"
+           : with_ideal ? "Body shape in the head's frame, ideal and realised"
+                        : "Body shape in the head's frame",
            RunDescription(summary));
   std::string plot = "plot ";
   for (size_t k = 0; k < instants.size(); ++k) {
     const std::string colour = Rgb(kSeries[k % kSeriesCount]);
-    plot += (k ? ", " : "") + data + " index " + std::to_string(2 * k) +
+    const std::string block = std::to_string(3 * k);
+    plot += (k ? ", " : "") + data + " index " + block +
             " using 1:2 with linespoints lw 2 pt 7 ps 0.9 lc " + colour + " title " +
             Q(Format("t = %.4g s", body.t_s[instants[k]]));
     if (with_ideal) {
-      plot += ", '' index " + std::to_string(2 * k + 1) +
+      plot += ", '' index " + std::to_string(3 * k + 1) +
               " using 1:2 with linespoints lw 1.5 dt 2 pt 6 ps 0.9 lc " + colour + " notitle";
+    }
+    if (wave) {
+      plot += ", '' index " + std::to_string(3 * k + 2) + " using 1:2 with lines lw 1.2 dt 3 lc " +
+              colour + " notitle";
     }
   }
   if (with_ideal) {
-    plot +=
-        ", NaN with lines lw 2 lc rgb 'black' title 'realised (solid)', NaN with lines lw 1.5 "
-        "dt 2 lc rgb 'black' title 'ideal (dashed)'";
+    plot += ", NaN with lines lw 2 lc rgb 'black' title 'realised', NaN with lines lw 1.5 "
+            "dt 2 lc rgb 'black' title " +
+            Q(wave ? "projected onto the links" : "ideal (dashed)");
+  }
+  if (wave) {
+    plot += ", NaN with lines lw 1.2 dt 3 lc rgb 'black' title 'wave y(x, t)'";
   }
   const double margin = 0.03 * (x_high - x_low);
   Figure figure;
   figure.width_in = 7.5;
-  figure.height_in = 4.4;
+  figure.height_in = 4.6;
   figure.commands = "set title " + Heading(report) + "\n" +
                     "set xlabel 'x along the body from the head [mm]' offset 0,0.4\n"
                     "set ylabel 'y lateral [mm]'\n"
@@ -286,7 +369,7 @@ Figure WaveformFigure(const CsvTable& table, const std::string& input, const Fig
                     N(x_low - margin) + ":" + N(x_high + margin) + "]\n" + "set yrange [" +
                     N(-1.15 * std::max(y_max, 1e-3)) + ":" + N(1.15 * std::max(y_max, 1e-3)) +
                     "]\n" +
-                    "set key outside bottom center horizontal maxrows 2 samplen 4 spacing 1.1\n"
+                    "set key outside bottom center horizontal maxcols 4 samplen 3 spacing 1.1 width -2\n"
                     "set xzeroaxis lt 1 lc rgb 'gray40'\n" +
                     plot + "\n";
   return figure;
@@ -310,29 +393,62 @@ std::vector<size_t> Thinned(size_t samples, int count) {
   return chosen;
 }
 
-// y at x along the polyline (linear between its points, which run along
-// +x); NaN beyond its ends.
-double LateralAt(const std::vector<BodyPoint>& shape, double x) {
+// The length of the polyline.
+double ArcLength(const std::vector<BodyPoint>& shape) {
+  double length = 0.0;
   for (size_t k = 0; k + 1 < shape.size(); ++k) {
-    const double x0 = shape[k].x, x1 = shape[k + 1].x;
-    if ((x >= x0 && x <= x1) || (x >= x1 && x <= x0)) {
-      if (x1 == x0) return shape[k].y;
-      return shape[k].y + (x - x0) / (x1 - x0) * (shape[k + 1].y - shape[k].y);
-    }
+    length += std::hypot(shape[k + 1].x - shape[k].x, shape[k + 1].y - shape[k].y);
   }
-  return NAN;
+  return length;
 }
 
-// Rows "x t y", one block per sample, for a map drawn `with image`.
-std::string MapData(const std::vector<std::vector<BodyPoint>>& shapes, const std::vector<double>& t_s,
-                    const std::vector<size_t>& samples, double length_mm, double* y_max) {
-  std::string text;
+// y of the point at distance s along the polyline from its first point
+// (linear between its points); its last point's y beyond its end.
+double LateralAlong(const std::vector<BodyPoint>& shape, double s) {
+  double walked = 0.0;
+  for (size_t k = 0; k + 1 < shape.size(); ++k) {
+    const double piece = std::hypot(shape[k + 1].x - shape[k].x, shape[k + 1].y - shape[k].y);
+    if (s <= walked + piece) {
+      const double f = piece > 0.0 ? (s - walked) / piece : 0.0;
+      return shape[k].y + f * (shape[k + 1].y - shape[k].y);
+    }
+    walked += piece;
+  }
+  return shape.empty() ? NAN : shape.back().y;
+}
+
+// y(s, t) at kMapColumns distances s in [0, length_mm] for the samples.
+std::vector<std::vector<double>> MapValues(const std::vector<std::vector<BodyPoint>>& shapes,
+                                           const std::vector<size_t>& samples, double length_mm) {
+  std::vector<std::vector<double>> rows;
   for (size_t i : samples) {
+    std::vector<double> row(kMapColumns);
     for (int c = 0; c < kMapColumns; ++c) {
-      const double x = length_mm * c / (kMapColumns - 1);
-      const double y = LateralAt(shapes[i], x);
-      if (std::isfinite(y)) *y_max = std::max(*y_max, std::abs(y));
-      text += GnuplotValue(x) + " " + GnuplotValue(t_s[i]) + " " + GnuplotValue(y) + "\n";
+      row[c] = LateralAlong(shapes[i], length_mm * c / (kMapColumns - 1));
+    }
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+double LargestMagnitude(const std::vector<std::vector<double>>& rows) {
+  double largest = 0.0;
+  for (const std::vector<double>& row : rows) {
+    for (double y : row) {
+      if (std::isfinite(y)) largest = std::max(largest, std::abs(y));
+    }
+  }
+  return largest;
+}
+
+// Rows "s t y", one block per sample, for a map drawn `with image`.
+std::string MapData(const std::vector<std::vector<double>>& rows, const std::vector<double>& t_s,
+                    const std::vector<size_t>& samples, double length_mm) {
+  std::string text;
+  for (size_t r = 0; r < samples.size(); ++r) {
+    for (int c = 0; c < kMapColumns; ++c) {
+      text += GnuplotValue(length_mm * c / (kMapColumns - 1)) + " " +
+              GnuplotValue(t_s[samples[r]]) + " " + GnuplotValue(rows[r][c]) + "\n";
     }
     text += "\n";
   }
@@ -348,39 +464,44 @@ Figure SurfaceFigure(const CsvTable& table, const std::string& input, const Figu
   RequireRows(table, 2);
   const std::vector<size_t> samples = Thinned(body.t_s.size(), options.max_lines);
   const bool with_ideal = !body.ideal.empty();
-  double length_mm = 0.0;
-  for (size_t i : samples) length_mm = std::max(length_mm, body.realised[i].back().x);
-  if (with_ideal) {
-    for (size_t i : samples) length_mm = std::max(length_mm, body.ideal[i].back().x);
+  // The map runs along the body (arc length s from the head), not along
+  // x: bent, the body reaches less far along x than its length, which
+  // would leave a blank staircase at the tail's end. Rigid links keep the
+  // length of every sample; the map ends at the shortest.
+  double length_mm = INFINITY;
+  for (size_t i : samples) {
+    length_mm = std::min(length_mm, ArcLength(body.realised[i]));
+    if (with_ideal) length_mm = std::min(length_mm, ArcLength(body.ideal[i]));
   }
-  if (!(length_mm > 0.0)) length_mm = 1.0;
-  double y_max = 0.0;
-  const std::string realised = scratch.Data(
-      "map_realised.dat", MapData(body.realised, body.t_s, samples, length_mm, &y_max));
-  const std::string ideal =
-      with_ideal
-          ? scratch.Data("map_ideal.dat", MapData(body.ideal, body.t_s, samples, length_mm, &y_max))
-          : "";
+  if (!(length_mm > 0.0) || !std::isfinite(length_mm)) length_mm = 1.0;
+  const std::vector<std::vector<double>> realised_rows =
+      MapValues(body.realised, samples, length_mm);
+  std::vector<std::vector<double>> ideal_rows, difference_rows;
+  if (with_ideal) {
+    ideal_rows = MapValues(body.ideal, samples, length_mm);
+    difference_rows = realised_rows;
+    for (size_t r = 0; r < difference_rows.size(); ++r) {
+      for (int c = 0; c < kMapColumns; ++c) difference_rows[r][c] -= ideal_rows[r][c];
+    }
+  }
+  double y_max = std::max(LargestMagnitude(realised_rows), LargestMagnitude(ideal_rows));
   if (!(y_max > 0.0)) y_max = 1.0;
+  const std::string realised =
+      scratch.Data("map_realised.dat", MapData(realised_rows, body.t_s, samples, length_mm));
   SetTitle(report, options, "Lateral deflection along the body over time", RunDescription(summary));
   // Each sample of the map is a pixel of `with image` centred on its
-  // (x, t); the axes end at the body's ends and the record's. NaN (beyond
-  // the bent body's end) must stay a blank pixel, not a missing one, or
-  // the rest of its row would shift.
+  // (s, t); the axes end at the body's ends and the record's.
   const std::string common =
-      "unset datafile missing\nunset grid\nunset key\nset tics out front\n"
+      "unset grid\nunset key\nset tics out front\n"
       "set palette defined (-1 '#2166ac', -0.5 '#92c5de', 0 '#f7f7f7', 0.5 '#f4a582', 1 "
       "'#b2182b')\n"
-      "set cbrange [" +
-      N(-y_max) + ":" + N(y_max) +
-      "]\n"
       "set xrange [0:" +
       N(length_mm) +
       "]\n"
       "set yrange [" +
       N(body.t_s[samples.front()]) + ":" + N(body.t_s[samples.back()]) +
       "]\n"
-      "set xlabel 'x along the body from the head [mm]'\n"
+      "set xlabel 's along the body [mm]'\n"
       "set ylabel " +
       Q(AxisLabel(columns::kTime)) + "\n";
   Figure figure;
@@ -388,23 +509,39 @@ Figure SurfaceFigure(const CsvTable& table, const std::string& input, const Figu
   const double H = figure.height_in;
   const double top = 1.0 - 1.0 / H, bottom = 0.8 / H;
   std::string commands = "set multiplot title " + Heading(report) + "\n" + common;
-  const std::string colour_bar = "set cblabel 'lateral deflection y [mm]'\nset cbtics out\n";
+  const auto colour_box = [&](double left, double width) {
+    return "set colorbox user origin screen " + N(left) + ", screen " + N(bottom) +
+           " size screen " + N(width) + ", screen " + N(top - bottom) + "\nset cbtics out\n";
+  };
+  const std::string deflection_bar = "set cbrange [" + N(-y_max) + ":" + N(y_max) +
+                                     "]\nset cblabel 'lateral deflection y [mm]' offset 0.5,0\n";
   if (with_ideal) {
-    figure.width_in = 9.0;
-    commands += PanelBox(0.08, 0.45, bottom, top) +
+    double difference_max = LargestMagnitude(difference_rows);
+    if (!(difference_max > 0.0)) difference_max = 1e-3;
+    const std::string ideal =
+        scratch.Data("map_ideal.dat", MapData(ideal_rows, body.t_s, samples, length_mm));
+    const std::string difference = scratch.Data(
+        "map_difference.dat", MapData(difference_rows, body.t_s, samples, length_mm));
+    report.notes.push_back("realised - ideal: at most " + Format("%.4g", difference_max) +
+                           " mm, the deflection at most " + Format("%.4g", y_max) + " mm");
+    figure.width_in = 12.0;
+    commands += PanelBox(0.085, 0.3, bottom, top) + deflection_bar +
                 "unset colorbox\nset title 'ideal (references)'\n"
                 "plot " +
-                ideal + " using 1:2:3 with image\n" + PanelBox(0.50, 0.87, bottom, top) +
-                "set colorbox user origin screen 0.895, screen " + N(bottom) +
-                " size screen 0.02, screen " + N(top - bottom) + "\n" + colour_bar +
+                ideal + " using 1:2:3 with image\n" + PanelBox(0.335, 0.55, bottom, top) +
+                colour_box(0.56, 0.012) +
                 "set title 'realised (tips)'\nset ylabel ''\nset format y ''\n"
                 "plot " +
-                realised + " using 1:2:3 with image\n";
+                realised + " using 1:2:3 with image\n" + PanelBox(0.675, 0.885, bottom, top) +
+                colour_box(0.895, 0.012) + "set cbrange [" + N(-difference_max) + ":" +
+                N(difference_max) +
+                "]\nset cblabel 'realised - ideal [mm]' offset 0.5,0\n"
+                "set title 'realised - ideal (its own scale)'\n"
+                "plot " +
+                difference + " using 1:2:3 with image\n";
   } else {
     figure.width_in = 6.5;
-    commands += PanelBox(0.12, 0.80, bottom, top) +
-                "set colorbox user origin screen 0.84, screen " + N(bottom) +
-                " size screen 0.03, screen " + N(top - bottom) + "\n" + colour_bar +
+    commands += PanelBox(0.13, 0.80, bottom, top) + colour_box(0.84, 0.03) + deflection_bar +
                 "set title 'realised (tips)'\nplot " + realised + " using 1:2:3 with image\n";
   }
   figure.commands = commands + "unset multiplot\n";

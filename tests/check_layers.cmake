@@ -42,7 +42,7 @@ set(allowed_sim/identify sim/runs sim/core ${below_sim})
 set(allowed_sim/batch sim/runs sim/core ${below_sim})
 set(allowed_renders sim/runs sim/core ${below_sim})
 set(allowed_sim/cli renders sim/batch sim/identify sim/runs sim/core ${below_sim})
-set(allowed_sim/python sim/batch sim/identify sim/runs sim/core ${below_sim})
+set(allowed_sim/python renders sim/batch sim/identify sim/runs sim/core ${below_sim})
 set(allowed_sim plugin/include)
 
 # The layer of a path relative to the project: its longest listed prefix.

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -57,6 +58,30 @@ TEST(ChainShapeTest, CurvatureInvertsTheTipDeflection) {
     // 0.72461 L. Measured +6.2 / +2.6 / +0.36 % for n = 2 / 3 / 8.
     EXPECT_NEAR(shape.Reach_m() / (0.72461 * 0.01), 1.0, 0.4 / (n * n)) << "n = " << n;
   }
+}
+
+TEST(ChainShapeTest, EqualSegmentsClosedFormMatchesTheSum) {
+  // Equal sub-segments take f = l sin^2(kappa L / 2) / sin(kappa l / 2) and
+  // its derivative; lengths 1e-6 apart take the sum over the sub-segments.
+  // The two agree to the perturbation (measured 1.6e-7 relative).
+  double worst = 0;
+  for (int n : {2, 16, 32}) {
+    std::vector<double> uneven(n, 0.01 / n);
+    uneven[0] *= 1 + 1e-6;
+    uneven[n - 1] *= 1 - 1e-6;
+    const ChainShape equal(std::vector<double>(n, 0.01 / n)), summed(uneven);
+    EXPECT_NEAR(equal.Reach_m() / summed.Reach_m(), 1.0, 2e-6) << "n = " << n;
+    for (double deflection_m : {1e-6, -3e-3, 5e-3, 0.99 * equal.Reach_m()}) {
+      bool clamped = true;
+      const double kappa = equal.Curvature_1_m(deflection_m, 0.0, &clamped);
+      const double kappa_summed = summed.Curvature_1_m(deflection_m, 0.0, &clamped);
+      EXPECT_NEAR(kappa / kappa_summed, 1.0, 2e-6) << "n = " << n;
+      EXPECT_NEAR(equal.TipDeflection_m(kappa) / summed.TipDeflection_m(kappa), 1.0, 2e-6);
+      worst = std::max({worst, std::abs(kappa / kappa_summed - 1),
+                        std::abs(equal.TipDeflection_m(kappa) / summed.TipDeflection_m(kappa) - 1)});
+    }
+  }
+  std::printf("closed form against the sum: %.3g relative\n", worst);
 }
 
 // ------------------------------------------ static bending of the strip ---

@@ -849,7 +849,7 @@ TEST(PropulsionCrossCheckTest, DefaultRunMatchesInertiaFreeRft) {
 // The same run stepped without inertia (dynamics = stokes, at the 1 kHz
 // sample; plugin/fluid/stokes_step.h): the solver and the run then solve
 // the same force balance, so the gap above, the body's inertia, closes.
-// Measured -6.7e-10 along, -1.1e-9 for the head (docs/DYNAMICS.md,
+// Measured -1.0e-9 along, -1.5e-9 for the head (docs/DYNAMICS.md,
 // "Evidence"); tolerance 1e-8.
 TEST(PropulsionCrossCheckTest, StokesRunMatchesInertiaFreeRft) {
   ScenarioConfig scenario = LoadScenario(IPMC_SWIM_SOURCE_DIR "/scenarios/paper.toml");

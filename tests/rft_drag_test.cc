@@ -188,6 +188,38 @@ TEST(RftDragTest, OnePassEqualsMujocosApplyFtPerSegment) {
   }
 }
 
+// The power into the fluid from the segments (DissipatedPower_W, minus
+// the sum of F . v_c + T_c . w) is minus the generalised drag force's
+// power qfrc_drag . qvel (the wrenches' power is J^T's, the same number
+// by duality), on random states of a chain with sub-segments: measured
+// 2.2e-16 relative.
+TEST(RftDragTest, DissipatedPowerIsMinusTheGeneralisedDragPower) {
+  FlagellumSpec spec;
+  spec.segments_per_link = 3;
+  spec.ipmc_actuators = false;
+  const ModelPtr model = LoadModelString(GenerateFlagellumMjcf(spec));
+  const mjModel* m = model.get();
+  const DataPtr data(mj_makeData(m));
+  mjData* d = data.get();
+  const RftDrag drag(m, *RftDragConfig::FromModel(m));
+  std::mt19937 rng(5);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  double worst = 0.0;
+  for (int trial = 0; trial < 50; ++trial) {
+    for (int i = 0; i < m->nq; ++i) d->qpos[i] = 0.3 * normal(rng);
+    for (int i = 0; i < m->nv; ++i) d->qvel[i] = 1e-3 * normal(rng);
+    mj_forward(m, d);
+    mju_zero(d->qfrc_passive, m->nv);
+    drag.Apply(m, d);
+    const double generalised_W = -mju_dot(d->qfrc_passive, d->qvel, m->nv);
+    const double power_W = drag.DissipatedPower_W(m, d);
+    ASSERT_GT(power_W, 0.0);
+    worst = std::max(worst, std::abs(power_W - generalised_W) / power_W);
+  }
+  std::printf("dissipated power vs -qfrc_drag . qvel: largest difference %.3g relative\n", worst);
+  EXPECT_LT(worst, 1e-13);
+}
+
 TEST(RftDragTest, ModelWithoutFieldsGetsNoDragAndNoCrash) {
   auto m = LoadModelString(R"(<mujoco><worldbody><body><joint type="slide" axis="1 0 0"/>
       <geom type="box" size="0.01 0.001 0.001"/></body></worldbody></mujoco>)");

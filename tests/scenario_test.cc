@@ -190,7 +190,7 @@ TEST_F(ScenarioErrorTest, SyntaxErrorsGiveLineAndColumn) {
 
 TEST_F(ScenarioErrorTest, UnknownKeysNameTheKeyAndTheAllowedOnes) {
   ExpectError(std::string(kModelLine) + "cycles = 3\n\n\n\n\ncontroler = 1\n",
-              ":7: unknown key 'controler' (allowed: model, link_lengths_mm, segments_per_link, plants, actuation, dynamics, cycles, timestep_s, "
+              ":7: unknown key 'controler' (allowed: model, link_lengths_mm, segments_per_link, plants, actuation, dynamics, hinge_damping_scale, cycles, timestep_s, "
               "controller, waveform, fluid, output)");
   ExpectError(
       std::string(kModelLine) + "[controller]\nkp = 1.0\nkpp = 2.0\n",
@@ -207,7 +207,7 @@ TEST_F(ScenarioErrorTest, UnknownKeysNameTheKeyAndTheAllowedOnes) {
               ":4: unknown key 'output.format' (allowed: dir, samples_per_cycle)");
   // The earliest of several.
   ExpectError(std::string(kModelLine) + "zz = 1\naa = 2\n",
-              ":2: unknown key 'zz' (allowed: model, link_lengths_mm, segments_per_link, plants, actuation, dynamics, cycles, timestep_s, controller, "
+              ":2: unknown key 'zz' (allowed: model, link_lengths_mm, segments_per_link, plants, actuation, dynamics, hinge_damping_scale, cycles, timestep_s, controller, "
               "waveform, fluid, output)");
   // Dotted keys are walked like tables.
   ExpectError(

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <filesystem>
@@ -17,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "plugin/base/numbers.h"
 #include "sim/runs/closed_loop_run.h"
 #include "sim/cli/sweep_command.h"
 #include "tests/cli_util.h"
@@ -219,7 +221,7 @@ TEST_F(SweepTest, TableDoesNotDependOnJobsAndHoldsTheRunsNumbersExactly) {
 
   ASSERT_EQ(one.rows.size(), 8u);
   const std::vector<std::string>& columns = one.columns;
-  EXPECT_EQ(columns.size(), 1 + 3 + 2 + 3 * 4 + 4u);
+  EXPECT_EQ(columns.size(), 1 + 3 + 2 + 3 * 5 + 10u);
   auto column = [&](const std::string& name) {
     const auto it = std::find(columns.begin(), columns.end(), name);
     EXPECT_NE(it, columns.end()) << name;
@@ -238,6 +240,9 @@ TEST_F(SweepTest, TableDoesNotDependOnJobsAndHoldsTheRunsNumbersExactly) {
   EXPECT_EQ(std::stod(row[column("last_cycle_com_along_mm")]), alone.swim.per_cycle.back().com_along);
   EXPECT_EQ(std::stod(row[column("mean_speed_along_mm_s")]), alone.swim.mean_speed_along_mm_s);
   EXPECT_EQ(std::stod(row[column("reynolds_swim")]), alone.swim.reynolds_swim);
+  EXPECT_EQ(std::stod(row[column("link1_actuator_power_W")]), alone.energy.actuator_power_W[0]);
+  EXPECT_EQ(std::stod(row[column("fluid_power_W")]), alone.energy.fluid_power_W);
+  EXPECT_EQ(std::stod(row[column("cost_of_transport_J_m")]), alone.energy.cost_of_transport_J_m);
   EXPECT_GT(alone.swim.mean_speed_along_mm_s, 0.0);
 
   const nlohmann::ordered_json json = SweepTableJson(one);
@@ -305,6 +310,43 @@ TEST_F(SweepTest, ShardsMergeIntoTheWholeTable) {
             "a, \"b\"");
 }
 
+// With runs_dir (sweep --keep-runs, keep_runs in the sweep file) every
+// point that ran keeps its run directory, whose summary names the sweep
+// and the point and holds the point's own numbers; a refused point has
+// none.
+TEST_F(SweepTest, KeptRunsHoldEachPointsOutputs) {
+  SweepPlan plan = Parse(
+      "base = \"fast.toml\"\nkeep_runs = true\n"
+      "[[point]]\nactuation = \"single\"\n"
+      "[[point]]\nwaveform.frequency_Hz = 0\n"
+      "[[point]]\nactuation = \"distributed\"\n");
+  EXPECT_TRUE(plan.keep_runs);
+  EXPECT_FALSE(Parse("base = \"fast.toml\"\n[grid]\ncycles = [1]\n").keep_runs);
+  SweepOptions options;
+  options.jobs = 2;
+  options.runs_dir = SweepRunsDir((dir_ / "table").string());
+  EXPECT_EQ(options.runs_dir, (dir_ / "table_runs").string());
+  const SweepTable table = RunSweep(plan, options);
+  ASSERT_EQ(table.rows.size(), 3u);
+  const size_t last_cycle = std::find(table.columns.begin(), table.columns.end(),
+                                      "last_cycle_com_along_mm") - table.columns.begin();
+  ASSERT_LT(last_cycle, table.columns.size());
+  for (int index : {0, 2}) {
+    const fs::path run = SweepPointRunDir(options.runs_dir, index);
+    EXPECT_EQ(run, dir_ / "table_runs" / ("point_" + std::to_string(index)));
+    for (const char* file : {"timeseries.csv", "states.csv", "summary.json"}) {
+      EXPECT_TRUE(fs::is_regular_file(run / file)) << run / file;
+    }
+    const nlohmann::json summary = nlohmann::json::parse(ReadFile(run / "summary.json"));
+    EXPECT_EQ(summary["inputs"]["sweep"], (dir_ / "sweep.toml").string());
+    EXPECT_EQ(summary["inputs"]["sweep_point"], index);
+    EXPECT_EQ(summary["actuation"], index == 0 ? "single" : "distributed");
+    EXPECT_EQ(FormatShortest(summary["per_cycle"].back()["com_along_mm"].get<double>()),
+              table.rows[index][last_cycle]);
+  }
+  EXPECT_FALSE(fs::exists(SweepPointRunDir(options.runs_dir, 1)));
+}
+
 TEST_F(SweepTest, FailingPointsAreRecordedAndTheOthersRun) {
   // No time step in this base: a point that does not set one runs at the
   // model's 1e-4 s, where 3 kHz sampling is not a whole number of steps
@@ -369,7 +411,7 @@ TEST_F(SweepTest, BadSweepFilesGiveOneLineErrorsBeforeAnyRun) {
        ":3: unknown key 'waveform.frequencyHz' (allowed: kind, c0_um, c1_um_per_mm, "
        "c2_um_per_mm2, c_um, alpha, frequency_Hz, wavelength_mm, start_ramp_cycles)"},
       {"base = \"fast.toml\"\n[grid]\nspeed = [1]\n",
-       ":3: unknown key 'speed' (allowed: model, link_lengths_mm, segments_per_link, plants, actuation, dynamics, cycles, timestep_s, controller, "
+       ":3: unknown key 'speed' (allowed: model, link_lengths_mm, segments_per_link, plants, actuation, dynamics, hinge_damping_scale, cycles, timestep_s, controller, "
        "waveform, fluid, output)"},
       {"base = \"fast.toml\"\n[grid]\nactuation = [\"single\"]\ncycles = [1, 1.5]\n",
        ":4: cycles must be an integer (got float)"},
@@ -401,7 +443,9 @@ TEST_F(SweepTest, BadSweepFilesGiveOneLineErrorsBeforeAnyRun) {
       {"base = \"missing.toml\"\n[grid]\ncycles = [1]\n",
        ":1: base: cannot open '" + (dir_ / "missing.toml").string() + "'"},
       {"base = \"fast.toml\"\njobs = 2\n[grid]\ncycles = [1]\n",
-       ":2: unknown key 'jobs' (allowed: base, set, grid, point)"},
+       ":2: unknown key 'jobs' (allowed: base, set, grid, point, keep_runs)"},
+      {"base = \"fast.toml\"\nkeep_runs = 1\n[grid]\ncycles = [1]\n",
+       ":2: keep_runs must be true or false (got integer)"},
       {"base = \"fast.toml\"\n[grid\n", ":2:6: Error while parsing table header: expected ']', "
                                         "saw '\\n'"},
   };
@@ -419,9 +463,9 @@ TEST_F(SweepTest, BadSweepFilesGiveOneLineErrorsBeforeAnyRun) {
     }
     return std::string("no error");
   };
-  EXPECT_EQ(shard_error("3/2"), "sweep: --shard must be i/n with 1 <= i <= n (got '3/2')");
-  EXPECT_EQ(shard_error("0/2"), "sweep: --shard must be i/n with 1 <= i <= n (got '0/2')");
-  EXPECT_EQ(shard_error("2"), "sweep: --shard must be i/n with 1 <= i <= n (got '2')");
+  EXPECT_EQ(shard_error("3/2"), "sweep: shard must be i/n with 1 <= i <= n (got '3/2')");
+  EXPECT_EQ(shard_error("0/2"), "sweep: shard must be i/n with 1 <= i <= n (got '0/2')");
+  EXPECT_EQ(shard_error("2"), "sweep: shard must be i/n with 1 <= i <= n (got '2')");
   EXPECT_EQ(ParseSweepShard("2/3").index, 2);
   EXPECT_EQ(ParseSweepShard("2/3").count, 3);
   SweepOptions options;

@@ -1,18 +1,5 @@
 #include "plugin/actuators/ipmc_actuator_bank.h"
 
-#include <algorithm>
-#include <cmath>
-#include <cstdlib>
-#include <cstring>
-#include <limits>
-#include <sstream>
-#include <stdexcept>
-#include <string>
-#include <type_traits>
-#include <utility>
-
-#include <Eigen/Eigenvalues>
-
 #include <cvode/cvode.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
@@ -21,35 +8,30 @@
 #include <sunmatrix/sunmatrix_band.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
 #include "plugin/actuators/serial_kernels.h"
+#include "plugin/actuators/shifted_schur.h"
+#include "plugin/actuators/sundials_handles.h"
+#include "plugin/actuators/zero_order_hold.h"
 
 namespace ipmc {
 namespace {
 
-// RAII owners of the SUNDIALS objects. Impl declares them in creation
-// order, so C++ destroys them in reverse: CVODE memory, linear solver,
-// matrix, vector, context.
-struct ContextFree {
-  void operator()(SUNContext context) const { SUNContext_Free(&context); }
-};
-struct VectorFree {
-  void operator()(N_Vector v) const { N_VDestroy(v); }
-};
-struct MatrixFree {
-  void operator()(SUNMatrix m) const { SUNMatDestroy(m); }
-};
-struct LinearSolverFree {
-  void operator()(SUNLinearSolver s) const { SUNLinSolFree(s); }
-};
-struct CvodeFree {
-  void operator()(void* mem) const { CVodeFree(&mem); }
-};
-using ContextPtr = std::unique_ptr<std::remove_pointer_t<SUNContext>, ContextFree>;
-using VectorPtr = std::unique_ptr<std::remove_pointer_t<N_Vector>, VectorFree>;
-using MatrixPtr = std::unique_ptr<std::remove_pointer_t<SUNMatrix>, MatrixFree>;
-using LinearSolverPtr =
-    std::unique_ptr<std::remove_pointer_t<SUNLinearSolver>, LinearSolverFree>;
-using CvodePtr = std::unique_ptr<void, CvodeFree>;
+using sundials_handles::ContextPtr;
+using sundials_handles::CvodePtr;
+using sundials_handles::LinearSolverPtr;
+using sundials_handles::MatrixPtr;
+using sundials_handles::VectorPtr;
 
 struct Block {
   int offset = 0;  // first state in x
@@ -69,61 +51,6 @@ struct Block {
   Eigen::MatrixXd schur_t_rows;
   bool reversed = false;  // Q = P instead of schur_q
 };
-
-// True if every nonzero of a above the diagonal is the upper corner of a
-// 2x2 diagonal block, with no two such blocks overlapping.
-bool IsQuasiLowerTriangular(const Eigen::MatrixXd& a) {
-  const Eigen::Index n = a.rows();
-  for (Eigen::Index i = 0; i < n; ++i) {
-    for (Eigen::Index j = i + 1; j < n; ++j) {
-      if (a(i, j) == 0.0) continue;
-      if (j != i + 1) return false;
-      if (i > 0 && a(i - 1, i) != 0.0) return false;  // overlaps the pair above
-    }
-  }
-  return true;
-}
-
-// Solves (I - gamma T) w = z in place for the n x n quasi-upper-triangular
-// T (1x1 and 2x2 diagonal blocks), stored by rows, by back substitution.
-// Returns false if a pivot vanishes (an unstable block with
-// 1 - gamma lambda = 0).
-bool SolveShiftedQuasiTriangular(const double* t_rows, int n, double gamma, double* z) {
-  constexpr double kTiny = 1e-300;
-  const auto t = [t_rows, n](int row, int col) { return t_rows[row * n + col]; };
-  // z_k += gamma sum_{j > last} T(k, j) z_j, the already solved part.
-  const auto eliminate = [&](int k, int last) {
-    const double* row = t_rows + k * n;
-    double sum = 0.0;
-    for (int j = last + 1; j < n; ++j) sum += row[j] * z[j];
-    z[k] += gamma * sum;
-  };
-  int i = n - 1;
-  while (i >= 0) {
-    const bool pair = i > 0 && t(i, i - 1) != 0.0;
-    const int top = pair ? i - 1 : i;
-    for (int k = top; k <= i; ++k) eliminate(k, i);
-    if (!pair) {
-      const double pivot = 1.0 - gamma * t(i, i);
-      if (std::abs(pivot) < kTiny) return false;
-      z[i] /= pivot;
-    } else {
-      // [1 - g t00, -g t01; -g t10, 1 - g t11] [w0; w1] = [z0; z1]
-      const double m00 = 1.0 - gamma * t(top, top);
-      const double m01 = -gamma * t(top, i);
-      const double m10 = -gamma * t(i, top);
-      const double m11 = 1.0 - gamma * t(i, i);
-      const double det = m00 * m11 - m01 * m10;
-      if (std::abs(det) < kTiny) return false;
-      const double z0 = z[top];
-      const double z1 = z[i];
-      z[top] = (m11 * z0 - m01 * z1) / det;
-      z[i] = (m00 * z1 - m10 * z0) / det;
-    }
-    i = top - 1;
-  }
-  return true;
-}
 
 // Newton convergence coefficient for an exact linear solve (InitCvode).
 constexpr double kExactNewtonConvCoef = 1e6;
@@ -160,8 +87,8 @@ struct IpmcActuatorBank::Impl {
   void ApplyA(const double* in, const double* add, double* out) const;
   std::vector<int> a_start, a_first;
   std::vector<double> a_value;
-  Eigen::VectorXd forcing;   // B u for the held u (plain form)
-  Eigen::VectorXd state;     // x at time_s
+  Eigen::VectorXd forcing;  // B u for the held u (plain form)
+  Eigen::VectorXd state;    // x at time_s
   // What CVODE integrates (header, "Stepping"); y_vector wraps its storage.
   // The plain form: eta = x. The smooth form: eta = x - B P(t) - A B Q(t)
   // with P and Q the first and second integrals of u since the last
@@ -193,8 +120,11 @@ struct IpmcActuatorBank::Impl {
   int upper_bandwidth = 0;
   CvodeOptions options;
   std::string last_cvode_message;
-  Eigen::VectorXd schur_work;  // Q^T r of one block
+  Eigen::VectorXd schur_work;                     // Q^T r of one block
   Eigen::VectorXd derivative, second_derivative;  // eta' and eta'' at a restart
+
+  // kExact: the exact integration, and no CVODE.
+  std::unique_ptr<ZeroOrderHold> exact;
 
   ContextPtr context;
   VectorPtr y_vector;
@@ -225,29 +155,25 @@ struct IpmcActuatorBank::Impl {
 
   // CVODE callbacks; user_data is the Impl.
   static int Rhs(realtype t, N_Vector x, N_Vector xdot, void* user_data);
-  static int Jacobian(realtype t, N_Vector x, N_Vector fx, SUNMatrix jac,
-                      void* user_data, N_Vector tmp1, N_Vector tmp2,
-                      N_Vector tmp3);
-  static void CaptureMessage(int error_code, const char* module,
-                             const char* function, char* msg,
+  static int Jacobian(realtype t, N_Vector x, N_Vector fx, SUNMatrix jac, void* user_data,
+                      N_Vector tmp1, N_Vector tmp2, N_Vector tmp3);
+  static void CaptureMessage(int error_code, const char* module, const char* function, char* msg,
                              void* user_data);
   // Matrix-embedded linear solver (kBlockSchur); content is the Impl.
   static SUNLinearSolver_Type SchurType(SUNLinearSolver solver);
-  static int SchurSolve(SUNLinearSolver solver, SUNMatrix unused, N_Vector x,
-                        N_Vector r, realtype tol);
+  static int SchurSolve(SUNLinearSolver solver, SUNMatrix unused, N_Vector x, N_Vector r,
+                        realtype tol);
   static int SchurFree(SUNLinearSolver solver);
   SUNLinearSolver NewSchurSolver();
 };
 
-SUNLinearSolver_Type IpmcActuatorBank::Impl::SchurType(
-    SUNLinearSolver /*solver*/) {
+SUNLinearSolver_Type IpmcActuatorBank::Impl::SchurType(SUNLinearSolver /*solver*/) {
   return SUNLINEARSOLVER_MATRIX_EMBEDDED;
 }
 
 // x = (I - gamma A)^-1 r block by block, x_q = Q (I - gamma T)^-1 Q^T r_q,
 // with CVODE's current gamma.
-int IpmcActuatorBank::Impl::SchurSolve(SUNLinearSolver solver,
-                                       SUNMatrix /*unused*/, N_Vector x,
+int IpmcActuatorBank::Impl::SchurSolve(SUNLinearSolver solver, SUNMatrix /*unused*/, N_Vector x,
                                        N_Vector r, realtype /*tol*/) {
   auto* impl = static_cast<Impl*>(solver->content);
   realtype gamma = 0;
@@ -258,35 +184,10 @@ int IpmcActuatorBank::Impl::SchurSolve(SUNLinearSolver solver,
   double* x_all = N_VGetArrayPointer(x);
   double* work = impl->schur_work.data();
   for (const Block& block : impl->blocks) {
-    const int n = block.size;
-    const double* q = block.schur_q.data();  // column-major: column i at q + i n
-    const double* r_q = r_all + block.offset;
-    double* x_q = x_all + block.offset;
-    // work = Q^T r_q (column i of Q dotted with r_q, or r_q reversed when
-    // Q = P); x may alias r.
-    if (block.reversed) {
-      for (int i = 0; i < n; ++i) work[i] = r_q[n - 1 - i];
-    } else {
-      for (int i = 0; i < n; ++i) {
-        const double* column = q + i * n;
-        double sum = 0.0;
-        for (int k = 0; k < n; ++k) sum += column[k] * r_q[k];
-        work[i] = sum;
-      }
-    }
-    if (!SolveShiftedQuasiTriangular(block.schur_t_rows.data(), n, gamma, work)) {
+    const double* q = block.reversed ? nullptr : block.schur_q.data();
+    if (!SolveShiftedSchur(q, block.schur_t_rows.data(), block.size, gamma, r_all + block.offset,
+                           x_all + block.offset, work)) {
       return SUNLS_LUFACT_FAIL;  // recoverable: CVODE retries a smaller step
-    }
-    // x_q = Q work, column by column.
-    if (block.reversed) {
-      for (int i = 0; i < n; ++i) x_q[n - 1 - i] = work[i];
-      continue;
-    }
-    for (int k = 0; k < n; ++k) x_q[k] = 0.0;
-    for (int i = 0; i < n; ++i) {
-      const double* column = q + i * n;
-      const double w = work[i];
-      for (int k = 0; k < n; ++k) x_q[k] += column[k] * w;
     }
   }
   return SUNLS_SUCCESS;
@@ -310,8 +211,7 @@ SUNLinearSolver IpmcActuatorBank::Impl::NewSchurSolver() {
 }
 
 // d eta / dt: A eta + B u (plain) or A eta + A^2 B Q(t) (smooth).
-int IpmcActuatorBank::Impl::Rhs(realtype t, N_Vector x, N_Vector xdot,
-                                void* user_data) {
+int IpmcActuatorBank::Impl::Rhs(realtype t, N_Vector x, N_Vector xdot, void* user_data) {
   const auto* impl = static_cast<const Impl*>(user_data);
   impl->Derivative(t, N_VGetArrayPointer(x), N_VGetArrayPointer(xdot));
   return 0;
@@ -362,10 +262,9 @@ void IpmcActuatorBank::Impl::ApplyA(const double* in, const double* add, double*
 }
 
 // J = df/dx = A, constant: copied into the dense or band matrix.
-int IpmcActuatorBank::Impl::Jacobian(realtype /*t*/, N_Vector /*x*/,
-                                     N_Vector /*fx*/, SUNMatrix jac,
-                                     void* user_data, N_Vector /*tmp1*/,
-                                     N_Vector /*tmp2*/, N_Vector /*tmp3*/) {
+int IpmcActuatorBank::Impl::Jacobian(realtype /*t*/, N_Vector /*x*/, N_Vector /*fx*/, SUNMatrix jac,
+                                     void* user_data, N_Vector /*tmp1*/, N_Vector /*tmp2*/,
+                                     N_Vector /*tmp3*/) {
   const auto* impl = static_cast<const Impl*>(user_data);
   const Eigen::MatrixXd& a = impl->jacobian;
   const int n = impl->states;
@@ -384,10 +283,8 @@ int IpmcActuatorBank::Impl::Jacobian(realtype /*t*/, N_Vector /*x*/,
 }
 
 // Keeps CVODE's last message for the exception instead of printing it.
-void IpmcActuatorBank::Impl::CaptureMessage(int /*error_code*/,
-                                            const char* /*module*/,
-                                            const char* function, char* msg,
-                                            void* user_data) {
+void IpmcActuatorBank::Impl::CaptureMessage(int /*error_code*/, const char* /*module*/,
+                                            const char* function, char* msg, void* user_data) {
   auto* impl = static_cast<Impl*>(user_data);
   impl->last_cvode_message = std::string(function) + ": " + msg;
 }
@@ -395,8 +292,7 @@ void IpmcActuatorBank::Impl::CaptureMessage(int /*error_code*/,
 void IpmcActuatorBank::Impl::Check(int flag, const char* call) const {
   if (flag >= 0) return;
   std::ostringstream out;
-  out << "ipmc actuator: " << call << " failed at t = " << time_s
-      << " s: " << FlagName(flag);
+  out << "ipmc actuator: " << call << " failed at t = " << time_s << " s: " << FlagName(flag);
   if (!last_cvode_message.empty()) out << " (" << last_cvode_message << ")";
   throw std::runtime_error(out.str());
 }
@@ -410,15 +306,13 @@ void IpmcActuatorBank::Impl::ThrowSolverFailure(int flag) {
   VectorPtr errors(N_VClone(y_vector.get()));
   VectorPtr weights(N_VClone(y_vector.get()));
   int worst_link = -1;
-  if (errors && weights &&
-      CVodeGetEstLocalErrors(cvode.get(), errors.get()) == CV_SUCCESS &&
+  if (errors && weights && CVodeGetEstLocalErrors(cvode.get(), errors.get()) == CV_SUCCESS &&
       CVodeGetErrWeights(cvode.get(), weights.get()) == CV_SUCCESS) {
     const double* e = N_VGetArrayPointer(errors.get());
     const double* w = N_VGetArrayPointer(weights.get());
     double worst = -1;
     for (std::size_t q = 0; q < blocks.size(); ++q) {
-      for (int i = blocks[q].offset; i < blocks[q].offset + blocks[q].size;
-           ++i) {
+      for (int i = blocks[q].offset; i < blocks[q].offset + blocks[q].size; ++i) {
         const double weighted = std::abs(e[i] * w[i]);
         if (weighted > worst) {
           worst = weighted;
@@ -430,8 +324,7 @@ void IpmcActuatorBank::Impl::ThrowSolverFailure(int flag) {
   std::ostringstream out;
   out << "ipmc actuator: CVode failed at t = " << t_reached << " s (";
   if (worst_link > 0) {
-    out << "link " << worst_link << " of " << blocks.size()
-        << " has the largest local error";
+    out << "link " << worst_link << " of " << blocks.size() << " has the largest local error";
   } else {
     out << blocks.size() << " links";
   }
@@ -456,15 +349,12 @@ void IpmcActuatorBank::Impl::InitCvode() {
     case CvodeLinearSolver::kDense:
       matrix.reset(SUNDenseMatrix(states, states, context.get()));
       if (!matrix) break;
-      linear_solver.reset(
-          SUNLinSol_Dense(y_vector.get(), matrix.get(), context.get()));
+      linear_solver.reset(SUNLinSol_Dense(y_vector.get(), matrix.get(), context.get()));
       break;
     case CvodeLinearSolver::kBand:
-      matrix.reset(SUNBandMatrix(states, upper_bandwidth, lower_bandwidth,
-                                 context.get()));
+      matrix.reset(SUNBandMatrix(states, upper_bandwidth, lower_bandwidth, context.get()));
       if (!matrix) break;
-      linear_solver.reset(
-          SUNLinSol_Band(y_vector.get(), matrix.get(), context.get()));
+      linear_solver.reset(SUNLinSol_Band(y_vector.get(), matrix.get(), context.get()));
       break;
   }
   if (!linear_solver) {
@@ -473,15 +363,12 @@ void IpmcActuatorBank::Impl::InitCvode() {
   cvode.reset(CVodeCreate(CV_BDF, context.get()));
   if (!cvode) throw std::runtime_error("ipmc actuator: CVodeCreate failed");
   void* mem = cvode.get();
-  Check(CVodeSetErrHandlerFn(mem, CaptureMessage, this),
-        "CVodeSetErrHandlerFn");
+  Check(CVodeSetErrHandlerFn(mem, CaptureMessage, this), "CVodeSetErrHandlerFn");
   Check(CVodeInit(mem, Rhs, time_s, y_vector.get()), "CVodeInit");
   Check(CVodeSetUserData(mem, this), "CVodeSetUserData");
-  Check(CVodeSStolerances(mem, options.rel_tol, options.abs_tol_mm),
-        "CVodeSStolerances");
+  Check(CVodeSStolerances(mem, options.rel_tol, options.abs_tol_mm), "CVodeSStolerances");
   Check(CVodeSetMaxNumSteps(mem, options.max_steps), "CVodeSetMaxNumSteps");
-  Check(CVodeSetLinearSolver(mem, linear_solver.get(), matrix.get()),
-        "CVodeSetLinearSolver");
+  Check(CVodeSetLinearSolver(mem, linear_solver.get(), matrix.get()), "CVodeSetLinearSolver");
   if (matrix) Check(CVodeSetJacFn(mem, Jacobian), "CVodeSetJacFn");
   if (options.linear_solver == CvodeLinearSolver::kBlockSchur) {
     // The ODE is linear and the Schur solve uses CVODE's current gamma, so
@@ -523,21 +410,18 @@ double IpmcActuatorBank::Impl::InitialStep_s() {
 
 void CvodeOptions::Validate() const {
   if (linear_solver != CvodeLinearSolver::kBlockSchur &&
-      linear_solver != CvodeLinearSolver::kDense &&
-      linear_solver != CvodeLinearSolver::kBand) {
+      linear_solver != CvodeLinearSolver::kDense && linear_solver != CvodeLinearSolver::kBand) {
     throw std::invalid_argument(
         "ipmc actuator: linear_solver must be kBlockSchur, kDense or kBand");
   }
   if (!(rel_tol >= 1e-14 && rel_tol <= 1e-2)) {
     std::ostringstream out;
-    out << "ipmc actuator: rel_tol must be in [1e-14, 1e-2] (got " << rel_tol
-        << ")";
+    out << "ipmc actuator: rel_tol must be in [1e-14, 1e-2] (got " << rel_tol << ")";
     throw std::invalid_argument(out.str());
   }
   if (!std::isfinite(abs_tol_mm) || abs_tol_mm <= 0) {
     std::ostringstream out;
-    out << "ipmc actuator: abs_tol_mm must be finite and > 0 (got "
-        << abs_tol_mm << ")";
+    out << "ipmc actuator: abs_tol_mm must be finite and > 0 (got " << abs_tol_mm << ")";
     throw std::invalid_argument(out.str());
   }
   if (max_steps < 1) {
@@ -547,8 +431,19 @@ void CvodeOptions::Validate() const {
   }
 }
 
-std::unique_ptr<IpmcActuatorBank> IpmcActuatorBank::Create(
-    std::vector<IpmcLinkParams> links, CvodeOptions options) {
+const char* ActuatorIntegrationName(ActuatorIntegration integration) {
+  return integration == ActuatorIntegration::kExact ? "exact" : "cvode";
+}
+
+std::optional<ActuatorIntegration> ParseActuatorIntegration(const std::string& word) {
+  if (word == "exact") return ActuatorIntegration::kExact;
+  if (word == "cvode") return ActuatorIntegration::kCvode;
+  return std::nullopt;
+}
+
+std::unique_ptr<IpmcActuatorBank> IpmcActuatorBank::Create(std::vector<IpmcLinkParams> links,
+                                                           CvodeOptions options,
+                                                           ActuatorIntegration integration) {
   std::vector<StateSpace> blocks;
   blocks.reserve(links.size());
   for (std::size_t q = 0; q < links.size(); ++q) {
@@ -560,11 +455,11 @@ std::unique_ptr<IpmcActuatorBank> IpmcActuatorBank::Create(
       throw std::invalid_argument(out.str());
     }
   }
-  return CreateFromStateSpace(std::move(blocks), options);
+  return CreateFromStateSpace(std::move(blocks), options, integration);
 }
 
 std::unique_ptr<IpmcActuatorBank> IpmcActuatorBank::CreateFromStateSpace(
-    std::vector<StateSpace> blocks, CvodeOptions options) {
+    std::vector<StateSpace> blocks, CvodeOptions options, ActuatorIntegration integration) {
   options.Validate();
   if (blocks.empty()) {
     throw std::invalid_argument("ipmc actuator: needs at least one link");
@@ -590,8 +485,7 @@ std::unique_ptr<IpmcActuatorBank> IpmcActuatorBank::CreateFromStateSpace(
   const int n = impl->states;
   impl->jacobian = Eigen::MatrixXd::Zero(n, n);
   for (const Block& block : impl->blocks) {
-    impl->jacobian.block(block.offset, block.offset, block.size, block.size) =
-        block.a;
+    impl->jacobian.block(block.offset, block.offset, block.size, block.size) = block.a;
   }
   for (int j = 0; j < n; ++j) {
     for (int i = 0; i < n; ++i) {
@@ -624,10 +518,9 @@ std::unique_ptr<IpmcActuatorBank> IpmcActuatorBank::CreateFromStateSpace(
     }
     const Eigen::RealSchur<Eigen::MatrixXd> schur(block.a);
     if (schur.info() != Eigen::Success) {
-      throw std::invalid_argument(
-          "ipmc actuator: link " +
-          std::to_string(&block - impl->blocks.data() + 1) +
-          ": real Schur decomposition of a did not converge");
+      throw std::invalid_argument("ipmc actuator: link " +
+                                  std::to_string(&block - impl->blocks.data() + 1) +
+                                  ": real Schur decomposition of a did not converge");
     }
     block.schur_q = schur.matrixU();
     block.schur_t_rows = schur.matrixT().transpose();
@@ -640,11 +533,13 @@ std::unique_ptr<IpmcActuatorBank> IpmcActuatorBank::CreateFromStateSpace(
     block.ab = block.a * block.b;
     block.aab = block.a * block.ab;
     if (block.size == 0) continue;
-    const Eigen::VectorXcd eigenvalues = Eigen::EigenSolver<Eigen::MatrixXd>(block.a, false).eigenvalues();
+    const Eigen::VectorXcd eigenvalues =
+        Eigen::EigenSolver<Eigen::MatrixXd>(block.a, false).eigenvalues();
     fastest_rate = std::max(fastest_rate, eigenvalues.cwiseAbs().maxCoeff());
   }
   // 0 if every a is zero (InitialStep_s then leaves the first step to CVODE).
-  impl->initial_step_cap_s = fastest_rate > 0.0 && std::isfinite(fastest_rate) ? 1.0 / fastest_rate : 0.0;
+  impl->initial_step_cap_s =
+      fastest_rate > 0.0 && std::isfinite(fastest_rate) ? 1.0 / fastest_rate : 0.0;
   impl->forcing = Eigen::VectorXd::Zero(n);
   impl->state = Eigen::VectorXd::Zero(n);
   impl->eta = Eigen::VectorXd::Zero(n);
@@ -653,19 +548,25 @@ std::unique_ptr<IpmcActuatorBank> IpmcActuatorBank::CreateFromStateSpace(
   impl->segment_q.assign(impl->blocks.size(), 0.0);
   impl->segment_voltage_V = impl->voltage_V;
   impl->pending_restart = Impl::PendingRestart::kPlain;
-  impl->InitCvode();
-  return std::unique_ptr<IpmcActuatorBank>(
-      new IpmcActuatorBank(std::move(impl)));
+  if (integration == ActuatorIntegration::kExact) {
+    std::vector<Eigen::MatrixXd> a;
+    std::vector<Eigen::VectorXd> b;
+    for (const Block& block : impl->blocks) {
+      a.push_back(block.a);
+      b.push_back(block.b);
+    }
+    impl->exact = std::make_unique<ZeroOrderHold>(std::move(a), std::move(b));
+  } else {
+    impl->InitCvode();
+  }
+  return std::unique_ptr<IpmcActuatorBank>(new IpmcActuatorBank(std::move(impl)));
 }
 
-IpmcActuatorBank::IpmcActuatorBank(std::unique_ptr<Impl> impl)
-    : impl_(std::move(impl)) {}
+IpmcActuatorBank::IpmcActuatorBank(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 
 IpmcActuatorBank::~IpmcActuatorBank() = default;
 
-int IpmcActuatorBank::Links() const {
-  return static_cast<int>(impl_->blocks.size());
-}
+int IpmcActuatorBank::Links() const { return static_cast<int>(impl_->blocks.size()); }
 
 int IpmcActuatorBank::States() const { return impl_->states; }
 
@@ -679,8 +580,8 @@ void IpmcActuatorBank::SetVoltages(const std::vector<double>& voltage_V) {
   for (std::size_t q = 0; q < voltage_V.size(); ++q) {
     if (!std::isfinite(voltage_V[q])) {
       std::ostringstream out;
-      out << "ipmc actuator: voltage_V of link " << q + 1
-          << " must be finite (got " << voltage_V[q] << ")";
+      out << "ipmc actuator: voltage_V of link " << q + 1 << " must be finite (got " << voltage_V[q]
+          << ")";
       throw std::invalid_argument(out.str());
     }
   }
@@ -688,15 +589,12 @@ void IpmcActuatorBank::SetVoltages(const std::vector<double>& voltage_V) {
     if (voltage_V[q] == impl_->voltage_V[q]) continue;
     impl_->voltage_V[q] = voltage_V[q];
     const Block& block = impl_->blocks[q];
-    impl_->forcing.segment(block.offset, block.size) =
-        block.b * voltage_V[q];
+    impl_->forcing.segment(block.offset, block.size) = block.b * voltage_V[q];
     impl_->voltage_changed = true;
   }
 }
 
-const std::vector<double>& IpmcActuatorBank::Voltages_V() const {
-  return impl_->voltage_V;
-}
+const std::vector<double>& IpmcActuatorBank::Voltages_V() const { return impl_->voltage_V; }
 
 void IpmcActuatorBank::Impl::RestartAt(bool smooth_form) {
   void* mem = cvode.get();
@@ -790,13 +688,19 @@ void IpmcActuatorBank::AdvanceTo(double t_s) {
   if (!std::isfinite(t_s) || t_s < impl.time_s) {
     std::ostringstream out;
     out.precision(17);
-    out << "ipmc actuator: AdvanceTo needs a finite t_s >= Time_s() = "
-        << impl.time_s << " s (got " << t_s << ")";
+    out << "ipmc actuator: AdvanceTo needs a finite t_s >= Time_s() = " << impl.time_s << " s (got "
+        << t_s << ")";
     throw std::invalid_argument(out.str());
   }
   // CVODE cannot resolve an interval below a few ulps of t; such a step
   // leaves the state unchanged.
   if (t_s - impl.time_s <= Unresolvable_s(t_s, impl.time_s)) return;
+  if (impl.exact) {
+    impl.exact->Advance(t_s - impl.time_s, impl.voltage_V, &impl.state);
+    impl.time_s = t_s;
+    impl.voltage_changed = false;
+    return;
+  }
   if (impl.pending_restart != Impl::PendingRestart::kNone) {
     // The restart takes any new voltages; a change at this instant is the
     // first the bank knows of.
@@ -805,8 +709,8 @@ void IpmcActuatorBank::AdvanceTo(double t_s) {
     // A state at rest restarts in the plain form whichever restart asked
     // for it, so that a bank reset (or new) and then saved or restored
     // steps as a new one does.
-    const bool smooth_form = impl.pending_restart == Impl::PendingRestart::kSmooth &&
-                             (impl.state.array() != 0.0).any();
+    const bool smooth_form =
+        impl.pending_restart == Impl::PendingRestart::kSmooth && (impl.state.array() != 0.0).any();
     impl.RestartAt(smooth_form);
     impl.period_known = false;
   } else if (impl.voltage_changed) {
@@ -855,8 +759,7 @@ void IpmcActuatorBank::SetState(double t_s, const Eigen::VectorXd& state) {
   }
   if (state.size() != impl_->states) {
     std::ostringstream out;
-    out << "ipmc actuator: state needs " << impl_->states << " values (got "
-        << state.size() << ")";
+    out << "ipmc actuator: state needs " << impl_->states << " values (got " << state.size() << ")";
     throw std::invalid_argument(out.str());
   }
   if (!state.allFinite()) {
@@ -873,19 +776,15 @@ void IpmcActuatorBank::Restart() {
   impl_->voltage_changed = false;
 }
 
-const Eigen::VectorXd& IpmcActuatorBank::State() const {
-  return impl_->state;
-}
+const Eigen::VectorXd& IpmcActuatorBank::State() const { return impl_->state; }
 
 long IpmcActuatorBank::InternalSteps() const {
+  if (impl_->exact) return impl_->exact->Advances();
   long steps = 0;
-  impl_->Check(CVodeGetNumSteps(impl_->cvode.get(), &steps),
-               "CVodeGetNumSteps");
+  impl_->Check(CVodeGetNumSteps(impl_->cvode.get(), &steps), "CVodeGetNumSteps");
   return impl_->steps_before_reinit + steps;
 }
 
-long IpmcActuatorBank::Reinitialisations() const {
-  return impl_->reinitialisations;
-}
+long IpmcActuatorBank::Reinitialisations() const { return impl_->reinitialisations; }
 
 }  // namespace ipmc

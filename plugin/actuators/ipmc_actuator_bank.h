@@ -64,12 +64,19 @@
 // estimate), and since the Schur solve is exact the Newton iteration of
 // this linear ODE takes one correction (CVodeSetNonlinConvCoef).
 //
+// Exact integration (ActuatorIntegration::kExact): the same ODE advanced
+// over each AdvanceTo interval by its zero-order-hold matrices
+// (plugin/actuators/zero_order_hold.h), exact to rounding since the
+// voltages are held between SetVoltages calls; CVODE is not created.
+//
 // The bank replaces the serial N_Vector kernels of the vectors CVODE uses
 // with equivalent loops compiled with the project (plugin/actuators/serial_kernels.h).
 #ifndef IPMC_SWIM_PLUGIN_IPMC_ACTUATOR_BANK_H_
 #define IPMC_SWIM_PLUGIN_IPMC_ACTUATOR_BANK_H_
 
 #include <memory>
+#include <optional>
+#include <string>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -87,6 +94,17 @@ constexpr int kMaxStepsPerAdvance = 100000;
 
 enum class CvodeLinearSolver { kBlockSchur, kDense, kBand };
 
+// How a bank advances its state: by CVODE (above), or exactly, the
+// voltages held constant over each AdvanceTo interval, by the interval's
+// matrix exponential (plugin/actuators/zero_order_hold.h; the options'
+// tolerances then play no part).
+enum class ActuatorIntegration { kCvode, kExact };
+
+// "cvode" / "exact"; ParseActuatorIntegration returns nullopt for any
+// other word.
+const char* ActuatorIntegrationName(ActuatorIntegration integration);
+std::optional<ActuatorIntegration> ParseActuatorIntegration(const std::string& word);
+
 struct CvodeOptions {
   CvodeLinearSolver linear_solver = CvodeLinearSolver::kBlockSchur;
   double rel_tol = kRelTol;      // in [1e-14, 1e-2]
@@ -102,13 +120,15 @@ class IpmcActuatorBank {
   // One block per link from LinkStateSpace. Throws std::invalid_argument
   // naming the link and field on a bad configuration.
   static std::unique_ptr<IpmcActuatorBank> Create(
-      std::vector<IpmcLinkParams> links, CvodeOptions options = {});
+      std::vector<IpmcLinkParams> links, CvodeOptions options = {},
+      ActuatorIntegration integration = ActuatorIntegration::kCvode);
 
   // One arbitrary SISO block per "link" (e.g. a bare Oustaloup block).
   // Needs at least one block and at least one state in total; throws
   // std::invalid_argument otherwise or on a malformed block.
   static std::unique_ptr<IpmcActuatorBank> CreateFromStateSpace(
-      std::vector<StateSpace> blocks, CvodeOptions options = {});
+      std::vector<StateSpace> blocks, CvodeOptions options = {},
+      ActuatorIntegration integration = ActuatorIntegration::kCvode);
 
   ~IpmcActuatorBank();
   IpmcActuatorBank(const IpmcActuatorBank&) = delete;
@@ -156,9 +176,10 @@ class IpmcActuatorBank {
   // The augmented Oustaloup state x at Time_s(), links in order.
   const Eigen::VectorXd& State() const;
 
-  // Diagnostics: CVODE internal steps since creation, and the number of
-  // re-initialisations (restarts: voltage changes CVODE does not continue
-  // across, resets, held voltages going back to the plain form).
+  // Diagnostics: CVODE internal steps since creation (kExact: the exact
+  // advances), and the number of re-initialisations (restarts: voltage
+  // changes CVODE does not continue across, resets, held voltages going
+  // back to the plain form; kExact: none).
   long InternalSteps() const;
   long Reinitialisations() const;
 

@@ -127,6 +127,15 @@ PlantAssignment Plants(const mjModel* m) {
   Fail(std::string(kAttrPlants) + " must be uniform or table2 (got '" + *word + "')");
 }
 
+ActuatorIntegration IntegrationOf(const mjModel* m) {
+  const std::optional<std::string> word = FindCustomText(m, kAttrIntegration);
+  if (!word) return ActuatorIntegration::kExact;
+  if (const std::optional<ActuatorIntegration> integration = ParseActuatorIntegration(*word)) {
+    return *integration;
+  }
+  Fail(std::string(kAttrIntegration) + " must be exact or cvode (got '" + *word + "')");
+}
+
 Actuation ActuationOf(const mjModel* m) {
   const std::optional<std::string> actuation = FindCustomText(m, kAttrActuation);
   if (!actuation || *actuation == "distributed") return Actuation::kDistributed;
@@ -146,6 +155,15 @@ ChainShape::ChainShape(const std::vector<double>& segment_length_m)
     cumulative_m += share_m;
     cumulative_share_m_.push_back(cumulative_m);
   }
+  const double length_m = cumulative_m + 0.5 * segment_length_m_.back();
+  const double mean_m = length_m / static_cast<double>(segment_length_m_.size());
+  uniform_ = segment_length_m_.size() > 1 &&
+             std::all_of(segment_length_m_.begin(), segment_length_m_.end(),
+                         [mean_m](double l) { return std::abs(l - mean_m) <= 1e-9 * mean_m; });
+  if (uniform_) {
+    uniform_length_m_ = mean_m;
+    total_length_m_ = length_m;
+  }
   // f(kappa) rises while every cumulative angle kappa c_j is below pi and
   // f' = sum l_j c_j cos(kappa c_j) > 0; f' falls on [0, pi / c_last], so
   // its root there (bisection) is the reach's curvature.
@@ -162,7 +180,15 @@ ChainShape::ChainShape(const std::vector<double>& segment_length_m)
   reach_m_ = TipDeflection_m(lo);
 }
 
+// Equal sub-segments (c_j = (j + 1/2) l, n l = L): the sum of sines of an
+// arithmetic progression, f = l sin^2(kappa L / 2) / sin(kappa l / 2), and
+// its derivative, in a few operations whatever n.
 double ChainShape::TipDeflection_m(double kappa_1_m) const {
+  if (uniform_) {
+    if (kappa_1_m == 0.0) return 0.0;
+    const double half_total = std::sin(0.5 * kappa_1_m * total_length_m_);
+    return uniform_length_m_ * half_total * half_total / std::sin(0.5 * kappa_1_m * uniform_length_m_);
+  }
   double y_m = 0.0;
   for (size_t j = 0; j < segment_length_m_.size(); ++j) {
     y_m += segment_length_m_[j] * std::sin(kappa_1_m * cumulative_share_m_[j]);
@@ -171,6 +197,15 @@ double ChainShape::TipDeflection_m(double kappa_1_m) const {
 }
 
 double ChainShape::Slope(double kappa_1_m) const {
+  if (uniform_) {
+    if (kappa_1_m == 0.0) return 0.5 * total_length_m_ * total_length_m_;
+    const double l = uniform_length_m_, length_m = total_length_m_;
+    const double big_s = std::sin(0.5 * kappa_1_m * length_m);
+    const double big_c = std::cos(0.5 * kappa_1_m * length_m);
+    const double small_s = std::sin(0.5 * kappa_1_m * l);
+    const double small_c = std::cos(0.5 * kappa_1_m * l);
+    return l * big_s * (length_m * big_c - 0.5 * l * big_s * small_c / small_s) / small_s;
+  }
   double slope = 0.0;
   for (size_t j = 0; j < segment_length_m_.size(); ++j) {
     slope += segment_length_m_[j] * cumulative_share_m_[j] * std::cos(kappa_1_m * cumulative_share_m_[j]);
@@ -244,6 +279,7 @@ std::optional<IpmcActuatorsConfig> IpmcActuatorsConfig::FromModel(
   if (auto pairs = FindCustomInteger(m, kAttrPairs, 1, kMaxIntegratorPairs)) {
     for (IpmcLinkParams& p : config.links) p.integrator.n = *pairs;
   }
+  config.integration = IntegrationOf(m);
   if (auto rel_tol = FindCustomScalar(m, kAttrRelTol)) config.cvode.rel_tol = *rel_tol;
   try {
     config.cvode.Validate();
@@ -263,7 +299,7 @@ std::optional<IpmcActuatorsConfig> IpmcActuatorsConfig::FromModel(
 const std::vector<std::string>& IpmcActuatorFields() {
   static const std::vector<std::string> fields = {
       kAttrLinks, kAttrSegments, kAttrPlants, kAttrModel, kAttrActuation, kAttrBand,
-      kAttrPairs, kAttrRelTol,   kAttrA0,     kAttrB1,    kAttrB2,        kAttrAlpha};
+      kAttrPairs, kAttrRelTol,   kAttrIntegration, kAttrA0, kAttrB1, kAttrB2, kAttrAlpha};
   return fields;
 }
 
@@ -274,7 +310,7 @@ IpmcActuators::IpmcActuators(IpmcActuatorsConfig config) : config_(std::move(con
   }
   curvature_1_m_.assign(config_.chains.size(), 0.0);
   voltage_V_.assign(config_.chains.size(), 0.0);
-  bank_ = IpmcActuatorBank::Create(config_.links, config_.cvode);
+  bank_ = IpmcActuatorBank::Create(config_.links, config_.cvode, config_.integration);
 }
 
 void IpmcActuators::AdvanceTo(const mjData* d) {

@@ -22,8 +22,9 @@
 // is clamped to it (for n = 1, theta0 = +-pi/2); the first clamp of a
 // coupling is reported through mju_warning.
 // delta_free_q is the output of the link's model P_q(s) = s^-0.5 G_q(s)
-// (plugin/actuators/ipmc_link_model.h) driven by its voltage, integrated by CVODE
-// (plugin/actuators/ipmc_actuator_bank.h) in mjcb_control.
+// (plugin/actuators/ipmc_link_model.h) driven by its voltage, advanced in
+// mjcb_control (plugin/actuators/ipmc_actuator_bank.h) exactly under the
+// voltages' zero-order hold, or by CVODE.
 //
 // MJCF fields:
 //   text    ipmc_links           root hinges of links 1..n, in order
@@ -43,6 +44,10 @@
 //                                assigned, length-scaled parameters
 //   numeric ipmc_integrator_band_rad_s  [w_b, w_h] of the s^-0.5 block
 //   numeric ipmc_integrator_pairs       its number of zero/pole pairs
+//   text    ipmc_actuator_integration   exact (default: the link models advanced
+//                                exactly over each interval, the voltages
+//                                held; plugin/actuators/zero_order_hold.h) |
+//                                cvode (integrated by CVODE)
 //   numeric ipmc_cvode_rel_tol          CVODE's relative tolerance, [1e-14, 1e-2]
 #pragma once
 
@@ -72,6 +77,7 @@ constexpr char kAttrActuation[] = "ipmc_actuation";
 constexpr char kAttrBand[] = "ipmc_integrator_band_rad_s";
 constexpr char kAttrPairs[] = "ipmc_integrator_pairs";
 constexpr char kAttrRelTol[] = "ipmc_cvode_rel_tol";
+constexpr char kAttrIntegration[] = "ipmc_actuator_integration";
 // The per-link overrides of Table 2's parameters.
 constexpr char kAttrA0[] = "ipmc_a0_mm_per_V";
 constexpr char kAttrB1[] = "ipmc_b1";
@@ -102,6 +108,9 @@ struct LinkChain {
 // the angle kappa c_j to the link's root tangent, c_j = sum_{i <= j} s_i,
 // with the hinges' shares s_0 = l_0 / 2, s_i = (l_(i-1) + l_i) / 2, so the
 // tip's deflection from that tangent is f(kappa) = sum_j l_j sin(kappa c_j).
+// For equal sub-segments (the generator's) f and df/dkappa are evaluated in
+// closed form, so a curvature costs the same whatever the number of
+// sub-segments.
 class ChainShape {
  public:
   explicit ChainShape(const std::vector<double>& segment_length_m);
@@ -122,6 +131,10 @@ class ChainShape {
 
   std::vector<double> segment_length_m_, share_m_, cumulative_share_m_;
   double max_curvature_1_m_ = 0, reach_m_ = 0;
+  // Equal sub-segments (within 1e-9, the model file's digits): f and f' in
+  // closed form.
+  bool uniform_ = false;
+  double uniform_length_m_ = 0, total_length_m_ = 0;
 };
 
 // Settings that a program may impose over the model's fields.
@@ -141,6 +154,12 @@ struct IpmcActuatorsConfig {
   // 1e-6 keeps the deflection error far below the link models' own
   // accuracy (0.06 dB) and halves the cost of each voltage change.
   CvodeOptions cvode = DefaultCvodeOptions();
+  // The voltages are held between the controller's samples, so the exact
+  // zero-order-hold advance is the solution itself, and costs one
+  // matrix-vector product per link and step where CVODE restarts its
+  // steps at each voltage change; cvode keeps the integrator the link
+  // models were validated with.
+  ActuatorIntegration integration = ActuatorIntegration::kExact;
 
   // nullopt if the model has no ipmc_links field; throws
   // std::invalid_argument naming the field on a malformed one.

@@ -250,6 +250,29 @@ std::vector<Segment> RftDrag::Segments(const mjModel* m, const mjData* d) const 
   return segments;
 }
 
+double RftDrag::DissipatedPower_W(const mjModel* m, const mjData* d) const {
+  double power_W = 0.0;
+  for (const SlenderGeom& geom : slender_) {
+    const Segment segment = SegmentOf(m, d, geom);
+    power_W -= SegmentDragPower(segment, SegmentDragExact(segment, coefficients_));
+  }
+  return power_W;
+}
+
+double RftDrag::TowingDrag_N(double speed_m_s) const {
+  double drag_N = 0.0;
+  for (const SlenderGeom& geom : slender_) {
+    Segment segment;
+    segment.center_W = Eigen::Vector3d::Zero();
+    segment.tangent_W = Eigen::Vector3d::UnitX();
+    segment.length_m = geom.length_m;
+    segment.velocity_center_W = Eigen::Vector3d(speed_m_s, 0.0, 0.0);
+    segment.angular_velocity_W = Eigen::Vector3d::Zero();
+    drag_N -= SegmentDragExact(segment, coefficients_).force_W.x();
+  }
+  return drag_N;
+}
+
 // The spatial resistance of one slender geom at the subtree centre of mass
 // of its body's root (where MuJoCo gives cdof and cvel).
 RftDrag::BodyResistance RftDrag::ResistanceOf(const mjModel* m, const mjData* d,

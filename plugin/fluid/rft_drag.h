@@ -146,6 +146,15 @@ class RftDrag {
   void Apply(const mjModel* m, mjData* d) const;
   // The current segments (positions and velocities from d).
   std::vector<Segment> Segments(const mjModel* m, const mjData* d) const;
+  // The power the body loses to the fluid [W], minus the sum over the
+  // segments of the drag wrench's power (F . v_c + T_c . w, the integral
+  // of -f . u along each segment), from d's positions and velocities
+  // (xpos, cvel); never negative.
+  double DissipatedPower_W(const mjModel* m, const mjData* d) const;
+  // The drag [N] on the segments laid straight along one axis and towed
+  // along it at `speed_m_s` (the resistance of the straightened body:
+  // the sum of xi_t L, by SegmentDragExact).
+  double TowingDrag_N(double speed_m_s) const;
 
   // One segment's body and spatial resistance S about the subtree centre of
   // mass of its body's root (where MuJoCo gives cdof and cvel), from d's

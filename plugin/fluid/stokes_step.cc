@@ -69,8 +69,21 @@ void ImplicitDiagonal(const mjModel* m, const mjData* d, double h, double* diago
 
 }  // namespace
 
+bool JointActuatorsOnly(const mjModel* m) {
+  for (int a = 0; a < m->nu; ++a) {
+    if (m->actuator_trntype[a] != mjTRN_JOINT || m->actuator_dyntype[a] != mjDYN_NONE) return false;
+    const int type = m->jnt_type[m->actuator_trnid[2 * a]];
+    if (type != mjJNT_HINGE && type != mjJNT_SLIDE) return false;
+    const int gain = m->actuator_gaintype[a], bias = m->actuator_biastype[a];
+    if (gain != mjGAIN_FIXED && gain != mjGAIN_AFFINE) return false;
+    if (bias != mjBIAS_NONE && bias != mjBIAS_AFFINE) return false;
+  }
+  return true;
+}
+
 StokesStepper::StokesStepper(const mjModel* m) {
   RequireSupported(m);
+  joint_actuators_only_ = JointActuatorsOnly(m);
   body_node_.assign(m->nbody, -1);
   for (int body = 1; body < m->nbody; ++body) {
     body_node_[body] = m->body_dofnum[body] > 0
@@ -91,6 +104,19 @@ StokesStepper::StokesStepper(const mjModel* m) {
   end_qpos_.resize(m->nq);
 }
 
+// The fluid's resistance D = sum_s J_s^T S_s J_s enters the step here, and
+// only here: each segment's spatial resistance S_s at the step's midpoint
+// (ExtrapolateToMidpoint, from RftDrag::Resistances, the formula the drag
+// callback applies) added to the articulated resistance of its body's last
+// dof, from which Solve's recursion carries it to the root.
+void StokesStepper::AssembleResistances(const mjModel* m) {
+  for (int j = 0; j < m->nv; ++j) articulated_[j].setZero();
+  for (const RftDrag::BodyResistance& segment : midpoint_resistances_) {
+    const int node = body_node_[segment.body];
+    if (node >= 0) articulated_[node] += segment.resistance;
+  }
+}
+
 // Minimising 1/2 sum_b V_b^T S_b V_b + 1/2 sum_j e_j v_j^2 - f^T v over v,
 // where a dof's spatial velocity is its parent dof's plus s_j v_j
 // (s_j = cdof_j), dof by dof from the leaves: the subtree below dof j costs
@@ -101,14 +127,7 @@ StokesStepper::StokesStepper(const mjModel* m) {
 bool StokesStepper::Solve(const mjModel* m, const double* cdof, const double* extra,
                           const double* f, double* v) {
   const int nv = m->nv;
-  for (int j = 0; j < nv; ++j) {
-    articulated_[j].setZero();
-    bias_[j].setZero();
-  }
-  for (const RftDrag::BodyResistance& segment : midpoint_resistances_) {
-    const int node = body_node_[segment.body];
-    if (node >= 0) articulated_[node] += segment.resistance;
-  }
+  for (int j = 0; j < nv; ++j) bias_[j].setZero();
   for (int j = nv - 1; j >= 0; --j) {
     const Eigen::Map<const Vector6> s(cdof + 6 * j);
     u_vector_[j].noalias() = articulated_[j] * s;
@@ -140,9 +159,10 @@ bool StokesStepper::Step(const mjModel* m, mjData* d, const RftDrag* drag) {
   mj_comPos(m, d);
   mj_camlight(m, d);
   mj_tendon(m, d);
-  mj_transmission(m, d);
+  Transmission(m, d);
   if (sensors) mj_sensorPos(m, d);
   ExtrapolateToMidpoint(m, d, drag);
+  AssembleResistances(m);
   // The forces at zero velocity, in mj_forward's order: passive (springs;
   // the drag vanishes), control callback, actuation.
   mju_zero(d->qvel, m->nv);
@@ -158,7 +178,7 @@ bool StokesStepper::Step(const mjModel* m, mjData* d, const RftDrag* drag) {
     mjcb_control(m, d);
     d->time = start_s;
   }
-  mj_fwdActuation(m, d);
+  Actuation(m, d);
   for (int j = 0; j < m->nv; ++j) {
     force_[j] = d->qfrc_passive[j] + d->qfrc_actuator[j] + d->qfrc_applied[j];
   }
@@ -172,6 +192,70 @@ bool StokesStepper::Step(const mjModel* m, mjData* d, const RftDrag* drag) {
   mju_copy(end_qpos_.data(), d->qpos, m->nq);
   end_time_ = d->time;
   return true;
+}
+
+void StokesStepper::Transmission(const mjModel* m, mjData* d) {
+  if (!joint_actuators_only_ || !moments_set_) {
+    mj_transmission(m, d);
+    moments_set_ = true;
+    return;
+  }
+  JointTransmission(m, d);
+}
+
+void StokesStepper::Actuation(const mjModel* m, mjData* d) {
+  if (joint_actuators_only_) {
+    JointActuation(m, d);
+  } else {
+    mj_fwdActuation(m, d);
+  }
+}
+
+void JointTransmission(const mjModel* m, mjData* d) {
+  for (int a = 0; a < m->nu; ++a) {
+    const int joint = m->actuator_trnid[2 * a];
+    const double gear = m->actuator_gear[6 * a];
+    d->actuator_length[a] = gear * d->qpos[m->jnt_qposadr[joint]];
+    d->actuator_moment[a * m->nv + m->jnt_dofadr[joint]] = gear;
+  }
+}
+
+// MuJoCo 2.2's mj_fwdActuation (engine_forward.c) less its dense
+// moment^T force: the same clamped controls, gains, biases and force
+// limits, the generalised force summed in the same actuator order.
+void JointActuation(const mjModel* m, mjData* d) {
+  bool plain = !(m->opt.disableflags & mjDSBL_ACTUATION);
+  for (int a = 0; plain && a < m->nu; ++a) plain = !mju_isBad(d->ctrl[a]);
+  if (!plain) {
+    mj_fwdActuation(m, d);
+    return;
+  }
+  const bool clamp = !(m->opt.disableflags & mjDSBL_CLAMPCTRL);
+  mju_zero(d->qfrc_actuator, m->nv);
+  for (int a = 0; a < m->nu; ++a) {
+    double ctrl = d->ctrl[a];
+    if (clamp && m->actuator_ctrllimited[a]) {
+      ctrl = mju_clip(ctrl, m->actuator_ctrlrange[2 * a], m->actuator_ctrlrange[2 * a + 1]);
+    }
+    const double length = d->actuator_length[a], velocity = d->actuator_velocity[a];
+    const mjtNum* gain_prm = m->actuator_gainprm + mjNGAIN * a;
+    double gain = gain_prm[0];
+    if (m->actuator_gaintype[a] == mjGAIN_AFFINE) {
+      gain = gain_prm[0] + gain_prm[1] * length + gain_prm[2] * velocity;
+    }
+    double force = gain * ctrl;
+    if (m->actuator_biastype[a] == mjBIAS_AFFINE) {
+      const mjtNum* bias_prm = m->actuator_biasprm + mjNBIAS * a;
+      force += bias_prm[0] + bias_prm[1] * length + bias_prm[2] * velocity;
+    }
+    if (m->actuator_forcelimited[a]) {
+      force = mju_clip(force, m->actuator_forcerange[2 * a], m->actuator_forcerange[2 * a + 1]);
+    }
+    d->actuator_force[a] = force;
+    if (force != 0) {
+      d->qfrc_actuator[m->jnt_dofadr[m->actuator_trnid[2 * a]]] += m->actuator_gear[6 * a] * force;
+    }
+  }
 }
 
 // The midpoint's S and cdof, 3/2 of this step's minus 1/2 of the last

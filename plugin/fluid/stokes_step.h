@@ -49,6 +49,21 @@
 
 namespace ipmc {
 
+// True if every actuator drives a hinge or slide joint directly with a
+// fixed or affine gain, no or an affine bias and no activation (the IPMC
+// motors, the gaits' servos): their moments are the constant gears, so the
+// two functions below can replace MuJoCo's, whose dense nu x nv moment
+// matrix makes a step's cost quadratic in the number of hinges.
+bool JointActuatorsOnly(const mjModel* m);
+// mj_transmission for such a model in O(nu): the lengths gear q and each
+// moment row's gear at its joint's dof; the rest of each row must be zero,
+// as mj_transmission leaves it.
+void JointTransmission(const mjModel* m, mjData* d);
+// mj_fwdActuation for such a model in O(nu), the same numbers; bad
+// controls (which MuJoCo warns of and zeroes) and disabled actuation go
+// to mj_fwdActuation itself.
+void JointActuation(const mjModel* m, mjData* d);
+
 class StokesStepper {
  public:
   // Throws std::invalid_argument naming what the model has that the
@@ -62,9 +77,12 @@ class StokesStepper {
   bool Step(const mjModel* m, mjData* d, const RftDrag* drag);
 
  private:
+  // articulated_ = each dof's own share of D: the segments' resistances at
+  // the step's midpoint (midpoint_resistances_), on their bodies' last dofs.
+  void AssembleResistances(const mjModel* m);
   // Solves (D + diag(extra)) v = f for v, D from the dofs' motions cdof
-  // and resistances_ (taken at one configuration). Returns false if the
-  // system is singular.
+  // and the assembled articulated_. Returns false if the system is
+  // singular.
   bool Solve(const mjModel* m, const double* cdof, const double* extra, const double* f,
              double* v);
 
@@ -76,6 +94,12 @@ class StokesStepper {
   // Per dof: articulated resistance, bias, U = A s, u, and s.A.s + extra.
   std::vector<Matrix6, Eigen::aligned_allocator<Matrix6>> articulated_;
   std::vector<Vector6, Eigen::aligned_allocator<Vector6>> bias_, u_vector_, velocity_;
+  // mj_transmission and mj_fwdActuation: JointTransmission and
+  // JointActuation if JointActuatorsOnly (after one mj_transmission, which
+  // sets the moments' zeros), MuJoCo's own otherwise.
+  void Transmission(const mjModel* m, mjData* d);
+  void Actuation(const mjModel* m, mjData* d);
+  bool joint_actuators_only_ = false, moments_set_ = false;
   // Extrapolates S and cdof to the step's midpoint (Step).
   void ExtrapolateToMidpoint(const mjModel* m, const mjData* d, const RftDrag* drag);
 

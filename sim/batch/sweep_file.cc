@@ -38,6 +38,7 @@ constexpr char kBase[] = "base";
 constexpr char kSet[] = "set";
 constexpr char kGrid[] = "grid";
 constexpr char kPoint[] = "point";
+constexpr char kKeepRuns[] = "keep_runs";
 
 // A grid this large is a mistake in the sweep file, not a plan.
 constexpr double kMaxPoints = 1e6;
@@ -294,6 +295,11 @@ SweepPlan SweepReader::Read(const std::string& toml_text) {
   SweepPlan plan;
   plan.source = source_;
   plan.base_path = base_path_;
+  if (root.contains(kKeepRuns)) {
+    const toml::value<bool>* keep = root[kKeepRuns].as_boolean();
+    if (keep == nullptr) fail_type(kKeepRuns, "true or false");
+    plan.keep_runs = keep->get();
+  }
   std::vector<PointOverrides> points;
   if (has_grid) {
     const toml::table* grid = root[kGrid].as_table();

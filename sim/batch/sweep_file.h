@@ -10,6 +10,7 @@
 //   [grid]                              # the Cartesian product of these arrays
 //   "waveform.frequency_Hz" = [0.005, 0.01, 0.02]
 //   actuation = ["single", "distributed"]
+//   keep_runs = true                    # optional: keep each point's run directory
 //
 // or, instead of [grid], a list of points, each a table of overrides:
 //
@@ -70,6 +71,7 @@ struct SweepPlan {
   std::vector<std::string> keys;   // swept keys: the table's columns
   std::vector<SweepPoint> points;  // by index
   int links = 0;                   // per-link column groups
+  bool keep_runs = false;          // the sweep file's keep_runs
 };
 
 // Reads a sweep and builds every point's scenario (no run yet). Loads each

@@ -8,6 +8,7 @@
 #include <climits>
 #include <cmath>
 #include <exception>
+#include <filesystem>
 #include <iterator>
 #include <mutex>
 #include <optional>
@@ -21,6 +22,7 @@
 #include "sim/core/fan_out.h"
 #include "sim/io/columns.h"
 #include "sim/runs/closed_loop_run.h"
+#include "sim/runs/output.h"
 
 namespace ipmc {
 namespace {
@@ -35,9 +37,10 @@ double EstimatedSteps(const SweepPoint& point) {
          scenario.timestep_s.value_or(kDefaultStep_s);
 }
 
-// One point's row; `error` receives the failure, if any.
+// One point's row; `error` receives the failure, if any. With runs_dir,
+// the run's outputs are written there too.
 std::vector<std::string> RunPoint(const SweepPlan& plan, const SweepPoint& point,
-                                  std::string* error) {
+                                  const std::string& runs_dir, std::string* error) {
   std::vector<std::string> row = {std::to_string(point.index)};
   row.insert(row.end(), point.values.begin(), point.values.end());
   std::optional<ClosedLoopResult> result;
@@ -45,7 +48,14 @@ std::vector<std::string> RunPoint(const SweepPlan& plan, const SweepPoint& point
   if (point.scenario) {
     try {
       result = RunScenario(*point.scenario);
+      if (!runs_dir.empty()) {
+        const nlohmann::json inputs = {
+            {"scenario", plan.base_path}, {"sweep", plan.source}, {"sweep_point", point.index}};
+        WriteClosedLoopOutputs(SweepPointRunDir(runs_dir, point.index), *result,
+                               *point.scenario, inputs);
+      }
     } catch (const std::exception& failure) {
+      result.reset();
       *error = OneLine(failure.what());
     }
   }
@@ -54,8 +64,9 @@ std::vector<std::string> RunPoint(const SweepPlan& plan, const SweepPoint& point
   for (int q = 0; q < plan.links; ++q) {
     if (result && q < static_cast<int>(result->links.size())) {
       const LinkTracking& link = result->links[q];
-      for (double value :
-           {link.iae_mm_s, link.itae_mm_s2, link.rms_voltage_V, link.clamped_fraction}) {
+      const std::vector<double>& power_W = result->energy.actuator_power_W;
+      for (double value : {link.iae_mm_s, link.itae_mm_s2, link.rms_voltage_V,
+                           link.clamped_fraction, q < static_cast<int>(power_W.size()) ? power_W[q] : 0.0}) {
         row.push_back(FormatShortest(value));
       }
     } else {
@@ -65,8 +76,12 @@ std::vector<std::string> RunPoint(const SweepPlan& plan, const SweepPoint& point
   if (result) {
     const SwimMetrics& swim = result->swim;
     const double last_cycle = swim.per_cycle.empty() ? 0.0 : swim.per_cycle.back().com_along;
+    const EnergyMetrics& energy = result->energy;
     for (double value :
-         {last_cycle, swim.mean_speed_along_mm_s, swim.reynolds_tip, swim.reynolds_swim}) {
+         {last_cycle, swim.mean_speed_along_mm_s, swim.reynolds_tip, swim.reynolds_swim,
+          energy.actuator_power_W_total, energy.fluid_power_W, energy.hinge_damping_power_W,
+          energy.stepping_power_W,
+          energy.lighthill_efficiency, energy.cost_of_transport_J_m}) {
       row.push_back(FormatShortest(value));
     }
   } else {
@@ -77,6 +92,12 @@ std::vector<std::string> RunPoint(const SweepPlan& plan, const SweepPoint& point
 
 }  // namespace
 
+std::string SweepPointRunDir(const std::string& runs_dir, int index) {
+  return (std::filesystem::path(runs_dir) / ("point_" + std::to_string(index))).string();
+}
+
+std::string SweepRunsDir(const std::string& out_prefix) { return out_prefix + "_runs"; }
+
 SweepShard ParseSweepShard(const std::string& text) {
   const std::string::size_type slash = text.find('/');
   std::optional<long> index, count;
@@ -85,7 +106,8 @@ SweepShard ParseSweepShard(const std::string& text) {
     count = ParseInteger(std::string_view(text).substr(slash + 1));
   }
   if (!index || !count || *count < 1 || *index < 1 || *index > *count || *count > INT_MAX) {
-    throw std::invalid_argument("sweep: --shard must be i/n with 1 <= i <= n (got '" + text + "')");
+    throw FieldError("sweep: shard must be i/n with 1 <= i <= n (got '" + text + "')", "shard",
+                     "i/n with 1 <= i <= n");
   }
   SweepShard shard;
   shard.index = static_cast<int>(*index);
@@ -95,14 +117,14 @@ SweepShard ParseSweepShard(const std::string& text) {
 
 SweepTable RunSweep(const SweepPlan& plan, const SweepOptions& options) {
   if (options.jobs < 1) {
-    throw std::invalid_argument("sweep: --jobs must be >= 1 (got " + std::to_string(options.jobs) +
-                                ")");
+    throw FieldError("sweep: jobs must be >= 1 (got " + std::to_string(options.jobs) + ")",
+                     "jobs", ">= 1");
   }
   const SweepShard& shard = options.shard;
   if (shard.count < 1 || shard.index < 1 || shard.index > shard.count) {
-    throw std::invalid_argument("sweep: --shard must be i/n with 1 <= i <= n (got " +
-                                std::to_string(shard.index) + "/" + std::to_string(shard.count) +
-                                ")");
+    throw FieldError("sweep: shard must be i/n with 1 <= i <= n (got " +
+                         std::to_string(shard.index) + "/" + std::to_string(shard.count) + ")",
+                     "shard", "i/n with 1 <= i <= n");
   }
   std::vector<const SweepPoint*> todo;
   for (const SweepPoint& point : plan.points) {
@@ -136,7 +158,7 @@ SweepTable RunSweep(const SweepPlan& plan, const SweepOptions& options) {
     if (stopped || (options.stop_requested && options.stop_requested())) return;
     const size_t k = schedule[slot];
     std::string error;
-    table.rows[k] = RunPoint(plan, *todo[k], &error);
+    table.rows[k] = RunPoint(plan, *todo[k], options.runs_dir, &error);
     std::lock_guard<std::mutex> lock(progress_mutex);
     ++done;
     if (!options.on_point_done || callback_failure) return;

@@ -16,7 +16,7 @@ struct SweepShard {
   int index = 1;
   int count = 1;
 };
-// Reads "i/n"; throws std::invalid_argument naming --shard.
+// Reads "i/n"; throws FieldError naming the field shard.
 SweepShard ParseSweepShard(const std::string& text);
 
 struct SweepProgress {
@@ -40,7 +40,19 @@ struct SweepOptions {
   // Asked, from the worker threads, before each point starts; once it
   // returns true no further point starts.
   std::function<bool()> stop_requested;
+  // Non-empty: each point that runs also writes its run's outputs
+  // (sim/runs/output.h: timeseries.csv, states.csv, summary.json, whose
+  // inputs name the sweep file and the point) into RUNS_DIR/point_N, N the
+  // point's index, so that any point can be plotted, filmed or run again;
+  // a point whose files cannot be written fails with that error.
+  std::string runs_dir;
 };
+
+// The folder of point `index`'s run under runs_dir.
+std::string SweepPointRunDir(const std::string& runs_dir, int index);
+// Where `sweep --keep-runs` (or keep_runs in the sweep file) keeps the runs
+// of a sweep writing PREFIX.csv: PREFIX_runs.
+std::string SweepRunsDir(const std::string& out_prefix);
 
 // Runs the shard's points on options.jobs threads (RunScenario per point),
 // the longest runs (cycles / frequency / time step) first. The rows, in

@@ -3,9 +3,12 @@
 // The table (SweepTable) has one row per point, ordered by point index:
 //   point, <swept keys>, status (ok | error), error,
 //   link<q>_iae_mm_s, link<q>_itae_mm_s2, link<q>_rms_voltage_V,
-//   link<q>_clamped_fraction  (q = 1..links, the most links of any point's model),
-//   last_cycle_com_along_mm, mean_speed_along_mm_s, reynolds_tip, reynolds_swim
-// (sim/runs/closed_loop_run.h, sim/core/swim_meter.h). Swept values are printed as
+//   link<q>_clamped_fraction, link<q>_actuator_power_W  (q = 1..links, the most
+//   links of any point's model),
+//   last_cycle_com_along_mm, mean_speed_along_mm_s, reynolds_tip, reynolds_swim,
+//   actuator_power_W, fluid_power_W, hinge_damping_power_W, stepping_power_W,
+//   lighthill_efficiency, cost_of_transport_J_m
+// (sim/runs/closed_loop_run.h, sim/core/swim_meter.h, sim/core/energy.h). Swept values are printed as
 // the shortest text that reads back exactly ("" where a list's point keeps
 // the base's value); results with 17 significant digits (max_digits10), so
 // tables compare exactly. Error rows leave the results empty.

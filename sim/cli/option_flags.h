@@ -51,6 +51,10 @@ void AddTableOptions(CLI::App* command, const OptionTable<Spec>& table, Spec& sp
                           std::is_same_v<T, std::vector<int>>) {
               added->delimiter(',');
             }
+            if constexpr (std::is_same_v<T, std::vector<std::string>>) {
+              // One word per occurrence, repeatable (a value may hold commas).
+              added->expected(1)->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+            }
           }
           if (!info.choices.empty()) added->check(CLI::IsMember(info.choices));
           if (info.required) added->required();

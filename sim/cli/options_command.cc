@@ -4,12 +4,14 @@
 #include <vector>
 
 #include "sim/cli/command.h"
+#include "sim/batch/sweep_command.h"
 #include "sim/core/generate_command.h"
 #include "sim/identify/identify_run.h"
 #include "sim/identify/loop_analysis.h"
 #include "sim/identify/pipeline_run.h"
 #include "sim/runs/bench_command.h"
 #include "sim/runs/gait_command.h"
+#include "sim/runs/run_command.h"
 #include "sim/runs/table5_run.h"
 
 namespace ipmc {
@@ -30,6 +32,7 @@ void AddOptionsCommand(CLI::App& app, OptionsArgs& args) {
 int RunOptionsCommand(const CLI::App& app, const OptionsArgs& args) {
   if (!app.got_subcommand(kCommand)) return -1;
   const std::vector<OptionTableInfo> tables = {
+      InfoOf(RunOptions()),      InfoOf(SweepOptionTable()), InfoOf(MergeOptionTable()),
       InfoOf(GenerateOptions()), InfoOf(GaitOptions()),     InfoOf(BenchOptions()),
       InfoOf(BodeOptions()),     InfoOf(StepOptions()),     InfoOf(IdentifyOptions()),
       InfoOf(DesignOptions()),   InfoOf(PipelineOptions()), InfoOf(Table5Options())};

@@ -1,70 +1,33 @@
 #include "sim/cli/plot_command.h"
 
 #include <cstdio>
-#include <filesystem>
-#include <stdexcept>
 #include <string>
-#include <utility>
+#include <vector>
 
 #include "sim/cli/command.h"
-#include "plugin/base/error.h"
-#include "sim/io/files.h"
 
 namespace ipmc {
 namespace {
 
 constexpr char kPlotCommand[] = "plot";
 
-constexpr int kMinImagePx = 200;
-constexpr int kMaxImagePx = 10000;
-
-// Refuses options that KIND does not use, so that none is silently
-// ignored, and image sizes out of range.
-void ValidateOptions(const CLI::App& command, const PlotArgs& args) {
-  const std::pair<const char*, std::vector<const char*>> option_kinds[] = {
-      {"--curves", {"bode"}},       {"--instants", {"waveform"}},
-      {"--times-s", {"waveform"}},  {"--period-s", {"waveform", "trajectory"}},
-      {"--max-lines", {"surface"}}, {"--x", {"sweep"}},
-      {"--y", {"sweep"}},           {"--group", {"sweep"}},
-      {"--log-x", {"sweep"}},       {"--log-y", {"sweep"}}};
-  for (const auto& [option, kinds] : option_kinds) {
-    if (command.count(option) == 0) continue;
-    bool applies = false;
-    std::string names;
-    for (const char* kind : kinds) {
-      applies = applies || args.kind == kind;
-      names += (names.empty() ? "" : ", ") + std::string(kind);
-    }
-    if (!applies) {
-      throw FieldError(std::string(kPlotCommand) + ": " + option + " applies to plot " + names +
-                           " only, not " + args.kind,
-                       option, "plot " + names);
-    }
+// The kind-specific options given on the command line, by their names
+// without "--".
+std::vector<std::string> GivenKindOptions(const CLI::App& command) {
+  std::vector<std::string> given;
+  for (const std::string& option : FigureKindOptionNames()) {
+    if (command.count("--" + option) > 0) given.push_back(option);
   }
-  const std::pair<const char*, int> sizes[] = {{"--width-px", args.figure.size.width_px},
-                                               {"--height-px", args.figure.size.height_px}};
-  for (const auto& [option, size] : sizes) {
-    if (command.count(option) > 0 && (size < kMinImagePx || size > kMaxImagePx)) {
-      const std::string range =
-          "[" + std::to_string(kMinImagePx) + ", " + std::to_string(kMaxImagePx) + "]";
-      throw FieldError(std::string(kPlotCommand) + ": " + option + " must be in " + range +
-                           ", got " + std::to_string(size),
-                       option, range);
-    }
-  }
+  return given;
 }
 
 int RunPlot(const CLI::App& command, const PlotArgs& args) {
-  // The input, or a file of the input folder (a run's outputs).
-  const std::filesystem::path out(args.out_path);
-  RefuseOverwritingInputs(
-      "plot", "--out", args.out_path,
-      {args.input_path, (std::filesystem::path(args.input_path) / out.filename()).string()});
-  ValidateOptions(command, args);
-  RequireWritableParent(args.out_path);
-  const FigureReport report =
-      DrawFigureOf(FigureKindOf(args.kind), args.input_path, args.figure, args.out_path);
-  std::printf("plot %s of %s written to %s\n  %s\n", args.kind.c_str(), args.input_path.c_str(),
+  const FigureKind kind = FigureKindOf(args.kind);
+  CheckFigureOptionsApply(kind, GivenKindOptions(command));
+  const FigureReport report = DrawFigureOf(kind, args.input_paths, args.figure, args.out_path);
+  std::string inputs;
+  for (const std::string& input : args.input_paths) inputs += (inputs.empty() ? "" : ", ") + input;
+  std::printf("plot %s of %s written to %s\n  %s\n", args.kind.c_str(), inputs.c_str(),
               args.out_path.c_str(), report.title.c_str());
   for (const std::string& note : report.notes) std::printf("  %s\n", note.c_str());
   return 0;
@@ -78,12 +41,13 @@ void AddPlotCommand(CLI::App& app, PlotArgs& args) {
       app, kPlotCommand, "Draw a figure with gnuplot (PDF, SVG or PNG by the extension of --out)");
   cmd->add_option("kind", args.kind,
                   "bode (Fig. 9/10) | step (Fig. 11) | tracking (Fig. 12a) | waveform (Fig. 12b) "
-                  "| surface (Fig. 13) | trajectory | identification (Fig. 7) | sweep")
+                  "| surface (Fig. 13) | trajectory | identification (Fig. 7) | sweep | compare")
       ->required()
       ->check(CLI::IsMember(FigureKindNames()));
-  cmd->add_option("input", args.input_path,
+  cmd->add_option("input", args.input_paths,
                   "bode.csv, step.csv, timeseries.csv (tracking, waveform, surface, trajectory), "
-                  "response.csv (identification) or a sweep table")
+                  "response.csv (identification), a sweep table, or (compare) two or more run "
+                  "directories")
       ->required();
   cmd->add_option("-o,--out", args.out_path, "Figure to write: FILE.pdf, FILE.svg or FILE.png")
       ->required();

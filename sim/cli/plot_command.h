@@ -4,9 +4,10 @@
 //
 //   ipmc-swim plot KIND INPUT --out FILE.{pdf,svg,png} [--title TEXT]
 //                  [--width-px W] [--height-px H] [kind's options]
+//   ipmc-swim plot compare RUN_DIR RUN_DIR... --out FILE
 //
 // KIND: bode | step | tracking | waveform | surface | trajectory |
-// identification | sweep. An option that does not apply to KIND is
+// identification | sweep | compare. An option that does not apply to KIND is
 // refused. Errors throw FieldError (bad options, an unknown output
 // format), InputError (missing or non-numeric columns; the message names
 // INPUT and the column) or std::runtime_error (gnuplot missing or failing,
@@ -24,7 +25,7 @@ namespace ipmc {
 
 struct PlotArgs {
   std::string kind;
-  std::string input_path;
+  std::vector<std::string> input_paths;  // one; compare: run directories
   std::string out_path;
   FigureOptions figure;
 };

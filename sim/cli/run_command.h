@@ -5,28 +5,21 @@
 //   ipmc-swim run SCENARIO [--set KEY=VALUE ...] [--cycles N] [--out DIR]
 //       [--format mat,h5] [--video FILE.mp4 ...] [--allow-long]
 //
-// The run is sim/runs/closed_loop_run.h, its files sim/runs/output.h.
+// The options are sim/runs/run_command.h's table (planned and written
+// there, as from Python), besides the video options of `render`; the run
+// is sim/runs/closed_loop_run.h.
 #pragma once
-
-#include <string>
-#include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "renders/swim_film.h"
+#include "sim/cli/option_flags.h"
+#include "sim/runs/run_command.h"
 
 namespace ipmc {
 
-struct RunArgs {
-  std::string scenario_path;
-  std::vector<std::string> sets;  // --set KEY=VALUE, in order
-  int cycles = 0;                 // --cycles, if given
-  std::string out_dir;
-  std::string video_path;
+struct RunArgs : TableCommand<RunCommand> {
   FilmConfig film;
-  bool allow_long = false;
-  std::vector<std::string> formats;  // --format, besides CSV and JSON
-  CLI::App* command = nullptr;
 };
 
 // Adds subcommand "run" to app, storing options in args.

@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <string>
 
+#include "sim/io/columns.h"
+
 namespace ipmc {
 
 void PrintSwimMetrics(const SwimMetrics& swim) {
@@ -19,6 +21,35 @@ void PrintSwimMetrics(const SwimMetrics& swim) {
   for (const std::string& warning : swim.warnings) {
     std::fprintf(stderr, "warning: %s\n", warning.c_str());
   }
+}
+
+void PrintEnergy(const EnergyMetrics& energy) {
+  std::printf("%5s %16s %14s %21s %16s %16s %20s %21s\n", "cycle", columns::kActuatorPower,
+              columns::kFluidPower, columns::kHingeDampingPower, columns::kSteppingPower,
+              columns::kElasticEnergy,
+              columns::kLighthillEfficiency, columns::kCostOfTransport);
+  for (size_t k = 0; k < energy.per_cycle.size(); ++k) {
+    const EnergyCycle& c = energy.per_cycle[k];
+    std::printf("%5zu %16.6g %14.6g %21.6g %16.6g %16.6g %20.6g %21.6g\n", k + 1,
+                c.actuator_power_W_total, c.fluid_power_W, c.hinge_damping_power_W,
+                c.stepping_power_W,
+                c.elastic_energy_J, c.lighthill_efficiency, c.cost_of_transport_J_m);
+  }
+  std::string links;
+  for (size_t q = 0; q < energy.actuator_power_W.size(); ++q) {
+    char part[64];
+    std::snprintf(part, sizeof(part), "%slink %zu %.4g W", q == 0 ? "" : ", ", q + 1,
+                  energy.actuator_power_W[q]);
+    links += part;
+  }
+  std::printf("mean power over cycles %d-%zu: actuators %.6g W (%s), fluid %.6g W, hinge "
+              "damping %.6g W, time stepping %.6g W\n",
+              energy.from_cycle, energy.per_cycle.size(), energy.actuator_power_W_total,
+              links.c_str(), energy.fluid_power_W, energy.hinge_damping_power_W,
+              energy.stepping_power_W);
+  std::printf("Lighthill efficiency %.6g, cost of transport %.6g J/m, hinges' elastic energy "
+              "%.6g J\n",
+              energy.lighthill_efficiency, energy.cost_of_transport_J_m, energy.elastic_energy_J);
 }
 
 void PrintWritten(const std::string& dir, const RunFileFormats& formats) {

@@ -5,12 +5,18 @@
 
 #include <string>
 
+#include "sim/core/energy.h"
 #include "sim/core/swim_meter.h"
 #include "sim/runs/output.h"
 
 namespace ipmc {
 
 void PrintSwimMetrics(const SwimMetrics& swim);
+
+// The energy table of a closed-loop run (sim/core/energy.h): every cycle's
+// mean powers, elastic energy, efficiency and cost of transport, then the
+// means over the cycles they were taken over.
+void PrintEnergy(const EnergyMetrics& energy);
 
 // "wrote DIR/timeseries.csv, states.csv and summary.json", with run.mat
 // and run.h5 if written (sim/runs/output.h).

@@ -61,7 +61,7 @@ void AddSlurmOptions(CLI::App* sweep, SweepArgs& args) {
 }
 
 int RunSlurmSubmission(const SweepArgs& args) {
-  const SweepPlan plan = LoadSweep(args.sweep_path);
+  const SweepPlan plan = LoadSweep(args.sweep.spec.sweep);
   const SlurmSweep job = ResolveSlurmSweep(plan, args.slurm, ThisProgram());
   if (!args.dry_run) CheckSbatchOnPath();
   WriteSlurmJob(job, plan);
@@ -109,12 +109,12 @@ int RunSweepStatus(const std::string& dir) {
 }
 
 int RunPartialMerge(const SweepArgs& args) {
-  const PartialMerge merge = MergeAvailableTables(args.merge_tables);
-  WriteSweepTable(args.merge_out_prefix, merge.table);
+  const PartialMerge merge = MergeAvailableTables(args.merge.spec.tables);
+  WriteSweepTable(args.merge.spec.out, merge.table);
   for (const std::string& note : merge.notes) std::printf("%s\n", note.c_str());
   std::printf("%zu of %s merged; wrote %s.csv and %s.json\n", merge.table.rows.size(),
-              Count(merge.points, "point", "points").c_str(), args.merge_out_prefix.c_str(),
-              args.merge_out_prefix.c_str());
+              Count(merge.points, "point", "points").c_str(), args.merge.spec.out.c_str(),
+              args.merge.spec.out.c_str());
   if (!merge.missing.empty()) {
     std::printf("missing: %zu (%s)\n", merge.missing.size(), PointRanges(merge.missing).c_str());
   }

@@ -11,7 +11,6 @@
 #include <string>
 #include <vector>
 
-#include "sim/batch/cpu_affinity.h"
 #include "sim/batch/journal.h"
 #include "sim/batch/sweep.h"
 #include "sim/io/columns.h"
@@ -23,9 +22,6 @@
 
 namespace ipmc {
 namespace {
-
-constexpr char kSweepCommand[] = "sweep";
-constexpr char kMergeCommand[] = "merge";
 
 // Result columns shown on stdout (all are in the files).
 constexpr const char* kShownResults[] = {columns::kMeanSpeedAlong, columns::kLastCycleComAlong};
@@ -99,37 +95,28 @@ void PrintSummary(const SweepTable& table) {
 }
 
 int RunSweepFile(const SweepArgs& args) {
+  const SweepCommand& command = args.sweep.spec;
   if (!args.status_dir.empty()) {
-    if (!args.sweep_path.empty()) throw std::invalid_argument("sweep: --status takes no sweep file");
+    if (!command.sweep.empty()) throw std::invalid_argument("sweep: --status takes no sweep file");
     return RunSweepStatus(args.status_dir);
   }
-  if (args.sweep_path.empty()) throw std::invalid_argument("sweep: needs a sweep file");
+  if (command.sweep.empty()) throw std::invalid_argument("sweep: needs a sweep file");
   if (!args.slurm.dir.empty()) return RunSlurmSubmission(args);
-  if (args.out_prefix.empty()) {
+  if (command.out.empty()) {
     throw std::invalid_argument("sweep: --out PREFIX is required (or --slurm DIR)");
   }
-  CheckTablePrefix("sweep", "--out", args.out_prefix);
-  const SweepShard shard = ParseSweepShard(args.shard);
-  if (args.jobs < 1) {
-    throw std::invalid_argument("sweep: --jobs must be >= 1 (got " + std::to_string(args.jobs) +
-                                ")");
-  }
-  for (const char* suffix : {".csv", ".json", ".journal"}) {
-    RefuseOverwritingInputs("sweep", "--out", args.out_prefix + suffix, {args.sweep_path});
-  }
-  RequireWritableParent(args.out_prefix);
-  ParseRunFileFormats(args.formats);  // an unknown format stops before any point runs
-  const SweepPlan plan = LoadSweep(args.sweep_path);
-  SweepJournal journal(args.out_prefix + ".journal", plan, args.resume_other_version);
+  const SweepCommandPlan planned =
+      TranslatingFieldErrors(SweepOptionTable(), [&] { return PlanSweepCommand(command); });
+  const SweepPlan& plan = planned.plan;
+  const SweepShard& shard = planned.shard;
+  SweepJournal journal(command.out + ".journal", plan, command.resume_other_version);
   const ShardRecord record = CountRecorded(plan, shard, journal);
   if (record.recorded > 0) {
     std::fprintf(stderr, "resuming from %s: %d of %d points done before\n", journal.path().c_str(),
                  record.recorded, record.points);
   }
   ProgressReport progress(StderrIsTerminal());
-  SweepOptions options;
-  options.jobs = args.jobs;
-  options.shard = shard;
+  SweepOptions options = SweepRunOptions(planned);
   options.on_point_done = [&](const SweepProgress& p) { progress(p); };
   progress.Start(record.points - record.recorded);
   JournaledSweep run;
@@ -167,80 +154,40 @@ int RunSweepFile(const SweepArgs& args) {
     throw std::runtime_error("sweep: every point failed (the first: " +
                              table.rows.front()[status + 1] + "); nothing written");
   }
-  WriteSweepTable(args.out_prefix, table, ParseRunFileFormats(args.formats));
+  WriteSweepOutputs(planned, table);
   PrintSummary(table);
   std::string scope = std::to_string(table.rows.size()) + " points";
   if (shard.count > 1) {
-    scope += " (shard " + args.shard + " of " + std::to_string(plan.points.size()) + ")";
+    scope += " (shard " + command.shard + " of " + std::to_string(plan.points.size()) + ")";
   }
   std::printf("%s: %zu ok, %d failed; wrote %s.csv and %s.json\n", scope.c_str(),
-              table.rows.size() - failed, failed, args.out_prefix.c_str(),
-              args.out_prefix.c_str());
+              table.rows.size() - failed, failed, command.out.c_str(), command.out.c_str());
   return 0;
 }
 
 int RunMergeTables(const SweepArgs& args) {
-  for (const char* suffix : {".csv", ".json"}) {
-    RefuseOverwritingInputs("merge", "--out", args.merge_out_prefix + suffix, args.merge_tables);
+  const MergeCommand& command = args.merge.spec;
+  if (command.partial) {
+    TranslatingFieldErrors(MergeOptionTable(), [&] { CheckMergeOutputs(command); });
+    return RunPartialMerge(args);
   }
-  CheckTablePrefix("merge", "--out", args.merge_out_prefix);
-  RequireWritableParent(args.merge_out_prefix);
-  if (args.merge_partial) return RunPartialMerge(args);
-  for (const std::string& path : args.merge_tables) {
-    std::error_code error;
-    if (!std::filesystem::exists(path, error)) {
-      throw std::runtime_error("merge: " + path +
-                               " does not exist (a shard that did not finish? --partial merges "
-                               "the tables that exist)");
-    }
-  }
-  std::vector<SweepTable> tables;
-  for (const std::string& path : args.merge_tables) tables.push_back(LoadSweepTableCsv(path));
-  const SweepTable merged = MergeSweepTables(tables, args.merge_tables);
-  WriteSweepTable(args.merge_out_prefix, merged);
+  const SweepTable merged =
+      TranslatingFieldErrors(MergeOptionTable(), [&] { return RunMergeCommand(command); });
   std::printf("%zu points from %zu tables; wrote %s.csv and %s.json\n", merged.rows.size(),
-              tables.size(), args.merge_out_prefix.c_str(), args.merge_out_prefix.c_str());
+              command.tables.size(), command.out.c_str(), command.out.c_str());
   return 0;
 }
 
 }  // namespace
 
 void AddSweepCommands(CLI::App& app, SweepArgs& args) {
-  args.jobs = AvailableCpus();
-  CLI::App* sweep = AddCommand(
-      app, kSweepCommand, "Run a scenario over a grid or list of overrides (a sweep file, TOML)");
-  sweep->add_option("sweep", args.sweep_path, "Sweep file");
-  sweep->add_option("--jobs", args.jobs,
-                    "Points run in parallel (default: the CPUs this process may use)");
-  sweep->add_option("--shard", args.shard,
-                    "Run part i of n: the points with index % n == i - 1");
-  sweep->add_option("-o,--out", args.out_prefix,
-                    "Writes PREFIX.csv and PREFIX.json; records each point in PREFIX.journal "
-                    "(resume)");
-  sweep->add_option("--format", args.formats,
-                    "Also write the table as PREFIX.mat (mat: MATLAB/Octave) or PREFIX.h5 (h5: "
-                    "HDF5, a group per point); repeatable or comma-separated")
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-  sweep->add_flag("--resume-other-version", args.resume_other_version,
-                  "Resume a journal that another ipmc-swim version wrote (its points may differ "
-                  "from this version's)");
-  AddSlurmOptions(sweep, args);
-
-  CLI::App* merge =
-      AddCommand(app, kMergeCommand, "Join the tables (CSV) of a sweep's shards into one");
-  merge->add_option("tables", args.merge_tables, "Shard tables (PREFIX.csv of each sweep --shard)")
-      ->required()
-      ->default_str("");
-  merge->add_option("-o,--out", args.merge_out_prefix, "Writes PREFIX.csv and PREFIX.json")
-      ->required();
-  merge->add_flag("--partial", args.merge_partial,
-                  "Merge the tables that exist (and the journals of those that do not); list "
-                  "the missing points");
+  AddSlurmOptions(AddTableCommand(app, SweepOptionTable(), args.sweep), args);
+  AddTableCommand(app, MergeOptionTable(), args.merge);
 }
 
 int RunSweepCommand(const CLI::App& app, const SweepArgs& args) {
-  if (app.got_subcommand(kSweepCommand)) return RunSweepFile(args);
-  if (app.got_subcommand(kMergeCommand)) return RunMergeTables(args);
+  if (args.sweep.Chosen()) return RunSweepFile(args);
+  if (args.merge.Chosen()) return RunMergeTables(args);
   return -1;
 }
 

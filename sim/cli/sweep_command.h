@@ -25,38 +25,34 @@
 // one-line errors. With --partial: sim/cli/slurm_command.h.
 //
 // sweep --slurm DIR and sweep --status DIR: sim/cli/slurm_command.h.
+// The options are the tables of sim/batch/sweep_command.h (checked and
+// written there, as from Python), besides the Slurm ones.
 #pragma once
 
 #include <string>
-#include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "sim/batch/slurm.h"
+#include "sim/batch/sweep_command.h"
+#include "sim/cli/option_flags.h"
 
 namespace ipmc {
 
 struct SweepArgs {
-  std::string sweep_path;
-  int jobs = 1;  // AddSweepCommands sets the default: the CPUs this process may use
-  std::string shard = "1/1";
-  std::string out_prefix;
-  std::vector<std::string> merge_tables;
-  std::string merge_out_prefix;
-  bool merge_partial = false;
+  TableCommand<SweepCommand> sweep;
+  TableCommand<MergeCommand> merge;
   SlurmOptions slurm;  // sweep --slurm DIR (sim/cli/slurm_command.h)
   bool dry_run = false;
   std::string status_dir;  // sweep --status DIR
-  bool resume_other_version = false;  // resume a journal another version wrote
-  std::vector<std::string> formats;   // --format, besides CSV and JSON
 };
 
 // Adds subcommands "sweep" and "merge" to app, storing options in args.
 void AddSweepCommands(CLI::App& app, SweepArgs& args);
 
 // Runs the subcommand that app parsed; returns its exit code, or -1 if
-// neither was chosen. Throws std::invalid_argument for bad option values
-// and std::runtime_error for bad files and output failures.
+// neither was chosen. Throws FieldError for bad option values and
+// std::runtime_error for bad files and output failures.
 int RunSweepCommand(const CLI::App& app, const SweepArgs& args);
 
 }  // namespace ipmc

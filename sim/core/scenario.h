@@ -19,6 +19,7 @@
 //   actuation = "distributed"          # distributed | single
 //   dynamics = "stokes"                # inertial | stokes, over the model's
 //                                      # ipmc_dynamics (plugin/fluid/stokes_step.h)
+//   hinge_damping_scale = 1.0          # times the joints' damping; >= 0
 //   cycles = 3                         # >= 1
 //   timestep_s = 5e-4                  # overrides the model's step; (0, 1e-3]
 //   [controller]
@@ -68,6 +69,7 @@ struct ScenarioConfig {
   std::optional<PlantAssignment> plants;  // over the model's ipmc_plants
   std::string actuation = "distributed";
   std::optional<Dynamics> dynamics;       // over the model's ipmc_dynamics
+  double hinge_damping_scale = 1.0;       // times every joint's damping
   int cycles = 3;
   std::optional<double> timestep_s;
   ControllerKind controller = ControllerKind::kPid;

@@ -279,6 +279,15 @@ std::vector<KeySpec> MakeScenarioKeys() {
           .Writes([](const ScenarioConfig& c) {
             return c.dynamics ? TomlString(DynamicsName(*c.dynamics)) : kLeftOut;
           }),
+      Key("hinge_damping_scale", T::kNumber, "", ">= 0", "1",
+          "Multiplies the damping of every joint of the model (the hinges' `damping`, not the "
+          "paper's plant: docs/ENERGY.md); below about 0.08 the inertial step diverges")
+          .Default("1.0")
+          .Example("0.5")
+          .Refused("-1")
+          .AtLeast(0.0)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.hinge_damping_scale = v.Number(); })
+          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.hinge_damping_scale); }),
       Key("cycles", T::kInteger, "", ">= 1", "3", "Wave periods to run")
           .Default("3")
           .Refused("0")
@@ -548,6 +557,9 @@ std::vector<KeySpec> MakeSweepFileKeys() {
           "The Cartesian product of the arrays, the first key outermost"),
       Key("point", T::kTableArray, "", "tables of scenario keys; not with grid", "none",
           "One point per [[point]] table, in file order"),
+      Key("keep_runs", T::kBoolean, "", "true or false", "false",
+          "Keep each point's run directory (timeseries.csv, states.csv, summary.json) in "
+          "PREFIX_runs/point_N, as sweep --keep-runs does"),
   };
 }
 

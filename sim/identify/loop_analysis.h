@@ -44,10 +44,9 @@ struct ControllerGains {
   double order = FractionalIntegrator::Config{}.order;  // lambda
 };
 
-// Whether the caller gave an option explicitly, by field ("kp"): an
-// option the chosen controller does not take is an error rather than
-// ignored.
-using OptionGiven = std::function<bool(const std::string& option)>;
+// Whether the caller gave an option explicitly, by field ("kp"; OptionGiven,
+// sim/io/option_table.h): an option the chosen controller does not take is
+// an error rather than ignored.
 
 // Throws FieldError "COMMAND: links must be ..." unless
 // `links` is a non-empty list of distinct links 1..3 (every command that

@@ -71,8 +71,19 @@ constexpr char kStatus[] = "status";
 constexpr char kError[] = "error";
 constexpr char kStatusOk[] = "ok";
 constexpr char kStatusError[] = "error";
+// Energy (sim/core/energy.h): mean powers, also per link and per cycle in
+// summary.json.
+constexpr char kActuatorPower[] = "actuator_power_W";
+constexpr char kFluidPower[] = "fluid_power_W";
+constexpr char kHingeDampingPower[] = "hinge_damping_power_W";
+constexpr char kSteppingPower[] = "stepping_power_W";
+constexpr char kElasticEnergy[] = "elastic_energy_J";
+constexpr char kStoredEnergyChange[] = "stored_energy_change_J";
+constexpr char kTowingDrag[] = "towing_drag_N";
+constexpr char kLighthillEfficiency[] = "lighthill_efficiency";
+constexpr char kCostOfTransport[] = "cost_of_transport_J_m";
 constexpr const char* kLinkResults[] = {"iae_mm_s", "itae_mm_s2", "rms_voltage_V",
-                                        "clamped_fraction"};
+                                        "clamped_fraction", kActuatorPower};
 inline std::string LinkResult(int link, const std::string& result) {
   return "link" + std::to_string(link) + "_" + result;
 }
@@ -80,8 +91,10 @@ constexpr char kLastCycleComAlong[] = "last_cycle_com_along_mm";
 constexpr char kMeanSpeedAlong[] = "mean_speed_along_mm_s";
 constexpr char kReynoldsTip[] = "reynolds_tip";
 constexpr char kReynoldsSwim[] = "reynolds_swim";
-constexpr const char* kSwimResults[] = {kLastCycleComAlong, kMeanSpeedAlong, kReynoldsTip,
-                                        kReynoldsSwim};
+constexpr const char* kSwimResults[] = {
+    kLastCycleComAlong, kMeanSpeedAlong,      kReynoldsTip,     kReynoldsSwim,
+    kActuatorPower,     kFluidPower,          kHingeDampingPower, kSteppingPower, kLighthillEfficiency,
+    kCostOfTransport};
 
 // table5.csv of "ipmc-swim table5".
 constexpr char kIndex[] = "index";

@@ -45,6 +45,7 @@ const char* OptionTypeName(OptionType type) {
     case OptionType::kRealList: return "reals";
     case OptionType::kIntegerList: return "integers";
     case OptionType::kPath: return "path";
+    case OptionType::kTextList: return "texts";
   }
   return "unknown";
 }
@@ -81,6 +82,7 @@ std::string DefaultText(const std::string& value) { return value; }
 std::string DefaultText(bool value) { return value ? "true" : "false"; }
 std::string DefaultText(const std::vector<double>& value) { return ListText(value); }
 std::string DefaultText(const std::vector<int>& value) { return ListText(value); }
+std::string DefaultText(const std::vector<std::string>& value) { return ListText(value); }
 
 std::string OptionReference(const std::vector<OptionTableInfo>& tables,
                             const std::string& format) {
@@ -110,15 +112,17 @@ std::string OptionReference(const std::vector<OptionTableInfo>& tables,
         }
       }
       const std::string fallback = o.required ? "(required)" : o.default_text;
+      const std::string meaning =
+          o.command_line_only ? o.meaning + " (command line only)" : o.meaning;
       if (markdown) {
         text += "| `" + o.name + "` | `" + FlagsOf(o) + "` | " + OptionTypeName(o.type) + " | " +
                 Escaped(o.unit) + " | " + Escaped(allowed) + " | " + Escaped(fallback) + " | " +
-                Escaped(o.meaning) + " |\n";
+                Escaped(meaning) + " |\n";
       } else {
         text += "  " + o.name + " (" + FlagsOf(o) + ") " + OptionTypeName(o.type) +
                 (o.unit.empty() ? "" : " [" + o.unit + "]") + ", " +
                 (allowed.empty() ? "" : allowed + ", ") + "default " +
-                (fallback.empty() ? "none" : fallback) + ": " + o.meaning + "\n";
+                (fallback.empty() ? "none" : fallback) + ": " + meaning + "\n";
       }
     }
   }

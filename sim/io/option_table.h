@@ -24,9 +24,9 @@
 
 namespace ipmc {
 
-enum class OptionType { kReal, kInteger, kText, kFlag, kRealList, kIntegerList, kPath };
+enum class OptionType { kReal, kInteger, kText, kFlag, kRealList, kIntegerList, kPath, kTextList };
 
-// "real", "integer", "text", "flag", "reals", "integers", "path".
+// "real", "integer", "text", "flag", "reals", "integers", "path", "texts".
 const char* OptionTypeName(OptionType type);
 
 struct OptionInfo {
@@ -47,6 +47,10 @@ struct OptionInfo {
   std::vector<std::string> aliases;
   bool required = false;
   bool positional = false;  // command line: an argument, not a flag
+  // An option of the command line alone (Python says it its own way, as
+  // run's --set, which Python's keyword overrides replace): Python does not
+  // read it, docs/OPTIONS.md says so.
+  bool command_line_only = false;
   OptionType type = OptionType::kReal;
   std::string default_text;  // the spec's default, as text ("" if none)
 };
@@ -65,7 +69,8 @@ using OptionField =
     std::variant<std::function<double&(Spec&)>, std::function<int&(Spec&)>,
                  std::function<unsigned&(Spec&)>, std::function<std::string&(Spec&)>,
                  std::function<bool&(Spec&)>, std::function<std::vector<double>&(Spec&)>,
-                 std::function<std::vector<int>&(Spec&)>>;
+                 std::function<std::vector<int>&(Spec&)>,
+                 std::function<std::vector<std::string>&(Spec&)>>;
 
 template <typename Spec>
 struct Option {
@@ -81,6 +86,7 @@ std::string DefaultText(const std::string& value);
 std::string DefaultText(bool value);
 std::string DefaultText(const std::vector<double>& value);
 std::string DefaultText(const std::vector<int>& value);
+std::string DefaultText(const std::vector<std::string>& value);
 
 template <typename T>
 constexpr OptionType TypeOf() {
@@ -91,6 +97,7 @@ constexpr OptionType TypeOf() {
   if constexpr (std::is_same_v<T, std::string>) return OptionType::kText;
   if constexpr (std::is_same_v<T, bool>) return OptionType::kFlag;
   if constexpr (std::is_same_v<T, std::vector<double>>) return OptionType::kRealList;
+  if constexpr (std::is_same_v<T, std::vector<std::string>>) return OptionType::kTextList;
   return OptionType::kIntegerList;
 }
 
@@ -151,6 +158,10 @@ class OptionTable {
   std::string command_, summary_;
   std::vector<Option<Spec>> options_;
 };
+
+// Whether the option of field `name` was given (by its flag on the command
+// line, its keyword in Python): a library check that depends on it asks.
+using OptionGiven = std::function<bool(const std::string& option)>;
 
 // Every command's table without its fields, for the reference.
 struct OptionTableInfo {

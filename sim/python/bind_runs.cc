@@ -2,15 +2,14 @@
 // bench experiment, and the MJCF generator, each the computation its
 // ipmc-swim command makes, returning numbers instead of printing them and
 // writing the command's files only when asked to.
-#include <algorithm>
 #include <memory>
 #include <optional>
 #include <string>
-#include <thread>
 #include <utility>
 #include <vector>
 
 #include "sim/batch/sweep.h"
+#include "sim/batch/sweep_command.h"
 #include "sim/core/generate_command.h"
 #include "sim/core/simulation.h"
 #include "sim/io/files.h"
@@ -18,6 +17,7 @@
 #include "sim/runs/bench_command.h"
 #include "sim/runs/closed_loop_run.h"
 #include "sim/runs/output.h"
+#include "sim/runs/run_command.h"
 
 namespace ipmc::python {
 namespace {
@@ -82,26 +82,21 @@ py::dict BenchColumns(const BenchRecord& record) {
 
 // ------------------------------------------------------------------- run ---
 
-py::dict Run(const py::object& scenario_arg, const py::dict& overrides, const py::object& out,
-             const std::vector<std::string>& format_names, const py::object& progress_callback) {
-  const ScenarioArgument argument = ReadScenarioArgument(scenario_arg, overrides, "run");
-  const RunFileFormats formats = ParseRunFileFormats(format_names);
-  if ((formats.mat || formats.hdf5) && out.is_none()) {
-    throw std::invalid_argument("run: formats mat or h5 need an output directory (out=DIR)");
-  }
-  const ScenarioConfig& scenario = argument.scenario;
-  const nlohmann::json& inputs = argument.inputs;
-  // As the command line: the output folder is checked before the run, and
-  // never holds the scenario file.
-  if (!out.is_none()) {
-    const nlohmann::json& source = inputs["scenario"];
-    CheckRunOutputDirectory("run", "out", PathText(out, "out"),
-                            source.is_string() ? std::vector<std::string>{source.get<std::string>()}
-                                               : std::vector<std::string>{});
-  }
-  // One run per output directory, from the start of the work to its end.
-  std::optional<DirectoryLock> hold;
-  if (!out.is_none()) hold.emplace(PathText(out, "out"));
+py::dict Run(const py::object& scenario_arg, const py::dict& overrides, const py::dict& kwargs,
+             const py::object& progress_callback) {
+  Options options("run", kwargs);
+  RunCommand command;
+  ReadTableOptions(options, RunOptions(), &command);
+  options.RejectUnknown();
+  ScenarioArgument argument = ReadScenarioArgument(scenario_arg, overrides, "run");
+  const nlohmann::json& source = argument.inputs["scenario"];
+  const std::vector<std::string> input_files =
+      source.is_string() ? std::vector<std::string>{source.get<std::string>()}
+                         : std::vector<std::string>{};
+  // As the command line: every output is checked before the run.
+  const RunPlan plan = PlanRunCommand(command, std::move(argument.scenario),
+                                      std::move(argument.inputs), input_files);
+  const ScenarioConfig& scenario = plan.scenario;
   const double total_s = scenario.cycles / std::abs(scenario.waveform.frequency_Hz);
   Progress progress(progress_callback, total_s);
   const SampleObserver observer = [&](const mjModel*, const mjData* d, const ClosedLoopSample&) {
@@ -109,10 +104,7 @@ py::dict Run(const py::object& scenario_arg, const py::dict& overrides, const py
   };
   const ClosedLoopResult result = WithoutGil([&] { return RunScenario(scenario, observer); });
   progress.Report(total_s, true);
-  if (!out.is_none()) {
-    const std::string dir = PathText(out, "out");
-    WithoutGil([&] { WriteClosedLoopOutputs(dir, result, scenario, inputs, formats); });
-  }
+  WithoutGil([&] { WriteRunOutputs(plan, result); });
   py::dict dict;
   dict["timeseries"] = ClosedLoopColumns(result);
   dict["summary"] = ToPython(ClosedLoopSummaryJson(result));
@@ -121,33 +113,19 @@ py::dict Run(const py::object& scenario_arg, const py::dict& overrides, const py
 
 // ----------------------------------------------------------------- sweep ---
 
-py::object Sweep(const py::object& path_arg, const py::object& jobs_arg,
-                 const std::string& shard_text, const py::object& out,
-                 const std::vector<std::string>& format_names,
+py::object Sweep(const py::object& path_arg, const py::dict& kwargs,
                  const py::object& progress_callback) {
-  const std::string path = PathText(path_arg, "sweep");
-  const RunFileFormats formats = ParseRunFileFormats(format_names);
-  if (!out.is_none()) CheckTablePrefix("sweep", "out", PathText(out, "out"));
-  SweepOptions options;
-  const int threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  options.jobs = jobs_arg.is_none() ? threads : jobs_arg.cast<int>();
-  options.shard = ParseSweepShard(shard_text);
-  if (options.jobs < 1) {
-    throw std::invalid_argument("sweep: --jobs must be >= 1 (got " + std::to_string(options.jobs) +
-                                ")");
-  }
-  const SweepPlan plan = WithoutGil([&] { return LoadSweep(path); });
-  const int points = static_cast<int>(std::count_if(
-      plan.points.begin(), plan.points.end(), [&](const SweepPoint& point) {
-        return point.index % options.shard.count == options.shard.index - 1;
-      }));
-  Progress progress(progress_callback, points);
-  options.on_point_done = [&](const SweepProgress& p) { progress.Report(p.done, true); };
-  const SweepTable table = WithoutGil([&] { return RunSweep(plan, options); });
-  if (!out.is_none()) {
-    const std::string prefix = PathText(out, "out");
-    WithoutGil([&] { WriteSweepTable(prefix, table, formats); });
-  }
+  Options options("sweep", kwargs);
+  SweepCommand command;
+  command.sweep = PathText(path_arg, "sweep");
+  ReadTableOptions(options, SweepOptionTable(), &command);
+  options.RejectUnknown();
+  const SweepCommandPlan plan = WithoutGil([&] { return PlanSweepCommand(command); });
+  Progress progress(progress_callback, plan.points);
+  SweepOptions run = SweepRunOptions(plan);
+  run.on_point_done = [&](const SweepProgress& p) { progress.Report(p.done, true); };
+  const SweepTable table = WithoutGil([&] { return RunSweep(plan.plan, run); });
+  WithoutGil([&] { WriteSweepOutputs(plan, table); });
   return ToPython(SweepTableJson(table));
 }
 
@@ -179,10 +157,9 @@ std::string GenerateModel(const py::dict& kwargs) {
 }  // namespace
 
 void BindRuns(py::module_& m) {
-  m.def("run", &Run, py::arg("scenario"), py::arg("overrides"), py::arg("out"),
-        py::arg("formats"), py::arg("progress"));
-  m.def("sweep", &Sweep, py::arg("sweep"), py::arg("jobs"), py::arg("shard"), py::arg("out"),
-        py::arg("formats"), py::arg("progress"));
+  m.def("run", &Run, py::arg("scenario"), py::arg("overrides"), py::arg("options"),
+        py::arg("progress"));
+  m.def("sweep", &Sweep, py::arg("sweep"), py::arg("options"), py::arg("progress"));
   m.def("bench", &Bench, py::arg("options"), py::arg("progress"));
   m.def("generate_model", &GenerateModel, py::arg("options"));
 }

@@ -99,11 +99,12 @@ class Options {
 // Reads a command's options (its table, sim/io/option_table.h) from the
 // keywords by their names (and their aliases, but for one-letter ones,
 // which are command-line short flags); positional options are the call's
-// own arguments, and a table option left out keeps its default.
+// own arguments, options of the command line alone are not read, and a
+// table option left out keeps its default.
 template <typename Spec>
 void ReadTableOptions(Options& options, const OptionTable<Spec>& table, Spec* spec) {
   for (const Option<Spec>& option : table.options()) {
-    if (option.info.positional) continue;
+    if (option.info.positional || option.info.command_line_only) continue;
     std::vector<std::string> names = option.info.aliases;
     names.insert(names.begin(), option.info.name);
     for (const std::string& name : names) {
@@ -188,5 +189,6 @@ auto WithoutGil(F&& f) {
 void BindRuns(py::module_& m);
 void BindAnalysis(py::module_& m);
 void BindSimulation(py::module_& m);
+void BindPlot(py::module_& m);
 
 }  // namespace ipmc::python

@@ -50,4 +50,5 @@ PYBIND11_MODULE(_core, m) {
   BindRuns(m);
   BindAnalysis(m);
   BindSimulation(m);
+  BindPlot(m);
 }

@@ -110,6 +110,7 @@ ModelPtr LoadScenarioModel(const ScenarioConfig& scenario, std::string* source) 
   }
   if (scenario.timestep_s) model->opt.timestep = *scenario.timestep_s;
   if (scenario.viscosity_Pa_s) OverrideViscosity(model.get(), *scenario.viscosity_Pa_s, scenario.source);
+  for (int dof = 0; dof < model->nv; ++dof) model->dof_damping[dof] *= scenario.hinge_damping_scale;
   return model;
 }
 
@@ -197,6 +198,7 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
 
   SwimMeter meter(m);
   meter.Start(d);
+  EnergyMeter energy(m, d);
   for (int cycle = 0; cycle < scenario.cycles; ++cycle) {
     for (long step = 0; step < steps_per_cycle; ++step) {
       if (step % steps_per_sample == 0) {
@@ -226,8 +228,10 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
       const long next = step + 1 == steps_per_cycle ? 0 : step + 1;
       sim.Step(next % steps_per_sample == 0);
       meter.Observe(m, d);
+      energy.Observe(m, d);
     }
     meter.EndCycle(d);
+    energy.EndCycle(m, d);
   }
   for (int q = 0; q < links; ++q) {
     result.links[q].rms_voltage_V = std::sqrt(sum_v2[q] / std::max<long>(1, samples));
@@ -236,6 +240,7 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
   result.swim = meter.Finish(m, d);
   result.swim.warnings = FluidWarnings(result.swim, scenario.waveform.wavelength_mm);
   RequireFiniteMetrics(result.swim, sim.source());
+  result.energy = energy.Finish(result.swim, period_s, 1);
   return result;
 }
 

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "controllers/closed_loop.h"
+#include "sim/core/energy.h"
 #include "sim/core/scenario.h"
 #include "sim/core/simulation.h"
 #include "sim/core/swim_meter.h"
@@ -50,6 +51,7 @@ struct ClosedLoopResult {
   double timestep_s = 0.0;
   std::vector<LinkTracking> links;
   SwimMetrics swim;
+  EnergyMetrics energy;
   std::vector<ClosedLoopSample> samples;
   RecordedStates states;  // the model's qpos at every recorded sample
 };

@@ -237,6 +237,31 @@ std::string ClosedLoopSamplesCsv(const ClosedLoopResult& result) {
 
 nlohmann::json ClosedLoopSummaryJson(const ClosedLoopResult& result) {
   nlohmann::json summary = SwimMetricsJson(result.swim);
+  const EnergyMetrics& energy = result.energy;
+  nlohmann::json& cycles = summary["per_cycle"];
+  for (size_t k = 0; k < cycles.size() && k < energy.per_cycle.size(); ++k) {
+    const EnergyCycle& c = energy.per_cycle[k];
+    for (size_t q = 0; q < c.actuator_power_W.size(); ++q) {
+      cycles[k][columns::LinkResult(static_cast<int>(q + 1), columns::kActuatorPower)] =
+          c.actuator_power_W[q];
+    }
+    cycles[k][columns::kActuatorPower] = c.actuator_power_W_total;
+    cycles[k][columns::kFluidPower] = c.fluid_power_W;
+    cycles[k][columns::kHingeDampingPower] = c.hinge_damping_power_W;
+    cycles[k][columns::kSteppingPower] = c.stepping_power_W;
+    cycles[k][columns::kElasticEnergy] = c.elastic_energy_J;
+    cycles[k][columns::kStoredEnergyChange] = c.stored_energy_change_J;
+    cycles[k][columns::kLighthillEfficiency] = c.lighthill_efficiency;
+    cycles[k][columns::kCostOfTransport] = c.cost_of_transport_J_m;
+  }
+  summary[columns::kActuatorPower] = energy.actuator_power_W_total;
+  summary[columns::kFluidPower] = energy.fluid_power_W;
+  summary[columns::kHingeDampingPower] = energy.hinge_damping_power_W;
+  summary[columns::kSteppingPower] = energy.stepping_power_W;
+  summary[columns::kElasticEnergy] = energy.elastic_energy_J;
+  summary[columns::kTowingDrag] = energy.towing_drag_N;
+  summary[columns::kLighthillEfficiency] = energy.lighthill_efficiency;
+  summary[columns::kCostOfTransport] = energy.cost_of_transport_J_m;
   nlohmann::json links = nlohmann::json::array();
   for (size_t q = 0; q < result.links.size(); ++q) {
     const LinkTracking& t = result.links[q];
@@ -247,7 +272,9 @@ nlohmann::json ClosedLoopSummaryJson(const ClosedLoopResult& result) {
                      {"max_abs_reference_mm", t.max_abs_reference_mm},
                      {"rms_voltage_V", t.rms_voltage_V},
                      {"peak_voltage_V", t.peak_voltage_V},
-                     {"clamped_fraction", t.clamped_fraction}});
+                     {"clamped_fraction", t.clamped_fraction},
+                     {columns::kActuatorPower,
+                      q < energy.actuator_power_W.size() ? energy.actuator_power_W[q] : 0.0}});
   }
   summary["controller"] = result.controller;
   summary["actuation"] = result.actuation;

@@ -47,6 +47,8 @@ BODE = {"links": [3], "plant": "g2", "w_min_rad_s": 0.1, "w_max_rad_s": 100.0,
         "points_per_decade": 20}
 STEP = {"links": [3, 1], "horizon_s": 1.0, "max_horizon_s": 3.0, "v_max_V": 5.0,
         "sample_rate_Hz": 2000.0}
+RUN = {"formats": ["mat"], "allow_long": True}
+SWEEP = {"jobs": 2, "shard": "1/1", "formats": ["mat", "h5"]}
 GENERATE = {"link_lengths_mm": [5.0, 10.0, 15.0], "head_length_mm": 0.5, "clamped": True}
 
 
@@ -97,8 +99,8 @@ def test_run(short_scenario, tmp_path):
     # its own words).
     scenario = tmp_path / "one_cycle.toml"
     scenario.write_text(short_scenario.read_text().replace("cycles = 2", "cycles = 1"))
-    run_cli("run", scenario, "--out", tmp_path / "cli")
-    ipmc_swim.run(scenario, out=tmp_path / "python")
+    run_cli("run", scenario, *cli_arguments(RUN), "--out", tmp_path / "cli")
+    ipmc_swim.run(scenario, out=tmp_path / "python", **RUN)
     assert_same_files(tmp_path / "cli", tmp_path / "python")
 
 
@@ -108,8 +110,8 @@ def test_sweep(short_scenario, tmp_path):
                           '[grid]\nactuation = ["single", "distributed"]\n')
     (tmp_path / "cli").mkdir()
     (tmp_path / "python").mkdir()
-    run_cli("sweep", sweep_file, "--jobs", "2", "--out", tmp_path / "cli" / "table")
-    ipmc_swim.sweep(sweep_file, jobs=2, out=tmp_path / "python" / "table")
+    run_cli("sweep", sweep_file, *cli_arguments(SWEEP), "--out", tmp_path / "cli" / "table")
+    ipmc_swim.sweep(sweep_file, out=tmp_path / "python" / "table", **SWEEP)
     # The table; the command line also keeps its resume journal
     # (table.journal), which Python's sweep does not write.
     (tmp_path / "cli" / "table.journal").unlink()

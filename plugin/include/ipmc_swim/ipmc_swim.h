@@ -89,7 +89,8 @@ struct CouplingState {
 // The coupling state of d. Also makes d's link models restart their
 // integration at time_s, as a voltage change does, so that d and every
 // mjData restored from the result step bit-identically; d's own later
-// values change within the integration tolerance (ipmc_cvode_rel_tol).
+// values change within the integration tolerance (ipmc_cvode_rel_tol; not
+// at all with the default ipmc_actuator_integration = exact).
 // Call from the thread that steps d. Throws std::invalid_argument if d is
 // not attached.
 CouplingState SaveState(const mjData* d);

@@ -14,6 +14,8 @@ is the name in lower case with ``-`` for ``_``: ``sample_rate_Hz`` is
 - ``bode(controller, ...)``, ``step(controller, ...)``: one link's loop;
 - ``identify(data, input, output)``, ``design(...)``: identification and design;
 - ``generate_model(...)``: the MJCF of an N-link flagellum;
+- ``plot(kind, input, out=...)``: a figure (``ipmc-swim plot``), e.g.
+  ``plot("compare", [run_dir, other_run_dir], out="compare.pdf")``;
 - ``Simulation(scenario, **overrides)``: one model to step from a controller
   written in Python.
 
@@ -35,7 +37,7 @@ from ._core import Error, Simulation, __version__
 from ._paths import MODELS_DIR, SCENARIOS_DIR
 
 __all__ = ["Error", "Result", "Simulation", "bench", "bode", "design", "generate_model",
-           "identify", "run", "step", "sweep", "MODELS_DIR", "SCENARIOS_DIR"]
+           "identify", "plot", "run", "step", "sweep", "MODELS_DIR", "SCENARIOS_DIR"]
 
 
 class Result(dict):
@@ -78,7 +80,7 @@ def _options(options, **arguments):
     return merged
 
 
-def run(scenario, *, out=None, formats=(), progress=None, **overrides):
+def run(scenario, *, out=None, formats=(), allow_long=False, progress=None, **overrides):
     """Runs a closed-loop scenario, as ``ipmc-swim run SCENARIO [--out DIR]``.
 
     scenario: a scenario file (TOML, see scenarios/paper.toml) or a dict of
@@ -88,7 +90,8 @@ def run(scenario, *, out=None, formats=(), progress=None, **overrides):
     or ``controller={"kind": "fractional"}``. out: a directory for
     timeseries.csv and summary.json (the scenario's output.dir is not used).
     formats: also write the run as run.mat ("mat") or run.h5 ("h5") into
-    out, as ``run --format`` does (docs/MATLAB.md).
+    out, as ``run --format`` does (docs/MATLAB.md). allow_long: run even
+    beyond 1e8 steps or 2 GB of recorded samples (docs/OPTIONS.md, run).
 
     Returns a Result with ``timeseries`` (a numpy array per column of
     timeseries.csv: time_s, com_x_mm, ..., reference1_mm, measured1_mm,
@@ -97,7 +100,8 @@ def run(scenario, *, out=None, formats=(), progress=None, **overrides):
     ``links`` (per-link metrics: link, iae_mm_s, itae_mm_s2, ...) and
     ``summary`` (summary.json's contents, without its inputs, as a dict).
     """
-    raw = _core.run(scenario, overrides, out, list(formats), progress)
+    raw = _core.run(scenario, overrides,
+                    _options({}, out=out, formats=list(formats), allow_long=allow_long), progress)
     summary = raw["summary"]
     return Result(timeseries=raw["timeseries"], cycles=_columns(summary["per_cycle"]),
                   links=_columns(summary["links"]), summary=summary)
@@ -106,7 +110,7 @@ def run(scenario, *, out=None, formats=(), progress=None, **overrides):
 def sweep(sweep_file, *, jobs=None, shard="1/1", out=None, formats=(), progress=None):
     """Runs a sweep file, as ``ipmc-swim sweep SWEEP --out PREFIX``.
 
-    jobs: threads (default: the hardware's); shard: "i/n" runs the points
+    jobs: threads (default: the CPUs this process may use); shard: "i/n" runs the points
     with index % n == i - 1; out: writes PREFIX.csv and PREFIX.json, and with
     formats ("mat", "h5") PREFIX.mat and PREFIX.h5.
     progress(done, total) is called after each point. Returns the table as a
@@ -114,7 +118,8 @@ def sweep(sweep_file, *, jobs=None, shard="1/1", out=None, formats=(), progress=
     error, link<q>_iae_mm_s, ..., reynolds_swim; NaN for a failed point's
     results).
     """
-    table = _core.sweep(sweep_file, jobs, shard, out, list(formats), progress)
+    table = _core.sweep(sweep_file, _options({}, jobs=jobs, shard=shard, out=out,
+                                             formats=list(formats)), progress)
     columns = _columns(table["points"])
     return {name: columns.get(name, np.array([], dtype=object)) for name in table["columns"]}
 
@@ -201,3 +206,21 @@ def generate_model(*, out=None, **spec):
     write. Returns the XML text (``Simulation.from_xml`` loads it).
     """
     return _core.generate_model(_options(spec, out=out))
+
+
+def plot(kind, input, *, out, **options):
+    """A figure, as ``ipmc-swim plot KIND INPUT... --out OUT`` draws it (the same bytes).
+
+    kind: bode, step, tracking, waveform, surface, trajectory,
+    identification, sweep or compare. input: the file the kind draws
+    (bode.csv, step.csv, timeseries.csv, response.csv, a sweep table), or
+    for compare a list of two or more run directories (their
+    timeseries.csv and summary.json). out: FILE.pdf, FILE.svg or FILE.png.
+    options: title, width_px, height_px, and the kind's own (curves,
+    instants, times_s, period_s, max_lines, x, y, group, log_x, log_y; one
+    the kind does not use is an error). Returns a Result with the title
+    (title, title_lines) and what the figure found (notes: for compare,
+    each run's last-cycle displacement and steady tracking error).
+    """
+    inputs = [input] if isinstance(input, (str, os.PathLike)) else list(input)
+    return Result(_core.plot(kind, inputs, out, options))

@@ -1,0 +1,156 @@
+#include "sim/batch/sweep_command.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <stdexcept>
+
+#include "plugin/base/error.h"
+#include "sim/batch/cpu_affinity.h"
+#include "sim/io/files.h"
+
+namespace ipmc {
+namespace {
+
+constexpr char kSweep[] = "sweep";
+constexpr char kMerge[] = "merge";
+
+OptionInfo FormatsInfo(const std::string& what) {
+  OptionInfo formats{"formats", "", "csv, mat, h5 (hdf5); repeatable or comma-separated",
+                     "Also write " + what + " (mat: MATLAB/Octave; h5: HDF5)"};
+  formats.aliases = {"format"};
+  return formats;
+}
+
+OptionTable<SweepCommand> MakeSweepOptions() {
+  OptionTable<SweepCommand> table(
+      kSweep, "Run a scenario over a grid or list of overrides (a sweep file, TOML)");
+  OptionInfo sweep{"sweep", "", "a TOML file", "Sweep file"};
+  sweep.positional = true;
+  table.AddPath(sweep, [](SweepCommand& c) -> std::string& { return c.sweep; });
+  OptionInfo jobs{"jobs", "", ">= 1", "Points run in parallel"};
+  jobs.default_text = "the CPUs this process may use";
+  table.Add<int>(jobs, [](SweepCommand& c) -> int& { return c.jobs; });
+  table.Add<std::string>({"shard", "", "i/n with 1 <= i <= n",
+                          "Run part i of n: the points with index % n == i - 1"},
+                         [](SweepCommand& c) -> std::string& { return c.shard; });
+  OptionInfo out{"out", "", "a file name prefix, not a folder",
+                 "Writes PREFIX.csv and PREFIX.json; the command line records each point in "
+                 "PREFIX.journal (resume)"};
+  out.aliases = {"o"};
+  table.AddPath(out, [](SweepCommand& c) -> std::string& { return c.out; });
+  table.Add<std::vector<std::string>>(
+      FormatsInfo("the table as PREFIX.mat or PREFIX.h5 (a group per point)"),
+      [](SweepCommand& c) -> std::vector<std::string>& { return c.formats; });
+  OptionInfo other{"resume_other_version", "", "",
+                   "Resume a journal that another ipmc-swim version wrote (its points may differ "
+                   "from this version's)"};
+  other.command_line_only = true;
+  table.Add<bool>(other, [](SweepCommand& c) -> bool& { return c.resume_other_version; });
+  return table;
+}
+
+OptionTable<MergeCommand> MakeMergeOptions() {
+  OptionTable<MergeCommand> table(kMerge, "Join the tables (CSV) of a sweep's shards into one");
+  OptionInfo tables{"tables", "", "CSV files", "Shard tables (PREFIX.csv of each sweep --shard)"};
+  tables.positional = true;
+  tables.required = true;
+  table.Add<std::vector<std::string>>(
+      tables, [](MergeCommand& c) -> std::vector<std::string>& { return c.tables; });
+  OptionInfo out{"out", "", "a file name prefix, not a folder", "Writes PREFIX.csv and PREFIX.json"};
+  out.aliases = {"o"};
+  out.required = true;
+  table.AddPath(out, [](MergeCommand& c) -> std::string& { return c.out; });
+  OptionInfo partial{"partial", "", "",
+                     "Merge the tables that exist (and the journals of those that do not); list "
+                     "the missing points"};
+  partial.command_line_only = true;
+  table.Add<bool>(partial, [](MergeCommand& c) -> bool& { return c.partial; });
+  return table;
+}
+
+// A table prefix: a file name prefix whose files are none of `inputs`, in
+// a folder that can be made and written.
+void CheckTableOutputs(const std::string& who, const std::string& prefix,
+                       const std::vector<std::string>& suffixes,
+                       const std::vector<std::string>& inputs) {
+  CheckTablePrefix(who, "out", prefix);
+  try {
+    for (const std::string& suffix : suffixes) {
+      RefuseOverwritingInputs(who, "out", prefix + suffix, inputs);
+    }
+  } catch (const FieldError&) {
+    throw;
+  } catch (const std::invalid_argument& error) {
+    throw FieldError(error.what(), "out", "a prefix whose files are not inputs");
+  }
+  RequireWritableParent(prefix);
+}
+
+}  // namespace
+
+SweepCommand::SweepCommand() : jobs(AvailableCpus()) {}
+
+const OptionTable<SweepCommand>& SweepOptionTable() {
+  static const OptionTable<SweepCommand> table = MakeSweepOptions();
+  return table;
+}
+
+const OptionTable<MergeCommand>& MergeOptionTable() {
+  static const OptionTable<MergeCommand> table = MakeMergeOptions();
+  return table;
+}
+
+SweepCommandPlan PlanSweepCommand(const SweepCommand& command) {
+  SweepCommandPlan plan;
+  plan.out = command.out;
+  if (!plan.out.empty()) {
+    CheckTableOutputs(kSweep, plan.out, {".csv", ".json", ".journal"}, {command.sweep});
+  }
+  plan.shard = ParseSweepShard(command.shard);
+  if (command.jobs < 1) {
+    throw FieldError("sweep: jobs must be >= 1 (got " + std::to_string(command.jobs) + ")",
+                     "jobs", ">= 1");
+  }
+  plan.jobs = command.jobs;
+  plan.formats = ParseRunFileFormats(command.formats);  // before any point runs
+  plan.plan = LoadSweep(command.sweep);
+  plan.points = static_cast<int>(std::count_if(
+      plan.plan.points.begin(), plan.plan.points.end(), [&](const SweepPoint& point) {
+        return point.index % plan.shard.count == plan.shard.index - 1;
+      }));
+  return plan;
+}
+
+SweepOptions SweepRunOptions(const SweepCommandPlan& plan) {
+  SweepOptions options;
+  options.jobs = plan.jobs;
+  options.shard = plan.shard;
+  return options;
+}
+
+void WriteSweepOutputs(const SweepCommandPlan& plan, const SweepTable& table) {
+  if (!plan.out.empty()) WriteSweepTable(plan.out, table, plan.formats);
+}
+
+void CheckMergeOutputs(const MergeCommand& command) {
+  CheckTableOutputs(kMerge, command.out, {".csv", ".json"}, command.tables);
+}
+
+SweepTable RunMergeCommand(const MergeCommand& command) {
+  CheckMergeOutputs(command);
+  for (const std::string& path : command.tables) {
+    std::error_code error;
+    if (!std::filesystem::exists(path, error)) {
+      throw std::runtime_error("merge: " + path +
+                               " does not exist (a shard that did not finish? --partial merges "
+                               "the tables that exist)");
+    }
+  }
+  std::vector<SweepTable> tables;
+  for (const std::string& path : command.tables) tables.push_back(LoadSweepTableCsv(path));
+  const SweepTable merged = MergeSweepTables(tables, command.tables);
+  WriteSweepTable(command.out, merged);
+  return merged;
+}
+
+}  // namespace ipmc

@@ -1,0 +1,149 @@
+#include "sim/core/energy.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "plugin/coupling.h"
+
+namespace ipmc {
+namespace {
+
+constexpr double kMmToM = 1e-3;
+
+// The cycles' mean powers over cycles [from, end) (0-based).
+EnergyPowers MeanPowers(const std::vector<EnergyCycle>& cycles, size_t from, size_t links) {
+  EnergyPowers mean;
+  mean.actuator_power_W.assign(links, 0.0);
+  const double n = static_cast<double>(cycles.size() - from);
+  if (!(n > 0)) return mean;
+  for (size_t k = from; k < cycles.size(); ++k) {
+    const EnergyCycle& c = cycles[k];
+    for (size_t q = 0; q < links; ++q) mean.actuator_power_W[q] += c.actuator_power_W[q] / n;
+    mean.actuator_power_W_total += c.actuator_power_W_total / n;
+    mean.fluid_power_W += c.fluid_power_W / n;
+    mean.hinge_damping_power_W += c.hinge_damping_power_W / n;
+    mean.stepping_power_W += c.stepping_power_W / n;
+  }
+  return mean;
+}
+
+// eta = D_tow(U) U / P_f and P / |U|, 0 where undefined (no drag, no
+// fluid power); the cost of transport is infinite for a body that does not
+// swim.
+double LighthillEfficiency(double towing_drag_N, double speed_m_s, double fluid_power_W) {
+  return fluid_power_W > 0 ? towing_drag_N * speed_m_s / fluid_power_W : 0.0;
+}
+double CostOfTransport_J_m(double power_W, double speed_m_s) {
+  return speed_m_s != 0 ? power_W / std::abs(speed_m_s)
+                        : std::numeric_limits<double>::infinity();
+}
+
+}  // namespace
+
+EnergyMeter::EnergyMeter(const mjModel* m, const mjData* d) {
+  const CouplingContext* coupling = FindCoupling(d);
+  if (coupling && coupling->actuators) {
+    for (const LinkChain& chain : coupling->actuators->chains()) {
+      std::vector<int> dofs;
+      for (int joint : chain.joints) dofs.push_back(m->jnt_dofadr[joint]);
+      link_dofs_.push_back(dofs);
+    }
+  }
+  if (coupling && coupling->drag) {
+    drag_ = &*coupling->drag;
+    towing_drag_N_per_m_s_ = drag_->TowingDrag_N(1.0);
+  }
+  inertial_ = !coupling || coupling->dynamics == Dynamics::kInertial;
+  stepping_sign_ = inertial_ ? -1.0 : 1.0;
+  actuator_J_.assign(link_dofs_.size(), 0.0);
+  scratch_.assign(m->nv, 0.0);
+  cycle_start_stored_J_ = StoredEnergy_J(m, d);
+}
+
+double EnergyMeter::ElasticEnergy_J(const mjModel* m, const mjData* d) {
+  double energy_J = 0.0;
+  for (int j = 0; j < m->njnt; ++j) {
+    const int type = m->jnt_type[j];
+    if (type != mjJNT_HINGE && type != mjJNT_SLIDE) continue;
+    const double strain = d->qpos[m->jnt_qposadr[j]] - m->qpos_spring[m->jnt_qposadr[j]];
+    energy_J += 0.5 * m->jnt_stiffness[j] * strain * strain;
+  }
+  return energy_J;
+}
+
+double EnergyMeter::StoredEnergy_J(const mjModel* m, const mjData* d) {
+  double energy_J = ElasticEnergy_J(m, d);
+  if (inertial_) {
+    mj_mulM(m, d, scratch_.data(), d->qvel);
+    energy_J += 0.5 * mju_dot(d->qvel, scratch_.data(), m->nv);
+  }
+  return energy_J;
+}
+
+void EnergyMeter::Observe(const mjModel* m, const mjData* d) {
+  const double h = m->opt.timestep;
+  for (size_t q = 0; q < link_dofs_.size(); ++q) {
+    double power_W = 0.0;
+    for (int dof : link_dofs_[q]) power_W += d->qfrc_actuator[dof] * d->qvel[dof];
+    actuator_J_[q] += h * power_W;
+  }
+  double damping_W = 0.0;
+  for (int dof = 0; dof < m->nv; ++dof) damping_W += m->dof_damping[dof] * d->qvel[dof] * d->qvel[dof];
+  damping_J_ += h * damping_W;
+  double spring_h_W = 0.0;  // sum of k h qdot^2 / 2 over the joints
+  for (int j = 0; j < m->njnt; ++j) {
+    const int type = m->jnt_type[j];
+    if (type != mjJNT_HINGE && type != mjJNT_SLIDE) continue;
+    const double rate = d->qvel[m->jnt_dofadr[j]];
+    spring_h_W += 0.5 * m->jnt_stiffness[j] * h * rate * rate;
+  }
+  stepping_J_ += h * stepping_sign_ * spring_h_W;
+  if (drag_) fluid_J_ += h * drag_->DissipatedPower_W(m, d);
+  elastic_J_s_ += h * ElasticEnergy_J(m, d);
+  time_s_ += h;
+}
+
+void EnergyMeter::EndCycle(const mjModel* m, const mjData* d) {
+  EnergyCycle cycle;
+  const double duration_s = time_s_ > 0 ? time_s_ : 1.0;
+  for (double& energy_J : actuator_J_) {
+    cycle.actuator_power_W.push_back(energy_J / duration_s);
+    cycle.actuator_power_W_total += energy_J / duration_s;
+    energy_J = 0.0;
+  }
+  cycle.fluid_power_W = fluid_J_ / duration_s;
+  cycle.hinge_damping_power_W = damping_J_ / duration_s;
+  cycle.stepping_power_W = stepping_J_ / duration_s;
+  cycle.elastic_energy_J = elastic_J_s_ / duration_s;
+  const double stored_J = StoredEnergy_J(m, d);
+  cycle.stored_energy_change_J = stored_J - cycle_start_stored_J_;
+  cycle_start_stored_J_ = stored_J;
+  fluid_J_ = damping_J_ = stepping_J_ = elastic_J_s_ = time_s_ = 0.0;
+  cycles_.push_back(cycle);
+}
+
+EnergyMetrics EnergyMeter::Finish(const SwimMetrics& swim, double period_s, int from_cycle) const {
+  EnergyMetrics metrics;
+  metrics.per_cycle = cycles_;
+  for (size_t k = 0; k < metrics.per_cycle.size() && k < swim.per_cycle.size(); ++k) {
+    EnergyCycle& c = metrics.per_cycle[k];
+    const double speed_m_s = swim.per_cycle[k].com_along * kMmToM / period_s;
+    c.lighthill_efficiency =
+        LighthillEfficiency(towing_drag_N_per_m_s_ * speed_m_s, speed_m_s, c.fluid_power_W);
+    c.cost_of_transport_J_m = CostOfTransport_J_m(c.actuator_power_W_total, speed_m_s);
+  }
+  metrics.from_cycle = from_cycle;
+  const size_t from = static_cast<size_t>(std::max(1, from_cycle) - 1);
+  static_cast<EnergyPowers&>(metrics) = MeanPowers(cycles_, from, link_dofs_.size());
+  const double n = static_cast<double>(cycles_.size() > from ? cycles_.size() - from : 0);
+  for (size_t k = from; k < cycles_.size(); ++k) metrics.elastic_energy_J += cycles_[k].elastic_energy_J / n;
+  const double speed_m_s = swim.mean_speed_along_mm_s * kMmToM;
+  metrics.towing_drag_N = towing_drag_N_per_m_s_ * speed_m_s;
+  metrics.lighthill_efficiency =
+      LighthillEfficiency(metrics.towing_drag_N, speed_m_s, metrics.fluid_power_W);
+  metrics.cost_of_transport_J_m = CostOfTransport_J_m(metrics.actuator_power_W_total, speed_m_s);
+  return metrics;
+}
+
+}  // namespace ipmc

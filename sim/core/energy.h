@@ -1,0 +1,105 @@
+// Where the energy of a swimming stroke goes (docs/ENERGY.md).
+//
+// Over every step of length h the meter adds h times each power, with the
+// velocities the step moved the body with (qvel after the step) and the
+// forces it moved it against:
+//   active moments  P_q = sum over link q's hinges of qfrc_actuator . qdot
+//   fluid           P_f = -sum over the drag segments of (F . v_c + T_c . w)
+//                   (RftDrag::DissipatedPower_W: the drag model itself)
+//   hinge damping   P_c = sum over the dofs of c qdot^2 (the joints'
+//                   `damping`, not the paper's plant: docs/ENERGY.md)
+//   time stepping   P_h = -+ sum over the joints of k h qdot^2 / 2: the
+//                   springs' work that the step does not store. MuJoCo's
+//                   Euler step (inertial) takes the spring force at the
+//                   step's start, -k (q_n - q_spring), and so puts in
+//                   k dq^2 / 2 per step (P_h < 0, a negative damping
+//                   k h / 2); the Stokes step's backward Euler takes it at
+//                   the end and takes that much out (P_h > 0). It vanishes
+//                   with h (docs/ENERGY.md gives its size).
+// and at every cycle boundary the stored energy, the hinges' elastic
+// energy sum 1/2 k (q - q_spring)^2 plus, with inertia, the kinetic
+// energy 1/2 qdot^T M qdot. Over a cycle
+//   W_actuators = W_fluid + W_damping + W_stepping
+//                 + (stored energy at its end - at its start)
+// (up to the kinetic energy's own step error, dqdot^T M dqdot / 2, and the
+// drag's power taken with the step's start velocity), which over a steady
+// (periodic) cycle is W_fluid + W_damping + W_stepping.
+//
+// From the means over the chosen cycles (metrics.from_cycle):
+//   Lighthill's efficiency  eta = D_tow(U) U / P_f, D_tow the drag of the
+//                           straightened body towed along its axis at the
+//                           mean speed U, from the same drag model
+//                           (RftDrag::TowingDrag_N; Lighthill 1975,
+//                           "Mathematical Biofluiddynamics", ch. 3)
+//   cost of transport       P_actuators / |U| [J/m], the actuators' work
+//                           per distance swum
+#pragma once
+
+#include <mujoco/mujoco.h>
+
+#include <vector>
+
+#include "plugin/fluid/rft_drag.h"
+#include "sim/core/swim_meter.h"
+
+namespace ipmc {
+
+// Mean powers over one cycle or over several [W].
+struct EnergyPowers {
+  std::vector<double> actuator_power_W;  // per link
+  double actuator_power_W_total = 0.0;
+  double fluid_power_W = 0.0;
+  double hinge_damping_power_W = 0.0;
+  double stepping_power_W = 0.0;
+};
+
+struct EnergyCycle : EnergyPowers {
+  double elastic_energy_J = 0.0;         // the hinges', mean over the cycle
+  double stored_energy_change_J = 0.0;   // elastic and kinetic, end minus start
+  double lighthill_efficiency = 0.0;     // with the cycle's own speed
+  double cost_of_transport_J_m = 0.0;    // the cycle's work over its displacement
+};
+
+struct EnergyMetrics : EnergyPowers {
+  std::vector<EnergyCycle> per_cycle;    // every cycle
+  int from_cycle = 1;                    // the means below are over cycles >= this
+  double elastic_energy_J = 0.0;
+  double towing_drag_N = 0.0;            // the straightened body at the mean speed
+  double lighthill_efficiency = 0.0;
+  double cost_of_transport_J_m = 0.0;
+};
+
+class EnergyMeter {
+ public:
+  // The links' hinges from d's IPMC actuators, the drag from its RFT model
+  // (no drag: no fluid power, efficiencies 0), which must outlive the
+  // meter (the coupling attached to d). Marks the start of the run.
+  EnergyMeter(const mjModel* m, const mjData* d);
+
+  // After every step.
+  void Observe(const mjModel* m, const mjData* d);
+  // At the end of each cycle.
+  void EndCycle(const mjModel* m, const mjData* d);
+  // Efficiency and cost of transport with the swim's per-cycle
+  // displacements and its mean speed over the cycles from `from_cycle`
+  // (1-based), over which the means are taken.
+  EnergyMetrics Finish(const SwimMetrics& swim, double period_s, int from_cycle) const;
+
+ private:
+  double StoredEnergy_J(const mjModel* m, const mjData* d);
+  static double ElasticEnergy_J(const mjModel* m, const mjData* d);
+
+  std::vector<std::vector<int>> link_dofs_;
+  const RftDrag* drag_ = nullptr;
+  bool inertial_ = true;
+  double stepping_sign_ = -1.0;  // -1: spring at the step's start (Euler); +1: at its end
+  double towing_drag_N_per_m_s_ = 0.0;  // the drag is linear in the speed
+  // The running cycle's energies [J] and time [s].
+  std::vector<double> actuator_J_;
+  double fluid_J_ = 0.0, damping_J_ = 0.0, stepping_J_ = 0.0, elastic_J_s_ = 0.0, time_s_ = 0.0;
+  double cycle_start_stored_J_ = 0.0;
+  std::vector<EnergyCycle> cycles_;
+  std::vector<double> scratch_;
+};
+
+}  // namespace ipmc
