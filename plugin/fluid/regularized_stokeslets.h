@@ -1,0 +1,97 @@
+// Regularized Stokeslets: the nonlocal Stokes-flow drag of a body made of
+// points, every point's force felt at every other point, so that the links
+// of a swimmer interact through the fluid.
+//
+// Kernel (Cortez 2001; Cortez, Fauci & Medovikov, Phys. Fluids 17, 031504,
+// 2005, eq. 10a, blob phi = 15 eps^4 / (8 pi (r^2 + eps^2)^(7/2))): a force
+// f at y moves the fluid at x = y + r with
+//   8 pi mu u = [ (r^2 + 2 eps^2) I + r r^T ] / (r^2 + eps^2)^(3/2) f,
+// finite at r = 0. N points give u = M f with the dense, symmetric,
+// positive definite 3N x 3N mobility M; the forces that make given
+// velocities are f = M^-1 u (Cholesky, LU if round-off spoils it), and
+// the drag on the body is -f.
+//
+// Near a no-slip plane wall z = z_w the kernel is the regularized image
+// system of Ainley, Durkin, Embid, Boindala & Cortez (J. Comput. Phys. 227,
+// 4600, 2008; with the sign correction of Smith, Proc. R. Soc. A 465, 3605,
+// 2009): image Stokeslet, potential dipole, Stokes doublet and rotlet at
+// the mirror point, which makes u = 0 on the wall.
+//
+// Blob and spacing (docs/FLUIDS.md): a straight line of regularized
+// Stokeslets of density f has, a distance s_1 behind and s_2 ahead of a
+// point (both >> eps), the local velocity
+//   8 pi mu u_n = f_n [ln(4 s_1 s_2 / eps^2) + 2],
+//   8 pi mu u_t = f_t  2 ln(4 s_1 s_2 / eps^2),
+// and slender-body theory for a cylinder of radius a (Lighthill 1976;
+// Keller & Rubinow 1976) has ln(4 s_1 s_2 / a^2) + 1 and
+// 2 ln(4 s_1 s_2 / a^2) - 2: both agree for eps = sqrt(e) a = 1.6487 a.
+// So a centreline of points with that blob is the slender cylinder of
+// radius a; the points are spaced eps apart (the straight strip then
+// drags 1.020 (broadside) and 1.026 (axial) times slender-body theory's
+// total; closer points creep up by about 1.4 % per halving, as the
+// first-kind solve concentrates force at the ends, so the spacing is tied
+// to the blob; docs/FLUIDS.md has the table). Across the ribbon's width
+// (an option) each centreline point becomes `width_points` points spread
+// over the width, with the same blob.
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <vector>
+
+namespace ipmc {
+
+// eps / a of a centreline that behaves like a cylinder of radius a.
+constexpr double kBlobOverRadius = 1.6487212707001282;  // sqrt(e)
+// Point spacing over eps.
+constexpr double kSpacingOverBlob = 1.0;
+
+using PointList = std::vector<Eigen::Vector3d>;
+
+// 8 pi mu times the velocity at y + r per unit force at y.
+Eigen::Matrix3d RegularizedStokeslet(const Eigen::Vector3d& r, double blob_m);
+// The same near the no-slip wall z = wall_z (both points above it): the
+// velocity at x per unit force at y, times 8 pi mu.
+Eigen::Matrix3d RegularizedWallStokeslet(const Eigen::Vector3d& x, const Eigen::Vector3d& y,
+                                         double wall_z_m, double blob_m);
+
+struct StokesletGeometry {
+  double blob_m = 0.0;
+  std::optional<double> wall_z_m;  // a no-slip wall z = wall_z below every point
+};
+
+// The mobility u = M f of the points [m/s per N].
+Eigen::MatrixXd StokesletMobility(const PointList& points, const StokesletGeometry& geometry,
+                                  double viscosity_Pa_s);
+
+// A dense symmetric positive definite matrix, factored once.
+class MobilitySolver {
+ public:
+  explicit MobilitySolver(const Eigen::MatrixXd& mobility);
+  // The forces on the fluid that give the point velocities u: M f = u.
+  Eigen::VectorXd Forces(const Eigen::VectorXd& u) const;
+  // M^-1 (the point resistance).
+  Eigen::MatrixXd Inverse() const;
+
+ private:
+  Eigen::MatrixXd factor_;  // Cholesky factor L (M = L L^T), or LU
+  Eigen::VectorXi permutation_;
+  bool cholesky_ = true;
+};
+
+// Points along a straight segment: the midpoints of ceil(length / spacing)
+// equal intervals, each repeated `width_points` times across `width_m`
+// along width_axis (unit; ignored for one point).
+PointList SegmentPoints(const Eigen::Vector3d& center, const Eigen::Vector3d& tangent,
+                        double length_m, double spacing_m, const Eigen::Vector3d& width_axis,
+                        double width_m, int width_points);
+
+// The resistance of rigid bodies made of points: body_of_point[k] in
+// [0, bodies) names the body of point k; R (6 bodies x 6 bodies) maps the
+// bodies' spatial velocities [w; v] (v that of the body point at c) to
+// minus their drag wrenches [torque about c; force]: wrench = -R V.
+Eigen::MatrixXd RigidBodyResistance(const PointList& points, const std::vector<int>& body_of_point,
+                                    int bodies, const Eigen::Vector3d& c,
+                                    const StokesletGeometry& geometry, double viscosity_Pa_s);
+
+}  // namespace ipmc
