@@ -392,21 +392,21 @@ TEST(RecordedStatesTest, RoundTripThroughCsvAndInterpolate) {
                                             "no column j3_rad");
 }
 
-TEST(SwimFilmConfigTest, NamesTheOptionOutOfRange) {
-  const auto expect_bad = [](const std::string& option, auto change) {
+TEST(SwimFilmConfigTest, NamesTheFieldOutOfRange) {
+  const auto expect_bad = [](const std::string& field, auto change) {
     FilmConfig config;
     change(config);
-    ExpectInvalidArgument([&] { config.Validate(); }, option);
+    ExpectInvalidArgument([&] { config.Validate(); }, field);
   };
   FilmConfig().Validate();
-  expect_bad("--width-px", [](FilmConfig& c) { c.width = 641; });
-  expect_bad("--fps", [](FilmConfig& c) { c.fps = 0.0; });
-  expect_bad("--frames-per-cycle", [](FilmConfig& c) { c.frames_per_cycle = 0; });
-  expect_bad("--view-mm", [](FilmConfig& c) { c.view_mm = 2e4; });
-  expect_bad("--center-mm", [](FilmConfig& c) { c.center_mm = {1.0}; });
-  expect_bad("--elevation-deg", [](FilmConfig& c) { c.elevation_deg = -95.0; });
-  expect_bad("--azimuth-deg", [](FilmConfig& c) { c.azimuth_deg = 400.0; });
-  expect_bad("--strip-thickness-mm", [](FilmConfig& c) { c.strip_thickness_mm = -1.0; });
+  expect_bad("width_px", [](FilmConfig& c) { c.width = 641; });
+  expect_bad("fps", [](FilmConfig& c) { c.fps = 0.0; });
+  expect_bad("frames_per_cycle", [](FilmConfig& c) { c.frames_per_cycle = 0; });
+  expect_bad("view_mm", [](FilmConfig& c) { c.view_mm = 2e4; });
+  expect_bad("center_mm", [](FilmConfig& c) { c.center_mm = {1.0}; });
+  expect_bad("elevation_deg", [](FilmConfig& c) { c.elevation_deg = -95.0; });
+  expect_bad("azimuth_deg", [](FilmConfig& c) { c.azimuth_deg = 400.0; });
+  expect_bad("strip_thickness_mm", [](FilmConfig& c) { c.strip_thickness_mm = -1.0; });
 }
 
 }  // namespace
