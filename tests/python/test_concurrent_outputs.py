@@ -47,9 +47,17 @@ def references(tmp_path_factory):
         runs[name] = run_files(folder / f"run_{name}")
         run_cli("sweep", folder / f"{name}.toml", "--out", folder / f"table_{name}", "--jobs", "1")
         tables[name] = table_files(folder / f"table_{name}")
+    # Python's run A: the same results, its own record of how it was asked
+    # for in summary.json's inputs (keyword overrides, not --set).
+    python_run_a(folder / "short.toml", folder / "run_python_a")
+    runs["python_a"] = run_files(folder / "run_python_a")
     assert runs["a"]["timeseries.csv"] != runs["b"]["timeseries.csv"]
     assert tables["a"][".csv"] != tables["b"][".csv"]
     return folder, runs, tables
+
+
+def python_run_a(scenario, out):
+    ipmc_swim.run(scenario, out=out, cycles=1, **{"waveform.frequency_Hz": 0.5})
 
 
 def start(*args):
@@ -85,8 +93,7 @@ def test_a_python_run_and_a_command_line_run_never_mix_their_files(tmp_path, ref
 
         def python_run():
             try:
-                ipmc_swim.run(folder / "short.toml", out=out, cycles=1,
-                              **{"waveform.frequency_Hz": 0.5})
+                python_run_a(folder / "short.toml", out)
             except ipmc_swim.Error as error:
                 failure.append(str(error))
 
@@ -97,7 +104,8 @@ def test_a_python_run_and_a_command_line_run_never_mix_their_files(tmp_path, ref
         finish([cli])
         for error in failure:
             assert "in use by another run" in error, error
-        assert run_files(out) in (runs["a"], runs["b"]), f"attempt {attempt}: files of two runs"
+        assert run_files(out) in (runs["python_a"], runs["b"]), \
+            f"attempt {attempt}: files of two runs"
 
 
 def test_two_sweeps_into_one_prefix_never_mix_their_tables(tmp_path, references):
