@@ -9,6 +9,7 @@
 #include "sim/identify/identify_run.h"
 #include "sim/identify/loop_analysis.h"
 #include "sim/identify/pipeline_run.h"
+#include "sim/optimize/optimize_run.h"
 #include "sim/runs/bench_command.h"
 #include "sim/runs/gait_command.h"
 #include "sim/runs/run_command.h"
@@ -24,6 +25,7 @@ int RunOptionsCommand(const OptionsArgs& args) {
   if (!args.Chosen()) return -1;
   const std::vector<OptionTableInfo> tables = {
       InfoOf(RunOptions()),      InfoOf(SweepOptionTable()), InfoOf(MergeOptionTable()),
+      InfoOf(OptimizeOptionTable()),
       InfoOf(GenerateOptions()), InfoOf(GaitOptions()),      InfoOf(BenchOptions()),
       InfoOf(BodeOptions()),     InfoOf(StepOptions()),      InfoOf(IdentifyOptions()),
       InfoOf(DesignOptions()),   InfoOf(PipelineOptions()),  InfoOf(Table5Options()),

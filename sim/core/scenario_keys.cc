@@ -144,6 +144,7 @@ void ReadLinkLengths(const KeyValue& value, ScenarioConfig& config) {
     value.Fail(value.name() + " must hold " + allowed + " (got " + std::to_string(count) + ")",
                allowed);
   }
+  config.link_lengths_mm.clear();  // a value replaces the lengths, as every reader sets its field
   for (std::size_t i = 0; i < count; ++i) config.link_lengths_mm.push_back(value.NumberAt(i));
 }
 
