@@ -124,6 +124,17 @@ TEST(OptimizeDriverTest, AFailedEvaluationIsPenalisedNotACrash) {
   EXPECT_NEAR(result.best->result.objective, 3.5, 1e-3);
 }
 
+TEST(OptimizeDriverTest, WhatTheEvaluationThrowsIsRethrown) {
+  DriverProblem problem = QuadraticProblem(OptimizeAlgorithm::kSubplex);
+  problem.multistart = 1;
+  const DriverEvaluate throwing = [](int start, const std::vector<double>& x)
+      -> std::optional<DriverEvaluation> {
+    if (start == 1) throw std::runtime_error("journal: cannot write");
+    return Quadratic(start, x);
+  };
+  EXPECT_THROW(RunDriver(problem, throwing, 2), std::runtime_error);
+}
+
 // ------------------------------------------------------ a real optimisation ---
 
 // Two short cycles at 0.5 Hz (4000 steps each) of the generated flagellum;

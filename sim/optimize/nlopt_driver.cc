@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <stdexcept>
 #include <utility>
 
@@ -69,7 +70,9 @@ class StartRun {
     for (unsigned i = 0; i < m; ++i) result[i] = stopped_ ? 0.0 : violations_[i];
   }
 
-  bool stopped() const { return stopped_; }
+  bool stopped() const { return stopped_ && !failure_; }
+  // What the evaluation threw, if it threw.
+  std::exception_ptr failure() const { return failure_; }
   size_t ConstraintCount() const {
     return problem_.constraints.size() + (problem_.sum ? 2 : 0);
   }
@@ -94,7 +97,12 @@ class StartRun {
     record.evaluation = static_cast<int>(out_->records.size());
     record.x = last_x_;
     if (problem_.sum) record.x.push_back(problem_.sum->Value(last_x_));
-    std::optional<DriverEvaluation> result = evaluate_(start_, record.x);
+    std::optional<DriverEvaluation> result;
+    try {
+      result = evaluate_(start_, record.x);
+    } catch (...) {  // not the design's failure (a journal that cannot be written): rethrown
+      failure_ = std::current_exception();
+    }
     if (!result) {
       stopped_ = true;
       return;
@@ -128,6 +136,7 @@ class StartRun {
   std::vector<double> violations_;
   double objective_ = 0.0;
   bool stopped_ = false;
+  std::exception_ptr failure_;
 };
 
 double MeritThunk(unsigned, const double* x, double*, void* data) {
@@ -247,6 +256,7 @@ DriverResult RunDriver(const DriverProblem& problem, const DriverEvaluate& evalu
     } catch (const std::exception& failure) {
       out.stop_reason = std::string("failure: ") + failure.what();
     }
+    if (run.failure()) std::rethrow_exception(run.failure());
     out.stopped = run.stopped();
   });
   for (const DriverStart& start : result.starts) {

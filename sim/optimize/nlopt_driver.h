@@ -104,7 +104,9 @@ std::vector<std::vector<double>> StartPoints(const DriverProblem& problem);
 
 // Called from the worker threads (one start per thread at a time) with
 // the start and x (free variables, then the sum's value). Returning
-// nullopt stops the start (stop requested): it ends incomplete.
+// nullopt stops the start (stop requested): it ends incomplete. What it
+// throws ends the start and RunDriver rethrows it (FanOut: the lowest
+// start's) when the running starts are done.
 using DriverEvaluate =
     std::function<std::optional<DriverEvaluation>(int start, const std::vector<double>& x)>;
 
