@@ -155,7 +155,7 @@ StokesStepper::StokesStepper(const mjModel* m) {
   spatial_.Resize(m->nv);
   planar_.Resize(m->nv);
   u_.resize(m->nv);
-  pivot_.resize(m->nv);
+  inverse_pivot_.resize(m->nv);
   diagonal_.resize(m->nv);
   force_.resize(m->nv);
   cdof_.resize(6 * m->nv);
@@ -212,21 +212,24 @@ bool StokesStepper::SolveBlock(const mjModel* m, const double* cdof, const doubl
     const Eigen::Map<const Vector> s(cdof + 6 * j + First);
     Vector& u_vector = w.u_vector[j];
     u_vector.noalias() = w.articulated[j] * s;
-    pivot_[j] = s.dot(u_vector) + extra[j];
-    if (!(pivot_[j] > 0)) return false;
+    const double pivot = s.dot(u_vector) + extra[j];
+    if (!(pivot > 0)) return false;
+    // One division per dof (its latency is on the recursion's critical
+    // path), the rest multiplications by 1 / D_j.
+    inverse_pivot_[j] = 1.0 / pivot;
     u_[j] = f[j] - s.dot(w.bias[j]);
     const int parent = m->dof_parentid[j];
     if (parent < 0) continue;
     Matrix& target = w.articulated[parent];
     target += w.articulated[j];
-    target.noalias() -= u_vector * (u_vector.transpose() / pivot_[j]);
-    w.bias[parent] += w.bias[j] + u_vector * (u_[j] / pivot_[j]);
+    target.noalias() -= u_vector * (u_vector.transpose() * inverse_pivot_[j]);
+    w.bias[parent] += w.bias[j] + u_vector * (u_[j] * inverse_pivot_[j]);
   }
   for (int j = 0; j < nv; ++j) {
     const Eigen::Map<const Vector> s(cdof + 6 * j + First);
     const int parent = m->dof_parentid[j];
     const Vector parent_velocity = parent < 0 ? Vector::Zero() : w.velocity[parent];
-    v[j] = (u_[j] - w.u_vector[j].dot(parent_velocity)) / pivot_[j];
+    v[j] = (u_[j] - w.u_vector[j].dot(parent_velocity)) * inverse_pivot_[j];
     w.velocity[j] = parent_velocity + s * v[j];
   }
   return true;

@@ -151,7 +151,7 @@ class StokesStepper {
   // Extrapolates S and cdof to the step's midpoint (Step).
   void ExtrapolateToMidpoint(const mjModel* m, const mjData* d, const RftDrag* drag);
 
-  std::vector<double> u_, pivot_, diagonal_, force_;
+  std::vector<double> u_, inverse_pivot_, diagonal_, force_;
   // This step's, the last step's and the midpoint's cdof and S, and where
   // the last step ended (a step that starts elsewhere does not extrapolate).
   std::vector<double> cdof_, last_cdof_, midpoint_cdof_, end_qpos_;
