@@ -70,7 +70,10 @@ TEST_P(OptimizeTest, DriverFindsTheConstrainedOptimumOfAQuadratic) {
 
 INSTANTIATE_TEST_SUITE_P(Algorithms, OptimizeTest,
                          ::testing::Values(OptimizeAlgorithm::kCobyla, OptimizeAlgorithm::kBobyqa,
-                                           OptimizeAlgorithm::kSubplex));
+                                           OptimizeAlgorithm::kSubplex),
+                         [](const ::testing::TestParamInfo<OptimizeAlgorithm>& info) {
+                           return std::string(AlgorithmName(info.param));
+                         });
 
 TEST(OptimizeDriverTest, MultistartIsTheSameOnAnyNumberOfThreads) {
   DriverProblem problem = QuadraticProblem(OptimizeAlgorithm::kCobyla);

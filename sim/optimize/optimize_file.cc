@@ -131,6 +131,10 @@ class OptimizeReader : public ScenarioOverrides {
                    std::optional<std::string> fallback = std::nullopt) const;
   DesignKey ReadKey(const toml::table& table, const std::string& field,
                     const ScenarioConfig& base) const;
+  // lower < upper, both inside the key's own range (every design of the
+  // box is a scenario).
+  void ReadBounds(const toml::table& table, const std::string& prefix, const DesignKey& key,
+                  const ScenarioConfig& base, double* lower, double* upper) const;
   const toml::table& TableAt(const toml::node& node, const std::string& field) const {
     const toml::table* table = node.as_table();
     if (table == nullptr) Bad(&node, field, "must be a table", "a table");
@@ -222,6 +226,28 @@ DesignKey OptimizeReader::ReadKey(const toml::table& table, const std::string& p
   return key;
 }
 
+void OptimizeReader::ReadBounds(const toml::table& table, const std::string& prefix,
+                                const DesignKey& key, const ScenarioConfig& base, double* lower,
+                                double* upper) const {
+  *lower = Number(table, prefix, "lower");
+  *upper = Number(table, prefix, "upper");
+  if (!(*lower < *upper)) {
+    Bad(table.get("upper"), prefix + "upper", "must be > lower (" + FormatShortest(*lower) + ")",
+        "> lower");
+  }
+  for (const char* side : {"lower", "upper"}) {
+    try {
+      DesignScenario(base, {key}, {std::string(side) == "lower" ? *lower : *upper});
+    } catch (const InputError& error) {
+      Bad(table.get(side), prefix + side, "outside the key's range: " + error.message(),
+          error.allowed());
+    } catch (const FieldError& error) {
+      Bad(table.get(side), prefix + side, std::string("refused by the scenario: ") + error.what(),
+          error.allowed());
+    }
+  }
+}
+
 OptimizeConfig OptimizeReader::Read(const std::string& toml_text) {
   const toml::table root = ParseToml(toml_text, source_);
   RejectUnknown(root, "", {kBase, kSet, kVariable, kSum, kObjective, kConstraint, kAlgorithm});
@@ -268,29 +294,13 @@ OptimizeConfig OptimizeReader::Read(const std::string& toml_text) {
       Bad(table.get("key"), prefix + "key", "'" + variable.key.name + "' is a variable twice",
           "each key once");
     }
-    variable.lower = Number(table, prefix, "lower");
-    variable.upper = Number(table, prefix, "upper");
+    ReadBounds(table, prefix, variable.key, config.base, &variable.lower, &variable.upper);
     variable.initial = Number(table, prefix, "initial");
-    if (!(variable.lower < variable.upper)) {
-      Bad(table.get("upper"), prefix + "upper",
-          "must be > lower (" + FormatShortest(variable.lower) + ")", "> lower");
-    }
     if (!(variable.initial >= variable.lower && variable.initial <= variable.upper)) {
       const std::string allowed =
           "[" + FormatShortest(variable.lower) + ", " + FormatShortest(variable.upper) + "]";
       Bad(table.get("initial"), prefix + "initial",
           "must be in " + allowed + " (got " + FormatShortest(variable.initial) + ")", allowed);
-    }
-    // The bounds inside the key's own range: every design of the box is a scenario.
-    for (const char* side : {"lower", "upper"}) {
-      const double value = std::string(side) == "lower" ? variable.lower : variable.upper;
-      try {
-        std::vector<DesignKey> one = {variable.key};
-        DesignScenario(config.base, one, {value});
-      } catch (const InputError& error) {
-        Bad(table.get(side), prefix + side, "outside the key's range: " + error.message(),
-            error.allowed());
-      }
     }
     config.variables.push_back(std::move(variable));
   }
@@ -307,12 +317,7 @@ OptimizeConfig OptimizeReader::Read(const std::string& toml_text) {
           "a key that is not a variable");
     }
     sum.total = Number(table, prefix, "total");
-    sum.lower = Number(table, prefix, "lower");
-    sum.upper = Number(table, prefix, "upper");
-    if (!(sum.lower < sum.upper)) {
-      Bad(table.get("upper"), prefix + "upper", "must be > lower (" + FormatShortest(sum.lower) + ")",
-          "> lower");
-    }
+    ReadBounds(table, prefix, sum.key, config.base, &sum.lower, &sum.upper);
     if (const toml::node* of = table.get("of")) {
       const toml::array* array = of->as_array();
       if (array == nullptr || array->empty()) {
