@@ -299,6 +299,12 @@ double RftDrag::TowingDrag_N(double speed_m_s) const {
   return drag_N;
 }
 
+std::vector<double> RftDrag::SegmentLengths_m() const {
+  std::vector<double> lengths;
+  for (const SlenderGeom& geom : slender_) lengths.push_back(geom.length_m);
+  return lengths;
+}
+
 // The spatial resistance of one slender geom at the subtree centre of mass
 // of its body's root (where MuJoCo gives cdof and cvel).
 RftDrag::BodyResistance RftDrag::ResistanceOf(const mjModel* m, const mjData* d,

@@ -64,6 +64,8 @@
 #include <string>
 #include <vector>
 
+#include "plugin/fluid/regularized_stokeslets.h"
+
 namespace ipmc {
 
 constexpr char kAttrViscosity[] = "ipmc_rft_viscosity_Pa_s";
@@ -105,6 +107,9 @@ struct RftDragOverrides {
   std::optional<CoefficientModel> model;
   std::optional<double> wavelength_m;
   std::optional<double> wall_distance_m;
+  // Set: the fluid model is regularized Stokeslets (plugin/fluid/fluid_model.h)
+  // over these segments, RFT otherwise.
+  std::optional<StokesletSettings> stokeslets;
 };
 
 struct RftDragConfig {
@@ -173,6 +178,8 @@ class RftDrag {
   // along it at `speed_m_s` (the resistance of the straightened body:
   // the sum of xi_t L, by SegmentDragExact).
   double TowingDrag_N(double speed_m_s) const;
+  // The segments' lengths, in geom_ids() order.
+  std::vector<double> SegmentLengths_m() const;
 
   // One segment's body and spatial resistance S about the subtree centre of
   // mass of its body's root (where MuJoCo gives cdof and cvel), from d's

@@ -1,5 +1,7 @@
 #include "plugin/fluid/stokes_step.h"
 
+#include <Eigen/Cholesky>
+
 #include <algorithm>
 #include <stdexcept>
 #include <string>
@@ -241,7 +243,27 @@ bool StokesStepper::Solve(const mjModel* m, const double* cdof, const double* ex
                         : SolveBlock<0, 6>(m, cdof, extra, f, v);
 }
 
-bool StokesStepper::Step(const mjModel* m, mjData* d, const RftDrag* drag) {
+// D = J^T R J + diag(extra), J (6 bodies x nv) the bodies' dof motions
+// (their chains' cdof at the midpoint), solved densely.
+bool StokesStepper::SolveDense(const mjModel* m, const FluidModel& fluid, const double* extra,
+                               const double* f, double* v) {
+  const int nv = m->nv;
+  const std::vector<int>& bodies = fluid.bodies();
+  Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(6 * bodies.size(), nv);
+  for (size_t i = 0; i < bodies.size(); ++i) {
+    for (int j = body_node_[bodies[i]]; j >= 0; j = m->dof_parentid[j]) {
+      jacobian.block(6 * i, j, 6, 1) = Eigen::Map<const Vector6>(midpoint_cdof_.data() + 6 * j);
+    }
+  }
+  Eigen::MatrixXd system = jacobian.transpose() * midpoint_dense_ * jacobian;
+  for (int j = 0; j < nv; ++j) system(j, j) += extra[j];
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(system);
+  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0)) return false;
+  Eigen::Map<Eigen::VectorXd>(v, nv) = ldlt.solve(Eigen::Map<const Eigen::VectorXd>(f, nv));
+  return true;
+}
+
+bool StokesStepper::Step(const mjModel* m, mjData* d, const FluidModel* fluid) {
   const double h = m->opt.timestep;
   const bool sensors = !(m->opt.disableflags & mjDSBL_SENSOR);
   // Position stage without the mass matrix (mj_fwdPosition less mj_crb,
@@ -252,7 +274,7 @@ bool StokesStepper::Step(const mjModel* m, mjData* d, const RftDrag* drag) {
   mj_tendon(m, d);
   Transmission(m, d);
   if (sensors) mj_sensorPos(m, d);
-  ExtrapolateToMidpoint(m, d, drag);
+  ExtrapolateToMidpoint(m, d, fluid);
   AssembleResistances(m);
   // The forces at zero velocity, in mj_forward's order: passive (springs;
   // the drag vanishes), control callback, actuation.
@@ -274,7 +296,11 @@ bool StokesStepper::Step(const mjModel* m, mjData* d, const RftDrag* drag) {
     force_[j] = d->qfrc_passive[j] + d->qfrc_actuator[j] + d->qfrc_applied[j];
   }
   ImplicitDiagonal(m, d, h, diagonal_.data());
-  if (!Solve(m, midpoint_cdof_.data(), diagonal_.data(), force_.data(), d->qvel)) return false;
+  const bool solved =
+      fluid && fluid->nonlocal()
+          ? SolveDense(m, *fluid, diagonal_.data(), force_.data(), d->qvel)
+          : Solve(m, midpoint_cdof_.data(), diagonal_.data(), force_.data(), d->qvel);
+  if (!solved) return false;
   mju_zero(d->qacc, m->nv);
   ComVel(m, d);
   if (sensors) mj_sensorVel(m, d);
@@ -368,12 +394,21 @@ void JointActuation(const mjModel* m, mjData* d) {
 // The midpoint's S and cdof, 3/2 of this step's minus 1/2 of the last
 // one's (second order), if d continues the last step; this step's
 // otherwise (the first step, or after a reset or rewind).
-void StokesStepper::ExtrapolateToMidpoint(const mjModel* m, const mjData* d, const RftDrag* drag) {
+void StokesStepper::ExtrapolateToMidpoint(const mjModel* m, const mjData* d,
+                                          const FluidModel* fluid) {
   const bool continues = have_last_ && d->time == end_time_ &&
                          std::equal(end_qpos_.begin(), end_qpos_.end(), d->qpos);
   last_resistances_.swap(resistances_);
   resistances_.clear();
-  if (drag) drag->Resistances(m, d, &resistances_);
+  if (fluid && fluid->nonlocal()) {
+    last_dense_.swap(dense_);
+    dense_ = fluid->BodyResistance(m, d);
+    midpoint_dense_ = continues && last_dense_.rows() == dense_.rows()
+                          ? (1.5 * dense_ - 0.5 * last_dense_).eval()
+                          : dense_;
+  } else if (fluid) {
+    fluid->LocalResistances(m, d, &resistances_);
+  }
   last_cdof_.swap(cdof_);
   mju_copy(cdof_.data(), d->cdof, 6 * m->nv);
   have_last_ = true;

@@ -46,6 +46,7 @@
 #include <string>
 #include <vector>
 
+#include "plugin/fluid/fluid_model.h"
 #include "plugin/fluid/rft_drag.h"
 #include "plugin/mjcf/dynamics.h"
 
@@ -82,11 +83,15 @@ class StokesStepper {
   // stepper does not support.
   explicit StokesStepper(const mjModel* m);
 
-  // One step of m->opt.timestep. `drag` may be null (no RFT drag: the
+  // One step of m->opt.timestep. `fluid` may be null (no drag: the
   // joints' damping alone must then resist every dof). Returns false and
   // leaves d's position and time unchanged if a dof has no resistance at
-  // all (the force balance is singular); the caller reports that.
-  bool Step(const mjModel* m, mjData* d, const RftDrag* drag);
+  // all (the force balance is singular); the caller reports that. A
+  // nonlocal fluid (Stokeslets, whose segments interact) gives a dense
+  // resistance over the bodies: D = J^T R J is formed (nv x nv) and
+  // factored (LDL^T) in place of the recursion, O(nv^3), with R
+  // extrapolated to the step's midpoint as the local S are.
+  bool Step(const mjModel* m, mjData* d, const FluidModel* fluid);
 
  private:
   // Each dof's own share of D: the segments' resistances at the step's
@@ -149,7 +154,11 @@ class StokesStepper {
   void Actuation(const mjModel* m, mjData* d);
   bool joint_actuators_only_ = false, moments_set_ = false;
   // Extrapolates S and cdof to the step's midpoint (Step).
-  void ExtrapolateToMidpoint(const mjModel* m, const mjData* d, const RftDrag* drag);
+  void ExtrapolateToMidpoint(const mjModel* m, const mjData* d, const FluidModel* fluid);
+  // The dense solve with a nonlocal fluid (Step).
+  bool SolveDense(const mjModel* m, const FluidModel& fluid, const double* extra,
+                  const double* f, double* v);
+  Eigen::MatrixXd dense_, last_dense_, midpoint_dense_;
 
   std::vector<double> u_, inverse_pivot_, diagonal_, force_;
   // This step's, the last step's and the midpoint's cdof and S, and where

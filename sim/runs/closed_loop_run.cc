@@ -125,11 +125,13 @@ std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenari
   const RftDragOverrides fluid = ScenarioFluidOverrides(scenario, model.get());
   auto sim = std::make_unique<Simulation>(std::move(model), source, overrides, fluid);
   const CouplingContext* coupling = FindCoupling(sim->data());
-  if ((scenario.rft_coefficients || scenario.rft_wavelength_mm || scenario.wall_gap_mm) &&
+  if ((scenario.rft_coefficients || scenario.rft_wavelength_mm || scenario.wall_gap_mm ||
+       scenario.fluid_model != "rft") &&
       !(coupling && coupling->drag)) {
     throw std::runtime_error(scenario.source +
-                             ": fluid.rft_coefficients, fluid.rft_wavelength_mm and "
-                             "fluid.wall_gap_mm need a model with RFT drag");
+                             ": fluid.rft_coefficients, fluid.rft_wavelength_mm, "
+                             "fluid.wall_gap_mm and fluid.model need a model with drag "
+                             "segments (ipmc_rft_viscosity_Pa_s)");
   }
   return sim;
 }
@@ -155,6 +157,16 @@ RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mj
       width_m = 2.0 * RftDragConfig().equivalent_radius_m;
     }
     fluid.wall_distance_m = *scenario.wall_gap_mm * kMmToM + 0.5 * width_m;
+  }
+  if (scenario.fluid_model == "stokeslets") {
+    StokesletSettings stokeslets;
+    if (scenario.stokeslet_blob_mm) stokeslets.blob_m = *scenario.stokeslet_blob_mm * kMmToM;
+    if (scenario.stokeslet_points_per_mm) {
+      stokeslets.spacing_m = kMmToM / *scenario.stokeslet_points_per_mm;
+    }
+    stokeslets.wall_distance_m = fluid.wall_distance_m;
+    stokeslets.shape_tolerance_rad = scenario.stokeslet_shape_tolerance_rad;
+    fluid.stokeslets = stokeslets;
   }
   return fluid;
 }
