@@ -52,7 +52,7 @@ void PassiveCallback(const mjModel* m, mjData* d) {
   // the drag vanishes; it solves for the drag itself.
   if (!context->drag || context->dynamics == Dynamics::kStokes) return;
   try {
-    context->drag->Apply(m, d);
+    context->fluid->Apply(m, d);
   } catch (const std::exception& e) {
     RecordFailure(context, e.what());
   }
@@ -140,6 +140,9 @@ bool AttachWithOverrides(const mjModel* m, mjData* d, const IpmcActuatorsOverrid
   context->model = m;
   if (std::optional<RftDragConfig> drag = RftDragConfig::FromModel(m, fluid)) {
     context->drag.emplace(m, *drag);
+    context->fluid = fluid.stokeslets
+                         ? std::make_unique<FluidModel>(m, *context->drag, *fluid.stokeslets)
+                         : std::make_unique<FluidModel>(*context->drag);
   }
   if (std::optional<IpmcActuatorsConfig> actuators = IpmcActuatorsConfig::FromModel(m, overrides)) {
     context->actuators = std::make_unique<IpmcActuators>(std::move(*actuators));
@@ -230,7 +233,7 @@ bool Step(const mjModel* m, mjData* d) {
   const unsigned long passive_before = context->passive_calls;
   const unsigned long control_before = context->control_calls;
   if (context->stokes) {
-    if (!context->stokes->Step(m, d, context->drag ? &*context->drag : nullptr) &&
+    if (!context->stokes->Step(m, d, context->fluid.get()) &&
         context->error.empty()) {
       context->error =
           "dynamics = stokes: the force balance is singular (a dof has neither drag nor "

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "plugin/actuators/ipmc_actuators.h"
+#include "plugin/fluid/fluid_model.h"
 #include "plugin/fluid/rft_drag.h"
 #include "plugin/fluid/stokes_step.h"
 
@@ -17,6 +18,8 @@ namespace ipmc {
 struct CouplingContext {
   const mjModel* model = nullptr;
   std::optional<RftDrag> drag;
+  // The fluid model over drag's segments (RFT, or Stokeslets), with drag.
+  std::unique_ptr<FluidModel> fluid;
   std::unique_ptr<IpmcActuators> actuators;
   Dynamics dynamics = Dynamics::kInertial;
   std::unique_ptr<StokesStepper> stokes;  // with Dynamics::kStokes

@@ -40,7 +40,7 @@ set(below_sim plugin/base sim/io controllers/linear controllers plugin/include p
 set(allowed_sim/core ${below_sim})
 set(allowed_sim/runs sim/core ${below_sim})
 set(allowed_sim/identify sim/runs sim/core ${below_sim})
-set(allowed_sim/batch sim/runs sim/core ${below_sim})
+set(allowed_sim/batch sim/identify sim/runs sim/core ${below_sim})
 set(allowed_renders sim/runs sim/core ${below_sim})
 set(allowed_sim/optimize renders sim/batch sim/runs sim/core ${below_sim})
 set(allowed_sim/cli sim/optimize renders sim/batch sim/identify sim/runs sim/core ${below_sim})

@@ -55,6 +55,15 @@ Eigen::Matrix3d RegularizedStokeslet(const Eigen::Vector3d& r, double blob_m);
 Eigen::Matrix3d RegularizedWallStokeslet(const Eigen::Vector3d& x, const Eigen::Vector3d& y,
                                          double wall_z_m, double blob_m);
 
+// The Stokeslet fluid model's settings (plugin/fluid/fluid_model.h); a
+// field left at 0 takes its default there.
+struct StokesletSettings {
+  double blob_m = 0.0;        // eps; default sqrt(e) a
+  double spacing_m = 0.0;     // between points along a segment; default eps
+  std::optional<double> wall_distance_m;  // the centreline's height over a wall
+  double shape_tolerance_rad = 1e-3;      // recompute beyond this joint motion
+};
+
 struct StokesletGeometry {
   double blob_m = 0.0;
   std::optional<double> wall_z_m;  // a no-slip wall z = wall_z below every point

@@ -1,5 +1,7 @@
 #include "plugin/fluid/stokes_step.h"
 
+#include <Eigen/Cholesky>
+
 #include <algorithm>
 #include <stdexcept>
 #include <string>
@@ -67,7 +69,68 @@ void ImplicitDiagonal(const mjModel* m, const mjData* d, double h, double* diago
   }
 }
 
+// True if every dof's motion (cdof = [w; v]) has w_x = w_y = v_z = 0:
+// the body moves in the x-y plane.
+bool PlanarMotions(const double* cdof, int nv) {
+  for (int j = 0; j < nv; ++j) {
+    const double* s = cdof + 6 * j;
+    if (s[0] != 0 || s[1] != 0 || s[5] != 0) return false;
+  }
+  return true;
+}
+
 }  // namespace
+
+bool HingesAndSlidesOnly(const mjModel* m) {
+  for (int j = 0; j < m->njnt; ++j) {
+    if (m->jnt_type[j] != mjJNT_HINGE && m->jnt_type[j] != mjJNT_SLIDE) return false;
+  }
+  return true;
+}
+
+// mj_comPos (MuJoCo 2.2, engine_core_smooth.c) less the bodies' inertias
+// in the centre-of-mass frames: subtree_com by the same backward pass,
+// then cdof = [axis; axis x (c - anchor)] of a hinge and [0; axis] of a
+// slide about its root's centre of mass c.
+void StokesComPos(const mjModel* m, mjData* d) {
+  mjtNum* com = d->subtree_com;
+  mju_zero(com, 3 * m->nbody);
+  for (int i = m->nbody - 1; i >= 0; --i) {
+    mju_addToScl3(com + 3 * i, d->xipos + 3 * i, m->body_mass[i]);
+    if (i) mju_addTo3(com + 3 * m->body_parentid[i], com + 3 * i);
+    if (m->body_subtreemass[i] < mjMINVAL) {
+      mju_copy3(com + 3 * i, d->xipos + 3 * i);
+    } else {
+      mju_scl3(com + 3 * i, com + 3 * i, 1.0 / m->body_subtreemass[i]);
+    }
+  }
+  for (int j = 0; j < m->njnt; ++j) {
+    mjtNum* cdof = d->cdof + 6 * m->jnt_dofadr[j];
+    const mjtNum* axis = d->xaxis + 3 * j;
+    if (m->jnt_type[j] == mjJNT_SLIDE) {
+      mju_zero3(cdof);
+      mju_copy3(cdof + 3, axis);
+      continue;
+    }
+    mjtNum offset[3];
+    mju_sub3(offset, com + 3 * m->body_rootid[m->jnt_bodyid[j]], d->xanchor + 3 * j);
+    mju_copy3(cdof, axis);
+    mju_cross(cdof + 3, axis, offset);
+  }
+}
+
+// mj_comVel's cvel for hinges and slides: each body's spatial velocity
+// its parent's plus cdof qdot of its dofs.
+void StokesComVel(const mjModel* m, mjData* d) {
+  mju_zero(d->cvel, 6);
+  for (int i = 1; i < m->nbody; ++i) {
+    mjtNum* cvel = d->cvel + 6 * i;
+    mju_copy(cvel, d->cvel + 6 * m->body_parentid[i], 6);
+    for (int dof = m->body_dofadr[i]; dof < m->body_dofadr[i] + m->body_dofnum[i]; ++dof) {
+      for (int k = 0; k < 6; ++k) cvel[k] += d->cdof[6 * dof + k] * d->qvel[dof];
+    }
+  }
+}
 
 bool JointActuatorsOnly(const mjModel* m) {
   for (int a = 0; a < m->nu; ++a) {
@@ -84,18 +147,17 @@ bool JointActuatorsOnly(const mjModel* m) {
 StokesStepper::StokesStepper(const mjModel* m) {
   RequireSupported(m);
   joint_actuators_only_ = JointActuatorsOnly(m);
+  hinges_and_slides_only_ = HingesAndSlidesOnly(m);
   body_node_.assign(m->nbody, -1);
   for (int body = 1; body < m->nbody; ++body) {
     body_node_[body] = m->body_dofnum[body] > 0
                            ? m->body_dofadr[body] + m->body_dofnum[body] - 1
                            : body_node_[m->body_parentid[body]];
   }
-  articulated_.resize(m->nv);
-  bias_.resize(m->nv);
-  u_vector_.resize(m->nv);
-  velocity_.resize(m->nv);
+  spatial_.Resize(m->nv);
+  planar_.Resize(m->nv);
   u_.resize(m->nv);
-  pivot_.resize(m->nv);
+  inverse_pivot_.resize(m->nv);
   diagonal_.resize(m->nv);
   force_.resize(m->nv);
   cdof_.resize(6 * m->nv);
@@ -108,12 +170,23 @@ StokesStepper::StokesStepper(const mjModel* m) {
 // only here: each segment's spatial resistance S_s at the step's midpoint
 // (ExtrapolateToMidpoint, from RftDrag::Resistances, the formula the drag
 // callback applies) added to the articulated resistance of its body's last
-// dof, from which Solve's recursion carries it to the root.
+// dof, from which Solve's recursion carries it to the root. Of a planar
+// body's S only the [w_z; v_x; v_y] block enters (SolveBlock).
 void StokesStepper::AssembleResistances(const mjModel* m) {
-  for (int j = 0; j < m->nv; ++j) articulated_[j].setZero();
+  if (planar_motion_) {
+    AssembleBlock<2, 3>(m);
+  } else {
+    AssembleBlock<0, 6>(m);
+  }
+}
+
+template <int First, int Dim>
+void StokesStepper::AssembleBlock(const mjModel* m) {
+  BlockWorkspace<Dim>& w = Workspace<Dim>();
+  for (int j = 0; j < m->nv; ++j) w.articulated[j].setZero();
   for (const RftDrag::BodyResistance& segment : midpoint_resistances_) {
     const int node = body_node_[segment.body];
-    if (node >= 0) articulated_[node] += segment.resistance;
+    if (node >= 0) w.articulated[node] += segment.resistance.template block<Dim, Dim>(First, First);
   }
 }
 
@@ -123,45 +196,85 @@ void StokesStepper::AssembleResistances(const mjModel* m) {
 // 1/2 V^T A_j V + p_j^T V at its velocity V, and eliminating v_j gives its
 // parent A += A_j - U U^T / D_j, p += p_j + U u_j / D_j with U = A_j s_j,
 // D_j = s_j.U + e_j, u_j = f_j - s_j.p_j; then, from the root,
-// v_j = (u_j - U.V_parent) / D_j.
-bool StokesStepper::Solve(const mjModel* m, const double* cdof, const double* extra,
-                          const double* f, double* v) {
+// v_j = (u_j - U.V_parent) / D_j. With every s_j in the components
+// [First, First + Dim) of the spatial vector (a planar body: [w_z; v_x;
+// v_y], First = 2, Dim = 3), only that block of the A_j enters: U's, p's
+// and V's other components multiply zeros of s, so the recursion runs on
+// the Dim x Dim block (the same sums less terms that are exact zeros: the
+// same result to round-off, at a quarter of the 6 x 6 recursion's work).
+template <int First, int Dim>
+bool StokesStepper::SolveBlock(const mjModel* m, const double* cdof, const double* extra,
+                               const double* f, double* v) {
+  using Vector = Eigen::Matrix<double, Dim, 1>;
+  using Matrix = Eigen::Matrix<double, Dim, Dim>;
+  BlockWorkspace<Dim>& w = Workspace<Dim>();
   const int nv = m->nv;
-  for (int j = 0; j < nv; ++j) bias_[j].setZero();
+  for (int j = 0; j < nv; ++j) w.bias[j].setZero();
   for (int j = nv - 1; j >= 0; --j) {
-    const Eigen::Map<const Vector6> s(cdof + 6 * j);
-    u_vector_[j].noalias() = articulated_[j] * s;
-    pivot_[j] = s.dot(u_vector_[j]) + extra[j];
-    if (!(pivot_[j] > 0)) return false;
-    u_[j] = f[j] - s.dot(bias_[j]);
+    const Eigen::Map<const Vector> s(cdof + 6 * j + First);
+    Vector& u_vector = w.u_vector[j];
+    u_vector.noalias() = w.articulated[j] * s;
+    const double pivot = s.dot(u_vector) + extra[j];
+    if (!(pivot > 0)) return false;
+    // One division per dof (its latency is on the recursion's critical
+    // path), the rest multiplications by 1 / D_j.
+    inverse_pivot_[j] = 1.0 / pivot;
+    u_[j] = f[j] - s.dot(w.bias[j]);
     const int parent = m->dof_parentid[j];
     if (parent < 0) continue;
-    articulated_[parent] += articulated_[j];
-    articulated_[parent].noalias() -= u_vector_[j] * (u_vector_[j].transpose() / pivot_[j]);
-    bias_[parent] += bias_[j] + u_vector_[j] * (u_[j] / pivot_[j]);
+    Matrix& target = w.articulated[parent];
+    target += w.articulated[j];
+    target.noalias() -= u_vector * (u_vector.transpose() * inverse_pivot_[j]);
+    w.bias[parent] += w.bias[j] + u_vector * (u_[j] * inverse_pivot_[j]);
   }
   for (int j = 0; j < nv; ++j) {
-    const Eigen::Map<const Vector6> s(cdof + 6 * j);
+    const Eigen::Map<const Vector> s(cdof + 6 * j + First);
     const int parent = m->dof_parentid[j];
-    const Vector6 parent_velocity = parent < 0 ? Vector6::Zero() : velocity_[parent];
-    v[j] = (u_[j] - u_vector_[j].dot(parent_velocity)) / pivot_[j];
-    velocity_[j] = parent_velocity + s * v[j];
+    const Vector parent_velocity = parent < 0 ? Vector::Zero() : w.velocity[parent];
+    v[j] = (u_[j] - w.u_vector[j].dot(parent_velocity)) * inverse_pivot_[j];
+    w.velocity[j] = parent_velocity + s * v[j];
   }
   return true;
 }
 
-bool StokesStepper::Step(const mjModel* m, mjData* d, const RftDrag* drag) {
+bool StokesStepper::Solve(const mjModel* m, const double* cdof, const double* extra,
+                          const double* f, double* v) {
+  return planar_motion_ ? SolveBlock<2, 3>(m, cdof, extra, f, v)
+                        : SolveBlock<0, 6>(m, cdof, extra, f, v);
+}
+
+// D = J^T R J + diag(extra), J (6 bodies x nv) the bodies' dof motions
+// (their chains' cdof at the midpoint), solved densely.
+bool StokesStepper::SolveDense(const mjModel* m, const FluidModel& fluid, const double* extra,
+                               const double* f, double* v) {
+  const int nv = m->nv;
+  const std::vector<int>& bodies = fluid.bodies();
+  Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(6 * bodies.size(), nv);
+  for (size_t i = 0; i < bodies.size(); ++i) {
+    for (int j = body_node_[bodies[i]]; j >= 0; j = m->dof_parentid[j]) {
+      jacobian.block(6 * i, j, 6, 1) = Eigen::Map<const Vector6>(midpoint_cdof_.data() + 6 * j);
+    }
+  }
+  Eigen::MatrixXd system = jacobian.transpose() * midpoint_dense_ * jacobian;
+  for (int j = 0; j < nv; ++j) system(j, j) += extra[j];
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(system);
+  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0)) return false;
+  Eigen::Map<Eigen::VectorXd>(v, nv) = ldlt.solve(Eigen::Map<const Eigen::VectorXd>(f, nv));
+  return true;
+}
+
+bool StokesStepper::Step(const mjModel* m, mjData* d, const FluidModel* fluid) {
   const double h = m->opt.timestep;
   const bool sensors = !(m->opt.disableflags & mjDSBL_SENSOR);
   // Position stage without the mass matrix (mj_fwdPosition less mj_crb,
   // mj_factorM and the constraints).
   mj_kinematics(m, d);
-  mj_comPos(m, d);
+  ComPos(m, d);
   mj_camlight(m, d);
   mj_tendon(m, d);
   Transmission(m, d);
   if (sensors) mj_sensorPos(m, d);
-  ExtrapolateToMidpoint(m, d, drag);
+  ExtrapolateToMidpoint(m, d, fluid);
   AssembleResistances(m);
   // The forces at zero velocity, in mj_forward's order: passive (springs;
   // the drag vanishes), control callback, actuation.
@@ -183,15 +296,35 @@ bool StokesStepper::Step(const mjModel* m, mjData* d, const RftDrag* drag) {
     force_[j] = d->qfrc_passive[j] + d->qfrc_actuator[j] + d->qfrc_applied[j];
   }
   ImplicitDiagonal(m, d, h, diagonal_.data());
-  if (!Solve(m, midpoint_cdof_.data(), diagonal_.data(), force_.data(), d->qvel)) return false;
+  const bool solved =
+      fluid && fluid->nonlocal()
+          ? SolveDense(m, *fluid, diagonal_.data(), force_.data(), d->qvel)
+          : Solve(m, midpoint_cdof_.data(), diagonal_.data(), force_.data(), d->qvel);
+  if (!solved) return false;
   mju_zero(d->qacc, m->nv);
-  mj_comVel(m, d);
+  ComVel(m, d);
   if (sensors) mj_sensorVel(m, d);
   mj_integratePos(m, d->qpos, d->qvel, h);
   d->time += h;
   mju_copy(end_qpos_.data(), d->qpos, m->nq);
   end_time_ = d->time;
   return true;
+}
+
+void StokesStepper::ComPos(const mjModel* m, mjData* d) {
+  if (hinges_and_slides_only_) {
+    StokesComPos(m, d);
+  } else {
+    mj_comPos(m, d);
+  }
+}
+
+void StokesStepper::ComVel(const mjModel* m, mjData* d) {
+  if (hinges_and_slides_only_) {
+    StokesComVel(m, d);
+  } else {
+    mj_comVel(m, d);
+  }
 }
 
 void StokesStepper::Transmission(const mjModel* m, mjData* d) {
@@ -261,27 +394,44 @@ void JointActuation(const mjModel* m, mjData* d) {
 // The midpoint's S and cdof, 3/2 of this step's minus 1/2 of the last
 // one's (second order), if d continues the last step; this step's
 // otherwise (the first step, or after a reset or rewind).
-void StokesStepper::ExtrapolateToMidpoint(const mjModel* m, const mjData* d, const RftDrag* drag) {
+void StokesStepper::ExtrapolateToMidpoint(const mjModel* m, const mjData* d,
+                                          const FluidModel* fluid) {
   const bool continues = have_last_ && d->time == end_time_ &&
                          std::equal(end_qpos_.begin(), end_qpos_.end(), d->qpos);
   last_resistances_.swap(resistances_);
   resistances_.clear();
-  if (drag) drag->Resistances(m, d, &resistances_);
+  if (fluid && fluid->nonlocal()) {
+    last_dense_.swap(dense_);
+    dense_ = fluid->BodyResistance(m, d);
+    midpoint_dense_ = continues && last_dense_.rows() == dense_.rows()
+                          ? (1.5 * dense_ - 0.5 * last_dense_).eval()
+                          : dense_;
+  } else if (fluid) {
+    fluid->LocalResistances(m, d, &resistances_);
+  }
   last_cdof_.swap(cdof_);
   mju_copy(cdof_.data(), d->cdof, 6 * m->nv);
   have_last_ = true;
   if (!continues || last_resistances_.size() != resistances_.size()) {
     midpoint_resistances_ = resistances_;
     midpoint_cdof_ = cdof_;
+    planar_motion_ = PlanarMotions(midpoint_cdof_.data(), m->nv);
     return;
   }
+  for (size_t i = 0; i < cdof_.size(); ++i) midpoint_cdof_[i] = 1.5 * cdof_[i] - 0.5 * last_cdof_[i];
+  planar_motion_ = PlanarMotions(midpoint_cdof_.data(), m->nv);
   midpoint_resistances_.resize(resistances_.size());
   for (size_t i = 0; i < resistances_.size(); ++i) {
     midpoint_resistances_[i].body = resistances_[i].body;
-    midpoint_resistances_[i].resistance =
-        1.5 * resistances_[i].resistance - 0.5 * last_resistances_[i].resistance;
+    if (planar_motion_) {  // the block AssembleResistances reads
+      midpoint_resistances_[i].resistance.block<3, 3>(2, 2) =
+          1.5 * resistances_[i].resistance.block<3, 3>(2, 2) -
+          0.5 * last_resistances_[i].resistance.block<3, 3>(2, 2);
+    } else {
+      midpoint_resistances_[i].resistance =
+          1.5 * resistances_[i].resistance - 0.5 * last_resistances_[i].resistance;
+    }
   }
-  for (size_t i = 0; i < cdof_.size(); ++i) midpoint_cdof_[i] = 1.5 * cdof_[i] - 0.5 * last_cdof_[i];
 }
 
 }  // namespace ipmc

@@ -32,7 +32,9 @@
 // sensors. After
 // a step qvel holds v (the velocity over the step), qacc is zero,
 // qfrc_passive holds the passive forces at zero velocity (so without the
-// drag), sensordata is computed from q_n and v, and time has advanced by h.
+// drag), sensordata is computed from q_n and v, and time has advanced by h;
+// what only inertia needs (the mass matrix qM, cinert, cdof_dot) is not
+// computed on models of hinges and slides.
 // Not supported (the constructor refuses them): contacts, joint or tendon
 // limits, equality constraints, and actuators with activation dynamics.
 #pragma once
@@ -44,6 +46,7 @@
 #include <string>
 #include <vector>
 
+#include "plugin/fluid/fluid_model.h"
 #include "plugin/fluid/rft_drag.h"
 #include "plugin/mjcf/dynamics.h"
 
@@ -64,46 +67,100 @@ void JointTransmission(const mjModel* m, mjData* d);
 // to mj_fwdActuation itself.
 void JointActuation(const mjModel* m, mjData* d);
 
+// True if every joint is a hinge or a slide (no free or ball joints).
+bool HingesAndSlidesOnly(const mjModel* m);
+// For such a model, what the Stokes step needs of mj_comPos and
+// mj_comVel, the same numbers bit for bit (StokesKinematicsTest):
+// subtree_com and cdof, without the inertias in the centre-of-mass frames
+// (cinert); cvel, without cdof_dot. A step without inertia reads neither,
+// nor the mass matrix (qM), which it does not compute either.
+void StokesComPos(const mjModel* m, mjData* d);
+void StokesComVel(const mjModel* m, mjData* d);
+
 class StokesStepper {
  public:
   // Throws std::invalid_argument naming what the model has that the
   // stepper does not support.
   explicit StokesStepper(const mjModel* m);
 
-  // One step of m->opt.timestep. `drag` may be null (no RFT drag: the
+  // One step of m->opt.timestep. `fluid` may be null (no drag: the
   // joints' damping alone must then resist every dof). Returns false and
   // leaves d's position and time unchanged if a dof has no resistance at
-  // all (the force balance is singular); the caller reports that.
-  bool Step(const mjModel* m, mjData* d, const RftDrag* drag);
+  // all (the force balance is singular); the caller reports that. A
+  // nonlocal fluid (Stokeslets, whose segments interact) gives a dense
+  // resistance over the bodies: D = J^T R J is formed (nv x nv) and
+  // factored (LDL^T) in place of the recursion, O(nv^3), with R
+  // extrapolated to the step's midpoint as the local S are.
+  bool Step(const mjModel* m, mjData* d, const FluidModel* fluid);
 
  private:
-  // articulated_ = each dof's own share of D: the segments' resistances at
-  // the step's midpoint (midpoint_resistances_), on their bodies' last dofs.
+  // Each dof's own share of D: the segments' resistances at the step's
+  // midpoint (midpoint_resistances_), on their bodies' last dofs, into the
+  // articulated resistances of the recursion's workspace (the
+  // [w_z; v_x; v_y] block if planar_motion_, all of S otherwise).
   void AssembleResistances(const mjModel* m);
+  template <int First, int Dim>
+  void AssembleBlock(const mjModel* m);
   // Solves (D + diag(extra)) v = f for v, D from the dofs' motions cdof
-  // and the assembled articulated_. Returns false if the system is
-  // singular.
+  // and the assembled articulated resistances. Returns false if the system
+  // is singular. Planar motions (planar_motion_) take the 3 x 3
+  // recursion, others the 6 x 6 one.
   bool Solve(const mjModel* m, const double* cdof, const double* extra, const double* f,
              double* v);
+  template <int First, int Dim>
+  bool SolveBlock(const mjModel* m, const double* cdof, const double* extra, const double* f,
+                  double* v);
 
-  using Vector6 = Eigen::Matrix<double, 6, 1>;
-  using Matrix6 = Eigen::Matrix<double, 6, 6>;
   // The last dof of each body's chain of dofs (its own last dof or its
   // nearest moving ancestor's), -1 for a body fixed to the world.
   std::vector<int> body_node_;
-  // Per dof: articulated resistance, bias, U = A s, u, and s.A.s + extra.
-  std::vector<Matrix6, Eigen::aligned_allocator<Matrix6>> articulated_;
-  std::vector<Vector6, Eigen::aligned_allocator<Vector6>> bias_, u_vector_, velocity_;
+  // Per dof, in the recursion's Dim components: articulated resistance,
+  // bias, U = A s and spatial velocity.
+  template <int Dim>
+  struct BlockWorkspace {
+    using Vector = Eigen::Matrix<double, Dim, 1>;
+    using Matrix = Eigen::Matrix<double, Dim, Dim>;
+    std::vector<Matrix, Eigen::aligned_allocator<Matrix>> articulated;
+    std::vector<Vector, Eigen::aligned_allocator<Vector>> bias, u_vector, velocity;
+    void Resize(int nv) {
+      articulated.resize(nv);
+      bias.resize(nv);
+      u_vector.resize(nv);
+      velocity.resize(nv);
+    }
+  };
+  BlockWorkspace<6> spatial_;
+  BlockWorkspace<3> planar_;
+  // Every dof of the step's midpoint moves in the x-y plane (no w_x, w_y,
+  // v_z): the recursion runs on 3 x 3 blocks.
+  bool planar_motion_ = false;
+  template <int Dim>
+  BlockWorkspace<Dim>& Workspace() {
+    if constexpr (Dim == 6) {
+      return spatial_;
+    } else {
+      return planar_;
+    }
+  }
   // mj_transmission and mj_fwdActuation: JointTransmission and
   // JointActuation if JointActuatorsOnly (after one mj_transmission, which
   // sets the moments' zeros), MuJoCo's own otherwise.
   void Transmission(const mjModel* m, mjData* d);
+  // mj_comPos and mj_comVel: StokesComPos and StokesComVel if
+  // HingesAndSlidesOnly, MuJoCo's own otherwise.
+  void ComPos(const mjModel* m, mjData* d);
+  void ComVel(const mjModel* m, mjData* d);
+  bool hinges_and_slides_only_ = false;
   void Actuation(const mjModel* m, mjData* d);
   bool joint_actuators_only_ = false, moments_set_ = false;
   // Extrapolates S and cdof to the step's midpoint (Step).
-  void ExtrapolateToMidpoint(const mjModel* m, const mjData* d, const RftDrag* drag);
+  void ExtrapolateToMidpoint(const mjModel* m, const mjData* d, const FluidModel* fluid);
+  // The dense solve with a nonlocal fluid (Step).
+  bool SolveDense(const mjModel* m, const FluidModel& fluid, const double* extra,
+                  const double* f, double* v);
+  Eigen::MatrixXd dense_, last_dense_, midpoint_dense_;
 
-  std::vector<double> u_, pivot_, diagonal_, force_;
+  std::vector<double> u_, inverse_pivot_, diagonal_, force_;
   // This step's, the last step's and the midpoint's cdof and S, and where
   // the last step ended (a step that starts elsewhere does not extrapolate).
   std::vector<double> cdof_, last_cdof_, midpoint_cdof_, end_qpos_;

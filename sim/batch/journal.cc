@@ -275,7 +275,8 @@ SweepJournal::SweepJournal(const std::string& path, const SweepPlan& plan,
     // One sweep per journal. A file system without locks (ENOLCK) is
     // let through: the user then keeps sweeps apart.
     if (flock(fd_, LOCK_EX | LOCK_NB) != 0 && errno == EWOULDBLOCK) {
-      throw std::runtime_error(path + ": in use by another running sweep (one sweep per --out)");
+      throw std::runtime_error(path + ": in use by another running sweep (one sweep per output "
+                                      "prefix at a time)");
     }
     const std::string text = ReadAll(fd_, path);
     if (text.find('\n') == std::string::npos) {
@@ -302,7 +303,8 @@ SweepJournal::SweepJournal(const std::string& path, const SweepPlan& plan,
       throw std::runtime_error(path + ": written by ipmc-swim " + found.program_version +
                                ", this is " + expected.program_version +
                                "; its points may differ from this version's: remove it to start "
-                               "over, or resume it anyway with --resume-other-version");
+                               "over, or resume it anyway with --resume-other-version "
+                               "(Python: resume_other_version=True)");
     }
     if (complete_size < text.size() &&
         ftruncate(fd_, static_cast<off_t>(complete_size)) != 0) {

@@ -100,10 +100,11 @@ long ParseSlurmTimeLimit(const std::string& text) {
 }
 
 SlurmSweep ResolveSlurmSweep(const SweepPlan& plan, const SlurmOptions& options,
-                             const std::string& program) {
+                             const std::string& program, bool keep_runs) {
   const int points = static_cast<int>(plan.points.size());
   SlurmSweep job;
   job.options = options;
+  job.keep_runs = keep_runs || plan.keep_runs;
   job.points = points;
   job.tasks = options.array_size > 0 ? options.array_size
                                      : std::min(points, kDefaultMaxArrayTasks);
@@ -155,7 +156,8 @@ std::string SlurmArrayScript(const SlurmSweep& job) {
          "shard=\"${SLURM_ARRAY_TASK_ID:?submit this script with sbatch}\"\n"
          "exec " + ShellQuote(job.program) + " sweep " + ShellQuote(job.sweep_path) +
          " --shard \"$shard/" + tasks + "\" --jobs \"${SLURM_CPUS_PER_TASK:-1}\" --out " +
-         ShellQuote(job.dir + "/shards/shard_") + "\"$shard\"\n";
+         ShellQuote(job.dir + "/shards/shard_") + "\"$shard\"" +
+         (job.keep_runs ? " --keep-runs --runs-dir " + ShellQuote(job.RunsDir()) : "") + "\n";
 }
 
 std::string SlurmMergeScript(const SlurmSweep& job) {

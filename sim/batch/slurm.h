@@ -9,6 +9,8 @@
 //   shards/shard_K.{csv,json,journal}  each task's table and journal
 //   logs/sweep_<array job>_<K>.out, logs/merge_<job>.out
 //   table.{csv,json}             the merged table
+//   table_runs/point_N           with keep_runs: each point's run directory,
+//                                whichever task ran it (sweep --keep-runs)
 // The shards' journals are created (or checked) when the scripts are
 // written, so DIR cannot mix two sweeps and `sweep --status DIR` works
 // from the start. Submitting the same sweep into the same DIR again
@@ -44,18 +46,22 @@ struct SlurmSweep {
   std::string dir;
   int tasks = 0;
   int points = 0;
+  bool keep_runs = false;  // each task keeps its points' runs in RunsDir()
   SlurmOptions options;
 
   std::string ArrayScriptPath() const { return dir + "/sweep.sbatch"; }
   std::string MergeScriptPath() const { return dir + "/merge.sbatch"; }
   std::string ShardPrefix(int k) const { return dir + "/shards/shard_" + std::to_string(k); }
   std::string TablePrefix() const { return dir + "/table"; }
+  std::string RunsDir() const { return dir + "/table_runs"; }
 };
 
 // Checks the options against the plan (std::invalid_argument, one line
 // naming the option and its range) and resolves them; writes nothing.
+// keep_runs (sweep --keep-runs, or keep_runs in the sweep file): the tasks
+// keep their points' runs.
 SlurmSweep ResolveSlurmSweep(const SweepPlan& plan, const SlurmOptions& options,
-                             const std::string& program);
+                             const std::string& program, bool keep_runs = false);
 
 // The job scripts' text.
 std::string SlurmArrayScript(const SlurmSweep& job);

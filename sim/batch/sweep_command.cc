@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <filesystem>
 #include <stdexcept>
+#include <utility>
 
 #include "plugin/base/error.h"
 #include "sim/batch/cpu_affinity.h"
+#include "sim/io/columns.h"
 #include "sim/io/files.h"
 
 namespace ipmc {
@@ -34,8 +36,8 @@ OptionTable<SweepCommand> MakeSweepOptions() {
                           "Run part i of n: the points with index % n == i - 1"},
                          [](SweepCommand& c) -> std::string& { return c.shard; });
   OptionInfo out{"out", "", "a file name prefix, not a folder",
-                 "Writes PREFIX.csv and PREFIX.json; the command line records each point in "
-                 "PREFIX.journal (resume)"};
+                 "Writes PREFIX.csv and PREFIX.json; records each point in PREFIX.journal "
+                 "(resume; one sweep per prefix at a time)"};
   out.aliases = {"o"};
   table.AddPath(out, [](SweepCommand& c) -> std::string& { return c.out; });
   table.Add<std::vector<std::string>>(
@@ -46,10 +48,13 @@ OptionTable<SweepCommand> MakeSweepOptions() {
                    "in PREFIX_runs/point_N, to plot, film or run again; also keep_runs = true in "
                    "the sweep file"},
                   [](SweepCommand& c) -> bool& { return c.keep_runs; });
+  table.AddPath({"runs_dir", "", "a folder",
+                 "Where keep_runs keeps the runs (RUNS_DIR/point_N) instead of PREFIX_runs; the "
+                 "shards of one sweep may share it (sweep --slurm gives them DIR/table_runs)"},
+                [](SweepCommand& c) -> std::string& { return c.runs_dir; });
   OptionInfo other{"resume_other_version", "", "",
                    "Resume a journal that another ipmc-swim version wrote (its points may differ "
                    "from this version's)"};
-  other.command_line_only = true;
   table.Add<bool>(other, [](SweepCommand& c) -> bool& { return c.resume_other_version; });
   return table;
 }
@@ -117,6 +122,7 @@ SweepCommandPlan PlanSweepCommand(const SweepCommand& command) {
                      "jobs", ">= 1");
   }
   plan.jobs = command.jobs;
+  plan.resume_other_version = command.resume_other_version;
   plan.formats = ParseRunFileFormats(command.formats);  // before any point runs
   plan.plan = LoadSweep(command.sweep);
   if (command.keep_runs || plan.plan.keep_runs) {
@@ -124,8 +130,11 @@ SweepCommandPlan PlanSweepCommand(const SweepCommand& command) {
       throw FieldError("sweep: keep_runs needs out (the runs go to PREFIX_runs)", "keep_runs",
                        "with out");
     }
-    plan.runs_dir = SweepRunsDir(plan.out);
+    plan.runs_dir = command.runs_dir.empty() ? SweepRunsDir(plan.out) : command.runs_dir;
     RequireWritableDirectory(plan.runs_dir);
+  } else if (!command.runs_dir.empty()) {
+    throw FieldError("sweep: runs_dir needs keep_runs (it is where the kept runs go)", "runs_dir",
+                     "with keep_runs");
   }
   plan.points = static_cast<int>(std::count_if(
       plan.plan.points.begin(), plan.plan.points.end(), [&](const SweepPoint& point) {
@@ -146,11 +155,56 @@ void WriteSweepOutputs(const SweepCommandPlan& plan, const SweepTable& table) {
   if (!plan.out.empty()) WriteSweepTable(plan.out, table, plan.formats);
 }
 
+SweepCommandRun::SweepCommandRun(SweepCommandPlan plan) : plan_(std::move(plan)) {
+  if (!plan_.out.empty()) {
+    journal_ = std::make_unique<SweepJournal>(plan_.out + ".journal", plan_.plan,
+                                              plan_.resume_other_version);
+    record_ = CountRecorded(plan_.plan, plan_.shard, *journal_);
+  } else {
+    record_.points = plan_.points;
+  }
+}
+
+SweepCommandRun::~SweepCommandRun() = default;
+
+std::string SweepCommandRun::journal_path() const {
+  return journal_ ? journal_->path() : std::string();
+}
+
+SweepCommandOutcome SweepCommandRun::Run(std::function<void(const SweepProgress&)> on_point_done,
+                                         std::function<bool()> stop_requested) {
+  SweepOptions options = SweepRunOptions(plan_);
+  options.on_point_done = std::move(on_point_done);
+  options.stop_requested = std::move(stop_requested);
+  SweepCommandOutcome outcome;
+  if (journal_) {
+    JournaledSweep run = RunJournaledSweep(plan_.plan, options, journal_.get());
+    outcome.complete = run.Complete();
+    outcome.table = std::move(run.table);
+  } else {
+    outcome.table = RunSweep(plan_.plan, options);
+    outcome.complete = static_cast<int>(outcome.table.rows.size()) == plan_.points;
+  }
+  if (!outcome.complete) return outcome;
+  const size_t status = plan_.plan.keys.size() + 1;
+  const std::vector<std::vector<std::string>>& rows = outcome.table.rows;
+  for (const auto& row : rows) outcome.failed += row[status] != columns::kStatusOk;
+  if (!rows.empty() && outcome.failed == static_cast<int>(rows.size())) {
+    // One fixed error, most likely: no table, and no journal to resume.
+    if (journal_) journal_->Remove();
+    throw std::runtime_error("sweep: every point failed (the first: " + rows.front()[status + 1] +
+                             "); nothing written");
+  }
+  WriteSweepOutputs(plan_, outcome.table);
+  return outcome;
+}
+
 void CheckMergeOutputs(const MergeCommand& command) {
   CheckTableOutputs(kMerge, command.out, {".csv", ".json"}, command.tables);
 }
 
-SweepTable RunMergeCommand(const MergeCommand& command) {
+SweepTable RunMergeCommand(const MergeCommand& command,
+                           const std::function<void()>& at_safe_point) {
   CheckMergeOutputs(command);
   for (const std::string& path : command.tables) {
     std::error_code error;
@@ -161,8 +215,12 @@ SweepTable RunMergeCommand(const MergeCommand& command) {
     }
   }
   std::vector<SweepTable> tables;
-  for (const std::string& path : command.tables) tables.push_back(LoadSweepTableCsv(path));
+  for (const std::string& path : command.tables) {
+    tables.push_back(LoadSweepTableCsv(path));
+    if (at_safe_point) at_safe_point();
+  }
   const SweepTable merged = MergeSweepTables(tables, command.tables);
+  if (at_safe_point) at_safe_point();
   WriteSweepTable(command.out, merged);
   return merged;
 }

@@ -25,6 +25,10 @@ sigset_t InterruptSet() {
 
 }  // namespace
 
+int InterruptExitCode(int signal) { return 128 + (signal == SIGHUP ? SIGTERM : signal); }
+
+int Interrupted::ExitCode() const { return InterruptExitCode(signal_); }
+
 std::string Interrupted::SignalName() const {
   switch (signal_) {
     case SIGINT: return "SIGINT";
@@ -59,7 +63,7 @@ void InterruptAtBoundary::Watch() {
     if (received != SIGINT && received != SIGTERM && received != SIGHUP) continue;  // timeout or EINTR
     if (Requested()) {
       std::fputs("\ninterrupted again: stopping now\n", stderr);
-      std::_Exit(128 + received);
+      std::_Exit(InterruptExitCode(received));
     }
     signal_ = received;
     std::fprintf(stderr, "\n%s\n", message_.c_str());

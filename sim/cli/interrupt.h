@@ -1,12 +1,13 @@
 // Stopping at a safe point on SIGINT (Ctrl-C), SIGTERM (kill, a cluster's
-// time limit) or SIGHUP (the terminal closed, treated as SIGTERM). While
-// an InterruptAtBoundary lives, none of them kills the
+// time limit) or SIGHUP (the terminal closed, treated as SIGTERM: the same
+// stop and the same exit code, 143; messages name the signal received).
+// While an InterruptAtBoundary lives, none of them kills the
 // process: the first one makes Requested() true and prints `message` on
 // stderr; the work checks Requested() at its safe points (a sweep between
-// points, a run at each recorded sample, a film at each frame), stops
-// there, and its unwinding removes the temporaries of unfinished outputs.
-// A second signal ends the process at once with the shell's code for it
-// (128 + signal), as the default action would.
+// points, a run at each recorded sample, a film at each frame, a merge
+// before it writes), stops there, and its unwinding removes the
+// temporaries of unfinished outputs. A second signal ends the process at
+// once with the same exit code.
 //
 // Both signals are blocked in the constructing thread, and so in every
 // thread it starts afterwards (they inherit the mask); a watcher thread
@@ -29,14 +30,18 @@ class Interrupted : public std::runtime_error {
  public:
   Interrupted(int signal, const std::string& what) : std::runtime_error(what), signal_(signal) {}
   int signal() const { return signal_; }
-  // The shell's exit code for a process the signal stopped: 128 + signal.
-  int ExitCode() const { return 128 + signal_; }
+  // The exit code: the shell's for a process the signal stopped, 128 +
+  // signal (130 for SIGINT, 143 for SIGTERM), SIGTERM's for SIGHUP.
+  int ExitCode() const;
   // "SIGINT", "SIGTERM" or "SIGHUP".
   std::string SignalName() const;
 
  private:
   int signal_;
 };
+
+// 128 + signal, SIGTERM's for SIGHUP.
+int InterruptExitCode(int signal);
 
 class InterruptAtBoundary {
  public:

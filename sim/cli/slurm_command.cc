@@ -36,7 +36,7 @@ void AddSlurmOptions(CLI::App* sweep, SweepArgs& args) {
       "--slurm", slurm.dir,
       "Run on Slurm: write a job array and a merge job into DIR and submit them (sbatch)");
   CLI::Option* local_only[] = {sweep->get_option("--out"), sweep->get_option("--jobs"),
-                               sweep->get_option("--shard")};
+                               sweep->get_option("--shard"), sweep->get_option("--runs-dir")};
   for (CLI::Option* option : local_only) dir->excludes(option);
   sweep->add_option("--array-size", slurm.array_size,
                     "Slurm: array tasks, [1, points] (default: one per point, at most " +
@@ -62,7 +62,8 @@ void AddSlurmOptions(CLI::App* sweep, SweepArgs& args) {
 
 int RunSlurmSubmission(const SweepArgs& args) {
   const SweepPlan plan = LoadSweep(args.sweep.spec.sweep);
-  const SlurmSweep job = ResolveSlurmSweep(plan, args.slurm, ThisProgram());
+  const SlurmSweep job =
+      ResolveSlurmSweep(plan, args.slurm, ThisProgram(), args.sweep.spec.keep_runs);
   if (!args.dry_run) CheckSbatchOnPath();
   WriteSlurmJob(job, plan);
   auto print_written = [&] {

@@ -105,60 +105,49 @@ int RunSweepFile(const SweepArgs& args) {
   if (command.out.empty()) {
     throw std::invalid_argument("sweep: --out PREFIX is required (or --slurm DIR)");
   }
-  const SweepCommandPlan planned =
-      TranslatingFieldErrors(SweepOptionTable(), [&] { return PlanSweepCommand(command); });
-  const SweepPlan& plan = planned.plan;
-  const SweepShard& shard = planned.shard;
-  SweepJournal journal(command.out + ".journal", plan, command.resume_other_version);
-  const ShardRecord record = CountRecorded(plan, shard, journal);
+  SweepCommandRun sweep(
+      TranslatingFieldErrors(SweepOptionTable(), [&] { return PlanSweepCommand(command); }));
+  const ShardRecord& record = sweep.record();
+  const std::string& journal = sweep.journal_path();
   if (record.recorded > 0) {
-    std::fprintf(stderr, "resuming from %s: %d of %d points done before\n", journal.path().c_str(),
+    std::fprintf(stderr, "resuming from %s: %d of %d points done before\n", journal.c_str(),
                  record.recorded, record.points);
   }
   ProgressReport progress(StderrIsTerminal());
-  SweepOptions options = SweepRunOptions(planned);
-  options.on_point_done = [&](const SweepProgress& p) { progress(p); };
-  progress.Start(record.points - record.recorded);
-  JournaledSweep run;
+  progress.Start(sweep.ToRun());
+  SweepCommandOutcome run;
   int stop_signal = 0;
   {
     const InterruptAtBoundary interrupt(
         "interrupted: finishing the points that are running, then stopping (Ctrl-C again stops "
-        "at once; finished points stay in " + journal.path() + ")");
-    options.stop_requested = [&] { return interrupt.Requested(); };
-    run = RunJournaledSweep(plan, options, &journal);
+        "at once; finished points stay in " + journal + ")");
+    run = sweep.Run([&](const SweepProgress& p) { progress(p); },
+                    [&] { return interrupt.Requested(); });
     stop_signal = interrupt.signal();
   }
   progress.Finish();
-  if (!run.Complete()) {
+  if (!run.complete) {
     const Interrupted stop(stop_signal != 0 ? stop_signal : SIGINT, "");
     std::fprintf(stderr,
                  "ipmc-swim: interrupted by %s: stopped: %zu of %d points done, recorded in %s; "
                  "run the same command again to resume\n",
                  stop.SignalName().c_str(), run.table.rows.size(), record.points,
-                 journal.path().c_str());
+                 journal.c_str());
     return stop.ExitCode();
   }
   const SweepTable& table = run.table;
-  const size_t status = plan.keys.size() + 1;
-  int failed = 0;
+  const size_t status = sweep.plan().plan.keys.size() + 1;
   for (const auto& row : table.rows) {
     if (row[status] != columns::kStatusOk) {
-      ++failed;
       std::fprintf(stderr, "point %s failed: %s\n", row[0].c_str(), row[status + 1].c_str());
     }
   }
-  if (!table.rows.empty() && failed == static_cast<int>(table.rows.size())) {
-    // One fixed error, most likely: no table, and no journal to resume.
-    journal.Remove();
-    throw std::runtime_error("sweep: every point failed (the first: " +
-                             table.rows.front()[status + 1] + "); nothing written");
-  }
-  WriteSweepOutputs(planned, table);
+  const int failed = run.failed;
   PrintSummary(table);
   std::string scope = std::to_string(table.rows.size()) + " points";
-  if (shard.count > 1) {
-    scope += " (shard " + command.shard + " of " + std::to_string(plan.points.size()) + ")";
+  if (sweep.plan().shard.count > 1) {
+    scope += " (shard " + command.shard + " of " + std::to_string(sweep.plan().plan.points.size()) +
+             ")";
   }
   std::printf("%s: %zu ok, %d failed; wrote %s.csv and %s.json\n", scope.c_str(),
               table.rows.size() - failed, failed, command.out.c_str(), command.out.c_str());
@@ -167,12 +156,18 @@ int RunSweepFile(const SweepArgs& args) {
 
 int RunMergeTables(const SweepArgs& args) {
   const MergeCommand& command = args.merge.spec;
+  // A signal stops it before it writes; once writing, the tables are
+  // written whole (each file atomically) and the merge ends.
+  const InterruptAtBoundary interrupt("interrupted: stopping before the merged table is written "
+                                      "(again: at once)");
   if (command.partial) {
     TranslatingFieldErrors(MergeOptionTable(), [&] { CheckMergeOutputs(command); });
+    interrupt.ThrowIfRequested("nothing written");
     return RunPartialMerge(args);
   }
-  const SweepTable merged =
-      TranslatingFieldErrors(MergeOptionTable(), [&] { return RunMergeCommand(command); });
+  const SweepTable merged = TranslatingFieldErrors(MergeOptionTable(), [&] {
+    return RunMergeCommand(command, [&] { interrupt.ThrowIfRequested("nothing written"); });
+  });
   std::printf("%zu points from %zu tables; wrote %s.csv and %s.json\n", merged.rows.size(),
               command.tables.size(), command.out.c_str(), command.out.c_str());
   return 0;

@@ -51,7 +51,7 @@ EnergyMeter::EnergyMeter(const mjModel* m, const mjData* d) {
     }
   }
   if (coupling && coupling->drag) {
-    drag_ = &*coupling->drag;
+    drag_ = coupling->fluid.get();
     towing_drag_N_per_m_s_ = drag_->TowingDrag_N(1.0);
   }
   inertial_ = !coupling || coupling->dynamics == Dynamics::kInertial;

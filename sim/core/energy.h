@@ -39,6 +39,7 @@
 
 #include <vector>
 
+#include "plugin/fluid/fluid_model.h"
 #include "plugin/fluid/rft_drag.h"
 #include "sim/core/swim_meter.h"
 
@@ -90,7 +91,7 @@ class EnergyMeter {
   static double ElasticEnergy_J(const mjModel* m, const mjData* d);
 
   std::vector<std::vector<int>> link_dofs_;
-  const RftDrag* drag_ = nullptr;
+  const FluidModel* drag_ = nullptr;  // the run's fluid model (RFT or Stokeslets)
   bool inertial_ = true;
   double stepping_sign_ = -1.0;  // -1: spring at the step's start (Euler); +1: at its end
   double towing_drag_N_per_m_s_ = 0.0;  // the drag is linear in the speed

@@ -1,5 +1,6 @@
 #include "sim/core/keys_command.h"
 
+#include "plugin/base/error.h"
 #include "sim/core/scenario_keys.h"
 
 namespace ipmc {
@@ -11,7 +12,15 @@ const OptionTable<ReferenceCommand>& KeysOptions() {
   return table;
 }
 
+void CheckReferenceFormat(const std::string& command, const ReferenceCommand& reference) {
+  if (reference.format != "text" && reference.format != "markdown") {
+    throw FieldError(command + ": format must be text or markdown (got '" + reference.format + "')",
+                     "format", "text | markdown");
+  }
+}
+
 std::string KeysReference(const ReferenceCommand& command) {
+  CheckReferenceFormat("keys", command);
   return KeyReference(command.format == "markdown" ? KeyFormat::kMarkdown : KeyFormat::kText);
 }
 

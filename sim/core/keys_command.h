@@ -13,4 +13,8 @@ const OptionTable<ReferenceCommand>& KeysOptions();
 // The reference in command.format.
 std::string KeysReference(const ReferenceCommand& command);
 
+// Throws FieldError naming format unless it is "text" or "markdown" (the
+// command line's flag checks it too; Python's keyword is checked here).
+void CheckReferenceFormat(const std::string& command, const ReferenceCommand& reference);
+
 }  // namespace ipmc

@@ -87,6 +87,8 @@ class Key {
 
 // Selectors and the values they choose between.
 constexpr char kControllerKind[] = "controller.kind";
+constexpr char kFluidModel[] = "fluid.model";
+constexpr char kStokeslets[] = "stokeslets";
 constexpr char kRealisation[] = "controller.realisation";
 constexpr char kWaveformKind[] = "waveform.kind";
 constexpr const char* kPid = controller_names::kPid;
@@ -529,6 +531,67 @@ std::vector<KeySpec> MakeScenarioKeys() {
           .Reads([](const KeyValue& v, ScenarioConfig& c) { c.rft_wavelength_mm = v.Number(); })
           .Writes([](const ScenarioConfig& c) {
             return c.rft_wavelength_mm ? TomlFloat(*c.rft_wavelength_mm) : kLeftOut;
+          }),
+      Key("fluid.wall_gap_mm", T::kNumber, "mm", "> 0", "no wall",
+          "A no-slip plane wall this far below the strip's lower edge (the centreline is the "
+          "gap plus half the width above it): RFT takes the near-wall coefficients of Katz, "
+          "Blake & Paveri-Fontana (1975) in place of fluid.rft_coefficients")
+          .Example("2.0")
+          .Refused("0")
+          .Above(0.0)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.wall_gap_mm = v.Number(); })
+          .Writes([](const ScenarioConfig& c) {
+            return c.wall_gap_mm ? TomlFloat(*c.wall_gap_mm) : kLeftOut;
+          }),
+      Key(kFluidModel, T::kChoice, "", "\"rft\" or \"stokeslets\"", "\"rft\"",
+          "The fluid model (plugin/fluid/fluid_model.h, docs/FLUIDS.md): local RFT, or "
+          "regularized Stokeslets along the segments' centrelines, whose segments interact "
+          "(with the wall's image system when fluid.wall_gap_mm is set)")
+          .Default("\"rft\"")
+          .Example("\"stokeslets\"")
+          .Refused("\"bem\"")
+          .Choices("rft|stokeslets")
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.fluid_model = v.Choice(); })
+          .Writes([](const ScenarioConfig& c) { return TomlString(c.fluid_model); }),
+      Key("fluid.stokeslet_points_per_mm", T::kNumber, "1/mm", "> 0",
+          "one per blob (1 / fluid.stokeslet_blob_mm)",
+          "Stokeslet points per mm along each segment's centreline (each segment gets the "
+          "smallest whole number of equal intervals at least this dense)")
+          .Example("2.0")
+          .Refused("0")
+          .Above(0.0)
+          .Only(kFluidModel, kStokeslets)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.stokeslet_points_per_mm = v.Number(); })
+          .Writes([](const ScenarioConfig& c) {
+            return c.stokeslet_points_per_mm ? TomlFloat(*c.stokeslet_points_per_mm) : kLeftOut;
+          }),
+      Key("fluid.stokeslet_blob_mm", T::kNumber, "mm", "> 0",
+          "sqrt(e) a = 1.340 mm for the paper's strip (a the RFT equivalent radius)",
+          "Blob size eps of the regularized Stokeslets; sqrt(e) a makes the line of points the "
+          "slender cylinder of radius a")
+          .Example("1.0")
+          .Refused("0")
+          .Above(0.0)
+          .Only(kFluidModel, kStokeslets)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.stokeslet_blob_mm = v.Number(); })
+          .Writes([](const ScenarioConfig& c) {
+            return c.stokeslet_blob_mm ? TomlFloat(*c.stokeslet_blob_mm) : kLeftOut;
+          }),
+      Key("fluid.stokeslet_shape_tolerance_rad", T::kNumber, "rad", ">= 0", "1e-3",
+          "The Stokeslet resistance is recomputed when a joint has moved more than this since "
+          "it was last computed (0: every evaluation)")
+          .Default("1e-3")
+          .Example("1e-4")
+          .Refused("-1")
+          .AtLeast(0.0)
+          .Only(kFluidModel, kStokeslets)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.stokeslet_shape_tolerance_rad = v.Number();
+          })
+          .Writes([](const ScenarioConfig& c) {
+            return c.stokeslet_shape_tolerance_rad == 1e-3
+                       ? kLeftOut
+                       : TomlFloat(c.stokeslet_shape_tolerance_rad);
           }),
       Key("metrics.from_cycle", T::kInteger, "", "[1, cycles]", "1",
           "The first cycle of the links' IAE, ITAE, RMS and peak voltage and clamped fraction, the "

@@ -1,6 +1,7 @@
-// Runs from Python: a closed-loop scenario with overrides, a sweep, a
-// bench experiment, and the MJCF generator, each the computation its
-// ipmc-swim command makes, returning numbers instead of printing them and
+// Runs from Python: a closed-loop scenario with overrides, a sweep, the
+// merge of a sweep's shards, a bench experiment, the MJCF generator and
+// the key and option references, each the computation its ipmc-swim
+// command makes, returning numbers or text instead of printing them and
 // writing the command's files only when asked to.
 #include <memory>
 #include <optional>
@@ -8,8 +9,10 @@
 #include <utility>
 #include <vector>
 
+#include "sim/optimize/option_reference.h"
 #include "sim/batch/sweep.h"
 #include "sim/batch/sweep_command.h"
+#include "sim/core/keys_command.h"
 #include "sim/core/generate_command.h"
 #include "sim/core/simulation.h"
 #include "sim/io/files.h"
@@ -124,17 +127,58 @@ py::object Sweep(const py::object& path_arg, const py::dict& kwargs,
   command.sweep = PathText(path_arg, "sweep");
   ReadTableOptions(options, SweepOptionTable(), &command);
   options.RejectUnknown();
-  const SweepCommandPlan plan = WithoutGil([&] { return PlanSweepCommand(command); });
-  Progress progress(progress_callback, plan.points);
-  SweepOptions run = SweepRunOptions(plan);
-  run.on_point_done = [&](const SweepProgress& p) { progress.Report(p.done, true); };
-  // Ctrl-C lets the running points finish and starts no other.
-  const SweepTable table = Interruptible([&](const std::atomic<bool>& stop) {
-    run.stop_requested = [&stop] { return stop.load(); };
-    return RunSweep(plan.plan, run);
+  // As the command line: the journal PREFIX.journal holds the output (one
+  // sweep per prefix, from either front end) and resumes a stopped sweep.
+  std::unique_ptr<SweepCommandRun> sweep = WithoutGil(
+      [&] { return std::make_unique<SweepCommandRun>(PlanSweepCommand(command)); });
+  Progress progress(progress_callback, sweep->ToRun());
+  // Ctrl-C lets the running points finish (recorded in the journal) and
+  // starts no other; nothing else is written.
+  const SweepCommandOutcome outcome = Interruptible([&](const std::atomic<bool>& stop) {
+    return sweep->Run([&](const SweepProgress& p) { progress.Report(p.done, true); },
+                      [&stop] { return stop.load(); });
   });
-  WithoutGil([&] { WriteSweepOutputs(plan, table); });
+  const SweepTable& table = outcome.table;
   return ToPython(SweepTableJson(table));
+}
+
+// ----------------------------------------------------------------- merge ---
+
+py::object Merge(const py::object& tables_arg, const py::dict& kwargs) {
+  Options options("merge", kwargs);
+  MergeCommand command;
+  if (py::isinstance<py::str>(tables_arg) || !py::isinstance<py::sequence>(tables_arg)) {
+    command.tables.push_back(PathText(tables_arg, "merge(): tables"));
+  } else {
+    for (const py::handle table : tables_arg) {
+      command.tables.push_back(PathText(table, "merge(): tables"));
+    }
+  }
+  ReadTableOptions(options, MergeOptionTable(), &command);
+  options.RejectUnknown();
+  // Ctrl-C stops it before it writes, as on the command line.
+  const SweepTable merged = Interruptible([&](const std::atomic<bool>& stop) {
+    return RunMergeCommand(command, [&stop] { ThrowIfStopRequested(stop); });
+  });
+  return ToPython(SweepTableJson(merged));
+}
+
+// -------------------------------------------------------------- references ---
+
+std::string Keys(const py::dict& kwargs) {
+  Options options("keys", kwargs);
+  ReferenceCommand command;
+  ReadTableOptions(options, KeysOptions(), &command);
+  options.RejectUnknown();
+  return KeysReference(command);
+}
+
+std::string OptionsText(const py::dict& kwargs) {
+  Options options("options", kwargs);
+  ReferenceCommand command;
+  ReadTableOptions(options, OptionsOptions(), &command);
+  options.RejectUnknown();
+  return OptionsReference(command);
 }
 
 // ----------------------------------------------------------------- bench ---
@@ -171,6 +215,9 @@ void BindRuns(py::module_& m) {
   m.def("run", &Run, py::arg("scenario"), py::arg("overrides"), py::arg("options"),
         py::arg("progress"));
   m.def("sweep", &Sweep, py::arg("sweep"), py::arg("options"), py::arg("progress"));
+  m.def("merge", &Merge, py::arg("tables"), py::arg("options"));
+  m.def("keys", &Keys, py::arg("options"));
+  m.def("options", &OptionsText, py::arg("options"));
   m.def("bench", &Bench, py::arg("options"), py::arg("progress"));
   m.def("generate_model", &GenerateModel, py::arg("options"));
 }

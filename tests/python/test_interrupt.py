@@ -2,9 +2,12 @@
 command line: the work runs without the GIL while the calling thread looks
 for signals (convert.h, Interruptible), so SIGINT raises KeyboardInterrupt
 at the next recorded sample of a run or bench, or between a sweep's
-points, and nothing is written. Each call runs in a child interpreter that
-reports its first progress; the test sends SIGINT then and waits a bounded
-time for the child to end."""
+points, and nothing is written but a sweep's journal, which the command
+line resumes to the uninterrupted table. SIGTERM and SIGHUP stop the call
+the same way where the program handles them (a Python handler that
+raises; without one Python's default ends the interpreter). Each call
+runs in a child interpreter that reports its first progress; the test
+sends the signal then and waits a bounded time for the child to end."""
 
 import os
 import signal
@@ -13,7 +16,7 @@ import sys
 
 import pytest
 
-from conftest import SOURCE_DIR
+from conftest import SOURCE_DIR, run_cli
 
 MODELS = SOURCE_DIR / "models"
 
@@ -44,8 +47,12 @@ CALLS = {
 }
 
 PROGRAM = """
-import os, sys
+import os, signal, sys
 import ipmc_swim
+def stop(signum, frame):
+    raise KeyboardInterrupt
+signal.signal(signal.SIGTERM, stop)
+signal.signal(signal.SIGHUP, stop)
 calls = []
 def progress(done, total):
     calls.append(done)
@@ -61,8 +68,9 @@ print("finished", flush=True)
 STOP_TIMEOUT_S = 60
 
 
+@pytest.mark.parametrize("sent", ["SIGINT", "SIGTERM", "SIGHUP"])
 @pytest.mark.parametrize("function", sorted(CALLS))
-def test_ctrl_c_stops_the_call_at_a_safe_point(tmp_path, function):
+def test_a_signal_stops_the_call_at_a_safe_point(tmp_path, function, sent):
     (tmp_path / "long.toml").write_text(LONG_SCENARIO)
     (tmp_path / "point.toml").write_text(SHORT_POINT)
     (tmp_path / "sweep.toml").write_text(SWEEP)
@@ -75,7 +83,7 @@ def test_ctrl_c_stops_the_call_at_a_safe_point(tmp_path, function):
         assert first.startswith("progress "), first + child.stderr.read()
         if function == "sweep":  # the first report comes after the first point
             total = int(float(first.split()[2]))
-        child.send_signal(signal.SIGINT)
+        child.send_signal(getattr(signal, sent))
         stdout, stderr = child.communicate(timeout=STOP_TIMEOUT_S)
     finally:
         if child.poll() is None:
@@ -87,7 +95,17 @@ def test_ctrl_c_stops_the_call_at_a_safe_point(tmp_path, function):
     if function == "sweep":
         reports = [line for line in (first + stdout).splitlines() if line.startswith("progress")]
         assert int(float(reports[-1].split()[1])) < total, "every point ran"
-    # Nothing written: no table, no run folder, no bench CSV, no temporary.
+    # Nothing written: no table, no run folder, no bench CSV, no temporary;
+    # a sweep's journal holds the points that finished.
     left = sorted(p.relative_to(tmp_path).as_posix() for p in (tmp_path / "out").rglob("*")) \
         if (tmp_path / "out").exists() else []
-    assert left == [], left
+    assert left == (["out/table.journal"] if function == "sweep" else []), left
+    if function == "sweep":
+        # The command line goes on from the journal: the uninterrupted table.
+        _, _, stderr = run_cli("sweep", tmp_path / "sweep.toml", "--out", tmp_path / "out/table",
+                               "--jobs", "1")
+        assert "points done before" in stderr, stderr
+        run_cli("sweep", tmp_path / "sweep.toml", "--out", tmp_path / "whole/table", "--jobs", "1")
+        for suffix in (".csv", ".json"):
+            assert (tmp_path / f"out/table{suffix}").read_bytes() == \
+                (tmp_path / f"whole/table{suffix}").read_bytes(), suffix

@@ -3,6 +3,9 @@
 # CTest fixture slurm_cluster): 8 points submitted as a 4-task job array
 # with `ipmc-swim sweep --slurm`, the merge job waited for, and the merged
 # table compared byte for byte with a local --jobs 2 run of the same sweep.
+# Then the same sweep with --keep-runs, as a 3-task array: every point's run
+# directory in DIR/table_runs/point_N, whichever task ran it, the same
+# files byte for byte as a local --keep-runs sweep's PREFIX_runs/point_N.
 #
 #   tests/slurm/slurm_sweep_test.sh STATE_DIR IPMC_SWIM SOURCE_DIR WORK_DIR
 set -euo pipefail
@@ -19,11 +22,13 @@ set +a
 
 rm -rf "$work"
 mkdir -p "$work"
-array="" merge=""
+array="" merge="" array_runs="" merge_runs=""
 cleanup() {
   # Whatever happened: no job of this test stays queued or running.
   [ -n "$array" ] && scancel "$array" >/dev/null 2>&1
   [ -n "$merge" ] && scancel "$merge" >/dev/null 2>&1
+  [ -n "$array_runs" ] && scancel "$array_runs" >/dev/null 2>&1
+  [ -n "$merge_runs" ] && scancel "$merge_runs" >/dev/null 2>&1
   return 0
 }
 trap cleanup EXIT
@@ -48,12 +53,17 @@ EOF
 "$ipmc" sweep "$work/sweep.toml" --jobs 2 --out "$work/local/table" >"$work/local.out" 2>&1 ||
   fail "local sweep: $(cat "$work/local.out")"
 
-submitted=$("$ipmc" sweep "$work/sweep.toml" --slurm "$work/cluster" --array-size 4 \
-  --cpus-per-task 1 --time 5 2>&1) || fail "sweep --slurm: $submitted"
-echo "$submitted"
-array=$(sed -n 's/^submitted job array \([0-9]*\) and merge job \([0-9]*\) .*/\1/p' <<<"$submitted")
-merge=$(sed -n 's/^submitted job array \([0-9]*\) and merge job \([0-9]*\) .*/\2/p' <<<"$submitted")
-[ -n "$array" ] && [ -n "$merge" ] || fail "no job ids in: $submitted"
+# Submits the sweep into $1 with the options that follow; sets $array and $merge.
+submit() {
+  local dir="$1" submitted
+  shift
+  submitted=$("$ipmc" sweep "$work/sweep.toml" --slurm "$dir" "$@" --cpus-per-task 1 --time 5 2>&1) ||
+    fail "sweep --slurm: $submitted"
+  echo "$submitted"
+  array=$(sed -n 's/^submitted job array \([0-9]*\) and merge job \([0-9]*\) .*/\1/p' <<<"$submitted")
+  merge=$(sed -n 's/^submitted job array \([0-9]*\) and merge job \([0-9]*\) .*/\2/p' <<<"$submitted")
+  [ -n "$array" ] && [ -n "$merge" ] || fail "no job ids in: $submitted"
+}
 
 # The merge job's state, once it has ended.
 job_state() { scontrol -o show job "$1" 2>/dev/null | sed -n 's/.*JobState=\([A-Z_]*\).*/\1/p' | sort -u | tr '\n' ' '; }
@@ -63,15 +73,20 @@ ended() {
     *) return 1 ;;
   esac
 }
-start=$SECONDS
-until ended; do
-  [ $((SECONDS - start)) -lt 150 ] || fail "merge job $merge not done after 150 s (state: $(job_state "$merge"); array: $(job_state "$array"))"
-  sleep 0.5
-done
-echo "array and merge done in $((SECONDS - start)) s"
+# Waits for $merge to end; the array's and the merge's logs are in $1/logs.
+wait_done() {
+  local start=$SECONDS
+  until ended; do
+    [ $((SECONDS - start)) -lt 150 ] || fail "merge job $merge not done after 150 s (state: $(job_state "$merge"); array: $(job_state "$array"))"
+    sleep 0.5
+  done
+  echo "array and merge done in $((SECONDS - start)) s"
+  [ "$(job_state "$array")" = "COMPLETED " ] || fail "array tasks: $(job_state "$array") (logs: $(cat "$1"/logs/sweep_* 2>&1))"
+  [ "$(job_state "$merge")" = "COMPLETED " ] || fail "merge job: $(job_state "$merge") ($(cat "$1"/logs/merge_* 2>&1))"
+}
 
-[ "$(job_state "$array")" = "COMPLETED " ] || fail "array tasks: $(job_state "$array") (logs: $(cat "$work"/cluster/logs/sweep_* 2>&1))"
-[ "$(job_state "$merge")" = "COMPLETED " ] || fail "merge job: $(job_state "$merge") ($(cat "$work"/cluster/logs/merge_* 2>&1))"
+submit "$work/cluster" --array-size 4
+wait_done "$work/cluster"
 for k in 1 2 3 4; do
   rows=$(($(wc -l <"$work/cluster/shards/shard_$k.csv") - 1))
   [ "$rows" -eq 2 ] || fail "shard $k/4 has $rows points, expected 2 (points $((k - 1)) and $((k + 3)))"
@@ -82,5 +97,26 @@ status=$("$ipmc" sweep --status "$work/cluster")
 echo "$status"
 grep -qx "done:    8 (0-7)" <<<"$status" || fail "status does not list 8 points done"
 grep -qx "missing: 0" <<<"$status" || fail "status lists missing points"
-rm -rf "$work"
 echo "PASS: 8 points through a 4-task Slurm array give the local --jobs 2 table byte for byte"
+
+# --keep-runs: a 3-task array (points 0 3 6, 1 4 7, 2 5) against a local run.
+"$ipmc" sweep "$work/sweep.toml" --jobs 2 --keep-runs --out "$work/local_runs/table" \
+  >"$work/local_runs.out" 2>&1 || fail "local sweep --keep-runs: $(cat "$work/local_runs.out")"
+array_runs="" merge_runs=""
+submit "$work/cluster_runs" --array-size 3 --keep-runs
+array_runs=$array merge_runs=$merge
+grep -qF -- "--keep-runs --runs-dir '$work/cluster_runs/table_runs'" "$work/cluster_runs/sweep.sbatch" ||
+  fail "sweep.sbatch does not keep the runs: $(cat "$work/cluster_runs/sweep.sbatch")"
+wait_done "$work/cluster_runs"
+kept=$(cd "$work/cluster_runs/table_runs" && find . -type f | sort | tr '\n' ' ')
+expected=""
+for n in 0 1 2 3 4 5 6 7; do
+  expected+="./point_$n/states.csv ./point_$n/summary.json ./point_$n/timeseries.csv "
+done
+[ "$kept" = "$expected" ] || fail "the cluster kept: $kept; expected: $expected"
+diff -r "$work/local_runs/table_runs" "$work/cluster_runs/table_runs" ||
+  fail "the cluster's point run directories differ from the local --keep-runs sweep's"
+cmp "$work/local_runs/table.csv" "$work/cluster_runs/table.csv" ||
+  fail "the --keep-runs cluster table differs from the local run's"
+rm -rf "$work"
+echo "PASS: --keep-runs through a 3-task Slurm array keeps the 8 points' run directories, byte for byte the local sweep's"

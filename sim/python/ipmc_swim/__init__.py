@@ -10,10 +10,13 @@ is the name in lower case with ``-`` for ``_``: ``sample_rate_Hz`` is
 
 - ``run(scenario, **overrides)``: a closed-loop swimming run (``ipmc-swim run``);
 - ``sweep(sweep_file)``: a sweep's table (``ipmc-swim sweep``);
+- ``merge(tables, out=...)``: the shards' tables joined (``ipmc-swim merge``);
 - ``bench(...)``: a voltage experiment on the test bench (``ipmc-swim bench``);
 - ``bode(controller, ...)``, ``step(controller, ...)``: one link's loop;
 - ``identify(data, input, output)``, ``design(...)``: identification and design;
 - ``generate_model(...)``: the MJCF of an N-link flagellum;
+- ``keys()``, ``options()``: the scenario-key and option references
+  (``ipmc-swim keys``, ``ipmc-swim options``);
 - ``plot(kind, input, out=...)``: a figure (``ipmc-swim plot``), e.g.
   ``plot("compare", [run_dir, other_run_dir], out="compare.pdf")``;
 - ``Simulation(scenario, **overrides)``: one model to step from a controller
@@ -36,8 +39,9 @@ from . import _core
 from ._core import Error, Simulation, __version__
 from ._paths import MODELS_DIR, SCENARIOS_DIR
 
-__all__ = ["Error", "Result", "Simulation", "bench", "bode", "design", "generate_model", "optimize",
-           "identify", "plot", "run", "step", "sweep", "MODELS_DIR", "SCENARIOS_DIR"]
+__all__ = ["Error", "Result", "Simulation", "bench", "bode", "design", "generate_model",
+           "identify", "keys", "merge", "optimize", "options", "plot", "run", "step", "sweep",
+           "MODELS_DIR", "SCENARIOS_DIR"]
 
 
 class Result(dict):
@@ -108,7 +112,7 @@ def run(scenario, *, out=None, formats=(), allow_long=False, progress=None, **ov
 
 
 def sweep(sweep_file, *, jobs=None, shard="1/1", out=None, formats=(), keep_runs=None,
-          progress=None):
+          resume_other_version=None, progress=None):
     """Runs a sweep file, as ``ipmc-swim sweep SWEEP --out PREFIX``.
 
     jobs: threads (default: the CPUs this process may use); shard: "i/n" runs the points
@@ -116,14 +120,28 @@ def sweep(sweep_file, *, jobs=None, shard="1/1", out=None, formats=(), keep_runs
     formats ("mat", "h5") PREFIX.mat and PREFIX.h5; keep_runs=True (or
     keep_runs = true in the sweep file) also keeps each point's run directory
     as PREFIX_runs/point_N (to plot, film or run again).
-    progress(done, total) is called after each point. Returns the table as a
+    With out, each finished point is recorded in PREFIX.journal, as by the
+    command line: the journal is the output's lock (a second sweep into the
+    same prefix, from Python or the command line, raises Error "... in use
+    by another running sweep" before any point runs), and a sweep stopped
+    by either front end (Ctrl-C, a killed job) goes on where it stopped when
+    either runs it again, giving the same table byte for byte;
+    resume_other_version=True resumes a journal another version wrote.
+    progress(done, total) is called after each point (total: the points
+    left to run). Returns the table as a
     dict of numpy arrays, one per column (point, the swept keys, status,
     error, link<q>_iae_mm_s, ..., reynolds_swim; NaN for a failed point's
     results).
     """
     table = _core.sweep(sweep_file, _options({}, jobs=jobs, shard=shard, out=out,
-                                             formats=formats, keep_runs=keep_runs),
+                                             formats=formats, keep_runs=keep_runs,
+                                             resume_other_version=resume_other_version),
                         progress)
+    return _table(table)
+
+
+def _table(table):
+    """A sweep table (its JSON) as a dict of numpy arrays, one per column."""
     columns = _columns(table["points"])
     return {name: columns.get(name, np.array([], dtype=object)) for name in table["columns"]}
 
@@ -141,6 +159,35 @@ def optimize(file, *, out, jobs=None, resume=None, progress=None):
     stop_reason, starts).
     """
     return _core.optimize(file, _options({}, out=out, jobs=jobs, resume=resume), progress)
+
+
+def merge(tables, *, out):
+    """Joins the tables of a sweep's shards, as ``ipmc-swim merge --out PREFIX A.csv B.csv ...``.
+
+    tables: the shards' PREFIX.csv files (a list, or one path); out: writes
+    PREFIX.csv and PREFIX.json, the command line's bytes. The same checks:
+    a table that does not exist, tables with different columns, a point in
+    two tables or a gap in the indices raise Error, and nothing is written.
+    (``merge --partial`` is the command line's alone.) Returns the merged
+    table as sweep() does.
+    """
+    return _table(_core.merge(tables, {"out": out}))
+
+
+def keys(*, format="text"):
+    """The reference of every scenario and sweep-file key, as ``ipmc-swim keys`` prints it.
+
+    format: "text" or "markdown" (docs/SCENARIO_KEYS.md). Returns the text.
+    """
+    return _core.keys({"format": format})
+
+
+def options(*, format="text"):
+    """Every command's options (the keywords of these calls), as ``ipmc-swim options``.
+
+    format: "text" or "markdown" (docs/OPTIONS.md). Returns the text.
+    """
+    return _core.options({"format": format})
 
 
 def bench(model=None, *, out=None, progress=None, **signal):
