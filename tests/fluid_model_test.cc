@@ -101,10 +101,12 @@ TEST(FluidModelTest, StokesletsAndRftSwimAlike) {
               stokeslets / rft);
   EXPECT_GT(rft * stokeslets, 0.0);
   EXPECT_NEAR(stokeslets / rft, 1.0, 0.3);
-  // Snapshot: measured 0.9222 (0.0227701 and 0.020998 mm); the band is
-  // about 10x the ratio's change from a 1e-3 rad shape tolerance to 0
-  // (0.1 %, docs/FLUIDS.md), so that a change of either model shows.
-  EXPECT_NEAR(stokeslets / rft, 0.9222, 0.01);
+  // Snapshot: measured 0.9222 (0.0227701 and 0.020998 mm; the run is
+  // deterministic). The band, 0.02, is twice the ratio's change when the
+  // Stokeslet resistance is recomputed at every step instead of within the
+  // default 1e-3 rad of shape (0.9131: 0.0207914 mm), so that a change of
+  // either model larger than the cache's own effect shows.
+  EXPECT_NEAR(stokeslets / rft, 0.9222, 0.02);
 }
 
 }  // namespace

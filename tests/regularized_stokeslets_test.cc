@@ -94,25 +94,38 @@ TEST(RegularizedStokesletsTest, SphereGivesStokesDrag) {
 // With ln(2L/a) = 4.34 for the strip the neglected terms are of relative
 // order 1 / ln^2 (2L / a) ~ 5 %. At the model's rule (eps = sqrt(e) a,
 // spacing eps) the blob rod gives 1.020 (broadside) and 1.026 (axial) of
-// these. With more points per blob the total creeps up by about 1.4 % per
-// halving of the spacing (the solve of a first-kind equation concentrates
-// force at the ends): the table shows it, and the rule fixes the spacing
-// to the blob so that the drag does not depend on the point count.
+// these. With more points per blob the total creeps up by 1.3-1.8 % per
+// halving of the spacing and does not converge: with a smooth (regularized)
+// kernel, M f = u is a first-kind integral equation, whose solution for a
+// uniform velocity concentrates at the ends as the points get closer (the
+// end point's force over the middle one's: 2.3 at the rule, 5.1, 23 and
+// 490 at each halving, until at ds = eps / 16 the end forces change sign;
+// docs/FLUIDS.md). The rule fixes the spacing to the blob
+// so that the drag does not depend on the point count.
 TEST(RegularizedStokesletsTest, RodAgainstSlenderBodyTheory) {
   const double log_term = std::log(2.0 * kLength / kRadius);
   const double broadside_sbt = 4.0 * kPi * kMu * kLength / (log_term - 0.5);
   const double axial_sbt = 2.0 * kPi * kMu * kLength / (log_term - 1.5);
   const double eps = kBlobOverRadius * kRadius;
   StokesletGeometry geometry{eps, std::nullopt};
-  std::printf("%8s %10s %18s %18s\n", "points", "ds/eps", "broadside/SBT", "axial/SBT");
+  std::printf("%8s %10s %18s %18s %18s\n", "points", "ds/eps", "broadside/SBT", "axial/SBT",
+              "end/middle force");
   double rule_broadside = 0, rule_axial = 0;
-  for (double ratio : {2.0, 1.0, 0.5, 0.25}) {
+  double last_end_over_middle = 0;
+  for (double ratio : {2.0, 1.0, 0.5, 0.25, 0.125, 0.0625}) {
     const PointList points = SegmentPoints(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX(),
                                            kLength, ratio * eps, Eigen::Vector3d::UnitZ(), 0, 1);
     const double broadside = -TranslationDrag(points, geometry, Eigen::Vector3d::UnitY()).y();
+    const MobilitySolver solver(StokesletMobility(points, geometry, kMu));
+    const int n = static_cast<int>(points.size());
+    const Eigen::VectorXd f = solver.Forces(Eigen::Vector3d::UnitY().replicate(n, 1));
+    const double end_over_middle = f[1] / f[3 * (n / 2) + 1];
+    // The end's share grows with every halving while the solve holds.
+    if (ratio >= 0.125) EXPECT_GT(end_over_middle, last_end_over_middle) << ratio;
+    last_end_over_middle = end_over_middle;
     const double axial = -TranslationDrag(points, geometry, Eigen::Vector3d::UnitX()).x();
-    std::printf("%8zu %10.3f %18.5f %18.5f\n", points.size(), ratio, broadside / broadside_sbt,
-                axial / axial_sbt);
+    std::printf("%8zu %10.4f %18.5f %18.5f %18.4g\n", points.size(), ratio,
+                broadside / broadside_sbt, axial / axial_sbt, end_over_middle);
     if (ratio == kSpacingOverBlob) rule_broadside = broadside, rule_axial = axial;
   }
   // Measured 1.020 and 1.026; the bound is SBT's own error.

@@ -137,7 +137,7 @@ TEST(RftScenarioTest, WallGapGivesNearWallCoefficients) {
 }
 
 // The wall changes the swim: 2 mm from it the coefficients are larger
-// and their ratio is 2 (1.83 in free space).
+// and their ratio is 2.
 TEST(RftScenarioTest, TheWallChangesTheSwim) {
   ScenarioConfig free =
       PaperWith("cycles = 1\ntimestep_s = 1e-3\n[waveform]\nfrequency_Hz = 0.5\n");

@@ -534,8 +534,9 @@ std::vector<KeySpec> MakeScenarioKeys() {
           }),
       Key("fluid.wall_gap_mm", T::kNumber, "mm", "> 0", "no wall",
           "A no-slip plane wall this far below the strip's lower edge (the centreline is the "
-          "gap plus half the width above it): RFT takes the near-wall coefficients of Katz, "
-          "Blake & Paveri-Fontana (1975) in place of fluid.rft_coefficients")
+          "gap plus half the width above it), parallel to the plane the strip beats in: RFT takes "
+          "the near-wall coefficients of Katz, Blake & Paveri-Fontana (1975) in place of "
+          "fluid.rft_coefficients, Stokeslets the wall's image system")
           .Example("2.0")
           .Refused("0")
           .Above(0.0)

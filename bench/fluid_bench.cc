@@ -1,0 +1,59 @@
+// The paper's closed-loop run (scenarios/paper.toml, one 100 s cycle,
+// 200 000 steps of 0.5 ms with the controllers, references and swim meter)
+// under each fluid model (plugin/fluid/fluid_model.h), in one run so that
+// the ratios hold on a loaded machine: RFT (the baseline), regularized
+// Stokeslets at the default resolution (one point per blob, 25 points,
+// the resistance kept within 1e-3 rad of shape) in free space and near a
+// wall (1 mm gap), Stokeslets recomputed at every evaluation (tolerance 0)
+// and at twice the points per mm; each in the model's inertial dynamics
+// and in Stokes dynamics. The runs' simulated time is the same, so the
+// ratios are per simulated time. docs/BENCHMARKS.md records them.
+//
+//   ./build/bench/fluid_bench --benchmark_repetitions=3
+#include <benchmark/benchmark.h>
+
+#include <string>
+
+#include "bench/ratio_reporter.h"
+#include "sim/core/scenario.h"
+#include "sim/runs/closed_loop_run.h"
+
+namespace ipmc {
+namespace {
+
+const std::string kPaperScenario = std::string(IPMC_SWIM_SCENARIOS_DIR) + "/paper.toml";
+
+// args: model (0 rft, 1 stokeslets), dynamics (0 inertial, 1 stokes),
+// variant (0 default, 1 wall gap 1 mm, 2 tolerance 0, 3 twice the points).
+void BM_PaperCycle(benchmark::State& state) {
+  ScenarioConfig scenario = LoadScenario(kPaperScenario);
+  scenario.cycles = 1;
+  scenario.output_dir.clear();
+  if (state.range(0) == 1) scenario.fluid_model = "stokeslets";
+  if (state.range(1) == 1) scenario.dynamics = Dynamics::kStokes;
+  if (state.range(2) == 1) scenario.wall_gap_mm = 1.0;
+  if (state.range(2) == 2) scenario.stokeslet_shape_tolerance_rad = 0.0;
+  if (state.range(2) == 3) scenario.stokeslet_points_per_mm = 2.0 / 1.340;
+  for (auto _ : state) benchmark::DoNotOptimize(RunScenario(scenario));
+}
+BENCHMARK(BM_PaperCycle)
+    ->Args({0, 0, 0})
+    ->Args({1, 0, 0})
+    ->Args({1, 0, 1})
+    ->Args({1, 0, 2})
+    ->Args({1, 0, 3})
+    ->Args({0, 1, 0})
+    ->Args({1, 1, 0})
+    ->Args({1, 1, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(1);
+
+}  // namespace
+}  // namespace ipmc
+
+int main(int argc, char** argv) {
+  return ipmc::RunWithRatios(argc, argv, {"BM_PaperCycle/0/0/0"},
+                             {{"BM_PaperCycle/1/1/0", "BM_PaperCycle/0/1/0"},
+                              {"BM_PaperCycle/1/1/1", "BM_PaperCycle/0/1/0"}},
+                             ipmc::RatioClock::kCpu);
+}
