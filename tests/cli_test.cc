@@ -130,7 +130,7 @@ TEST(CliTest, OutOfRangeFrequency) {
   const fs::path dir = FreshDir("frequency");
   ExpectOneLineError(RunCli("gait --model " + Model("flagellum3.xml") +
                             " --frequency-hz -1 --out " + (dir / "out").string()),
-                     "frequency_Hz must be finite and > 0", dir / "out");
+                     "--frequency-hz must be finite and > 0 (got -1)", dir / "out");
 }
 
 TEST(CliTest, UnstableTimeStepIsReportedAsDivergence) {

@@ -443,7 +443,7 @@ TEST_F(SweepTest, BadSweepFilesGiveOneLineErrorsBeforeAnyRun) {
       {"base = \"missing.toml\"\n[grid]\ncycles = [1]\n",
        ":1: base: cannot open '" + (dir_ / "missing.toml").string() + "'"},
       {"base = \"fast.toml\"\njobs = 2\n[grid]\ncycles = [1]\n",
-       ":2: unknown key 'jobs' (allowed: base, set, grid, point, keep_runs)"},
+       ":2: unknown key 'jobs' (allowed: base, gait, set, grid, point, keep_runs)"},
       {"base = \"fast.toml\"\nkeep_runs = 1\n[grid]\ncycles = [1]\n",
        ":2: keep_runs must be true or false (got integer)"},
       {"base = \"fast.toml\"\n[grid\n", ":2:6: Error while parsing table header: expected ']', "

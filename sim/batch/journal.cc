@@ -228,6 +228,13 @@ std::string SweepFingerprint(const SweepPlan& plan) {
     for (const std::string& value : point.values) hash.Add(value);
     hash.Add(point.scenario_toml);
     hash.Add(point.error);
+    if (point.gait) {  // a gait's model and trajectory ("" for a file that is not there)
+      for (const std::string* file : {&point.gait->model, &point.gait->csv}) {
+        if (file->empty()) continue;
+        if (models.count(*file) == 0) models.emplace(*file, FileText(*file));
+        hash.Add(models.at(*file));
+      }
+    }
     if (point.scenario && !point.scenario->GeneratesModel()) {
       const std::string& model = point.scenario->model_path;
       if (models.count(model) == 0) models.emplace(model, FileText(model));

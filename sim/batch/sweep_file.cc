@@ -3,6 +3,8 @@
 // ParseScenario before anything runs.
 #include "sim/batch/sweep_file.h"
 
+#include "sim/batch/sweep_gait.h"
+
 #include <mujoco/mujoco.h>
 #include <toml++/toml.h>
 
@@ -33,15 +35,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Sweep file keys.
-constexpr char kBase[] = "base";
-constexpr char kSet[] = "set";
-constexpr char kGrid[] = "grid";
-constexpr char kPoint[] = "point";
-constexpr char kKeepRuns[] = "keep_runs";
-
-// A grid this large is a mistake in the sweep file, not a plan.
-constexpr double kMaxPoints = 1e6;
+using namespace sweep_keys;
 
 std::string TypeName(const toml::node& node) { return TomlTypeName(node.type()); }
 
@@ -265,6 +259,7 @@ std::vector<PointOverrides> SweepReader::ReadPoints(
 SweepPlan SweepReader::Read(const std::string& toml_text) {
   const toml::table root = ParseToml(toml_text, source_);
   RejectUnknownKeys(root);
+  if (root.contains(kGaitSweepKey)) return ReadGaitSweep(root, source_);
   ReadBase(root);
 
   auto line_of = [&](const char* key) { return root.find(key)->first.source().begin.line; };

@@ -12,6 +12,8 @@
 //   actuation = ["single", "distributed"]
 //   keep_runs = true                    # optional: keep each point's run directory
 //
+// or, with a [gait] table instead of base, prescribed gaits:
+// sim/batch/sweep_gait.h;
 // or, instead of [grid], a list of points, each a table of overrides:
 //
 //   [[point]]
@@ -54,8 +56,20 @@
 #include <vector>
 
 #include "sim/core/scenario.h"
+#include "sim/runs/gait_command.h"
 
 namespace ipmc {
+
+// Sweep file keys (the key table's, sim/core/scenario_keys.cc).
+namespace sweep_keys {
+constexpr char kBase[] = "base";
+constexpr char kSet[] = "set";
+constexpr char kGrid[] = "grid";
+constexpr char kPoint[] = "point";
+constexpr char kKeepRuns[] = "keep_runs";
+// A grid this large is a mistake in the sweep file, not a plan.
+constexpr double kMaxPoints = 1e6;
+}  // namespace sweep_keys
 
 struct SweepPoint {
   int index = 0;
@@ -63,6 +77,8 @@ struct SweepPoint {
   std::optional<ScenarioConfig> scenario;  // absent if the overrides make a bad scenario,
   std::string error;                       // ... and then the reason (one line)
   std::string scenario_toml;               // the base with the overrides, as read
+                                           // (a gait's: GaitCommandText)
+  std::optional<GaitCommand> gait;         // a gait sweep's point (sim/batch/sweep_gait.h)
 };
 
 struct SweepPlan {
@@ -72,6 +88,7 @@ struct SweepPlan {
   std::vector<SweepPoint> points;  // by index
   int links = 0;                   // per-link column groups
   bool keep_runs = false;          // the sweep file's keep_runs
+  bool gait = false;               // a [gait] sweep: points run gaits (sim/batch/sweep_gait.h)
 };
 
 // Reads a sweep and builds every point's scenario (no run yet). Loads each

@@ -20,7 +20,10 @@
 #include "plugin/base/numbers.h"
 #include "sim/core/data_paths.h"
 #include "sim/core/fan_out.h"
+#include "sim/batch/sweep_gait.h"
+#include "sim/core/sha256.h"
 #include "sim/io/columns.h"
+#include "sim/io/files.h"
 #include "sim/runs/closed_loop_run.h"
 #include "sim/runs/output.h"
 
@@ -31,6 +34,7 @@ namespace {
 // not run; the model's own step, unknown here, counts as kDefaultStep_s).
 double EstimatedSteps(const SweepPoint& point) {
   constexpr double kDefaultStep_s = 1e-4;
+  if (point.gait) return point.gait->run.cycles / std::abs(point.gait->frequency_Hz) / kDefaultStep_s;
   if (!point.scenario) return 0.0;
   const ScenarioConfig& scenario = *point.scenario;
   return scenario.cycles / std::abs(scenario.waveform.frequency_Hz) /
@@ -39,10 +43,30 @@ double EstimatedSteps(const SweepPoint& point) {
 
 // One point's row; `error` receives the failure, if any. With runs_dir,
 // the run's outputs are written there too.
+// A gait point's row: `ipmc-swim gait` with the point's options (and, with
+// runs_dir, its --out).
+std::vector<std::string> RunGaitPoint(const SweepPoint& point, const std::string& runs_dir,
+                                      std::vector<std::string> row, std::string* error) {
+  GaitCommand command = *point.gait;
+  command.out = runs_dir.empty() ? "" : SweepPointRunDir(runs_dir, point.index);
+  std::optional<GaitRunResult> result;
+  try {
+    result = RunGaitCommand(command);
+  } catch (const std::exception& failure) {
+    *error = OneLine(failure.what());
+  }
+  row.push_back(result ? columns::kStatusOk : columns::kStatusError);
+  row.push_back(result ? "" : *error);
+  const std::vector<std::string> cells = GaitResultCells(result ? &*result : nullptr);
+  row.insert(row.end(), cells.begin(), cells.end());
+  return row;
+}
+
 std::vector<std::string> RunPoint(const SweepPlan& plan, const SweepPoint& point,
                                   const std::string& runs_dir, std::string* error) {
   std::vector<std::string> row = {std::to_string(point.index)};
   row.insert(row.end(), point.values.begin(), point.values.end());
+  if (point.gait) return RunGaitPoint(point, runs_dir, std::move(row), error);
   std::optional<ClosedLoopResult> result;
   *error = point.error;
   if (point.scenario) {
@@ -183,6 +207,18 @@ SweepTable RunSweep(const SweepPlan& plan, const SweepOptions& options) {
   std::map<std::string, std::string> model_sha256;  // by model path; "" for generated
   for (size_t k = 0; k < todo.size(); ++k) {
     const SweepPoint& point = *todo[k];
+    if (!table.rows[k].empty() && point.gait) {
+      const std::string& model = point.gait->model;
+      if (model_sha256.count(model) == 0) {
+        std::string sha;
+        try {
+          sha = Sha256Hex(ReadTextFile(model, "model file"));
+        } catch (const std::exception&) {  // the point failed: no model to name
+        }
+        model_sha256[model] = sha;
+      }
+      table.provenance[point.index] = {point.scenario_toml, model_sha256[model]};
+    }
     if (table.rows[k].empty() || !point.scenario) continue;
     const ScenarioConfig& scenario = *point.scenario;
     const std::string model = scenario.GeneratesModel() ? "" : scenario.model_path;

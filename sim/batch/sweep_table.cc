@@ -2,6 +2,8 @@
 // merging the tables of a sweep's shards.
 #include "sim/batch/sweep_table.h"
 
+#include "sim/batch/sweep_gait.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -73,6 +75,10 @@ std::vector<std::string> SweepColumns(const SweepPlan& plan) {
   names.insert(names.end(), plan.keys.begin(), plan.keys.end());
   names.push_back(columns::kStatus);
   names.push_back(columns::kError);
+  if (plan.gait) {  // a gait's metrics only (sim/batch/sweep_gait.h)
+    names.insert(names.end(), kGaitResults.begin(), kGaitResults.end());
+    return names;
+  }
   for (int q = 1; q <= plan.links; ++q) {
     for (const char* result : columns::kLinkResults) {
       names.push_back(columns::LinkResult(q, result));

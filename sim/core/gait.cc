@@ -18,9 +18,9 @@ namespace {
 
 void RequirePositiveFrequency(double frequency_Hz) {
   if (!(frequency_Hz > 0.0) || !std::isfinite(frequency_Hz)) {
-    std::ostringstream msg;
-    msg << "gait: frequency_Hz must be finite and > 0 (got " << frequency_Hz << ")";
-    throw std::invalid_argument(msg.str());
+    throw FieldError("gait: frequency_Hz must be finite and > 0 (got " + FormatShortest(frequency_Hz) +
+                         ")",
+                     "frequency_Hz", "finite and > 0");
   }
 }
 
@@ -131,19 +131,27 @@ class CsvGait final : public Gait {
 
 void SineGaitConfig::Validate() const {
   RequirePositiveFrequency(frequency_Hz);
-  if (amplitude_rad.empty()) throw std::invalid_argument("gait: amplitude_rad is empty");
+  if (amplitude_rad.empty()) {
+    throw FieldError("gait: amplitude_rad is empty (one value per driven joint)", "amplitude_rad",
+                     "one value per driven joint");
+  }
   if (phase_rad.size() != amplitude_rad.size()) {
-    throw std::invalid_argument("gait: phase_rad has " + std::to_string(phase_rad.size()) +
-                                " values, amplitude_rad has " +
-                                std::to_string(amplitude_rad.size()));
+    throw FieldError("gait: phase_rad has " + std::to_string(phase_rad.size()) +
+                         " values, amplitude_rad has " + std::to_string(amplitude_rad.size()),
+                     "phase_rad", std::to_string(amplitude_rad.size()) + " values");
   }
   for (double a : amplitude_rad) {
     if (!std::isfinite(a) || std::abs(a) > kPi) {
-      throw std::invalid_argument("gait: amplitude_rad must be finite and in [-pi, pi]");
+      throw FieldError("gait: amplitude_rad must be finite and in [-pi, pi] (got " +
+                           FormatShortest(a) + ")",
+                       "amplitude_rad", "finite, in [-pi, pi]");
     }
   }
   for (double p : phase_rad) {
-    if (!std::isfinite(p)) throw std::invalid_argument("gait: phase_rad must be finite");
+    if (!std::isfinite(p)) {
+      throw FieldError("gait: phase_rad must be finite (got " + FormatShortest(p) + ")",
+                       "phase_rad", "finite");
+    }
   }
 }
 
@@ -166,9 +174,15 @@ SineGaitConfig TravellingWave(int joints, double frequency_Hz, double amplitude_
 void SquareStrokeConfig::Validate() const {
   RequirePositiveFrequency(frequency_Hz);
   if (!(amplitude_rad > 0.0) || amplitude_rad > kPi) {
-    throw std::invalid_argument("gait: square stroke amplitude_rad must be in (0, pi]");
+    throw FieldError("gait: square stroke amplitude_rad must be in (0, pi] (got " +
+                         FormatShortest(amplitude_rad) + ")",
+                     "amplitude_rad", "(0, pi]");
   }
-  if (joints < 1) throw std::invalid_argument("gait: square stroke needs joints >= 1");
+  if (joints < 1) {
+    throw FieldError("gait: square stroke needs joints >= 1 (got " + std::to_string(joints) +
+                         "; the model's servo_* actuators)",
+                     "joints", ">= 1");
+  }
 }
 
 std::unique_ptr<Gait> MakeSquareStroke(const SquareStrokeConfig& config) {

@@ -27,7 +27,7 @@ struct SineGaitConfig {
   double frequency_Hz = 0.01;
   std::vector<double> amplitude_rad;
   std::vector<double> phase_rad;
-  void Validate() const;  // throws std::invalid_argument naming the field
+  void Validate() const;  // throws FieldError naming the field and its range
 };
 std::unique_ptr<Gait> MakeSineGait(const SineGaitConfig& config);
 
@@ -44,7 +44,7 @@ struct SquareStrokeConfig {
   double frequency_Hz = 0.01;
   double amplitude_rad = 0.5;
   int joints = 2;
-  void Validate() const;
+  void Validate() const;  // throws FieldError naming the field and its range
 };
 std::unique_ptr<Gait> MakeSquareStroke(const SquareStrokeConfig& config);
 

@@ -634,7 +634,14 @@ std::vector<KeySpec> MakeSweepFileKeys() {
   using T = KeyType;
   return {
       Key("base", T::kString, "", "a scenario file; relative to the sweep file's folder",
-          "none: required", "The scenario every point starts from"),
+          "none: required (but with gait)", "The scenario every point starts from"),
+      Key("gait", T::kTable, "",
+          "the options of ipmc-swim gait but out (model, gait, frequency_Hz, amplitude_rad, "
+          "phase_lag_rad, amplitudes_rad, phases_rad, csv, cycles, samples_per_cycle, "
+          "allow_long); paths relative to the sweep file; not with base",
+          "none",
+          "Every point runs this prescribed gait instead of a closed-loop scenario; set, grid "
+          "and point then hold gait options, and the table the gait's metrics"),
       Key("set", T::kTable, "", "scenario keys (dotted, or as nested tables)", "none",
           "Overrides applied to every point (not columns of the table)"),
       Key("grid", T::kTable, "", "scenario keys, each an array of values; not with point", "none",

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "plugin/base/error.h"
+#include "plugin/base/numbers.h"
 #include "plugin/coupling.h"
 #include "sim/core/step_count.h"
 
@@ -81,13 +83,24 @@ GaitSample Sample(const SwimMeter& meter, const mjData* d, const std::vector<Ser
 }  // namespace
 
 void GaitRunOptions::Validate() const {
-  if (cycles < 1) throw std::invalid_argument("gait run: cycles must be >= 1");
-  if (samples_per_cycle < 1) throw std::invalid_argument("gait run: samples_per_cycle must be >= 1");
+  if (cycles < 1) {
+    throw FieldError("gait: cycles must be >= 1 (got " + std::to_string(cycles) + ")", "cycles",
+                     ">= 1");
+  }
+  if (samples_per_cycle < 1) {
+    throw FieldError("gait: samples_per_cycle must be >= 1 (got " +
+                         std::to_string(samples_per_cycle) + ")",
+                     "samples_per_cycle", ">= 1");
+  }
   if (!(servo_time_constant_steps >= 2.0)) {
-    throw std::invalid_argument("gait run: servo_time_constant_steps must be >= 2");
+    throw FieldError("gait: servo_time_constant_steps must be >= 2 (got " +
+                         FormatShortest(servo_time_constant_steps) + ")",
+                     "servo_time_constant_steps", ">= 2");
   }
   if (!(servo_damping_over_drag > 0.0)) {
-    throw std::invalid_argument("gait run: servo_damping_over_drag must be > 0");
+    throw FieldError("gait: servo_damping_over_drag must be > 0 (got " +
+                         FormatShortest(servo_damping_over_drag) + ")",
+                     "servo_damping_over_drag", "> 0");
   }
 }
 

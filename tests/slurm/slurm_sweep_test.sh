@@ -6,6 +6,7 @@
 # Then the same sweep with --keep-runs, as a 3-task array: every point's run
 # directory in DIR/table_runs/point_N, whichever task ran it, the same
 # files byte for byte as a local --keep-runs sweep's PREFIX_runs/point_N.
+# Last, a sweep of prescribed gaits as a 2-task array against a local run.
 #
 #   tests/slurm/slurm_sweep_test.sh STATE_DIR IPMC_SWIM SOURCE_DIR WORK_DIR
 set -euo pipefail
@@ -53,11 +54,12 @@ EOF
 "$ipmc" sweep "$work/sweep.toml" --jobs 2 --out "$work/local/table" >"$work/local.out" 2>&1 ||
   fail "local sweep: $(cat "$work/local.out")"
 
-# Submits the sweep into $1 with the options that follow; sets $array and $merge.
+# Submits $submit_file into $1 with the options that follow; sets $array and $merge.
+submit_file="$work/sweep.toml"
 submit() {
   local dir="$1" submitted
   shift
-  submitted=$("$ipmc" sweep "$work/sweep.toml" --slurm "$dir" "$@" --cpus-per-task 1 --time 5 2>&1) ||
+  submitted=$("$ipmc" sweep "$submit_file" --slurm "$dir" "$@" --cpus-per-task 1 --time 5 2>&1) ||
     fail "sweep --slurm: $submitted"
   echo "$submitted"
   array=$(sed -n 's/^submitted job array \([0-9]*\) and merge job \([0-9]*\) .*/\1/p' <<<"$submitted")
@@ -118,5 +120,26 @@ diff -r "$work/local_runs/table_runs" "$work/cluster_runs/table_runs" ||
   fail "the cluster's point run directories differ from the local --keep-runs sweep's"
 cmp "$work/local_runs/table.csv" "$work/cluster_runs/table.csv" ||
   fail "the --keep-runs cluster table differs from the local run's"
-rm -rf "$work"
 echo "PASS: --keep-runs through a 3-task Slurm array keeps the 8 points' run directories, byte for byte the local sweep's"
+
+# A sweep of prescribed gaits ([gait], sim/batch/sweep_gait.h) as a 2-task array.
+cat >"$work/gait.toml" <<EOF
+[gait]
+model = "$source_dir/models/flagellum3.xml"
+frequency_Hz = 0.5
+cycles = 1
+samples_per_cycle = 20
+[grid]
+phase_lag_rad = [0.0, 1.0, 2.0]
+EOF
+"$ipmc" sweep "$work/gait.toml" --jobs 2 --out "$work/local_gait/table" >"$work/local_gait.out" 2>&1 ||
+  fail "local gait sweep: $(cat "$work/local_gait.out")"
+submit_file="$work/gait.toml"
+submit "$work/cluster_gait" --array-size 2
+wait_done "$work/cluster_gait"
+cmp "$work/local_gait/table.csv" "$work/cluster_gait/table.csv" ||
+  fail "the cluster's gait table differs from the local run's"
+cmp "$work/local_gait/table.json" "$work/cluster_gait/table.json" ||
+  fail "the cluster's gait table.json differs from the local run's"
+rm -rf "$work"
+echo "PASS: a gait sweep through a 2-task Slurm array gives the local table byte for byte"

@@ -112,14 +112,15 @@ def run(scenario, *, out=None, formats=(), allow_long=False, progress=None, **ov
 
 
 def sweep(sweep_file, *, jobs=None, shard="1/1", out=None, formats=(), keep_runs=None,
-          resume_other_version=None, progress=None):
+          runs_dir=None, resume_other_version=None, progress=None):
     """Runs a sweep file, as ``ipmc-swim sweep SWEEP --out PREFIX``.
 
     jobs: threads (default: the CPUs this process may use); shard: "i/n" runs the points
     with index % n == i - 1; out: writes PREFIX.csv and PREFIX.json, and with
     formats ("mat", "h5") PREFIX.mat and PREFIX.h5; keep_runs=True (or
     keep_runs = true in the sweep file) also keeps each point's run directory
-    as PREFIX_runs/point_N (to plot, film or run again).
+    as PREFIX_runs/point_N (to plot, film or run again), or as
+    RUNS_DIR/point_N with runs_dir.
     With out, each finished point is recorded in PREFIX.journal, as by the
     command line: the journal is the output's lock (a second sweep into the
     same prefix, from Python or the command line, raises Error "... in use
@@ -130,11 +131,13 @@ def sweep(sweep_file, *, jobs=None, shard="1/1", out=None, formats=(), keep_runs
     progress(done, total) is called after each point (total: the points
     left to run). Returns the table as a
     dict of numpy arrays, one per column (point, the swept keys, status,
-    error, link<q>_iae_mm_s, ..., reynolds_swim; NaN for a failed point's
-    results).
+    error, link<q>_iae_mm_s, ..., reynolds_swim; for a sweep of prescribed
+    gaits, a [gait] table instead of base, the gait's metrics period_s, ...,
+    max_reference_rad; NaN for a failed point's results).
     """
     table = _core.sweep(sweep_file, _options({}, jobs=jobs, shard=shard, out=out,
                                              formats=formats, keep_runs=keep_runs,
+                                             runs_dir=runs_dir,
                                              resume_other_version=resume_other_version),
                         progress)
     return _table(table)

@@ -1,0 +1,120 @@
+"""A signal stops `merge` before it writes: SIGINT exits 130, SIGTERM 143
+and SIGHUP, treated as SIGTERM, 143 too, with no merged table and no
+temporary left; Python's merge() stops the same way where the program
+handles the signal. The merge is held at a known point without timing: its
+second table is a FIFO, which it reads until the test has sent the signal,
+seen the program take it, and only then written the table and closed it."""
+
+import os
+import signal
+import subprocess
+import sys
+
+import pytest
+
+from conftest import CLI, SHORT_SCENARIO, run_cli
+
+SWEEP = ('base = "short.toml"\n[set]\ncycles = 1\n[grid]\n'
+         '"waveform.frequency_Hz" = [0.5, 0.4, 0.3]\n')
+EXIT = {"SIGINT": 130, "SIGTERM": 143, "SIGHUP": 143}
+TIMEOUT_S = 60
+
+# The handler says "taken" from a thread of its own, which gets the GIL
+# only when the call's waiting thread lets it go, after it has set the
+# call's stop flag (convert.h, Interruptible); the long switch interval
+# keeps the handler's own thread from handing the GIL over earlier.
+PYTHON_MERGE = """
+import _thread, signal, sys
+import ipmc_swim
+sys.setswitchinterval(1000)
+def taken():
+    print("taken", flush=True)
+def stop(signum, frame):
+    _thread.start_new_thread(taken, ())
+    raise KeyboardInterrupt
+for sent in (signal.SIGINT, signal.SIGTERM, signal.SIGHUP):
+    signal.signal(sent, stop)
+try:
+    ipmc_swim.merge(sys.argv[1:3], out=sys.argv[3])
+except KeyboardInterrupt:
+    print("interrupted", flush=True)
+    sys.exit(130)
+print("finished", flush=True)
+"""
+
+
+@pytest.fixture(scope="module")
+def shards(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("shards")
+    (folder / "short.toml").write_text(SHORT_SCENARIO)
+    (folder / "sweep.toml").write_text(SWEEP)
+    for k in (1, 2):
+        run_cli("sweep", folder / "sweep.toml", "--shard", f"{k}/2", "--out",
+                folder / f"shard_{k}", "--jobs", "1")
+    return folder
+
+
+def held_merge(tmp_path, shards, command, sent, taken):
+    """Runs `command` (a merge of shard 1 and a FIFO), sends `sent` once it
+    reads the FIFO and, once the line `taken` shows it took the signal,
+    feeds the FIFO shard 2's table. Returns (exit code, stdout, stderr)."""
+    fifo = tmp_path / "late.csv"
+    os.mkfifo(fifo)
+    child = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        with open(fifo, "w") as feed:  # returns once the merge opens it
+            child.send_signal(getattr(signal, sent))
+            stream = child.stderr if taken.startswith("interrupted:") else child.stdout
+            seen = ""
+            while taken not in seen:
+                line = stream.readline()
+                assert line, f"the merge ended before taking {sent}: {seen}"
+                seen += line
+            feed.write((shards / "shard_2.csv").read_text())
+        stdout, stderr = child.communicate(timeout=TIMEOUT_S)
+    finally:
+        if child.poll() is None:
+            child.kill()
+            child.communicate()
+    return child.returncode, seen + stdout, stderr
+
+
+@pytest.mark.parametrize("sent", sorted(EXIT))
+def test_a_signal_stops_the_merge_before_it_writes(tmp_path, shards, sent):
+    out = tmp_path / "merged"
+    code, _, stderr = held_merge(
+        tmp_path, shards,
+        [CLI, "merge", "--out", str(out), str(shards / "shard_1.csv"), str(tmp_path / "late.csv")],
+        sent, "interrupted: stopping before the merged table is written")
+    assert code == EXIT[sent], stderr
+    assert f"ipmc-swim: interrupted by {sent}: nothing written" in stderr, stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["late.csv"]
+
+
+def test_without_a_signal_the_fifo_merge_is_the_whole_table(tmp_path, shards):
+    fifo = tmp_path / "late.csv"
+    os.mkfifo(fifo)
+    child = subprocess.Popen([CLI, "merge", "--out", str(tmp_path / "merged"),
+                              str(shards / "shard_1.csv"), str(fifo)],
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    with open(fifo, "w") as feed:
+        feed.write((shards / "shard_2.csv").read_text())
+    _, stderr = child.communicate(timeout=TIMEOUT_S)
+    assert child.returncode == 0, stderr
+    run_cli("merge", "--out", tmp_path / "plain", shards / "shard_1.csv", shards / "shard_2.csv")
+    assert (tmp_path / "merged.csv").read_bytes() == (tmp_path / "plain.csv").read_bytes()
+
+
+@pytest.mark.parametrize("sent", sorted(EXIT))
+def test_python_s_merge_stops_before_it_writes(tmp_path, shards, sent):
+    out = tmp_path / "merged"
+    code, stdout, stderr = held_merge(
+        tmp_path, shards,
+        [sys.executable, "-c", PYTHON_MERGE, str(shards / "shard_1.csv"),
+         str(tmp_path / "late.csv"), str(out)],
+        sent, "taken")
+    # The stop was asked while the merge read; it stopped at its next safe
+    # point, before writing.
+    assert code == 130, stdout + stderr
+    assert "interrupted" in stdout and "finished" not in stdout, stdout + stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["late.csv"]
