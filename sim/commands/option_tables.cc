@@ -1,0 +1,39 @@
+#include "sim/commands/option_tables.h"
+
+#include "sim/batch/sweep_command.h"
+#include "sim/core/generate_command.h"
+#include "sim/core/keys_command.h"
+#include "sim/identify/identify_run.h"
+#include "sim/identify/loop_analysis.h"
+#include "sim/identify/pipeline_run.h"
+#include "sim/runs/bench_command.h"
+#include "sim/runs/gait_command.h"
+#include "sim/runs/run_command.h"
+#include "sim/runs/table5_run.h"
+
+namespace ipmc {
+
+std::vector<OptionTableInfo> CommandOptionTables() {
+  return {
+      InfoOf(RunOptions()),
+      InfoOf(SweepOptionTable()),
+      InfoOf(MergeOptionTable()),
+      InfoOf(GenerateOptions()),
+      InfoOf(GaitOptions()),
+      InfoOf(BenchOptions()),
+      InfoOf(BodeOptions()),
+      InfoOf(StepOptions()),
+      InfoOf(IdentifyOptions()),
+      InfoOf(DesignOptions()),
+      InfoOf(PipelineOptions()),
+      InfoOf(Table5Options()),
+      InfoOf(KeysOptions()),
+      InfoOf(OptionsOptions()),
+  };
+}
+
+std::string CommandOptionReference(const std::string& format) {
+  return OptionReference(CommandOptionTables(), format);
+}
+
+}  // namespace ipmc
