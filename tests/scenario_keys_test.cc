@@ -143,7 +143,8 @@ TEST(ScenarioKeysTest, TheReaderAllowsExactlyTheTablesKeys) {
   for (const std::string& name : ScenarioKeysUnder("")) {
     if (!ScenarioKeysUnder(name).empty()) tables.push_back(name);
   }
-  EXPECT_EQ(tables.size(), 6u);  // the top level, controller, waveform, fluid, metrics, output
+  // The top level, controller, waveform, fluid, metrics, electrical, output.
+  EXPECT_EQ(tables.size(), 7u);
   for (const std::string& table : tables) {
     SCOPED_TRACE(table);
     const std::string unknown = table.empty() ? "speed" : table + ".speed";

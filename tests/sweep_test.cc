@@ -221,7 +221,7 @@ TEST_F(SweepTest, TableDoesNotDependOnJobsAndHoldsTheRunsNumbersExactly) {
 
   ASSERT_EQ(one.rows.size(), 8u);
   const std::vector<std::string>& columns = one.columns;
-  EXPECT_EQ(columns.size(), 1 + 3 + 2 + 3 * 5 + 10u);
+  EXPECT_EQ(columns.size(), 1 + 3 + 2 + 3 * 5 + 12u);
   auto column = [&](const std::string& name) {
     const auto it = std::find(columns.begin(), columns.end(), name);
     EXPECT_NE(it, columns.end()) << name;
@@ -412,7 +412,7 @@ TEST_F(SweepTest, BadSweepFilesGiveOneLineErrorsBeforeAnyRun) {
        "c2_um_per_mm2, c_um, alpha, frequency_Hz, wavelength_mm, start_ramp_cycles)"},
       {"base = \"fast.toml\"\n[grid]\nspeed = [1]\n",
        ":3: unknown key 'speed' (allowed: model, link_lengths_mm, segments_per_link, plants, actuation, dynamics, hinge_damping_scale, cycles, timestep_s, controller, "
-       "waveform, fluid, metrics, output)"},
+       "waveform, fluid, metrics, electrical, output)"},
       {"base = \"fast.toml\"\n[grid]\nactuation = [\"single\"]\ncycles = [1, 1.5]\n",
        ":4: cycles must be an integer (got float)"},
       {"base = \"fast.toml\"\n[[point]]\ncycles = 1\n[[point]]\ncontroller.kp = \"8\"\n",

@@ -177,6 +177,23 @@ void ReadStartRamp(const KeyValue& value, ScenarioConfig& config) {
   config.start_ramp_cycles = cycles;
 }
 
+// A value of the IPMC impedance (sim/core/electrical.h), > 0; written when
+// the electrical model is on or the value is not the default.
+template <double ElectricalConfig::*kField>
+KeySpec ElectricalKey(const char* name, const char* unit, const char* default_toml,
+                      const char* example_toml, const char* meaning) {
+  return Key(name, KeyType::kNumber, unit, "> 0", default_toml, meaning)
+      .Default(default_toml)
+      .Example(example_toml)
+      .Refused("0")
+      .Above(0.0)
+      .Reads([](const KeyValue& v, ScenarioConfig& c) { c.electrical.*kField = v.Number(); })
+      .Writes([](const ScenarioConfig& c) {
+        const bool shown = c.electrical.enabled || c.electrical.*kField != ElectricalConfig{}.*kField;
+        return shown ? TomlFloat(c.electrical.*kField) : kLeftOut;
+      });
+}
+
 // applies_when of every key: its conditions whose value is not the
 // selector's default, as TOML lines.
 void WriteAppliesWhen(std::vector<KeySpec>* keys) {
@@ -548,6 +565,29 @@ std::vector<KeySpec> MakeScenarioKeys() {
             c.metrics_from_cycle = first;
           })
           .Writes([](const ScenarioConfig& c) { return TomlInteger(c.metrics_from_cycle); }),
+      Key("electrical.enabled", T::kBoolean, "", "true or false", "false",
+          "Each link's electrical power <V I> and the electromechanical efficiency from the IPMC "
+          "impedance R_s + (R_p || C) per unit electrode area, scaled by the link's length x "
+          "electrical.electrode_width_mm (sim/core/electrical.h; docs/ENERGY.md: representative "
+          "values, not a measured set)")
+          .Default("false")
+          .Example("true")
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.electrical.enabled = v.Boolean(); })
+          .Writes([](const ScenarioConfig& c) {
+            return c.electrical.enabled ? TomlBool(true) : kLeftOut;
+          }),
+      ElectricalKey<&ElectricalConfig::series_resistance_ohm_m2>(
+          "electrical.series_resistance_ohm_m2", "ohm m^2", "1.0e-4", "2e-4",
+          "Series (electrode and contact) resistance r_s times the electrode area: R_s = r_s / A"),
+      ElectricalKey<&ElectricalConfig::parallel_resistance_ohm_m2>(
+          "electrical.parallel_resistance_ohm_m2", "ohm m^2", "1.0e-2", "5e-3",
+          "Leakage resistance r_p across the double layer times the electrode area: R_p = r_p / A"),
+      ElectricalKey<&ElectricalConfig::capacitance_F_m2>(
+          "electrical.capacitance_F_m2", "F/m^2", "10.0", "20.0",
+          "Double-layer capacitance per unit electrode area: C = c A"),
+      ElectricalKey<&ElectricalConfig::electrode_width_mm>(
+          "electrical.electrode_width_mm", "mm", "3.0", "2.5",
+          "Electrode width; a link's electrode area A is its length times this"),
       Key("output.dir", T::kString, "", "a directory; relative to the working directory",
           "\"\": no files", "Where timeseries.csv, states.csv and summary.json go")
           .Default("\"\"")
