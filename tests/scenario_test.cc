@@ -12,6 +12,7 @@
 
 #include "controllers/pid.h"
 #include "plugin/base/error.h"
+#include "tests/test_util.h"
 
 namespace ipmc {
 namespace {
@@ -38,15 +39,7 @@ class ScenarioErrorTest : public ::testing::Test {
 
   // The message of the error `text` raises, or "" (with a failure).
   std::string ErrorOf(const std::string& text) const {
-    try {
-      Parse(text);
-    } catch (const std::runtime_error& error) {
-      const std::string message = error.what();
-      EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-      return message;
-    }
-    ADD_FAILURE() << "no error for:\n" << text;
-    return "";
+    return ipmc::testing::OneLineErrorOf([&] { Parse(text); }, text);
   }
 
   // Fails unless `text` raises exactly source + `suffix`.

@@ -22,6 +22,7 @@
 #include "sim/runs/closed_loop_run.h"
 #include "sim/cli/sweep_command.h"
 #include "tests/cli_util.h"
+#include "tests/test_util.h"
 
 namespace ipmc {
 namespace {
@@ -63,15 +64,7 @@ class SweepTest : public ::testing::Test {
 
   // The message of the error `text` raises, or "" (with a failure).
   std::string ErrorOf(const std::string& text) const {
-    try {
-      Parse(text);
-    } catch (const std::runtime_error& error) {
-      const std::string message = error.what();
-      EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-      return message;
-    }
-    ADD_FAILURE() << "no error for:\n" << text;
-    return "";
+    return ipmc::testing::OneLineErrorOf([&] { Parse(text); }, text);
   }
 
   // Runs `ipmc-swim ARGS` through the sweep commands alone.
