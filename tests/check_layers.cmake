@@ -20,7 +20,6 @@ set(layers
   sim/runs
   sim/identify
   sim/batch
-  sim/commands
   renders
   sim/cli
   sim/python
@@ -41,10 +40,9 @@ set(allowed_sim/core ${below_sim})
 set(allowed_sim/runs sim/core ${below_sim})
 set(allowed_sim/identify sim/runs sim/core ${below_sim})
 set(allowed_sim/batch sim/runs sim/core ${below_sim})
-set(allowed_sim/commands sim/batch sim/identify sim/runs sim/core ${below_sim})
 set(allowed_renders sim/runs sim/core ${below_sim})
-set(allowed_sim/cli sim/commands renders sim/batch sim/identify sim/runs sim/core ${below_sim})
-set(allowed_sim/python sim/commands renders sim/batch sim/identify sim/runs sim/core ${below_sim})
+set(allowed_sim/cli renders sim/batch sim/identify sim/runs sim/core ${below_sim})
+set(allowed_sim/python renders sim/batch sim/identify sim/runs sim/core ${below_sim})
 set(allowed_sim plugin/include)
 
 # The layer of a path relative to the project: its longest listed prefix.
