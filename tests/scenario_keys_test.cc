@@ -12,6 +12,7 @@
 #include <string>
 
 #include "sim/core/data_paths.h"
+#include "sim/core/keys_command.h"
 #include "sim/core/scenario.h"
 #include "sim/core/scenario_keys.h"
 #include "plugin/base/error.h"
