@@ -10,9 +10,10 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "plugin/base/error.h"
+#include "plugin/base/numbers.h"
+#include "renders/frame_decor.h"
 #include "sim/core/simulation.h"
-#include "plugin/base/numbers.h"
-#include "plugin/base/numbers.h"
 
 namespace ipmc {
 namespace {
@@ -70,33 +71,16 @@ constexpr float kGridMinor[3] = {0.855f, 0.860f, 0.870f};
 constexpr float kGridMajor[3] = {0.700f, 0.715f, 0.735f};
 constexpr float kGhost[3] = {0.780f, 0.815f, 0.900f};
 constexpr float kClamp[3] = {0.20f, 0.20f, 0.24f};
-constexpr float kScaleBar[3] = {0.15f, 0.15f, 0.15f};
-// The overlay's panels: dark text on a light, opaque panel, legible over
-// any part of the scene. WCAG 2 contrast ratios (L1 + 0.05) / (L2 + 0.05)
-// with relative luminances from the sRGB values: text 16.3, labels 7.4
-// (tests/render_test.cc measures them on a frame).
-constexpr float kPanel[3] = {0.97f, 0.97f, 0.97f};
-constexpr float kPanelText[3] = {0.08f, 0.08f, 0.08f};
-constexpr float kPanelLabel[3] = {0.30f, 0.30f, 0.32f};
-// Trail colours per tip (tip1, tip2, tip3, then repeated); the oldest part
-// of a trail is this far from the background towards its colour.
-constexpr float kTrailColors[][3] = {
-    {0.95f, 0.60f, 0.05f}, {0.15f, 0.65f, 0.25f}, {0.85f, 0.15f, 0.15f}, {0.55f, 0.25f, 0.75f}};
+// The oldest part of a trail (colours: kTrailColors, renders/frame_decor.h)
+// is this far from the background towards its colour.
 constexpr float kTrailOldestStrength = 0.15f;
 // Trails: half their width relative to the body length (0.1 mm for 32 mm).
 constexpr double kTrailRadiusPerLength = 0.003;
-// Grid: 1 mm spacing unless that is closer than kMinGridSpacing_px or
-// wider than kMaxGridSpacing_px; line widths [px].
-constexpr double kPreferredGridSpacing_m = 1e-3;
-constexpr double kMinGridSpacing_px = 8.0;
-constexpr double kMaxGridSpacing_px = 80.0;
+// Grid (spacing: GridSpacing, renders/frame_decor.h): line widths [px].
 constexpr double kMinorLine_px = 1.0;
 constexpr double kMajorLine_px = 2.0;
 constexpr int kMaxGridLines = 400;
 constexpr int kMaxGhostPoints = 400;
-// Scale bar: thickness and margins from the image corner [px].
-constexpr int kScaleBarThickness_px = 4;
-constexpr int kScaleBarMargin_px = 16;
 
 std::string Size(int width, int height) {
   return std::to_string(width) + "x" + std::to_string(height);
@@ -152,38 +136,6 @@ void OnRayAtHeight(const double eye[3], double x, double y, double z, mjtNum out
   out[0] = eye[0] + (x - eye[0]) * s;
   out[1] = eye[1] + (y - eye[1]) * s;
   out[2] = z;
-}
-
-// The series 1, 2, 5 x 10^k [m]: the value at or above `at_least_m`.
-double NextInSeries(double at_least_m) {
-  const double decade = std::pow(10.0, std::floor(std::log10(at_least_m)));
-  for (double factor : {1.0, 2.0, 5.0}) {
-    if (factor * decade >= at_least_m * (1.0 - 1e-12)) return factor * decade;
-  }
-  return 10.0 * decade;
-}
-
-// The grid's minor spacing [m] for px_per_m: 1 mm while that is 8 to 80 px,
-// else the coarsest of 1, 2, 5 x 10^k above 8 px (or the finest below
-// 80 px); *major_every: 5, or 2 for 5 x 10^k.
-double GridSpacing(double px_per_m, int* major_every) {
-  double spacing = kPreferredGridSpacing_m;
-  if (spacing * px_per_m < kMinGridSpacing_px) {
-    spacing = NextInSeries(kMinGridSpacing_px / px_per_m);
-  } else if (spacing * px_per_m > kMaxGridSpacing_px) {
-    spacing = NextInSeries(kMaxGridSpacing_px / px_per_m);
-    if (spacing * px_per_m > kMaxGridSpacing_px) spacing = NextInSeries(0.45 * spacing);
-  }
-  const double leading = spacing / std::pow(10.0, std::floor(std::log10(spacing) + 1e-9));
-  *major_every = std::abs(leading - 5.0) < 1e-6 ? 2 : 5;
-  return spacing;
-}
-
-std::string FormatLength(double metres) {
-  char text[32];
-  const double mm = metres * 1e3;
-  std::snprintf(text, sizeof(text), mm >= 1.0 ? "%g mm" : "%g um", mm >= 1.0 ? mm : mm * 1e3);
-  return text;
 }
 
 }  // namespace
@@ -316,7 +268,7 @@ void OffscreenRenderer::ValidateCamera(const CameraSetup& cam) {
   const auto fail = [](const std::string& field, const std::string& range, double value) {
     std::ostringstream msg;
     msg << "renderer: camera " << field << " must be " << range << " (got " << value << ")";
-    throw std::invalid_argument(msg.str());
+    throw FieldError(msg.str(), field, range);
   };
   if (!(cam.body_fill > 0.0 && cam.body_fill <= 10.0)) fail("body_fill", "in (0, 10]", cam.body_fill);
   if (!(cam.view_width_m >= 0.0 && cam.view_width_m <= 10.0)) {
@@ -337,20 +289,23 @@ void OffscreenRenderer::ValidateCamera(const CameraSetup& cam) {
 OffscreenRenderer::OffscreenRenderer(const mjModel* m, int width, int height,
                                      RendererOptions options)
     : width_(width), height_(height), trail_length_(options.trail_length) {
-  if (!m) throw std::invalid_argument("renderer: no model");
+  if (!m) throw FieldError("renderer: no model", "model", "a model");
   CheckImageSize(m, width, height);
   if (trail_length_ < 0) {
-    throw std::invalid_argument("renderer: trail_length must be >= 0 (got " +
-                                std::to_string(trail_length_) + ")");
+    throw FieldError("renderer: trail_length must be >= 0 (got " + std::to_string(trail_length_) +
+                         ")",
+                     "trail_length", ">= 0");
   }
   if (options.strip_thickness_m &&
       !(*options.strip_thickness_m >= 0.0 && *options.strip_thickness_m <= kMaxStripThickness_m)) {
     std::ostringstream msg;
     msg << "renderer: strip_thickness_m must be in [0, 0.01] (got " << *options.strip_thickness_m
         << ")";
-    throw std::invalid_argument(msg.str());
+    throw FieldError(msg.str(), "strip_thickness_m", "in [0, 0.01]");
   }
-  if (m->nbody < 2) throw std::invalid_argument("renderer: the model has no body to follow");
+  if (m->nbody < 2) {
+    throw FieldError("renderer: the model has no body to follow", "model", "a model with a body");
+  }
 
   ModelPtr copy(mj_copyModel(nullptr, m));
   if (!copy) throw std::runtime_error("renderer: cannot copy the model");
@@ -413,14 +368,16 @@ OffscreenRenderer::~OffscreenRenderer() = default;
 
 void OffscreenRenderer::CheckImageSize(const mjModel* m, int width, int height) {
   if (width <= 0 || height <= 0) {
-    throw std::invalid_argument("renderer: image size must be positive (got " +
-                                Size(width, height) + ")");
+    throw FieldError("renderer: image size must be positive (got " + Size(width, height) + ")",
+                     width <= 0 ? "width" : "height", "> 0");
   }
   if (width > m->vis.global.offwidth || height > m->vis.global.offheight) {
-    throw std::invalid_argument(
+    throw FieldError(
         "renderer: image " + Size(width, height) + " exceeds the model's offscreen buffer " +
-        Size(m->vis.global.offwidth, m->vis.global.offheight) +
-        " (<visual><global offwidth offheight> in the MJCF)");
+            Size(m->vis.global.offwidth, m->vis.global.offheight) +
+            " (<visual><global offwidth offheight> in the MJCF)",
+        width > m->vis.global.offwidth ? "width" : "height",
+        "at most " + Size(m->vis.global.offwidth, m->vis.global.offheight));
   }
 }
 
@@ -492,7 +449,8 @@ std::vector<unsigned char> OffscreenRenderer::Frame(const mjData* d, const Frame
   mjModel* m = c.model.get();
   mjData* s = c.scratch.get();
   if (!d || d->nbuffer != s->nbuffer || d->nstack != s->nstack) {
-    throw std::invalid_argument("renderer: mjData does not belong to the rendered model");
+    throw FieldError("renderer: mjData does not belong to the rendered model", "data",
+                     "an mjData of the rendered model");
   }
   const CameraSetup& cam = setup.camera;
   ValidateCamera(cam);
@@ -561,7 +519,11 @@ std::vector<unsigned char> OffscreenRenderer::Frame(const mjData* d, const Frame
   }
   const mjrRect viewport = {0, 0, width_, height_};
   mjr_render(viewport, &c.scene.scn, &c.render.con);
-  DrawScaleBar(setup);
+  // The scale bar: top-down views only (elsewhere the scale varies across
+  // the image).
+  if (setup.grid && setup.camera.elevation_deg <= kMinElevation_deg + 1e-9) {
+    DrawScaleBar({&c.render.con, width_, height_}, PixelsPerMetre(setup.camera));
+  }
   DrawOverlay(setup);
   mjr_readPixels(c.pixels.data(), nullptr, viewport, &c.render.con);
 
@@ -656,7 +618,7 @@ void OffscreenRenderer::AddTrailGeoms(const double eye[3], double px_per_m) {
   Context& c = *context_;
   const Layers layers(body_half_height_m_, strip_thickness_m_, body_length_m_);
   for (size_t k = 0; k < trails_.size(); ++k) {
-    const float* color = kTrailColors[k % (sizeof(kTrailColors) / sizeof(kTrailColors[0]))];
+    const float* color = kTrailColors[k % kTrailColorCount];
     const std::vector<float>& ring = trails_[k];
     // Oldest to newest: segment j joins positions j and j + 1.
     const int oldest = (trail_next_ - trail_count_ + trail_length_) % trail_length_;
@@ -675,31 +637,6 @@ void OffscreenRenderer::AddTrailGeoms(const double eye[3], double px_per_m) {
       if (!c.AddDecorLine(shade, a, b, 2.0 * layers.trail_radius * px_per_m)) return;
     }
   }
-}
-
-// A bar one major grid spacing long at the bottom right with its length
-// above it; top-down views only (elsewhere the scale varies across the
-// image).
-void OffscreenRenderer::DrawScaleBar(const FrameSetup& setup) {
-  if (!setup.grid || setup.camera.elevation_deg > kMinElevation_deg + 1e-9) return;
-  const double px_per_m = PixelsPerMetre(setup.camera);
-  int major_every = 5;
-  const double spacing = GridSpacing(px_per_m, &major_every);
-  const double bar_m = spacing * major_every;
-  const int length_px = static_cast<int>(std::lround(bar_m * px_per_m));
-  if (length_px + 2 * kScaleBarMargin_px > width_) return;
-  const mjrRect bar = {width_ - kScaleBarMargin_px - length_px, kScaleBarMargin_px, length_px,
-                       kScaleBarThickness_px};
-  // The label first: mjr_text places it relative to the current viewport,
-  // which is still the whole image here (mjr_rectangle makes it the bar).
-  const mjrContext& con = context_->render.con;
-  const std::string label = FormatLength(bar_m);
-  int text_px = 0;
-  for (unsigned char ch : label) text_px += ch < 127 ? con.charWidth[ch] : 0;
-  const float x = static_cast<float>(bar.left + (length_px - text_px) / 2) / width_;
-  const float y = static_cast<float>(bar.bottom + bar.height + 4) / height_;
-  mjr_text(mjFONT_NORMAL, label.c_str(), &con, x, y, kScaleBar[0], kScaleBar[1], kScaleBar[2]);
-  mjr_rectangle(bar, kScaleBar[0], kScaleBar[1], kScaleBar[2], 1.0f);
 }
 
 void OffscreenRenderer::DrawOverlay(const FrameSetup& setup) {
@@ -722,111 +659,9 @@ void OffscreenRenderer::DrawOverlay(const FrameSetup& setup) {
   std::snprintf(buffer, sizeof(buffer), "%+.4f mm along, %+.4f mm across", -dx_mm + 0.0,
                 dy_mm + 0.0);
   rows.push_back({"net displacement", buffer});
-  DrawTable(rows);
-  DrawLegend(setup);
-}
-
-int OffscreenRenderer::TextWidth_px(const std::string& text) const {
-  const mjrContext& con = context_->render.con;
-  int width = 0;
-  for (unsigned char ch : text) width += ch < 127 ? con.charWidth[ch] : 0;
-  return width;
-}
-
-// Text whose box starts at pixel (x, y from the bottom) of the image.
-void OffscreenRenderer::DrawText(const std::string& text, int x_px, int y_px,
-                                 const float rgb[3]) const {
-  // mjr_text places the text in the current viewport, which mjr_rectangle
-  // leaves on the last rectangle: back to the whole image.
-  glViewport(0, 0, width_, height_);
-  mjr_text(mjFONT_NORMAL, text.c_str(), &context_->render.con, static_cast<float>(x_px) / width_,
-           static_cast<float>(y_px) / height_, rgb[0], rgb[1], rgb[2]);
-}
-
-// The rows in a light panel at the top left: labels in one column, values
-// in the next, dark on light (contrast ratio kPanelContrast or more).
-void OffscreenRenderer::DrawTable(const std::vector<std::array<std::string, 2>>& rows) {
-  const int line = overlay_line_height_px();
-  int label_px = 0, value_px = 0;
-  for (const auto& row : rows) {
-    label_px = std::max(label_px, TextWidth_px(row[0]));
-    value_px = std::max(value_px, TextWidth_px(row[1]));
-  }
-  const int pad = line / 2;
-  const int panel_w = std::min(width_, 3 * pad + label_px + value_px + pad);
-  const int panel_h = std::min(height_, static_cast<int>(rows.size()) * line + 2 * pad);
-  const mjrRect panel = {0, height_ - panel_h, panel_w, panel_h};
-  mjr_rectangle(panel, kPanel[0], kPanel[1], kPanel[2], 1.0f);
-  for (size_t k = 0; k < rows.size(); ++k) {
-    // mjr_text's y is the bottom of the text's box.
-    const int y = height_ - pad - static_cast<int>(k + 1) * line;
-    DrawText(rows[k][0], pad, y, kPanelLabel);
-    DrawText(rows[k][1], 2 * pad + label_px + pad, y, kPanelText);
-  }
-}
-
-// A light panel at the bottom left: an arrow in the direction the body
-// swims when it goes "+ along" (world -x, as seen by the camera), and the
-// colour of each tip's trail.
-void OffscreenRenderer::DrawLegend(const FrameSetup& setup) {
-  const int line = overlay_line_height_px();
-  const int pad = line / 2;
-  const int arrow_px = 3 * line;
-  const int trails = trail_length_ > 1 ? static_cast<int>(tip_sites_.size()) : 0;
-  const std::string along = "+ along";
-  int text_px = TextWidth_px(along);
-  for (int k = 0; k < trails; ++k) text_px = std::max(text_px, TextWidth_px(TipTrailLabel(k)));
-  const int panel_w = 3 * pad + arrow_px + text_px;
-  const int panel_h = (1 + trails) * line + 2 * pad;
-  if (panel_w > width_ / 2 || panel_h > height_ / 2) return;
-  mjr_rectangle({0, 0, panel_w, panel_h}, kPanel[0], kPanel[1], kPanel[2], 1.0f);
-
-  // The screen direction of world -x: its components on the camera's
-  // right and up vectors, as MuJoCo's free camera sets them from azimuth
-  // and elevation (up = d forward / d elevation, right = forward x up).
-  const mjvCamera& camera = context_->camera;
-  const double el = camera.elevation * kDegToRad, az = camera.azimuth * kDegToRad;
-  const double forward[3] = {std::cos(el) * std::cos(az), std::cos(el) * std::sin(az),
-                             std::sin(el)};
-  const double up[3] = {-std::sin(el) * std::cos(az), -std::sin(el) * std::sin(az), std::cos(el)};
-  const double right_x = forward[1] * up[2] - forward[2] * up[1];
-  const double norm = std::hypot(right_x, up[0]);
-  // (none when the camera looks along the swimming axis)
-  const double dir_x = norm > 1e-6 ? -right_x / norm : 0.0;
-  const double dir_y = norm > 1e-6 ? -up[0] / norm : 0.0;
-  const int row0 = pad + trails * line;  // bottom of the arrow's row
-  const double cx = pad + 0.5 * arrow_px, cy = row0 + 0.5 * line;
-  const double half = 0.5 * (arrow_px - 4);
-  const int dot = std::max(2, line / 8);
-  // Shaft and head as small squares (mjr_rectangle is all GL offers here).
-  const auto square = [&](double x, double y) {
-    mjr_rectangle({static_cast<int>(std::lround(x - 0.5 * dot)),
-                   static_cast<int>(std::lround(y - 0.5 * dot)), dot, dot},
-                  kPanelText[0], kPanelText[1], kPanelText[2], 1.0f);
-  };
-  const double tip_x = cx + half * dir_x, tip_y = cy + half * dir_y;
-  const double head = 0.35 * arrow_px;
-  if (norm > 1e-6) {
-    for (double t = -half; t <= half; t += 0.5 * dot) square(cx + t * dir_x, cy + t * dir_y);
-    for (const double angle : {kPi * 5.0 / 6.0, -kPi * 5.0 / 6.0}) {
-      const double hx = dir_x * std::cos(angle) - dir_y * std::sin(angle);
-      const double hy = dir_x * std::sin(angle) + dir_y * std::cos(angle);
-      for (double t = 0.0; t <= head; t += 0.5 * dot) square(tip_x + t * hx, tip_y + t * hy);
-    }
-  }
-  const int text_x = 2 * pad + arrow_px;
-  DrawText(along, text_x, row0 + (line - context_->render.con.charHeight) / 2, kPanelText);
-  for (int k = 0; k < trails; ++k) {
-    const float* color = kTrailColors[k % (sizeof(kTrailColors) / sizeof(kTrailColors[0]))];
-    const int y = pad + (trails - 1 - k) * line;
-    mjr_rectangle({pad, y + line / 4, arrow_px, line / 2}, color[0], color[1], color[2], 1.0f);
-    DrawText(TipTrailLabel(k), text_x, y + (line - context_->render.con.charHeight) / 2,
-             kPanelText);
-  }
-}
-
-std::string OffscreenRenderer::TipTrailLabel(int k) const {
-  return "tip " + std::to_string(k + 1) + " trail";
+  const DecorCanvas canvas{&context_->render.con, width_, height_};
+  DrawTable(canvas, rows);
+  DrawLegend(canvas, context_->camera, trail_length_ > 1 ? static_cast<int>(tip_sites_.size()) : 0);
 }
 
 }  // namespace ipmc

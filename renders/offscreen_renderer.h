@@ -114,8 +114,8 @@ class OffscreenRenderer {
  public:
   // Copies m and creates the OSMesa and MuJoCo contexts. width and height
   // must be positive and fit the model's offscreen buffer
-  // (<visual><global offwidth offheight>); throws std::invalid_argument
-  // naming the limit otherwise, std::runtime_error if OSMesa or MuJoCo
+  // (<visual><global offwidth offheight>); throws FieldError naming the
+  // field (width, height, trail_length, strip_thickness_m) otherwise, std::runtime_error if OSMesa or MuJoCo
   // cannot provide an offscreen buffer.
   OffscreenRenderer(const mjModel* m, int width, int height, RendererOptions options = {});
   ~OffscreenRenderer();
@@ -123,7 +123,7 @@ class OffscreenRenderer {
   OffscreenRenderer& operator=(const OffscreenRenderer&) = delete;
 
   // Renders the state of d (data of the model given to the constructor, or
-  // of a model of identical sizes; std::invalid_argument otherwise). Only
+  // of a model of identical sizes; FieldError "data" otherwise). Only
   // d->qpos, the mocap poses and d->time are read: the kinematics are
   // recomputed on a private copy, so the picture matches d->qpos even right
   // after mj_step. Appends the tip positions to the trails.
@@ -137,14 +137,14 @@ class OffscreenRenderer {
   std::array<double, 4> DrawnBounds(const mjData* d);
   // Height of one overlay text line [px].
   int overlay_line_height_px() const;
-  // Throws std::invalid_argument naming the limit unless width x height is
-  // positive and fits m's offscreen buffer.
+  // Throws FieldError ("width" or "height") naming the limit unless
+  // width x height is positive and fits m's offscreen buffer.
   static void CheckImageSize(const mjModel* m, int width, int height);
 
   // Image pixels per metre at the camera's look-at point.
   double PixelsPerMetre(const CameraSetup& camera) const;
-  // Throws std::invalid_argument naming the field if a camera value is out
-  // of range.
+  // Throws FieldError naming the field (body_fill, elevation_deg, ...) if
+  // a camera value is out of range.
   static void ValidateCamera(const CameraSetup& camera);
 
   int width() const { return width_; }
@@ -162,13 +162,8 @@ class OffscreenRenderer {
   void AddBackgroundAndGrid(const double eye[3], double px_per_m);
   void AddGhost(const FrameSetup& setup, const double eye[3]);
   void AddTrailGeoms(const double eye[3], double px_per_m);
-  void DrawScaleBar(const FrameSetup& setup);
+  // The overlay: its rows and the legend (renders/frame_decor.h).
   void DrawOverlay(const FrameSetup& setup);
-  void DrawTable(const std::vector<std::array<std::string, 2>>& rows);
-  void DrawLegend(const FrameSetup& setup);
-  void DrawText(const std::string& text, int x_px, int y_px, const float rgb[3]) const;
-  int TextWidth_px(const std::string& text) const;
-  std::string TipTrailLabel(int k) const;
 
   int width_, height_;
   double body_length_m_ = 0.0;

@@ -170,9 +170,9 @@ void FilmConfig::Validate() const {
 void CheckFilmFits(const mjModel* m, const FilmConfig& config) {
   try {
     OffscreenRenderer::CheckImageSize(m, config.width, config.height);
-  } catch (const std::invalid_argument& error) {
-    throw FieldError(std::string("video: width_px/height_px: ") + error.what(), "width_px",
-                     "at most the model's offscreen buffer");
+  } catch (const FieldError& error) {
+    throw FieldError(std::string("video: width_px/height_px: ") + error.what(),
+                     error.field() == "height" ? "height_px" : "width_px", error.allowed());
   }
 }
 
@@ -180,14 +180,16 @@ FilmSummary FilmRun(const FilmedRun& run, const FilmConfig& config, const std::s
                     const FilmProgress& progress) {
   config.Validate();
   if (!run.model || !run.states || run.states->empty()) {
-    throw std::invalid_argument("video: no recorded states to film");
+    throw FieldError("video: no recorded states to film", "states", "recorded states");
   }
   const mjModel* m = run.model;
   if (static_cast<int>(run.states->columns.size()) != m->nq) {
-    throw std::invalid_argument("video: the recorded states do not match the model");
+    throw FieldError("video: the recorded states do not match the model", "states",
+                     "one column per qpos of the model");
   }
   if (!(run.period_s > 0.0) || run.cycles < 1) {
-    throw std::invalid_argument("video: the run has no wave period or no cycle");
+    throw FieldError("video: the run has no wave period or no cycle",
+                     run.period_s > 0.0 ? "cycles" : "period_s", "period_s > 0 and cycles >= 1");
   }
   CheckFilmFits(m, config);
   const int first_cycle = config.start_cycle;
@@ -371,8 +373,9 @@ RunRecording LoadRunRecording(const std::string& dir) {
   const std::string states_path = (std::filesystem::path(dir) / "states.csv").string();
   for (const std::string& path : {summary_path, states_path}) {
     if (!std::filesystem::is_regular_file(path)) {
-      throw std::runtime_error(dir + ": not a run's output directory (no " +
-                               std::filesystem::path(path).filename().string() + ")");
+      const std::string name = std::filesystem::path(path).filename().string();
+      throw InputError(InputProblem::kMissing, {dir}, name,
+                       "not a run's output directory (no " + name + ")");
     }
   }
   nlohmann::json summary;
@@ -380,11 +383,11 @@ RunRecording LoadRunRecording(const std::string& dir) {
     std::ifstream in(summary_path);
     summary = nlohmann::json::parse(in);
   } catch (const nlohmann::json::exception& error) {
-    throw std::runtime_error(summary_path + ": " + error.what());
+    throw InputError(InputProblem::kSyntax, {summary_path}, "", error.what());
   }
   const auto field = [&](const nlohmann::json& object, const char* key, const std::string& name) {
     if (!object.is_object() || !object.contains(key)) {
-      throw std::runtime_error(summary_path + ": no field " + name);
+      throw InputError(InputProblem::kMissing, {summary_path}, name, "no field " + name);
     }
     return object.at(key);
   };

@@ -117,8 +117,8 @@ struct RunRecording {
   FilmedRun View() const;  // points into this recording
 };
 
-// Throws std::runtime_error naming the directory and the missing file or
-// field.
+// Throws InputError (a std::runtime_error) naming the directory and the
+// missing file, or summary.json and the missing field.
 RunRecording LoadRunRecording(const std::string& dir);
 
 // Throws FieldError naming width_px/height_px and the model's
@@ -126,8 +126,9 @@ RunRecording LoadRunRecording(const std::string& dir);
 // long run does not end in this error).
 void CheckFilmFits(const mjModel* m, const FilmConfig& config);
 
-// Films `run` into out_path. Throws std::invalid_argument for bad options
-// (naming them) or cycles the run does not have, std::runtime_error naming
+// Films `run` into out_path. Throws FieldError naming the field for bad
+// options (FilmConfig's) or cycles the run does not have, for a run without
+// states ("states") or period ("period_s", "cycles"), std::runtime_error naming
 // the file if it cannot be written; nothing is left behind then.
 FilmSummary FilmRun(const FilmedRun& run, const FilmConfig& config, const std::string& out_path,
                     const FilmProgress& progress = {});

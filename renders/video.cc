@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "plugin/base/error.h"
 #include "sim/io/files.h"
 #include "sim/io/process.h"
 
@@ -32,9 +33,10 @@ void CheckFrameSize(const std::vector<unsigned char>& rgb, int width, int height
                     const std::string& what) {
   const size_t expected = static_cast<size_t>(width) * height * 3;
   if (rgb.size() != expected) {
-    throw std::invalid_argument(what + ": frame has " + std::to_string(rgb.size()) +
-                                " bytes, expected " + std::to_string(width) + "x" +
-                                std::to_string(height) + "x3 = " + std::to_string(expected));
+    throw FieldError(what + ": frame has " + std::to_string(rgb.size()) + " bytes, expected " +
+                         std::to_string(width) + "x" + std::to_string(height) + "x3 = " +
+                         std::to_string(expected),
+                     "rgb", "width x height x 3 bytes");
   }
 }
 
@@ -86,7 +88,9 @@ bool IsCompleteMp4(const std::string& path) {
 void WritePng(const std::string& path, const std::vector<unsigned char>& rgb, int width,
               int height) {
   if (width <= 0 || height <= 0) {
-    throw std::invalid_argument(path + ": image size must be positive");
+    throw FieldError(path + ": image size must be positive (got " + std::to_string(width) + "x" +
+                         std::to_string(height) + ")",
+                     width <= 0 ? "width" : "height", "> 0");
   }
   CheckFrameSize(rgb, width, height, path);
   std::string png;
@@ -99,13 +103,14 @@ void WritePng(const std::string& path, const std::vector<unsigned char>& rgb, in
 Mp4Writer::Mp4Writer(const std::string& path, int width, int height, double fps)
     : path_(path), output_(path, ".tmp.mp4"), width_(width), height_(height) {
   if (width <= 0 || height <= 0 || width % 2 != 0 || height % 2 != 0) {
-    throw std::invalid_argument(path + ": video size must be positive and even for yuv420p (got " +
-                                std::to_string(width) + "x" + std::to_string(height) + ")");
+    throw FieldError(path + ": video size must be positive and even for yuv420p (got " +
+                         std::to_string(width) + "x" + std::to_string(height) + ")",
+                     width <= 0 || width % 2 != 0 ? "width" : "height", "even and > 0");
   }
   if (!(fps > 0.0 && fps <= 1000.0)) {
     std::ostringstream msg;
     msg << path << ": frame rate must be in (0, 1000] fps (got " << fps << ")";
-    throw std::invalid_argument(msg.str());
+    throw FieldError(msg.str(), "fps", "in (0, 1000]");
   }
   std::string log = path + ".ffmpeg.XXXXXX";
   const int fd = mkstemp(log.data());

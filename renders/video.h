@@ -17,8 +17,8 @@
 
 namespace ipmc {
 
-// Encodes rgb as a PNG file at path. Throws std::invalid_argument if rgb is
-// not width x height x 3 bytes, std::runtime_error naming the path if it
+// Encodes rgb as a PNG file at path. Throws FieldError ("width", "height",
+// "rgb") for a non-positive size or rgb not width x height x 3 bytes, std::runtime_error naming the path if it
 // cannot be written.
 void WritePng(const std::string& path, const std::vector<unsigned char>& rgb, int width,
               int height);
@@ -34,8 +34,8 @@ void WritePng(const std::string& path, const std::vector<unsigned char>& rgb, in
 // quantisation), which matters for filming alongside a run.
 class Mp4Writer {
  public:
-  // Starts ffmpeg. Throws std::invalid_argument for an odd or non-positive
-  // size or fps <= 0, std::runtime_error naming the file if ffmpeg cannot
+  // Starts ffmpeg. Throws FieldError ("width", "height", "fps") for an odd
+  // or non-positive size or fps outside (0, 1000], std::runtime_error naming the file if ffmpeg cannot
   // be started.
   Mp4Writer(const std::string& path, int width, int height, double fps);
   // Without a successful Finish(): stops ffmpeg and removes the temporary
@@ -44,7 +44,7 @@ class Mp4Writer {
   Mp4Writer(const Mp4Writer&) = delete;
   Mp4Writer& operator=(const Mp4Writer&) = delete;
 
-  // Throws std::invalid_argument for a wrong frame size, std::runtime_error
+  // Throws FieldError ("rgb") for a wrong frame size, std::runtime_error
   // naming the file (and ffmpeg's last message) if ffmpeg stopped.
   void AddFrame(const std::vector<unsigned char>& rgb);
   // Waits for ffmpeg and renames the video into place. Throws

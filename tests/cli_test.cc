@@ -166,7 +166,7 @@ TEST(CliTest, BenchSineWritesTheLaserRecord) {
 TEST(CliTest, BenchNonFiniteVoltage) {
   const fs::path dir = FreshDir("bench_nan");
   ExpectOneLineError(RunCli("bench --amplitude-v nan --out " + (dir / "bench.csv").string()),
-                     "amplitude_V must be finite", dir);
+                     "--amplitude-v must be finite", dir);
   EXPECT_FALSE(fs::exists(dir / "bench.csv"));
 }
 

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "sim/core/data_paths.h"
+#include "sim/core/keys_command.h"
 #include "sim/core/scenario.h"
 #include "sim/core/scenario_keys.h"
 #include "plugin/base/error.h"
@@ -147,7 +148,8 @@ TEST(ScenarioKeysTest, TheReaderAllowsExactlyTheTablesKeys) {
   for (const std::string& name : ScenarioKeysUnder("")) {
     if (!ScenarioKeysUnder(name).empty()) tables.push_back(name);
   }
-  EXPECT_EQ(tables.size(), 6u);  // the top level, controller, waveform, fluid, metrics, output
+  // The top level, controller, waveform, fluid, metrics, electrical, output.
+  EXPECT_EQ(tables.size(), 7u);
   for (const std::string& table : tables) {
     SCOPED_TRACE(table);
     const std::string unknown = table.empty() ? "speed" : table + ".speed";

@@ -12,6 +12,7 @@
 
 #include "controllers/pid.h"
 #include "plugin/base/error.h"
+#include "tests/test_util.h"
 
 namespace ipmc {
 namespace {
@@ -38,15 +39,7 @@ class ScenarioErrorTest : public ::testing::Test {
 
   // The message of the error `text` raises, or "" (with a failure).
   std::string ErrorOf(const std::string& text) const {
-    try {
-      Parse(text);
-    } catch (const std::runtime_error& error) {
-      const std::string message = error.what();
-      EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-      return message;
-    }
-    ADD_FAILURE() << "no error for:\n" << text;
-    return "";
+    return ipmc::testing::OneLineErrorOf([&] { Parse(text); }, text);
   }
 
   // Fails unless `text` raises exactly source + `suffix`.
@@ -191,7 +184,7 @@ TEST_F(ScenarioErrorTest, SyntaxErrorsGiveLineAndColumn) {
 TEST_F(ScenarioErrorTest, UnknownKeysNameTheKeyAndTheAllowedOnes) {
   ExpectError(std::string(kModelLine) + "cycles = 3\n\n\n\n\ncontroler = 1\n",
               ":7: unknown key 'controler' (allowed: model, link_lengths_mm, segments_per_link, plants, actuation, dynamics, hinge_damping_scale, cycles, timestep_s, "
-              "controller, waveform, fluid, metrics, output)");
+              "controller, waveform, fluid, metrics, electrical, output)");
   ExpectError(
       std::string(kModelLine) + "[controller]\nkp = 1.0\nkpp = 2.0\n",
       ":4: unknown key 'controller.kpp' (allowed: kind, sample_rate_Hz, v_max_V, clamp, kp, "
@@ -209,7 +202,7 @@ TEST_F(ScenarioErrorTest, UnknownKeysNameTheKeyAndTheAllowedOnes) {
   // The earliest of several.
   ExpectError(std::string(kModelLine) + "zz = 1\naa = 2\n",
               ":2: unknown key 'zz' (allowed: model, link_lengths_mm, segments_per_link, plants, actuation, dynamics, hinge_damping_scale, cycles, timestep_s, controller, "
-              "waveform, fluid, metrics, output)");
+              "waveform, fluid, metrics, electrical, output)");
   // Dotted keys are walked like tables.
   ExpectError(
       std::string(kModelLine) + "controller.kq = 1\n",

@@ -72,7 +72,7 @@ TEST(StepCountTest, CommandsRefuseRunsWithoutStepsAndLeaveNoOutput) {
   }
   const CommandResult bench = RunCli("bench --duration-s 1e300 --out " + (dir / "b.csv").string());
   EXPECT_NE(bench.exit_code, 0) << bench.output;
-  EXPECT_NE(bench.output.find("bench: the experiment (duration_s)"), std::string::npos) << bench.output;
+  EXPECT_NE(bench.output.find("bench: the experiment (--duration-s)"), std::string::npos) << bench.output;
   EXPECT_FALSE(fs::exists(dir / "b.csv"));
   fs::remove_all(dir);
 }

@@ -22,6 +22,7 @@
 #include "sim/runs/closed_loop_run.h"
 #include "sim/cli/sweep_command.h"
 #include "tests/cli_util.h"
+#include "tests/test_util.h"
 
 namespace ipmc {
 namespace {
@@ -63,15 +64,7 @@ class SweepTest : public ::testing::Test {
 
   // The message of the error `text` raises, or "" (with a failure).
   std::string ErrorOf(const std::string& text) const {
-    try {
-      Parse(text);
-    } catch (const std::runtime_error& error) {
-      const std::string message = error.what();
-      EXPECT_EQ(message.find('\n'), std::string::npos) << message;
-      return message;
-    }
-    ADD_FAILURE() << "no error for:\n" << text;
-    return "";
+    return ipmc::testing::OneLineErrorOf([&] { Parse(text); }, text);
   }
 
   // Runs `ipmc-swim ARGS` through the sweep commands alone.
@@ -221,7 +214,7 @@ TEST_F(SweepTest, TableDoesNotDependOnJobsAndHoldsTheRunsNumbersExactly) {
 
   ASSERT_EQ(one.rows.size(), 8u);
   const std::vector<std::string>& columns = one.columns;
-  EXPECT_EQ(columns.size(), 1 + 3 + 2 + 3 * 5 + 10u);
+  EXPECT_EQ(columns.size(), 1 + 3 + 2 + 3 * 5 + 12u);
   auto column = [&](const std::string& name) {
     const auto it = std::find(columns.begin(), columns.end(), name);
     EXPECT_NE(it, columns.end()) << name;
@@ -412,7 +405,7 @@ TEST_F(SweepTest, BadSweepFilesGiveOneLineErrorsBeforeAnyRun) {
        "c2_um_per_mm2, c_um, alpha, frequency_Hz, wavelength_mm, start_ramp_cycles)"},
       {"base = \"fast.toml\"\n[grid]\nspeed = [1]\n",
        ":3: unknown key 'speed' (allowed: model, link_lengths_mm, segments_per_link, plants, actuation, dynamics, hinge_damping_scale, cycles, timestep_s, controller, "
-       "waveform, fluid, metrics, output)"},
+       "waveform, fluid, metrics, electrical, output)"},
       {"base = \"fast.toml\"\n[grid]\nactuation = [\"single\"]\ncycles = [1, 1.5]\n",
        ":4: cycles must be an integer (got float)"},
       {"base = \"fast.toml\"\n[[point]]\ncycles = 1\n[[point]]\ncontroller.kp = \"8\"\n",

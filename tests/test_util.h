@@ -56,6 +56,21 @@ inline void ExpectInvalidArgument(const std::function<void()>& statement,
   ExpectThrowMentioning<std::invalid_argument>(statement, field);
 }
 
+// The one-line message of the std::runtime_error that `statement` throws,
+// or "" (with a failure) if it throws none; `given` is what it was given.
+inline std::string OneLineErrorOf(const std::function<void()>& statement,
+                                  const std::string& given) {
+  try {
+    statement();
+  } catch (const std::runtime_error& error) {
+    const std::string message = error.what();
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+    return message;
+  }
+  ADD_FAILURE() << "no error for:\n" << given;
+  return "";
+}
+
 // Fails a test on any MuJoCo warning (mju_warning: the engine's and the
 // coupling's) that the test did not declare with ExpectWarning. The
 // collector is mju_user_warning while the test runs (the previous handler

@@ -105,7 +105,8 @@ std::vector<std::string> RunPoint(const SweepPlan& plan, const SweepPoint& point
          {last_cycle, swim.mean_speed_along_mm_s, swim.reynolds_tip, swim.reynolds_swim,
           energy.actuator_power_W_total, energy.fluid_power_W, energy.hinge_damping_power_W,
           energy.stepping_power_W,
-          energy.lighthill_efficiency, energy.cost_of_transport_J_m}) {
+          energy.lighthill_efficiency, energy.cost_of_transport_J_m,
+          energy.electrical_power_W_total, energy.electromechanical_efficiency}) {
       row.push_back(FormatShortest(value));
     }
   } else {

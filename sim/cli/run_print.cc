@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "sim/io/columns.h"
 
@@ -28,6 +29,21 @@ void PrintMetricCycles(const SwimMetrics& swim) {
               swim.from_cycle, swim.per_cycle.size(), swim.from_cycle);
 }
 
+namespace {
+
+// "link 1 P1 W, link 2 P2 W, ..."
+std::string LinkPowers(const std::vector<double>& power_W) {
+  std::string links;
+  for (size_t q = 0; q < power_W.size(); ++q) {
+    char part[64];
+    std::snprintf(part, sizeof(part), "%slink %zu %.4g W", q == 0 ? "" : ", ", q + 1, power_W[q]);
+    links += part;
+  }
+  return links;
+}
+
+}  // namespace
+
 void PrintEnergy(const EnergyMetrics& energy) {
   std::printf("%5s %16s %14s %21s %16s %16s %20s %21s\n", "cycle", columns::kActuatorPower,
               columns::kFluidPower, columns::kHingeDampingPower, columns::kSteppingPower,
@@ -40,13 +56,7 @@ void PrintEnergy(const EnergyMetrics& energy) {
                 c.stepping_power_W,
                 c.elastic_energy_J, c.lighthill_efficiency, c.cost_of_transport_J_m);
   }
-  std::string links;
-  for (size_t q = 0; q < energy.actuator_power_W.size(); ++q) {
-    char part[64];
-    std::snprintf(part, sizeof(part), "%slink %zu %.4g W", q == 0 ? "" : ", ", q + 1,
-                  energy.actuator_power_W[q]);
-    links += part;
-  }
+  const std::string links = LinkPowers(energy.actuator_power_W);
   std::printf("mean power over cycles %d-%zu: actuators %.6g W (%s), fluid %.6g W, hinge "
               "damping %.6g W, time stepping %.6g W\n",
               energy.from_cycle, energy.per_cycle.size(), energy.actuator_power_W_total,
@@ -55,6 +65,19 @@ void PrintEnergy(const EnergyMetrics& energy) {
   std::printf("Lighthill efficiency %.6g, cost of transport %.6g J/m, hinges' elastic energy "
               "%.6g J\n",
               energy.lighthill_efficiency, energy.cost_of_transport_J_m, energy.elastic_energy_J);
+  if (!energy.electrical) return;
+  std::printf("%5s %18s %28s\n", "cycle", columns::kElectricalPower,
+              columns::kElectromechanicalEfficiency);
+  for (size_t k = 0; k < energy.per_cycle.size(); ++k) {
+    const EnergyCycle& c = energy.per_cycle[k];
+    std::printf("%5zu %18.6g %28.6g\n", k + 1, c.electrical_power_W_total,
+                c.electromechanical_efficiency);
+  }
+  const std::string electrical_links = LinkPowers(energy.electrical_power_W);
+  std::printf("mean electrical power over cycles %d-%zu: %.6g W (%s), electromechanical "
+              "efficiency %.6g\n",
+              energy.from_cycle, energy.per_cycle.size(), energy.electrical_power_W_total,
+              electrical_links.c_str(), energy.electromechanical_efficiency);
 }
 
 void PrintWritten(const std::string& dir, const RunFileFormats& formats) {

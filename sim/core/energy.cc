@@ -24,6 +24,11 @@ EnergyPowers MeanPowers(const std::vector<EnergyCycle>& cycles, size_t from, siz
     mean.fluid_power_W += c.fluid_power_W / n;
     mean.hinge_damping_power_W += c.hinge_damping_power_W / n;
     mean.stepping_power_W += c.stepping_power_W / n;
+    mean.electrical_power_W.resize(c.electrical_power_W.size(), 0.0);
+    for (size_t q = 0; q < c.electrical_power_W.size(); ++q) {
+      mean.electrical_power_W[q] += c.electrical_power_W[q] / n;
+    }
+    mean.electrical_power_W_total += c.electrical_power_W_total / n;
   }
   return mean;
 }
@@ -38,6 +43,11 @@ double CostOfTransport_J_m(double power_W, double speed_m_s) {
   return speed_m_s != 0 ? power_W / std::abs(speed_m_s)
                         : std::numeric_limits<double>::infinity();
 }
+// Mechanical over electrical power, 0 without electrical power.
+double ElectromechanicalEfficiency(const EnergyPowers& p) {
+  return p.electrical_power_W_total > 0 ? p.actuator_power_W_total / p.electrical_power_W_total
+                                        : 0.0;
+}
 
 }  // namespace
 
@@ -50,6 +60,7 @@ EnergyMeter::EnergyMeter(const mjModel* m, const mjData* d) {
       link_dofs_.push_back(dofs);
     }
   }
+  if (coupling && coupling->actuators) actuators_ = &*coupling->actuators;
   if (coupling && coupling->drag) {
     drag_ = coupling->fluid.get();
     towing_drag_N_per_m_s_ = drag_->TowingDrag_N(1.0);
@@ -59,6 +70,19 @@ EnergyMeter::EnergyMeter(const mjModel* m, const mjData* d) {
   actuator_J_.assign(link_dofs_.size(), 0.0);
   scratch_.assign(m->nv, 0.0);
   cycle_start_stored_J_ = StoredEnergy_J(m, d);
+}
+
+void EnergyMeter::MeasureElectrical(const ElectricalConfig& config,
+                                    const std::vector<double>& link_lengths_mm) {
+  impedances_.clear();
+  electrical_J_.clear();
+  if (!config.enabled) return;
+  config.Validate();
+  for (size_t q = 0; q < link_dofs_.size() && q < link_lengths_mm.size(); ++q) {
+    const double area_m2 = link_lengths_mm[q] * kMmToM * config.electrode_width_mm * kMmToM;
+    impedances_.push_back(IpmcImpedance::ForArea(config, area_m2));
+  }
+  electrical_J_.assign(impedances_.size(), 0.0);
 }
 
 double EnergyMeter::ElasticEnergy_J(const mjModel* m, const mjData* d) {
@@ -101,6 +125,10 @@ void EnergyMeter::Observe(const mjModel* m, const mjData* d) {
   stepping_J_ += h * stepping_sign_ * spring_h_W;
   if (drag_) fluid_J_ += h * drag_->DissipatedPower_W(m, d);
   elastic_J_s_ += h * ElasticEnergy_J(m, d);
+  // The voltage set before the step was held over it.
+  for (size_t q = 0; q < impedances_.size() && actuators_; ++q) {
+    electrical_J_[q] += impedances_[q].Hold(actuators_->Voltages_V()[q], h).input_J;
+  }
   time_s_ += h;
 }
 
@@ -112,6 +140,12 @@ void EnergyMeter::EndCycle(const mjModel* m, const mjData* d) {
     cycle.actuator_power_W_total += energy_J / duration_s;
     energy_J = 0.0;
   }
+  for (double& energy_J : electrical_J_) {
+    cycle.electrical_power_W.push_back(energy_J / duration_s);
+    cycle.electrical_power_W_total += energy_J / duration_s;
+    energy_J = 0.0;
+  }
+  cycle.electromechanical_efficiency = ElectromechanicalEfficiency(cycle);
   cycle.fluid_power_W = fluid_J_ / duration_s;
   cycle.hinge_damping_power_W = damping_J_ / duration_s;
   cycle.stepping_power_W = stepping_J_ / duration_s;
@@ -143,6 +177,8 @@ EnergyMetrics EnergyMeter::Finish(const SwimMetrics& swim, double period_s, int 
   metrics.lighthill_efficiency =
       LighthillEfficiency(metrics.towing_drag_N, speed_m_s, metrics.fluid_power_W);
   metrics.cost_of_transport_J_m = CostOfTransport_J_m(metrics.actuator_power_W_total, speed_m_s);
+  metrics.electrical = !impedances_.empty();
+  metrics.electromechanical_efficiency = ElectromechanicalEfficiency(metrics);
   return metrics;
 }
 

@@ -33,6 +33,11 @@
 //                           "Mathematical Biofluiddynamics", ch. 3)
 //   cost of transport       P_actuators / |U| [J/m], the actuators' work
 //                           per distance swum
+// With the electrical model on (MeasureElectrical, sim/core/electrical.h),
+// also each link's electrical power <V I>, the voltage the step held (the
+// controller's clamped output) integrated exactly over the step through
+// the link's R_s + (R_p || C), and
+//   electromechanical efficiency  P_actuators / P_electrical
 #pragma once
 
 #include <mujoco/mujoco.h>
@@ -41,9 +46,12 @@
 
 #include "plugin/fluid/fluid_model.h"
 #include "plugin/fluid/rft_drag.h"
+#include "sim/core/electrical.h"
 #include "sim/core/swim_meter.h"
 
 namespace ipmc {
+
+class IpmcActuators;
 
 // Mean powers over one cycle or over several [W].
 struct EnergyPowers {
@@ -52,6 +60,9 @@ struct EnergyPowers {
   double fluid_power_W = 0.0;
   double hinge_damping_power_W = 0.0;
   double stepping_power_W = 0.0;
+  // With the electrical model (else empty and 0).
+  std::vector<double> electrical_power_W;  // per link
+  double electrical_power_W_total = 0.0;
 };
 
 struct EnergyCycle : EnergyPowers {
@@ -59,6 +70,7 @@ struct EnergyCycle : EnergyPowers {
   double stored_energy_change_J = 0.0;   // elastic and kinetic, end minus start
   double lighthill_efficiency = 0.0;     // with the cycle's own speed
   double cost_of_transport_J_m = 0.0;    // the cycle's work over its displacement
+  double electromechanical_efficiency = 0.0;  // actuator over electrical power; 0 without
 };
 
 struct EnergyMetrics : EnergyPowers {
@@ -68,6 +80,8 @@ struct EnergyMetrics : EnergyPowers {
   double towing_drag_N = 0.0;            // the straightened body at the mean speed
   double lighthill_efficiency = 0.0;
   double cost_of_transport_J_m = 0.0;
+  bool electrical = false;               // the electrical model was on
+  double electromechanical_efficiency = 0.0;
 };
 
 class EnergyMeter {
@@ -76,6 +90,11 @@ class EnergyMeter {
   // (no drag: no fluid power, efficiencies 0), which must outlive the
   // meter (the coupling attached to d). Marks the start of the run.
   EnergyMeter(const mjModel* m, const mjData* d);
+
+  // Turns the electrical model on (when config.enabled): link q's electrode
+  // area is link_lengths_mm[q] x config.electrode_width_mm. Throws
+  // FieldError for a bad config.
+  void MeasureElectrical(const ElectricalConfig& config, const std::vector<double>& link_lengths_mm);
 
   // After every step.
   void Observe(const mjModel* m, const mjData* d);
@@ -101,6 +120,11 @@ class EnergyMeter {
   double cycle_start_stored_J_ = 0.0;
   std::vector<EnergyCycle> cycles_;
   std::vector<double> scratch_;
+  // The electrical model: per link its network and the running cycle's
+  // electrical energy [J]; empty when off.
+  const IpmcActuators* actuators_ = nullptr;
+  std::vector<IpmcImpedance> impedances_;
+  std::vector<double> electrical_J_;
 };
 
 }  // namespace ipmc

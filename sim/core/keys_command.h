@@ -10,6 +10,11 @@ namespace ipmc {
 
 const OptionTable<ReferenceCommand>& KeysOptions();
 
+enum class KeyFormat { kText, kMarkdown };
+// The whole reference (scenario keys, then sweep-file keys), as
+// `ipmc-swim keys` prints it; kMarkdown is docs/SCENARIO_KEYS.md.
+std::string KeyReference(KeyFormat format);
+
 // The reference in command.format.
 std::string KeysReference(const ReferenceCommand& command);
 

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "plugin/actuators/ipmc_actuators.h"
+#include "plugin/base/error.h"
 #include "plugin/base/numbers.h"
 #include "plugin/fluid/rft_drag.h"
 #include "plugin/mjcf/custom_fields.h"
@@ -22,7 +23,7 @@ void RequirePositive(double value, const char* field) {
   if (!(value > 0.0) || !std::isfinite(value)) {
     std::ostringstream msg;
     msg << "flagellum spec: " << field << " must be finite and > 0 (got " << value << ")";
-    throw std::invalid_argument(msg.str());
+    throw FieldError(msg.str(), field, "finite and > 0");
   }
 }
 
@@ -30,7 +31,7 @@ void RequireNonNegative(double value, const char* field) {
   if (!(value >= 0.0) || !std::isfinite(value)) {
     std::ostringstream msg;
     msg << "flagellum spec: " << field << " must be finite and >= 0 (got " << value << ")";
-    throw std::invalid_argument(msg.str());
+    throw FieldError(msg.str(), field, "finite and >= 0");
   }
 }
 
@@ -95,18 +96,21 @@ void WriteRootJoints(std::ostringstream& xml, const std::string& indent) {
 
 void FlagellumSpec::Validate() const {
   if (link_lengths_mm.empty()) {
-    throw std::invalid_argument("flagellum spec: link_lengths_mm must list at least one link");
+    throw FieldError("flagellum spec: link_lengths_mm must list at least one link",
+                     "link_lengths_mm", "1 to " + std::to_string(kMaxGeneratedLinks) + " links");
   }
   for (double length : link_lengths_mm) RequirePositive(length, "link_lengths_mm");
   if (link_lengths_mm.size() > kMaxGeneratedLinks) {
-    throw std::invalid_argument("flagellum spec: link_lengths_mm must list at most " +
-                                std::to_string(kMaxGeneratedLinks) + " links (got " +
-                                std::to_string(link_lengths_mm.size()) + ")");
+    throw FieldError("flagellum spec: link_lengths_mm must list at most " +
+                         std::to_string(kMaxGeneratedLinks) + " links (got " +
+                         std::to_string(link_lengths_mm.size()) + ")",
+                     "link_lengths_mm", "1 to " + std::to_string(kMaxGeneratedLinks) + " links");
   }
   for (char c : name) {
     if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.') {
-      throw std::invalid_argument("flagellum spec: name must hold only letters, digits, '_', "
-                                  "'-' and '.' (got '" + name + "')");
+      throw FieldError("flagellum spec: name must hold only letters, digits, '_', "
+                       "'-' and '.' (got '" + name + "')",
+                       "name", "letters, digits, '_', '-' and '.'");
     }
   }
   RequireNonNegative(gap_mm, "gap_mm");
@@ -118,14 +122,16 @@ void FlagellumSpec::Validate() const {
   RequireNonNegative(hinge_damping_ratio, "hinge_damping_ratio");
   RequirePositive(timestep_s, "timestep_s");
   if (integrator != "Euler" && integrator != "implicit" && integrator != "RK4") {
-    throw std::invalid_argument("flagellum spec: integrator must be Euler, implicit or RK4 (got '" +
-                                integrator + "')");
+    throw FieldError("flagellum spec: integrator must be Euler, implicit or RK4 (got '" +
+                         integrator + "')",
+                     "integrator", "Euler, implicit or RK4");
   }
   RequirePositive(viscosity_Pa_s, "viscosity_Pa_s");
   if (coefficients != "gray_hancock" && coefficients != "lighthill" && coefficients != "direct") {
-    throw std::invalid_argument(
+    throw FieldError(
         "flagellum spec: coefficients must be gray_hancock, lighthill or direct (got '" +
-        coefficients + "')");
+            coefficients + "')",
+        "coefficients", "gray_hancock, lighthill or direct");
   }
   RequirePositive(wavelength_mm, "wavelength_mm");
   RequireNonNegative(equivalent_radius_mm, "equivalent_radius_mm");
@@ -135,33 +141,37 @@ void FlagellumSpec::Validate() const {
   }
   RequireNonNegative(fluid_density_kg_m3, "fluid_density_kg_m3");
   if (segments_per_link < 1 || segments_per_link > kMaxSegmentsPerLink) {
-    throw std::invalid_argument("flagellum spec: segments_per_link must be in [1, " +
-                                std::to_string(kMaxSegmentsPerLink) + "] (got " +
-                                std::to_string(segments_per_link) + ")");
+    throw FieldError("flagellum spec: segments_per_link must be in [1, " +
+                         std::to_string(kMaxSegmentsPerLink) + "] (got " +
+                         std::to_string(segments_per_link) + ")",
+                     "segments_per_link", "[1, " + std::to_string(kMaxSegmentsPerLink) + "]");
   }
   const bool head = head_length_mm > 0.0;
   if (segments_per_link > MaxSegmentsPerLink(Links(), head)) {
-    throw std::invalid_argument(
+    throw FieldError(
         "flagellum spec: segments_per_link must be <= " +
-        std::to_string(MaxSegmentsPerLink(Links(), head)) + " for " + std::to_string(Links()) +
-        " links" + (head ? " and a head" : "") + " (got " + std::to_string(segments_per_link) +
-        "): MuJoCo 2.2 reads at most " + std::to_string(kMaxNestedBodies) +
-        " nested bodies");
+            std::to_string(MaxSegmentsPerLink(Links(), head)) + " for " +
+            std::to_string(Links()) + " links" + (head ? " and a head" : "") + " (got " +
+            std::to_string(segments_per_link) + "): MuJoCo 2.2 reads at most " +
+            std::to_string(kMaxNestedBodies) + " nested bodies",
+        "segments_per_link", "[1, " + std::to_string(MaxSegmentsPerLink(Links(), head)) + "]");
   }
   if (!ParsePlantAssignment(plants)) {
-    throw std::invalid_argument("flagellum spec: plants must be uniform or table2 (got '" +
-                                plants + "')");
+    throw FieldError("flagellum spec: plants must be uniform or table2 (got '" + plants + "')",
+                     "plants", "uniform or table2");
   }
   if (ipmc_model != "g1" && ipmc_model != "g2") {
-    throw std::invalid_argument("flagellum spec: ipmc_model must be g1 or g2 (got '" + ipmc_model +
-                                "')");
+    throw FieldError("flagellum spec: ipmc_model must be g1 or g2 (got '" + ipmc_model + "')",
+                     "ipmc_model", "g1 or g2");
   }
   if (actuation != "distributed" && actuation != "single") {
-    throw std::invalid_argument(
-        "flagellum spec: actuation must be distributed or single (got '" + actuation + "')");
+    throw FieldError(
+        "flagellum spec: actuation must be distributed or single (got '" + actuation + "')",
+        "actuation", "distributed or single");
   }
   if (clamped && head_length_mm == 0.0 && Links() < 1) {
-    throw std::invalid_argument("flagellum spec: a clamped model needs at least one link");
+    throw FieldError("flagellum spec: a clamped model needs at least one link", "link_lengths_mm",
+                     "at least one link when clamped");
   }
   // The drag the loader makes of the written fields must accept them: the
   // wavelength must be long against the equivalent radius.
@@ -176,10 +186,11 @@ void FlagellumSpec::Validate() const {
     try {
       drag.Validate();
     } catch (const std::invalid_argument& error) {
-      throw std::invalid_argument("flagellum spec: wavelength_mm = " + FormatShortest(wavelength_mm) +
-                                  " is too short for the equivalent radius " +
-                                  FormatShortest(drag.equivalent_radius_m / kMmToM) + " mm (" +
-                                  error.what() + ")");
+      throw FieldError("flagellum spec: wavelength_mm = " + FormatShortest(wavelength_mm) +
+                           " is too short for the equivalent radius " +
+                           FormatShortest(drag.equivalent_radius_m / kMmToM) + " mm (" +
+                           error.what() + ")",
+                       "wavelength_mm", "long against the equivalent radius");
     }
   }
 }

@@ -75,7 +75,7 @@ struct FlagellumSpec {
   std::string actuation = "distributed";    // distributed | single
   std::string name = "flagellum";
 
-  // Throws std::invalid_argument naming the field and its allowed range.
+  // Throws FieldError naming the field (link_lengths_mm, ...) and its allowed range.
   void Validate() const;
   int Links() const { return static_cast<int>(link_lengths_mm.size()); }
 };

@@ -60,6 +60,7 @@
 #include "controllers/fractional_integrator.h"
 #include "controllers/pid.h"
 #include "plugin/actuators/ipmc_actuators.h"
+#include "sim/core/electrical.h"
 #include "sim/core/waveform.h"
 
 namespace ipmc {
@@ -101,6 +102,8 @@ struct ScenarioConfig {
   // The first cycle (1-based, <= cycles) of the run's link metrics, mean
   // speed and mean powers; the per-cycle tables keep every cycle.
   int metrics_from_cycle = 1;
+  // The links' electrical power (sim/core/electrical.h); off by default.
+  ElectricalConfig electrical;
   std::string output_dir;   // empty: no files
   int samples_per_cycle = 200;
   // Not a file key: the command line's --allow-long, which lifts the run

@@ -142,9 +142,4 @@ const KeyCondition* FailedCondition(const KeySpec& key, const ScenarioConfig& co
 std::vector<std::string> KeyChoices(const KeySpec& key);
 std::string KeyTypeName(KeyType type);
 
-enum class KeyFormat { kText, kMarkdown };
-// The whole reference (scenario keys, then sweep-file keys), as
-// `ipmc-swim keys` prints it; kMarkdown is docs/SCENARIO_KEYS.md.
-std::string KeyReference(KeyFormat format);
-
 }  // namespace ipmc

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -159,6 +160,21 @@ IpmcLinkParams FitTemplate(IpmcModelKind kind, const LevyOptions& options) {
   return params;
 }
 
+// The fitted link of `kind`: a0 = theta(0), b1 = theta(1), `b2_s2` and,
+// if given, `alpha`; its stability and its indices over the band.
+LinkModelFit FittedLink(const BandData& band, IpmcModelKind kind, const Eigen::VectorXd& theta,
+                        double b2_s2, std::optional<double> alpha, const LevyOptions& options) {
+  LinkModelFit fit;
+  fit.params = FitTemplate(kind, options);
+  fit.params.a0_mm_per_V = theta(0);
+  fit.params.b1 = theta(1);
+  fit.params.b2_s2 = b2_s2;
+  if (alpha) fit.params.alpha = *alpha;
+  fit.stable = IsStable(fit.params);
+  fit.indices = Indices(band, fit.params);
+  return fit;
+}
+
 LinkModelFit FitG1(const BandData& band, const LevyOptions& options) {
   // G (1 + b1 s + b2 s^2) - a0 = 0  =>  a0 (-1) + b1 (s G) + b2 (s^2 G) = -G.
   const std::size_t points = band.w.size();
@@ -172,14 +188,7 @@ LinkModelFit FitG1(const BandData& band, const LevyOptions& options) {
     target[k] = -band.g[k];
   }
   const Eigen::VectorXd theta = SolveComplexLeastSquares(basis, target);
-  LinkModelFit fit;
-  fit.params = FitTemplate(IpmcModelKind::kG1, options);
-  fit.params.a0_mm_per_V = theta(0);
-  fit.params.b1 = theta(1);
-  fit.params.b2_s2 = theta(2);
-  fit.stable = IsStable(fit.params);
-  fit.indices = Indices(band, fit.params);
-  return fit;
+  return FittedLink(band, IpmcModelKind::kG1, theta, theta(2), std::nullopt, options);
 }
 
 LinkModelFit FitG2(const BandData& band, double alpha, const LevyOptions& options) {
@@ -193,15 +202,7 @@ LinkModelFit FitG2(const BandData& band, double alpha, const LevyOptions& option
     target[k] = -band.g[k];
   }
   const Eigen::VectorXd theta = SolveComplexLeastSquares(basis, target);
-  LinkModelFit fit;
-  fit.params = FitTemplate(IpmcModelKind::kG2, options);
-  fit.params.a0_mm_per_V = theta(0);
-  fit.params.b1 = theta(1);
-  fit.params.b2_s2 = 0.0;
-  fit.params.alpha = alpha;
-  fit.stable = IsStable(fit.params);
-  fit.indices = Indices(band, fit.params);
-  return fit;
+  return FittedLink(band, IpmcModelKind::kG2, theta, 0.0, alpha, options);
 }
 
 }  // namespace

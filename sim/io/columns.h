@@ -82,6 +82,9 @@ constexpr char kStoredEnergyChange[] = "stored_energy_change_J";
 constexpr char kTowingDrag[] = "towing_drag_N";
 constexpr char kLighthillEfficiency[] = "lighthill_efficiency";
 constexpr char kCostOfTransport[] = "cost_of_transport_J_m";
+// With the electrical model on (scenario key electrical.enabled) only.
+constexpr char kElectricalPower[] = "electrical_power_W";
+constexpr char kElectromechanicalEfficiency[] = "electromechanical_efficiency";
 constexpr const char* kLinkResults[] = {"iae_mm_s", "itae_mm_s2", "rms_voltage_V",
                                         "clamped_fraction", kActuatorPower};
 inline std::string LinkResult(int link, const std::string& result) {
@@ -94,7 +97,7 @@ constexpr char kReynoldsSwim[] = "reynolds_swim";
 constexpr const char* kSwimResults[] = {
     kLastCycleComAlong, kMeanSpeedAlong,      kReynoldsTip,     kReynoldsSwim,
     kActuatorPower,     kFluidPower,          kHingeDampingPower, kSteppingPower, kLighthillEfficiency,
-    kCostOfTransport};
+    kCostOfTransport,   kElectricalPower,     kElectromechanicalEfficiency};
 
 // table5.csv of "ipmc-swim table5".
 constexpr char kIndex[] = "index";

@@ -11,17 +11,27 @@
 #include "sim/core/link_sensors.h"
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
+#include "plugin/base/error.h"
 #include "plugin/base/numbers.h"
 
 namespace ipmc {
 namespace {
 
+constexpr char kWho[] = "bench";
 
-void RequirePositive(double value, const char* field) {
-  if (!(value > 0.0) || !std::isfinite(value)) {
-    std::ostringstream msg;
-    msg << "bench: " << field << " must be finite and > 0 (got " << value << ")";
-    throw std::invalid_argument(msg.str());
+// FieldError "bench: FIELD must be finite and > 0, got V" unless it is.
+void RequirePositive(double value, const char* field) { RequireFinitePositive(kWho, field, value); }
+
+// `what` (a step count's or run size's check on `field`) as a FieldError
+// naming the field.
+template <typename F>
+auto NamingField(const char* field, const std::string& allowed, F&& f) {
+  try {
+    return f();
+  } catch (const FieldError&) {
+    throw;
+  } catch (const std::invalid_argument& error) {
+    throw FieldError(error.what(), field, allowed);
   }
 }
 
@@ -29,10 +39,10 @@ void RequirePositive(double value, const char* field) {
 
 void BenchSignal::Validate() const {
   if (!std::isfinite(amplitude_V) || std::abs(amplitude_V) > kDefaultVoltageLimit_V) {
-    std::ostringstream msg;
-    msg << "bench: amplitude_V must be finite and within [-" << kDefaultVoltageLimit_V << ", "
-        << kDefaultVoltageLimit_V << "] V (got " << amplitude_V << ")";
-    throw std::invalid_argument(msg.str());
+    ThrowOption(kWho, "amplitude_V",
+                "finite and within [-" + FormatShortest(kDefaultVoltageLimit_V) + ", " +
+                    FormatShortest(kDefaultVoltageLimit_V) + "] V",
+                FormatShortest(amplitude_V));
   }
   RequirePositive(duration_s, "duration_s");
   RequirePositive(sample_rate_Hz, "sample_rate_Hz");
@@ -41,13 +51,15 @@ void BenchSignal::Validate() const {
   } else {
     RequirePositive(start_Hz, "start_Hz");
     if (!(end_Hz > start_Hz) || !(end_Hz < 0.5 * sample_rate_Hz)) {
-      std::ostringstream msg;
-      msg << "bench: end_Hz must be in (start_Hz, sample_rate_Hz / 2) = (" << start_Hz << ", "
-          << 0.5 * sample_rate_Hz << ") (got " << end_Hz << ")";
-      throw std::invalid_argument(msg.str());
+      ThrowOption(kWho, "end_Hz",
+                  "in (start_Hz, sample_rate_Hz / 2) = (" + FormatShortest(start_Hz) + ", " +
+                      FormatShortest(0.5 * sample_rate_Hz) + ")",
+                  FormatShortest(end_Hz));
     }
   }
-  if (driven_links.empty()) throw std::invalid_argument("bench: driven_links is empty");
+  if (driven_links.empty()) {
+    throw FieldError("bench: driven_links is empty", "driven_links", "at least one link");
+  }
 }
 
 double BenchSignal::VoltageAt(double t_s) const {
@@ -67,25 +79,35 @@ BenchRecord RunBench(Simulation& sim, const BenchSignal& signal, double record_f
   const int links = sensors.Links();
   for (int link : signal.driven_links) {
     if (link < 1 || link > links) {
-      throw std::invalid_argument("bench: driven link " + std::to_string(link) +
-                                  " is outside [1, " + std::to_string(links) + "]");
+      throw FieldError("bench: driven link " + std::to_string(link) + " is outside [1, " +
+                           std::to_string(links) + "]",
+                       "driven_links", "links of the model, 1-based");
     }
   }
   const double dt = m->opt.timestep;
-  CheckedStepCount(1.0 / signal.sample_rate_Hz, dt, 1, "bench: one sample (sample_rate_Hz)");
+  const std::string whole_steps = "a whole number of time steps per sample";
+  NamingField("sample_rate_Hz", whole_steps, [&] {
+    return CheckedStepCount(1.0 / signal.sample_rate_Hz, dt, 1, "bench: one sample (sample_rate_Hz)");
+  });
   const double steps_per_sample_real = 1.0 / (signal.sample_rate_Hz * dt);
   const long steps_per_sample = std::lround(steps_per_sample_real);
   if (steps_per_sample < 1 || std::abs(steps_per_sample_real - steps_per_sample) > 1e-6) {
     std::ostringstream msg;
     msg << "bench: sample_rate_Hz " << signal.sample_rate_Hz
         << " must divide the model's step rate " << 1.0 / dt << " Hz";
-    throw std::invalid_argument(msg.str());
+    throw FieldError(msg.str(), "sample_rate_Hz", whole_steps);
   }
-  const long steps = CheckedStepCount(signal.duration_s, dt, steps_per_sample, "bench: the experiment (duration_s)");
+  const std::string size_limit = "within the run size limits, or allow_long";
+  const long steps = NamingField("duration_s", size_limit, [&] {
+    return CheckedStepCount(signal.duration_s, dt, steps_per_sample,
+                            "bench: the experiment (duration_s)");
+  });
   // Per sample: the time and four values of every link.
-  CheckRunSize(static_cast<double>(steps), (1.0 + 4.0 * links) * sizeof(double) * steps /
-                                               steps_per_sample,
-               signal.allow_long, "bench: the experiment (--duration-s)");
+  NamingField("duration_s", size_limit, [&] {
+    CheckRunSize(static_cast<double>(steps),
+                 (1.0 + 4.0 * links) * sizeof(double) * steps / steps_per_sample,
+                 signal.allow_long, "bench: the experiment (duration_s)");
+  });
   BenchRecord record;
   record.voltage_V.resize(links);
   record.relative_mm.resize(links);

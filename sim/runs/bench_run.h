@@ -28,7 +28,7 @@ struct BenchSignal {
   double sample_rate_Hz = 1000;  // > 0, a whole number of time steps
   std::vector<int> driven_links = {1};  // 1-based
   bool allow_long = false;       // lift the run size limits (sim/core/step_count.h)
-  void Validate() const;         // std::invalid_argument naming the field
+  void Validate() const;         // FieldError naming the field (amplitude_V, ...)
   double VoltageAt(double t_s) const;
 };
 

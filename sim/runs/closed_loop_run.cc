@@ -232,6 +232,7 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
   SwimMeter meter(m);
   meter.Start(d);
   EnergyMeter energy(m, d);
+  energy.MeasureElectrical(scenario.electrical, geometry.length_mm);
   for (int cycle = 0; cycle < scenario.cycles; ++cycle) {
     // The link metrics are taken over the cycles from metrics.from_cycle.
     const bool measuring = cycle + 1 >= scenario.metrics_from_cycle;

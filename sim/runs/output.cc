@@ -253,6 +253,14 @@ nlohmann::json ClosedLoopSummaryJson(const ClosedLoopResult& result) {
     cycles[k][columns::kStoredEnergyChange] = c.stored_energy_change_J;
     cycles[k][columns::kLighthillEfficiency] = c.lighthill_efficiency;
     cycles[k][columns::kCostOfTransport] = c.cost_of_transport_J_m;
+    if (energy.electrical) {
+      for (size_t q = 0; q < c.electrical_power_W.size(); ++q) {
+        cycles[k][columns::LinkResult(static_cast<int>(q + 1), columns::kElectricalPower)] =
+            c.electrical_power_W[q];
+      }
+      cycles[k][columns::kElectricalPower] = c.electrical_power_W_total;
+      cycles[k][columns::kElectromechanicalEfficiency] = c.electromechanical_efficiency;
+    }
   }
   summary["metrics_from_cycle"] = result.swim.from_cycle;
   summary[columns::kActuatorPower] = energy.actuator_power_W_total;
@@ -263,6 +271,10 @@ nlohmann::json ClosedLoopSummaryJson(const ClosedLoopResult& result) {
   summary[columns::kTowingDrag] = energy.towing_drag_N;
   summary[columns::kLighthillEfficiency] = energy.lighthill_efficiency;
   summary[columns::kCostOfTransport] = energy.cost_of_transport_J_m;
+  if (energy.electrical) {
+    summary[columns::kElectricalPower] = energy.electrical_power_W_total;
+    summary[columns::kElectromechanicalEfficiency] = energy.electromechanical_efficiency;
+  }
   nlohmann::json links = nlohmann::json::array();
   for (size_t q = 0; q < result.links.size(); ++q) {
     const LinkTracking& t = result.links[q];
@@ -276,6 +288,9 @@ nlohmann::json ClosedLoopSummaryJson(const ClosedLoopResult& result) {
                      {"clamped_fraction", t.clamped_fraction},
                      {columns::kActuatorPower,
                       q < energy.actuator_power_W.size() ? energy.actuator_power_W[q] : 0.0}});
+    if (q < energy.electrical_power_W.size()) {
+      links.back()[columns::kElectricalPower] = energy.electrical_power_W[q];
+    }
   }
   summary["controller"] = result.controller;
   summary["actuation"] = result.actuation;

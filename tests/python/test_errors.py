@@ -69,8 +69,8 @@ def test_analysis_and_bench_errors_are_the_command_lines(tmp_path):
         (lambda: ipmc_swim.design(phase_margin_deg=200.0), ("design", "--phase-margin-deg", "200"),
          ["phase_margin_deg"]),
         (lambda: ipmc_swim.bench(duration_s=-1.0),
-         ("bench", "--duration-s", "-1", "--out", tmp_path / "bench.csv"), []),
-        (lambda: ipmc_swim.generate_model(gap_mm=-1.0), ("generate", "--gap-mm", "-1"), []),
+         ("bench", "--duration-s", "-1", "--out", tmp_path / "bench.csv"), ["duration_s"]),
+        (lambda: ipmc_swim.generate_model(gap_mm=-1.0), ("generate", "--gap-mm", "-1"), ["gap_mm"]),
     ]
     for call, command, names in cases:
         expected = cli_error(*command)

@@ -98,3 +98,19 @@ def test_version_is_the_programs():
     # module's __version__ is what `ipmc-swim --version` prints.
     _, out, _ = run_cli("--version")
     assert out == f"ipmc-swim {ipmc_swim.__version__}\n"
+
+
+def test_electrical_power_is_in_the_results_when_the_model_is_on(short_scenario, tmp_path):
+    # Off by default: no electrical keys. On: the same numbers as the
+    # command line's summary.json, per cycle, per link and over the run.
+    assert "electrical_power_W" not in ipmc_swim.run(short_scenario).summary
+    result = ipmc_swim.run(short_scenario, **{"electrical.enabled": True})
+    run_cli("run", short_scenario, "--set", "electrical.enabled=true", "--out", tmp_path / "cli")
+    cli_summary = json.loads((tmp_path / "cli" / "summary.json").read_text())
+    summary = result.summary
+    assert summary["electrical_power_W"] == cli_summary["electrical_power_W"] > 0
+    assert summary["electromechanical_efficiency"] == pytest.approx(
+        summary["actuator_power_W"] / summary["electrical_power_W"], rel=1e-12)
+    links = [link["electrical_power_W"] for link in summary["links"]]
+    assert sum(links) == pytest.approx(summary["electrical_power_W"], rel=1e-12)
+    assert all("link3_electrical_power_W" in cycle for cycle in summary["per_cycle"])
