@@ -21,6 +21,7 @@ set(layers
   sim/identify
   sim/batch
   renders
+  sim/optimize
   sim/cli
   sim/python
   sim)
@@ -41,8 +42,9 @@ set(allowed_sim/runs sim/core ${below_sim})
 set(allowed_sim/identify sim/runs sim/core ${below_sim})
 set(allowed_sim/batch sim/identify sim/runs sim/core ${below_sim})
 set(allowed_renders sim/runs sim/core ${below_sim})
-set(allowed_sim/cli renders sim/batch sim/identify sim/runs sim/core ${below_sim})
-set(allowed_sim/python renders sim/batch sim/identify sim/runs sim/core ${below_sim})
+set(allowed_sim/optimize renders sim/batch sim/identify sim/runs sim/core ${below_sim})
+set(allowed_sim/cli sim/optimize renders sim/batch sim/identify sim/runs sim/core ${below_sim})
+set(allowed_sim/python sim/optimize renders sim/batch sim/identify sim/runs sim/core ${below_sim})
 set(allowed_sim plugin/include)
 
 # The layer of a path relative to the project: its longest listed prefix.

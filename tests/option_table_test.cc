@@ -9,16 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "sim/batch/sweep_command.h"
-#include "sim/core/generate_command.h"
-#include "sim/core/keys_command.h"
-#include "sim/identify/identify_run.h"
-#include "sim/identify/loop_analysis.h"
-#include "sim/identify/pipeline_run.h"
-#include "sim/runs/bench_command.h"
-#include "sim/runs/gait_command.h"
-#include "sim/runs/run_command.h"
-#include "sim/runs/table5_run.h"
+#include "sim/optimize/option_reference.h"
 
 namespace ipmc {
 namespace {
@@ -111,12 +102,7 @@ TEST(OptionTableTest, TwoSpellingsOfOneFlagAreRefused) {
 // Every command's table builds (no flag twice) and names its options by
 // the convention: lower-case words, with capitals only in a unit suffix.
 TEST(OptionTableTest, EveryCommandsTableFollowsTheConvention) {
-  const std::vector<OptionTableInfo> tables = {
-      InfoOf(RunOptions()),      InfoOf(SweepOptionTable()), InfoOf(MergeOptionTable()),
-      InfoOf(GenerateOptions()), InfoOf(GaitOptions()),     InfoOf(BenchOptions()),
-      InfoOf(BodeOptions()),     InfoOf(StepOptions()),     InfoOf(IdentifyOptions()),
-      InfoOf(DesignOptions()),   InfoOf(PipelineOptions()), InfoOf(Table5Options()),
-      InfoOf(KeysOptions()),     InfoOf(OptionsOptions())};
+  const std::vector<OptionTableInfo> tables = EveryOptionTable();
   for (const OptionTableInfo& table : tables) {
     EXPECT_FALSE(table.options.empty()) << table.command;
     for (const OptionInfo& option : table.options) {

@@ -5,6 +5,8 @@
 // drag segments.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "ipmc_swim/ipmc_swim.h"
@@ -108,6 +110,44 @@ TEST(RftScenarioTest, ARunCarriesItsWarnings) {
   }
   EXPECT_TRUE(resolution);
   EXPECT_DOUBLE_EQ(result.swim.longest_segment_mm, 10.0);
+}
+
+
+// fluid.wall_gap_mm gives the near-wall coefficients (checked against
+// Katz, Blake & Paveri-Fontana 1975 in near_wall_rft_test.cc) for the
+// centreline's distance from the wall.
+TEST(RftScenarioTest, WallGapGivesNearWallCoefficients) {
+  const DragCoefficients wall = NearWallCoefficients(1e-3, 0.8125e-3, 2.5e-3);
+  // A 1 mm gap below the 3 mm strip puts the centreline 2.5 mm above it.
+  const RftDragConfig config = DragOf(PaperWith("[fluid]\nwall_gap_mm = 1.0\n"));
+  EXPECT_EQ(config.model, CoefficientModel::kNearWall);
+  EXPECT_DOUBLE_EQ(config.wall_distance_m, 2.5e-3);
+  const std::unique_ptr<Simulation> sim =
+      LoadScenarioSimulation(PaperWith("[fluid]\nwall_gap_mm = 1.0\n"));
+  EXPECT_NEAR(FindCoupling(sim->data())->drag->coefficients().normal_N_s_m2,
+              wall.normal_N_s_m2, 1e-12);
+  ExpectThrowMentioning<std::runtime_error>([] { PaperWith("[fluid]\nwall_gap_mm = -1\n"); },
+                                            "fluid.wall_gap_mm");
+  ExpectThrowMentioning<std::runtime_error>(
+      [] {
+        LoadScenarioSimulation(
+            PaperWith("[fluid]\nwall_gap_mm = 1.0\nrft_coefficients = \"lighthill\"\n"));
+      },
+      "exclude each other");
+}
+
+// The wall changes the swim: 2 mm from it the coefficients are larger
+// and their ratio is 2 (1.83 in free space).
+TEST(RftScenarioTest, TheWallChangesTheSwim) {
+  ScenarioConfig free =
+      PaperWith("cycles = 1\ntimestep_s = 1e-3\n[waveform]\nfrequency_Hz = 0.5\n");
+  free.dynamics = Dynamics::kStokes;
+  ScenarioConfig wall = free;
+  wall.wall_gap_mm = 2.0;
+  const double free_mm = RunScenario(free).swim.per_cycle.at(0).com_along;
+  const double wall_mm = RunScenario(wall).swim.per_cycle.at(0).com_along;
+  std::printf("per cycle: free %.6g mm, 2 mm from a wall %.6g mm\n", free_mm, wall_mm);
+  EXPECT_GT(std::abs(wall_mm / free_mm - 1.0), 0.01);
 }
 
 }  // namespace

@@ -80,9 +80,10 @@ TEST(ScenarioKeysTest, EveryKeyTakesItsDefaultAndItsExampleAndRefusesItsRefusedV
   }
   // Every key but those whose default is the model's (model, link_lengths_mm,
   // segments_per_link, plants, dynamics, timestep_s, fluid.viscosity_Pa_s,
-  // fluid.rft_coefficients) or the wave's (fluid.rft_wavelength_mm) has
-  // one; every key but the booleans and the unbounded ones has a refused value.
-  EXPECT_EQ(defaults, static_cast<int>(ScenarioKeys().size()) - 9);
+  // fluid.rft_coefficients) or the wave's (fluid.rft_wavelength_mm) and
+  // fluid.wall_gap_mm (no wall) has one; every key but the booleans and the
+  // unbounded ones has a refused value.
+  EXPECT_EQ(defaults, static_cast<int>(ScenarioKeys().size()) - 10);
   EXPECT_GE(refusals, 20);
 }
 
@@ -138,7 +139,8 @@ TEST(ScenarioKeysTest, BoundsInTheTableAreTheReadersBounds) {
 
 TEST(ScenarioKeysTest, TheReaderAllowsExactlyTheTablesKeys) {
   EXPECT_EQ(ScenarioKeysUnder("fluid"),
-            (std::vector<std::string>{"viscosity_Pa_s", "rft_coefficients", "rft_wavelength_mm"}));
+            (std::vector<std::string>{"viscosity_Pa_s", "rft_coefficients", "rft_wavelength_mm",
+                                      "wall_gap_mm"}));
   std::vector<std::string> tables = {""};
   for (const std::string& name : ScenarioKeysUnder("")) {
     if (!ScenarioKeysUnder(name).empty()) tables.push_back(name);

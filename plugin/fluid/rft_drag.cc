@@ -35,9 +35,11 @@ Eigen::Vector3d DragPerLength(const Eigen::Vector3d& u, const Eigen::Vector3d& t
 CoefficientModel ParseCoefficientModel(const std::string& text) {
   if (text == "gray_hancock") return CoefficientModel::kGrayHancock;
   if (text == "lighthill") return CoefficientModel::kLighthill;
+  if (text == "near_wall") return CoefficientModel::kNearWall;
   if (text == "direct") return CoefficientModel::kDirect;
   throw std::invalid_argument(std::string("rft drag: ") + kAttrCoefficients +
-                              " must be gray_hancock, lighthill or direct (got '" + text + "')");
+                              " must be gray_hancock, lighthill, near_wall or direct (got '" +
+                              text + "')");
 }
 
 DragCoefficients GrayHancockCoefficients(double viscosity_Pa_s, double radius_m,
@@ -52,6 +54,12 @@ DragCoefficients LighthillCoefficients(double viscosity_Pa_s, double radius_m,
   const double log_term =
       std::log(2.0 * kLighthillDistanceOverWavelength * wavelength_m / radius_m);
   return {4.0 * kPi * viscosity_Pa_s / (log_term + 0.5), 2.0 * kPi * viscosity_Pa_s / log_term};
+}
+
+DragCoefficients NearWallCoefficients(double viscosity_Pa_s, double radius_m,
+                                      double wall_distance_m) {
+  const double log_term = std::log(2.0 * wall_distance_m / radius_m);
+  return {4.0 * kPi * viscosity_Pa_s / log_term, 2.0 * kPi * viscosity_Pa_s / log_term};
 }
 
 std::optional<RftDragConfig> RftDragConfig::FromModel(const mjModel* m,
@@ -71,6 +79,11 @@ std::optional<RftDragConfig> RftDragConfig::FromModel(const mjModel* m,
   if (auto radius = FindCustomScalar(m, kAttrEquivalentRadius)) config.equivalent_radius_m = *radius;
   if (auto wavelength = FindCustomScalar(m, kAttrWavelength)) config.wavelength_m = *wavelength;
   if (overrides.wavelength_m) config.wavelength_m = *overrides.wavelength_m;
+  if (auto wall = FindCustomScalar(m, kAttrWallDistance)) config.wall_distance_m = *wall;
+  if (overrides.wall_distance_m) {
+    config.wall_distance_m = *overrides.wall_distance_m;
+    config.model = CoefficientModel::kNearWall;
+  }
   if (auto density = FindCustomScalar(m, kAttrFluidDensity)) config.fluid_density_kg_m3 = *density;
   const std::optional<double> xi_n = FindCustomScalar(m, kAttrXiNormal);
   const std::optional<double> xi_t = FindCustomScalar(m, kAttrXiTangential);
@@ -104,6 +117,17 @@ void RftDragConfig::Validate() const {
     return;
   }
   RequirePositive(equivalent_radius_m, kAttrEquivalentRadius);
+  if (model == CoefficientModel::kNearWall) {
+    // h > a keeps ln(2 h / a) > ln 2 > 0; the formula itself wants h >> a.
+    if (!(wall_distance_m > equivalent_radius_m) || !std::isfinite(wall_distance_m)) {
+      std::ostringstream msg;
+      msg << "rft drag: coefficients = near_wall needs " << kAttrWallDistance << " > "
+          << kAttrEquivalentRadius << " = " << equivalent_radius_m << " m (got "
+          << wall_distance_m << ")";
+      throw std::invalid_argument(msg.str());
+    }
+    return;
+  }
   RequirePositive(wavelength_m, kAttrWavelength);
   // Both formulas need a positive tangential log term.
   const double distance_m = model == CoefficientModel::kLighthill
@@ -126,6 +150,8 @@ DragCoefficients RftDragConfig::Coefficients() const {
       return GrayHancockCoefficients(viscosity_Pa_s, equivalent_radius_m, wavelength_m);
     case CoefficientModel::kLighthill:
       return LighthillCoefficients(viscosity_Pa_s, equivalent_radius_m, wavelength_m);
+    case CoefficientModel::kNearWall:
+      return NearWallCoefficients(viscosity_Pa_s, equivalent_radius_m, wall_distance_m);
     case CoefficientModel::kDirect:
       return direct;
   }

@@ -25,13 +25,26 @@
 //                          xi_t = 2 pi mu / (ln(2 lambda / a) - 1/2)
 //   Lighthill (1976):      xi_n = 4 pi mu / (ln(2 q / a) + 1/2),
 //                          xi_t = 2 pi mu /  ln(2 q / a),  q = 0.09 lambda
+//   near a no-slip plane wall (Katz, Blake & Paveri-Fontana, JFM 72, 529,
+//   1975), the centreline parallel to it a distance h away, a << h << lambda:
+//                          xi_n = 4 pi mu / ln(2 h / a),
+//                          xi_t = 2 pi mu / ln(2 h / a)
+//   for motion parallel to the wall (normal to it xi_n would be
+//   4 pi mu / (ln(2 h / a) - 1)); the wall screens the far field, so 2 h
+//   takes the place of the wavelength and the ratio is exactly 2. The
+//   swimmer beats in a plane parallel to the wall (docs/FLUIDS.md), so the
+//   parallel pair is the one that acts; it is used for every direction.
 // or set directly. For the flat 3 mm x 250 um strip a = (w + h) / 4
 // (Batchelor 1970, elliptical section of semi-axes w/2, h/2).
 //
 // MJCF fields (all optional but the viscosity, which marks the model as
 // using RFT; a model without it gets no drag):
 //   numeric ipmc_rft_viscosity_Pa_s        mu > 0
-//   text    ipmc_rft_coefficients          gray_hancock | lighthill | direct
+//   text    ipmc_rft_coefficients          gray_hancock | lighthill | near_wall
+//                                          | direct
+//   numeric ipmc_rft_wall_distance_m       h > a (near_wall): the centreline's
+//                                          distance to the wall, in the plane
+//                                          z = const below the body
 //   numeric ipmc_rft_equivalent_radius_m   a > 0
 //   numeric ipmc_rft_wavelength_m          lambda > 2a (> 0.5 a / 0.09 for Lighthill)
 //   numeric ipmc_rft_xi_normal_N_s_m2, ipmc_rft_xi_tangential_N_s_m2 (direct)
@@ -61,10 +74,11 @@ constexpr char kAttrXiNormal[] = "ipmc_rft_xi_normal_N_s_m2";
 constexpr char kAttrXiTangential[] = "ipmc_rft_xi_tangential_N_s_m2";
 constexpr char kAttrFluidDensity[] = "ipmc_rft_fluid_density_kg_m3";
 constexpr char kAttrGeoms[] = "ipmc_rft_geoms";
+constexpr char kAttrWallDistance[] = "ipmc_rft_wall_distance_m";
 // All of the above.
 inline const char* const kRftDragFields[] = {
     kAttrViscosity, kAttrCoefficients, kAttrEquivalentRadius, kAttrWavelength,
-    kAttrXiNormal,  kAttrXiTangential, kAttrFluidDensity,     kAttrGeoms};
+    kAttrXiNormal,  kAttrXiTangential, kAttrFluidDensity,     kAttrGeoms, kAttrWallDistance};
 
 struct DragCoefficients {
   double normal_N_s_m2 = 0.0;
@@ -75,8 +89,10 @@ DragCoefficients GrayHancockCoefficients(double viscosity_Pa_s, double radius_m,
                                          double wavelength_m);
 DragCoefficients LighthillCoefficients(double viscosity_Pa_s, double radius_m,
                                        double wavelength_m);
+DragCoefficients NearWallCoefficients(double viscosity_Pa_s, double radius_m,
+                                      double wall_distance_m);
 
-enum class CoefficientModel { kGrayHancock, kLighthill, kDirect };
+enum class CoefficientModel { kGrayHancock, kLighthill, kNearWall, kDirect };
 // Throws std::invalid_argument naming the allowed set.
 CoefficientModel ParseCoefficientModel(const std::string& text);
 
@@ -88,6 +104,7 @@ CoefficientModel ParseCoefficientModel(const std::string& text);
 struct RftDragOverrides {
   std::optional<CoefficientModel> model;
   std::optional<double> wavelength_m;
+  std::optional<double> wall_distance_m;
 };
 
 struct RftDragConfig {
@@ -96,6 +113,7 @@ struct RftDragConfig {
   double equivalent_radius_m = 0.8125e-3;
   double wavelength_m = 32e-3;
   DragCoefficients direct;  // used with CoefficientModel::kDirect
+  double wall_distance_m = 0.0;  // used with CoefficientModel::kNearWall
   double fluid_density_kg_m3 = 1000.0;
   std::vector<std::string> geom_names;  // empty: all slender geoms
 

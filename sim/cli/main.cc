@@ -11,6 +11,7 @@
 #include "sim/cli/design_command.h"
 #include "sim/cli/gait_command.h"
 #include "sim/cli/generate_command.h"
+#include "sim/cli/optimize_command.h"
 #include "sim/cli/options_command.h"
 #include "sim/cli/pipeline_command.h"
 #include "sim/cli/run_command.h"
@@ -79,6 +80,8 @@ int main(int argc, char** argv) {
   ipmc::AddPipelineCommand(app, pipeline);
   ipmc::SweepArgs sweep;
   ipmc::AddSweepCommands(app, sweep);
+  ipmc::OptimizeArgs optimize;
+  ipmc::AddOptimizeCommand(app, optimize);
   ipmc::Table5Args table5;
   ipmc::AddTable5Command(app, table5);
   ipmc::KeysArgs keys;
@@ -121,6 +124,7 @@ int main(int argc, char** argv) {
     if (int s = ipmc::RunDesignCommandLine(design); s >= 0) status = s;
     if (int s = ipmc::RunPipelineCommandLine(pipeline); s >= 0) status = s;
     if (int s = ipmc::RunSweepCommand(app, sweep); s >= 0) status = s;
+    if (int s = ipmc::RunOptimizeCommandLine(optimize); s >= 0) status = s;
     if (int s = ipmc::RunTable5CommandLine(table5); s >= 0) status = s;
     if (int s = ipmc::RunKeysCommand(keys); s >= 0) status = s;
     if (int s = ipmc::RunOptionsCommand(options); s >= 0) status = s;

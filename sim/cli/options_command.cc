@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <string>
 
-#include "sim/batch/option_reference.h"
+#include "sim/optimize/option_reference.h"
 
 namespace ipmc {
 

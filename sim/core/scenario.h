@@ -43,6 +43,7 @@
 //   viscosity_Pa_s = 1e-3              # overrides the model's; > 0
 //   rft_coefficients = "lighthill"     # gray_hancock | lighthill, over the model's
 //   rft_wavelength_mm = 32.0           # in the coefficients; default the wave's
+//   wall_gap_mm = 2.0                  # a wall below the strip's edge; > 0
 //   [metrics]
 //   from_cycle = 2                     # IAE/ITAE, clamp share, mean speed and
 //                                      # powers over cycles 2..cycles; [1, cycles]
@@ -88,6 +89,8 @@ struct ScenarioConfig {
   std::optional<std::string> rft_coefficients;
   // The wavelength in those coefficients; waveform.wavelength_mm if unset.
   std::optional<double> rft_wavelength_mm;
+  // A no-slip wall this far below the strip's lower edge (near-wall RFT).
+  std::optional<double> wall_gap_mm;
   // The first cycle (1-based, <= cycles) of the run's link metrics, mean
   // speed and mean powers; the per-cycle tables keep every cycle.
   int metrics_from_cycle = 1;

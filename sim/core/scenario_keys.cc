@@ -144,6 +144,7 @@ void ReadLinkLengths(const KeyValue& value, ScenarioConfig& config) {
     value.Fail(value.name() + " must hold " + allowed + " (got " + std::to_string(count) + ")",
                allowed);
   }
+  config.link_lengths_mm.clear();  // a value replaces the lengths, as every reader sets its field
   for (std::size_t i = 0; i < count; ++i) config.link_lengths_mm.push_back(value.NumberAt(i));
 }
 
@@ -528,6 +529,17 @@ std::vector<KeySpec> MakeScenarioKeys() {
           .Reads([](const KeyValue& v, ScenarioConfig& c) { c.rft_wavelength_mm = v.Number(); })
           .Writes([](const ScenarioConfig& c) {
             return c.rft_wavelength_mm ? TomlFloat(*c.rft_wavelength_mm) : kLeftOut;
+          }),
+      Key("fluid.wall_gap_mm", T::kNumber, "mm", "> 0", "no wall",
+          "A no-slip plane wall this far below the strip's lower edge (the centreline is the "
+          "gap plus half the width above it): RFT takes the near-wall coefficients of Katz, "
+          "Blake & Paveri-Fontana (1975) in place of fluid.rft_coefficients")
+          .Example("2.0")
+          .Refused("0")
+          .Above(0.0)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.wall_gap_mm = v.Number(); })
+          .Writes([](const ScenarioConfig& c) {
+            return c.wall_gap_mm ? TomlFloat(*c.wall_gap_mm) : kLeftOut;
           }),
       Key("metrics.from_cycle", T::kInteger, "", "[1, cycles]", "1",
           "The first cycle of the links' IAE, ITAE, RMS and peak voltage and clamped fraction, the "

@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "sim/batch/option_reference.h"
+#include "sim/optimize/option_reference.h"
 #include "sim/batch/sweep.h"
 #include "sim/batch/sweep_command.h"
 #include "sim/core/keys_command.h"

@@ -297,5 +297,6 @@ void BindRuns(py::module_& m);
 void BindAnalysis(py::module_& m);
 void BindSimulation(py::module_& m);
 void BindPlot(py::module_& m);
+void BindOptimize(py::module_& m);  // bind_optimize.cc
 
 }  // namespace ipmc::python

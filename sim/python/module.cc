@@ -51,4 +51,5 @@ PYBIND11_MODULE(_core, m) {
   BindAnalysis(m);
   BindSimulation(m);
   BindPlot(m);
+  BindOptimize(m);
 }

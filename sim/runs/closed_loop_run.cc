@@ -9,6 +9,7 @@
 #include "controllers/controller_names.h"
 #include "ipmc_swim/ipmc_swim.h"
 #include "plugin/coupling.h"
+#include "plugin/mjcf/custom_fields.h"
 #include "sim/core/step_count.h"
 #include "sim/core/model_generator.h"
 #include "sim/core/link_sensors.h"
@@ -121,22 +122,40 @@ std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenari
   IpmcActuatorsOverrides overrides;
   overrides.plants = scenario.plants;
   overrides.dynamics = scenario.dynamics;
-  auto sim = std::make_unique<Simulation>(std::move(model), source, overrides,
-                                          ScenarioFluidOverrides(scenario));
+  const RftDragOverrides fluid = ScenarioFluidOverrides(scenario, model.get());
+  auto sim = std::make_unique<Simulation>(std::move(model), source, overrides, fluid);
   const CouplingContext* coupling = FindCoupling(sim->data());
-  if ((scenario.rft_coefficients || scenario.rft_wavelength_mm) && !(coupling && coupling->drag)) {
+  if ((scenario.rft_coefficients || scenario.rft_wavelength_mm || scenario.wall_gap_mm) &&
+      !(coupling && coupling->drag)) {
     throw std::runtime_error(scenario.source +
-                             ": fluid.rft_coefficients and fluid.rft_wavelength_mm need a model "
-                             "with RFT drag");
+                             ": fluid.rft_coefficients, fluid.rft_wavelength_mm and "
+                             "fluid.wall_gap_mm need a model with RFT drag");
   }
   return sim;
 }
 
-RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario) {
+RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mjModel* m) {
+  constexpr double kMmToM = 1e-3;
   RftDragOverrides fluid;
+  if (scenario.rft_coefficients && scenario.wall_gap_mm) {
+    throw std::runtime_error(scenario.source +
+                             ": fluid.rft_coefficients and fluid.wall_gap_mm exclude each other "
+                             "(near a wall RFT takes the near-wall coefficients)");
+  }
   if (scenario.rft_coefficients) fluid.model = ParseCoefficientModel(*scenario.rft_coefficients);
   fluid.wavelength_m =
-      scenario.rft_wavelength_mm.value_or(scenario.waveform.wavelength_mm) * 1e-3;  // mm to m
+      scenario.rft_wavelength_mm.value_or(scenario.waveform.wavelength_mm) * kMmToM;
+  if (scenario.wall_gap_mm) {
+    double width_m = 0.0;
+    if (const std::optional<double> width = FindCustomScalar(m, kStripWidthField)) {
+      width_m = *width;
+    } else if (const std::optional<double> radius = FindCustomScalar(m, kAttrEquivalentRadius)) {
+      width_m = 2.0 * *radius;
+    } else {
+      width_m = 2.0 * RftDragConfig().equivalent_radius_m;
+    }
+    fluid.wall_distance_m = *scenario.wall_gap_mm * kMmToM + 0.5 * width_m;
+  }
   return fluid;
 }
 

@@ -104,8 +104,12 @@ std::string ScenarioModelSha256(const ScenarioConfig& scenario);
 std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenario);
 // The fluid settings the scenario imposes: fluid.rft_coefficients, and the
 // wavelength in the RFT coefficients, fluid.rft_wavelength_mm or else the
-// wave's (waveform.wavelength_mm), so that the drag follows the wave.
-RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario);
+// wave's (waveform.wavelength_mm), so that the drag follows the wave; and
+// with fluid.wall_gap_mm the near-wall coefficients, for a wall that far
+// below the strip's lower edge: the centreline is the gap plus half the
+// strip's width (m's ipmc_strip_width_m, else 2 ipmc_rft_equivalent_radius_m)
+// from it.
+RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mjModel* m);
 
 // Loads the scenario's model (LoadScenarioSimulation) and runs it. Throws
 // std::runtime_error naming the file on bad input or divergence.

@@ -40,8 +40,8 @@ from ._core import Error, Simulation, __version__
 from ._paths import MODELS_DIR, SCENARIOS_DIR
 
 __all__ = ["Error", "Result", "Simulation", "bench", "bode", "design", "generate_model",
-           "identify", "keys", "merge", "options", "plot", "run", "step", "sweep", "MODELS_DIR",
-           "SCENARIOS_DIR"]
+           "identify", "keys", "merge", "optimize", "options", "plot", "run", "step", "sweep",
+           "MODELS_DIR", "SCENARIOS_DIR"]
 
 
 class Result(dict):
@@ -147,6 +147,21 @@ def _table(table):
     """A sweep table (its JSON) as a dict of numpy arrays, one per column."""
     columns = _columns(table["points"])
     return {name: columns.get(name, np.array([], dtype=object)) for name in table["columns"]}
+
+
+def optimize(file, *, out, jobs=None, resume=None, progress=None):
+    """Optimises a scenario's design, as ``ipmc-swim optimize OPT --out DIR``.
+
+    file: an optimisation file (TOML, docs/OPTIMIZE.md). out: the folder for
+    history.csv, convergence.csv, convergence.png, result.json, best/ and
+    optimize.journal. jobs: threads for the starts (default: the CPUs this
+    process may use; the result does not depend on it). resume=True goes on
+    with the journal in out. progress(done, total) is called after each
+    evaluation. Returns result.json as a dict (best.variables,
+    best.objective, best.metrics, evaluations, algorithm, converged,
+    stop_reason, starts).
+    """
+    return _core.optimize(file, _options({}, out=out, jobs=jobs, resume=resume), progress)
 
 
 def merge(tables, *, out):

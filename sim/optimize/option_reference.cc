@@ -1,4 +1,4 @@
-#include "sim/batch/option_reference.h"
+#include "sim/optimize/option_reference.h"
 
 #include "sim/batch/sweep_command.h"
 #include "sim/core/generate_command.h"
@@ -6,6 +6,7 @@
 #include "sim/identify/identify_run.h"
 #include "sim/identify/loop_analysis.h"
 #include "sim/identify/pipeline_run.h"
+#include "sim/optimize/optimize_run.h"
 #include "sim/runs/bench_command.h"
 #include "sim/runs/gait_command.h"
 #include "sim/runs/run_command.h"
@@ -15,6 +16,7 @@ namespace ipmc {
 
 std::vector<OptionTableInfo> EveryOptionTable() {
   return {InfoOf(RunOptions()),      InfoOf(SweepOptionTable()), InfoOf(MergeOptionTable()),
+          InfoOf(OptimizeOptionTable()),
           InfoOf(GenerateOptions()), InfoOf(GaitOptions()),      InfoOf(BenchOptions()),
           InfoOf(BodeOptions()),     InfoOf(StepOptions()),      InfoOf(IdentifyOptions()),
           InfoOf(DesignOptions()),   InfoOf(PipelineOptions()),  InfoOf(Table5Options()),
