@@ -121,10 +121,14 @@ Figure LinkTrackingFigure(const CsvTable& table, const std::vector<int>& links,
     const std::string rms_text =
         "RMS over " + steady.what + ": " + Format("%.4g", rms) + " mm";
     report.notes.push_back("link " + std::to_string(q) + ": tracking error " + rms_text);
-    // The error's axis leaves its top fifth to the RMS.
+    // The error's axis leaves its top fifth to the RMS, with no tic there
+    // (a tic at the top would touch the panel above).
+    const double error_step = NiceStep(2.2 * error_max, 4);
+    const double error_tic = error_step * std::max(1.0, std::floor(1.1 * error_max / error_step));
     const std::string error_axis = "set yrange [" + N(-1.1 * error_max) + ":" +
                                    N(1.1 * error_max + 0.5 * error_max) + "]\nset ytics " +
-                                   N(NiceStep(2.2 * error_max, 3)) + "\n";
+                                   N(-error_tic) + ", " + N(error_step) + ", " + N(error_tic) +
+                                   "\n";
     commands += StackedPanel(H, top + kLinkHeading, kDeflection, kLeft) + "set title " + Q(panel_title) +
                 " offset 0,-0.4\nset format x ''\nunset xlabel\n"
                 "set ylabel 'deflection [mm]'\nset ytics " +
