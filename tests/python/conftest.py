@@ -63,6 +63,32 @@ def cli_error(*args):
     return lines[0][len("ipmc-swim: error: "):]
 
 
+# A sweep table's files, and their bytes for a prefix.
+TABLE_FILES = [".csv", ".json"]
+
+
+def table_files(prefix):
+    return {suffix: prefix.with_name(prefix.name + suffix).read_bytes() for suffix in TABLE_FILES}
+
+
+# Three one-cycle points of SHORT_SCENARIO.
+THREE_POINT_SWEEP = ('base = "short.toml"\n[set]\ncycles = 1\n[grid]\n'
+                     '"waveform.frequency_Hz" = [0.5, 0.4, 0.3]\n')
+
+
+@pytest.fixture(scope="module")
+def shards(tmp_path_factory):
+    """The shards 1/2 and 2/2 of THREE_POINT_SWEEP, from the command line:
+    the folder and the two shard tables."""
+    folder = tmp_path_factory.mktemp("shards")
+    (folder / "short.toml").write_text(SHORT_SCENARIO)
+    (folder / "sweep.toml").write_text(THREE_POINT_SWEEP)
+    for k in (1, 2):
+        run_cli("sweep", folder / "sweep.toml", "--shard", f"{k}/2", "--out",
+                folder / f"shard_{k}", "--jobs", "1")
+    return folder, [folder / "shard_1.csv", folder / "shard_2.csv"]
+
+
 @pytest.fixture
 def short_scenario(tmp_path):
     path = tmp_path / "short.toml"

@@ -11,11 +11,10 @@ import threading
 import pytest
 
 import ipmc_swim
-from conftest import CLI, SHORT_SCENARIO, run_cli
+from conftest import CLI, SHORT_SCENARIO, run_cli, table_files
 
 TRIES = 25
 RUN_FILES = ["timeseries.csv", "states.csv", "summary.json"]
-TABLE_FILES = [".csv", ".json"]
 
 # Two runs of the short scenario that differ in every file.
 RUN_A = ["--cycles", "1", "--set", "waveform.frequency_Hz=0.5"]
@@ -29,10 +28,6 @@ REFUSED = ("in use by another run", "in use by another running sweep")
 
 def run_files(folder):
     return {name: (folder / name).read_bytes() for name in RUN_FILES}
-
-
-def table_files(prefix):
-    return {suffix: prefix.with_name(prefix.name + suffix).read_bytes() for suffix in TABLE_FILES}
 
 
 @pytest.fixture(scope="module")

@@ -12,10 +12,8 @@ import sys
 
 import pytest
 
-from conftest import CLI, SHORT_SCENARIO, run_cli
+from conftest import CLI, run_cli
 
-SWEEP = ('base = "short.toml"\n[set]\ncycles = 1\n[grid]\n'
-         '"waveform.frequency_Hz" = [0.5, 0.4, 0.3]\n')
 EXIT = {"SIGINT": 130, "SIGTERM": 143, "SIGHUP": 143}
 TIMEOUT_S = 60
 
@@ -44,17 +42,12 @@ print("finished", flush=True)
 
 
 @pytest.fixture(scope="module")
-def shards(tmp_path_factory):
-    folder = tmp_path_factory.mktemp("shards")
-    (folder / "short.toml").write_text(SHORT_SCENARIO)
-    (folder / "sweep.toml").write_text(SWEEP)
-    for k in (1, 2):
-        run_cli("sweep", folder / "sweep.toml", "--shard", f"{k}/2", "--out",
-                folder / f"shard_{k}", "--jobs", "1")
-    return folder
+def shard_dir(shards):
+    """The folder of the command line's two shards (conftest.py)."""
+    return shards[0]
 
 
-def held_merge(tmp_path, shards, command, sent, taken):
+def held_merge(tmp_path, shard_dir, command, sent, taken):
     """Runs `command` (a merge of shard 1 and a FIFO), sends `sent` once it
     reads the FIFO and, once the line `taken` shows it took the signal,
     feeds the FIFO shard 2's table. Returns (exit code, stdout, stderr)."""
@@ -70,7 +63,7 @@ def held_merge(tmp_path, shards, command, sent, taken):
                 line = stream.readline()
                 assert line, f"the merge ended before taking {sent}: {seen}"
                 seen += line
-            feed.write((shards / "shard_2.csv").read_text())
+            feed.write((shard_dir / "shard_2.csv").read_text())
         stdout, stderr = child.communicate(timeout=TIMEOUT_S)
     finally:
         if child.poll() is None:
@@ -80,37 +73,37 @@ def held_merge(tmp_path, shards, command, sent, taken):
 
 
 @pytest.mark.parametrize("sent", sorted(EXIT))
-def test_a_signal_stops_the_merge_before_it_writes(tmp_path, shards, sent):
+def test_a_signal_stops_the_merge_before_it_writes(tmp_path, shard_dir, sent):
     out = tmp_path / "merged"
     code, _, stderr = held_merge(
-        tmp_path, shards,
-        [CLI, "merge", "--out", str(out), str(shards / "shard_1.csv"), str(tmp_path / "late.csv")],
+        tmp_path, shard_dir,
+        [CLI, "merge", "--out", str(out), str(shard_dir / "shard_1.csv"), str(tmp_path / "late.csv")],
         sent, "interrupted: stopping before the merged table is written")
     assert code == EXIT[sent], stderr
     assert f"ipmc-swim: interrupted by {sent}: nothing written" in stderr, stderr
     assert sorted(p.name for p in tmp_path.iterdir()) == ["late.csv"]
 
 
-def test_without_a_signal_the_fifo_merge_is_the_whole_table(tmp_path, shards):
+def test_without_a_signal_the_fifo_merge_is_the_whole_table(tmp_path, shard_dir):
     fifo = tmp_path / "late.csv"
     os.mkfifo(fifo)
     child = subprocess.Popen([CLI, "merge", "--out", str(tmp_path / "merged"),
-                              str(shards / "shard_1.csv"), str(fifo)],
+                              str(shard_dir / "shard_1.csv"), str(fifo)],
                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     with open(fifo, "w") as feed:
-        feed.write((shards / "shard_2.csv").read_text())
+        feed.write((shard_dir / "shard_2.csv").read_text())
     _, stderr = child.communicate(timeout=TIMEOUT_S)
     assert child.returncode == 0, stderr
-    run_cli("merge", "--out", tmp_path / "plain", shards / "shard_1.csv", shards / "shard_2.csv")
+    run_cli("merge", "--out", tmp_path / "plain", shard_dir / "shard_1.csv", shard_dir / "shard_2.csv")
     assert (tmp_path / "merged.csv").read_bytes() == (tmp_path / "plain.csv").read_bytes()
 
 
 @pytest.mark.parametrize("sent", sorted(EXIT))
-def test_python_s_merge_stops_before_it_writes(tmp_path, shards, sent):
+def test_python_s_merge_stops_before_it_writes(tmp_path, shard_dir, sent):
     out = tmp_path / "merged"
     code, stdout, stderr = held_merge(
-        tmp_path, shards,
-        [sys.executable, "-c", PYTHON_MERGE, str(shards / "shard_1.csv"),
+        tmp_path, shard_dir,
+        [sys.executable, "-c", PYTHON_MERGE, str(shard_dir / "shard_1.csv"),
          str(tmp_path / "late.csv"), str(out)],
         sent, "taken")
     # The stop was asked while the merge read; it stopped at its next safe

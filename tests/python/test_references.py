@@ -9,10 +9,8 @@ import subprocess
 import pytest
 
 import ipmc_swim
-from conftest import CLI, SHORT_SCENARIO, cli_error, run_cli
+from conftest import CLI, cli_error, run_cli
 
-SWEEP = ('base = "short.toml"\n[set]\ncycles = 1\n[grid]\n'
-         '"waveform.frequency_Hz" = [0.5, 0.4, 0.3]\n')
 
 
 def cli_stdout(*args):
@@ -37,18 +35,6 @@ def test_the_options_reference_lists_python_s_own_new_keywords():
 def test_a_reference_format_that_is_not_one_is_refused(command):
     with pytest.raises(ipmc_swim.Error, match="format must be text or markdown"):
         getattr(ipmc_swim, command)(format="html")
-
-
-@pytest.fixture(scope="module")
-def shards(tmp_path_factory):
-    """The shards 1/2 and 2/2 of a three-point sweep, from the command line."""
-    folder = tmp_path_factory.mktemp("shards")
-    (folder / "short.toml").write_text(SHORT_SCENARIO)
-    (folder / "sweep.toml").write_text(SWEEP)
-    for k in (1, 2):
-        run_cli("sweep", folder / "sweep.toml", "--shard", f"{k}/2", "--out",
-                folder / f"shard_{k}", "--jobs", "1")
-    return folder, [folder / "shard_1.csv", folder / "shard_2.csv"]
 
 
 def test_merge_writes_the_command_line_s_files(tmp_path, shards):

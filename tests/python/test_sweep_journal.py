@@ -17,10 +17,9 @@ import threading
 import pytest
 
 import ipmc_swim
-from conftest import CLI, SHORT_SCENARIO, run_cli
+from conftest import CLI, SHORT_SCENARIO, run_cli, table_files
 
 TRIES = 25
-TABLE_FILES = [".csv", ".json"]
 LOCKED = "in use by another running sweep"
 
 # One 20 s cycle per point (most of a second of work), so that the two
@@ -30,10 +29,6 @@ SWEEP_B = 'base = "short.toml"\n[set]\ncycles = 1\n[grid]\n"waveform.frequency_H
 # Three quick points, for resuming.
 SWEEP_RESUME = ('base = "short.toml"\n[set]\ncycles = 1\n[grid]\n'
                 '"waveform.frequency_Hz" = [0.5, 0.4, 0.3]\n')
-
-
-def table_files(prefix):
-    return {suffix: prefix.with_name(prefix.name + suffix).read_bytes() for suffix in TABLE_FILES}
 
 
 @pytest.fixture(scope="module")
