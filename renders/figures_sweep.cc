@@ -129,9 +129,11 @@ Figure SweepFigure(const CsvTable& table, const std::string&, const FigureOption
     }
     commands += ")\n";
   } else {
-    commands += "set offsets graph 0.03, graph 0.03, graph 0.05, graph 0.05\n";
+    // The x range ends 3 % beyond the data, not at the next tic beyond that.
+    commands += "set autoscale xfix\nset offsets graph 0.03, graph 0.03, graph 0.05, graph 0.05\n";
   }
-  // Numeric group values carry the group column's unit in the key.
+  // Numeric group values carry the group column's unit in the key, or,
+  // without one, its name: "start 0", not a bare "0".
   std::string group_unit;
   if (grouped) {
     const std::string group_label = AxisLabel(options.group_column);
@@ -142,8 +144,13 @@ Figure SweepFigure(const CsvTable& table, const std::string&, const FigureOption
   }
   std::string plot = "plot ";
   for (size_t k = 0; k < groups.size(); ++k) {
-    const std::string label = grouped ? groups[k] + (ParseDouble(groups[k]) ? group_unit : "")
-                                      : AxisLabel(options.y_column);
+    std::string label = AxisLabel(options.y_column);
+    if (grouped) {
+      const bool numeric = ParseDouble(groups[k]).has_value();
+      label = !numeric              ? groups[k]
+              : group_unit.empty() ? WithoutUnit(AxisLabel(options.group_column)) + " " + groups[k]
+                                   : groups[k] + group_unit;
+    }
     plot += (k ? ", " : "") + data + " index " + std::to_string(k) + " using 1:2 with " +
             (numeric_x ? "linespoints lw 2" : "points") + " pt 7 ps 1.1 lc " +
             Rgb(kSeries[k % kSeriesCount]) + " title " + Q(label);
