@@ -180,7 +180,7 @@ void AddSweepCommands(CLI::App& app, SweepArgs& args) {
   AddTableCommand(app, MergeOptionTable(), args.merge);
 }
 
-int RunSweepCommand(const CLI::App& app, const SweepArgs& args) {
+int RunSweepCommand(const CLI::App&, const SweepArgs& args) {
   if (args.sweep.Chosen()) return RunSweepFile(args);
   if (args.merge.Chosen()) return RunMergeTables(args);
   return -1;

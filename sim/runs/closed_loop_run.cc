@@ -171,6 +171,22 @@ RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mj
   return fluid;
 }
 
+namespace {
+
+// The dof of each link's root hinge, where its active moment is read; none
+// without the IPMC coupling.
+std::vector<int> LinkRootDofs(const mjModel* m, const mjData* d) {
+  std::vector<int> dofs;
+  const CouplingContext* coupling = FindCoupling(d);
+  if (!coupling || !coupling->actuators) return dofs;
+  for (const LinkChain& chain : coupling->actuators->chains()) {
+    dofs.push_back(m->jnt_dofadr[chain.joints.front()]);
+  }
+  return dofs;
+}
+
+}  // namespace
+
 ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserver& observer) {
   const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(scenario);
   return RunClosedLoop(*sim, scenario, observer);
@@ -232,6 +248,7 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
   SwimMeter meter(m);
   meter.Start(d);
   EnergyMeter energy(m, d);
+  const std::vector<int> root_dofs = LinkRootDofs(m, d);
   energy.MeasureElectrical(scenario.electrical, geometry.length_mm);
   for (int cycle = 0; cycle < scenario.cycles; ++cycle) {
     // The link metrics are taken over the cycles from metrics.from_cycle.
@@ -267,6 +284,10 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
       sim.Step(next % steps_per_sample == 0);
       meter.Observe(m, d);
       energy.Observe(m, d);
+      for (size_t q = 0; measuring && q < root_dofs.size() && q < result.links.size(); ++q) {
+        double& peak = result.links[q].peak_moment_Nm;
+        peak = std::max(peak, std::abs(d->qfrc_actuator[root_dofs[q]]));
+      }
     }
     meter.EndCycle(d);
     energy.EndCycle(m, d);

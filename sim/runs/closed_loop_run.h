@@ -37,6 +37,9 @@ struct LinkTracking : TrackingIndices {
   double max_abs_reference_mm = 0.0;
   double rms_voltage_V = 0.0;
   double peak_voltage_V = 0.0;
+  // The largest |active moment| E I kappa of the link's IPMC, the same at
+  // each of its hinges (plugin/actuators/ipmc_actuators.h) [N m].
+  double peak_moment_Nm = 0.0;
   double clamped_fraction = 0.0;
 };
 

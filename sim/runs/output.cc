@@ -285,6 +285,7 @@ nlohmann::json ClosedLoopSummaryJson(const ClosedLoopResult& result) {
                      {"max_abs_reference_mm", t.max_abs_reference_mm},
                      {"rms_voltage_V", t.rms_voltage_V},
                      {"peak_voltage_V", t.peak_voltage_V},
+                     {"peak_moment_Nm", t.peak_moment_Nm},
                      {"clamped_fraction", t.clamped_fraction},
                      {columns::kActuatorPower,
                       q < energy.actuator_power_W.size() ? energy.actuator_power_W[q] : 0.0}});
