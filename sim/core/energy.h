@@ -104,6 +104,9 @@ class EnergyMeter {
   // displacements and its mean speed over the cycles from `from_cycle`
   // (1-based), over which the means are taken.
   EnergyMetrics Finish(const SwimMetrics& swim, double period_s, int from_cycle) const;
+  // The dofs of each link's hinges, root hinge first; none without the
+  // IPMC coupling.
+  const std::vector<std::vector<int>>& LinkDofs() const { return link_dofs_; }
 
  private:
   double StoredEnergy_J(const mjModel* m, const mjData* d);

@@ -171,22 +171,6 @@ RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mj
   return fluid;
 }
 
-namespace {
-
-// The dof of each link's root hinge, where its active moment is read; none
-// without the IPMC coupling.
-std::vector<int> LinkRootDofs(const mjModel* m, const mjData* d) {
-  std::vector<int> dofs;
-  const CouplingContext* coupling = FindCoupling(d);
-  if (!coupling || !coupling->actuators) return dofs;
-  for (const LinkChain& chain : coupling->actuators->chains()) {
-    dofs.push_back(m->jnt_dofadr[chain.joints.front()]);
-  }
-  return dofs;
-}
-
-}  // namespace
-
 ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserver& observer) {
   const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(scenario);
   return RunClosedLoop(*sim, scenario, observer);
@@ -248,7 +232,9 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
   SwimMeter meter(m);
   meter.Start(d);
   EnergyMeter energy(m, d);
-  const std::vector<int> root_dofs = LinkRootDofs(m, d);
+  // Each link's active moment is read at its root hinge.
+  std::vector<int> root_dofs;
+  for (const std::vector<int>& dofs : energy.LinkDofs()) root_dofs.push_back(dofs.front());
   energy.MeasureElectrical(scenario.electrical, geometry.length_mm);
   for (int cycle = 0; cycle < scenario.cycles; ++cycle) {
     // The link metrics are taken over the cycles from metrics.from_cycle.
