@@ -195,8 +195,8 @@ TEST_F(ScenarioErrorTest, UnknownKeysNameTheKeyAndTheAllowedOnes) {
       "c_um, alpha, frequency_Hz, wavelength_mm, start_ramp_cycles)");
   ExpectError(std::string(kModelLine) + "[fluid]\ndensity = 1000\n",
               ":3: unknown key 'fluid.density' (allowed: viscosity_Pa_s, rft_coefficients, "
-              "rft_wavelength_mm, wall_gap_mm, model, stokeslet_points_per_mm, stokeslet_blob_mm, "
-              "stokeslet_shape_tolerance_rad)");
+              "rft_wavelength_mm, wall_gap_mm, model, stokeslet_width_points, "
+              "stokeslet_points_per_mm, stokeslet_blob_mm, stokeslet_shape_tolerance_rad)");
   ExpectError(std::string(kModelLine) + "[output]\ndir = \"x\"\nformat = \"csv\"\n",
               ":4: unknown key 'output.format' (allowed: dir, samples_per_cycle)");
   // The earliest of several.

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <string>
 
 namespace ipmc {
 namespace {
@@ -50,9 +51,25 @@ FluidModel::FluidModel(const RftDrag& rft) : rft_(rft) {}
 
 FluidModel::FluidModel(const mjModel* m, const RftDrag& rft, const StokesletSettings& stokeslets)
     : kind_(FluidModelKind::kStokeslets), rft_(rft), settings_(stokeslets) {
-  const double radius_m = rft_.config().equivalent_radius_m;
-  if (settings_.blob_m == 0.0) settings_.blob_m = kBlobOverRadius * radius_m;
-  if (settings_.spacing_m == 0.0) settings_.spacing_m = kSpacingOverBlob * settings_.blob_m;
+  if (settings_.width_points < 1 || settings_.width_points > kMaxWidthPoints) {
+    throw std::invalid_argument("stokeslet fluid: the points across the width must be in [1, " +
+                                std::to_string(kMaxWidthPoints) + "] (got " +
+                                std::to_string(settings_.width_points) + ")");
+  }
+  if (settings_.width_m == 0.0) settings_.width_m = StripWidth_m(m);
+  RequirePositive(settings_.width_m, "the ribbon's width");
+  if (settings_.width_points == 1) {
+    // A centreline: the slender cylinder of RFT's equivalent radius.
+    const double radius_m = rft_.config().equivalent_radius_m;
+    if (settings_.blob_m == 0.0) settings_.blob_m = kBlobOverRadius * radius_m;
+    if (settings_.spacing_m == 0.0) settings_.spacing_m = kSpacingOverBlob * settings_.blob_m;
+  } else {
+    // A sheet: a square grid over the ribbon.
+    if (settings_.spacing_m == 0.0) {
+      settings_.spacing_m = settings_.width_m / settings_.width_points;
+    }
+    if (settings_.blob_m == 0.0) settings_.blob_m = kSheetBlobOverSpacing * settings_.spacing_m;
+  }
   RequirePositive(settings_.blob_m, "the blob");
   RequirePositive(settings_.spacing_m, "the point spacing");
   if (!(settings_.shape_tolerance_rad >= 0.0) || !std::isfinite(settings_.shape_tolerance_rad)) {
@@ -82,14 +99,20 @@ FluidModel::FluidModel(const mjModel* m, const RftDrag& rft, const StokesletSett
   }
 }
 
+PointList FluidModel::Points(const Eigen::Vector3d& center, const Eigen::Vector3d& tangent,
+                             double length_m) const {
+  // The width lies along z, normal to the plane the generated models beat in.
+  return SegmentPoints(center, tangent, length_m, settings_.spacing_m, Eigen::Vector3d::UnitZ(),
+                       settings_.width_m, settings_.width_points);
+}
+
 void FluidModel::Recompute(const mjModel* m, const mjData* d) const {
   const std::vector<Segment> segments = rft_.Segments(m, d);
   PointList points;
   std::vector<int> body_of_point;
   for (size_t i = 0; i < segments.size(); ++i) {
     const PointList along =
-        SegmentPoints(segments[i].center_W, segments[i].tangent_W, segments[i].length_m,
-                      settings_.spacing_m, Eigen::Vector3d::UnitZ(), 0.0, 1);
+        Points(segments[i].center_W, segments[i].tangent_W, segments[i].length_m);
     points.insert(points.end(), along.begin(), along.end());
     body_of_point.insert(body_of_point.end(), along.size(), body_of_geom_[i]);
   }
@@ -183,9 +206,8 @@ double FluidModel::TowingDrag_N(double speed_m_s) const {
   PointList points;
   double start_m = 0.0;
   for (double length_m : rft_.SegmentLengths_m()) {
-    const PointList along = SegmentPoints(Eigen::Vector3d(start_m + 0.5 * length_m, 0, 0),
-                                          Eigen::Vector3d::UnitX(), length_m, settings_.spacing_m,
-                                          Eigen::Vector3d::UnitZ(), 0.0, 1);
+    const PointList along =
+        Points(Eigen::Vector3d(start_m + 0.5 * length_m, 0, 0), Eigen::Vector3d::UnitX(), length_m);
     points.insert(points.end(), along.begin(), along.end());
     start_m += length_m;
   }

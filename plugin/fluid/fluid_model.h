@@ -9,7 +9,9 @@
 //   stokeslets  regularized Stokeslets (plugin/fluid/regularized_stokeslets.h)
 //               at points along each segment's centreline, spaced
 //               `spacing_m` (default the blob), blob eps (default
-//               sqrt(e) a, a RFT's equivalent radius), with the image
+//               sqrt(e) a, a RFT's equivalent radius), or, with
+//               `width_points` k > 1, on a sheet across the strip's width
+//               w (along z): a grid w / k apart, blob 0.7 w / k; with the image
 //               system of a no-slip wall z = -h when a wall distance h is
 //               set: the centreline is then h above the wall, which is
 //               parallel to the plane z = 0 the generated models beat and
@@ -77,6 +79,10 @@ class FluidModel {
   int points() const { return points_; }
 
  private:
+  // The points of a straight segment (the centreline, or the sheet across
+  // the width).
+  PointList Points(const Eigen::Vector3d& center, const Eigen::Vector3d& tangent,
+                   double length_m) const;
   // R about the root body's origin in its frame for the current shape.
   void Recompute(const mjModel* m, const mjData* d) const;
   // The generalised force of body wrenches W (6 per body of bodies_).

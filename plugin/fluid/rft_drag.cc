@@ -353,4 +353,10 @@ void RftDrag::Apply(const mjModel* m, mjData* d) const {
   mjFREESTACK
 }
 
+double StripWidth_m(const mjModel* m) {
+  if (const std::optional<double> width = FindCustomScalar(m, kStripWidthField)) return *width;
+  const std::optional<double> radius_m = FindCustomScalar(m, kAttrEquivalentRadius);
+  return 2.0 * radius_m.value_or(RftDragConfig().equivalent_radius_m);
+}
+
 }  // namespace ipmc

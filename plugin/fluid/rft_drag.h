@@ -131,6 +131,10 @@ struct RftDragConfig {
 };
 
 // A rigid slender segment in the world frame.
+// The strip's width w [m]: the model's ipmc_strip_width_m, else twice its
+// ipmc_rft_equivalent_radius_m (RftDragConfig's default if absent).
+double StripWidth_m(const mjModel* m);
+
 struct Segment {
   Eigen::Vector3d center_W;
   Eigen::Vector3d tangent_W;  // unit

@@ -97,6 +97,7 @@ struct ScenarioConfig {
   // The fluid model, "rft" or "stokeslets", and the Stokeslets' points
   // (unset: the defaults of plugin/fluid/fluid_model.h).
   std::string fluid_model = "rft";
+  int stokeslet_width_points = 1;  // across the strip's width; 1: the centreline
   std::optional<double> stokeslet_points_per_mm, stokeslet_blob_mm;
   double stokeslet_shape_tolerance_rad = 1e-3;
   // The first cycle (1-based, <= cycles) of the run's link metrics, mean

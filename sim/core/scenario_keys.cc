@@ -1,7 +1,5 @@
 #include "sim/core/scenario_keys.h"
 
-#include "controllers/controller_names.h"
-
 #include <toml++/toml.h>
 
 #include <algorithm>
@@ -17,6 +15,7 @@
 #include "controllers/fractional_integrator.h"
 #include "plugin/actuators/ipmc_actuators.h"
 #include "plugin/base/numbers.h"
+#include "plugin/fluid/regularized_stokeslets.h"
 #include "sim/core/model_generator.h"
 #include "sim/core/scenario.h"
 
@@ -571,6 +570,23 @@ std::vector<KeySpec> MakeScenarioKeys() {
           .Choices("rft|stokeslets")
           .Reads([](const KeyValue& v, ScenarioConfig& c) { c.fluid_model = v.Choice(); })
           .Writes([](const ScenarioConfig& c) { return TomlString(c.fluid_model); }),
+      Key("fluid.stokeslet_width_points", T::kInteger, "", "[1, 16]", "1",
+          "Stokeslet points across the strip's width (ipmc_strip_width_m): 1 puts them on the "
+          "centreline; k > 1 makes the strip a sheet, a square grid w / k apart with the blob "
+          "0.7 w / k (docs/FLUIDS.md, \"Ribbon calibration\")")
+          .Default("1")
+          .Example("4")
+          .Refused("0")
+          .AtLeast(1)
+          .AtMost(kMaxWidthPoints)
+          .Only(kFluidModel, kStokeslets)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.stokeslet_width_points = static_cast<int>(v.Integer());
+          })
+          .Writes([](const ScenarioConfig& c) {
+            return c.stokeslet_width_points == 1 ? kLeftOut
+                                                 : TomlInteger(c.stokeslet_width_points);
+          }),
       Key("fluid.stokeslet_points_per_mm", T::kNumber, "1/mm", "> 0",
           "one per blob (1 / fluid.stokeslet_blob_mm)",
           "Stokeslet points per mm along each segment's centreline (each segment gets the "

@@ -93,9 +93,7 @@ SwimMetrics SwimMeter::Finish(const mjModel* m, const mjData* d, int from_cycle)
   metrics.body_length_mm = body_length_m * kMToMm;
   metrics.longest_segment_mm = longest_m * kMToMm;
   const RftDragConfig& fluid = coupling->drag->config();
-  const int width_id = mj_name2id(m, mjOBJ_NUMERIC, kStripWidthField);
-  const double width_m = width_id >= 0 ? m->numeric_data[m->numeric_adr[width_id]]
-                                       : 2.0 * fluid.equivalent_radius_m;
+  const double width_m = StripWidth_m(m);
   const double rho_over_mu = fluid.fluid_density_kg_m3 / fluid.viscosity_Pa_s;
   metrics.reynolds_tip = rho_over_mu * metrics.peak_lateral_tip_speed_mm_s / kMToMm * width_m;
   metrics.reynolds_swim =

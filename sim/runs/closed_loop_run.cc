@@ -148,15 +148,7 @@ RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mj
   fluid.wavelength_m =
       scenario.rft_wavelength_mm.value_or(scenario.waveform.wavelength_mm) * kMmToM;
   if (scenario.wall_gap_mm) {
-    double width_m = 0.0;
-    if (const std::optional<double> width = FindCustomScalar(m, kStripWidthField)) {
-      width_m = *width;
-    } else if (const std::optional<double> radius = FindCustomScalar(m, kAttrEquivalentRadius)) {
-      width_m = 2.0 * *radius;
-    } else {
-      width_m = 2.0 * RftDragConfig().equivalent_radius_m;
-    }
-    fluid.wall_distance_m = *scenario.wall_gap_mm * kMmToM + 0.5 * width_m;
+    fluid.wall_distance_m = *scenario.wall_gap_mm * kMmToM + 0.5 * StripWidth_m(m);
   }
   if (scenario.fluid_model == "stokeslets") {
     StokesletSettings stokeslets;
@@ -164,6 +156,7 @@ RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mj
     if (scenario.stokeslet_points_per_mm) {
       stokeslets.spacing_m = kMmToM / *scenario.stokeslet_points_per_mm;
     }
+    stokeslets.width_points = scenario.stokeslet_width_points;
     stokeslets.wall_distance_m = fluid.wall_distance_m;
     stokeslets.shape_tolerance_rad = scenario.stokeslet_shape_tolerance_rad;
     fluid.stokeslets = stokeslets;
