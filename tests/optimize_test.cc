@@ -13,6 +13,7 @@
 #include "sim/optimize/nlopt_driver.h"
 #include "sim/optimize/optimize_file.h"
 #include "sim/optimize/optimize_run.h"
+#include "sim/optimize/optimize_slurm.h"
 #include "tests/cli_util.h"
 
 namespace ipmc {
@@ -203,6 +204,74 @@ TEST(OptimizeRunTest, FilesAreTheSameForAnyJobsAndAfterAResume) {
   EXPECT_FALSE(resumed.stopped);
   EXPECT_GE(resumed.resumed, 3);
   EXPECT_EQ(Outputs(dir / "resumed"), expected) << "stopped and resumed differs";
+}
+
+// optimize --slurm's pieces without a cluster: each start alone into its
+// own journal (--start K, the array tasks), then the merge from those
+// journals (--journals), which runs nothing and writes the local run's
+// files byte for byte; the job scripts run exactly these commands.
+TEST(OptimizeRunTest, StartsRunApartAndMergedGiveTheLocalFiles) {
+  const fs::path dir = FreshDir("optimize_starts");
+  const std::string file = SmallOptimisation(dir);
+  ASSERT_FALSE(Optimise(file, dir / "local", 2, false).stopped);
+  const auto expected = Outputs(dir / "local");
+  for (int start : {0, 1}) {
+    OptimizeCommand task;
+    task.file = file;
+    task.out = (dir / "starts" / ("start_" + std::to_string(start))).string();
+    task.jobs = 1;
+    task.start = start;
+    const OptimizeOutcome outcome = RunOptimizeCommand(PlanOptimizeCommand(task));
+    EXPECT_TRUE(outcome.single_start);
+    EXPECT_EQ(outcome.evaluations, 4) << "start " << start;
+    EXPECT_EQ(Outputs(task.out).size(), 0u) << "a task writes its journal only";
+    EXPECT_EQ(task.out + "/optimize.journal", StartJournalPath((dir / "starts").string(), start));
+  }
+  OptimizeCommand merge;
+  merge.file = file;
+  merge.out = (dir / "merged").string();
+  merge.jobs = 1;
+  merge.journals = (dir / "starts").string();
+  const OptimizeOutcome merged = RunOptimizeCommand(PlanOptimizeCommand(merge));
+  EXPECT_EQ(merged.evaluations, 8);
+  EXPECT_EQ(merged.resumed, 8) << "the merge ran an evaluation again";
+  EXPECT_EQ(Outputs(dir / "merged"), expected);
+
+  // The scripts: one task per start, then the merge, with those options.
+  OptimizeCommand submit;
+  submit.file = file;
+  submit.out = (dir / "cluster").string();
+  SlurmOptions slurm;
+  slurm.time_limit = "5";
+  OptimizePlan plan;
+  const OptimizeSlurmJob job = ResolveOptimizeSlurm(submit, slurm, "/usr/bin/ipmc-swim", &plan);
+  EXPECT_EQ(job.starts, 2);
+  WriteOptimizeSlurmJob(job, plan);
+  const std::string array = ReadFile(job.ArrayScriptPath());
+  EXPECT_NE(array.find("#SBATCH --array=0-1\n"), std::string::npos) << array;
+  EXPECT_NE(array.find("#SBATCH --time=5\n"), std::string::npos) << array;
+  EXPECT_NE(array.find(" --start \"$start\" --jobs 1 --resume --out '" + job.StartsDir() +
+                       "/start_'\"$start\""),
+            std::string::npos)
+      << array;
+  const std::string merge_script = ReadFile(job.MergeScriptPath());
+  EXPECT_NE(merge_script.find(" --journals '" + job.StartsDir() + "' --jobs 1 --resume --out '" +
+                              job.dir + "'"),
+            std::string::npos)
+      << merge_script;
+  EXPECT_TRUE(fs::exists(StartJournalPath(job.StartsDir(), 1)));
+  // A start outside the optimisation's, and --slurm with a start.
+  OptimizeCommand bad = merge;
+  bad.out = (dir / "bad").string();
+  bad.start = 2;
+  try {
+    PlanOptimizeCommand(bad);
+    ADD_FAILURE() << "start 2 of 2 starts accepted";
+  } catch (const FieldError& error) {
+    EXPECT_EQ(error.field(), "start");
+    EXPECT_NE(std::string(error.what()).find("[0, 2)"), std::string::npos) << error.what();
+  }
+  EXPECT_THROW(ResolveOptimizeSlurm(bad, slurm, "/usr/bin/ipmc-swim", &plan), FieldError);
 }
 
 // ------------------------------------------------------- bad optimisation files ---

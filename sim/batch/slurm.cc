@@ -40,13 +40,6 @@ std::vector<std::string> Split(const std::string& text, char separator) {
   return parts;
 }
 
-// The #SBATCH lines both jobs share.
-std::string CommonDirectives(const SlurmSweep& job) {
-  std::string text;
-  if (!job.options.partition.empty()) text += "#SBATCH --partition=" + job.options.partition + "\n";
-  if (!job.options.time_limit.empty()) text += "#SBATCH --time=" + job.options.time_limit + "\n";
-  return text;
-}
 
 // "1234" or "1234;cluster" (sbatch --parsable) -> "1234".
 std::string JobId(const ProgramExit& run, const std::string& what) {
@@ -65,10 +58,10 @@ std::string Absolute(const std::string& path) {
 
 }  // namespace
 
-long ParseSlurmTimeLimit(const std::string& text) {
+long ParseSlurmTimeLimit(const std::string& text, const std::string& command) {
   if (text == "INFINITE" || text == "UNLIMITED") return -1;
   auto fail = [&]() -> long {
-    throw std::invalid_argument("sweep: --time must be a Slurm time limit > 0 (" +
+    throw std::invalid_argument(command + ": --time must be a Slurm time limit > 0 (" +
                                 std::string(kTimeFormats) + "; got '" + text + "')");
   };
   const std::vector<std::string> day_parts = Split(text, '-');
@@ -113,31 +106,46 @@ SlurmSweep ResolveSlurmSweep(const SweepPlan& plan, const SlurmOptions& options,
                                 "] (the sweep's points; got " +
                                 std::to_string(options.array_size) + ")");
   }
+  CheckSlurmOptions(options, "sweep");
+  if (options.dir.empty()) throw std::invalid_argument("sweep: --slurm needs a directory");
+  job.dir = SlurmScriptPath(options.dir, "sweep");
+  job.sweep_path = SlurmScriptPath(plan.source, "sweep");
+  job.program = SlurmScriptPath(program, "sweep");
+  return job;
+}
+
+void CheckSlurmOptions(const SlurmOptions& options, const std::string& command) {
   if (options.cpus_per_task < 1) {
-    throw std::invalid_argument("sweep: --cpus-per-task must be >= 1 (got " +
+    throw std::invalid_argument(command + ": --cpus-per-task must be >= 1 (got " +
                                 std::to_string(options.cpus_per_task) + ")");
   }
-  if (!options.time_limit.empty()) ParseSlurmTimeLimit(options.time_limit);
+  if (!options.time_limit.empty()) ParseSlurmTimeLimit(options.time_limit, command);
   const bool partition_ok =
       std::all_of(options.partition.begin(), options.partition.end(), [](unsigned char c) {
         return std::isalnum(c) || c == '_' || c == '-' || c == '.' || c == ',';
       });
   if (!partition_ok) {
-    throw std::invalid_argument("sweep: --partition must be a partition name (letters, digits, "
-                                "_ - . and , between names; got '" + options.partition + "')");
+    throw std::invalid_argument(command + ": --partition must be a partition name (letters, "
+                                "digits, _ - . and , between names; got '" + options.partition +
+                                "')");
   }
-  if (options.dir.empty()) throw std::invalid_argument("sweep: --slurm needs a directory");
-  job.dir = Absolute(options.dir);
-  job.sweep_path = Absolute(plan.source);
-  job.program = Absolute(program);
-  for (const std::string* path : {&job.dir, &job.sweep_path, &job.program}) {
-    if (path->find_first_of(" \t\n\"'\\%") != std::string::npos) {
-      throw std::invalid_argument("sweep: --slurm: '" + *path +
-                                  "' has a space, quote, backslash or % (the job scripts' "
-                                  "#SBATCH lines cannot hold them); use another path");
-    }
+}
+
+std::string SlurmScriptPath(const std::string& path, const std::string& command) {
+  const std::string absolute = Absolute(path);
+  if (absolute.find_first_of(" \t\n\"'\\%") != std::string::npos) {
+    throw std::invalid_argument(command + " --slurm: '" + absolute +
+                                "' has a space, quote, backslash or % (the job scripts' "
+                                "#SBATCH lines cannot hold them); use another path");
   }
-  return job;
+  return absolute;
+}
+
+std::string SlurmCommonDirectives(const SlurmOptions& options) {
+  std::string text;
+  if (!options.partition.empty()) text += "#SBATCH --partition=" + options.partition + "\n";
+  if (!options.time_limit.empty()) text += "#SBATCH --time=" + options.time_limit + "\n";
+  return text;
 }
 
 std::string SlurmArrayScript(const SlurmSweep& job) {
@@ -150,7 +158,7 @@ std::string SlurmArrayScript(const SlurmSweep& job) {
          "#SBATCH --job-name=ipmc-sweep\n"
          "#SBATCH --array=1-" + tasks + "\n"
          "#SBATCH --cpus-per-task=" + std::to_string(job.options.cpus_per_task) + "\n" +
-         CommonDirectives(job) +
+         SlurmCommonDirectives(job.options) +
          "#SBATCH --output=" + job.dir + "/logs/sweep_%A_%a.out\n"
          "set -eu\n"
          "shard=\"${SLURM_ARRAY_TASK_ID:?submit this script with sbatch}\"\n"
@@ -173,7 +181,7 @@ std::string SlurmMergeScript(const SlurmSweep& job) {
          "# with --dependency=afterany on the array job.\n"
          "#SBATCH --job-name=ipmc-merge\n"
          "#SBATCH --cpus-per-task=1\n" +
-         CommonDirectives(job) +
+         SlurmCommonDirectives(job.options) +
          "#SBATCH --output=" + job.dir + "/logs/merge_%j.out\n"
          "set -eu\n"
          "exec " + ShellQuote(job.program) + " merge --partial --out " +
@@ -217,21 +225,26 @@ std::string FindOnPath(const std::string& program) {
   return "";
 }
 
-void CheckSbatchOnPath() {
+void CheckSbatchOnPath(const std::string& command) {
   if (FindOnPath(kSbatch).empty()) {
-    throw std::runtime_error(std::string("sweep --slurm: ") + kSbatch +
+    throw std::runtime_error(command + " --slurm: " + kSbatch +
                              " is not on the PATH (Slurm's client; --dry-run writes the "
                              "scripts without submitting)");
   }
 }
 
 SlurmJobIds SubmitSlurmJob(const SlurmSweep& job) {
-  CheckSbatchOnPath();
+  return SubmitSlurmScripts(job.ArrayScriptPath(), job.MergeScriptPath(), "sweep");
+}
+
+SlurmJobIds SubmitSlurmScripts(const std::string& array_script, const std::string& merge_script,
+                               const std::string& command) {
+  CheckSbatchOnPath(command);
   SlurmJobIds ids;
-  ids.array = JobId(RunProgram({kSbatch, "--parsable", job.ArrayScriptPath()}), "job array");
+  ids.array = JobId(RunProgram({kSbatch, "--parsable", array_script}), "job array");
   try {
     ids.merge = JobId(RunProgram({kSbatch, "--parsable", "--dependency=afterany:" + ids.array,
-                                  job.MergeScriptPath()}),
+                                  merge_script}),
                       "merge job");
   } catch (const std::exception& failure) {
     try {

@@ -36,8 +36,18 @@ constexpr int kDefaultMaxArrayTasks = 1000;
 
 // Minutes of a Slurm time limit: "M", "M:S", "H:M:S", "D-H", "D-H:M",
 // "D-H:M:S" (seconds round up), or "INFINITE" / "UNLIMITED" (-1). Throws
-// std::invalid_argument naming --time unless it is one of these and > 0.
-long ParseSlurmTimeLimit(const std::string& text);
+// std::invalid_argument naming `command` and --time unless it is one of
+// these and > 0.
+long ParseSlurmTimeLimit(const std::string& text, const std::string& command = "sweep");
+
+// The checks every job of `command` (sweep, optimize) takes: CPUs per
+// task, time limit, partition name (std::invalid_argument, one line).
+void CheckSlurmOptions(const SlurmOptions& options, const std::string& command);
+// The absolute path, which a job script's #SBATCH line can hold; throws
+// std::invalid_argument naming it if it has a space, quote, backslash or %.
+std::string SlurmScriptPath(const std::string& path, const std::string& command);
+// The #SBATCH lines of the partition and the time limit.
+std::string SlurmCommonDirectives(const SlurmOptions& options);
 
 // The job, resolved: absolute paths, the number of tasks.
 struct SlurmSweep {
@@ -76,7 +86,7 @@ void WriteSlurmJob(const SlurmSweep& job, const SweepPlan& plan);
 std::string FindOnPath(const std::string& program);
 
 // Throws std::runtime_error (one line) unless sbatch is on the PATH.
-void CheckSbatchOnPath();
+void CheckSbatchOnPath(const std::string& command = "sweep");
 
 struct SlurmJobIds {
   std::string array;
@@ -89,5 +99,8 @@ struct SlurmJobIds {
 // message if it is missing or refuses; if the merge job is refused the
 // array is cancelled (scancel), so nothing stays submitted.
 SlurmJobIds SubmitSlurmJob(const SlurmSweep& job);
+// The same for any array script and its merge script.
+SlurmJobIds SubmitSlurmScripts(const std::string& array_script, const std::string& merge_script,
+                               const std::string& command);
 
 }  // namespace ipmc

@@ -7,6 +7,8 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
@@ -39,6 +41,46 @@ void WriteAll(int fd, const std::string& path, const std::string& line) {
   if (::fdatasync(fd) != 0) Fail(path, std::string("cannot sync the journal (") + std::strerror(errno) + ")");
 }
 
+nlohmann::json JournalHeader(const std::string& fingerprint,
+                             const std::vector<std::string>& columns) {
+  return {{kFormat, 1}, {"fingerprint", fingerprint}, {"columns", columns}};
+}
+
+// The records of a journal's text (the header checked; a torn last line
+// dropped).
+JournalRecords ParseJournal(const std::string& path, const std::string& text,
+                            const std::string& fingerprint,
+                            const std::vector<std::string>& columns) {
+  const nlohmann::json header = JournalHeader(fingerprint, columns);
+  JournalRecords records;
+  std::istringstream lines(text);
+  std::string line;
+  int number = 0;
+  size_t consumed = 0;
+  while (std::getline(lines, line)) {
+    ++number;
+    consumed += line.size() + 1;
+    if (consumed > text.size()) break;  // a torn last line
+    const nlohmann::json record = nlohmann::json::parse(line, nullptr, false);
+    if (number == 1) {
+      if (!record.is_object() || !record.contains(kFormat)) Fail(path, "not an optimisation journal");
+      if (record.value("fingerprint", "") != fingerprint ||
+          record.value("columns", nlohmann::json()) != header["columns"]) {
+        Fail(path, "records another optimisation (its base scenario, [set] or design keys "
+                   "differ); use another --out");
+      }
+      continue;
+    }
+    if (!record.is_object() || !record.contains("x") || !record.contains("cells")) {
+      Fail(path + ":" + std::to_string(number), "not a journal record");
+    }
+    std::string key;
+    for (const auto& value : record["x"]) key += (key.empty() ? "" : ",") + value.get<std::string>();
+    records[key] = record["cells"].get<std::vector<std::string>>();
+  }
+  return records;
+}
+
 }  // namespace
 
 std::string HexKey(const std::vector<double>& x) {
@@ -63,36 +105,12 @@ OptimizeJournal::OptimizeJournal(const std::string& path, const std::string& fin
   for (ssize_t n; (n = ::pread(fd_, buffer, sizeof(buffer), static_cast<off_t>(text.size()))) > 0;) {
     text.append(buffer, static_cast<size_t>(n));
   }
-  const nlohmann::json header = {{kFormat, 1}, {"fingerprint", fingerprint}, {"columns", columns}};
   try {
     if (text.empty()) {
-      WriteAll(fd_, path, header.dump() + "\n");
+      WriteAll(fd_, path, JournalHeader(fingerprint, columns).dump() + "\n");
       return;
     }
-    std::istringstream lines(text);
-    std::string line;
-    int number = 0;
-    size_t consumed = 0;
-    while (std::getline(lines, line)) {
-      ++number;
-      consumed += line.size() + 1;
-      if (consumed > text.size()) break;  // a torn last line
-      const nlohmann::json record = nlohmann::json::parse(line, nullptr, false);
-      if (number == 1) {
-        if (!record.is_object() || !record.contains(kFormat)) Fail(path, "not an optimisation journal");
-        if (record.value("fingerprint", "") != fingerprint || record.value("columns", nlohmann::json()) != header["columns"]) {
-          Fail(path, "records another optimisation (its base scenario, [set] or design keys "
-                     "differ); use another --out");
-        }
-        continue;
-      }
-      if (!record.is_object() || !record.contains("x") || !record.contains("cells")) {
-        Fail(path + ":" + std::to_string(number), "not a journal record");
-      }
-      std::string key;
-      for (const auto& value : record["x"]) key += (key.empty() ? "" : ",") + value.get<std::string>();
-      records_[key] = record["cells"].get<std::vector<std::string>>();
-    }
+    records_ = ParseJournal(path, text, fingerprint, columns);
   } catch (...) {
     ::close(fd_);
     fd_ = -1;
@@ -118,6 +136,17 @@ void OptimizeJournal::Record(const std::vector<double>& x, const std::vector<std
   std::lock_guard<std::mutex> lock(mutex_);
   WriteAll(fd_, path_, line);
   records_[HexKey(x)] = cells;
+}
+
+JournalRecords ReadOptimizeJournal(const std::string& path, const std::string& fingerprint,
+                                   const std::vector<std::string>& columns) {
+  std::error_code error;
+  if (!std::filesystem::exists(path, error)) return {};
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  if (!in.good() && !in.eof()) Fail(path, "cannot read the journal");
+  return ParseJournal(path, text.str(), fingerprint, columns);
 }
 
 size_t OptimizeJournal::size() const {

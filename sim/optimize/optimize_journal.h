@@ -17,6 +17,9 @@
 
 namespace ipmc {
 
+// A journal's runs: the cells of each design, by HexKey.
+using JournalRecords = std::map<std::string, std::vector<std::string>>;
+
 // "0x1.b0a3d70a3d70ap+3,0x1.4p+3": the values bit for bit.
 std::string HexKey(const std::vector<double>& x);
 
@@ -41,7 +44,13 @@ class OptimizeJournal {
   std::string path_;
   int fd_ = -1;
   mutable std::mutex mutex_;
-  std::map<std::string, std::vector<std::string>> records_;
+  JournalRecords records_;
 };
+
+// The runs of the journal at `path`, read without holding it (another
+// optimisation may be appending): none if there is no file. Throws
+// std::runtime_error naming the path as the constructor does.
+JournalRecords ReadOptimizeJournal(const std::string& path, const std::string& fingerprint,
+                                   const std::vector<std::string>& columns);
 
 }  // namespace ipmc

@@ -56,6 +56,15 @@ OptionTable<OptimizeCommand> MakeOptimizeOptions() {
                    "Go on with the journal in the output folder: evaluations it holds are not "
                    "run again"},
                   [](OptimizeCommand& c) -> bool& { return c.resume; });
+  OptionInfo start{"start", "", "[0, the starts)",
+                   "Run only this start (0: the initial point) and write only the journal: one "
+                   "task of optimize --slurm"};
+  start.default_text = "every start";
+  table.Add<int>(start, [](OptimizeCommand& c) -> int& { return c.start; });
+  table.AddPath({"journals", "", "a folder",
+                 "Take the evaluations that FOLDER/start_K/optimize.journal records (the tasks "
+                 "of optimize --slurm) instead of running them"},
+                [](OptimizeCommand& c) -> std::string& { return c.journals; });
   return table;
 }
 
@@ -236,6 +245,10 @@ std::string PathIn(const std::string& dir, const std::string& name) {
 
 OptimizeCommand::OptimizeCommand() : jobs(AvailableCpus()) {}
 
+std::string StartJournalPath(const std::string& folder, int start) {
+  return PathIn(PathIn(folder, "start_" + std::to_string(start)), kJournalName);
+}
+
 const OptionTable<OptimizeCommand>& OptimizeOptionTable() {
   static const OptionTable<OptimizeCommand> table = MakeOptimizeOptions();
   return table;
@@ -268,8 +281,41 @@ OptimizePlan PlanOptimizeCommand(const OptimizeCommand& command) {
                      "resume", "resume, or an out without a journal");
   }
   plan.config = LoadOptimizeFile(command.file);
+  const int starts = static_cast<int>(StartPoints(plan.config.Problem()).size());
+  if (command.start != -1) {
+    if (command.start < 0 || command.start >= starts) {
+      throw FieldError("optimize: start must be in [0, " + std::to_string(starts) +
+                           ") (the optimisation's starts; got " + std::to_string(command.start) +
+                           ")",
+                       "start", "[0, " + std::to_string(starts) + ")");
+    }
+    plan.only_start = command.start;
+  }
+  if (!command.journals.empty()) {
+    if (!fs::is_directory(command.journals, error)) {
+      throw FieldError("optimize: journals " + command.journals + " is not a folder", "journals",
+                       "a folder");
+    }
+    for (int k = 0; k < starts; ++k) {
+      plan.start_journals.push_back(StartJournalPath(command.journals, k));
+    }
+  }
   RequireWritableDirectory(command.out);
   return plan;
+}
+
+// The sweep-row columns an evaluation records (without the point index).
+std::vector<std::string> JournalColumns(const OptimizeConfig& config) {
+  std::vector<std::string> columns = SweepColumns(DesignPlan(config));
+  columns.erase(columns.begin());
+  return columns;
+}
+
+void CheckOptimizeJournals(const OptimizePlan& plan, const std::vector<std::string>& paths) {
+  const std::string fingerprint = Fingerprint(plan.config);
+  const std::vector<std::string> columns = JournalColumns(plan.config);
+  for (const std::string& path : paths) ReadOptimizeJournal(path, fingerprint, columns);
+  for (const std::string& path : paths) OptimizeJournal created(path, fingerprint, columns);
 }
 
 std::string OptimizeProgressLine(const OptimizePlan& plan, const OptimizeProgress& p) {
@@ -292,10 +338,15 @@ std::string OptimizeProgressLine(const OptimizePlan& plan, const OptimizeProgres
 OptimizeOutcome RunOptimizeCommand(const OptimizePlan& plan, const OptimizeHooks& hooks) {
   const OptimizeConfig& config = plan.config;
   const std::vector<DesignKey> keys = config.Keys();
-  std::vector<std::string> columns = SweepColumns(DesignPlan(config));
-  columns.erase(columns.begin());  // the point index
+  const std::vector<std::string> columns = JournalColumns(config);
   const DirectoryLock lock(plan.out);
-  OptimizeJournal journal(plan.journal, Fingerprint(config), columns);
+  const std::string fingerprint = Fingerprint(config);
+  OptimizeJournal journal(plan.journal, fingerprint, columns);
+  JournalRecords taken;  // from the start journals
+  for (const std::string& path : plan.start_journals) {
+    const JournalRecords records = ReadOptimizeJournal(path, fingerprint, columns);
+    taken.insert(records.begin(), records.end());
+  }
 
   const DriverProblem problem = config.Problem();
   std::atomic<int> runs{0};
@@ -304,7 +355,14 @@ OptimizeOutcome RunOptimizeCommand(const OptimizePlan& plan, const OptimizeHooks
   std::map<int, int> start_evaluations;  // each start's evaluations so far
   const DriverEvaluate evaluate = [&](int start,
                                       const std::vector<double>& x) -> std::optional<DriverEvaluation> {
+    if (plan.only_start && start != *plan.only_start) return std::nullopt;
     std::optional<std::vector<std::string>> cells = journal.Find(x);
+    if (!cells) {
+      if (const auto it = taken.find(HexKey(x)); it != taken.end()) {
+        cells = it->second;
+        journal.Record(x, *cells);
+      }
+    }
     const bool from_journal = cells.has_value();
     if (!cells) {
       if (hooks.stop_requested && hooks.stop_requested()) return std::nullopt;
@@ -344,6 +402,11 @@ OptimizeOutcome RunOptimizeCommand(const OptimizePlan& plan, const OptimizeHooks
   outcome.resumed = resumed;
   outcome.evaluations = done;
   outcome.stopped = result.stopped;
+  if (plan.only_start) {
+    outcome.stopped = result.starts.at(*plan.only_start).stopped;
+    outcome.single_start = !outcome.stopped;
+    return outcome;
+  }
   if (result.stopped) return outcome;
 
   // The best design's run outputs, from one more run.

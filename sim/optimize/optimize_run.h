@@ -17,9 +17,16 @@
 // that a stopped optimisation goes on along the same path to the same
 // files. The result does not depend on jobs (the starts run in parallel,
 // each its own NLopt instance).
+//
+// With start K only that start runs and only the journal is written (one
+// task of optimize --slurm, sim/optimize/optimize_slurm.h); with journals
+// FOLDER an evaluation that FOLDER/start_K/optimize.journal records is
+// taken from there (and recorded in DIR's journal), so that the merge of
+// the tasks' journals writes the files one local run writes.
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -34,6 +41,8 @@ struct OptimizeCommand {
   std::string out;    // DIR
   int jobs = 1;       // default: the CPUs this process may use
   bool resume = false;
+  int start = -1;        // >= 0: run only this start, recording it in the journal
+  std::string journals;  // a folder of start_K/optimize.journal to take evaluations from
   OptimizeCommand();
 };
 
@@ -45,7 +54,13 @@ struct OptimizePlan {
   std::string journal;  // DIR/optimize.journal
   int jobs = 1;
   bool resume = false;
+  std::optional<int> only_start;           // run this start alone; write only the journal
+  std::vector<std::string> start_journals;  // read-only journals to take evaluations from
 };
+
+// The journal of start K in a folder of per-start runs (optimize --slurm's
+// DIR/starts): FOLDER/start_K/optimize.journal.
+std::string StartJournalPath(const std::string& folder, int start);
 
 // Reads the OPT file and checks the options and DIR (writable; without
 // resume, no journal there already): FieldError naming the field (jobs,
@@ -76,6 +91,7 @@ struct OptimizeHooks {
 
 struct OptimizeOutcome {
   bool stopped = false;        // nothing written but the journal
+  bool single_start = false;   // only_start ran to its end: the journal is the output
   nlohmann::ordered_json result;  // result.json's content (when not stopped)
   int evaluations = 0;
   int resumed = 0;             // of them, taken from the journal
@@ -85,6 +101,11 @@ struct OptimizeOutcome {
 // std::runtime_error for a journal of another problem or an output that
 // cannot be written.
 OptimizeOutcome RunOptimizeCommand(const OptimizePlan& plan, const OptimizeHooks& hooks = {});
+
+// Creates or checks the journals of the plan's optimisation at `paths`:
+// every one is checked before any is created (std::runtime_error naming
+// one that records another optimisation or is in use).
+void CheckOptimizeJournals(const OptimizePlan& plan, const std::vector<std::string>& paths);
 
 // One line for an evaluation's progress on stderr.
 std::string OptimizeProgressLine(const OptimizePlan& plan, const OptimizeProgress& progress);

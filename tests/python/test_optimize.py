@@ -80,3 +80,25 @@ def test_optimize_refuses_a_journal_without_resume(tmp_path):
     assert again == first
     with pytest.raises(ipmc_swim.Error, match="jobs"):
         ipmc_swim.optimize(opt, out=tmp_path / "other", jobs=0)
+
+
+def test_starts_apart_then_merged_give_the_command_lines_files(tmp_path):
+    """optimize --slurm's tasks and merge, from Python: each start alone
+    (start=K, no result but its journal), then journals= writes what one
+    command-line run writes."""
+    (tmp_path / "base.toml").write_text(BASE)
+    opt = tmp_path / "opt.toml"
+    opt.write_text(OPT)
+    run_cli("optimize", opt, "--out", tmp_path / "cli", "--jobs", "1")
+    for start in (0, 1):
+        task = tmp_path / "starts" / f"start_{start}"
+        assert ipmc_swim.optimize(opt, out=task, jobs=1, start=start) is None
+        assert sorted(files_of(task)) == ["optimize.journal"]
+    ipmc_swim.optimize(opt, out=tmp_path / "merged", jobs=1, journals=tmp_path / "starts")
+    cli, merged = files_of(tmp_path / "cli"), files_of(tmp_path / "merged")
+    assert sorted(merged) == sorted(cli)
+    for name in cli:
+        if name != "optimize.journal":
+            assert merged[name] == cli[name], name
+    with pytest.raises(ipmc_swim.Error, match="start"):
+        ipmc_swim.optimize(opt, out=tmp_path / "bad", jobs=1, start=2)

@@ -149,19 +149,23 @@ def _table(table):
     return {name: columns.get(name, np.array([], dtype=object)) for name in table["columns"]}
 
 
-def optimize(file, *, out, jobs=None, resume=None, progress=None):
+def optimize(file, *, out, jobs=None, resume=None, start=None, journals=None, progress=None):
     """Optimises a scenario's design, as ``ipmc-swim optimize OPT --out DIR``.
 
     file: an optimisation file (TOML, docs/OPTIMIZE.md). out: the folder for
     history.csv, convergence.csv, convergence.png, result.json, best/ and
     optimize.journal. jobs: threads for the starts (default: the CPUs this
     process may use; the result does not depend on it). resume=True goes on
-    with the journal in out. progress(done, total) is called after each
+    with the journal in out. start=K runs that start alone and writes only
+    its journal (returns None): one task of ``optimize --slurm``.
+    journals=FOLDER takes the evaluations FOLDER/start_K/optimize.journal
+    record (the tasks' merge). progress(done, total) is called after each
     evaluation. Returns result.json as a dict (best.variables,
     best.objective, best.metrics, evaluations, algorithm, converged,
     stop_reason, starts).
     """
-    return _core.optimize(file, _options({}, out=out, jobs=jobs, resume=resume), progress)
+    options = _options({}, out=out, jobs=jobs, resume=resume, start=start, journals=journals)
+    return _core.optimize(file, options, progress)
 
 
 def merge(tables, *, out):
