@@ -5,7 +5,8 @@
 // Stokeslets at the default resolution (one point per blob, 25 points,
 // the resistance kept within 1e-3 rad of shape) in free space and near a
 // wall (1 mm gap), Stokeslets recomputed at every evaluation (tolerance 0)
-// and at twice the points per mm; each in the model's inertial dynamics
+// and at twice the points per mm, and on a sheet of 2 and 4 points across
+// the width; each in the model's inertial dynamics
 // and in Stokes dynamics. The runs' simulated time is the same, so the
 // ratios are per simulated time. docs/BENCHMARKS.md records them.
 //
@@ -24,7 +25,8 @@ namespace {
 const std::string kPaperScenario = std::string(IPMC_SWIM_SCENARIOS_DIR) + "/paper.toml";
 
 // args: model (0 rft, 1 stokeslets), dynamics (0 inertial, 1 stokes),
-// variant (0 default, 1 wall gap 1 mm, 2 tolerance 0, 3 twice the points).
+// variant (0 default, 1 wall gap 1 mm, 2 tolerance 0, 3 twice the points,
+// 4 and 5: 2 and 4 points across the width).
 void BM_PaperCycle(benchmark::State& state) {
   ScenarioConfig scenario = LoadScenario(kPaperScenario);
   scenario.cycles = 1;
@@ -34,6 +36,8 @@ void BM_PaperCycle(benchmark::State& state) {
   if (state.range(2) == 1) scenario.wall_gap_mm = 1.0;
   if (state.range(2) == 2) scenario.stokeslet_shape_tolerance_rad = 0.0;
   if (state.range(2) == 3) scenario.stokeslet_points_per_mm = 2.0 / 1.340;
+  if (state.range(2) == 4) scenario.stokeslet_width_points = 2;
+  if (state.range(2) == 5) scenario.stokeslet_width_points = 4;
   for (auto _ : state) benchmark::DoNotOptimize(RunScenario(scenario));
 }
 BENCHMARK(BM_PaperCycle)
@@ -42,6 +46,8 @@ BENCHMARK(BM_PaperCycle)
     ->Args({1, 0, 1})
     ->Args({1, 0, 2})
     ->Args({1, 0, 3})
+    ->Args({1, 0, 4})
+    ->Args({1, 0, 5})
     ->Args({0, 1, 0})
     ->Args({1, 1, 0})
     ->Args({1, 1, 1})
