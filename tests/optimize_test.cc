@@ -5,15 +5,20 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <complex>
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include "plugin/base/error.h"
+#include "plugin/base/numbers.h"
+#include "plugin/coupling.h"
 #include "sim/optimize/nlopt_driver.h"
 #include "sim/optimize/optimize_file.h"
 #include "sim/optimize/optimize_run.h"
 #include "sim/optimize/optimize_slurm.h"
+#include "sim/optimize/retune.h"
+#include "sim/runs/closed_loop_run.h"
 #include "tests/cli_util.h"
 
 namespace ipmc {
@@ -272,6 +277,84 @@ TEST(OptimizeRunTest, StartsRunApartAndMergedGiveTheLocalFiles) {
     EXPECT_NE(std::string(error.what()).find("[0, 2)"), std::string::npos) << error.what();
   }
   EXPECT_THROW(ResolveOptimizeSlurm(bad, slurm, "/usr/bin/ipmc-swim", &plan), FieldError);
+}
+
+// ------------------------------------------------------ retuned controllers ---
+
+ScenarioConfig GeneratedLinks(const std::vector<double>& lengths_mm, const std::string& kind) {
+  ScenarioConfig scenario =
+      ParseScenario(testing::OneCycleScenario(0.5) + "[controller]\nkind = \"" + kind + "\"\n",
+                    (fs::path(IPMC_SWIM_SOURCE_DIR) / "scenarios" / "x.toml").string());
+  scenario.link_lengths_mm = lengths_mm;
+  return scenario;
+}
+
+// PID: on 10 mm links the tuning is the `design` command's (docs/IDENTIFICATION.md:
+// 10.28 + 36.25/s + 0.5728 s from five starts; here one start, the paper's
+// gains, reaches it to 1e-4). Shorter links have smaller plant gains
+// (a0 ~ L^2), so their gains are larger, about as 1/L^2 (the mode moves
+// too, so not exactly).
+TEST(RetuneTest, PidGainsFollowEachLinksPlant) {
+  const ScenarioConfig retuned = RetunedControllers(GeneratedLinks({10.0, 10.0, 5.0}, "pid"));
+  const ScenarioConfig::LinkGains& g = retuned.link_gains;
+  ASSERT_EQ(g.kp.size(), 3u);
+  EXPECT_NEAR(g.kp[0], 10.28, 0.01);
+  EXPECT_NEAR(g.ki[0], 36.25, 0.01);
+  EXPECT_NEAR(g.kd[0], 0.5728, 1e-3);
+  EXPECT_EQ(g.kp[1], g.kp[0]);
+  EXPECT_GT(g.kp[2] / g.kp[0], 2.0);
+  EXPECT_LT(g.kp[2] / g.kp[0], 8.0);
+  std::printf("5 mm link: Kp %.4g, Ki %.4g, Kd %.4g (10 mm: %.4g, %.4g, %.4g)\n", g.kp[2],
+              g.ki[2], g.kd[2], g.kp[0], g.ki[0], g.kd[0]);
+}
+
+// Fractional: every link's open loop C P meets the specification exactly,
+// |C P| = 1 and arg C P = -180 deg + 75 deg at 5 rad/s (eq. 13), on its own
+// plant; on a 10 mm link K = 14.6275, lambda = 0.5887 (controller_design.h).
+TEST(RetuneTest, FractionalLoopsMeetTheSpecificationOnEachLinksPlant) {
+  const ScenarioConfig scenario = GeneratedLinks({14.0, 8.0, 8.0}, "fractional");
+  const ScenarioConfig retuned = RetunedControllers(scenario);
+  const ScenarioConfig::LinkGains& g = retuned.link_gains;
+  ASSERT_EQ(g.gain.size(), 3u);
+  const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(scenario);
+  const auto& plants = FindCoupling(sim->data())->actuators->link_params();
+  const double w = kRetuneCrossover_rad_s;
+  for (int q = 0; q < 3; ++q) {
+    const std::complex<double> loop =
+        g.gain[q] * std::pow(std::complex<double>(0.0, w), -g.order[q]) *
+        LinkResponseExact(plants[q], w);
+    EXPECT_NEAR(std::abs(loop), 1.0, 1e-9) << "link " << q + 1;
+    EXPECT_NEAR(std::arg(loop) * 180 / kPi, -180.0 + kRetunePhaseMargin_deg, 1e-6)
+        << "link " << q + 1;
+  }
+  const ScenarioConfig ten = RetunedControllers(GeneratedLinks({10.0, 10.0, 10.0}, "fractional"));
+  EXPECT_NEAR(ten.link_gains.gain[0], 14.6275, 1e-4);
+  EXPECT_NEAR(ten.link_gains.order[0], 0.5887, 1e-4);
+}
+
+// controller.link_*: equal to the scalar gains on every link, the run is
+// the scalar run's to the bit; a link's own gain moves that link only; an
+// array of the wrong length is one line naming the key.
+TEST(RetuneTest, PerLinkGainsDriveEachLinksController) {
+  ScenarioConfig scalar = GeneratedLinks({10.0, 10.0, 10.0}, "pid");
+  ScenarioConfig each = scalar;
+  each.link_gains.kp = {scalar.pid.kp, scalar.pid.kp, scalar.pid.kp};
+  each.link_gains.kd = {scalar.pid.kd, scalar.pid.kd, scalar.pid.kd};
+  const ClosedLoopResult a = RunScenario(scalar), b = RunScenario(each);
+  for (int q = 0; q < 3; ++q) EXPECT_EQ(a.links[q].iae_mm_s, b.links[q].iae_mm_s) << q;
+  each.link_gains.kp = {scalar.pid.kp, scalar.pid.kp, 2 * scalar.pid.kp};
+  const ClosedLoopResult c = RunScenario(each);
+  EXPECT_NE(c.links[2].iae_mm_s, a.links[2].iae_mm_s);
+  each.link_gains.kp = {1.0, 2.0};
+  try {
+    RunScenario(each);
+    ADD_FAILURE() << "two gains for three links accepted";
+  } catch (const std::runtime_error& error) {
+    EXPECT_NE(std::string(error.what()).find("controller.link_kp must hold one value per link (3; "
+                                             "got 2)"),
+              std::string::npos)
+        << error.what();
+  }
 }
 
 // ------------------------------------------------------- bad optimisation files ---

@@ -82,10 +82,11 @@ TEST(ScenarioKeysTest, EveryKeyTakesItsDefaultAndItsExampleAndRefusesItsRefusedV
   // Every key but those whose default is the model's (model, link_lengths_mm,
   // segments_per_link, plants, dynamics, timestep_s, fluid.viscosity_Pa_s,
   // fluid.rft_coefficients) or the wave's (fluid.rft_wavelength_mm) and
-  // fluid.wall_gap_mm (no wall) and the Stokeslets' points per mm and blob
-  // (from the strip's radius) has one; every key but the booleans and the
+  // fluid.wall_gap_mm (no wall), the Stokeslets' points per mm and blob
+  // (from the strip's radius) and the five controller.link_* gains (every
+  // link the scalar key's) has one; every key but the booleans and the
   // unbounded ones has a refused value.
-  EXPECT_EQ(defaults, static_cast<int>(ScenarioKeys().size()) - 12);
+  EXPECT_EQ(defaults, static_cast<int>(ScenarioKeys().size()) - 17);
   EXPECT_GE(refusals, 20);
 }
 

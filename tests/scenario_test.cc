@@ -188,7 +188,8 @@ TEST_F(ScenarioErrorTest, UnknownKeysNameTheKeyAndTheAllowedOnes) {
   ExpectError(
       std::string(kModelLine) + "[controller]\nkp = 1.0\nkpp = 2.0\n",
       ":4: unknown key 'controller.kpp' (allowed: kind, sample_rate_Hz, v_max_V, clamp, kp, "
-      "ki, kd, derivative_filter_s, gain, order, oustaloup_n, band_rad_s, realisation)");
+      "ki, kd, link_kp, link_ki, link_kd, derivative_filter_s, gain, order, link_gain, "
+      "link_order, oustaloup_n, band_rad_s, realisation)");
   ExpectError(
       std::string(kModelLine) + "[waveform]\nc3_um = 1.0\n",
       ":3: unknown key 'waveform.c3_um' (allowed: kind, c0_um, c1_um_per_mm, c2_um_per_mm2, "
@@ -207,7 +208,8 @@ TEST_F(ScenarioErrorTest, UnknownKeysNameTheKeyAndTheAllowedOnes) {
   ExpectError(
       std::string(kModelLine) + "controller.kq = 1\n",
       ":2: unknown key 'controller.kq' (allowed: kind, sample_rate_Hz, v_max_V, clamp, kp, ki, "
-      "kd, derivative_filter_s, gain, order, oustaloup_n, band_rad_s, realisation)");
+      "kd, link_kp, link_ki, link_kd, derivative_filter_s, gain, order, link_gain, link_order, "
+      "oustaloup_n, band_rad_s, realisation)");
 }
 
 TEST_F(ScenarioErrorTest, WrongTypesNameTheKeyAndTheType) {

@@ -82,6 +82,13 @@ struct ScenarioConfig {
   double sample_rate_Hz = 1000.0;
   PidController::Config pid;                    // sample period, clamp set from the fields above
   FractionalIntegrator::Config fractional;
+  // Per-link gains, one per link in order (empty: every link takes the one
+  // above): what an optimisation that retunes each design's controllers
+  // sets (docs/OPTIMIZE.md).
+  struct LinkGains {
+    std::vector<double> kp, ki, kd;  // PID [V/mm], [V/(mm s)], [V s/mm]
+    std::vector<double> gain, order;  // fractional [V/(mm s^lambda)], lambda
+  } link_gains;
   WaveformConfig waveform;
   // The references are multiplied by (1 - cos(pi t / T_r)) / 2 for
   // t < T_r = start_ramp_cycles / f, so the run starts without a jump.

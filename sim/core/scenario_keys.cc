@@ -196,6 +196,27 @@ KeySpec ElectricalKey(const char* name, const char* unit, const char* default_to
       });
 }
 
+// controller.link_*: one gain per link overriding controller.<scalar> for
+// that link; each value in the scalar key's range.
+template <std::vector<double> ScenarioConfig::LinkGains::*kField>
+Key LinkGainKey(const char* name, const char* unit, const char* allowed, const char* meaning,
+                    const char* example_toml) {
+  Key key(name, KeyType::kNumberArray, unit, allowed, "none: every link the scalar key's",
+          meaning);
+  key.Example(example_toml)
+      .Reads([](const KeyValue& v, ScenarioConfig& c) {
+        std::vector<double>& values = c.link_gains.*kField;
+        values.clear();
+        const std::size_t count = v.ArraySize("an array of one number per link");
+        for (std::size_t i = 0; i < count; ++i) values.push_back(v.NumberAt(i));
+      })
+      .Writes([](const ScenarioConfig& c) {
+        const std::vector<double>& values = c.link_gains.*kField;
+        return values.empty() ? kLeftOut : TomlFloats(values);
+      });
+  return key;
+}
+
 // applies_when of every key: its conditions whose value is not the
 // selector's default, as TOML lines.
 void WriteAppliesWhen(std::vector<KeySpec>* keys) {
@@ -385,6 +406,30 @@ std::vector<KeySpec> MakeScenarioKeys() {
           .Only(kControllerKind, kPid)
           .Reads([](const KeyValue& v, ScenarioConfig& c) { c.pid.kd = v.Number(); })
           .Writes([](const ScenarioConfig& c) { return TomlFloat(c.pid.kd); }),
+      LinkGainKey<&ScenarioConfig::LinkGains::kp>(
+          "controller.link_kp", "V/mm", "each >= 0",
+          "One Kp per link, in order, over controller.kp (set by an optimisation that retunes "
+          "each design's controllers)",
+          "[10.3, 2.6, 1.2]")
+          .Refused("[1, -1, 1]")
+          .AtLeast(0.0)
+          .Only(kControllerKind, kPid),
+      LinkGainKey<&ScenarioConfig::LinkGains::ki>(
+          "controller.link_ki", "V/(mm s)", "each >= 0",
+          "One Ki per link, in order, over controller.ki (set by an optimisation that retunes "
+          "each design's controllers)",
+          "[36, 9, 4]")
+          .Refused("[1, -1, 1]")
+          .AtLeast(0.0)
+          .Only(kControllerKind, kPid),
+      LinkGainKey<&ScenarioConfig::LinkGains::kd>(
+          "controller.link_kd", "V s/mm", "each >= 0",
+          "One Kd per link, in order, over controller.kd (set by an optimisation that retunes "
+          "each design's controllers)",
+          "[0.57, 0.14, 0.06]")
+          .Refused("[1, -1, 1]")
+          .AtLeast(0.0)
+          .Only(kControllerKind, kPid),
       Key("controller.derivative_filter_s", T::kNumber, "s", ">= 0", "0",
           "PID: derivative filter time constant Tf (0: the ideal derivative)")
           .Default("0.0")
@@ -415,6 +460,24 @@ std::vector<KeySpec> MakeScenarioKeys() {
           .Only(kRealisation, kOustaloup)
           .Reads([](const KeyValue& v, ScenarioConfig& c) { c.fractional.order = v.Number(); })
           .Writes([](const ScenarioConfig& c) { return TomlFloat(c.fractional.order); }),
+      LinkGainKey<&ScenarioConfig::LinkGains::gain>(
+          "controller.link_gain", "V/(mm s^lambda)", "each >= 0",
+          "One K per link, in order, over controller.gain (set by an optimisation that retunes "
+          "each design's controllers)",
+          "[14.6, 3.7, 1.6]")
+          .Refused("[1, -1, 1]")
+          .AtLeast(0.0)
+          .Only(kControllerKind, kFractional),
+      LinkGainKey<&ScenarioConfig::LinkGains::order>(
+          "controller.link_order", "", "each in (0, 1]",
+          "One lambda per link, in order, over controller.order (set by an optimisation that retunes "
+          "each design's controllers)",
+          "[0.59, 0.59, 0.59]")
+          .Refused("[0.5, 1.5, 0.5]")
+          .Above(0.0)
+          .AtMost(1.0)
+          .Only(kControllerKind, kFractional)
+          .Only(kRealisation, kOustaloup),
       Key("controller.oustaloup_n", T::kInteger, "", "[1, 64]", "4",
           "Fractional: Oustaloup pole-zero pairs N")
           .Default("4")

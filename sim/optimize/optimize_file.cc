@@ -34,6 +34,7 @@ constexpr char kSum[] = "sum";
 constexpr char kObjective[] = "objective";
 constexpr char kConstraint[] = "constraint";
 constexpr char kAlgorithm[] = "algorithm";
+constexpr char kControllers[] = "controllers";
 constexpr int kMaxEvaluations = 100000;
 constexpr int kMaxStarts = 64;
 
@@ -250,7 +251,8 @@ void OptimizeReader::ReadBounds(const toml::table& table, const std::string& pre
 
 OptimizeConfig OptimizeReader::Read(const std::string& toml_text) {
   const toml::table root = ParseToml(toml_text, source_);
-  RejectUnknown(root, "", {kBase, kSet, kVariable, kSum, kObjective, kConstraint, kAlgorithm});
+  RejectUnknown(root, "",
+                {kBase, kSet, kVariable, kSum, kObjective, kConstraint, kAlgorithm, kControllers});
   OptimizeConfig config;
   config.source = source_;
 
@@ -422,6 +424,24 @@ OptimizeConfig OptimizeReader::Read(const std::string& toml_text) {
   config.penalty = Number(algorithm, prefix, "penalty", config.penalty);
   if (!(config.penalty > 0.0)) Bad(algorithm.get("penalty"), prefix + "penalty", "must be > 0", "> 0");
   config.failed_objective = Number(algorithm, prefix, "failed_objective", 0.0);
+
+  // [controllers]
+  if (const toml::node* node = root.get(kControllers)) {
+    const toml::table& controllers = TableAt(*node, kControllers);
+    const std::string where = std::string(kControllers) + ".";
+    RejectUnknown(controllers, where, {"retune"});
+    if (const toml::node* retune = controllers.get("retune")) {
+      if (!retune->is_boolean()) Bad(retune, where + "retune", "must be true or false", "true or false");
+      config.retune_controllers = retune->as_boolean()->get();
+    }
+    if (config.retune_controllers &&
+        config.base.controller == ControllerKind::kFractional &&
+        config.base.fractional.realisation != FractionalRealisation::kOustaloup) {
+      Bad(controllers.get("retune"), where + "retune",
+          "needs the base's controller.realisation = \"oustaloup\" (eq. 15 fixes the order)",
+          "false with realisation eq15");
+    }
+  }
   return config;
 }
 

@@ -34,6 +34,9 @@
 //   multistart = 0                        # starts besides the initial point; [0, 64]
 //   penalty = 10.0                        # bobyqa, subplex: the constraints' penalty weight; > 0
 //   failed_objective = 0.0                # the objective a failed run counts as
+//   [controllers]
+//   retune = false                        # true: each design's controllers designed for its
+//                                         # plants (sim/optimize/retune.h)
 #pragma once
 
 #include <optional>
@@ -85,6 +88,8 @@ struct OptimizeConfig {
   int multistart = 0;
   double penalty = 10.0;
   double failed_objective = 0.0;
+  // Each design's controllers retuned for its plants (sim/optimize/retune.h).
+  bool retune_controllers = false;
 
   // The driver's problem (bounds, constraints, algorithm).
   DriverProblem Problem() const;

@@ -21,6 +21,7 @@
 #include "sim/io/csv.h"
 #include "sim/io/files.h"
 #include "sim/optimize/optimize_journal.h"
+#include "sim/optimize/retune.h"
 #include "sim/runs/closed_loop_run.h"
 #include "sim/runs/output.h"
 
@@ -91,13 +92,20 @@ SweepPlan DesignPlan(const OptimizeConfig& config) {
   return plan;
 }
 
+// The scenario of the design x, its controllers retuned if the file asks.
+ScenarioConfig EvaluationScenario(const OptimizeConfig& config, const std::vector<DesignKey>& keys,
+                                  const std::vector<double>& x) {
+  const ScenarioConfig scenario = DesignScenario(config.base, keys, x);
+  return config.retune_controllers ? RetunedControllers(scenario) : scenario;
+}
+
 // Runs the design x: status, error and the metrics, as a sweep's row has them.
 std::vector<std::string> RunDesign(const OptimizeConfig& config, const std::vector<DesignKey>& keys,
                                    const std::vector<double>& x) {
   SweepPlan plan = DesignPlan(config);
   SweepPoint point;
   try {
-    point.scenario = DesignScenario(config.base, keys, x);
+    point.scenario = EvaluationScenario(config, keys, x);
   } catch (const std::exception& failure) {
     point.error = OneLine(failure.what());
   }
@@ -110,6 +118,7 @@ std::string Fingerprint(const OptimizeConfig& config) {
   std::string identity = std::string(ProgramVersion()) + "\n" + ResolvedScenarioToml(config.base) +
                          "\n" + ScenarioModelSha256(config.base) + "\n";
   for (const DesignKey& key : config.Keys()) identity += key.name + "\n";
+  if (config.retune_controllers) identity += "retune controllers\n";
   return Sha256Hex(identity).substr(0, 16);
 }
 
@@ -418,7 +427,7 @@ OptimizeOutcome RunOptimizeCommand(const OptimizePlan& plan, const OptimizeHooks
                       {PathIn(plan.out, kConvergence), tables.convergence},
                       {PathIn(plan.out, kResult), outcome.result.dump(2) + "\n"}});
   if (result.best) {
-    const ScenarioConfig scenario = DesignScenario(config.base, keys, result.best->x);
+    const ScenarioConfig scenario = EvaluationScenario(config, keys, result.best->x);
     const ClosedLoopResult run = RunScenario(scenario);
     const nlohmann::json inputs = {{"scenario", config.base_path},
                                    {"optimize", config.source},

@@ -164,6 +164,21 @@ RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mj
   return fluid;
 }
 
+void CheckLinkGains(const ScenarioConfig& scenario, int links) {
+  const ScenarioConfig::LinkGains& each = scenario.link_gains;
+  const std::pair<const char*, const std::vector<double>*> arrays[] = {
+      {"controller.link_kp", &each.kp},     {"controller.link_ki", &each.ki},
+      {"controller.link_kd", &each.kd},     {"controller.link_gain", &each.gain},
+      {"controller.link_order", &each.order}};
+  for (const auto& [key, values] : arrays) {
+    if (!values->empty() && static_cast<int>(values->size()) != links) {
+      throw std::runtime_error(scenario.source + ": " + key + " must hold one value per link (" +
+                               std::to_string(links) + "; got " +
+                               std::to_string(values->size()) + ")");
+    }
+  }
+}
+
 ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserver& observer) {
   const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(scenario);
   return RunClosedLoop(*sim, scenario, observer);
@@ -184,7 +199,8 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
   const bool single = scenario.actuation == "single";
   const int driven = single ? 1 : links;
   std::vector<LinkController> controllers;
-  for (int q = 0; q < driven; ++q) controllers.emplace_back(scenario);
+  CheckLinkGains(scenario, links);
+  for (int q = 0; q < driven; ++q) controllers.emplace_back(scenario, q);
 
   const double dt = m->opt.timestep;
   const double period_s = 1.0 / std::abs(scenario.waveform.frequency_Hz);

@@ -67,14 +67,24 @@ struct ClosedLoopResult {
 using SampleObserver =
     std::function<void(const mjModel* m, const mjData* d, const ClosedLoopSample& sample)>;
 
-// One link's controller, whichever kind the scenario names.
+// Link q's controller (0-based), whichever kind the scenario names, with
+// that link's gains where the scenario gives them per link
+// (CheckLinkGains first).
 class LinkController {
  public:
-  explicit LinkController(const ScenarioConfig& scenario) {
+  LinkController(const ScenarioConfig& scenario, int q) {
+    const ScenarioConfig::LinkGains& each = scenario.link_gains;
     if (scenario.controller == ControllerKind::kPid) {
-      pid_ = std::make_unique<PidController>(scenario.pid);
+      PidController::Config pid = scenario.pid;
+      if (!each.kp.empty()) pid.kp = each.kp.at(q);
+      if (!each.ki.empty()) pid.ki = each.ki.at(q);
+      if (!each.kd.empty()) pid.kd = each.kd.at(q);
+      pid_ = std::make_unique<PidController>(pid);
     } else {
-      fractional_ = std::make_unique<FractionalIntegrator>(scenario.fractional);
+      FractionalIntegrator::Config fractional = scenario.fractional;
+      if (!each.gain.empty()) fractional.gain = each.gain.at(q);
+      if (!each.order.empty()) fractional.order = each.order.at(q);
+      fractional_ = std::make_unique<FractionalIntegrator>(fractional);
     }
   }
   double Update(double error_mm) {
@@ -85,6 +95,10 @@ class LinkController {
   std::unique_ptr<PidController> pid_;
   std::unique_ptr<FractionalIntegrator> fractional_;
 };
+
+// Throws std::runtime_error naming the scenario and key unless every
+// controller.link_* array the scenario gives holds one value per link.
+void CheckLinkGains(const ScenarioConfig& scenario, int links);
 
 // The references' fade-in (sim/core/scenario.h): (1 - cos(pi t / T_r)) / 2
 // for t < T_r = ramp_s, then 1.

@@ -91,8 +91,10 @@ std::vector<TrackingIndices> RunTransferFunctionLoop(const ScenarioConfig& scena
     LinkController controller;
   };
   std::vector<Loop> loops;
-  for (const IpmcLinkParams& params : plants) {
-    loops.push_back({HeldPlant(LinkStateSpace(params), sample_period_s), LinkController(scenario)});
+  CheckLinkGains(scenario, static_cast<int>(plants.size()));
+  for (size_t q = 0; q < plants.size(); ++q) {
+    loops.push_back({HeldPlant(LinkStateSpace(plants[q]), sample_period_s),
+                     LinkController(scenario, static_cast<int>(q))});
   }
   std::vector<TrackingIndices> indices(loops.size());
   for (long k = 0; k < samples; ++k) {
