@@ -377,6 +377,10 @@ TEST(OptimizeFileTest, BadFilesAreOneLineErrorsNamingFileAndField) {
       {"unknown_metric", "metric = \"reynolds_tip\"", "metric = \"speed\"", "constraint[1].metric"},
       {"unknown_algorithm", "name = \"cobyla\"", "name = \"newuoa\"", "algorithm.name"},
       {"outside_key_range", "lower = 7.0", "lower = -1.0", "variable[2].lower"},
+      {"retune_not_boolean", "multistart = 1\n", "multistart = 1\n[controllers]\nretune = 1\n",
+       "controllers.retune"},
+      {"controllers_unknown", "multistart = 1\n", "multistart = 1\n[controllers]\nkind = 1\n",
+       "controllers.kind"},
   };
   for (const BadFile& bad : cases) {
     std::string text = good;
