@@ -10,13 +10,9 @@ set -euo pipefail
 state="$1" ipmc="$2" source_dir="$3" work="$4"
 export PATH="$PATH:/usr/sbin:/sbin"
 
-fail() { echo "FAIL: $*" >&2; exit 1; }
-
-[ -f "$state/env" ] || fail "no cluster: $state/env is missing (the slurm_cluster_start test did not start one)"
-set -a
-# shellcheck disable=SC1091
-source "$state/env"
-set +a
+# shellcheck source=tests/slurm/test_lib.sh
+source "$(dirname "$0")/test_lib.sh"
+load_cluster_env "$state"
 
 rm -rf "$work"
 mkdir -p "$work"
@@ -77,16 +73,7 @@ array=$(sed -n 's/^submitted job array \([0-9]*\) and merge job \([0-9]*\) .*/\1
 merge=$(sed -n 's/^submitted job array \([0-9]*\) and merge job \([0-9]*\) .*/\2/p' <<<"$submitted")
 [ -n "$array" ] && [ -n "$merge" ] || fail "no job ids in: $submitted"
 
-job_state() { scontrol -o show job "$1" 2>/dev/null | sed -n 's/.*JobState=\([A-Z_]*\).*/\1/p' | sort -u | tr '\n' ' '; }
-start=$SECONDS
-until case "$(job_state "$merge")" in
-  "COMPLETED " | "FAILED " | "CANCELLED " | "TIMEOUT " | "NODE_FAIL " | "OUT_OF_MEMORY ") true ;;
-  *) false ;;
-esac; do
-  [ $((SECONDS - start)) -lt 300 ] || fail "merge job $merge not done after 300 s (state: $(job_state "$merge"); array: $(job_state "$array"))"
-  sleep 0.5
-done
-echo "array and merge done in $((SECONDS - start)) s"
+wait_ended "$merge" 450
 [ "$(job_state "$array")" = "COMPLETED " ] || fail "array tasks: $(job_state "$array") ($(cat "$work"/cluster/logs/optimize_* 2>&1))"
 [ "$(job_state "$merge")" = "COMPLETED " ] || fail "merge job: $(job_state "$merge") ($(cat "$work"/cluster/logs/merge_* 2>&1))"
 

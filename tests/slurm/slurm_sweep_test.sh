@@ -13,13 +13,9 @@ set -euo pipefail
 state="$1" ipmc="$2" source_dir="$3" work="$4"
 export PATH="$PATH:/usr/sbin:/sbin"
 
-fail() { echo "FAIL: $*" >&2; exit 1; }
-
-[ -f "$state/env" ] || fail "no cluster: $state/env is missing (the slurm_cluster_start test did not start one)"
-set -a
-# shellcheck disable=SC1091
-source "$state/env"
-set +a
+# shellcheck source=tests/slurm/test_lib.sh
+source "$(dirname "$0")/test_lib.sh"
+load_cluster_env "$state"
 
 rm -rf "$work"
 mkdir -p "$work"
@@ -67,22 +63,9 @@ submit() {
   [ -n "$array" ] && [ -n "$merge" ] || fail "no job ids in: $submitted"
 }
 
-# The merge job's state, once it has ended.
-job_state() { scontrol -o show job "$1" 2>/dev/null | sed -n 's/.*JobState=\([A-Z_]*\).*/\1/p' | sort -u | tr '\n' ' '; }
-ended() {
-  case "$(job_state "$merge")" in
-    "COMPLETED " | "FAILED " | "CANCELLED " | "TIMEOUT " | "NODE_FAIL " | "OUT_OF_MEMORY ") return 0 ;;
-    *) return 1 ;;
-  esac
-}
 # Waits for $merge to end; the array's and the merge's logs are in $1/logs.
 wait_done() {
-  local start=$SECONDS
-  until ended; do
-    [ $((SECONDS - start)) -lt 150 ] || fail "merge job $merge not done after 150 s (state: $(job_state "$merge"); array: $(job_state "$array"))"
-    sleep 0.5
-  done
-  echo "array and merge done in $((SECONDS - start)) s"
+  wait_ended "$merge" 450
   [ "$(job_state "$array")" = "COMPLETED " ] || fail "array tasks: $(job_state "$array") (logs: $(cat "$1"/logs/sweep_* 2>&1))"
   [ "$(job_state "$merge")" = "COMPLETED " ] || fail "merge job: $(job_state "$merge") ($(cat "$1"/logs/merge_* 2>&1))"
 }
