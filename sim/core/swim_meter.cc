@@ -69,7 +69,8 @@ void SwimMeter::EndCycle(const mjData* d) {
   cycle_start_ = end;
 }
 
-SwimMetrics SwimMeter::Finish(const mjModel* m, const mjData* d, int from_cycle) const {
+SwimMetrics SwimMeter::Finish(const mjModel* m, const mjData* d, int from_cycle,
+                              double wavelength_mm) const {
   SwimMetrics metrics = metrics_;
   const BodyPose end = Pose(d);
   // Cycle `from_cycle` began at the start of the run (cycle 1), at the
@@ -84,7 +85,10 @@ SwimMetrics SwimMeter::Finish(const mjModel* m, const mjData* d, int from_cycle)
     metrics.mean_speed_along_mm_s = -(end.com_x_mm - start->com_x_mm) / elapsed_s;
   }
   const CouplingContext* coupling = FindCoupling(d);
-  if (!coupling || !coupling->drag) return metrics;
+  if (!coupling || !coupling->drag) {
+    metrics.warnings = FluidWarnings(metrics, wavelength_mm);
+    return metrics;
+  }
   double body_length_m = 0.0, longest_m = 0.0;
   for (const Segment& segment : coupling->drag->Segments(m, d)) {
     body_length_m += segment.length_m;
@@ -98,7 +102,7 @@ SwimMetrics SwimMeter::Finish(const mjModel* m, const mjData* d, int from_cycle)
   metrics.reynolds_tip = rho_over_mu * metrics.peak_lateral_tip_speed_mm_s / kMToMm * width_m;
   metrics.reynolds_swim =
       rho_over_mu * std::abs(metrics.mean_speed_along_mm_s) / kMToMm * body_length_m;
-  metrics.warnings = FluidWarnings(metrics, 0.0);
+  metrics.warnings = FluidWarnings(metrics, wavelength_mm);
   return metrics;
 }
 

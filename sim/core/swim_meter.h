@@ -71,8 +71,10 @@ class SwimMeter {
   void EndCycle(const mjData* d);
   // Mean speed since the start of cycle `from_cycle` (1: since Start) and
   // the Reynolds numbers (needs the model's RFT fields through the
-  // coupling of d; without them both are 0), with FluidWarnings for no wave.
-  SwimMetrics Finish(const mjModel* m, const mjData* d, int from_cycle = 1) const;
+  // coupling of d; without them both are 0), with FluidWarnings for the
+  // wave's wavelength (0: no wave).
+  SwimMetrics Finish(const mjModel* m, const mjData* d, int from_cycle = 1,
+                     double wavelength_mm = 0.0) const;
 
  private:
   std::vector<int> tip_sites_;

@@ -292,8 +292,7 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
     result.links[q].clamped_fraction =
         static_cast<double>(clamped_samples[q]) / std::max<long>(1, measured_samples);
   }
-  result.swim = meter.Finish(m, d, scenario.metrics_from_cycle);
-  result.swim.warnings = FluidWarnings(result.swim, scenario.waveform.wavelength_mm);
+  result.swim = meter.Finish(m, d, scenario.metrics_from_cycle, scenario.waveform.wavelength_mm);
   RequireFiniteMetrics(result.swim, sim.source());
   result.energy = energy.Finish(result.swim, period_s, scenario.metrics_from_cycle);
   return result;
