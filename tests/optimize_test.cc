@@ -95,6 +95,21 @@ TEST(OptimizeDriverTest, MultistartIsTheSameOnAnyNumberOfThreads) {
       EXPECT_EQ(one.starts[s].records[r].x, two.starts[s].records[r].x);
     }
   }
+  // One start alone (optimize --start, a Slurm task) follows its own path.
+  problem.only_start = 2;
+  const DriverResult alone = RunDriver(problem, Quadratic, 2);
+  ASSERT_EQ(alone.starts.size(), 4u);
+  for (size_t s = 0; s < alone.starts.size(); ++s) {
+    if (s != 2) {
+      EXPECT_TRUE(alone.starts[s].records.empty()) << s;
+      continue;
+    }
+    ASSERT_EQ(alone.starts[s].records.size(), one.starts[s].records.size());
+    for (size_t r = 0; r < one.starts[s].records.size(); ++r) {
+      EXPECT_EQ(alone.starts[s].records[r].x, one.starts[s].records[r].x);
+    }
+  }
+  EXPECT_FALSE(alone.stopped);
   // The starts are inside the box and keep the sum within its bounds.
   for (const std::vector<double>& x : StartPoints(problem)) {
     EXPECT_GE(x[0], 0.0);

@@ -130,11 +130,11 @@ struct RftDragConfig {
   DragCoefficients Coefficients() const;
 };
 
-// A rigid slender segment in the world frame.
 // The strip's width w [m]: the model's ipmc_strip_width_m, else twice its
 // ipmc_rft_equivalent_radius_m (RftDragConfig's default if absent).
 double StripWidth_m(const mjModel* m);
 
+// A rigid slender segment in the world frame.
 struct Segment {
   Eigen::Vector3d center_W;
   Eigen::Vector3d tangent_W;  // unit

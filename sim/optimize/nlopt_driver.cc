@@ -229,6 +229,10 @@ DriverResult RunDriver(const DriverProblem& problem, const DriverEvaluate& evalu
   FanOut(points.size(), jobs, [&](size_t s) {
     DriverStart& out = result.starts[s];
     out.initial = points[s];
+    if (problem.only_start >= 0 && static_cast<int>(s) != problem.only_start) {
+      out.stop_reason = "not run";
+      return;
+    }
     StartRun run(problem, evaluate, static_cast<int>(s), &out);
     const unsigned n = static_cast<unsigned>(problem.lower.size());
     nlopt::opt opt(NloptAlgorithm(problem.algorithm), n);

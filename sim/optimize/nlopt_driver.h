@@ -61,6 +61,7 @@ struct DriverProblem {
   double xtol_rel = 1e-4;
   double ftol_rel = 0.0;      // 0: not used
   int multistart = 0;         // starts besides the initial point
+  int only_start = -1;        // >= 0: run this start alone, the others left empty
   double penalty = 10.0;      // BOBYQA, SBPLX: the penalty weight
   double failed_objective = 0.0;
 };

@@ -357,14 +357,14 @@ OptimizeOutcome RunOptimizeCommand(const OptimizePlan& plan, const OptimizeHooks
     taken.insert(records.begin(), records.end());
   }
 
-  const DriverProblem problem = config.Problem();
+  DriverProblem problem = config.Problem();
+  problem.only_start = plan.only_start.value_or(-1);
   std::atomic<int> runs{0};
   std::mutex progress_mutex;
   int done = 0, resumed = 0;
   std::map<int, int> start_evaluations;  // each start's evaluations so far
   const DriverEvaluate evaluate = [&](int start,
                                       const std::vector<double>& x) -> std::optional<DriverEvaluation> {
-    if (plan.only_start && start != *plan.only_start) return std::nullopt;
     std::optional<std::vector<std::string>> cells = journal.Find(x);
     if (!cells) {
       if (const auto it = taken.find(HexKey(x)); it != taken.end()) {
@@ -411,12 +411,11 @@ OptimizeOutcome RunOptimizeCommand(const OptimizePlan& plan, const OptimizeHooks
   outcome.resumed = resumed;
   outcome.evaluations = done;
   outcome.stopped = result.stopped;
+  if (result.stopped) return outcome;
   if (plan.only_start) {
-    outcome.stopped = result.starts.at(*plan.only_start).stopped;
-    outcome.single_start = !outcome.stopped;
+    outcome.single_start = true;  // its journal is the output
     return outcome;
   }
-  if (result.stopped) return outcome;
 
   // The best design's run outputs, from one more run.
   const Tables tables = HistoryTables(config, result);
