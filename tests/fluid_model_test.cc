@@ -114,12 +114,12 @@ TEST(FluidModelTest, StokesletsAndRftSwimAlike) {
               stokeslets / rft);
   EXPECT_GT(rft * stokeslets, 0.0);
   EXPECT_NEAR(stokeslets / rft, 1.0, 0.3);
-  // Snapshot: measured 0.9222 (0.0227701 and 0.020998 mm; the run is
+  // Snapshot: measured 0.8850 (0.0227701 and 0.0201524 mm; the run is
   // deterministic). The band, 0.02, is twice the ratio's change when the
   // Stokeslet resistance is recomputed at every step instead of within the
-  // default 1e-3 rad of shape (0.9131: 0.0207914 mm), so that a change of
+  // default 1e-3 rad of shape (0.8760: 0.019946 mm), so that a change of
   // either model larger than the cache's own effect shows.
-  EXPECT_NEAR(stokeslets / rft, 0.9222, 0.02);
+  EXPECT_NEAR(stokeslets / rft, 0.8850, 0.02);
 }
 
 // The paper's model file with another equivalent radius a (RFT's
@@ -153,7 +153,7 @@ class ThinnerStrip {
 // local limit of slender-body theory, which the Stokeslet line reproduces
 // at the blob sqrt(e) a). The short cycle, L = 31 mm; measured
 // Stokeslets / Lighthill - 1:
-//   L / a = 38: -8.44 %,  100: -7.29 %,  300: -4.83 %  (1000: -2.95 %, 236 s)
+//   L / a = 38: -12.13 %,  100: -10.29 %,  300: -7.49 %
 // between 1.1 and 1.6 over ln^2(L / a), the order of the terms local RFT
 // leaves out. Gray & Hancock's coefficients, whose logarithm has the
 // wavelength in place of the length, head for the same limit
@@ -171,7 +171,7 @@ TEST(FluidModelTest, StokesletSwimApproachesLighthillRftAsTheStripGetsSlender) {
     EXPECT_LT(std::abs(gap), std::abs(last_gap)) << "L/a = " << l_over_a;
     last_gap = gap;
   }
-  EXPECT_LT(std::abs(last_gap), 0.06);  // measured 4.83 %
+  EXPECT_LT(std::abs(last_gap), 0.09);  // measured 7.49 %
 }
 
 // Points across the width (fluid.stokeslet_width_points = k) make the strip

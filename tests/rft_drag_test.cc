@@ -99,6 +99,24 @@ TEST(RftDragTest, SegmentAlongItsAxisFeelsTangentialCoefficientOnly) {
               -kXi.normal_N_s_m2 * std::pow(0.02, 3) / 12 * 2.0, 1e-20);
 }
 
+// The planar block the Stokes step assembles is rows and columns 2 to 4
+// ([w_z; v_x; v_y]) of the whole spatial resistance, for any tangent and
+// centre (out of the plane too): measured equal to the last bit on these
+// 200 segments (the same products in the same order); the bound allows
+// the compiler another order of the sums.
+TEST(RftDragTest, PlanarResistanceIsTheWholeResistancesBlock) {
+  std::mt19937 rng(13);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  for (int trial = 0; trial < 200; ++trial) {
+    const Segment s = RandomSegment(rng);
+    const Eigen::Vector3d c = Eigen::Vector3d(normal(rng), normal(rng), normal(rng)) * 1e-2;
+    const SpatialResistance whole = SegmentResistance(s.center_W, s.tangent_W, s.length_m, c, kXi);
+    const Eigen::Matrix3d planar =
+        SegmentPlanarResistance(s.center_W, s.tangent_W, s.length_m, c, kXi);
+    EXPECT_LE((planar - whole.block<3, 3>(2, 2)).norm(), 1e-14 * whole.norm()) << trial;
+  }
+}
+
 // In MuJoCo: the generalised drag force the callback adds never does
 // positive work along the motion (qfrc_drag . qvel <= 0).
 TEST(RftDragTest, CallbackPowerIsNeverPositiveInMuJoCo) {

@@ -140,6 +140,10 @@ const Eigen::MatrixXd& FluidModel::BodyResistance(const mjModel* m, const mjData
     stale = std::abs(d->qpos[shape_joints_[k]] - cached_shape_[k]) > settings_.shape_tolerance_rad;
   }
   if (stale) Recompute(m, d);
+  return WorldResistance(d);
+}
+
+const Eigen::MatrixXd& FluidModel::WorldResistance(const mjData* d) const {
   // Back into the world and from the root's origin p to c: V_p = T V_c
   // with T = [I 0; -[p - c]x I], so R_c = T^T R_p T block by block.
   const Eigen::Matrix3d q = BodyRotation(d, root_body_);
@@ -194,10 +198,19 @@ void FluidModel::LocalResistances(const mjModel* m, const mjData* d,
   rft_.Resistances(m, d, out);
 }
 
+void FluidModel::LocalResistances(const mjModel* m, const mjData* d,
+                                  RftDrag::BodyResistanceBlocks<3>* out) const {
+  rft_.Resistances(m, d, out);
+}
+
 double FluidModel::DissipatedPower_W(const mjModel* m, const mjData* d) const {
   if (!nonlocal()) return rft_.DissipatedPower_W(m, d);
+  // The resistance the drag was last applied with: measuring the power
+  // must not refresh the cache (after a step d's positions are the next
+  // step's while its kinematics are still this one's).
+  if (root_resistance_.size() == 0) Recompute(m, d);
   const Eigen::VectorXd v = BodyVelocities(m, d);
-  return v.dot(BodyResistance(m, d) * v);
+  return v.dot(WorldResistance(d) * v);
 }
 
 double FluidModel::TowingDrag_N(double speed_m_s) const {

@@ -58,15 +58,20 @@ class FluidModel {
 
   // Adds the drag into d->qfrc_passive (positions and velocities from d).
   void Apply(const mjModel* m, mjData* d) const;
-  // rft: the segments' own resistances (RftDrag::Resistances).
+  // rft: the segments' own resistances (RftDrag::Resistances), whole or
+  // their planar blocks.
   void LocalResistances(const mjModel* m, const mjData* d, RftDrag::BodyResistances* out) const;
+  void LocalResistances(const mjModel* m, const mjData* d,
+                        RftDrag::BodyResistanceBlocks<3>* out) const;
   // stokeslets: the resistance R over bodies() about the subtree centre of
   // mass of the root (where MuJoCo gives cdof and cvel), world frame, from
   // d's positions (after mj_comPos): the drag wrenches [torque; force] of
   // the bodies are -R [w; v] of their spatial velocities.
   const Eigen::MatrixXd& BodyResistance(const mjModel* m, const mjData* d) const;
   const std::vector<int>& bodies() const { return bodies_; }
-  // The power the body loses to the fluid [W], never negative.
+  // The power the body loses to the fluid [W], never negative: stokeslets
+  // with the resistance last computed (the cache is not refreshed, so a
+  // measurement does not change the run).
   double DissipatedPower_W(const mjModel* m, const mjData* d) const;
   // The drag [N] on the body laid straight along x and towed along it.
   double TowingDrag_N(double speed_m_s) const;
@@ -85,6 +90,8 @@ class FluidModel {
                    double length_m) const;
   // R about the root body's origin in its frame for the current shape.
   void Recompute(const mjModel* m, const mjData* d) const;
+  // The cached R, in the world frame about the subtree centre of mass.
+  const Eigen::MatrixXd& WorldResistance(const mjData* d) const;
   // The generalised force of body wrenches W (6 per body of bodies_).
   void AddBodyWrenches(const mjModel* m, const mjData* d, const Eigen::VectorXd& wrench,
                        mjtNum* qfrc) const;

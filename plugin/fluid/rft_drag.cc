@@ -194,6 +194,34 @@ SpatialResistance SegmentResistance(const Eigen::Vector3d& center_W,
   return s;
 }
 
+// Rows and columns 2 to 4 of SegmentResistance's S, computed as it
+// computes them, without the entries that a planar motion does not read:
+// with r = centre - c, [r]x's row 2 is (-r_y, r_x, 0) and its column 2
+// (r_y, -r_x, 0), so the block needs lr's upper-left 2 x 2 only.
+Eigen::Matrix3d SegmentPlanarResistance(const Eigen::Vector3d& center_W,
+                                        const Eigen::Vector3d& tangent_W, double length_m,
+                                        const Eigen::Vector3d& c_W, const DragCoefficients& xi) {
+  const Eigen::Vector3d& t = tangent_W;
+  const Eigen::Vector3d r = center_W - c_W;
+  Eigen::Matrix2d lr;  // length (xi_t t t^T + xi_n (1 - t t^T)), x-y block
+  for (int i = 0; i < 2; ++i) {
+    for (int j = 0; j < 2; ++j) {
+      const double tt = t[i] * t[j];
+      lr(i, j) = length_m * (xi.tangential_N_s_m2 * tt + xi.normal_N_s_m2 * ((i == j) - tt));
+    }
+  }
+  // Row 2 of [r]x lr: the coupling of w_z with v_x and v_y.
+  const double coupling_x = -r.y() * lr(0, 0) + r.x() * lr(1, 0);
+  const double coupling_y = -r.y() * lr(0, 1) + r.x() * lr(1, 1);
+  Eigen::Matrix3d s;
+  s(0, 0) = xi.normal_N_s_m2 * length_m * length_m * length_m / 12.0 * (1.0 - t.z() * t.z()) -
+            (coupling_x * r.y() - coupling_y * r.x());
+  s(0, 1) = s(1, 0) = coupling_x;
+  s(0, 2) = s(2, 0) = coupling_y;
+  s.bottomRightCorner<2, 2>() = lr;
+  return s;
+}
+
 Wrench SegmentDragQuadrature(const Segment& segment, const DragCoefficients& xi, int intervals) {
   if (intervals < 1) throw std::invalid_argument("rft drag: quadrature intervals must be >= 1");
   const Eigen::Vector3d& t = segment.tangent_W;
@@ -305,22 +333,38 @@ std::vector<double> RftDrag::SegmentLengths_m() const {
   return lengths;
 }
 
-// The spatial resistance of one slender geom at the subtree centre of mass
-// of its body's root (where MuJoCo gives cdof and cvel).
-RftDrag::BodyResistance RftDrag::ResistanceOf(const mjModel* m, const mjData* d,
-                                              const SlenderGeom& geom) const {
+// The spatial resistance (or its planar block) of one slender geom at the
+// subtree centre of mass of its body's root (where MuJoCo gives cdof and
+// cvel).
+template <int Dim>
+RftDrag::BodyResistanceBlock<Dim> RftDrag::ResistanceOf(const mjModel* m, const mjData* d,
+                                                        const SlenderGeom& geom) const {
   const int body = m->geom_bodyid[geom.geom_id];
   const mjtNum* xmat = d->geom_xmat + 9 * geom.geom_id;  // row-major
   const Eigen::Vector3d tangent(xmat[geom.axis], xmat[3 + geom.axis], xmat[6 + geom.axis]);
-  return {body, SegmentResistance(Eigen::Vector3d(d->geom_xpos + 3 * geom.geom_id), tangent,
-                                  geom.length_m,
-                                  Eigen::Vector3d(d->subtree_com + 3 * m->body_rootid[body]),
-                                  coefficients_)};
+  const Eigen::Vector3d center(d->geom_xpos + 3 * geom.geom_id);
+  const Eigen::Vector3d c(d->subtree_com + 3 * m->body_rootid[body]);
+  if constexpr (Dim == 6) {
+    return {body, SegmentResistance(center, tangent, geom.length_m, c, coefficients_)};
+  } else {
+    return {body, SegmentPlanarResistance(center, tangent, geom.length_m, c, coefficients_)};
+  }
+}
+
+template <int Dim>
+void RftDrag::CollectResistances(const mjModel* m, const mjData* d,
+                                 BodyResistanceBlocks<Dim>* out) const {
+  out->clear();
+  for (const SlenderGeom& geom : slender_) out->push_back(ResistanceOf<Dim>(m, d, geom));
 }
 
 void RftDrag::Resistances(const mjModel* m, const mjData* d, BodyResistances* out) const {
-  out->clear();
-  for (const SlenderGeom& geom : slender_) out->push_back(ResistanceOf(m, d, geom));
+  CollectResistances<6>(m, d, out);
+}
+
+void RftDrag::Resistances(const mjModel* m, const mjData* d,
+                          BodyResistanceBlocks<3>* out) const {
+  CollectResistances<3>(m, d, out);
 }
 
 // J^T of every segment's wrench in one pass over the tree, what
@@ -336,7 +380,7 @@ void RftDrag::Apply(const mjModel* m, mjData* d) const {
   mjtNum* wrench_c = mj_stackAlloc(d, 6 * m->nbody);  // [torque; force] at c, per body
   mju_zero(wrench_c, 6 * m->nbody);
   for (const SlenderGeom& geom : slender_) {
-    const BodyResistance segment = ResistanceOf(m, d, geom);
+    const BodyResistance segment = ResistanceOf<6>(m, d, geom);
     Eigen::Map<Eigen::Matrix<double, 6, 1>> target(wrench_c + 6 * segment.body);
     target.noalias() -= segment.resistance *
                         Eigen::Map<const Eigen::Matrix<double, 6, 1>>(d->cvel + 6 * segment.body);

@@ -157,6 +157,13 @@ using SpatialResistance = Eigen::Matrix<double, 6, 6>;
 SpatialResistance SegmentResistance(const Eigen::Vector3d& center_W,
                                     const Eigen::Vector3d& tangent_W, double length_m,
                                     const Eigen::Vector3d& c_W, const DragCoefficients& xi);
+// The block of SegmentResistance in the components [w_z; v_x; v_y] (its
+// rows and columns 2 to 4): all of S that a body moving in the x-y plane
+// feels, without the rest (the same formula, term by term; any tangent and
+// centre).
+Eigen::Matrix3d SegmentPlanarResistance(const Eigen::Vector3d& center_W,
+                                        const Eigen::Vector3d& tangent_W, double length_m,
+                                        const Eigen::Vector3d& c_W, const DragCoefficients& xi);
 // Gauss-Legendre quadrature of the same integral with `points` nodes per
 // sub-interval over `intervals` equal sub-intervals (cross-check only).
 Wrench SegmentDragQuadrature(const Segment& segment, const DragCoefficients& xi, int intervals);
@@ -187,14 +194,20 @@ class RftDrag {
 
   // One segment's body and spatial resistance S about the subtree centre of
   // mass of its body's root (where MuJoCo gives cdof and cvel), from d's
-  // positions (valid after mj_comPos).
-  struct BodyResistance {
+  // positions (valid after mj_comPos): all of S (Dim = 6), or its
+  // [w_z; v_x; v_y] block (Dim = 3, SegmentPlanarResistance).
+  template <int Dim>
+  struct BodyResistanceBlock {
     int body;
-    SpatialResistance resistance;
+    Eigen::Matrix<double, Dim, Dim> resistance;
   };
-  using BodyResistances =
-      std::vector<BodyResistance, Eigen::aligned_allocator<BodyResistance>>;
+  template <int Dim>
+  using BodyResistanceBlocks =
+      std::vector<BodyResistanceBlock<Dim>, Eigen::aligned_allocator<BodyResistanceBlock<Dim>>>;
+  using BodyResistance = BodyResistanceBlock<6>;
+  using BodyResistances = BodyResistanceBlocks<6>;
   void Resistances(const mjModel* m, const mjData* d, BodyResistances* out) const;
+  void Resistances(const mjModel* m, const mjData* d, BodyResistanceBlocks<3>* out) const;
 
   const RftDragConfig& config() const { return config_; }
   const DragCoefficients& coefficients() const { return coefficients_; }
@@ -207,7 +220,11 @@ class RftDrag {
     double length_m;
   };
   static Segment SegmentOf(const mjModel* m, const mjData* d, const SlenderGeom& geom);
-  BodyResistance ResistanceOf(const mjModel* m, const mjData* d, const SlenderGeom& geom) const;
+  template <int Dim>
+  BodyResistanceBlock<Dim> ResistanceOf(const mjModel* m, const mjData* d,
+                                        const SlenderGeom& geom) const;
+  template <int Dim>
+  void CollectResistances(const mjModel* m, const mjData* d, BodyResistanceBlocks<Dim>* out) const;
   RftDragConfig config_;
   DragCoefficients coefficients_;
   std::vector<int> geom_ids_;

@@ -175,20 +175,31 @@ StokesStepper::StokesStepper(const mjModel* m) {
 // body's S only the [w_z; v_x; v_y] block enters (SolveBlock).
 void StokesStepper::AssembleResistances(const mjModel* m) {
   if (planar_motion_) {
-    AssembleBlock<2, 3>(m);
+    AssembleBlock<3>(m);
   } else {
-    AssembleBlock<0, 6>(m);
+    AssembleBlock<6>(m);
   }
 }
 
-template <int First, int Dim>
+template <int Dim>
 void StokesStepper::AssembleBlock(const mjModel* m) {
   BlockWorkspace<Dim>& w = Workspace<Dim>();
   for (int j = 0; j < m->nv; ++j) w.articulated[j].setZero();
-  for (const RftDrag::BodyResistance& segment : midpoint_resistances_) {
+  for (const RftDrag::BodyResistanceBlock<Dim>& segment : w.midpoint_resistances) {
     const int node = body_node_[segment.body];
-    if (node >= 0) w.articulated[node] += segment.resistance.template block<Dim, Dim>(First, First);
+    if (node >= 0) w.articulated[node] += segment.resistance;
   }
+}
+
+template <int Dim>
+double StokesStepper::LocalFluidPower_W() const {
+  const BlockWorkspace<Dim>& w = Workspace<Dim>();
+  double power_W = 0;
+  for (const RftDrag::BodyResistanceBlock<Dim>& segment : w.midpoint_resistances) {
+    const int node = body_node_[segment.body];
+    if (node >= 0) power_W += w.velocity[node].dot(segment.resistance * w.velocity[node]);
+  }
+  return power_W;
 }
 
 // Minimising 1/2 sum_b V_b^T S_b V_b + 1/2 sum_j e_j v_j^2 - f^T v over v,
@@ -261,6 +272,8 @@ bool StokesStepper::SolveDense(const mjModel* m, const FluidModel& fluid, const 
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(system);
   if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0)) return false;
   Eigen::Map<Eigen::VectorXd>(v, nv) = ldlt.solve(Eigen::Map<const Eigen::VectorXd>(f, nv));
+  const Eigen::VectorXd body_velocity = jacobian * Eigen::Map<const Eigen::VectorXd>(v, nv);
+  fluid_power_W_ = body_velocity.dot(midpoint_dense_ * body_velocity);
   return true;
 }
 
@@ -302,6 +315,11 @@ bool StokesStepper::Step(const mjModel* m, mjData* d, const FluidModel* fluid) {
           ? SolveDense(m, *fluid, diagonal_.data(), force_.data(), d->qvel)
           : Solve(m, midpoint_cdof_.data(), diagonal_.data(), force_.data(), d->qvel);
   if (!solved) return false;
+  if (fluid && !fluid->nonlocal()) {
+    fluid_power_W_ = planar_motion_ ? LocalFluidPower_W<3>() : LocalFluidPower_W<6>();
+  } else if (!fluid) {
+    fluid_power_W_ = 0;
+  }
   mju_zero(d->qacc, m->nv);
   ComVel(m, d);
   if (sensors) mj_sensorVel(m, d);
@@ -397,41 +415,53 @@ void JointActuation(const mjModel* m, mjData* d) {
 // otherwise (the first step, or after a reset or rewind).
 void StokesStepper::ExtrapolateToMidpoint(const mjModel* m, const mjData* d,
                                           const FluidModel* fluid) {
+  last_cdof_.swap(cdof_);
+  mju_copy(cdof_.data(), d->cdof, 6 * m->nv);
+  const bool planar = PlanarMotions(cdof_.data(), m->nv);
+  // A step that changes between planar and spatial motions starts afresh
+  // (the two keep different blocks of S).
   const bool continues = have_last_ && d->time == end_time_ &&
-                         std::equal(end_qpos_.begin(), end_qpos_.end(), d->qpos);
-  last_resistances_.swap(resistances_);
-  resistances_.clear();
+                         std::equal(end_qpos_.begin(), end_qpos_.end(), d->qpos) &&
+                         planar == planar_motion_;
+  planar_motion_ = planar;
+  have_last_ = true;
   if (fluid && fluid->nonlocal()) {
     last_dense_.swap(dense_);
     dense_ = fluid->BodyResistance(m, d);
     midpoint_dense_ = continues && last_dense_.rows() == dense_.rows()
                           ? (1.5 * dense_ - 0.5 * last_dense_).eval()
                           : dense_;
-  } else if (fluid) {
-    fluid->LocalResistances(m, d, &resistances_);
   }
-  last_cdof_.swap(cdof_);
-  mju_copy(cdof_.data(), d->cdof, 6 * m->nv);
-  have_last_ = true;
-  if (!continues || last_resistances_.size() != resistances_.size()) {
-    midpoint_resistances_ = resistances_;
+  if (planar) {
+    ExtrapolateResistances<3>(m, d, fluid, continues);
+  } else {
+    ExtrapolateResistances<6>(m, d, fluid, continues);
+  }
+  if (!continues) {
     midpoint_cdof_ = cdof_;
-    planar_motion_ = PlanarMotions(midpoint_cdof_.data(), m->nv);
     return;
   }
   for (size_t i = 0; i < cdof_.size(); ++i) midpoint_cdof_[i] = 1.5 * cdof_[i] - 0.5 * last_cdof_[i];
-  planar_motion_ = PlanarMotions(midpoint_cdof_.data(), m->nv);
-  midpoint_resistances_.resize(resistances_.size());
-  for (size_t i = 0; i < resistances_.size(); ++i) {
-    midpoint_resistances_[i].body = resistances_[i].body;
-    if (planar_motion_) {  // the block AssembleResistances reads
-      midpoint_resistances_[i].resistance.block<3, 3>(2, 2) =
-          1.5 * resistances_[i].resistance.block<3, 3>(2, 2) -
-          0.5 * last_resistances_[i].resistance.block<3, 3>(2, 2);
-    } else {
-      midpoint_resistances_[i].resistance =
-          1.5 * resistances_[i].resistance - 0.5 * last_resistances_[i].resistance;
-    }
+}
+
+// The local fluid's segment resistances (none for a nonlocal fluid, whose
+// resistance is dense_).
+template <int Dim>
+void StokesStepper::ExtrapolateResistances(const mjModel* m, const mjData* d,
+                                           const FluidModel* fluid, bool continues) {
+  BlockWorkspace<Dim>& w = Workspace<Dim>();
+  w.last_resistances.swap(w.resistances);
+  w.resistances.clear();
+  if (fluid && !fluid->nonlocal()) fluid->LocalResistances(m, d, &w.resistances);
+  if (!continues || w.last_resistances.size() != w.resistances.size()) {
+    w.midpoint_resistances = w.resistances;
+    return;
+  }
+  w.midpoint_resistances.resize(w.resistances.size());
+  for (size_t i = 0; i < w.resistances.size(); ++i) {
+    w.midpoint_resistances[i].body = w.resistances[i].body;
+    w.midpoint_resistances[i].resistance =
+        1.5 * w.resistances[i].resistance - 0.5 * w.last_resistances[i].resistance;
   }
 }
 

@@ -92,15 +92,25 @@ class StokesStepper {
   // factored (LDL^T) in place of the recursion, O(nv^3), with R
   // extrapolated to the step's midpoint as the local S are.
   bool Step(const mjModel* m, mjData* d, const FluidModel* fluid);
+  // The power [W] the last step gave the fluid: v^T D v with the step's
+  // velocity v and the resistance D at its midpoint that it solved with,
+  // so that over a step the generalised forces' work f . v h is this, the
+  // joints' damping and the springs' energy to round-off
+  // (docs/ENERGY.md); 0 without a fluid.
+  double fluid_power_W() const { return fluid_power_W_; }
 
  private:
   // Each dof's own share of D: the segments' resistances at the step's
-  // midpoint (midpoint_resistances_), on their bodies' last dofs, into the
-  // articulated resistances of the recursion's workspace (the
-  // [w_z; v_x; v_y] block if planar_motion_, all of S otherwise).
+  // midpoint (the workspace's midpoint_resistances), on their bodies' last
+  // dofs, into the articulated resistances of the recursion's workspace
+  // (the [w_z; v_x; v_y] block if planar_motion_, all of S otherwise).
   void AssembleResistances(const mjModel* m);
-  template <int First, int Dim>
+  template <int Dim>
   void AssembleBlock(const mjModel* m);
+  // Sum over the segments of V^T S V, V their bodies' velocities in the
+  // recursion's last solve.
+  template <int Dim>
+  double LocalFluidPower_W() const;
   // Solves (D + diag(extra)) v = f for v, D from the dofs' motions cdof
   // and the assembled articulated resistances. Returns false if the system
   // is singular. Planar motions (planar_motion_) take the 3 x 3
@@ -115,13 +125,15 @@ class StokesStepper {
   // nearest moving ancestor's), -1 for a body fixed to the world.
   std::vector<int> body_node_;
   // Per dof, in the recursion's Dim components: articulated resistance,
-  // bias, U = A s and spatial velocity.
+  // bias, U = A s and spatial velocity; per segment, its resistance's block
+  // in those components this step, the last step and at the midpoint.
   template <int Dim>
   struct BlockWorkspace {
     using Vector = Eigen::Matrix<double, Dim, 1>;
     using Matrix = Eigen::Matrix<double, Dim, Dim>;
     std::vector<Matrix, Eigen::aligned_allocator<Matrix>> articulated;
     std::vector<Vector, Eigen::aligned_allocator<Vector>> bias, u_vector, velocity;
+    RftDrag::BodyResistanceBlocks<Dim> resistances, last_resistances, midpoint_resistances;
     void Resize(int nv) {
       articulated.resize(nv);
       bias.resize(nv);
@@ -131,8 +143,9 @@ class StokesStepper {
   };
   BlockWorkspace<6> spatial_;
   BlockWorkspace<3> planar_;
-  // Every dof of the step's midpoint moves in the x-y plane (no w_x, w_y,
-  // v_z): the recursion runs on 3 x 3 blocks.
+  // Every dof moves in the x-y plane (no w_x, w_y, v_z) at the step's
+  // start and so at its midpoint: the segments' resistances and the
+  // recursion take 3 x 3 blocks.
   bool planar_motion_ = false;
   template <int Dim>
   BlockWorkspace<Dim>& Workspace() {
@@ -141,6 +154,10 @@ class StokesStepper {
     } else {
       return planar_;
     }
+  }
+  template <int Dim>
+  const BlockWorkspace<Dim>& Workspace() const {
+    return const_cast<StokesStepper*>(this)->Workspace<Dim>();
   }
   // mj_transmission and mj_fwdActuation: JointTransmission and
   // JointActuation if JointActuatorsOnly (after one mj_transmission, which
@@ -155,17 +172,20 @@ class StokesStepper {
   bool joint_actuators_only_ = false, moments_set_ = false;
   // Extrapolates S and cdof to the step's midpoint (Step).
   void ExtrapolateToMidpoint(const mjModel* m, const mjData* d, const FluidModel* fluid);
+  template <int Dim>
+  void ExtrapolateResistances(const mjModel* m, const mjData* d, const FluidModel* fluid,
+                              bool continues);
   // The dense solve with a nonlocal fluid (Step).
   bool SolveDense(const mjModel* m, const FluidModel& fluid, const double* extra,
                   const double* f, double* v);
   Eigen::MatrixXd dense_, last_dense_, midpoint_dense_;
 
   std::vector<double> u_, inverse_pivot_, diagonal_, force_;
-  // This step's, the last step's and the midpoint's cdof and S, and where
-  // the last step ended (a step that starts elsewhere does not extrapolate).
+  // This step's, the last step's and the midpoint's cdof, and where the
+  // last step ended (a step that starts elsewhere does not extrapolate).
   std::vector<double> cdof_, last_cdof_, midpoint_cdof_, end_qpos_;
-  RftDrag::BodyResistances resistances_, last_resistances_, midpoint_resistances_;
   double end_time_ = 0;
+  double fluid_power_W_ = 0;
   bool have_last_ = false;
 };
 

@@ -66,6 +66,7 @@ EnergyMeter::EnergyMeter(const mjModel* m, const mjData* d) {
     towing_drag_N_per_m_s_ = drag_->TowingDrag_N(1.0);
   }
   inertial_ = !coupling || coupling->dynamics == Dynamics::kInertial;
+  if (!inertial_) stokes_ = coupling->stokes.get();
   stepping_sign_ = inertial_ ? -1.0 : 1.0;
   actuator_J_.assign(link_dofs_.size(), 0.0);
   scratch_.assign(m->nv, 0.0);
@@ -123,7 +124,11 @@ void EnergyMeter::Observe(const mjModel* m, const mjData* d) {
     spring_h_W += 0.5 * m->jnt_stiffness[j] * h * rate * rate;
   }
   stepping_J_ += h * stepping_sign_ * spring_h_W;
-  if (drag_) fluid_J_ += h * drag_->DissipatedPower_W(m, d);
+  if (stokes_) {
+    fluid_J_ += h * stokes_->fluid_power_W();
+  } else if (drag_) {
+    fluid_J_ += h * drag_->DissipatedPower_W(m, d);
+  }
   elastic_J_s_ += h * ElasticEnergy_J(m, d);
   // The voltage set before the step was held over it.
   for (size_t q = 0; q < impedances_.size() && actuators_; ++q) {

@@ -46,6 +46,7 @@
 
 #include "plugin/fluid/fluid_model.h"
 #include "plugin/fluid/rft_drag.h"
+#include "plugin/fluid/stokes_step.h"
 #include "sim/core/electrical.h"
 #include "sim/core/swim_meter.h"
 
@@ -114,6 +115,8 @@ class EnergyMeter {
 
   std::vector<std::vector<int>> link_dofs_;
   const FluidModel* drag_ = nullptr;  // the run's fluid model (RFT or Stokeslets)
+  // Stokes dynamics: the stepper, which gives its step's own fluid power.
+  const StokesStepper* stokes_ = nullptr;
   bool inertial_ = true;
   double stepping_sign_ = -1.0;  // -1: spring at the step's start (Euler); +1: at its end
   double towing_drag_N_per_m_s_ = 0.0;  // the drag is linear in the speed
