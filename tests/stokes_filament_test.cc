@@ -104,10 +104,16 @@ class LinearFilament {
   // theory's own shape at the nodes x_i = i L / n: what a chain of rigid
   // segments would feel if its joints lay exactly on the continuum's curve.
   double PolygonMeanForce_N(double omega, int segments) const {
-    const double l = kLength_m / segments;
+    std::vector<double> nodes_m;
+    for (int j = 0; j <= segments; ++j) nodes_m.push_back(kLength_m * j / segments);
+    return PolygonMeanForce_N(omega, nodes_m);
+  }
+  // The same through the theory's shape at any nodes 0 = x_0 < ... = L.
+  double PolygonMeanForce_N(double omega, const std::vector<double>& nodes_m) const {
     double sum = 0;
-    for (int j = 0; j < segments; ++j) {
-      const Complex y0 = Derivative(j * l, 0), y1 = Derivative((j + 1) * l, 0);
+    for (size_t j = 0; j + 1 < nodes_m.size(); ++j) {
+      const double l = nodes_m[j + 1] - nodes_m[j];
+      const Complex y0 = Derivative(nodes_m[j], 0), y1 = Derivative(nodes_m[j + 1], 0);
       sum += (Complex(0, omega) * 0.5 * (y0 + y1) * std::conj((y1 - y0) / l)).real() * l;
     }
     return (kXiNormal - kXiTangential) / 2 * sum;
@@ -308,6 +314,33 @@ TEST(StokesFilamentTest, PolygonForceErrorIsSecondOrder) {
       EXPECT_LT(scaled, 0.35);
     }
   }
+}
+
+// Nor does grading the segments towards the driven base, where the wave
+// decays over L / Sp: at Sp = 10 the polygon of 32 segments whose lengths
+// grow geometrically from the base, the last g times the first, through
+// the theory's nodes misses the mean force by (measured) 2.750 % (g = 1),
+// 1.700 % (2), 1.234 % (4), 1.136 % (8), 1.280 % (16): never within 1 %,
+// before the chain's own error is added.
+TEST(StokesFilamentTest, GradedPolygonStaysAboveOnePercentAtSpTen) {
+  const double sperm_number = 10.0;
+  const LinearFilament theory(sperm_number);
+  const double omega = Omega_rad_s(sperm_number);
+  const double force = theory.MeanForce_N(omega);
+  const int n = 32;
+  double best = 1.0;
+  for (const double g : {1.0, 2.0, 4.0, 8.0, 16.0}) {
+    const double ratio = std::pow(g, 1.0 / (n - 1));  // of consecutive lengths
+    std::vector<double> nodes_m{0.0};
+    double length = 1.0;
+    for (int j = 0; j < n; ++j, length *= ratio) nodes_m.push_back(nodes_m.back() + length);
+    for (double& x : nodes_m) x *= kLength_m / nodes_m.back();  // scaled to L
+    const double error = std::abs(theory.PolygonMeanForce_N(omega, nodes_m) / force - 1);
+    std::printf("Sp 10, n 32, last / first segment %.0f: polygon force error %.3e\n", g, error);
+    best = std::min(best, error);
+  }
+  EXPECT_GT(best, 0.0105);  // measured 1.136e-2 at g = 8
+  EXPECT_LT(best, 0.0125);
 }
 
 // The chain's own error does not fall below second order with a smaller
