@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <optional>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -60,6 +62,24 @@ class SweepAxis {
   size_t column_ = 0;
   long element_ = -1;
 };
+
+// A logarithmic x axis over less than a decade or two gets few or no
+// labelled tics of gnuplot's own (1, 10, ...): a tic at each swept value
+// instead, when there are at most 12.
+std::string LogTicsAtValues(
+    const std::map<std::string, std::vector<std::pair<double, double>>>& points) {
+  std::set<double> values;
+  for (const auto& [group, curve] : points) {
+    for (const auto& point : curve) values.insert(point.first);
+  }
+  if (values.size() > 12) return "";
+  std::string tics = "set xtics (";
+  for (double value : values) {
+    tics += (value == *values.begin() ? "" : ", ") + Q(GnuplotValue(value)) + " " +
+            GnuplotValue(value);
+  }
+  return tics + ")\n";
+}
 
 }  // namespace
 
@@ -131,6 +151,7 @@ Figure SweepFigure(const CsvTable& table, const std::string&, const FigureOption
   } else {
     // The x range ends 3 % beyond the data, not at the next tic beyond that.
     commands += "set autoscale xfix\nset offsets graph 0.03, graph 0.03, graph 0.05, graph 0.05\n";
+    if (options.log_x) commands += LogTicsAtValues(points);
   }
   // Numeric group values carry the group column's unit in the key, or,
   // without one, its name: "start 0", not a bare "0".

@@ -153,12 +153,13 @@ class ThinnerStrip {
 // local limit of slender-body theory, which the Stokeslet line reproduces
 // at the blob sqrt(e) a). The short cycle, L = 31 mm; measured
 // Stokeslets / Lighthill - 1:
-//   L / a = 38: -12.13 %,  100: -10.29 %,  300: -7.49 %
-// between 1.1 and 1.6 over ln^2(L / a), the order of the terms local RFT
-// leaves out. Gray & Hancock's coefficients, whose logarithm has the
-// wavelength in place of the length, head for the same limit
-// (xi_n / xi_t -> 2) more slowly: their swim is 0.7 % below Lighthill's at
-// the paper's a and 8.6 % below at L / a = 1000 (docs/FLUIDS.md).
+//   L / a = 38: -12.13 %,  100: -10.29 %,  300: -7.49 %  (1000: -5.44 %, 201 s)
+// about -0.4 over ln(L / a) (-0.38 to -0.47), first order in 1 / ln(L / a),
+// the order of the nonlocal terms local RFT leaves out. Gray & Hancock's
+// coefficients, whose logarithm has the wavelength in place of the length,
+// head for the same limit (xi_n / xi_t -> 2) more slowly: their swim is
+// 0.7 % below Lighthill's at the paper's a and 8.6 % below at L / a = 1000,
+// where the Stokeslets swim 3.5 % farther than they do (docs/FLUIDS.md).
 TEST(FluidModelTest, StokesletSwimApproachesLighthillRftAsTheStripGetsSlender) {
   double last_gap = 1.0;
   for (double l_over_a : {38.0, 100.0, 300.0}) {
@@ -177,9 +178,9 @@ TEST(FluidModelTest, StokesletSwimApproachesLighthillRftAsTheStripGetsSlender) {
 // Points across the width (fluid.stokeslet_width_points = k) make the strip
 // a sheet; its swim grows with k as the sheet's face-on drag over its axial
 // drag approaches the flat ellipsoid's (regularized_stokeslets_test). The
-// short cycle, measured [mm]: centreline 0.0209980; k = 2 0.0229562,
-// 3 0.0253522, 4 0.0276546 (5 0.0287330, 6 0.0295272; docs/FLUIDS.md). The
-// ribbon swims farther than the rod of Batchelor's radius: 1.317 times at
+// short cycle, measured [mm]: centreline 0.0201524; k = 2 0.0221093,
+// 3 0.0245043, 4 0.0267983 (5 0.0278768, 6 0.0286711; docs/FLUIDS.md). The
+// ribbon swims farther than the rod of Batchelor's radius: 1.330 times at
 // k = 4 (bound 1.25).
 TEST(FluidModelTest, SheetSwimsFartherAsItsWidthIsResolved) {
   const double centreline =

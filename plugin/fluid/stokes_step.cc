@@ -94,39 +94,55 @@ bool HingesAndSlidesOnly(const mjModel* m) {
 // then cdof = [axis; axis x (c - anchor)] of a hinge and [0; axis] of a
 // slide about its root's centre of mass c.
 void StokesComPos(const mjModel* m, mjData* d) {
+  // MuJoCo's mju_addToScl3, mju_addTo3, mju_scl3, mju_sub3 and mju_cross
+  // written out (the same operations in the same order, without a call
+  // per body: this runs at every step).
   mjtNum* com = d->subtree_com;
-  mju_zero(com, 3 * m->nbody);
+  for (int k = 0; k < 3 * m->nbody; ++k) com[k] = 0;
   for (int i = m->nbody - 1; i >= 0; --i) {
-    mju_addToScl3(com + 3 * i, d->xipos + 3 * i, m->body_mass[i]);
-    if (i) mju_addTo3(com + 3 * m->body_parentid[i], com + 3 * i);
+    mjtNum* c = com + 3 * i;
+    const mjtNum* xipos = d->xipos + 3 * i;
+    const mjtNum mass = m->body_mass[i];
+    for (int k = 0; k < 3; ++k) c[k] += xipos[k] * mass;
+    if (i) {
+      mjtNum* parent = com + 3 * m->body_parentid[i];
+      for (int k = 0; k < 3; ++k) parent[k] += c[k];
+    }
     if (m->body_subtreemass[i] < mjMINVAL) {
-      mju_copy3(com + 3 * i, d->xipos + 3 * i);
+      for (int k = 0; k < 3; ++k) c[k] = xipos[k];
     } else {
-      mju_scl3(com + 3 * i, com + 3 * i, 1.0 / m->body_subtreemass[i]);
+      const mjtNum scale = 1.0 / m->body_subtreemass[i];
+      for (int k = 0; k < 3; ++k) c[k] *= scale;
     }
   }
   for (int j = 0; j < m->njnt; ++j) {
     mjtNum* cdof = d->cdof + 6 * m->jnt_dofadr[j];
     const mjtNum* axis = d->xaxis + 3 * j;
     if (m->jnt_type[j] == mjJNT_SLIDE) {
-      mju_zero3(cdof);
-      mju_copy3(cdof + 3, axis);
+      for (int k = 0; k < 3; ++k) {
+        cdof[k] = 0;
+        cdof[3 + k] = axis[k];
+      }
       continue;
     }
-    mjtNum offset[3];
-    mju_sub3(offset, com + 3 * m->body_rootid[m->jnt_bodyid[j]], d->xanchor + 3 * j);
-    mju_copy3(cdof, axis);
-    mju_cross(cdof + 3, axis, offset);
+    const mjtNum* c = com + 3 * m->body_rootid[m->jnt_bodyid[j]];
+    const mjtNum* anchor = d->xanchor + 3 * j;
+    const mjtNum offset[3] = {c[0] - anchor[0], c[1] - anchor[1], c[2] - anchor[2]};
+    for (int k = 0; k < 3; ++k) cdof[k] = axis[k];
+    cdof[3] = axis[1] * offset[2] - axis[2] * offset[1];
+    cdof[4] = axis[2] * offset[0] - axis[0] * offset[2];
+    cdof[5] = axis[0] * offset[1] - axis[1] * offset[0];
   }
 }
 
 // mj_comVel's cvel for hinges and slides: each body's spatial velocity
 // its parent's plus cdof qdot of its dofs.
 void StokesComVel(const mjModel* m, mjData* d) {
-  mju_zero(d->cvel, 6);
+  for (int k = 0; k < 6; ++k) d->cvel[k] = 0;
   for (int i = 1; i < m->nbody; ++i) {
     mjtNum* cvel = d->cvel + 6 * i;
-    mju_copy(cvel, d->cvel + 6 * m->body_parentid[i], 6);
+    const mjtNum* parent = d->cvel + 6 * m->body_parentid[i];
+    for (int k = 0; k < 6; ++k) cvel[k] = parent[k];
     for (int dof = m->body_dofadr[i]; dof < m->body_dofadr[i] + m->body_dofnum[i]; ++dof) {
       for (int k = 0; k < 6; ++k) cvel[k] += d->cdof[6 * dof + k] * d->qvel[dof];
     }
