@@ -184,37 +184,41 @@ StokesStepper::StokesStepper(const mjModel* m) {
 }
 
 // The fluid's resistance D = sum_s J_s^T S_s J_s enters the step here, and
-// only here: each segment's spatial resistance S_s at the step's midpoint
-// (ExtrapolateToMidpoint, from RftDrag::Resistances, the formula the drag
-// callback applies) added to the articulated resistance of its body's last
-// dof, from which Solve's recursion carries it to the root. Of a planar
-// body's S only the [w_z; v_x; v_y] block enters (SolveBlock).
-void StokesStepper::AssembleResistances(const mjModel* m) {
-  if (planar_motion_) {
-    AssembleBlock<3>(m);
-  } else {
-    AssembleBlock<6>(m);
-  }
-}
-
+// only here (a local fluid: RFT): each segment's spatial resistance S_s
+// (RftDrag::Resistances, the formula the drag callback applies; of a
+// planar body only its [w_z; v_x; v_y] block), extrapolated to the step's
+// midpoint, 3/2 of this step's minus 1/2 of the last one's if the step
+// continues the last, added to the articulated resistance of its body's
+// last dof, from which Solve's recursion carries it to the root. The sums
+// are kept per dof (own) for the fluid power. A nonlocal fluid adds none
+// (its resistance is dense_).
 template <int Dim>
-void StokesStepper::AssembleBlock(const mjModel* m) {
+void StokesStepper::AssembleResistances(const mjModel* m, const mjData* d,
+                                        const FluidModel* fluid, bool continues) {
   BlockWorkspace<Dim>& w = Workspace<Dim>();
+  w.last_resistances.swap(w.resistances);
+  w.resistances.clear();
+  if (fluid && !fluid->nonlocal()) fluid->LocalResistances(m, d, &w.resistances);
+  const bool extrapolate = continues && w.last_resistances.size() == w.resistances.size();
   for (int j = 0; j < m->nv; ++j) w.articulated[j].setZero();
-  for (const RftDrag::BodyResistanceBlock<Dim>& segment : w.midpoint_resistances) {
-    const int node = body_node_[segment.body];
-    if (node >= 0) w.articulated[node] += segment.resistance;
+  for (size_t i = 0; i < w.resistances.size(); ++i) {
+    const int node = body_node_[w.resistances[i].body];
+    if (node < 0) continue;
+    if (extrapolate) {
+      w.articulated[node] +=
+          1.5 * w.resistances[i].resistance - 0.5 * w.last_resistances[i].resistance;
+    } else {
+      w.articulated[node] += w.resistances[i].resistance;
+    }
   }
+  w.own = w.articulated;
 }
 
 template <int Dim>
-double StokesStepper::LocalFluidPower_W() const {
+double StokesStepper::LocalFluidPower_W(const mjModel* m) const {
   const BlockWorkspace<Dim>& w = Workspace<Dim>();
   double power_W = 0;
-  for (const RftDrag::BodyResistanceBlock<Dim>& segment : w.midpoint_resistances) {
-    const int node = body_node_[segment.body];
-    if (node >= 0) power_W += w.velocity[node].dot(segment.resistance * w.velocity[node]);
-  }
+  for (int j = 0; j < m->nv; ++j) power_W += w.velocity[j].dot(w.own[j] * w.velocity[j]);
   return power_W;
 }
 
@@ -305,7 +309,6 @@ bool StokesStepper::Step(const mjModel* m, mjData* d, const FluidModel* fluid) {
   Transmission(m, d);
   if (sensors) mj_sensorPos(m, d);
   ExtrapolateToMidpoint(m, d, fluid);
-  AssembleResistances(m);
   // The forces at zero velocity, in mj_forward's order: passive (springs;
   // the drag vanishes), control callback, actuation.
   mju_zero(d->qvel, m->nv);
@@ -332,7 +335,7 @@ bool StokesStepper::Step(const mjModel* m, mjData* d, const FluidModel* fluid) {
           : Solve(m, midpoint_cdof_.data(), diagonal_.data(), force_.data(), d->qvel);
   if (!solved) return false;
   if (fluid && !fluid->nonlocal()) {
-    fluid_power_W_ = planar_motion_ ? LocalFluidPower_W<3>() : LocalFluidPower_W<6>();
+    fluid_power_W_ = planar_motion_ ? LocalFluidPower_W<3>(m) : LocalFluidPower_W<6>(m);
   } else if (!fluid) {
     fluid_power_W_ = 0;
   }
@@ -449,36 +452,15 @@ void StokesStepper::ExtrapolateToMidpoint(const mjModel* m, const mjData* d,
                           : dense_;
   }
   if (planar) {
-    ExtrapolateResistances<3>(m, d, fluid, continues);
+    AssembleResistances<3>(m, d, fluid, continues);
   } else {
-    ExtrapolateResistances<6>(m, d, fluid, continues);
+    AssembleResistances<6>(m, d, fluid, continues);
   }
   if (!continues) {
     midpoint_cdof_ = cdof_;
     return;
   }
   for (size_t i = 0; i < cdof_.size(); ++i) midpoint_cdof_[i] = 1.5 * cdof_[i] - 0.5 * last_cdof_[i];
-}
-
-// The local fluid's segment resistances (none for a nonlocal fluid, whose
-// resistance is dense_).
-template <int Dim>
-void StokesStepper::ExtrapolateResistances(const mjModel* m, const mjData* d,
-                                           const FluidModel* fluid, bool continues) {
-  BlockWorkspace<Dim>& w = Workspace<Dim>();
-  w.last_resistances.swap(w.resistances);
-  w.resistances.clear();
-  if (fluid && !fluid->nonlocal()) fluid->LocalResistances(m, d, &w.resistances);
-  if (!continues || w.last_resistances.size() != w.resistances.size()) {
-    w.midpoint_resistances = w.resistances;
-    return;
-  }
-  w.midpoint_resistances.resize(w.resistances.size());
-  for (size_t i = 0; i < w.resistances.size(); ++i) {
-    w.midpoint_resistances[i].body = w.resistances[i].body;
-    w.midpoint_resistances[i].resistance =
-        1.5 * w.resistances[i].resistance - 0.5 * w.last_resistances[i].resistance;
-  }
 }
 
 }  // namespace ipmc

@@ -101,16 +101,16 @@ class StokesStepper {
 
  private:
   // Each dof's own share of D: the segments' resistances at the step's
-  // midpoint (the workspace's midpoint_resistances), on their bodies' last
-  // dofs, into the articulated resistances of the recursion's workspace
-  // (the [w_z; v_x; v_y] block if planar_motion_, all of S otherwise).
-  void AssembleResistances(const mjModel* m);
+  // midpoint, on their bodies' last dofs, into the articulated resistances
+  // of the recursion's workspace (the [w_z; v_x; v_y] block if
+  // planar_motion_, all of S otherwise) and into own.
   template <int Dim>
-  void AssembleBlock(const mjModel* m);
-  // Sum over the segments of V^T S V, V their bodies' velocities in the
-  // recursion's last solve.
+  void AssembleResistances(const mjModel* m, const mjData* d, const FluidModel* fluid,
+                           bool continues);
+  // Sum over the dofs of V^T own V, V their velocities in the recursion's
+  // last solve.
   template <int Dim>
-  double LocalFluidPower_W() const;
+  double LocalFluidPower_W(const mjModel* m) const;
   // Solves (D + diag(extra)) v = f for v, D from the dofs' motions cdof
   // and the assembled articulated resistances. Returns false if the system
   // is singular. Planar motions (planar_motion_) take the 3 x 3
@@ -125,17 +125,19 @@ class StokesStepper {
   // nearest moving ancestor's), -1 for a body fixed to the world.
   std::vector<int> body_node_;
   // Per dof, in the recursion's Dim components: articulated resistance,
-  // bias, U = A s and spatial velocity; per segment, its resistance's block
-  // in those components this step, the last step and at the midpoint.
+  // its own share of D (the segments on its body), bias, U = A s and
+  // spatial velocity; per segment, its resistance's block in those
+  // components this step and the last.
   template <int Dim>
   struct BlockWorkspace {
     using Vector = Eigen::Matrix<double, Dim, 1>;
     using Matrix = Eigen::Matrix<double, Dim, Dim>;
-    std::vector<Matrix, Eigen::aligned_allocator<Matrix>> articulated;
+    std::vector<Matrix, Eigen::aligned_allocator<Matrix>> articulated, own;
     std::vector<Vector, Eigen::aligned_allocator<Vector>> bias, u_vector, velocity;
-    RftDrag::BodyResistanceBlocks<Dim> resistances, last_resistances, midpoint_resistances;
+    RftDrag::BodyResistanceBlocks<Dim> resistances, last_resistances;
     void Resize(int nv) {
       articulated.resize(nv);
+      own.resize(nv);
       bias.resize(nv);
       u_vector.resize(nv);
       velocity.resize(nv);
@@ -170,11 +172,9 @@ class StokesStepper {
   bool hinges_and_slides_only_ = false;
   void Actuation(const mjModel* m, mjData* d);
   bool joint_actuators_only_ = false, moments_set_ = false;
-  // Extrapolates S and cdof to the step's midpoint (Step).
+  // Extrapolates S and cdof to the step's midpoint and assembles the
+  // local resistances (Step).
   void ExtrapolateToMidpoint(const mjModel* m, const mjData* d, const FluidModel* fluid);
-  template <int Dim>
-  void ExtrapolateResistances(const mjModel* m, const mjData* d, const FluidModel* fluid,
-                              bool continues);
   // The dense solve with a nonlocal fluid (Step).
   bool SolveDense(const mjModel* m, const FluidModel& fluid, const double* extra,
                   const double* f, double* v);
