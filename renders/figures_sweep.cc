@@ -72,10 +72,10 @@ std::string LogTicsAtValues(
   for (const auto& [group, curve] : points) {
     for (const auto& point : curve) values.insert(point.first);
   }
-  if (values.size() > 12) return "";
-  std::string tics = "set xtics (";
+  if (values.empty() || values.size() > 12) return "";
+  std::string tics;
   for (double value : values) {
-    tics += (value == *values.begin() ? "" : ", ") + Q(GnuplotValue(value)) + " " +
+    tics += (tics.empty() ? "set xtics (" : ", ") + Q(GnuplotValue(value)) + " " +
             GnuplotValue(value);
   }
   return tics + ")\n";

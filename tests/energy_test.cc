@@ -48,7 +48,7 @@ TEST_P(EnergyTest, ActuatorWorkGoesIntoFluidAndHingesOverASteadyCycle) {
               (c.actuator_power_W_total - c.fluid_power_W - hinges_W - stored_W) /
                   c.actuator_power_W_total);
   // The brief's balance, the stored energy left out: measured 4.5e-4
-  // (inertial) and 3.9e-4 (stokes) relative, the elastic energy still
+  // (inertial) and 3.8e-4 (stokes) relative, the elastic energy still
   // settling by 7e-13 W.
   EXPECT_NEAR(c.actuator_power_W_total, c.fluid_power_W + hinges_W,
               1e-3 * c.actuator_power_W_total);

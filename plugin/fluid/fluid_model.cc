@@ -193,16 +193,6 @@ void FluidModel::Apply(const mjModel* m, mjData* d) const {
   AddBodyWrenches(m, d, wrench, d->qfrc_passive);
 }
 
-void FluidModel::LocalResistances(const mjModel* m, const mjData* d,
-                                  RftDrag::BodyResistances* out) const {
-  rft_.Resistances(m, d, out);
-}
-
-void FluidModel::LocalResistances(const mjModel* m, const mjData* d,
-                                  RftDrag::BodyResistanceBlocks<3>* out) const {
-  rft_.Resistances(m, d, out);
-}
-
 double FluidModel::DissipatedPower_W(const mjModel* m, const mjData* d) const {
   if (!nonlocal()) return rft_.DissipatedPower_W(m, d);
   // The resistance the drag was last applied with: measuring the power

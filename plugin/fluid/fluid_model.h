@@ -60,9 +60,11 @@ class FluidModel {
   void Apply(const mjModel* m, mjData* d) const;
   // rft: the segments' own resistances (RftDrag::Resistances), whole or
   // their planar blocks.
-  void LocalResistances(const mjModel* m, const mjData* d, RftDrag::BodyResistances* out) const;
+  template <int Dim>  // 6 or 3
   void LocalResistances(const mjModel* m, const mjData* d,
-                        RftDrag::BodyResistanceBlocks<3>* out) const;
+                        RftDrag::BodyResistanceBlocks<Dim>* out) const {
+    rft_.Resistances(m, d, out);
+  }
   // stokeslets: the resistance R over bodies() about the subtree centre of
   // mass of the root (where MuJoCo gives cdof and cvel), world frame, from
   // d's positions (after mj_comPos): the drag wrenches [torque; force] of

@@ -352,20 +352,15 @@ RftDrag::BodyResistanceBlock<Dim> RftDrag::ResistanceOf(const mjModel* m, const 
 }
 
 template <int Dim>
-void RftDrag::CollectResistances(const mjModel* m, const mjData* d,
-                                 BodyResistanceBlocks<Dim>* out) const {
+void RftDrag::Resistances(const mjModel* m, const mjData* d,
+                          BodyResistanceBlocks<Dim>* out) const {
   out->clear();
   for (const SlenderGeom& geom : slender_) out->push_back(ResistanceOf<Dim>(m, d, geom));
 }
-
-void RftDrag::Resistances(const mjModel* m, const mjData* d, BodyResistances* out) const {
-  CollectResistances<6>(m, d, out);
-}
-
-void RftDrag::Resistances(const mjModel* m, const mjData* d,
-                          BodyResistanceBlocks<3>* out) const {
-  CollectResistances<3>(m, d, out);
-}
+template void RftDrag::Resistances<6>(const mjModel*, const mjData*,
+                                      BodyResistanceBlocks<6>*) const;
+template void RftDrag::Resistances<3>(const mjModel*, const mjData*,
+                                      BodyResistanceBlocks<3>*) const;
 
 // J^T of every segment's wrench in one pass over the tree, what
 // mj_applyFT computes one wrench at a time (through a Jacobian per

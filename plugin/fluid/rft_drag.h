@@ -206,8 +206,8 @@ class RftDrag {
       std::vector<BodyResistanceBlock<Dim>, Eigen::aligned_allocator<BodyResistanceBlock<Dim>>>;
   using BodyResistance = BodyResistanceBlock<6>;
   using BodyResistances = BodyResistanceBlocks<6>;
-  void Resistances(const mjModel* m, const mjData* d, BodyResistances* out) const;
-  void Resistances(const mjModel* m, const mjData* d, BodyResistanceBlocks<3>* out) const;
+  template <int Dim>  // 6 or 3
+  void Resistances(const mjModel* m, const mjData* d, BodyResistanceBlocks<Dim>* out) const;
 
   const RftDragConfig& config() const { return config_; }
   const DragCoefficients& coefficients() const { return coefficients_; }
@@ -223,8 +223,6 @@ class RftDrag {
   template <int Dim>
   BodyResistanceBlock<Dim> ResistanceOf(const mjModel* m, const mjData* d,
                                         const SlenderGeom& geom) const;
-  template <int Dim>
-  void CollectResistances(const mjModel* m, const mjData* d, BodyResistanceBlocks<Dim>* out) const;
   RftDragConfig config_;
   DragCoefficients coefficients_;
   std::vector<int> geom_ids_;

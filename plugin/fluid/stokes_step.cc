@@ -334,10 +334,10 @@ bool StokesStepper::Step(const mjModel* m, mjData* d, const FluidModel* fluid) {
           ? SolveDense(m, *fluid, diagonal_.data(), force_.data(), d->qvel)
           : Solve(m, midpoint_cdof_.data(), diagonal_.data(), force_.data(), d->qvel);
   if (!solved) return false;
-  if (fluid && !fluid->nonlocal()) {
-    fluid_power_W_ = planar_motion_ ? LocalFluidPower_W<3>(m) : LocalFluidPower_W<6>(m);
-  } else if (!fluid) {
+  if (!fluid) {
     fluid_power_W_ = 0;
+  } else if (!fluid->nonlocal()) {  // SolveDense sets a nonlocal fluid's
+    fluid_power_W_ = planar_motion_ ? LocalFluidPower_W<3>(m) : LocalFluidPower_W<6>(m);
   }
   mju_zero(d->qacc, m->nv);
   ComVel(m, d);
