@@ -217,6 +217,39 @@ SweepJournalContents ParseJournal(const std::string& text, const std::string& pa
   return contents;
 }
 
+// Opens and locks the journal at `path` (creating it) and returns its
+// descriptor. One sweep per journal: another sweep's lock is refused. A
+// file unlinked between the open and the lock (a sweep that removed its
+// journal) is let go and the name opened again, so the lock held is always
+// on the file the name leads to. A file system without locks (ENOLCK) is
+// let through: the user then keeps sweeps apart.
+int OpenLockedJournal(const std::string& path) {
+  for (;;) {
+    // Never written through a symbolic link: it could point at any file.
+    const int fd = open(path.c_str(), O_RDWR | O_CREAT | O_APPEND | O_CLOEXEC | O_NOFOLLOW, 0644);
+    if (fd < 0 && errno == ELOOP) {
+      throw std::runtime_error(path + ": is a symbolic link; a journal is never written through "
+                                      "one (remove it, or choose another output)");
+    }
+    if (fd < 0) throw std::runtime_error(SystemError(path, "cannot open the journal"));
+    struct stat status {};
+    if (fstat(fd, &status) != 0 || !S_ISREG(status.st_mode)) {
+      close(fd);
+      throw std::runtime_error(path + ": is not a regular file; a journal must be one");
+    }
+    if (flock(fd, LOCK_EX | LOCK_NB) != 0 && errno == EWOULDBLOCK) {
+      close(fd);
+      throw std::runtime_error(path + ": in use by another running sweep (one sweep per output "
+                                      "prefix at a time)");
+    }
+    struct stat named {};
+    const bool still_named = stat(path.c_str(), &named) == 0 && named.st_ino == status.st_ino &&
+                             named.st_dev == status.st_dev;
+    if (still_named) return fd;
+    close(fd);
+  }
+}
+
 }  // namespace
 
 std::string SweepFingerprint(const SweepPlan& plan) {
@@ -266,25 +299,8 @@ SweepJournal::SweepJournal(const std::string& path, const SweepPlan& plan,
   if (!dir.empty()) EnsureDirectory(dir);
   const SweepJournalHeader expected = HeaderOf(plan);
   fingerprint_ = expected.fingerprint;
-  // Never written through a symbolic link: it could point at any file.
-  fd_ = open(path.c_str(), O_RDWR | O_CREAT | O_APPEND | O_CLOEXEC | O_NOFOLLOW, 0644);
-  if (fd_ < 0 && errno == ELOOP) {
-    throw std::runtime_error(path + ": is a symbolic link; a journal is never written through one "
-                                    "(remove it, or choose another output)");
-  }
-  if (fd_ < 0) throw std::runtime_error(SystemError(path, "cannot open the journal"));
-  struct stat status {};
-  if (fstat(fd_, &status) != 0 || !S_ISREG(status.st_mode)) {
-    close(fd_);
-    throw std::runtime_error(path + ": is not a regular file; a journal must be one");
-  }
+  fd_ = OpenLockedJournal(path);
   try {
-    // One sweep per journal. A file system without locks (ENOLCK) is
-    // let through: the user then keeps sweeps apart.
-    if (flock(fd_, LOCK_EX | LOCK_NB) != 0 && errno == EWOULDBLOCK) {
-      throw std::runtime_error(path + ": in use by another running sweep (one sweep per output "
-                                      "prefix at a time)");
-    }
     const std::string text = ReadAll(fd_, path);
     if (text.find('\n') == std::string::npos) {
       // New, or created by a sweep killed before its header was whole:
@@ -329,9 +345,11 @@ SweepJournal::~SweepJournal() {
 }
 
 void SweepJournal::Remove() {
+  // Unlinked before the lock is let go, so that no other sweep can take
+  // the lock on this file while its name still leads to it.
+  std::remove(path_.c_str());
   if (fd_ >= 0) close(fd_);
   fd_ = -1;
-  std::remove(path_.c_str());
   rows_.clear();
 }
 

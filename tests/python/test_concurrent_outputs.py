@@ -2,8 +2,10 @@
 one folder (the command line's, or Python's and the command line's), two
 sweeps into one table prefix. Each case is tried 25 times and must hold
 every time: the second writer is refused while the first holds the output
-(sim/io/files.h DirectoryLock, the sweep journal's lock), or replaces the
-first one's files whole; never one writer's file beside the other's."""
+(sim/io/files.h DirectoryLock, the sweep journal's lock), or, for a sweep,
+because the first one's finished journal records another sweep; or it
+replaces the first one's files whole. Never one writer's file beside the
+other's."""
 
 import subprocess
 import threading
@@ -23,7 +25,9 @@ RUN_B = ["--cycles", "1", "--set", "waveform.frequency_Hz=0.4"]
 SWEEP_A = 'base = "short.toml"\n[set]\ncycles = 1\n[grid]\n"waveform.frequency_Hz" = [0.5]\n'
 SWEEP_B = 'base = "short.toml"\n[set]\ncycles = 1\n[grid]\n"waveform.frequency_Hz" = [0.4]\n'
 
-REFUSED = ("in use by another run", "in use by another running sweep")
+REFUSED = ("in use by another run", "in use by another running sweep",
+           # a second sweep that starts once the first has finished
+           "records another sweep")
 
 
 def run_files(folder):
