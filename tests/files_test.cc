@@ -195,6 +195,39 @@ TEST(FilesTest, AnOutputDirectoryIsHeldByOneRunAtATime) {
   fs::remove_all(dir);
 }
 
+// A journal is held by one writer at a time; its records reach the file in
+// order; Remove leaves no file, and the name is free again at once.
+TEST(FilesTest, AJournalIsHeldByOneWriterAndRemovedWhole) {
+  const fs::path dir = ScratchDir("journal");
+  const std::string path = (dir / "new" / "sweep.journal").string();
+  {
+    JournalFile journal(path, "in use by another writer");
+    EXPECT_EQ(journal.Read(), "");
+    journal.Reset("header\n");
+    journal.Append("one\n");
+    journal.Append("tw");
+    EXPECT_EQ(journal.Read(), "header\none\ntw");
+    journal.Truncate(11);  // the torn "tw" dropped
+    journal.Append("two\n");
+    EXPECT_EQ(ReadAll(path), "header\none\ntwo\n");
+    try {
+      JournalFile second(path, "in use by another writer");
+      FAIL() << "two writers of one journal";
+    } catch (const std::runtime_error& error) {
+      EXPECT_EQ(std::string(error.what()), path + ": in use by another writer");
+    }
+    journal.Remove();
+    EXPECT_FALSE(fs::exists(path));
+    JournalFile next(path, "in use by another writer");  // not held by the removed one
+    EXPECT_EQ(next.Read(), "");
+  }
+  { JournalFile again(path, "in use"); }  // free once released
+  fs::create_symlink(dir / "elsewhere", dir / "link.journal");
+  EXPECT_THROW(JournalFile((dir / "link.journal").string(), "in use"), std::runtime_error);
+  EXPECT_FALSE(fs::exists(dir / "elsewhere")) << "written through a symbolic link";
+  fs::remove_all(dir);
+}
+
 // A killed writer's temporaries ("PATH.tmp.PID.XXXXXX" of a process that no
 // longer runs) go with the next write of PATH; a running one's stay.
 TEST(FilesTest, TemporariesOfAKilledWriterAreRemovedByTheNext) {

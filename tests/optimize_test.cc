@@ -15,6 +15,7 @@
 #include "plugin/coupling.h"
 #include "sim/optimize/nlopt_driver.h"
 #include "sim/optimize/optimize_file.h"
+#include "sim/optimize/optimize_journal.h"
 #include "sim/optimize/optimize_run.h"
 #include "sim/optimize/optimize_slurm.h"
 #include "sim/optimize/retune.h"
@@ -224,6 +225,32 @@ TEST(OptimizeRunTest, FilesAreTheSameForAnyJobsAndAfterAResume) {
   EXPECT_FALSE(resumed.stopped);
   EXPECT_GE(resumed.resumed, 3);
   EXPECT_EQ(Outputs(dir / "resumed"), expected) << "stopped and resumed differs";
+}
+
+// A run killed in the middle of a record leaves a torn last line: the next
+// run cuts it off before it appends, so every whole record survives any
+// number of kills and resumes (and a torn header starts the journal over).
+TEST(OptimizeJournalTest, ATornLastRecordIsCutOffBeforeTheNextIsAppended) {
+  const fs::path dir = FreshDir("optimize_journal");
+  const std::string path = (dir / "optimize.journal").string();
+  const std::vector<std::string> columns = {"status", "error", "speed_mm_per_cycle"};
+  { OptimizeJournal journal(path, "f1", columns); }
+  WriteFile(path, ReadFile(path).substr(0, 10));  // killed within the header
+  {
+    OptimizeJournal journal(path, "f1", columns);
+    journal.Record({1.0, 2.0}, {"ok", "", "0.5"});
+  }
+  WriteFile(path, ReadFile(path) + "{\"x\": [\"0x1p+0\"");  // killed within a record
+  {
+    OptimizeJournal journal(path, "f1", columns);
+    EXPECT_EQ(journal.size(), 1u);
+    journal.Record({3.0, 4.0}, {"ok", "", "0.25"});
+  }
+  const OptimizeJournal journal(path, "f1", columns);
+  EXPECT_EQ(journal.size(), 2u);
+  EXPECT_EQ(journal.Find({3.0, 4.0}), (std::vector<std::string>{"ok", "", "0.25"}));
+  EXPECT_EQ(testing::CountLines(ReadFile(path)), 3);
+  EXPECT_THROW(OptimizeJournal(path, "another", columns), std::runtime_error);
 }
 
 // optimize --slurm's pieces without a cluster: each start alone into its

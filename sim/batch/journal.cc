@@ -1,16 +1,8 @@
 #include "sim/batch/journal.h"
 
-#include <fcntl.h>
-#include <sys/file.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <nlohmann/json.hpp>
 
-#include <cerrno>
 #include <cstdint>
-#include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -63,48 +55,11 @@ class Fnv1a {
   std::uint64_t hash_ = 0xcbf29ce484222325ULL;
 };
 
-std::string SystemError(const std::string& path, const std::string& what) {
-  return path + ": " + what + " (" + std::strerror(errno) + ")";
-}
-
 std::string FileText(const std::string& path) {
   std::ifstream file(path, std::ios::binary);
   std::ostringstream text;
   text << file.rdbuf();
   return text.str();
-}
-
-// The text of an open file, from its start.
-std::string ReadAll(int fd, const std::string& path) {
-  std::string text;
-  char buffer[1 << 16];
-  for (off_t offset = 0;;) {
-    const ssize_t n = pread(fd, buffer, sizeof(buffer), offset);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) throw std::runtime_error(SystemError(path, "cannot read the journal"));
-    if (n == 0) return text;
-    text.append(buffer, static_cast<size_t>(n));
-    offset += n;
-  }
-}
-
-void WriteAll(int fd, const std::string& text, const std::string& path) {
-  for (size_t written = 0; written < text.size();) {
-    const ssize_t n = write(fd, text.data() + written, text.size() - written);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) throw std::runtime_error(SystemError(path, "cannot write the journal"));
-    written += static_cast<size_t>(n);
-  }
-}
-
-// The directory entry of a new file reaches the disk too.
-void SyncDirectoryOf(const std::string& path) {
-  std::string dir = fs::path(path).parent_path().string();
-  if (dir.empty()) dir = ".";
-  const int fd = open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (fd < 0) return;
-  fsync(fd);
-  close(fd);
 }
 
 std::string HeaderLine(const SweepJournalHeader& header) {
@@ -217,39 +172,6 @@ SweepJournalContents ParseJournal(const std::string& text, const std::string& pa
   return contents;
 }
 
-// Opens and locks the journal at `path` (creating it) and returns its
-// descriptor. One sweep per journal: another sweep's lock is refused. A
-// file unlinked between the open and the lock (a sweep that removed its
-// journal) is let go and the name opened again, so the lock held is always
-// on the file the name leads to. A file system without locks (ENOLCK) is
-// let through: the user then keeps sweeps apart.
-int OpenLockedJournal(const std::string& path) {
-  for (;;) {
-    // Never written through a symbolic link: it could point at any file.
-    const int fd = open(path.c_str(), O_RDWR | O_CREAT | O_APPEND | O_CLOEXEC | O_NOFOLLOW, 0644);
-    if (fd < 0 && errno == ELOOP) {
-      throw std::runtime_error(path + ": is a symbolic link; a journal is never written through "
-                                      "one (remove it, or choose another output)");
-    }
-    if (fd < 0) throw std::runtime_error(SystemError(path, "cannot open the journal"));
-    struct stat status {};
-    if (fstat(fd, &status) != 0 || !S_ISREG(status.st_mode)) {
-      close(fd);
-      throw std::runtime_error(path + ": is not a regular file; a journal must be one");
-    }
-    if (flock(fd, LOCK_EX | LOCK_NB) != 0 && errno == EWOULDBLOCK) {
-      close(fd);
-      throw std::runtime_error(path + ": in use by another running sweep (one sweep per output "
-                                      "prefix at a time)");
-    }
-    struct stat named {};
-    const bool still_named = stat(path.c_str(), &named) == 0 && named.st_ino == status.st_ino &&
-                             named.st_dev == status.st_dev;
-    if (still_named) return fd;
-    close(fd);
-  }
-}
-
 }  // namespace
 
 std::string SweepFingerprint(const SweepPlan& plan) {
@@ -294,62 +216,39 @@ std::string JournalPathOf(const std::string& table_csv_path) {
 
 SweepJournal::SweepJournal(const std::string& path, const SweepPlan& plan,
                            bool accept_other_version)
-    : path_(path) {
-  const std::string dir = fs::path(path).parent_path().string();
-  if (!dir.empty()) EnsureDirectory(dir);
+    : file_(path, "in use by another running sweep (one sweep per output prefix at a time)") {
   const SweepJournalHeader expected = HeaderOf(plan);
   fingerprint_ = expected.fingerprint;
-  fd_ = OpenLockedJournal(path);
-  try {
-    const std::string text = ReadAll(fd_, path);
-    if (text.find('\n') == std::string::npos) {
-      // New, or created by a sweep killed before its header was whole:
-      // no record can follow a torn header.
-      if (ftruncate(fd_, 0) != 0) throw std::runtime_error(SystemError(path, "cannot reset"));
-      WriteAll(fd_, HeaderLine(expected), path);
-      if (fsync(fd_) != 0) throw std::runtime_error(SystemError(path, "cannot sync"));
-      SyncDirectoryOf(path);
-      return;
-    }
-    size_t complete_size = 0;
-    SweepJournalContents contents = ParseJournal(text, path, &complete_size);
-    const SweepJournalHeader& found = contents.header;
-    if (found.fingerprint != expected.fingerprint) {
-      throw std::runtime_error(
-          path + ": records another sweep (" + found.sweep + ", " +
-          std::to_string(found.points) + " points, fingerprint " + found.fingerprint +
-          "; this one: " + expected.sweep + ", " + std::to_string(expected.points) +
-          " points, fingerprint " + expected.fingerprint +
-          "); remove it to start over, or choose another output");
-    }
-    if (found.program_version != expected.program_version && !accept_other_version) {
-      throw std::runtime_error(path + ": written by ipmc-swim " + found.program_version +
-                               ", this is " + expected.program_version +
-                               "; its points may differ from this version's: remove it to start "
-                               "over, or resume it anyway with --resume-other-version "
-                               "(Python: resume_other_version=True)");
-    }
-    if (complete_size < text.size() &&
-        ftruncate(fd_, static_cast<off_t>(complete_size)) != 0) {
-      throw std::runtime_error(SystemError(path, "cannot drop the torn last record"));
-    }
-    rows_ = std::move(contents.rows);
-  } catch (...) {
-    close(fd_);
-    throw;
+  const std::string text = file_.Read();
+  if (text.find('\n') == std::string::npos) {
+    // New, or created by a sweep killed before its header was whole:
+    // no record can follow a torn header.
+    file_.Reset(HeaderLine(expected));
+    return;
   }
-}
-
-SweepJournal::~SweepJournal() {
-  if (fd_ >= 0) close(fd_);
+  size_t complete_size = 0;
+  SweepJournalContents contents = ParseJournal(text, path, &complete_size);
+  const SweepJournalHeader& found = contents.header;
+  if (found.fingerprint != expected.fingerprint) {
+    throw std::runtime_error(
+        path + ": records another sweep (" + found.sweep + ", " + std::to_string(found.points) +
+        " points, fingerprint " + found.fingerprint + "; this one: " + expected.sweep + ", " +
+        std::to_string(expected.points) + " points, fingerprint " + expected.fingerprint +
+        "); remove it to start over, or choose another output");
+  }
+  if (found.program_version != expected.program_version && !accept_other_version) {
+    throw std::runtime_error(path + ": written by ipmc-swim " + found.program_version +
+                             ", this is " + expected.program_version +
+                             "; its points may differ from this version's: remove it to start "
+                             "over, or resume it anyway with --resume-other-version "
+                             "(Python: resume_other_version=True)");
+  }
+  if (complete_size < text.size()) file_.Truncate(complete_size);
+  rows_ = std::move(contents.rows);
 }
 
 void SweepJournal::Remove() {
-  // Unlinked before the lock is let go, so that no other sweep can take
-  // the lock on this file while its name still leads to it.
-  std::remove(path_.c_str());
-  if (fd_ >= 0) close(fd_);
-  fd_ = -1;
+  file_.Remove();
   rows_.clear();
 }
 
@@ -357,8 +256,7 @@ void SweepJournal::Record(const std::vector<std::string>& row) {
   const int point = std::stoi(row.at(0));
   const nlohmann::ordered_json json = {
       {kPointKey, point}, {kRowKey, row}, {kCheckKey, RecordCheck(fingerprint_, point, row)}};
-  WriteAll(fd_, json.dump() + "\n", path_);
-  if (fdatasync(fd_) != 0) throw std::runtime_error(SystemError(path_, "cannot sync the journal"));
+  file_.Append(json.dump() + "\n");
   rows_.emplace(point, row);
 }
 

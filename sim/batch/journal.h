@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "sim/batch/sweep.h"
+#include "sim/io/files.h"
 
 namespace ipmc {
 
@@ -68,11 +69,8 @@ class SweepJournal {
   // written then. A journal created by another program version is refused
   // too, unless `accept_other_version`.
   SweepJournal(const std::string& path, const SweepPlan& plan, bool accept_other_version = false);
-  ~SweepJournal();
-  SweepJournal(const SweepJournal&) = delete;
-  SweepJournal& operator=(const SweepJournal&) = delete;
 
-  const std::string& path() const { return path_; }
+  const std::string& path() const { return file_.path(); }
   // The points recorded so far.
   const std::map<int, std::vector<std::string>>& rows() const { return rows_; }
   // Appends a finished point's row (row[0] is its index) and returns once
@@ -82,9 +80,8 @@ class SweepJournal {
   void Remove();
 
  private:
-  std::string path_;
+  JournalFile file_;
   std::string fingerprint_;  // of the sweep it records (each record's check)
-  int fd_ = -1;
   std::map<int, std::vector<std::string>> rows_;
 };
 

@@ -262,6 +262,96 @@ void DirectoryLock::Release() {
   fd_ = -1;
 }
 
+namespace {
+
+std::string SystemError(const std::string& path, const std::string& what) {
+  return path + ": " + what + " (" + std::strerror(errno) + ")";
+}
+
+// The descriptor of the journal at `path`, open and locked (JournalFile).
+int OpenLockedJournal(const std::string& path, const std::string& in_use) {
+  for (;;) {
+    const int fd = open(path.c_str(), O_RDWR | O_CREAT | O_APPEND | O_CLOEXEC | O_NOFOLLOW, 0644);
+    if (fd < 0 && errno == ELOOP) {
+      throw std::runtime_error(path + ": is a symbolic link; a journal is never written through "
+                                      "one (remove it, or choose another output)");
+    }
+    if (fd < 0) throw std::runtime_error(SystemError(path, "cannot open the journal"));
+    struct stat status {};
+    if (fstat(fd, &status) != 0 || !S_ISREG(status.st_mode)) {
+      close(fd);
+      throw std::runtime_error(path + ": is not a regular file; a journal must be one");
+    }
+    if (flock(fd, LOCK_EX | LOCK_NB) != 0 && errno == EWOULDBLOCK) {
+      close(fd);
+      throw std::runtime_error(path + ": " + in_use);
+    }
+    struct stat named {};
+    const bool still_named = stat(path.c_str(), &named) == 0 && named.st_ino == status.st_ino &&
+                             named.st_dev == status.st_dev;
+    if (still_named) return fd;
+    close(fd);
+  }
+}
+
+// The directory entry of a new file reaches the disk too.
+void SyncDirectoryOf(const std::string& path) {
+  std::string dir = std::filesystem::path(path).parent_path().string();
+  if (dir.empty()) dir = ".";
+  const int fd = open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;
+  fsync(fd);
+  close(fd);
+}
+
+}  // namespace
+
+JournalFile::JournalFile(const std::string& path, const std::string& in_use) : path_(path) {
+  EnsureParentDirectory(path);
+  fd_ = OpenLockedJournal(path, in_use);
+}
+
+JournalFile::~JournalFile() {
+  if (fd_ >= 0) close(fd_);
+}
+
+std::string JournalFile::Read() const {
+  std::string text;
+  char buffer[1 << 16];
+  for (off_t offset = 0;;) {
+    const ssize_t n = pread(fd_, buffer, sizeof(buffer), offset);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) throw std::runtime_error(SystemError(path_, "cannot read the journal"));
+    if (n == 0) return text;
+    text.append(buffer, static_cast<size_t>(n));
+    offset += n;
+  }
+}
+
+void JournalFile::Reset(const std::string& header) {
+  if (ftruncate(fd_, 0) != 0) throw std::runtime_error(SystemError(path_, "cannot reset the journal"));
+  if (!WriteAll(fd_, header)) throw std::runtime_error(SystemError(path_, "cannot write the journal"));
+  if (fsync(fd_) != 0) throw std::runtime_error(SystemError(path_, "cannot sync the journal"));
+  SyncDirectoryOf(path_);
+}
+
+void JournalFile::Truncate(size_t size) {
+  if (ftruncate(fd_, static_cast<off_t>(size)) != 0) {
+    throw std::runtime_error(SystemError(path_, "cannot drop the torn last record"));
+  }
+}
+
+void JournalFile::Append(const std::string& text) {
+  if (!WriteAll(fd_, text)) throw std::runtime_error(SystemError(path_, "cannot write the journal"));
+  if (fdatasync(fd_) != 0) throw std::runtime_error(SystemError(path_, "cannot sync the journal"));
+}
+
+void JournalFile::Remove() {
+  std::remove(path_.c_str());
+  if (fd_ >= 0) close(fd_);
+  fd_ = -1;
+}
+
 void RefuseOverwritingInputs(const std::string& who, const std::string& option,
                              const std::string& output, const std::vector<std::string>& inputs) {
   for (const std::string& input : inputs) {

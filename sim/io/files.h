@@ -74,6 +74,42 @@ class DirectoryLock {
   int fd_ = -1;
 };
 
+// A journal: a file of records, one a line, that one writer at a time
+// appends to and that outlives a killed run. Opened (created, with its
+// folder, if missing; never through a symbolic link) with an exclusive
+// flock held for as long as the object lives, on the file the name leads
+// to (a journal that another writer unlinked between the open and the
+// lock is let go and the name opened again). A file system without locks
+// (ENOLCK) is let through: the user then keeps writers apart.
+class JournalFile {
+ public:
+  // Throws std::runtime_error naming the path if it is a symbolic link or
+  // not a regular file, cannot be opened, or another writer holds it
+  // ("PATH: " + in_use).
+  JournalFile(const std::string& path, const std::string& in_use);
+  ~JournalFile();
+  JournalFile(const JournalFile&) = delete;
+  JournalFile& operator=(const JournalFile&) = delete;
+
+  const std::string& path() const { return path_; }
+  // The whole text, from the start.
+  std::string Read() const;
+  // Empties the file and writes `header`; returns once both it and the
+  // file's directory entry are on the disk.
+  void Reset(const std::string& header);
+  // Keeps the first `size` bytes (drops a torn last record).
+  void Truncate(size_t size);
+  // Appends `text` and returns once it is on the disk (fdatasync).
+  void Append(const std::string& text);
+  // Unlinks the file, then lets go of the lock: no other writer can take
+  // the lock on it while its name still leads to it.
+  void Remove();
+
+ private:
+  std::string path_;
+  int fd_ = -1;
+};
+
 // Throws std::invalid_argument "WHO: OPTION PATH would overwrite the
 // input PATH" if `output` is (or names the same file as) one of `inputs`.
 void RefuseOverwritingInputs(const std::string& who, const std::string& option,

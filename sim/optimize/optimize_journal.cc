@@ -1,12 +1,6 @@
 #include "sim/optimize/optimize_journal.h"
 
-#include <fcntl.h>
-#include <sys/file.h>
-#include <unistd.h>
-
-#include <cerrno>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -28,17 +22,6 @@ std::string Hex(double value) {
 
 [[noreturn]] void Fail(const std::string& path, const std::string& message) {
   throw std::runtime_error(path + ": " + message);
-}
-
-void WriteAll(int fd, const std::string& path, const std::string& line) {
-  size_t written = 0;
-  while (written < line.size()) {
-    const ssize_t n = ::write(fd, line.data() + written, line.size() - written);
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) Fail(path, std::string("cannot write the journal (") + std::strerror(errno) + ")");
-    written += static_cast<size_t>(n);
-  }
-  if (::fdatasync(fd) != 0) Fail(path, std::string("cannot sync the journal (") + std::strerror(errno) + ")");
 }
 
 nlohmann::json JournalHeader(const std::string& fingerprint,
@@ -91,35 +74,18 @@ std::string HexKey(const std::vector<double>& x) {
 
 OptimizeJournal::OptimizeJournal(const std::string& path, const std::string& fingerprint,
                                  const std::vector<std::string>& columns)
-    : path_(path) {
-  EnsureParentDirectory(path);
-  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_APPEND | O_CLOEXEC | O_NOFOLLOW, 0644);
-  if (fd_ < 0) Fail(path, std::string("cannot open the journal (") + std::strerror(errno) + ")");
-  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
-    ::close(fd_);
-    fd_ = -1;
-    Fail(path, "in use by another optimisation");
+    : file_(path, "in use by another optimisation") {
+  const std::string text = file_.Read();
+  if (text.find('\n') == std::string::npos) {
+    // New, or created by a run killed before its header was whole.
+    file_.Reset(JournalHeader(fingerprint, columns).dump() + "\n");
+    return;
   }
-  std::string text;
-  char buffer[65536];
-  for (ssize_t n; (n = ::pread(fd_, buffer, sizeof(buffer), static_cast<off_t>(text.size()))) > 0;) {
-    text.append(buffer, static_cast<size_t>(n));
-  }
-  try {
-    if (text.empty()) {
-      WriteAll(fd_, path, JournalHeader(fingerprint, columns).dump() + "\n");
-      return;
-    }
-    records_ = ParseJournal(path, text, fingerprint, columns);
-  } catch (...) {
-    ::close(fd_);
-    fd_ = -1;
-    throw;
-  }
-}
-
-OptimizeJournal::~OptimizeJournal() {
-  if (fd_ >= 0) ::close(fd_);
+  records_ = ParseJournal(path, text, fingerprint, columns);
+  // A torn last record (a kill in the middle of a write) is dropped, so
+  // that the next record starts a line of its own.
+  const size_t complete_size = text.rfind('\n') + 1;
+  if (complete_size < text.size()) file_.Truncate(complete_size);
 }
 
 std::optional<std::vector<std::string>> OptimizeJournal::Find(const std::vector<double>& x) const {
@@ -134,7 +100,7 @@ void OptimizeJournal::Record(const std::vector<double>& x, const std::vector<std
   for (double value : x) hex.push_back(Hex(value));
   const std::string line = nlohmann::json({{"x", hex}, {"cells", cells}}).dump() + "\n";
   std::lock_guard<std::mutex> lock(mutex_);
-  WriteAll(fd_, path_, line);
+  file_.Append(line);
   records_[HexKey(x)] = cells;
 }
 

@@ -5,7 +5,7 @@
 //   {"x": ["0x1.b0a3d70a3d70ap+3", ...], "cells": ["ok", "", "0.31", ...]}      one per run
 // x is the design's values as hex floats (bit for bit), cells the sweep
 // row's cells after the point index (status, error, the metrics). A torn
-// last line (a kill in the middle of a write) is dropped on opening. One
+// last line (a kill in the middle of a write) is cut off on opening. One
 // optimisation holds it at a time (flock).
 #pragma once
 
@@ -14,6 +14,8 @@
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "sim/io/files.h"
 
 namespace ipmc {
 
@@ -30,9 +32,6 @@ class OptimizeJournal {
   // (another fingerprint), is not a journal, or is held by another run.
   OptimizeJournal(const std::string& path, const std::string& fingerprint,
                   const std::vector<std::string>& columns);
-  ~OptimizeJournal();
-  OptimizeJournal(const OptimizeJournal&) = delete;
-  OptimizeJournal& operator=(const OptimizeJournal&) = delete;
 
   // The recorded cells of the design x, if any. Thread-safe.
   std::optional<std::vector<std::string>> Find(const std::vector<double>& x) const;
@@ -41,8 +40,7 @@ class OptimizeJournal {
   size_t size() const;
 
  private:
-  std::string path_;
-  int fd_ = -1;
+  JournalFile file_;
   mutable std::mutex mutex_;
   JournalRecords records_;
 };
