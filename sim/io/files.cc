@@ -329,8 +329,12 @@ std::string JournalFile::Read() const {
 }
 
 void JournalFile::Reset(const std::string& header) {
-  if (ftruncate(fd_, 0) != 0) throw std::runtime_error(SystemError(path_, "cannot reset the journal"));
-  if (!WriteAll(fd_, header)) throw std::runtime_error(SystemError(path_, "cannot write the journal"));
+  if (ftruncate(fd_, 0) != 0) {
+    throw std::runtime_error(SystemError(path_, "cannot reset the journal"));
+  }
+  if (!WriteAll(fd_, header)) {
+    throw std::runtime_error(SystemError(path_, "cannot write the journal"));
+  }
   if (fsync(fd_) != 0) throw std::runtime_error(SystemError(path_, "cannot sync the journal"));
   SyncDirectoryOf(path_);
 }
@@ -342,7 +346,9 @@ void JournalFile::Truncate(size_t size) {
 }
 
 void JournalFile::Append(const std::string& text) {
-  if (!WriteAll(fd_, text)) throw std::runtime_error(SystemError(path_, "cannot write the journal"));
+  if (!WriteAll(fd_, text)) {
+    throw std::runtime_error(SystemError(path_, "cannot write the journal"));
+  }
   if (fdatasync(fd_) != 0) throw std::runtime_error(SystemError(path_, "cannot sync the journal"));
 }
 
