@@ -215,7 +215,7 @@ void StokesStepper::AssembleResistances(const mjModel* m, const mjData* d,
 }
 
 template <int Dim>
-double StokesStepper::LocalFluidPower_W(const mjModel* m) const {
+double StokesStepper::LocalFluidPower_W(const mjModel* m) {
   const BlockWorkspace<Dim>& w = Workspace<Dim>();
   double power_W = 0;
   for (int j = 0; j < m->nv; ++j) power_W += w.velocity[j].dot(w.own[j] * w.velocity[j]);

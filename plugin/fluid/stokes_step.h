@@ -110,7 +110,7 @@ class StokesStepper {
   // Sum over the dofs of V^T own V, V their velocities in the recursion's
   // last solve.
   template <int Dim>
-  double LocalFluidPower_W(const mjModel* m) const;
+  double LocalFluidPower_W(const mjModel* m);
   // Solves (D + diag(extra)) v = f for v, D from the dofs' motions cdof
   // and the assembled articulated resistances. Returns false if the system
   // is singular. Planar motions (planar_motion_) take the 3 x 3
@@ -156,10 +156,6 @@ class StokesStepper {
     } else {
       return planar_;
     }
-  }
-  template <int Dim>
-  const BlockWorkspace<Dim>& Workspace() const {
-    return const_cast<StokesStepper*>(this)->Workspace<Dim>();
   }
   // mj_transmission and mj_fwdActuation: JointTransmission and
   // JointActuation if JointActuatorsOnly (after one mj_transmission, which
