@@ -63,6 +63,19 @@ def cli_error(*args):
     return lines[0][len("ipmc-swim: error: "):]
 
 
+# How a second writer into one output is refused (docs/RUNS.md, "Two
+# writers into one output"): a run while another run holds its folder; a
+# sweep while another sweep runs into its prefix, or once another sweep has
+# finished into it (its journal stays, and records that other sweep).
+RUN_IN_USE = "in use by another run (one run per output directory)"
+SWEEP_REFUSALS = ("in use by another running sweep (one sweep per output prefix at a time)",
+                  "records another sweep")
+
+
+def is_sweep_refusal(message):
+    return any(refusal in message for refusal in SWEEP_REFUSALS)
+
+
 # A sweep table's files, and their bytes for a prefix.
 TABLE_FILES = [".csv", ".json"]
 
