@@ -6,8 +6,9 @@ points, and nothing is written but a sweep's journal, which the command
 line resumes to the uninterrupted table. SIGTERM and SIGHUP stop the call
 the same way where the program handles them (a Python handler that
 raises; without one Python's default ends the interpreter). Each call
-runs in a child interpreter that reports its first progress; the test
-sends the signal then and waits a bounded time for the child to end."""
+runs in a child interpreter that reports its first progress and waits
+there until the signal's handler has run; the test sends the signal then
+and waits a bounded time for the child to end."""
 
 import os
 import signal
@@ -46,17 +47,29 @@ CALLS = {
               "duration_s=2000, out='out/bench.csv', progress=progress)"),
 }
 
+# The first progress report waits until the signal's handler has run, so
+# the call is stopped at its next safe point whatever the machine's load
+# (a sweep's points would otherwise go on while the signal is on its way).
+# SIGINT keeps Python's own handler, which raises KeyboardInterrupt.
 PROGRAM = """
-import os, signal, sys
+import os, signal, sys, threading
 import ipmc_swim
+seen = threading.Event()
 def stop(signum, frame):
+    seen.set()
     raise KeyboardInterrupt
+def interrupt(signum, frame):
+    seen.set()
+    signal.default_int_handler(signum, frame)
+signal.signal(signal.SIGINT, interrupt)
 signal.signal(signal.SIGTERM, stop)
 signal.signal(signal.SIGHUP, stop)
 calls = []
 def progress(done, total):
     calls.append(done)
     print(f"progress {{done}} {{total}}", flush=True)
+    if len(calls) == 1:
+        seen.wait({wait_s})
 try:
     {call}
 except KeyboardInterrupt:
@@ -74,7 +87,7 @@ def test_a_signal_stops_the_call_at_a_safe_point(tmp_path, function, sent):
     (tmp_path / "long.toml").write_text(LONG_SCENARIO)
     (tmp_path / "point.toml").write_text(SHORT_POINT)
     (tmp_path / "sweep.toml").write_text(SWEEP)
-    program = PROGRAM.format(call=CALLS[function])
+    program = PROGRAM.format(call=CALLS[function], wait_s=STOP_TIMEOUT_S)
     child = subprocess.Popen([sys.executable, "-c", program], cwd=tmp_path,
                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                              env=os.environ)
