@@ -43,6 +43,7 @@
 #include <vector>
 
 #include "bench/ratio_reporter.h"
+#include "sim/core/data_paths.h"
 #include "ipmc_swim/ipmc_swim.h"
 #include "sim/core/model_generator.h"
 #include "sim/core/scenario.h"
@@ -54,8 +55,8 @@
 namespace ipmc {
 namespace {
 
-const std::string kPaperScenario = std::string(IPMC_SWIM_SCENARIOS_DIR) + "/paper.toml";
-const std::string kClampedModel = std::string(IPMC_SWIM_MODELS_DIR) + "/flagellum3_clamped.xml";
+const std::string kPaperScenario = ScenariosDir() + "/paper.toml";
+const std::string kClampedModel = ModelsDir() + "/flagellum3_clamped.xml";
 
 std::string ReadText(const std::string& path) {
   std::ifstream in(path);

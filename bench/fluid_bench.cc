@@ -16,13 +16,14 @@
 #include <string>
 
 #include "bench/ratio_reporter.h"
+#include "sim/core/data_paths.h"
 #include "sim/core/scenario.h"
 #include "sim/runs/closed_loop_run.h"
 
 namespace ipmc {
 namespace {
 
-const std::string kPaperScenario = std::string(IPMC_SWIM_SCENARIOS_DIR) + "/paper.toml";
+const std::string kPaperScenario = ScenariosDir() + "/paper.toml";
 
 // args: model (0 rft, 1 stokeslets), dynamics (0 inertial, 1 stokes),
 // variant (0 default, 1 wall gap 1 mm, 2 tolerance 0, 3 twice the points,

@@ -8,6 +8,7 @@
 #include <benchmark/benchmark.h>
 
 #include "bench/ratio_reporter.h"
+#include "sim/core/data_paths.h"
 #include "sim/runs/bench_run.h"
 #include "sim/identify/controller_design.h"
 #include "sim/identify/levy.h"
@@ -19,7 +20,7 @@ namespace {
 
 // The chirp of `ipmc-swim bench --signal chirp` on the shipped clamped model.
 BenchRecord PaperChirpRecord() {
-  const std::string model = std::string(IPMC_SWIM_MODELS_DIR) + "/flagellum3_clamped.xml";
+  const std::string model = ModelsDir() + "/flagellum3_clamped.xml";
   Simulation sim(LoadModelFile(model), model);
   BenchSignal chirp;
   chirp.kind = BenchSignal::Kind::kChirp;

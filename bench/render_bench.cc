@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "bench/ratio_reporter.h"
+#include "sim/core/data_paths.h"
 #include "renders/offscreen_renderer.h"
 #include "renders/swim_film.h"
 #include "renders/video.h"
@@ -74,7 +75,7 @@ void BM_Render640x480WithEncoding(benchmark::State& state) {
 }
 
 ScenarioConfig PaperCycle() {
-  ScenarioConfig scenario = LoadScenario(std::string(IPMC_SWIM_MODELS_DIR) + "/../scenarios/paper.toml");
+  ScenarioConfig scenario = LoadScenario(ScenariosDir() + "/paper.toml");
   scenario.cycles = 1;
   scenario.output_dir.clear();
   return scenario;

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "bench/ratio_reporter.h"
+#include "sim/core/data_paths.h"
 #include "ipmc_swim/ipmc_swim.h"
 #include "sim/core/model_generator.h"
 #include "sim/core/scenario.h"
@@ -37,7 +38,7 @@
 namespace ipmc {
 namespace {
 
-const std::string kPaperScenario = std::string(IPMC_SWIM_SCENARIOS_DIR) + "/paper.toml";
+const std::string kPaperScenario = ScenariosDir() + "/paper.toml";
 
 ScenarioConfig PaperCycle(Dynamics dynamics, double timestep_s, int segments, double c1) {
   ScenarioConfig scenario = LoadScenario(kPaperScenario);

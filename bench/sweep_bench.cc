@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "bench/ratio_reporter.h"
+#include "sim/core/data_paths.h"
 #include "sim/batch/journal.h"
 #include "sim/batch/sweep.h"
 
@@ -21,7 +22,7 @@ namespace ipmc {
 namespace {
 
 SweepPlan EightPointSweep() {
-  const std::string base = std::string(IPMC_SWIM_MODELS_DIR) + "/../scenarios/paper.toml";
+  const std::string base = ScenariosDir() + "/paper.toml";
   return ParseSweep("base = \"" + base +
                         "\"\n[set]\ncycles = 2\n[grid]\n\"waveform.frequency_Hz\" = "
                         "[0.03, 0.035, 0.04, 0.045, 0.05, 0.055, 0.06, 0.065]\n",

@@ -467,6 +467,8 @@ inline Stroke SineStroke(const Eigen::VectorXd& amplitude_rad, const Eigen::Vect
   };
 }
 
-inline ModelPtr PaperModel() { return LoadModelFile(IPMC_SWIM_SOURCE_DIR "/models/flagellum3.xml"); }
+inline ModelPtr PaperModel() {
+  return LoadModelFile(std::string(IPMC_SWIM_SOURCE_DIR) + "/models/flagellum3.xml");
+}
 
 }  // namespace ipmc::testing

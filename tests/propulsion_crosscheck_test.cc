@@ -174,7 +174,8 @@ void RunCrossCheck(const ScenarioConfig& scenario, CrossCheck* out) {
 }
 
 TEST(PropulsionCrossCheckTest, DefaultRunMatchesInertiaFreeRft) {
-  ScenarioConfig scenario = LoadScenario(IPMC_SWIM_SOURCE_DIR "/scenarios/paper.toml");
+  ScenarioConfig scenario =
+      LoadScenario(std::string(IPMC_SWIM_SOURCE_DIR) + "/scenarios/paper.toml");
   scenario.samples_per_cycle = kSamplesPerCycle;
   CrossCheck check;
   RunCrossCheck(scenario, &check);
@@ -249,7 +250,8 @@ TEST(PropulsionCrossCheckTest, DefaultRunMatchesInertiaFreeRft) {
 // Measured -1.0e-9 along, -1.5e-9 for the head (docs/DYNAMICS.md,
 // "Evidence"); tolerance 1e-8.
 TEST(PropulsionCrossCheckTest, StokesRunMatchesInertiaFreeRft) {
-  ScenarioConfig scenario = LoadScenario(IPMC_SWIM_SOURCE_DIR "/scenarios/paper.toml");
+  ScenarioConfig scenario =
+      LoadScenario(std::string(IPMC_SWIM_SOURCE_DIR) + "/scenarios/paper.toml");
   scenario.samples_per_cycle = kSamplesPerCycle;
   scenario.dynamics = Dynamics::kStokes;
   scenario.timestep_s = 1e-3;
