@@ -2,8 +2,8 @@
 # Runs the whole plain suite several times in a row (5 by default) and the
 # sanitized one (the tests labelled `sanitize`, as .ci/run does) twice, and
 # prints one line per round and a closing one:
-#   soak: plain round 1 of 5: 457 passed, 0 failed (212 s)
-#   soak: 7 rounds, 0 with a failure
+#   soak: plain round K of N: P passed, F failed (S s)
+#   soak: R rounds, F with a failure
 # A failing round also names its failed tests; every round's ctest output
 # is kept in build/soak/. Builds build/ and build-sanitize/ first (cached).
 #
@@ -14,6 +14,8 @@
 # (scratch folder, compiler cache off) runs beside the tests, as on a
 # shared machine. CTEST_ARGUMENTS go to every round (for example
 # -R 'concurren|journal' to soak a few tests). Exits 1 if a round failed.
+# Run no other ctest in build/ or build-sanitize/ meanwhile: the tests of
+# one build share its temporary folder, which each run empties first.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 source "$root/scripts/setup.sh"
