@@ -38,6 +38,20 @@ class PendingFile {
   bool committed_ = false;
 };
 
+// Throws std::runtime_error "PATH: cannot replace it, it is a WHAT (...)" if
+// something other than a regular file (or a symbolic link, which a rename
+// replaces, not what it leads to) sits at `path`: a device, a FIFO, a
+// socket or a directory is never swapped out by a rename nor written
+// through. Nothing at `path` is fine. Every writer calls it before any work
+// (RequireWritableParent) and again as it renames into place.
+void RequireReplaceable(const std::string& path);
+
+// Throws InputError (plugin/base/error.h, kUnreadable) "PATH: is a WHAT,
+// not a regular file (the WHAT_READ)" unless `path` leads to a regular
+// file or to nothing (the caller reports a missing file its own way): a
+// FIFO or a device would block or never end, a directory is no file.
+void RequireRegularInput(const std::string& path, const std::string& what);
+
 // Writes `content` to `path` atomically. Throws std::runtime_error naming
 // the path on failure.
 void WriteFileAtomically(const std::string& path, const std::string& content);
@@ -129,13 +143,15 @@ void RequireWritableDirectory(const std::string& dir);
 // The same for the directory of an output file PATH (its parent, or "."),
 // and PATH itself: not empty, not a directory, and a name that fits with
 // its temporary's suffix (and `longest_suffix`, for a prefix of names such
-// as a table's PREFIX.journal).
+// as a table's PREFIX.journal); nothing but a regular file in its place
+// (RequireReplaceable).
 void RequireWritableParent(const std::string& path, const std::string& longest_suffix = "");
 // The same for the directory `path` is in, if it names one.
 void EnsureParentDirectory(const std::string& path);
 
 // The whole content of `path`. Throws InputError (plugin/base/error.h)
-// "PATH: cannot open the WHAT" or "PATH: cannot read the WHAT".
+// "PATH: cannot open the WHAT", "PATH: cannot read the WHAT" or, for
+// anything but a regular file, RequireRegularInput's.
 std::string ReadTextFile(const std::string& path, const std::string& what);
 
 }  // namespace ipmc
