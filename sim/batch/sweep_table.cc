@@ -132,8 +132,8 @@ nlohmann::ordered_json SweepTableJson(const SweepTable& table) {
     for (const std::vector<std::string>& row : table.rows) {
       const std::optional<long> index = row.empty() ? std::nullopt : PointIndex(row[0]);
       if (!index) continue;
-      checks.push_back({{"point", *index},
-                        {"check", SweepRowCheck(table.fingerprint, static_cast<int>(*index), row)}});
+      const std::string check = SweepRowCheck(table.fingerprint, static_cast<int>(*index), row);
+      checks.push_back({{"point", *index}, {"check", check}});
     }
     json["row_checks"] = std::move(checks);
   }

@@ -26,8 +26,8 @@ namespace {
 std::string NoDragMessage(const std::string& model, const std::string& scenario_source,
                           const std::string& keys) {
   return model + ": has no RFT drag (no <custom> numeric ipmc_rft_viscosity_Pa_s), which " +
-         keys + " in " + scenario_source + " needs; add the model's drag fields (docs/LIBRARY.md) " +
-         "or leave " + keys + " out";
+         keys + " in " + scenario_source +
+         " needs; add the model's drag fields (docs/LIBRARY.md) or leave " + keys + " out";
 }
 
 void OverrideViscosity(mjModel* m, double viscosity_Pa_s, const std::string& model,
@@ -147,7 +147,8 @@ void RequireSamplesPerWaveCycle(const ScenarioConfig& scenario, double period_s,
   if (samples >= kMinSamplesPerWaveCycle * (1.0 - 1e-12)) return;
   throw std::invalid_argument(FormatText(
       "%s: waveform.frequency_Hz %.6g gives %.4g controller samples per wave cycle at %.6g Hz "
-      "(controller.sample_rate_Hz); at least %ld: at most %.6g Hz",
+      "(controller.sample_rate_Hz); a cycle takes at least %ld controller samples: at most "
+      "%.6g Hz",
       scenario.source.c_str(), scenario.waveform.frequency_Hz, samples, 1.0 / sample_period_s,
       kMinSamplesPerWaveCycle, 1.0 / (kMinSamplesPerWaveCycle * sample_period_s)));
 }
@@ -225,7 +226,9 @@ std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenari
     name(scenario.rft_wavelength_mm.has_value(), "fluid.rft_wavelength_mm");
     name(scenario.wall_gap_mm.has_value(), "fluid.wall_gap_mm");
     name(scenario.fluid_model != "rft", "fluid.model");
-    if (!keys.empty()) throw std::runtime_error(NoDragMessage(sim->source(), scenario.source, keys));
+    if (!keys.empty()) {
+      throw std::runtime_error(NoDragMessage(sim->source(), scenario.source, keys));
+    }
   }
   return sim;
 }
