@@ -199,8 +199,10 @@ std::string SweepFingerprint(const SweepPlan& plan) {
 }
 
 SweepJournalContents ReadSweepJournal(const std::string& path) {
+  const std::optional<std::string> text = ReadJournalText(path, "journal");
+  if (!text) throw std::runtime_error(path + ": cannot open the journal (no such file)");
   size_t complete_size = 0;
-  return ParseJournal(ReadTextFile(path, "journal"), path, &complete_size);
+  return ParseJournal(*text, path, &complete_size);
 }
 
 std::string JournalPathOf(const std::string& table_csv_path) {

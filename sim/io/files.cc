@@ -333,6 +333,16 @@ void SyncDirectoryOf(const std::string& path) {
 
 }  // namespace
 
+std::optional<std::string> ReadJournalText(const std::string& path, const std::string& what) {
+  struct stat status {};
+  if (lstat(path.c_str(), &status) != 0 && errno == ENOENT) return std::nullopt;
+  if (S_ISLNK(status.st_mode)) {
+    throw std::runtime_error(path + ": is a symbolic link; a journal is never read through one "
+                                    "(copy the file in its place)");
+  }
+  return ReadTextFile(path, what);
+}
+
 JournalFile::JournalFile(const std::string& path, const std::string& in_use) : path_(path) {
   EnsureParentDirectory(path);
   fd_ = OpenLockedJournal(path, in_use);

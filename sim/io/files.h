@@ -3,6 +3,7 @@
 // complete, with the permissions of a new file); inputs are read whole.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -123,6 +124,13 @@ class JournalFile {
   std::string path_;
   int fd_ = -1;
 };
+
+// The whole text of the journal at `path`, read without taking its lock
+// (its writer may be appending), nullopt if there is none. Throws
+// std::runtime_error naming the path for a symbolic link (a journal is
+// never read through one, as JournalFile never writes through one) and
+// InputError for anything but a regular file or a failed read.
+std::optional<std::string> ReadJournalText(const std::string& path, const std::string& what);
 
 // Throws std::invalid_argument "WHO: OPTION PATH would overwrite the
 // input PATH" if `output` is (or names the same file as) one of `inputs`.

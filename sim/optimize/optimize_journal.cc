@@ -1,8 +1,6 @@
 #include "sim/optimize/optimize_journal.h"
 
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
@@ -163,14 +161,9 @@ void OptimizeJournal::Record(const std::vector<double>& x, const std::vector<std
 
 JournalRecords ReadOptimizeJournal(const std::string& path, const std::string& fingerprint,
                                    const std::vector<std::string>& columns) {
-  std::error_code error;
-  const std::filesystem::file_status status = std::filesystem::symlink_status(path, error);
-  if (status.type() == std::filesystem::file_type::not_found) return {};
-  if (status.type() == std::filesystem::file_type::symlink) {
-    Fail(path, "is a symbolic link; a journal is never read through one (copy the file in its "
-               "place)");
-  }
-  return ParseJournal(path, ReadTextFile(path, "optimisation journal"), fingerprint, columns);
+  const std::optional<std::string> text = ReadJournalText(path, "optimisation journal");
+  if (!text) return {};
+  return ParseJournal(path, *text, fingerprint, columns);
 }
 
 size_t OptimizeJournal::size() const {
