@@ -161,16 +161,9 @@ SweepJournalContents ParseJournal(const std::string& text, const std::string& pa
 
 std::string SweepRowCheck(const std::string& fingerprint, int point,
                           const std::vector<std::string>& row) {
-  std::string bytes;
-  const auto add = [&bytes](const std::string& field) {
-    bytes += std::to_string(field.size());
-    bytes += ':';
-    bytes += field;
-  };
-  add(fingerprint);
-  add(std::to_string(point));
-  for (const std::string& cell : row) add(cell);
-  return Sha256Hex(bytes);
+  std::vector<std::string> fields = {fingerprint, std::to_string(point)};
+  fields.insert(fields.end(), row.begin(), row.end());
+  return Sha256OfFields(fields);
 }
 
 std::string SweepFingerprint(const SweepPlan& plan) {

@@ -38,15 +38,10 @@ nlohmann::json JournalHeader(const std::string& fingerprint,
 // another optimisation no longer matches.
 std::string RecordCheck(const std::string& fingerprint, const std::vector<std::string>& x,
                         const std::vector<std::string>& cells) {
-  std::string bytes;
-  const auto add = [&bytes](const std::string& field) {
-    bytes += std::to_string(field.size()) + ':' + field;
-  };
-  add(fingerprint);
-  add(std::to_string(x.size()));
-  for (const std::string& value : x) add(value);
-  for (const std::string& cell : cells) add(cell);
-  return Sha256Hex(bytes);
+  std::vector<std::string> fields = {fingerprint, std::to_string(x.size())};
+  fields.insert(fields.end(), x.begin(), x.end());
+  fields.insert(fields.end(), cells.begin(), cells.end());
+  return Sha256OfFields(fields);
 }
 
 // Checks the header line (line 1) of the journal at `path`.
