@@ -327,7 +327,8 @@ FilmSummary FilmRun(const FilmedRun& run, const FilmConfig& config, const std::s
 ClosedLoopResult RunScenarioAndFilm(
     const ScenarioConfig& scenario, const FilmConfig& config, const std::string& video_path,
     const std::function<void(const ClosedLoopResult&)>& before_filming,
-    const FilmProgress& progress, FilmSummary* summary, const SampleObserver& observer) {
+    const FilmProgress& progress, FilmSummary* summary, const SampleObserver& observer,
+    const RunHeartbeat& heartbeat) {
   config.Validate();
   if (!config.png_dir.empty()) EnsureDirectory(config.png_dir);
   ModelPtr model;  // the run's own model, copied at t = 0
@@ -337,7 +338,7 @@ ClosedLoopResult RunScenarioAndFilm(
     CheckFilmFits(m, config);
     model.reset(mj_copyModel(nullptr, m));
   };
-  const ClosedLoopResult result = RunScenario(scenario, copy_model);
+  const ClosedLoopResult result = RunScenario(scenario, copy_model, heartbeat);
   if (before_filming) before_filming(result);
   const FilmSummary film =
       FilmRun(ClosedLoopFilm(model.get(), result, scenario), config, video_path, progress);

@@ -138,12 +138,12 @@ FilmSummary FilmRun(const FilmedRun& run, const FilmConfig& config, const std::s
 // into video_path; the frame size is checked against the model as the run
 // starts, so a bad size does not wait for the run. Returns the run's
 // result; *summary (if given) gets the film's; `observer` (if set) sees
-// every recorded sample of the run.
+// every recorded sample of the run, `heartbeat` the time between them.
 ClosedLoopResult RunScenarioAndFilm(
     const ScenarioConfig& scenario, const FilmConfig& config, const std::string& video_path,
     const std::function<void(const ClosedLoopResult&)>& before_filming = {},
     const FilmProgress& progress = {}, FilmSummary* summary = nullptr,
-    const SampleObserver& observer = {});
+    const SampleObserver& observer = {}, const RunHeartbeat& heartbeat = {});
 
 // The ghost of a closed-loop scenario: its travelling wave y(x, t)
 // (sim/core/waveform.h), times the references' start ramp.

@@ -392,11 +392,11 @@ TEST_F(ScenarioErrorTest, SamplePeriodIsAWholeNumberOfTimesteps) {
       model + "timestep_s = 1e-3\n[controller]\nsample_rate_Hz = 2000\n",
       ":4: controller.sample_rate_Hz must make the sample period a whole number of timesteps "
       "(1 / (2000 Hz x 0.001 s) = 0.5)");
-  // With the default rate the timestep is the key to blame.
-  ExpectError(
-      model + "timestep_s = 3e-4\n",
-      ":2: controller.sample_rate_Hz must make the sample period a whole number of timesteps "
-      "(1 / (1000 Hz x 0.0003 s) = 3.3333333333333335)");
+  // With the default rate the timestep is the key to blame, and named.
+  ExpectError(model + "timestep_s = 3e-4\n",
+              ":2: timestep_s must make a controller sample (controller.sample_rate_Hz = 1000 "
+              "Hz, its default) a whole number of timesteps (1 / (1000 Hz x 0.0003 s) = "
+              "3.3333333333333335), e.g. timestep_s = 0.00025");
 }
 
 TEST_F(ScenarioErrorTest, LoadScenarioReportsAMissingFile) {

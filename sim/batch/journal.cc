@@ -55,7 +55,10 @@ class Fnv1a {
   std::uint64_t hash_ = 0xcbf29ce484222325ULL;
 };
 
+// The bytes of an input file, "" if there is none (a FIFO or a device is
+// refused: it could block or never end).
 std::string FileText(const std::string& path) {
+  RequireRegularInput(path, "model file");
   std::ifstream file(path, std::ios::binary);
   std::ostringstream text;
   text << file.rdbuf();
@@ -80,24 +83,6 @@ SweepJournalHeader HeaderOf(const SweepPlan& plan) {
   header.points = static_cast<int>(plan.points.size());
   header.columns = SweepColumns(plan);
   return header;
-}
-
-// A record's checksum: SHA-256 over the sweep's fingerprint (the resolved
-// inputs of every point, SweepFingerprint), the point's index and every
-// cell of its row, each with its length first. A record edited by hand,
-// copied from another sweep or given another status no longer matches.
-std::string RecordCheck(const std::string& fingerprint, int point,
-                        const std::vector<std::string>& row) {
-  std::string bytes;
-  const auto add = [&bytes](const std::string& field) {
-    bytes += std::to_string(field.size());
-    bytes += ':';
-    bytes += field;
-  };
-  add(fingerprint);
-  add(std::to_string(point));
-  for (const std::string& cell : row) add(cell);
-  return Sha256Hex(bytes);
 }
 
 template <typename T>
@@ -156,7 +141,7 @@ SweepJournalContents ParseJournal(const std::string& text, const std::string& pa
                                std::to_string(contents.header.points) + " points, " +
                                std::to_string(contents.header.columns.size()) + " columns)");
     }
-    if (check != RecordCheck(contents.header.fingerprint, point, row)) {
+    if (check != SweepRowCheck(contents.header.fingerprint, point, row)) {
       throw std::runtime_error(where + ": the record of point " + std::to_string(point) +
                                " fails its checksum (edited, or not written by this sweep); "
                                "delete that line to run the point again, or remove the journal");
@@ -173,6 +158,13 @@ SweepJournalContents ParseJournal(const std::string& text, const std::string& pa
 }
 
 }  // namespace
+
+std::string SweepRowCheck(const std::string& fingerprint, int point,
+                          const std::vector<std::string>& row) {
+  std::vector<std::string> fields = {fingerprint, std::to_string(point)};
+  fields.insert(fields.end(), row.begin(), row.end());
+  return Sha256OfFields(fields);
+}
 
 std::string SweepFingerprint(const SweepPlan& plan) {
   Fnv1a hash;
@@ -200,12 +192,10 @@ std::string SweepFingerprint(const SweepPlan& plan) {
 }
 
 SweepJournalContents ReadSweepJournal(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw std::runtime_error(path + ": cannot open the journal");
-  std::ostringstream text;
-  text << file.rdbuf();
+  const std::optional<std::string> text = ReadJournalText(path, "journal");
+  if (!text) throw std::runtime_error(path + ": cannot open the journal (no such file)");
   size_t complete_size = 0;
-  return ParseJournal(text.str(), path, &complete_size);
+  return ParseJournal(*text, path, &complete_size);
 }
 
 std::string JournalPathOf(const std::string& table_csv_path) {
@@ -255,7 +245,7 @@ void SweepJournal::Remove() {
 void SweepJournal::Record(const std::vector<std::string>& row) {
   const int point = std::stoi(row.at(0));
   const nlohmann::ordered_json json = {
-      {kPointKey, point}, {kRowKey, row}, {kCheckKey, RecordCheck(fingerprint_, point, row)}};
+      {kPointKey, point}, {kRowKey, row}, {kCheckKey, SweepRowCheck(fingerprint_, point, row)}};
   file_.Append(json.dump() + "\n");
   rows_.emplace(point, row);
 }
@@ -285,6 +275,7 @@ JournaledSweep RunJournaledSweep(const SweepPlan& plan, SweepOptions options,
     if (report) report(progress);
   };
   result.table = RunSweep(plan, options);
+  result.table.fingerprint = journal->fingerprint();  // its rows are checked when merged
   return result;
 }
 

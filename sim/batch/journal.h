@@ -71,6 +71,8 @@ class SweepJournal {
   SweepJournal(const std::string& path, const SweepPlan& plan, bool accept_other_version = false);
 
   const std::string& path() const { return file_.path(); }
+  // SweepFingerprint of the sweep it records.
+  const std::string& fingerprint() const { return fingerprint_; }
   // The points recorded so far.
   const std::map<int, std::vector<std::string>>& rows() const { return rows_; }
   // Appends a finished point's row (row[0] is its index) and returns once
@@ -84,6 +86,14 @@ class SweepJournal {
   std::string fingerprint_;  // of the sweep it records (each record's check)
   std::map<int, std::vector<std::string>> rows_;
 };
+
+// A row's checksum: SHA-256 over the sweep's fingerprint, the point's
+// index and every cell of its row, each with its length first. The
+// journal's records and the table's JSON ("row_checks") carry it, so that
+// a row edited by hand, copied from another sweep or given another status
+// no longer matches.
+std::string SweepRowCheck(const std::string& fingerprint, int point,
+                          const std::vector<std::string>& row);
 
 // A shard's points, and how many of them a journal holds.
 struct ShardRecord {

@@ -94,6 +94,7 @@ void CheckTableOutputs(const std::string& who, const std::string& prefix,
     throw FieldError(error.what(), "out", "a prefix whose files are not inputs");
   }
   RequireWritableParent(prefix);
+  for (const std::string& suffix : suffixes) RequireReplaceable(prefix + suffix);
 }
 
 }  // namespace

@@ -121,6 +121,7 @@ PartialMerge MergeAvailableTables(const std::vector<std::string>& csv_paths) {
     } else if (journal) {
       SweepTable recorded;
       recorded.columns = journal->header.columns;
+      recorded.fingerprint = journal->header.fingerprint;  // its records were checked
       for (auto& [point, row] : journal->rows) recorded.rows.push_back(std::move(row));
       merge.notes.push_back(csv + ": not written; " + std::to_string(recorded.rows.size()) +
                             " points from " + journal_path);

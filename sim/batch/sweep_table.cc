@@ -2,6 +2,7 @@
 // merging the tables of a sweep's shards.
 #include "sim/batch/sweep_table.h"
 
+#include "sim/batch/journal.h"
 #include "sim/batch/sweep_gait.h"
 
 #include <algorithm>
@@ -125,6 +126,17 @@ nlohmann::ordered_json SweepTableJson(const SweepTable& table) {
     }
     json["provenance"] = std::move(provenance);
   }
+  if (!table.fingerprint.empty()) {
+    json["fingerprint"] = table.fingerprint;
+    nlohmann::ordered_json checks = nlohmann::ordered_json::array();
+    for (const std::vector<std::string>& row : table.rows) {
+      const std::optional<long> index = row.empty() ? std::nullopt : PointIndex(row[0]);
+      if (!index) continue;
+      const std::string check = SweepRowCheck(table.fingerprint, static_cast<int>(*index), row);
+      checks.push_back({{"point", *index}, {"check", check}});
+    }
+    json["row_checks"] = std::move(checks);
+  }
   return json;
 }
 
@@ -163,6 +175,40 @@ SweepTable ParseSweepTableCsv(const std::string& csv_text, const std::string& so
   return table;
 }
 
+// The fingerprint of the table's JSON, with every CSV row checked against
+// its row_checks: a number edited in the CSV (or the JSON's checks) is
+// refused here, before any merge writes it.
+void ReadSweepTableChecks(const nlohmann::ordered_json& json, const std::string& json_path,
+                          SweepTable* table) {
+  if (!json.contains("fingerprint")) return;
+  const auto fail = [&](const std::string& key) {
+    throw InputError(InputProblem::kSyntax, {json_path}, key,
+                     "not a sweep table's JSON (" + key + " missing or malformed)");
+  };
+  if (!json["fingerprint"].is_string()) fail("fingerprint");
+  if (!json.contains("row_checks") || !json["row_checks"].is_array()) fail("row_checks");
+  std::map<long, std::string> checks;
+  for (const nlohmann::ordered_json& entry : json["row_checks"]) {
+    if (!entry.is_object() || !entry.contains("point") || !entry["point"].is_number_integer() ||
+        !entry.contains("check") || !entry["check"].is_string()) {
+      fail("row_checks");
+    }
+    checks[entry["point"].get<long>()] = entry["check"].get<std::string>();
+  }
+  table->fingerprint = json["fingerprint"].get<std::string>();
+  for (const std::vector<std::string>& row : table->rows) {
+    const long point = *PointIndex(row[0]);  // checked when parsed
+    const auto it = checks.find(point);
+    if (it == checks.end() ||
+        it->second != SweepRowCheck(table->fingerprint, static_cast<int>(point), row)) {
+      throw InputError(InputProblem::kBadValue, {json_path}, "row_checks",
+                       "the row of point " + row[0] +
+                           " in its CSV fails its checksum (edited, or not written by this "
+                           "sweep); run the sweep again for a table to trust");
+    }
+  }
+}
+
 // The program version and provenance of the table's JSON (SweepTableJson).
 void ReadSweepTableProvenance(const std::string& json_path, SweepTable* table) {
   const nlohmann::ordered_json json =
@@ -176,6 +222,7 @@ void ReadSweepTableProvenance(const std::string& json_path, SweepTable* table) {
     if (!json["program_version"].is_string()) fail("program_version");
     table->program_version = json["program_version"].get<std::string>();
   }
+  ReadSweepTableChecks(json, json_path, table);
   if (!json.contains("provenance")) return;
   if (!json["provenance"].is_array()) fail("provenance");
   for (const nlohmann::ordered_json& point : json["provenance"]) {
@@ -199,6 +246,34 @@ SweepTable LoadSweepTableCsv(const std::string& path) {
   return table;
 }
 
+namespace {
+
+// The sweep fingerprint every table carries, "" if one carries none (its
+// rows cannot be vouched for). Throws InputError naming the file if two
+// differ: shards of two sweeps.
+std::string CommonFingerprint(const std::vector<SweepTable>& tables,
+                              const std::vector<std::string>& sources) {
+  std::string common;
+  size_t first = 0;
+  bool every = true;
+  for (size_t t = 0; t < tables.size(); ++t) {
+    const std::string& fingerprint = tables[t].fingerprint;
+    every = every && !fingerprint.empty();
+    if (fingerprint.empty()) continue;
+    if (common.empty()) {
+      common = fingerprint;
+      first = t;
+    } else if (fingerprint != common) {
+      throw InputError(InputProblem::kBadValue, {sources[t]}, "fingerprint",
+                       "a shard of another sweep than " + sources[first] + " (fingerprint " +
+                           fingerprint + " vs " + common + "); merge the shards of one sweep");
+    }
+  }
+  return every ? common : std::string();
+}
+
+}  // namespace
+
 SweepTable MergeSweepTables(const std::vector<SweepTable>& tables,
                             const std::vector<std::string>& sources, bool allow_missing) {
   if (tables.empty() || tables.size() != sources.size()) {
@@ -206,6 +281,7 @@ SweepTable MergeSweepTables(const std::vector<SweepTable>& tables,
   }
   SweepTable merged;
   merged.columns = tables.front().columns;
+  merged.fingerprint = CommonFingerprint(tables, sources);
   std::map<long, std::pair<const std::vector<std::string>*, size_t>> rows;  // -> row, table
   for (size_t t = 0; t < tables.size(); ++t) {
     const SweepTable& table = tables[t];

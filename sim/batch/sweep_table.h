@@ -41,6 +41,10 @@ struct SweepTable {
   // for a point whose scenario was refused).
   std::string program_version;
   std::map<int, PointProvenance> provenance;
+  // The sweep's fingerprint (SweepFingerprint, sim/batch/journal.h) when
+  // known: the JSON then carries it and each row's SweepRowCheck, which
+  // reading the table back verifies and merge compares across shards.
+  std::string fingerprint;
 };
 
 // The table's columns for a plan.
@@ -53,21 +57,25 @@ std::string SweepTableCsv(const SweepTable& table);
 //  "resolved_scenario": "...", "model_sha256": "..."}, ...]}: point is an
 // integer, status and error strings, results numbers (null when empty),
 // swept values numbers, booleans, arrays or strings as their text reads;
-// program_version and provenance only when known. The same table gives
+// program_version and provenance only when known; with a fingerprint,
+// "fingerprint" and "row_checks" ([{"point": i, "check": "..."}, ...]).
+// The same table gives
 // the same JSON, whether it was run or merged.
 nlohmann::ordered_json SweepTableJson(const SweepTable& table);
 
 // Reads a table written by SweepTableCsv; throws InputError
 // (plugin/base/error.h) "SOURCE:LINE: ..." if it is not one.
 SweepTable ParseSweepTableCsv(const std::string& csv_text, const std::string& source);
-// The same from PREFIX.csv, with program_version and provenance from
-// PREFIX.json beside it if there is one (InputError if it is not a
-// table's JSON).
+// The same from PREFIX.csv, with program_version, provenance and
+// fingerprint from PREFIX.json beside it if there is one (InputError if it
+// is not a table's JSON, or if a row of the CSV fails its check there:
+// edited by hand, or from another table).
 SweepTable LoadSweepTableCsv(const std::string& path);
 
 // Joins the tables of a sweep's shards into one, ordered by point index,
 // with their provenance. Throws InputError (one line, naming the file) if
-// the headers or the program versions differ or a point appears twice, and std::runtime_error if
+// the headers, the program versions or the sweeps' fingerprints differ
+// (shards of two sweeps) or a point appears twice, and std::runtime_error if
 // (unless allow_missing) points are missing below the highest index (a missing tail of the sweep
 // cannot be told from a shorter sweep).
 SweepTable MergeSweepTables(const std::vector<SweepTable>& tables,

@@ -1,6 +1,7 @@
 // ipmc-swim command-line program.
 #include <CLI/CLI.hpp>
 
+#include <csignal>
 #include <cstdio>
 #include <iostream>
 #include <string>
@@ -110,6 +111,9 @@ int main(int argc, char** argv) {
     return 2;
   }
   mju_user_warning = CollectMujocoWarning;
+  // A write beyond the file size limit (ulimit -f) fails with EFBIG, as on
+  // a full disk, instead of killing the process with its temporaries left.
+  std::signal(SIGXFSZ, SIG_IGN);
   try {
     int status = 0;
     if (int s = ipmc::RunGenerateCommandLine(generate); s >= 0) status = s;

@@ -105,7 +105,7 @@ int RunOptimizeCommandLine(const OptimizeArgs& args) {
   } else {
     const auto& best = result["best"];
     std::printf("best (start %d, evaluation %d): %s = %s\n", best["start"].get<int>(),
-                best["evaluation"].get<int>() + 1, plan.config.objective.c_str(),
+                best["evaluation"].get<int>(), plan.config.objective.c_str(),
                 FormatShortest(best["objective"].get<double>()).c_str());
     for (const auto& [name, value] : best["variables"].items()) {
       std::printf("  %s = %s\n", name.c_str(), FormatShortest(value.get<double>()).c_str());

@@ -196,12 +196,13 @@ ClosedLoopResult RunScenarioFilmed(
   const SampleObserver observer = [&](const mjModel*, const mjData* d, const ClosedLoopSample&) {
     watch.At(d->time);
   };
+  const RunHeartbeat heartbeat = [&](double t_s) { watch.At(t_s); };
   const auto report = [&](const ClosedLoopResult& result) {
     watch.Finish();
     if (before_filming) before_filming(result);
   };
   if (video_path.empty()) {
-    const ClosedLoopResult result = RunScenario(scenario, observer);
+    const ClosedLoopResult result = RunScenario(scenario, observer, heartbeat);
     report(result);
     return result;
   }
@@ -209,7 +210,8 @@ ClosedLoopResult RunScenarioFilmed(
   bar.SetKept("the video was not written; the run's results above are kept");
   FilmSummary summary;
   const ClosedLoopResult result = RunScenarioAndFilm(scenario, film, video_path, report,
-                                                     bar.Callback(), &summary, observer);
+                                                     bar.Callback(), &summary, observer,
+                                                     heartbeat);
   bar.Finish();
   PrintFilmSummary(summary, film, video_path);
   return result;

@@ -382,14 +382,25 @@ void ScenarioReader::CheckWholeStepsPerSample(const toml::table& root,
       std::abs(steps_per_sample - whole) <= kWholeStepsTolerance * steps_per_sample) {
     return;
   }
-  std::optional<Entry> where = FindKey(root, kSampleRateKey);
-  if (!where) where = FindKey(root, kTimestepKey);
-  FailValue(*where, std::string(kSampleRateKey) +
-                        " must make the sample period a whole number of timesteps (1 / (" +
-                        FormatShortest(config.sample_rate_Hz) + " Hz x " +
-                        FormatShortest(*config.timestep_s) +
-                        " s) = " + FormatShortest(steps_per_sample) + ")",
-            "a whole number of timesteps per sample");
+  const std::string ratio = "(1 / (" + FormatShortest(config.sample_rate_Hz) + " Hz x " +
+                            FormatShortest(*config.timestep_s) +
+                            " s) = " + FormatShortest(steps_per_sample) + ")";
+  // config.timestep_s is set: its key is in the document.
+  const std::optional<Entry> rate = FindKey(root, kSampleRateKey);
+  if (rate) {
+    FailValue(*rate, std::string(kSampleRateKey) +
+                         " must make the sample period a whole number of timesteps " + ratio,
+              "a whole number of timesteps per sample");
+  }
+  // The rate is its default: the time step the user wrote is what to change.
+  const double fitting_s =
+      1.0 / (config.sample_rate_Hz * std::max(1.0, std::ceil(steps_per_sample)));
+  FailValue(*FindKey(root, kTimestepKey),
+            std::string(kTimestepKey) + " must make a controller sample (" + kSampleRateKey +
+                " = " + FormatShortest(config.sample_rate_Hz) +
+                " Hz, its default) a whole number of timesteps " + ratio + ", e.g. " +
+                kTimestepKey + " = " + FormatShortest(fitting_s),
+            "1 / (sample rate x a whole number) s");
 }
 
 // Dotted key -> TOML value of every key a scenario resolves to: each key's

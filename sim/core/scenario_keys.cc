@@ -127,6 +127,10 @@ bool IsPid(const ScenarioConfig& config) { return config.controller == Controlle
 void ReadModel(const KeyValue& value, ScenarioConfig& config) {
   namespace fs = std::filesystem;
   fs::path path(value.String());
+  if (path.empty()) {
+    value.Fail(value.name() + ": an empty path; name a model file (MJCF)", "",
+               InputProblem::kUnreadable);
+  }
   if (path.is_relative()) path = fs::path(value.source()).parent_path() / path;
   path = fs::absolute(path).lexically_normal();
   std::error_code ignored;
@@ -208,6 +212,10 @@ Key LinkGainKey(const char* name, const char* unit, const char* allowed, const c
         std::vector<double>& values = c.link_gains.*kField;
         values.clear();
         const std::size_t count = v.ArraySize("an array of one number per link");
+        if (count == 0) {
+          v.Fail(v.name() + ": an empty array; give one value per link, or leave the key out",
+                 "an array of one number per link");
+        }
         for (std::size_t i = 0; i < count; ++i) values.push_back(v.NumberAt(i));
       })
       .Writes([](const ScenarioConfig& c) {

@@ -16,4 +16,10 @@ std::string Sha256Hex(const std::string& bytes) {
   return hex;
 }
 
+std::string Sha256OfFields(const std::vector<std::string>& fields) {
+  std::string bytes;
+  for (const std::string& field : fields) bytes += std::to_string(field.size()) + ':' + field;
+  return Sha256Hex(bytes);
+}
+
 }  // namespace ipmc

@@ -14,6 +14,7 @@
 
 #include "ipmc_swim/ipmc_swim.h"
 #include "plugin/coupling.h"
+#include "sim/io/files.h"
 
 namespace ipmc {
 namespace {
@@ -84,6 +85,7 @@ ModelPtr LoadModelFile(const std::string& path) {
   if (std::filesystem::is_directory(path, status)) {
     throw std::runtime_error(path + ": is a directory, not a model file (MJCF)");
   }
+  RequireRegularInput(path, "model file (MJCF)");
   if (!std::ifstream(path).good()) {
     throw std::runtime_error(path + ": cannot open model file (" + std::strerror(errno) + ")");
   }
@@ -100,10 +102,21 @@ ModelPtr LoadModelString(const std::string& xml) {
   char name[] = "/tmp/ipmc_swim_model_XXXXXX.xml";
   const int fd = mkstemps(name, 4);
   if (fd < 0) throw std::runtime_error("cannot create a temporary model file");
+  // A full disk or a file size limit fails here, naming the reason, not
+  // later as an XML error about a torn file.
+  size_t written = 0;
+  while (written < xml.size()) {
+    const ssize_t n = write(fd, xml.data() + written, xml.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    written += static_cast<size_t>(n);
+  }
+  const int write_errno = errno;
   close(fd);
-  {
-    std::ofstream out(name);
-    out << xml;
+  if (written < xml.size()) {
+    std::remove(name);
+    throw std::runtime_error(std::string("cannot write the temporary model file ") + name +
+                             " (" + std::strerror(write_errno) + ")");
   }
   char error[1024] = "";
   mjModel* m = mj_loadXML(name, nullptr, error, sizeof(error));

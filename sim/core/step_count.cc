@@ -60,6 +60,31 @@ std::string Bytes(double bytes) {
 
 }  // namespace
 
+void CheckStokesletSize(double points, bool allowed, const std::string& what) {
+  const double rows = 3.0 * points;
+  const double bytes = 16.0 * rows * rows;
+  const double factor_s = rows * rows * rows / 3.0 / kStokesletFlops;
+  const bool too_big = !(bytes <= kMaxRunRecordBytes);
+  if (!too_big && (factor_s <= kMaxStokesletRecompute_s || allowed)) return;
+  std::ostringstream msg;
+  msg.precision(3);
+  if (!(bytes <= kBeyondAnyMachine)) {
+    msg << what << ": " << points << " Stokeslet points, a mobility matrix no machine holds ("
+        << "the limit is " << Bytes(kMaxRunRecordBytes) << "; fewer points)";
+    throw std::invalid_argument(msg.str());
+  }
+  msg << what << ": " << points << " Stokeslet points make a " << rows << " x " << rows
+      << " mobility matrix of " << Bytes(bytes) << " (with its factor) that takes about "
+      << Duration(factor_s) << " to factor, each time the resistance is recomputed; ";
+  if (too_big) {
+    msg << "the limit is " << Bytes(kMaxRunRecordBytes) << " (fewer points)";
+  } else {
+    msg << "the limit is " << kMaxStokesletRecompute_s
+        << " s a recomputation (fewer points, or --allow-long to run it anyway)";
+  }
+  throw std::invalid_argument(msg.str());
+}
+
 void CheckRunSize(double steps, double recorded_bytes, bool allowed, const std::string& what) {
   const bool too_long = steps > kMaxRunSteps || recorded_bytes > kMaxRunRecordBytes;
   const bool impossible = !(steps <= kBeyondAnyMachine) || !(recorded_bytes <= kBeyondAnyMachine);

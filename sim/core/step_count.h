@@ -39,6 +39,24 @@ constexpr double kMeasuredStepCost_s = 6e-6;
 // no machine runs or holds.
 void CheckRunSize(double steps, double recorded_bytes, bool allowed, const std::string& what);
 
+// A dense Stokeslet model of N points (plugin/fluid/fluid_model.h) holds a
+// 3N x 3N mobility matrix and its Cholesky factor (16 (3N)^2 bytes) and
+// factors it, (3N)^3 / 3 flops, each time the resistance is recomputed
+// (up to every step). kStokesletFlops: what one core of the 2-core machine
+// factors per second at 3N = 1200-2400 (Eigen's LLT; for estimates only).
+constexpr double kStokesletFlops = 1e9;
+// Most seconds one recomputation may take unless the user allows more:
+// a run recomputes tens of times a cycle.
+constexpr double kMaxStokesletRecompute_s = 30.0;
+
+// Throws std::invalid_argument "WHAT: N Stokeslet points make a ... matrix
+// of B (its factor included) and take about T to factor ..." if the
+// matrices exceed kMaxRunRecordBytes (whatever `allowed`), or one
+// recomputation exceeds kMaxStokesletRecompute_s and the run is not
+// `allowed` (--allow-long). `points` is a double: a count no int holds is
+// refused, not wrapped.
+void CheckStokesletSize(double points, bool allowed, const std::string& what);
+
 // Memory of one recorded sample of a run [bytes], roughly: the state (nq
 // positions), the pose, and a few values per link.
 inline double RecordedSampleBytes(int nq, int links) {

@@ -101,15 +101,43 @@ bool WriteAll(int fd, const std::string& content) {
   return true;
 }
 
+// What a non-regular file is, for messages: "a character device".
+std::string FileKind(mode_t mode) {
+  if (S_ISDIR(mode)) return "a directory";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISFIFO(mode)) return "a FIFO (named pipe)";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "a special file";
+}
+
 }  // namespace
 
+void RequireReplaceable(const std::string& path) {
+  struct stat status {};
+  if (lstat(path.c_str(), &status) != 0) return;  // nothing there (or the writer says why)
+  if (S_ISREG(status.st_mode) || S_ISLNK(status.st_mode)) return;
+  throw std::runtime_error(path + ": cannot replace it, it is " + FileKind(status.st_mode) +
+                           " (an output replaces only a regular file; name another)");
+}
+
+void RequireRegularInput(const std::string& path, const std::string& what) {
+  struct stat status {};
+  if (stat(path.c_str(), &status) != 0 || S_ISREG(status.st_mode)) return;
+  throw InputError(InputProblem::kUnreadable, {path}, "",
+                   "is " + FileKind(status.st_mode) + ", not a regular file (the " + what + ")");
+}
+
 PendingFile::PendingFile(std::string path) : path_(std::move(path)) {
+  RequireReplaceable(path_);
   RemoveStaleTemporaries(path_);
   temp_path_ = CreateUniqueFile(path_);
 }
 
 PendingFile::PendingFile(std::string path, const std::string& temp_suffix)
-    : path_(std::move(path)), temp_path_(path_ + temp_suffix) {}
+    : path_(std::move(path)), temp_path_(path_ + temp_suffix) {
+  RequireReplaceable(path_);
+}
 
 PendingFile::~PendingFile() {
   if (committed_) return;
@@ -120,6 +148,7 @@ PendingFile::~PendingFile() {
 }
 
 void PendingFile::Commit() {
+  RequireReplaceable(path_);
   if (std::rename(temp_path_.c_str(), path_.c_str()) != 0) {
     throw std::runtime_error(path_ + ": cannot rename into place (" + std::strerror(errno) + ")");
   }
@@ -170,9 +199,7 @@ class Backups {
   void Keep(const std::string& path) {
     struct stat status {};
     if (lstat(path.c_str(), &status) != 0) return;  // nothing to keep
-    if (S_ISDIR(status.st_mode)) {
-      throw std::runtime_error(path + ": cannot replace it, it is a directory");
-    }
+    RequireReplaceable(path);
     std::string backup;
     try {
       backup = MakeUniqueEntry(
@@ -305,6 +332,16 @@ void SyncDirectoryOf(const std::string& path) {
 }
 
 }  // namespace
+
+std::optional<std::string> ReadJournalText(const std::string& path, const std::string& what) {
+  struct stat status {};
+  if (lstat(path.c_str(), &status) != 0 && errno == ENOENT) return std::nullopt;
+  if (S_ISLNK(status.st_mode)) {
+    throw std::runtime_error(path + ": is a symbolic link; a journal is never read through one "
+                                    "(copy the file in its place)");
+  }
+  return ReadTextFile(path, what);
+}
 
 JournalFile::JournalFile(const std::string& path, const std::string& in_use) : path_(path) {
   EnsureParentDirectory(path);
@@ -460,6 +497,7 @@ void RequireWritableParent(const std::string& path, const std::string& longest_s
   if (path.back() == '/' || std::filesystem::is_directory(path, error)) {
     throw std::runtime_error(path + ": is a directory, not a file (name a file in it)");
   }
+  RequireReplaceable(path);
   const std::filesystem::path parent = std::filesystem::path(path).parent_path();
   RequireWritableDirectory(parent.empty() ? "." : parent.string());
   RequireNamesThatFit(path, NearestExisting(path), longest_suffix + TemporarySuffix());
@@ -475,6 +513,7 @@ std::string ReadTextFile(const std::string& path, const std::string& what) {
   if (std::filesystem::is_directory(path, status)) {
     throw InputError(InputProblem::kUnreadable, {path}, "", "is a directory, not the " + what);
   }
+  RequireRegularInput(path, what);
   std::ifstream file(path, std::ios::binary);
   if (!file) throw InputError(InputProblem::kUnreadable, {path}, "", "cannot open the " + what);
   std::ostringstream text;

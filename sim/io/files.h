@@ -3,6 +3,7 @@
 // complete, with the permissions of a new file); inputs are read whole.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -37,6 +38,20 @@ class PendingFile {
   std::string temp_path_;
   bool committed_ = false;
 };
+
+// Throws std::runtime_error "PATH: cannot replace it, it is a WHAT (...)" if
+// something other than a regular file (or a symbolic link, which a rename
+// replaces, not what it leads to) sits at `path`: a device, a FIFO, a
+// socket or a directory is never swapped out by a rename nor written
+// through. Nothing at `path` is fine. Every writer calls it before any work
+// (RequireWritableParent) and again as it renames into place.
+void RequireReplaceable(const std::string& path);
+
+// Throws InputError (plugin/base/error.h, kUnreadable) "PATH: is a WHAT,
+// not a regular file (the WHAT_READ)" unless `path` leads to a regular
+// file or to nothing (the caller reports a missing file its own way): a
+// FIFO or a device would block or never end, a directory is no file.
+void RequireRegularInput(const std::string& path, const std::string& what);
 
 // Writes `content` to `path` atomically. Throws std::runtime_error naming
 // the path on failure.
@@ -110,6 +125,13 @@ class JournalFile {
   int fd_ = -1;
 };
 
+// The whole text of the journal at `path`, read without taking its lock
+// (its writer may be appending), nullopt if there is none. Throws
+// std::runtime_error naming the path for a symbolic link (a journal is
+// never read through one, as JournalFile never writes through one) and
+// InputError for anything but a regular file or a failed read.
+std::optional<std::string> ReadJournalText(const std::string& path, const std::string& what);
+
 // Throws std::invalid_argument "WHO: OPTION PATH would overwrite the
 // input PATH" if `output` is (or names the same file as) one of `inputs`.
 void RefuseOverwritingInputs(const std::string& who, const std::string& option,
@@ -129,13 +151,15 @@ void RequireWritableDirectory(const std::string& dir);
 // The same for the directory of an output file PATH (its parent, or "."),
 // and PATH itself: not empty, not a directory, and a name that fits with
 // its temporary's suffix (and `longest_suffix`, for a prefix of names such
-// as a table's PREFIX.journal).
+// as a table's PREFIX.journal); nothing but a regular file in its place
+// (RequireReplaceable).
 void RequireWritableParent(const std::string& path, const std::string& longest_suffix = "");
 // The same for the directory `path` is in, if it names one.
 void EnsureParentDirectory(const std::string& path);
 
 // The whole content of `path`. Throws InputError (plugin/base/error.h)
-// "PATH: cannot open the WHAT" or "PATH: cannot read the WHAT".
+// "PATH: cannot open the WHAT", "PATH: cannot read the WHAT" or, for
+// anything but a regular file, RequireRegularInput's.
 std::string ReadTextFile(const std::string& path, const std::string& what);
 
 }  // namespace ipmc

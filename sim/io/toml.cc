@@ -1,10 +1,60 @@
 #include "sim/io/toml.h"
 
+#include <cstdint>
+
 #include "plugin/base/error.h"
 
 namespace ipmc {
+namespace {
+
+// The deepest key path (dotted key or table header) a document may hold:
+// toml++ limits inline tables and arrays (TOML_MAX_NESTED_VALUES) but not
+// these, and a table nested many thousands deep overflows the stack when
+// it is built or destroyed. The program's own keys are at most 3 deep.
+constexpr int kMaxKeyDepth = 32;
+
+// Throws InputError (kSyntax) "SOURCE:LINE: a key nested more than N
+// levels deep (...)" for the first key path deeper than kMaxKeyDepth.
+// Outside strings and comments, the dots of a key path come one after
+// another with nothing but key names between them; a value holds at most
+// one dot in a row (1.5, 07:32:00.999), so every run of dots that '=',
+// a bracket, a brace, a comma or a line end does not break is a key path.
+void RequireShallowKeys(const std::string& text, const std::string& source) {
+  std::uint32_t line = 1;
+  int dots = 0;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '"' || c == '\'') {
+      // A string, with escapes in "..."; multi-line ("""...""") too.
+      const bool triple = text.compare(i, 3, std::string(3, c)) == 0;
+      const std::string end = triple ? std::string(3, c) : std::string(1, c);
+      size_t j = i + end.size();
+      for (; j < text.size() && text.compare(j, end.size(), end) != 0; ++j) {
+        if (text[j] == '\\' && c == '"') ++j;
+        else if (text[j] == '\n') ++line;
+      }
+      i = j + end.size() - 1;
+    } else if (c == '#') {
+      while (i + 1 < text.size() && text[i + 1] != '\n') ++i;
+    } else if (c == '.') {
+      if (++dots >= kMaxKeyDepth) {
+        throw InputError(InputProblem::kSyntax, {source, line}, "",
+                         "a key nested more than " + std::to_string(kMaxKeyDepth) +
+                             " levels deep (a dotted key or table header of at most " +
+                             std::to_string(kMaxKeyDepth) + " parts)");
+      }
+    } else if (c == '=' || c == '[' || c == ']' || c == '{' || c == '}' || c == ',' ||
+               c == '\n') {
+      dots = 0;
+      if (c == '\n') ++line;
+    }
+  }
+}
+
+}  // namespace
 
 toml::table ParseToml(const std::string& text, const std::string& source) {
+  RequireShallowKeys(text, source);
   try {
     return toml::parse(text, source);
   } catch (const toml::parse_error& error) {

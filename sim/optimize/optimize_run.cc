@@ -329,7 +329,7 @@ void CheckOptimizeJournals(const OptimizePlan& plan, const std::vector<std::stri
 
 std::string OptimizeProgressLine(const OptimizePlan& plan, const OptimizeProgress& p) {
   std::string line = "evaluation " + std::to_string(p.done) + " (start " + std::to_string(p.start) +
-                     ", #" + std::to_string(p.evaluation + 1) + "):";
+                     ", #" + std::to_string(p.evaluation) + "):";
   const std::vector<DesignKey> keys = plan.config.Keys();
   for (size_t i = 0; i < keys.size() && i < p.x.size(); ++i) {
     line += " " + keys[i].name + " = " + FormatDouble(p.x[i], 6);
@@ -350,12 +350,14 @@ OptimizeOutcome RunOptimizeCommand(const OptimizePlan& plan, const OptimizeHooks
   const std::vector<std::string> columns = JournalColumns(config);
   const DirectoryLock lock(plan.out);
   const std::string fingerprint = Fingerprint(config);
-  OptimizeJournal journal(plan.journal, fingerprint, columns);
-  JournalRecords taken;  // from the start journals
+  // The start journals are read first: one that is refused leaves no
+  // journal of this optimisation behind.
+  JournalRecords taken;
   for (const std::string& path : plan.start_journals) {
     const JournalRecords records = ReadOptimizeJournal(path, fingerprint, columns);
     taken.insert(records.begin(), records.end());
   }
+  OptimizeJournal journal(plan.journal, fingerprint, columns);
 
   DriverProblem problem = config.Problem();
   problem.only_start = plan.only_start.value_or(-1);

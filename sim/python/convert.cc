@@ -1,6 +1,7 @@
 #include "sim/python/convert.h"
 
 #include "sim/batch/sweep.h"
+#include "sim/core/scenario_keys.h"
 
 #include <mujoco/mujoco.h>
 
@@ -136,6 +137,24 @@ void CollectMujocoWarning(const char* message) {
 
 }  // namespace
 
+namespace {
+
+// A bool given for a scenario key that takes a number: a TypeError, as for
+// the keyword arguments (a bool is no number).
+void RefuseBoolForNumber(const std::string& name, const py::handle& value) {
+  if (!py::isinstance<py::bool_>(value) && !IsNumpyBool(value)) return;
+  const KeySpec* spec = FindScenarioKey(name);
+  if (spec == nullptr) return;
+  if (spec->type == KeyType::kInteger) {
+    throw py::type_error(name + " must be an int (got bool; a bool is no number)");
+  }
+  if (spec->type == KeyType::kNumber || spec->type == KeyType::kNumberArray) {
+    throw py::type_error(name + " must be a number (int or float) (got bool; a bool is no number)");
+  }
+}
+
+}  // namespace
+
 toml::table TomlTable(const py::dict& dict, const std::string& where) {
   toml::table table;
   for (const auto& [key, value] : dict) {
@@ -143,6 +162,7 @@ toml::table TomlTable(const py::dict& dict, const std::string& where) {
       throw py::type_error(where + ": scenario keys must be strings (got " + TypeName(key) + ")");
     }
     const std::string name = key.cast<std::string>();
+    RefuseBoolForNumber(name, value);
     InsertToml(value, name, [&](auto&& node) {
       table.insert_or_assign(name, std::forward<decltype(node)>(node));
     });

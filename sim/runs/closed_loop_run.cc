@@ -1,6 +1,7 @@
 #include "sim/runs/closed_loop_run.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <memory>
 #include <sstream>
@@ -20,10 +21,57 @@
 namespace ipmc {
 namespace {
 
-void OverrideViscosity(mjModel* m, double viscosity_Pa_s, const std::string& source) {
+// "MODEL: has no RFT drag ...": the model, not the scenario key, lacks
+// what `keys` (of the scenario `scenario_source`) need.
+std::string NoDragMessage(const std::string& model, const std::string& scenario_source,
+                          const std::string& keys) {
+  return model + ": has no RFT drag (no <custom> numeric ipmc_rft_viscosity_Pa_s), which " +
+         keys + " in " + scenario_source +
+         " needs; add the model's drag fields (docs/LIBRARY.md) or leave " + keys + " out";
+}
+
+void OverrideViscosity(mjModel* m, double viscosity_Pa_s, const std::string& model,
+                       const std::string& scenario_source) {
   const int id = mj_name2id(m, mjOBJ_NUMERIC, "ipmc_rft_viscosity_Pa_s");
-  if (id < 0) throw std::runtime_error(source + ": fluid.viscosity_Pa_s needs a model with RFT drag");
+  if (id < 0) {
+    throw std::runtime_error(NoDragMessage(model, scenario_source, "fluid.viscosity_Pa_s"));
+  }
   m->numeric_data[m->numeric_adr[id]] = viscosity_Pa_s;
+}
+
+// Throws naming the key that sets the points (the one the scenario gives:
+// fluid.stokeslet_points_per_mm, else fluid.stokeslet_blob_mm, else
+// fluid.stokeslet_width_points) if they are more than the machine holds or
+// factors in reasonable time (CheckStokesletSize), before any step. Bad
+// settings are left to the simulation, which names the model.
+void CheckStokesletResolution(const ScenarioConfig& scenario, const mjModel* m,
+                              const RftDragOverrides& overrides) {
+  if (!overrides.stokeslets) return;
+  std::unique_ptr<FluidModel> fluid;
+  std::optional<RftDrag> drag;
+  try {
+    const std::optional<RftDragConfig> config = RftDragConfig::FromModel(m, overrides);
+    if (!config) return;
+    drag.emplace(m, *config);
+    fluid = std::make_unique<FluidModel>(m, *drag, *overrides.stokeslets);  // builds no points
+  } catch (const std::exception&) {
+    return;
+  }
+  const StokesletSettings& settings = fluid->settings();
+  double points = 0.0;  // as in SegmentPoints, without an int to overflow
+  for (double length_m : fluid->rft().SegmentLengths_m()) {
+    points += std::max(1.0, std::ceil(length_m / settings.spacing_m - 1e-9)) *
+              settings.width_points;
+  }
+  std::string key = "fluid.model";
+  if (scenario.stokeslet_points_per_mm) {
+    key = "fluid.stokeslet_points_per_mm " + FormatShortest(*scenario.stokeslet_points_per_mm);
+  } else if (scenario.stokeslet_blob_mm && scenario.stokeslet_width_points == 1) {
+    key = "fluid.stokeslet_blob_mm " + FormatShortest(*scenario.stokeslet_blob_mm);
+  } else if (scenario.stokeslet_width_points > 1) {
+    key = "fluid.stokeslet_width_points " + std::to_string(scenario.stokeslet_width_points);
+  }
+  CheckStokesletSize(points, scenario.allow_long_run, scenario.source + ": " + key);
 }
 
 }  // namespace
@@ -64,6 +112,45 @@ long StepsPerSample(double sample_rate_Hz, double dt_s, const std::string& sourc
     throw std::runtime_error(msg.str());
   }
   return steps;
+}
+
+namespace {
+
+// Calls a RunHeartbeat once kHeartbeatInterval_s of wall time has gone
+// since the last call (the clock is read every kStride steps: a step takes
+// microseconds at the least).
+class HeartbeatClock {
+ public:
+  explicit HeartbeatClock(const RunHeartbeat& heartbeat)
+      : heartbeat_(heartbeat), last_(std::chrono::steady_clock::now()) {}
+  void Tick(double t_s) {
+    if (!heartbeat_ || ++steps_ % kStride != 0) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (std::chrono::duration<double>(now - last_).count() < kHeartbeatInterval_s) return;
+    last_ = now;
+    heartbeat_(t_s);
+  }
+
+ private:
+  static constexpr long kStride = 16;
+  const RunHeartbeat& heartbeat_;
+  std::chrono::steady_clock::time_point last_;
+  long steps_ = 0;
+};
+
+}  // namespace
+
+void RequireSamplesPerWaveCycle(const ScenarioConfig& scenario, double period_s,
+                                double sample_period_s) {
+  // Exactly, not after rounding to whole steps: 9.9 samples are too few.
+  const double samples = period_s / sample_period_s;
+  if (samples >= kMinSamplesPerWaveCycle * (1.0 - 1e-12)) return;
+  throw std::invalid_argument(FormatText(
+      "%s: waveform.frequency_Hz %.6g gives %.4g controller samples per wave cycle at %.6g Hz "
+      "(controller.sample_rate_Hz); a cycle takes at least %ld controller samples: at most "
+      "%.6g Hz",
+      scenario.source.c_str(), scenario.waveform.frequency_Hz, samples, 1.0 / sample_period_s,
+      kMinSamplesPerWaveCycle, 1.0 / (kMinSamplesPerWaveCycle * sample_period_s)));
 }
 
 double StartRamp(double t_s, double ramp_s) {
@@ -110,7 +197,9 @@ ModelPtr LoadScenarioModel(const ScenarioConfig& scenario, std::string* source) 
     model = LoadModelString(GeneratedScenarioMjcf(scenario));
   }
   if (scenario.timestep_s) model->opt.timestep = *scenario.timestep_s;
-  if (scenario.viscosity_Pa_s) OverrideViscosity(model.get(), *scenario.viscosity_Pa_s, scenario.source);
+  if (scenario.viscosity_Pa_s) {
+    OverrideViscosity(model.get(), *scenario.viscosity_Pa_s, *source, scenario.source);
+  }
   for (int dof = 0; dof < model->nv; ++dof) model->dof_damping[dof] *= scenario.hinge_damping_scale;
   return model;
 }
@@ -123,15 +212,23 @@ std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenari
   overrides.plants = scenario.plants;
   overrides.dynamics = scenario.dynamics;
   const RftDragOverrides fluid = ScenarioFluidOverrides(scenario, model.get());
+  // Before the simulation's first evaluation factors the Stokeslet matrix.
+  CheckStokesletResolution(scenario, model.get(), fluid);
   auto sim = std::make_unique<Simulation>(std::move(model), source, overrides, fluid);
   const CouplingContext* coupling = FindCoupling(sim->data());
-  if ((scenario.rft_coefficients || scenario.rft_wavelength_mm || scenario.wall_gap_mm ||
-       scenario.fluid_model != "rft") &&
-      !(coupling && coupling->drag)) {
-    throw std::runtime_error(scenario.source +
-                             ": fluid.rft_coefficients, fluid.rft_wavelength_mm, "
-                             "fluid.wall_gap_mm and fluid.model need a model with drag "
-                             "segments (ipmc_rft_viscosity_Pa_s)");
+  if (!(coupling && coupling->drag)) {
+    // Only the keys the scenario sets.
+    std::string keys;
+    const auto name = [&keys](bool set, const char* key) {
+      if (set) keys += (keys.empty() ? "" : ", ") + std::string(key);
+    };
+    name(scenario.rft_coefficients.has_value(), "fluid.rft_coefficients");
+    name(scenario.rft_wavelength_mm.has_value(), "fluid.rft_wavelength_mm");
+    name(scenario.wall_gap_mm.has_value(), "fluid.wall_gap_mm");
+    name(scenario.fluid_model != "rft", "fluid.model");
+    if (!keys.empty()) {
+      throw std::runtime_error(NoDragMessage(sim->source(), scenario.source, keys));
+    }
   }
   return sim;
 }
@@ -179,13 +276,14 @@ void CheckLinkGains(const ScenarioConfig& scenario, int links) {
   }
 }
 
-ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserver& observer) {
+ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserver& observer,
+                             const RunHeartbeat& heartbeat) {
   const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(scenario);
-  return RunClosedLoop(*sim, scenario, observer);
+  return RunClosedLoop(*sim, scenario, observer, heartbeat);
 }
 
 ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
-                               const SampleObserver& observer) {
+                               const SampleObserver& observer, const RunHeartbeat& heartbeat) {
   scenario.waveform.Validate();
   mjModel* m = sim.model();
   UseEulerWhereImplicitAddsNothing(m);  // no servo: Euler suffices
@@ -208,6 +306,7 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
                    scenario.source + ": one controller sample (controller.sample_rate_Hz)");
   const long steps_per_sample = StepsPerSample(scenario.sample_rate_Hz, dt, scenario.source);
   const double sample_period_s = steps_per_sample * dt;
+  RequireSamplesPerWaveCycle(scenario, period_s, sample_period_s);
   // At least kMinSamplesPerWaveCycle controller samples per wave cycle.
   const long steps_per_cycle = CheckedStepCount(
       period_s, dt, kMinSamplesPerWaveCycle * steps_per_sample,
@@ -245,6 +344,7 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
   std::vector<int> root_dofs;
   for (const std::vector<int>& dofs : energy.LinkDofs()) root_dofs.push_back(dofs.front());
   energy.MeasureElectrical(scenario.electrical, geometry.length_mm);
+  HeartbeatClock beat(heartbeat);
   for (int cycle = 0; cycle < scenario.cycles; ++cycle) {
     // The link metrics are taken over the cycles from metrics.from_cycle.
     const bool measuring = cycle + 1 >= scenario.metrics_from_cycle;
@@ -277,6 +377,7 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
       // The sensors are read at the next sample, from this step's values.
       const long next = step + 1 == steps_per_cycle ? 0 : step + 1;
       sim.Step(next % steps_per_sample == 0);
+      beat.Tick(d->time);
       meter.Observe(m, d);
       energy.Observe(m, d);
       for (size_t q = 0; measuring && q < root_dofs.size() && q < result.links.size(); ++q) {
@@ -293,6 +394,14 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
         static_cast<double>(clamped_samples[q]) / std::max<long>(1, measured_samples);
   }
   result.swim = meter.Finish(m, d, scenario.metrics_from_cycle, scenario.waveform.wavelength_mm);
+  if (scenario.samples_per_cycle > samples_per_cycle) {
+    // Not silently fewer rows than asked for.
+    result.swim.warnings.push_back(FormatText(
+        "%s: output.samples_per_cycle %d is more than the %ld controller samples of a wave cycle "
+        "(controller.sample_rate_Hz / waveform.frequency_Hz): recorded every sample, %ld a cycle",
+        scenario.source.c_str(), scenario.samples_per_cycle, samples_per_cycle,
+        samples_per_cycle));
+  }
   RequireFiniteMetrics(result.swim, sim.source());
   result.energy = energy.Finish(result.swim, period_s, scenario.metrics_from_cycle);
   return result;

@@ -66,6 +66,11 @@ struct ClosedLoopResult {
 // for example to render a frame of the model's current state.
 using SampleObserver =
     std::function<void(const mjModel* m, const mjData* d, const ClosedLoopSample& sample)>;
+// Called between recorded samples with the simulated time, at least every
+// kHeartbeatInterval_s of wall time whatever the time step, so that a stop
+// request (it may throw) is seen soon even when samples are far apart.
+using RunHeartbeat = std::function<void(double t_s)>;
+constexpr double kHeartbeatInterval_s = 0.1;
 
 // Link q's controller (0-based), whichever kind the scenario names, with
 // that link's gains where the scenario gives them per link
@@ -100,6 +105,12 @@ class LinkController {
 // controller.link_* array the scenario gives holds one value per link.
 void CheckLinkGains(const ScenarioConfig& scenario, int links);
 
+// Throws std::invalid_argument naming waveform.frequency_Hz unless a wave
+// period of period_s holds at least kMinSamplesPerWaveCycle controller
+// samples of sample_period_s (exactly: 9.9 are refused).
+void RequireSamplesPerWaveCycle(const ScenarioConfig& scenario, double period_s,
+                                double sample_period_s);
+
 // The references' fade-in (sim/core/scenario.h): (1 - cos(pi t / T_r)) / 2
 // for t < T_r = ramp_s, then 1.
 double StartRamp(double t_s, double ramp_s);
@@ -130,11 +141,13 @@ RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mj
 
 // Loads the scenario's model (LoadScenarioSimulation) and runs it. Throws
 // std::runtime_error naming the file on bad input or divergence.
-ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserver& observer = {});
+ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserver& observer = {},
+                             const RunHeartbeat& heartbeat = {});
 
 // Runs on an existing simulation (its time step and fluid as they are).
 ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
-                               const SampleObserver& observer = {});
+                               const SampleObserver& observer = {},
+                               const RunHeartbeat& heartbeat = {});
 
 // The segment pitches of a model at rest (hinges j1..jN and the last tip)
 // and its IPMC links' lengths, which the references are projected on.
