@@ -271,6 +271,8 @@ class Viewer {
   void Screenshot(const std::string& path);
   void StepFrames(int frames);
   double EndTime_s() const;
+  double PlannedEnd_s() const;
+  void WaitForLiveStates();
   void SetSpeed(double speed);
   void UpdateCamera();
 
@@ -366,6 +368,30 @@ double Viewer::EndTime_s() const {
   return end;
 }
 
+// Where the runs will end: a live run's full length.
+double Viewer::PlannedEnd_s() const {
+  double end = 0.0;
+  for (const auto& panel : panels_) {
+    const LiveRun* live = panel->source->live.get();
+    end = std::max(end, live && !live->finished() ? live->duration_s() : panel->last_time_s());
+  }
+  return end;
+}
+
+// Under a script, a screenshot waits until every live run has reached the
+// time shown (or ended), so that a script's pictures do not depend on how
+// fast the runs go.
+void Viewer::WaitForLiveStates() {
+  for (auto& panel : panels_) {
+    LiveRun* live = panel->source->live.get();
+    while (live && panel->last_time_s() < t_s_ - 1e-9 && !live->finished()) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      live->TakeStates(&panel->live_states);
+    }
+    if (live) live->TakeStates(&panel->live_states);
+  }
+}
+
 void Viewer::SetSpeed(double speed) {
   speed_ = std::clamp(speed, 1e-6, kMaxSpeed);
   for (auto& panel : panels_) {
@@ -378,7 +404,7 @@ void Viewer::StepFrames(int frames) {
   const double dt = first.frame_dt_s();
   const double k = std::floor((t_s_ - first.time_s(0)) / dt + 1e-6);
   t_s_ = first.time_s(0) + (k + frames) * dt;
-  t_s_ = std::clamp(t_s_, first.time_s(0), EndTime_s());
+  t_s_ = std::clamp(t_s_, first.time_s(0), PlannedEnd_s());
   playing_ = false;
 }
 
@@ -528,6 +554,7 @@ void Viewer::DrawFrame() {
 }
 
 void Viewer::Screenshot(const std::string& path) {
+  if (scripted_) WaitForLiveStates();
   DrawFrame();
   std::vector<unsigned char> pixels(static_cast<size_t>(width_) * height_ * 3);
   mjr_readPixels(pixels.data(), nullptr, {0, 0, width_, height_},
