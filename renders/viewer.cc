@@ -51,7 +51,8 @@ const std::vector<ViewerKey> kKeys = {
 
 [[noreturn]] void BadOption(const std::string& field, const std::string& range,
                             const std::string& got) {
-  throw FieldError("view: " + field + " must be " + range + " (got " + got + ")", field, range);
+  throw FieldError("view: --" + field + " must be " + range + " (got " + got + ")", "--" + field,
+                   range);
 }
 
 std::string KeyName(int key) {
@@ -534,7 +535,6 @@ void Viewer::DrawPanel(Panel& panel) {
   }
   renderer.Draw(d, setup);
   rows.resize(fixed_rows);
-  if (!trails_) renderer.Reset();
 }
 
 void Viewer::DrawFrame() {
@@ -621,7 +621,8 @@ void Viewer::OnMove(GLFWwindow* w, double x, double y) {
     v->pending_.push_back(drag);
   } else if (v->button_ == GLFW_MOUSE_BUTTON_RIGHT) {
     v->azimuth_deg_ -= kTurn_deg_per_px * dx;
-    v->elevation_deg_ = std::clamp(v->elevation_deg_ + kTurn_deg_per_px * dy, 0.0, 85.0);
+    // (UpdateCamera keeps the sum within [-90, -5])
+    v->elevation_deg_ = std::clamp(v->elevation_deg_ + kTurn_deg_per_px * dy, -85.0, 85.0);
   }
 }
 

@@ -5,7 +5,8 @@ renderer) within a small pixel tolerance, and `q` closes it with exit 0;
 without a display it says so in one line and exits 1.
 
 Usage: view_test.py CASE IPMC_SWIM SOURCE_DIR
-CASE: no_display | default_run | flexible_run | live_scenario
+CASE: no_display (also: --help lists the keys) | default_run | flexible_run |
+live_scenario
 Each case starts its own Xvfb on a free display (-displayfd) and stops it
 whatever the outcome.
 """
@@ -120,6 +121,16 @@ def check_live(scratch):
             LIVE_OVERLAY_ROWS)
 
 
+def check_help():
+    # The keys the window's key panel lists (renders/viewer.cc ViewerKeys), in --help.
+    out = run([PROGRAM, "view", "--help"])
+    for key, action in (("space", "play / pause"), ("right", "next frame (pauses)"),
+                        ("pageup", "previous cycle"), ("up", "twice as fast"),
+                        ("h", "this key panel on / off"), ("q", "quit (also Esc)")):
+        assert re.search(rf"^  {re.escape(key)} +{re.escape(action)}$", out, re.M), (key, out)
+    assert "scroll to zoom" in out, out
+
+
 def check_no_display(scratch):
     env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY")}
     done = subprocess.run([PROGRAM, "view", PAPER], capture_output=True, text=True, env=env,
@@ -134,6 +145,7 @@ def main():
     scratch = tempfile.mkdtemp(prefix=f"view_{CASE}_")
     try:
         if CASE == "no_display":
+            check_help()
             check_no_display(scratch)
         elif CASE == "default_run":
             check_recorded(scratch, [])
