@@ -36,12 +36,23 @@ std::string FormatLength(double metres) {
   return text;
 }
 
+// The GL viewport on the whole image: mjr_text places its text relative to
+// the current viewport, which mjr_rectangle leaves on its rectangle.
+void ViewportOnImage(const DecorCanvas& canvas) {
+  glViewport(canvas.left_px, canvas.bottom_px, canvas.width_px, canvas.height_px);
+}
+
+// A rectangle of the image (pixels from its lower left corner) filled with rgb.
+void FillRect(const DecorCanvas& canvas, mjrRect rect, const float rgb[3]) {
+  rect.left += canvas.left_px;
+  rect.bottom += canvas.bottom_px;
+  mjr_rectangle(rect, rgb[0], rgb[1], rgb[2], 1.0f);
+}
+
 // Text whose box starts at pixel (x, y from the bottom) of the image.
 void DrawText(const DecorCanvas& canvas, const std::string& text, int x_px, int y_px,
               const float rgb[3]) {
-  // mjr_text places the text in the current viewport, which mjr_rectangle
-  // leaves on the last rectangle: back to the whole image.
-  glViewport(0, 0, canvas.width_px, canvas.height_px);
+  ViewportOnImage(canvas);
   mjr_text(mjFONT_NORMAL, text.c_str(), canvas.con, static_cast<float>(x_px) / canvas.width_px,
            static_cast<float>(y_px) / canvas.height_px, rgb[0], rgb[1], rgb[2]);
 }
@@ -78,15 +89,11 @@ void DrawScaleBar(const DecorCanvas& canvas, double px_per_m) {
   if (length_px + 2 * kScaleBarMargin_px > width_) return;
   const mjrRect bar = {width_ - kScaleBarMargin_px - length_px, kScaleBarMargin_px, length_px,
                        kScaleBarThickness_px};
-  // The label first: mjr_text places it relative to the current viewport,
-  // which is still the whole image here (mjr_rectangle makes it the bar).
-  const mjrContext& con = *canvas.con;
   const std::string label = FormatLength(bar_m);
   const int text_px = TextWidth_px(canvas, label);
-  const float x = static_cast<float>(bar.left + (length_px - text_px) / 2) / width_;
-  const float y = static_cast<float>(bar.bottom + bar.height + 4) / height_;
-  mjr_text(mjFONT_NORMAL, label.c_str(), &con, x, y, kScaleBar[0], kScaleBar[1], kScaleBar[2]);
-  mjr_rectangle(bar, kScaleBar[0], kScaleBar[1], kScaleBar[2], 1.0f);
+  DrawText(canvas, label, bar.left + (length_px - text_px) / 2, bar.bottom + bar.height + 4,
+           kScaleBar);
+  FillRect(canvas, bar, kScaleBar);
 }
 
 int TextWidth_px(const DecorCanvas& canvas, const std::string& text) {
@@ -96,7 +103,8 @@ int TextWidth_px(const DecorCanvas& canvas, const std::string& text) {
 }
 
 // Labels in one column, values in the next, dark on light.
-void DrawTable(const DecorCanvas& canvas, const std::vector<std::array<std::string, 2>>& rows) {
+void DrawTable(const DecorCanvas& canvas, const std::vector<std::array<std::string, 2>>& rows,
+               bool right) {
   const int width_ = canvas.width_px, height_ = canvas.height_px;
   const int line = canvas.con->charHeight;
   int label_px = 0, value_px = 0;
@@ -107,13 +115,13 @@ void DrawTable(const DecorCanvas& canvas, const std::vector<std::array<std::stri
   const int pad = line / 2;
   const int panel_w = std::min(width_, 3 * pad + label_px + value_px + pad);
   const int panel_h = std::min(height_, static_cast<int>(rows.size()) * line + 2 * pad);
-  const mjrRect panel = {0, height_ - panel_h, panel_w, panel_h};
-  mjr_rectangle(panel, kPanel[0], kPanel[1], kPanel[2], 1.0f);
+  const int left = right ? width_ - panel_w : 0;
+  FillRect(canvas, {left, height_ - panel_h, panel_w, panel_h}, kPanel);
   for (size_t k = 0; k < rows.size(); ++k) {
     // mjr_text's y is the bottom of the text's box.
     const int y = height_ - pad - static_cast<int>(k + 1) * line;
-    DrawText(canvas, rows[k][0], pad, y, kPanelLabel);
-    DrawText(canvas, rows[k][1], 2 * pad + label_px + pad, y, kPanelText);
+    DrawText(canvas, rows[k][0], left + pad, y, kPanelLabel);
+    DrawText(canvas, rows[k][1], left + 2 * pad + label_px + pad, y, kPanelText);
   }
 }
 
@@ -128,7 +136,7 @@ void DrawLegend(const DecorCanvas& canvas, const mjvCamera& camera, int trails) 
   const int panel_w = 3 * pad + arrow_px + text_px;
   const int panel_h = (1 + trails) * line + 2 * pad;
   if (panel_w > width_ / 2 || panel_h > height_ / 2) return;
-  mjr_rectangle({0, 0, panel_w, panel_h}, kPanel[0], kPanel[1], kPanel[2], 1.0f);
+  FillRect(canvas, {0, 0, panel_w, panel_h}, kPanel);
 
   // The screen direction of world -x: its components on the camera's
   // right and up vectors, as MuJoCo's free camera sets them from azimuth
@@ -148,9 +156,10 @@ void DrawLegend(const DecorCanvas& canvas, const mjvCamera& camera, int trails) 
   const int dot = std::max(2, line / 8);
   // Shaft and head as small squares (mjr_rectangle is all GL offers here).
   const auto square = [&](double x, double y) {
-    mjr_rectangle({static_cast<int>(std::lround(x - 0.5 * dot)),
-                   static_cast<int>(std::lround(y - 0.5 * dot)), dot, dot},
-                  kPanelText[0], kPanelText[1], kPanelText[2], 1.0f);
+    FillRect(canvas,
+             {static_cast<int>(std::lround(x - 0.5 * dot)),
+              static_cast<int>(std::lround(y - 0.5 * dot)), dot, dot},
+             kPanelText);
   };
   const double tip_x = cx + half * dir_x, tip_y = cy + half * dir_y;
   const double head = 0.35 * arrow_px;
@@ -167,7 +176,7 @@ void DrawLegend(const DecorCanvas& canvas, const mjvCamera& camera, int trails) 
   for (int k = 0; k < trails; ++k) {
     const float* color = kTrailColors[k % kTrailColorCount];
     const int y = pad + (trails - 1 - k) * line;
-    mjr_rectangle({pad, y + line / 4, arrow_px, line / 2}, color[0], color[1], color[2], 1.0f);
+    FillRect(canvas, {pad, y + line / 4, arrow_px, line / 2}, color);
     DrawText(canvas, TipTrailLabel(k), text_x, y + (line - canvas.con->charHeight) / 2, kPanelText);
   }
 }

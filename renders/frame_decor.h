@@ -25,18 +25,23 @@ double NextInSeries(double at_least_m);
 // 80 px); *major_every: 5, or 2 for 5 x 10^k.
 double GridSpacing(double px_per_m, int* major_every);
 
-// Where the decoration is drawn: MuJoCo's GL context (its font) and the
-// image's size [px].
+// Where the decoration is drawn: MuJoCo's GL context (its font), the
+// image's size [px] and its lower left corner in the framebuffer [px]
+// (a panel of a window holding several images).
 struct DecorCanvas {
   const mjrContext* con = nullptr;
   int width_px = 0;
   int height_px = 0;
+  int left_px = 0;
+  int bottom_px = 0;
 };
 
 // Width [px] of `text` in the context's normal font.
 int TextWidth_px(const DecorCanvas& canvas, const std::string& text);
-// The rows (label, value) in a light panel at the top left.
-void DrawTable(const DecorCanvas& canvas, const std::vector<std::array<std::string, 2>>& rows);
+// The rows (label, value) in a light panel at the top left (top right
+// with `right`).
+void DrawTable(const DecorCanvas& canvas, const std::vector<std::array<std::string, 2>>& rows,
+               bool right = false);
 // A light panel at the bottom left: an arrow in the direction the body
 // swims when it goes "+ along" (world -x, as `camera` sees it), and the
 // colour of each of `trails` tips' trails.

@@ -185,28 +185,33 @@ struct OffscreenRenderer::Context {
       }
     }
   };
+  // MuJoCo's GL context, on the OSMesa context or (osmesa null) on the
+  // window's context, which the caller keeps current.
   struct Render {
-    Osmesa& osmesa;
+    Osmesa* osmesa;
     mjrContext con;
-    Render(const mjModel* m, Osmesa& gl, int fontscale) : osmesa(gl) {
+    Render(const mjModel* m, Osmesa* gl, int fontscale) : osmesa(gl) {
       mjr_defaultContext(&con);
-      osmesa.MakeCurrent();  // before mjr_makeContext, which loads the GL functions
+      if (osmesa) osmesa->MakeCurrent();  // before mjr_makeContext, which loads the GL functions
       mjr_makeContext(m, &con, fontscale);
     }
     ~Render() {
       try {
-        osmesa.MakeCurrent();
+        if (osmesa) osmesa->MakeCurrent();
       } catch (const std::exception&) {
         return;  // no current context: freeing GL objects would touch another context
       }
       mjr_freeContext(&con);
+    }
+    void MakeCurrent() {
+      if (osmesa) osmesa->MakeCurrent();
     }
   };
 
   ModelPtr model;
   DataPtr scratch;
   Scene scene;
-  Osmesa osmesa;
+  std::unique_ptr<Osmesa> osmesa;  // null in a window
   Render render;
   mjvCamera camera;
   mjvOption option;
@@ -214,12 +219,12 @@ struct OffscreenRenderer::Context {
   float upward_light = 1.0f;
   std::vector<unsigned char> pixels;  // bottom row first, as OpenGL reads them
 
-  Context(ModelPtr m, int maxgeom, int width, int height, int fontscale)
+  Context(ModelPtr m, int maxgeom, int width, int height, int fontscale, bool window)
       : model(std::move(m)),
         scratch(mj_makeData(model.get())),
         scene(model.get(), maxgeom),
-        osmesa(width, height),
-        render(model.get(), osmesa, fontscale),
+        osmesa(window ? nullptr : std::make_unique<Osmesa>(width, height)),
+        render(model.get(), osmesa.get(), fontscale),
         pixels(static_cast<size_t>(width) * height * 3) {
     if (!scratch) throw std::runtime_error("renderer: cannot allocate mjData");
     mjv_defaultCamera(&camera);
@@ -288,9 +293,21 @@ void OffscreenRenderer::ValidateCamera(const CameraSetup& cam) {
 
 OffscreenRenderer::OffscreenRenderer(const mjModel* m, int width, int height,
                                      RendererOptions options)
-    : width_(width), height_(height), trail_length_(options.trail_length) {
+    : width_(width),
+      height_(height),
+      window_(options.window),
+      left_px_(options.left_px),
+      bottom_px_(options.bottom_px),
+      trail_length_(options.trail_length) {
   if (!m) throw FieldError("renderer: no model", "model", "a model");
-  CheckImageSize(m, width, height);
+  if (window_) {
+    if (width <= 0 || height <= 0) {
+      throw FieldError("renderer: image size must be positive (got " + Size(width, height) + ")",
+                       width <= 0 ? "width" : "height", "> 0");
+    }
+  } else {
+    CheckImageSize(m, width, height);
+  }
   if (trail_length_ < 0) {
     throw FieldError("renderer: trail_length must be >= 0 (got " + std::to_string(trail_length_) +
                          ")",
@@ -336,7 +353,7 @@ OffscreenRenderer::OffscreenRenderer(const mjModel* m, int width, int height,
   const int maxgeom = copy->ngeom + copy->nsite + trail_geoms + kMaxGridLines + kMaxGhostPoints +
                       1 + kSceneMargin;
   const int fontscale = height >= 720 ? mjFONTSCALE_150 : mjFONTSCALE_100;
-  context_ = std::make_unique<Context>(std::move(copy), maxgeom, width, height, fontscale);
+  context_ = std::make_unique<Context>(std::move(copy), maxgeom, width, height, fontscale, window_);
 
   mjModel* model = context_->model.get();
   mjData* scratch = context_->scratch.get();
@@ -351,7 +368,12 @@ OffscreenRenderer::OffscreenRenderer(const mjModel* m, int width, int height,
   }
   ThickenStrip(model, options.strip_thickness_m.value_or(kStripThicknessPerLength * body_length_m_));
 
+  context_->scene.scn.flags[mjRND_SHADOW] = 0;
   const mjrContext& con = context_->render.con;
+  if (window_) {
+    mjr_setBuffer(mjFB_WINDOW, &context_->render.con);
+    return;
+  }
   mjr_setBuffer(mjFB_OFFSCREEN, &context_->render.con);
   if (con.currentBuffer != mjFB_OFFSCREEN) {
     throw std::runtime_error("renderer: MuJoCo could not make an offscreen framebuffer");
@@ -361,7 +383,6 @@ OffscreenRenderer::OffscreenRenderer(const mjModel* m, int width, int height,
                              Size(con.offWidth, con.offHeight) + ", smaller than " +
                              Size(width, height));
   }
-  context_->scene.scn.flags[mjRND_SHADOW] = 0;
 }
 
 OffscreenRenderer::~OffscreenRenderer() = default;
@@ -444,7 +465,7 @@ double OffscreenRenderer::PixelsPerMetre(const CameraSetup& camera) const {
   return width_ / view_width_m;
 }
 
-std::vector<unsigned char> OffscreenRenderer::Frame(const mjData* d, const FrameSetup& setup) {
+void OffscreenRenderer::PoseScratch(const mjData* d) {
   Context& c = *context_;
   mjModel* m = c.model.get();
   mjData* s = c.scratch.get();
@@ -452,29 +473,56 @@ std::vector<unsigned char> OffscreenRenderer::Frame(const mjData* d, const Frame
     throw FieldError("renderer: mjData does not belong to the rendered model", "data",
                      "an mjData of the rendered model");
   }
-  const CameraSetup& cam = setup.camera;
-  ValidateCamera(cam);
-
   s->time = d->time;
   mju_copy(s->qpos, d->qpos, m->nq);
   mju_copy(s->mocap_pos, d->mocap_pos, 3 * m->nmocap);
   mju_copy(s->mocap_quat, d->mocap_quat, 4 * m->nmocap);
   mj_kinematics(m, s);
+}
+
+void OffscreenRenderer::AppendTrailPoints() {
+  if (trail_length_ <= 0) return;
+  const mjData* s = context_->scratch.get();
+  for (size_t k = 0; k < tip_sites_.size(); ++k) {
+    for (int i = 0; i < 3; ++i) {
+      trails_[k][3 * trail_next_ + i] = static_cast<float>(s->site_xpos[3 * tip_sites_[k] + i]);
+    }
+  }
+  trail_next_ = (trail_next_ + 1) % trail_length_;
+  trail_count_ = std::min(trail_count_ + 1, trail_length_);
+}
+
+void OffscreenRenderer::AppendTrail(const mjData* d) {
+  PoseScratch(d);
+  AppendTrailPoints();
+}
+
+std::vector<unsigned char> OffscreenRenderer::Frame(const mjData* d, const FrameSetup& setup) {
+  Draw(d, setup);
+  Context& c = *context_;
+  const mjrRect viewport = {left_px_, bottom_px_, width_, height_};
+  mjr_readPixels(c.pixels.data(), nullptr, viewport, &c.render.con);
+  std::vector<unsigned char> rgb(c.pixels.size());
+  const size_t row = static_cast<size_t>(width_) * 3;
+  for (int y = 0; y < height_; ++y) {
+    std::memcpy(rgb.data() + row * y, c.pixels.data() + row * (height_ - 1 - y), row);
+  }
+  return rgb;
+}
+
+void OffscreenRenderer::Draw(const mjData* d, const FrameSetup& setup) {
+  Context& c = *context_;
+  mjModel* m = c.model.get();
+  mjData* s = c.scratch.get();
+  const CameraSetup& cam = setup.camera;
+  ValidateCamera(cam);
+  PoseScratch(d);
   mj_comPos(m, s);
   mj_camlight(m, s);
   if (!first_com_m_) {
     first_com_m_ = {s->subtree_com[3 * root_body_], s->subtree_com[3 * root_body_ + 1]};
   }
-
-  if (trail_length_ > 0) {
-    for (size_t k = 0; k < tip_sites_.size(); ++k) {
-      for (int i = 0; i < 3; ++i) {
-        trails_[k][3 * trail_next_ + i] = static_cast<float>(s->site_xpos[3 * tip_sites_[k] + i]);
-      }
-    }
-    trail_next_ = (trail_next_ + 1) % trail_length_;
-    trail_count_ = std::min(trail_count_ + 1, trail_length_);
-  }
+  AppendTrailPoints();
 
   // Free camera: forward = (cos el cos az, cos el sin az, sin el), the eye
   // `distance` behind the look-at point.
@@ -512,27 +560,24 @@ std::vector<unsigned char> OffscreenRenderer::Frame(const mjData* d, const Frame
   }
   AddDecor(setup);
 
-  c.osmesa.MakeCurrent();
-  mjr_setBuffer(mjFB_OFFSCREEN, &c.render.con);
-  if (c.render.con.currentBuffer != mjFB_OFFSCREEN) {
+  c.render.MakeCurrent();
+  const int buffer = window_ ? mjFB_WINDOW : mjFB_OFFSCREEN;
+  mjr_setBuffer(buffer, &c.render.con);
+  if (c.render.con.currentBuffer != buffer) {
     throw std::runtime_error("renderer: offscreen framebuffer not available");
   }
-  const mjrRect viewport = {0, 0, width_, height_};
+  const mjrRect viewport = {left_px_, bottom_px_, width_, height_};
   mjr_render(viewport, &c.scene.scn, &c.render.con);
   // The scale bar: top-down views only (elsewhere the scale varies across
   // the image).
   if (setup.grid && setup.camera.elevation_deg <= kMinElevation_deg + 1e-9) {
-    DrawScaleBar({&c.render.con, width_, height_}, PixelsPerMetre(setup.camera));
+    DrawScaleBar(Canvas(), PixelsPerMetre(setup.camera));
   }
   DrawOverlay(setup);
-  mjr_readPixels(c.pixels.data(), nullptr, viewport, &c.render.con);
+}
 
-  std::vector<unsigned char> rgb(c.pixels.size());
-  const size_t row = static_cast<size_t>(width_) * 3;
-  for (int y = 0; y < height_; ++y) {
-    std::memcpy(rgb.data() + row * y, c.pixels.data() + row * (height_ - 1 - y), row);
-  }
-  return rgb;
+DecorCanvas OffscreenRenderer::Canvas() const {
+  return {&context_->render.con, width_, height_, left_px_, bottom_px_};
 }
 
 void OffscreenRenderer::AddDecor(const FrameSetup& setup) {
@@ -659,7 +704,7 @@ void OffscreenRenderer::DrawOverlay(const FrameSetup& setup) {
   std::snprintf(buffer, sizeof(buffer), "%+.4f mm along, %+.4f mm across", -dx_mm + 0.0,
                 dy_mm + 0.0);
   rows.push_back({"net displacement", buffer});
-  const DecorCanvas canvas{&context_->render.con, width_, height_};
+  const DecorCanvas canvas = Canvas();
   DrawTable(canvas, rows);
   DrawLegend(canvas, context_->camera, trail_length_ > 1 ? static_cast<int>(tip_sites_.size()) : 0);
 }

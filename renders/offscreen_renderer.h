@@ -58,6 +58,10 @@
 //
 // Frames are 8-bit RGB, rows from top to bottom (width x height x 3 bytes).
 //
+// In a window (RendererOptions::window) the same scene is drawn into the
+// current GL context's framebuffer instead, so that a viewer shows what a
+// film's frame shows.
+//
 // An OSMesa context is current per thread: a renderer is used from one
 // thread at a time; Frame() makes its own context current, so several
 // renderers can take turns in one thread.
@@ -70,6 +74,8 @@
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "renders/frame_decor.h"
 
 namespace ipmc {
 
@@ -108,6 +114,14 @@ struct RendererOptions {
   // 0 keeps the model's geometry. Unset: 2 % of the body's rest length
   // (0.64 mm for the paper's flagellum).
   std::optional<double> strip_thickness_m;
+  // Draw into the framebuffer of the GL context current on the calling
+  // thread (a window's: renders/viewer.h) instead of an OSMesa buffer of
+  // the renderer's own, with the image's lower left corner at (left_px,
+  // bottom_px) of it; the model's offscreen buffer does not limit the
+  // image's size then. That context must be current whenever the renderer
+  // is made, used or destroyed.
+  bool window = false;
+  int left_px = 0, bottom_px = 0;
 };
 
 class OffscreenRenderer {
@@ -128,6 +142,11 @@ class OffscreenRenderer {
   // recomputed on a private copy, so the picture matches d->qpos even right
   // after mj_step. Appends the tip positions to the trails.
   std::vector<unsigned char> Frame(const mjData* d, const FrameSetup& setup = {});
+  // Frame() without reading the image back (a window's frame).
+  void Draw(const mjData* d, const FrameSetup& setup = {});
+  // Appends the tip positions of the state d->qpos to the trails, as a
+  // Frame() of it would, without drawing.
+  void AppendTrail(const mjData* d);
 
   // Forgets the trails and the first frame's centre of mass.
   void Reset();
@@ -137,6 +156,9 @@ class OffscreenRenderer {
   std::array<double, 4> DrawnBounds(const mjData* d);
   // Height of one overlay text line [px].
   int overlay_line_height_px() const;
+  // Where the image is drawn, for more decoration over it
+  // (renders/frame_decor.h).
+  DecorCanvas Canvas() const;
   // Throws FieldError ("width" or "height") naming the limit unless
   // width x height is positive and fits m's offscreen buffer.
   static void CheckImageSize(const mjModel* m, int width, int height);
@@ -164,8 +186,13 @@ class OffscreenRenderer {
   void AddTrailGeoms(const double eye[3], double px_per_m);
   // The overlay: its rows and the legend (renders/frame_decor.h).
   void DrawOverlay(const FrameSetup& setup);
+  // Copies d's state to the scratch data and computes its kinematics.
+  void PoseScratch(const mjData* d);
+  void AppendTrailPoints();  // from the scratch data's kinematics
 
   int width_, height_;
+  bool window_ = false;
+  int left_px_ = 0, bottom_px_ = 0;
   double body_length_m_ = 0.0;
   double body_half_height_m_ = 0.0;  // half the body's extent along z at rest
   double strip_thickness_m_ = 0.0;   // as drawn

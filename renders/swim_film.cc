@@ -123,13 +123,13 @@ std::vector<std::array<double, 3>> Ghost(const FilmedRun& run, const mjModel* m,
   return points;
 }
 
-std::string Speedup(double factor) {
+}  // namespace
+
+std::string PlaybackSpeedText(double factor) {
   char text[48];
   std::snprintf(text, sizeof(text), "%.3g x real time", factor);
   return text;
 }
-
-}  // namespace
 
 void FilmConfig::Validate() const {
   if (width <= 0 || width % 2 != 0) ThrowOption("width_px", "positive and even", width);
@@ -176,8 +176,9 @@ void CheckFilmFits(const mjModel* m, const FilmConfig& config) {
   }
 }
 
-FilmSummary FilmRun(const FilmedRun& run, const FilmConfig& config, const std::string& out_path,
-                    const FilmProgress& progress) {
+FilmFrames::FilmFrames(const FilmedRun& run, const FilmConfig& config,
+                       OffscreenRenderer& renderer)
+    : run_(run), ghost_(config.ghost) {
   config.Validate();
   if (!run.model || !run.states || run.states->empty()) {
     throw FieldError("video: no recorded states to film", "states", "recorded states");
@@ -191,59 +192,50 @@ FilmSummary FilmRun(const FilmedRun& run, const FilmConfig& config, const std::s
     throw FieldError("video: the run has no wave period or no cycle",
                      run.period_s > 0.0 ? "cycles" : "period_s", "period_s > 0 and cycles >= 1");
   }
-  CheckFilmFits(m, config);
-  const int first_cycle = config.start_cycle;
-  const int last_cycle = config.cycles == 0 ? run.cycles : first_cycle + config.cycles - 1;
-  if (first_cycle > run.cycles) {
-    throw FieldError("video: start_cycle " + std::to_string(first_cycle) +
+  first_cycle_ = config.start_cycle;
+  last_cycle_ = config.cycles == 0 ? run.cycles : first_cycle_ + config.cycles - 1;
+  if (first_cycle_ > run.cycles) {
+    throw FieldError("video: start_cycle " + std::to_string(first_cycle_) +
                          " is after the run's last cycle " + std::to_string(run.cycles),
                      "start_cycle", "<= " + std::to_string(run.cycles));
   }
-  if (last_cycle > run.cycles) {
+  if (last_cycle_ > run.cycles) {
     throw FieldError("video: cycles " + std::to_string(config.cycles) + " from cycle " +
-                         std::to_string(first_cycle) + " go past the run's last cycle " +
+                         std::to_string(first_cycle_) + " go past the run's last cycle " +
                          std::to_string(run.cycles),
-                     "cycles", "<= " + std::to_string(run.cycles - first_cycle + 1));
+                     "cycles", "<= " + std::to_string(run.cycles - first_cycle_ + 1));
   }
+  frames_ = config.frames_per_cycle * (last_cycle_ - first_cycle_ + 1);
+  frame_dt_s_ = run.period_s / config.frames_per_cycle;
+  t0_s_ = (first_cycle_ - 1) * run.period_s;
+  speedup_ = config.fps * frame_dt_s_;
 
-  // The frames' states.
-  const int frames = config.frames_per_cycle * (last_cycle - first_cycle + 1);
-  const double frame_dt = run.period_s / config.frames_per_cycle;
-  const double t0 = (first_cycle - 1) * run.period_s;
-  std::vector<double> times(frames);
-  std::vector<std::vector<double>> qpos(frames);
-  for (int k = 0; k < frames; ++k) {
-    times[k] = t0 + k * frame_dt;
-    qpos[k] = run.states->StateAt(m, times[k]);
-  }
-
-  RendererOptions options;
-  options.trail_length = config.trail_frames < 0 ? config.frames_per_cycle : config.trail_frames;
-  if (config.strip_thickness_mm) options.strip_thickness_m = *config.strip_thickness_mm * 1e-3;
-  OffscreenRenderer renderer(m, config.width, config.height, options);
-  DataPtr data(mj_makeData(m));
-  if (!data) throw std::runtime_error("video: cannot allocate mjData");
-  mjData* d = data.get();
-  const double ideal_length_m = IdealLength_m(m, d);
+  data_.reset(mj_makeData(m));
+  if (!data_) throw std::runtime_error("video: cannot allocate mjData");
+  mjData* d = data_.get();
+  ideal_length_m_ = IdealLength_m(m, d);
 
   // Centre of mass at the run's first recorded state: the overlay's origin.
   mju_copy(d->qpos, run.states->qpos.front().data(), m->nq);
   mj_kinematics(m, d);
   mj_comPos(m, d);
-  FrameSetup setup;
-  setup.grid = config.grid;
-  setup.overlay.period_s = run.period_s;
-  setup.overlay.origin_m = {d->subtree_com[3 * kRootBody], d->subtree_com[3 * kRootBody + 1]};
-  const double speedup = config.fps * frame_dt;
-  setup.overlay.rows.push_back({"playback", Speedup(speedup)});
-  for (const auto& row : run.overlay_rows) setup.overlay.rows.push_back(row);
+  setup_.grid = config.grid;
+  setup_.overlay.period_s = run.period_s;
+  setup_.overlay.origin_m = {d->subtree_com[3 * kRootBody], d->subtree_com[3 * kRootBody + 1]};
+  setup_.overlay.rows.push_back({"playback", PlaybackSpeedText(speedup_)});
+  for (const auto& row : run.overlay_rows) setup_.overlay.rows.push_back(row);
+  SetUpCamera(config, renderer);
+}
 
+void FilmFrames::SetUpCamera(const FilmConfig& config, OffscreenRenderer& renderer) {
+  const mjModel* m = run_.model;
+  mjData* d = data_.get();
   // The overlay's band at the top of the image, as a fraction of its height.
-  const double aspect = static_cast<double>(config.width) / config.height;
-  const int overlay_lines = 3 + static_cast<int>(setup.overlay.rows.size());
+  const double aspect = static_cast<double>(renderer.width()) / renderer.height();
+  const int overlay_lines = 3 + static_cast<int>(setup_.overlay.rows.size());
   const double band = std::min(0.5, (overlay_lines + 1.5) * renderer.overlay_line_height_px() /
-                                        static_cast<double>(config.height));
-  CameraSetup& camera = setup.camera;
+                                        static_cast<double>(renderer.height()));
+  CameraSetup& camera = setup_.camera;
   camera.elevation_deg = config.elevation_deg;
   camera.azimuth_deg = config.azimuth_deg;
   if (config.camera == FilmCamera::kFollow) {
@@ -251,23 +243,25 @@ FilmSummary FilmRun(const FilmedRun& run, const FilmConfig& config, const std::s
     camera.follow = true;
     camera.body_fill = kFollowBodyFill;
     camera.view_width_m = config.view_mm * 1e-3;
-    const double view_m = config.width / renderer.PixelsPerMetre(camera);
+    const double view_m = renderer.width() / renderer.PixelsPerMetre(camera);
     camera.follow_offset_m[1] = 0.5 * band * view_m / aspect;
   } else {
     // The body over every frame (and the ghost), framed below the band.
     double lo[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
     double hi[2] = {-lo[0], -lo[1]};
     const double ghost_half = 0.5 * renderer.strip_thickness_m();  // the ghost is as thick
-    for (int k = 0; k < frames; ++k) {
-      mju_copy(d->qpos, qpos[k].data(), m->nq);
+    for (int k = 0; k < frames_; ++k) {
+      const double t_s = time_s(k);
+      const std::vector<double> qpos = run_.states->StateAt(m, t_s);
+      mju_copy(d->qpos, qpos.data(), m->nq);
       const std::array<double, 4> box = renderer.DrawnBounds(d);
       lo[0] = std::min(lo[0], box[0]);
       hi[0] = std::max(hi[0], box[1]);
       lo[1] = std::min(lo[1], box[2]);
       hi[1] = std::max(hi[1], box[3]);
-      if (config.ghost) {
+      if (ghost_) {
         mj_kinematics(m, d);
-        for (const auto& p : Ghost(run, m, d, ideal_length_m, times[k])) {
+        for (const auto& p : Ghost(run_, m, d, ideal_length_m_, t_s)) {
           for (int i = 0; i < 2; ++i) {
             lo[i] = std::min(lo[i], p[i] - ghost_half);
             hi[i] = std::max(hi[i], p[i] + ghost_half);
@@ -293,20 +287,45 @@ FilmSummary FilmRun(const FilmedRun& run, const FilmConfig& config, const std::s
     camera.lookat_m[2] = 0.0;
   }
   OffscreenRenderer::ValidateCamera(camera);
+}
+
+RendererOptions FilmRendererOptions(const FilmConfig& config) {
+  RendererOptions options;
+  options.trail_length = config.trail_frames < 0 ? config.frames_per_cycle : config.trail_frames;
+  if (config.strip_thickness_mm) options.strip_thickness_m = *config.strip_thickness_mm * 1e-3;
+  return options;
+}
+
+const mjData* FilmFrames::Pose(double t_s) {
+  const mjModel* m = run_.model;
+  mjData* d = data_.get();
+  const std::vector<double> qpos = run_.states->StateAt(m, t_s);
+  mju_copy(d->qpos, qpos.data(), m->nq);
+  d->time = t_s;
+  if (ghost_) {
+    mj_kinematics(m, d);
+    setup_.ghost_m = Ghost(run_, m, d, ideal_length_m_, t_s);
+  }
+  return d;
+}
+
+FilmSummary FilmRun(const FilmedRun& run, const FilmConfig& config, const std::string& out_path,
+                    const FilmProgress& progress) {
+  config.Validate();
+  if (!run.model) throw FieldError("video: no recorded states to film", "states", "recorded states");
+  CheckFilmFits(run.model, config);
+  OffscreenRenderer renderer(run.model, config.width, config.height, FilmRendererOptions(config));
+  FilmFrames film(run, config, renderer);
 
   const std::filesystem::path parent = std::filesystem::path(out_path).parent_path();
   if (!parent.empty()) EnsureDirectory(parent.string());
   if (!config.png_dir.empty()) EnsureDirectory(config.png_dir);
   Mp4Writer video(out_path, config.width, config.height, config.fps);
   PngSequence pngs(config.png_dir);
+  const int frames = film.frames();
   for (int k = 0; k < frames; ++k) {
-    mju_copy(d->qpos, qpos[k].data(), m->nq);
-    d->time = times[k];
-    if (config.ghost) {
-      mj_kinematics(m, d);
-      setup.ghost_m = Ghost(run, m, d, ideal_length_m, times[k]);
-    }
-    const std::vector<unsigned char> rgb = renderer.Frame(d, setup);
+    const mjData* d = film.Pose(film.time_s(k));
+    const std::vector<unsigned char> rgb = renderer.Frame(d, film.setup());
     video.AddFrame(rgb);
     pngs.Add(rgb, config.width, config.height);
     if (progress) progress(k + 1, frames);
@@ -316,11 +335,11 @@ FilmSummary FilmRun(const FilmedRun& run, const FilmConfig& config, const std::s
 
   FilmSummary summary;
   summary.frames = frames;
-  summary.first_cycle = first_cycle;
-  summary.last_cycle = last_cycle;
-  summary.pixels_per_mm = renderer.PixelsPerMetre(camera) * 1e-3;
+  summary.first_cycle = film.first_cycle();
+  summary.last_cycle = film.last_cycle();
+  summary.pixels_per_mm = renderer.PixelsPerMetre(film.setup().camera) * 1e-3;
   summary.view_width_mm = config.width / summary.pixels_per_mm;
-  summary.speedup = speedup;
+  summary.speedup = film.speedup();
   return summary;
 }
 

@@ -40,6 +40,7 @@
 
 #include <mujoco/mujoco.h>
 
+#include "renders/offscreen_renderer.h"
 #include "sim/core/scenario.h"
 #include "sim/core/simulation.h"
 #include "sim/runs/closed_loop_run.h"
@@ -120,6 +121,48 @@ struct RunRecording {
 // Throws InputError (a std::runtime_error) naming the directory and the
 // missing file, or summary.json and the missing field.
 RunRecording LoadRunRecording(const std::string& dir);
+
+// The overlay's playback row: "25 x real time".
+std::string PlaybackSpeedText(double factor);
+
+// The renderer's options for a film: its trails and strip thickness.
+RendererOptions FilmRendererOptions(const FilmConfig& config);
+
+// How a film draws its frames, for FilmRun and for a window that shows
+// the same frames (renders/viewer.h): frame k at time_s(k), d's state at
+// a time from the recorded states, and the frame's camera, overlay and
+// ghost. The camera is set up for `renderer`'s image (its size, strip
+// thickness and overlay lines). Throws FieldError as FilmRun does for bad
+// options, cycles the run does not have, or a run without states or
+// period. Points into `run`'s states: keep them alive (they may grow, as
+// a live run's do; the camera frames the states there are when made).
+class FilmFrames {
+ public:
+  FilmFrames(const FilmedRun& run, const FilmConfig& config, OffscreenRenderer& renderer);
+  FilmFrames(const FilmFrames&) = delete;
+  FilmFrames& operator=(const FilmFrames&) = delete;
+
+  int frames() const { return frames_; }
+  double time_s(int k) const { return t0_s_ + k * frame_dt_s_; }
+  double frame_dt_s() const { return frame_dt_s_; }
+  int first_cycle() const { return first_cycle_; }
+  int last_cycle() const { return last_cycle_; }
+  double speedup() const { return speedup_; }  // run seconds per second at the film's fps
+  // The state at t_s (interpolated between recorded states; the last one
+  // after them), with the ghost of setup() for it.
+  const mjData* Pose(double t_s);
+  FrameSetup& setup() { return setup_; }
+
+ private:
+  void SetUpCamera(const FilmConfig& config, OffscreenRenderer& renderer);
+
+  FilmedRun run_;
+  bool ghost_;
+  int frames_ = 0, first_cycle_ = 0, last_cycle_ = 0;
+  double frame_dt_s_ = 0.0, t0_s_ = 0.0, speedup_ = 0.0, ideal_length_m_ = 0.0;
+  DataPtr data_;
+  FrameSetup setup_;
+};
 
 // Throws FieldError naming width_px/height_px and the model's
 // offscreen buffer if the frames do not fit it (checked before a run so a

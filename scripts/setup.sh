@@ -15,6 +15,8 @@ IPMC_PACKAGES=(
   libmatio-dev libhdf5-dev octave python3-scipy python3-h5py
   slurm-wlm munge
   pybind11-dev python3-dev python3-numpy python3-pytest python3-matplotlib
+  xvfb libglfw3-dev python3-pil python3-nbclient python3-nbformat python3-ipykernel
+  python3-venv python3-pip python3-setuptools python3-wheel
 )
 
 ipmc_missing_packages() {

@@ -35,6 +35,7 @@
 #include "sim/cli/sweep_command.h"
 #include "sim/cli/table5_command.h"
 #include "sim/cli/render_command.h"
+#include "sim/cli/view_command.h"
 #include "sim/core/data_paths.h"
 
 namespace {
@@ -71,6 +72,8 @@ int main(int argc, char** argv) {
   ipmc::AddStepCommand(app, step);
   ipmc::RenderArgs render;
   ipmc::AddRenderCommand(app, render);
+  ipmc::ViewArgs view;
+  ipmc::AddViewCommand(app, view);
   ipmc::PlotArgs plot;
   ipmc::AddPlotCommand(app, plot);
   ipmc::IdentifyArgs identify;
@@ -123,6 +126,7 @@ int main(int argc, char** argv) {
     if (int s = ipmc::RunBodeCommandLine(bode); s >= 0) status = s;
     if (int s = ipmc::RunStepCommandLine(step); s >= 0) status = s;
     if (int s = ipmc::RunRenderCommand(app, render); s >= 0) status = s;
+    if (int s = ipmc::RunViewCommand(app, view); s >= 0) status = s;
     if (int s = ipmc::RunPlotCommand(app, plot); s >= 0) status = s;
     if (int s = ipmc::RunIdentifyCommandLine(identify); s >= 0) status = s;
     if (int s = ipmc::RunDesignCommandLine(design); s >= 0) status = s;

@@ -8,9 +8,11 @@
 // error: ". Wrong Python types are TypeErrors.
 #include <pybind11/pybind11.h>
 
+#include <cstring>
 #include <exception>
 #include <new>
 #include <stdexcept>
+#include <string>
 
 #include "ipmc_swim/ipmc_swim.h"
 #include "sim/python/convert.h"
@@ -33,12 +35,25 @@ void TranslateLibraryErrors(std::exception_ptr error) {
   }
 }
 
+// The module is built against one version of the library's headers and
+// types; another libipmc_swim found at load time (an older install earlier
+// on the library path) would run with mismatched structures.
+void CheckLibraryVersion() {
+  if (std::strcmp(ipmc::Version(), IPMC_SWIM_MODULE_VERSION) == 0) return;
+  throw py::import_error(std::string("ipmc_swim: the module ipmc_swim._core is version ") +
+                         IPMC_SWIM_MODULE_VERSION + " but the library libipmc_swim it loaded is " +
+                         ipmc::Version() +
+                         "; rebuild and reinstall both from one source tree (pip install "
+                         "sim/python or cmake --install)");
+}
+
 }  // namespace
 }  // namespace ipmc::python
 
 PYBIND11_MODULE(_core, m) {
   namespace py = pybind11;
   using namespace ipmc::python;
+  CheckLibraryVersion();
   m.doc() = "ipmc-swim's simulation library (see the package ipmc_swim)";
   py::exception<std::exception> error(m, "Error", PyExc_ValueError);
   error.doc() =

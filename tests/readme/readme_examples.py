@@ -6,8 +6,9 @@ fenced blocks are read in order:
 - ```sh, ```bash, ```shell: every line that is not blank or a comment is a
   command (a trailing backslash continues it on the next line), unless the
   block starts with `#!`: then it shows a script file, which is not run;
-- ```python: the block is one program; in a block of `>>>` prompts the
-  prompted lines (`>>> `, `... `) are the program and the rest its output;
+- ```python: the block is one program; a block of `>>>` prompts runs as a
+  doctest: the prompted lines (`>>> `, `... `) are the program and every
+  other line is the output it must print, exactly;
 - untagged (or ```text) blocks show output: only their lines that start
   with `$ ` or with a program (build/..., ./..., PYTHONPATH=..., cmp, sudo,
   cmake, ctest, python3) are commands;
@@ -135,12 +136,24 @@ def output_block_command(prompted):
     return is_command
 
 
+# A block of `>>>` prompts runs as a doctest: every output line the
+# document shows must be what the statement prints, character for character.
+DOCTEST_PROGRAM = """import doctest, sys
+block = {block!r}
+test = doctest.DocTestParser().get_doctest(block, {{}}, {name!r}, {name!r}, {line})
+runner = doctest.DocTestRunner(verbose=False)
+runner.run(test, out=sys.stdout.write)
+sys.exit(1 if runner.failures else 0)
+"""
+
+
 def python_unit(lines, name, first_line):
     if any(l.startswith(">>> ") for l in lines):
-        code = [l[4:] for l in lines if l.startswith((">>> ", "... "))]
+        code = DOCTEST_PROGRAM.format(block="\n".join(lines) + "\n", name=name,
+                                      line=first_line - 1)
     else:
-        code = lines
-    return Unit("python", squeeze(lines[0]), "\n".join(code) + "\n", f"{name}:{first_line}")
+        code = "\n".join(lines) + "\n"
+    return Unit("python", squeeze(lines[0]), code, f"{name}:{first_line}")
 
 
 def document_units(path, name):

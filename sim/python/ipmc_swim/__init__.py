@@ -37,7 +37,12 @@ import numpy as np
 
 from . import _core
 from ._core import Error, Simulation, __version__
-from ._paths import MODELS_DIR, SCENARIOS_DIR
+from ._paths import MODELS_DIR, SCENARIOS_DIR, VERSION as _PACKAGE_VERSION
+
+if __version__ != _PACKAGE_VERSION:
+    raise ImportError(f"ipmc_swim: the package {os.path.dirname(__file__)} is version "
+                      f"{_PACKAGE_VERSION} but its extension ipmc_swim._core is {__version__}; "
+                      "rebuild and reinstall the package from one source tree")
 
 __all__ = ["Error", "Result", "Simulation", "bench", "bode", "design", "generate_model",
            "identify", "keys", "merge", "optimize", "options", "plot", "run", "step", "sweep",
