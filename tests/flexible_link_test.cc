@@ -269,7 +269,10 @@ double ObservedOrder(const int (&n)[3], const double (&s)[3]) {
                (std::pow(l(n[1]), p) - std::pow(l(n[2]), p)) - target;
   };
   double lo = 0.1, hi = 6.0;
-  for (int i = 0; i < 100; ++i) ((gap(lo) < 0) == (gap(0.5 * (lo + hi)) < 0) ? lo : hi) = 0.5 * (lo + hi);
+  for (int i = 0; i < 100; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    ((gap(lo) < 0) == (gap(mid) < 0) ? lo : hi) = mid;
+  }
   return 0.5 * (lo + hi);
 }
 
@@ -303,7 +306,8 @@ TEST_F(FlexibleLinkTest, StokesSingleActuationFollowsTheArcAgainstSegments) {
   // Second order in n: measured 1.977 and 1.995 (K2), 1.993 and 1.998 (K3).
   for (const auto& n : {std::array<int, 3>{4, 8, 16}, std::array<int, 3>{8, 16, 31}}) {
     for (const std::map<int, double>* k : {&k2_of, &k3_of}) {
-      const double order = ObservedOrder({n[0], n[1], n[2]}, {k->at(n[0]), k->at(n[1]), k->at(n[2])});
+      const double order =
+          ObservedOrder({n[0], n[1], n[2]}, {k->at(n[0]), k->at(n[1]), k->at(n[2])});
       std::printf("observed order of K%d from n = %d, %d, %d: %.3f\n", k == &k2_of ? 2 : 3, n[0],
                   n[1], n[2], order);
       EXPECT_GT(order, 1.8);
@@ -335,7 +339,8 @@ TEST_F(FlexibleLinkTest, StokesSwimConvergesAgainstSegments) {
     std::printf("swim %d %.7f\n", n, swim_mm[n]);
   }
   for (const auto& n : {std::array<int, 3>{4, 8, 16}, std::array<int, 3>{8, 16, 31}}) {
-    const double order = ObservedOrder({n[0], n[1], n[2]}, {swim_mm[n[0]], swim_mm[n[1]], swim_mm[n[2]]});
+    const double order =
+        ObservedOrder({n[0], n[1], n[2]}, {swim_mm[n[0]], swim_mm[n[1]], swim_mm[n[2]]});
     std::printf("observed order from n = %d, %d, %d: %.3f\n", n[0], n[1], n[2], order);
     EXPECT_GT(order, 1.8);
   }

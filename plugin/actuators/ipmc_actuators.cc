@@ -158,8 +158,11 @@ ChainShape::ChainShape(const std::vector<double>& segment_length_m)
     cumulative_share_m_.push_back(cumulative_m);
   }
   const double first_m = segment_length_m_[0];
+  const auto equal_to_first = [first_m](double l) {
+    return std::abs(l - first_m) <= 1e-9 * first_m;
+  };
   uniform_ = n > 1 && std::all_of(segment_length_m_.begin(), segment_length_m_.end() - 1,
-                                  [first_m](double l) { return std::abs(l - first_m) <= 1e-9 * first_m; });
+                                  equal_to_first);
   if (uniform_) {
     uniform_length_m_ = first_m;
     uniform_span_m_ = first_m * static_cast<double>(n - 1);
