@@ -147,22 +147,27 @@ Actuation ActuationOf(const mjModel* m) {
 
 ChainShape::ChainShape(const std::vector<double>& segment_length_m)
     : segment_length_m_(segment_length_m) {
+  const size_t n = segment_length_m_.size();
   double cumulative_m = 0.0;
-  for (size_t j = 0; j < segment_length_m_.size(); ++j) {
-    const double share_m = j == 0 ? 0.5 * segment_length_m_[0]
-                                  : 0.5 * (segment_length_m_[j - 1] + segment_length_m_[j]);
+  for (size_t j = 0; j < n; ++j) {
+    double share_m = j == 0 ? 0.5 * segment_length_m_[0]
+                            : 0.5 * (segment_length_m_[j - 1] + segment_length_m_[j]);
+    if (j > 0 && j == n - 1) share_m += 0.5 * segment_length_m_[j];  // reaches the tip
     share_m_.push_back(share_m);
     cumulative_m += share_m;
     cumulative_share_m_.push_back(cumulative_m);
   }
-  const double length_m = cumulative_m + 0.5 * segment_length_m_.back();
-  const double mean_m = length_m / static_cast<double>(segment_length_m_.size());
-  uniform_ = segment_length_m_.size() > 1 &&
-             std::all_of(segment_length_m_.begin(), segment_length_m_.end(),
-                         [mean_m](double l) { return std::abs(l - mean_m) <= 1e-9 * mean_m; });
+  const double first_m = segment_length_m_[0];
+  const auto equal_to_first = [first_m](double l) {
+    return std::abs(l - first_m) <= 1e-9 * first_m;
+  };
+  uniform_ = n > 1 && std::all_of(segment_length_m_.begin(), segment_length_m_.end() - 1,
+                                  equal_to_first);
   if (uniform_) {
-    uniform_length_m_ = mean_m;
-    total_length_m_ = length_m;
+    uniform_length_m_ = first_m;
+    uniform_span_m_ = first_m * static_cast<double>(n - 1);
+    end_length_m_ = segment_length_m_.back();
+    total_length_m_ = cumulative_m;
   }
   // f(kappa) rises while every cumulative angle kappa c_j is below pi and
   // f' = sum l_j c_j cos(kappa c_j) > 0; f' falls on [0, pi / c_last], so
@@ -180,14 +185,18 @@ ChainShape::ChainShape(const std::vector<double>& segment_length_m)
   reach_m_ = TipDeflection_m(lo);
 }
 
-// Equal sub-segments (c_j = (j + 1/2) l, n l = L): the sum of sines of an
-// arithmetic progression, f = l sin^2(kappa L / 2) / sin(kappa l / 2), and
-// its derivative, in a few operations whatever n.
+// All but the last sub-segment equal (c_j = (j + 1/2) l for j < n - 1,
+// the span of those m = n - 1 sub-segments S = m l, the last one of length
+// e at c = L): the sum of sines of an arithmetic progression,
+// f = l sin^2(kappa S / 2) / sin(kappa l / 2) + e sin(kappa L), and its
+// derivative, in a few operations whatever n.
 double ChainShape::TipDeflection_m(double kappa_1_m) const {
   if (uniform_) {
     if (kappa_1_m == 0.0) return 0.0;
-    const double half_total = std::sin(0.5 * kappa_1_m * total_length_m_);
-    return uniform_length_m_ * half_total * half_total / std::sin(0.5 * kappa_1_m * uniform_length_m_);
+    const double half_span = std::sin(0.5 * kappa_1_m * uniform_span_m_);
+    return uniform_length_m_ * half_span * half_span /
+               std::sin(0.5 * kappa_1_m * uniform_length_m_) +
+           end_length_m_ * std::sin(kappa_1_m * total_length_m_);
   }
   double y_m = 0.0;
   for (size_t j = 0; j < segment_length_m_.size(); ++j) {
@@ -198,13 +207,15 @@ double ChainShape::TipDeflection_m(double kappa_1_m) const {
 
 double ChainShape::Slope(double kappa_1_m) const {
   if (uniform_) {
-    if (kappa_1_m == 0.0) return 0.5 * total_length_m_ * total_length_m_;
-    const double l = uniform_length_m_, length_m = total_length_m_;
-    const double big_s = std::sin(0.5 * kappa_1_m * length_m);
-    const double big_c = std::cos(0.5 * kappa_1_m * length_m);
+    const double l = uniform_length_m_, span_m = uniform_span_m_, length_m = total_length_m_;
+    const double end_slope = end_length_m_ * length_m * std::cos(kappa_1_m * length_m);
+    if (kappa_1_m == 0.0) return 0.5 * span_m * span_m + end_slope;
+    const double big_s = std::sin(0.5 * kappa_1_m * span_m);
+    const double big_c = std::cos(0.5 * kappa_1_m * span_m);
     const double small_s = std::sin(0.5 * kappa_1_m * l);
     const double small_c = std::cos(0.5 * kappa_1_m * l);
-    return l * big_s * (length_m * big_c - 0.5 * l * big_s * small_c / small_s) / small_s;
+    return l * big_s * (span_m * big_c - 0.5 * l * big_s * small_c / small_s) / small_s +
+           end_slope;
   }
   double slope = 0.0;
   for (size_t j = 0; j < segment_length_m_.size(); ++j) {

@@ -7,18 +7,24 @@
 //   tau_i = k_i (theta0_i - theta_i) - c_i dtheta_i/dt.
 // The hinges carry the strip's bending stiffness for their share s_i of
 // the length, k_i = E I / s_i (discrete elastic rods weight each hinge by
-// its Voronoi length): s = l for an interior hinge, s = l / 2 for the root
-// hinge, whose other side is the stiff junction (the previous link's rigid
-// end, or the clamp). The natural angles theta0_i = kappa s_i are the
-// link's free shape, an arc of curvature kappa, so the active moment
-// k_i theta0_i = E I kappa is the same at every hinge of the link: the
-// IPMC's uniform electro-active moment. kappa is the
-// curvature whose free chain puts the link's tip at the model's free tip
-// deflection delta_free_q [mm] relative to the link's root tangent:
-//   sum_j l sin(kappa c_j) = delta_free_q,  c_j = (j + 1/2) l,
-// the midpoint rule of the arc's integral of sin(kappa s) ds, so the free
-// shape converges to the arc as 1/n^2. For n = 1 this is the rigid link's
-// theta0 = asin(delta_free_q / L_q). A deflection beyond the chain's reach
+// its Voronoi length): s_0 = l_0 / 2 for the root hinge, whose other side
+// is the stiff junction (the previous link's rigid end, or the clamp),
+// s_i = (l_(i-1) + l_i) / 2 inside, and the last hinge's share reaches the
+// tip, s_(n-1) = l_(n-2) / 2 + l_(n-1), so that the shares add up to the
+// link's length (the generator's layout, sim/core/model_generator.h:
+// s = l / 2, l, ..., l with a last sub-segment of l / 2). The natural
+// angles theta0_i = kappa s_i are the link's free shape, an arc of
+// curvature kappa, so the active moment k_i theta0_i = E I kappa is the
+// same at every hinge of the link: the IPMC's uniform electro-active
+// moment. kappa is the curvature whose free chain puts the link's tip at
+// the model's free tip deflection delta_free_q [mm] relative to the link's
+// root tangent:
+//   sum_j l_j sin(kappa c_j) = delta_free_q,  c_j = s_0 + ... + s_j,
+// the midpoint rule of the arc's integral of sin(kappa s) ds, with the
+// last sub-segment at the tip's angle kappa L: the free shape and the
+// tip's direction converge to the arc's as 1/n^2. For n = 1 (s_0 = L / 2)
+// this is the rigid link's theta0 = asin(delta_free_q / L_q). A deflection
+// beyond the chain's reach
 // is clamped to it (for n = 1, theta0 = +-pi/2); the first clamp of a
 // coupling is reported through mju_warning.
 // delta_free_q is the output of the link's model P_q(s) = s^-0.5 G_q(s)
@@ -113,11 +119,12 @@ struct LinkChain {
 
 // The free shape of a link's chain: sub-segment j (lengths l_j) lies at
 // the angle kappa c_j to the link's root tangent, c_j = sum_{i <= j} s_i,
-// with the hinges' shares s_0 = l_0 / 2, s_i = (l_(i-1) + l_i) / 2, so the
-// tip's deflection from that tangent is f(kappa) = sum_j l_j sin(kappa c_j).
-// For equal sub-segments (the generator's) f and df/dkappa are evaluated in
-// closed form, so a curvature costs the same whatever the number of
-// sub-segments.
+// with the hinges' shares s_0 = l_0 / 2, s_i = (l_(i-1) + l_i) / 2 and
+// s_(n-1) = l_(n-2) / 2 + l_(n-1) (n >= 2: the last sub-segment lies at
+// the tip's angle kappa L), so the tip's deflection from that tangent is
+// f(kappa) = sum_j l_j sin(kappa c_j). If all but the last sub-segment are
+// equal (the generator's layout) f and df/dkappa are evaluated in closed
+// form, so a curvature costs the same whatever the number of sub-segments.
 class ChainShape {
  public:
   explicit ChainShape(const std::vector<double>& segment_length_m);
@@ -138,10 +145,10 @@ class ChainShape {
 
   std::vector<double> segment_length_m_, share_m_, cumulative_share_m_;
   double max_curvature_1_m_ = 0, reach_m_ = 0;
-  // Equal sub-segments (within 1e-9, the model file's digits): f and f' in
-  // closed form.
+  // All but the last sub-segment equal (within 1e-9, the model file's
+  // digits): f and f' in closed form.
   bool uniform_ = false;
-  double uniform_length_m_ = 0, total_length_m_ = 0;
+  double uniform_length_m_ = 0, uniform_span_m_ = 0, end_length_m_ = 0, total_length_m_ = 0;
 };
 
 // Settings that a program may impose over the model's fields.

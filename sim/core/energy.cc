@@ -70,6 +70,7 @@ EnergyMeter::EnergyMeter(const mjModel* m, const mjData* d) {
   stepping_sign_ = inertial_ ? -1.0 : 1.0;
   actuator_J_.assign(link_dofs_.size(), 0.0);
   scratch_.assign(m->nv, 0.0);
+  step_start_moment_N_m_.assign(d->qfrc_actuator, d->qfrc_actuator + m->nv);
   cycle_start_stored_J_ = StoredEnergy_J(m, d);
 }
 
@@ -108,9 +109,20 @@ double EnergyMeter::StoredEnergy_J(const mjModel* m, const mjData* d) {
 
 void EnergyMeter::Observe(const mjModel* m, const mjData* d) {
   const double h = m->opt.timestep;
+  // Stokes: the trapezoid of the active moments over the step, whose
+  // change v . (f_end - f_start) h / 2 the backward-Euler balance leaves
+  // to the stepping term.
+  double moment_change_W = 0.0;
   for (size_t q = 0; q < link_dofs_.size(); ++q) {
     double power_W = 0.0;
-    for (int dof : link_dofs_[q]) power_W += d->qfrc_actuator[dof] * d->qvel[dof];
+    for (int dof : link_dofs_[q]) {
+      const double end_N_m = d->qfrc_actuator[dof];
+      double& start_N_m = step_start_moment_N_m_[dof];
+      const double mean_N_m = inertial_ ? end_N_m : 0.5 * (start_N_m + end_N_m);
+      power_W += mean_N_m * d->qvel[dof];
+      if (!inertial_) moment_change_W += 0.5 * (end_N_m - start_N_m) * d->qvel[dof];
+      start_N_m = end_N_m;
+    }
     actuator_J_[q] += h * power_W;
   }
   double damping_W = 0.0;
@@ -123,7 +135,7 @@ void EnergyMeter::Observe(const mjModel* m, const mjData* d) {
     const double rate = d->qvel[m->jnt_dofadr[j]];
     spring_h_W += 0.5 * m->jnt_stiffness[j] * h * rate * rate;
   }
-  stepping_J_ += h * stepping_sign_ * spring_h_W;
+  stepping_J_ += h * (stepping_sign_ * spring_h_W - moment_change_W);
   if (stokes_) {
     fluid_J_ += h * stokes_->fluid_power_W();
   } else if (drag_) {

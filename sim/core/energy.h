@@ -3,19 +3,29 @@
 // Over every step of length h the meter adds h times each power, with the
 // velocities the step moved the body with (qvel after the step) and the
 // forces it moved it against:
-//   active moments  P_q = sum over link q's hinges of qfrc_actuator . qdot
+//   active moments  P_q = sum over link q's hinges of qfrc_actuator . qdot;
+//                   in the Stokes mode with the moments' trapezoid over
+//                   the step, (f_n + f_(n+1)) / 2: the active moments
+//                   follow the link models' deflections, continuous in
+//                   time, and the step's backward Euler, which takes them
+//                   at the step's end, would otherwise book as the
+//                   actuators' work the k dtheta0^2 / 2 per step that a
+//                   jump of the rest angle dissipates
 //   fluid           P_f = -sum over the drag segments of (F . v_c + T_c . w)
 //                   (RftDrag::DissipatedPower_W: the drag model itself)
 //   hinge damping   P_c = sum over the dofs of c qdot^2 (the joints'
 //                   `damping`, not the paper's plant: docs/ENERGY.md)
-//   time stepping   P_h = -+ sum over the joints of k h qdot^2 / 2: the
-//                   springs' work that the step does not store. MuJoCo's
-//                   Euler step (inertial) takes the spring force at the
-//                   step's start, -k (q_n - q_spring), and so puts in
-//                   k dq^2 / 2 per step (P_h < 0, a negative damping
-//                   k h / 2); the Stokes step's backward Euler takes it at
-//                   the end and takes that much out (P_h > 0). It vanishes
-//                   with h (docs/ENERGY.md gives its size).
+//   time stepping   what the step leaves of the balance. MuJoCo's Euler
+//                   step (inertial) takes the spring force at the step's
+//                   start, -k (q_n - q_spring), and so puts in k dq^2 / 2
+//                   per step: P_h = -sum over the joints of k h qdot^2 / 2
+//                   (a negative damping k h / 2). The Stokes step's
+//                   backward Euler takes the springs and the moments at
+//                   the step's end: P_h = sum over the joints of
+//                   k h qdot^2 / 2 - sum over the links' hinges of
+//                   qdot (f_(n+1) - f_n) / 2 = qdot k (dq - dtheta0) / 2,
+//                   which vanishes for rest angles that change smoothly
+//                   (docs/ENERGY.md gives its size).
 // and at every cycle boundary the stored energy, the hinges' elastic
 // energy sum 1/2 k (q - q_spring)^2 plus, with inertia, the kinetic
 // energy 1/2 qdot^T M qdot. Over a cycle
@@ -126,6 +136,9 @@ class EnergyMeter {
   double cycle_start_stored_J_ = 0.0;
   std::vector<EnergyCycle> cycles_;
   std::vector<double> scratch_;
+  // Stokes: each dof's active moment at the step's start (the last step's
+  // end) [N m].
+  std::vector<double> step_start_moment_N_m_;
   // The electrical model: per link its network and the running cycle's
   // electrical energy [J]; empty when off.
   const IpmcActuators* actuators_ = nullptr;

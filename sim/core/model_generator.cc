@@ -46,9 +46,18 @@ double EquivalentRadius_m(const FlagellumSpec& spec) {
   return 0.25 * (spec.width_mm * kMmToM + spec.thickness_um * kUmToM);
 }
 
+// Where link q's root hinge sits in the gap before it, from the gap's
+// start [m]: at its middle for rigid links (the paper's joints), at the
+// strip's root for flexible ones, whose root hinge carries the strip's
+// curvature next to the root (elsewhere it would shift the rest of the
+// body by that angle times the offset, an error of first order in l).
+double HingeInGap_m(const FlagellumSpec& spec) {
+  return (spec.segments_per_link == 1 ? 0.5 : 1.0) * spec.gap_mm * kMmToM;
+}
+
 // Local x offset of link q's geometry from its hinge [m].
 double LinkStartOffset_m(const FlagellumSpec& spec, int q) {
-  return q == 0 ? 0.0 : 0.5 * spec.gap_mm * kMmToM;
+  return q == 0 ? 0.0 : spec.gap_mm * kMmToM - HingeInGap_m(spec);
 }
 
 bool HasIpmcActuators(const FlagellumSpec& spec) {
@@ -201,14 +210,19 @@ int MaxSegmentsPerLink(int links, bool head) {
 }
 
 SegmentMechanics ComputeSegmentMechanics(const FlagellumSpec& spec, int q, int segment) {
-  const double length_m = spec.link_lengths_mm.at(q) * kMmToM / spec.segments_per_link;
+  // n >= 2: n - 1 sub-segments of l = L / (n - 1/2) and a last one of
+  // l / 2, so that every hinge sits at the middle of its share of the
+  // strip and the shares l / 2, l, ..., l add up to L.
+  const int n = spec.segments_per_link;
+  const double full_m = spec.link_lengths_mm.at(q) * kMmToM / (n == 1 ? 1.0 : n - 0.5);
+  const double length_m = n > 1 && segment == n - 1 ? 0.5 * full_m : full_m;
   const double width_m = spec.width_mm * kMmToM;
   const double thickness_m = spec.thickness_um * kUmToM;
   SegmentMechanics mech{};
   mech.length_m = length_m;
   mech.mass_kg = spec.density_kg_m3 * length_m * width_m * thickness_m;
   mech.inertia_about_hinge_kg_m2 = mech.mass_kg * length_m * length_m / 3.0;
-  mech.hinge_share_m = segment == 0 ? 0.5 * length_m : length_m;
+  mech.hinge_share_m = segment == 0 ? 0.5 * full_m : full_m;
   const double second_moment_m4 = width_m * thickness_m * thickness_m * thickness_m / 12.0;
   mech.stiffness_N_m_rad = spec.bending_modulus_Pa * second_moment_m4 / mech.hinge_share_m;
   mech.damping_N_m_s_rad = 2.0 * spec.hinge_damping_ratio *
@@ -283,7 +297,7 @@ std::string GenerateFlagellumMjcf(const FlagellumSpec& spec) {
     }
     xml << indent << "<site name=\"tip" << n << "\" pos=\"" << Num(body_pos_m)
         << " 0 0\" size=\"0.0003\"/>\n";
-    body_pos_m += 0.5 * spec.gap_mm * kMmToM;
+    body_pos_m += HingeInGap_m(spec);
   }
   for (; open_bodies > 0; --open_bodies) {
     indent.resize(indent.size() - 2);

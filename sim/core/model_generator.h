@@ -3,21 +3,26 @@
 // Geometry (Table 1 of the paper for the default): links of length L_q
 // [mm], width w [mm] (normal to the bending plane) and thickness h [um]
 // (in the bending plane), separated by gaps g [mm]; hinges about z sit at
-// the middle of each gap. An optional rigid head (the electrode clamp that
-// link 1 bends against) precedes link 1. The root is free in the x-y plane
-// (slide x, slide y, hinge z) or welded ("clamped", as on the test bench).
+// the middle of each gap of rigid links. An optional rigid head (the
+// electrode clamp that link 1 bends against) precedes link 1. The root is
+// free in the x-y plane (slide x, slide y, hinge z) or welded ("clamped",
+// as on the test bench).
 //
-// Each link is n rigid sub-segments of length l = L_q / n (n = 1: one rigid
-// link); the sub-segments of a link are joined by hinges at their ends, with
-// no gap.
+// Each link is n rigid sub-segments joined by hinges at their ends, with
+// no gap. n = 1: one rigid link. n >= 2: n - 1 sub-segments of
+// l = L_q / (n - 1/2) and a last one of l / 2 ending at the link's tip;
+// the link's root hinge sits at the strip's root (the gap before it is
+// rigid, part of the previous link's last sub-segment).
 //
 // Mechanics (assumptions, overridable): mass from density rho; each hinge
 // carries the strip's bending stiffness for its share s of the length,
 // k = E I / s with I = w h^3 / 12 (discrete elastic rods weight each hinge
-// by its Voronoi length): s = l for a hinge between two sub-segments,
-// s = l / 2 for a link's root hinge, whose other side is the stiff junction
-// (for n = 1, k = 2 E I / L, the stiffness of a cantilever under an end
-// moment: M L^2 / (2 E I) = L M / k). Damping c = 2 zeta_h sqrt(k J)
+// by its Voronoi length): s = l / 2 for a link's root hinge, whose other
+// side is the stiff junction, s = l for the others, the last one's share
+// reaching the tip, so the shares add up to L_q and each interior hinge
+// sits at the middle of its share (second order in l, docs/DYNAMICS.md);
+// for n = 1, k = 2 E I / L, the stiffness of a cantilever under an end
+// moment: M L^2 / (2 E I) = L M / k. Damping c = 2 zeta_h sqrt(k J)
 // (J = m_s l^2 / 3, the sub-segment's inertia about its hinge) damps the
 // rigid sub-segment's hinge mode with ratio zeta_h.
 //
