@@ -183,6 +183,7 @@ std::vector<KeySpec> MakeScenarioKeys() {
           "none",
           "Files of scenario keys read first, in order (each by itself, its model relative to "
           "it), under this file's own keys: e.g. the plant.toml `identify` writes")
+          .Example("\"paper.toml\"")
           .Reads([](const KeyValue&, ScenarioConfig&) {}),
       Key(kModelKey, T::kString, "", "a readable MJCF file; relative to the scenario file's folder",
           "none: required unless link_lengths_mm or segments_per_link",
