@@ -105,7 +105,9 @@ TEST(IdentificationRoundTripTest, IdentifiedKeysSwimAsTheTrueOnes) {
   // The keys identify wrote swim within 1 % of the true plant's swim. The
   // loop makes the links follow the wave whatever the plant, so the plant
   // shows in the voltage it takes (~ 1 / a0): within 3 % of the truth's,
-  // and 38 % above it on the paper's plant.
+  // and 38 % above it on the paper's plant. (Measured on
+  // scenarios/own_strip.csv's plant.toml: swim 0.0002 %, link 1's RMS
+  // voltage -0.28 %.)
   const ClosedLoopResult identified = PaperRun(testing::ReadFile(dir / "plant.toml"));
   const ClosedLoopResult truth = PaperRun(kTruePlant);
   EXPECT_NEAR(SwimPerCycle_mm(identified) / SwimPerCycle_mm(truth), 1.0, 0.01);
