@@ -168,3 +168,32 @@ TEST(IdentificationRoundTripTest, TheShippedRecordGivesItsStripsPlant) {
 
 }  // namespace
 }  // namespace ipmc
+
+namespace ipmc {
+namespace {
+
+TEST(IdentificationRoundTripTest, OneRecordPerLinkGivesEachLinkItsPlant) {
+  // The shipped record for link 1 and, standing for links 2 and 3's own
+  // records, the same record again: plant.toml holds one plant per link,
+  // which a scenario takes.
+  const fs::path dir = testing::FreshDir("round_trip_links");
+  const std::string csv = (fs::path(IPMC_SWIM_SOURCE_DIR) / "scenarios" / "own_strip.csv").string();
+  IdentifyCommand command = Command(dir.string());
+  command.data_path = csv;
+  command.link_records = {csv, csv};
+  const RecordIdentification id = RunIdentifyCommandOnFile(command);
+  ASSERT_EQ(id.other_links.size(), 2u);
+  const ScenarioConfig scenario = ParseScenario(
+      "include = [\"" + Paper() + "\", \"" + (dir / "plant.toml").string() + "\"]\n",
+      (dir / "run.toml").string());
+  ASSERT_EQ(scenario.plant.link_a0_mm_per_V.size(), 3u);
+  for (double a0 : scenario.plant.link_a0_mm_per_V) {
+    EXPECT_DOUBLE_EQ(a0, id.id.g1.params.a0_mm_per_V);
+  }
+  EXPECT_EQ(scenario.plant.link_b2_s2.size(), 3u);
+  const nlohmann::json json = nlohmann::json::parse(testing::ReadFile(dir / "identification.json"));
+  EXPECT_EQ(json["other_links"].size(), 2u);
+}
+
+}  // namespace
+}  // namespace ipmc

@@ -71,6 +71,16 @@ int RunIdentify(const IdentifyCommand& args) {
   for (const std::string& warning : check.warnings) {
     std::fprintf(stderr, "warning: %s: %s\n", args.data_path.c_str(), warning.c_str());
   }
+  for (std::size_t i = 0; i < result.other_links.size(); ++i) {
+    const RecordIdentification& link = result.other_links[i];
+    const std::string& path = args.link_records[i];
+    std::printf("link %zu (%s): P1 = s^-0.5 G1, %s; R^2 = %.5f, %d of %d band bins\n", i + 2,
+                path.c_str(), DescribeG1(link.id.g1).c_str(), link.id.g1.indices.r_squared,
+                link.check.used_bins, link.check.band_bins);
+    for (const std::string& warning : link.check.warnings) {
+      std::fprintf(stderr, "warning: %s: %s\n", path.c_str(), warning.c_str());
+    }
+  }
 
   if (!args.out.empty()) {
     const std::filesystem::path dir(args.out);

@@ -369,7 +369,7 @@ ScenarioConfig ScenarioReader::Read(const toml::table& root, bool fragment) cons
     }
   }
   CheckWholeStepsPerSample(root, config);
-  if (config.GeneratesModel()) CheckGeneratedModel(root, config);
+  if (config.GeneratesModel() && !fragment) CheckGeneratedModel(root, config);
   if (Table(root, kWaveformTable) != nullptr) {
     try {
       config.waveform.Validate();

@@ -137,21 +137,9 @@ KeySpec ElectricalKey(const char* name, const char* unit, const char* default_to
 // that link; each value in the scalar key's range.
 template <std::vector<double> ScenarioConfig::LinkGains::*kField>
 Key LinkGainKey(const char* name, const char* unit, const char* allowed, const char* meaning,
-                    const char* example_toml) {
-  Key key(name, KeyType::kNumberArray, unit, allowed, "none: every link the scalar key's",
-          meaning);
-  key.Example(example_toml)
-      .Reads([](const KeyValue& v, ScenarioConfig& c) {
-        std::vector<double>& values = c.link_gains.*kField;
-        values.clear();
-        const std::size_t count = v.ArraySize("an array of one number per link");
-        for (std::size_t i = 0; i < count; ++i) values.push_back(v.NumberAt(i));
-      })
-      .Writes([](const ScenarioConfig& c) {
-        const std::vector<double>& values = c.link_gains.*kField;
-        return values.empty() ? kLeftOut : TomlFloats(values);
-      });
-  return key;
+                const char* example_toml) {
+  return PerLinkKey<ScenarioConfig::LinkGains, &ScenarioConfig::link_gains, kField>(
+      name, unit, allowed, meaning, example_toml);
 }
 
 // applies_when of every key: its conditions whose value is not the

@@ -51,20 +51,9 @@ Key PlantKey(const char* name, const char* unit, const char* allowed, const char
 template <std::vector<double> PlantConfig::*kField>
 Key LinkPlantKey(const char* name, const char* unit, const char* allowed, const char* meaning,
                  const char* example_toml, const char* field) {
-  Key key(name, KeyType::kNumberArray, unit, allowed, "none: every link the scalar key's",
-          meaning);
-  key.Example(example_toml)
-      .Fields(field)
-      .Reads([](const KeyValue& v, ScenarioConfig& c) {
-        std::vector<double>& values = c.plant.*kField;
-        values.clear();
-        const std::size_t count = v.ArraySize("an array of one number per link");
-        for (std::size_t i = 0; i < count; ++i) values.push_back(v.NumberAt(i));
-      })
-      .Writes([](const ScenarioConfig& c) {
-        const std::vector<double>& values = c.plant.*kField;
-        return values.empty() ? kLeftOut : TomlFloats(values);
-      });
+  Key key = PerLinkKey<PlantConfig, &ScenarioConfig::plant, kField>(name, unit, allowed, meaning,
+                                                                    example_toml);
+  key.Fields(field);
   return key;
 }
 

@@ -259,9 +259,33 @@ RecordIdentification IdentifyRecord(const IdentifySpec& spec, const std::vector<
   return result;
 }
 
+namespace {
+
+nlohmann::json FitCheckJson(const IdentifySpec& spec, const FitCheck& check) {
+  return {{"plant", spec.plant},
+          {"min_coherence", spec.min_coherence},
+          {"min_excitation_dB", spec.min_excitation_dB},
+          {"band_bins", check.band_bins},
+          {"used_bins", check.used_bins},
+          {"low_coherence_bins", check.low_coherence},
+          {"low_excitation_bins", check.low_excitation},
+          {"mean_coherence", check.mean_coherence},
+          {"r_squared", check.r_squared},
+          {"poor_fit", !check.warnings.empty()},
+          {"warnings", check.warnings}};
+}
+
+}  // namespace
+
 nlohmann::json IdentificationJson(const IdentifySpec& spec, const RecordIdentification& result) {
   const FrequencyResponseEstimate& estimate = result.estimate;
-  return {{"data", spec.data_path},
+  nlohmann::json links = nlohmann::json::array();
+  for (const RecordIdentification& link : result.other_links) {
+    links.push_back({{"g1", FitJson(link.id.g1)},
+                     {"g2", FitJson(link.id.g2)},
+                     {"fit_check", FitCheckJson(spec, link.check)}});
+  }
+  nlohmann::json json = {{"data", spec.data_path},
           {"input", spec.input_column},
           {"output", spec.output_column},
           {"sample_rate_Hz", spec.sample_rate_Hz},
@@ -273,40 +297,41 @@ nlohmann::json IdentificationJson(const IdentifySpec& spec, const RecordIdentifi
             {"section_step", estimate.section_step}}},
           {"g1", FitJson(result.id.g1)},
           {"g2", FitJson(result.id.g2)},
-          {"fit_check",
-           {{"plant", spec.plant},
-            {"min_coherence", spec.min_coherence},
-            {"min_excitation_dB", spec.min_excitation_dB},
-            {"band_bins", result.check.band_bins},
-            {"used_bins", result.check.used_bins},
-            {"low_coherence_bins", result.check.low_coherence},
-            {"low_excitation_bins", result.check.low_excitation},
-            {"mean_coherence", result.check.mean_coherence},
-            {"r_squared", result.check.r_squared},
-            {"poor_fit", !result.check.warnings.empty()},
-            {"warnings", result.check.warnings}}}};
+          {"fit_check", FitCheckJson(spec, result.check)}};
+  // Links 2..n (identify --link-records), each from its own record.
+  if (!links.empty()) json["other_links"] = links;
+  return json;
 }
 
 std::string PlantToml(const IdentifySpec& spec, const RecordIdentification& result) {
-  const LinkModelFit& fit = HandedFit(spec, result);
-  const IpmcLinkParams& p = fit.params;
-  std::string text = FormatText(
-      "# The plant ipmc-swim identify fitted to %s (input %s, output %s) over\n"
-      "# [%.6g, %.6g] rad/s: %d of %d bins, R^2 = %.6g%s. Every link gets it;\n"
-      "# a scenario takes it with include = [\"plant.toml\"].\n[plant]\nmodel = \"%s\"\n",
-      spec.data_path.c_str(), spec.input_column.c_str(), spec.output_column.c_str(),
-      result.levy.w_low_rad_s, result.levy.w_high_rad_s, result.check.used_bins,
-      result.check.band_bins, result.check.r_squared,
-      result.check.warnings.empty() ? "" : " (a poor fit: see identification.json)",
-      spec.plant.c_str());
-  text += "a0_mm_per_V = " + FormatShortest(p.a0_mm_per_V) + "\n";
-  text += "b1 = " + FormatShortest(p.b1) + "\n";
-  if (spec.plant == "g2") {
-    text += "alpha = " + FormatShortest(p.alpha) + "\n";
-  } else {
-    text += "b2_s2 = " + FormatShortest(p.b2_s2) + "\n";
+  std::vector<const RecordIdentification*> links = {&result};
+  for (const RecordIdentification& link : result.other_links) links.push_back(&link);
+  bool poor = false;
+  std::vector<double> a0, b1, b2_or_alpha;
+  for (const RecordIdentification* link : links) {
+    const IpmcLinkParams& p = HandedFit(spec, *link).params;
+    a0.push_back(p.a0_mm_per_V);
+    b1.push_back(p.b1);
+    b2_or_alpha.push_back(spec.plant == "g2" ? p.alpha : p.b2_s2);
+    poor = poor || !link->check.warnings.empty();
   }
-  return text;
+  std::string text = FormatText(
+      "# The plant%s ipmc-swim identify fitted to %s%s (input %s, output %s)\n"
+      "# over [%.6g, %.6g] rad/s: R^2 = %.6g%s%s. A scenario takes %s with\n"
+      "# include = [\"plant.toml\"].\n[plant]\nmodel = \"%s\"\n",
+      links.size() > 1 ? "s" : "", spec.data_path.c_str(),
+      links.size() > 1 ? " and the other links' records" : "", spec.input_column.c_str(),
+      spec.output_column.c_str(), result.levy.w_low_rad_s, result.levy.w_high_rad_s,
+      result.check.r_squared, links.size() > 1 ? " on link 1" : "",
+      poor ? " (a poor fit: see identification.json)" : "",
+      links.size() > 1 ? "one per link" : "it for every link", spec.plant.c_str());
+  const char* last = spec.plant == "g2" ? "alpha" : "b2_s2";
+  if (links.size() == 1) {
+    return text + "a0_mm_per_V = " + FormatShortest(a0[0]) + "\nb1 = " + FormatShortest(b1[0]) +
+           "\n" + last + " = " + FormatShortest(b2_or_alpha[0]) + "\n";
+  }
+  return text + "link_a0_mm_per_V = " + *TomlFloats(a0) + "\nlink_b1 = " + *TomlFloats(b1) +
+         "\nlink_" + last + " = " + *TomlFloats(b2_or_alpha) + "\n";
 }
 
 std::string ResponseCsv(const FrequencyResponseEstimate& e, const LinkIdentification& id) {
@@ -427,6 +452,10 @@ OptionTable<IdentifyCommand> MakeIdentifyOptions() {
   OptionInfo plant{"plant", "", "", "The fit written to plant.toml: g1 (eq. 5) or g2 (eq. 6)"};
   plant.choices = {"g1", "g2"};
   table.Add<std::string>(plant, [](IdentifyCommand& c) -> std::string& { return c.plant; });
+  OptionInfo links{"link_records", "", "CSV files with the record's columns",
+                   "Records of links 2..n, one per link: plant.toml gets one plant per link"};
+  table.Add<std::vector<std::string>>(
+      links, [](IdentifyCommand& c) -> std::vector<std::string>& { return c.link_records; });
   OptionInfo out{"out", "", "a folder",
                  "Folder for response.csv, identification.json and plant.toml"};
   out.aliases = {"o"};
@@ -476,11 +505,40 @@ const OptionTable<DesignCommand>& DesignOptions() {
   return table;
 }
 
+namespace {
+
+// The columns of the record in the file spec.data_path; a time_s column,
+// if present, is checked against the rate.
+struct RecordColumns {
+  std::vector<double> input, output;
+  std::optional<std::vector<double>> time_s;
+};
+RecordColumns ReadRecordColumns(const IdentifySpec& spec) {
+  const CsvTable data = CsvTable::Read(spec.data_path);
+  RecordColumns record{data.FiniteNumbers(spec.input_column),
+                       data.FiniteNumbers(spec.output_column), std::nullopt};
+  if (data.Has(columns::kTime)) record.time_s = data.FiniteNumbers(columns::kTime);
+  return record;
+}
+
+RecordIdentification IdentifyFile(const IdentifySpec& spec) {
+  const RecordColumns record = ReadRecordColumns(spec);
+  return IdentifyRecord(spec, record.input, record.output,
+                        record.time_s ? &*record.time_s : nullptr);
+}
+
+}  // namespace
+
 RecordIdentification RunIdentifyCommand(const IdentifyCommand& command,
                                         const std::vector<double>& input,
                                         const std::vector<double>& output,
                                         const std::vector<double>* time_s) {
   RecordIdentification result = IdentifyRecord(command, input, output, time_s);
+  for (const std::string& path : command.link_records) {
+    IdentifySpec link = command;
+    link.data_path = path;
+    result.other_links.push_back(IdentifyFile(link));
+  }
   if (!command.out.empty()) {
     const std::string json = IdentificationJson(command, result).dump(2) + "\n";
     EnsureDirectory(command.out);
@@ -494,12 +552,9 @@ RecordIdentification RunIdentifyCommand(const IdentifyCommand& command,
 
 RecordIdentification RunIdentifyCommandOnFile(const IdentifyCommand& command) {
   command.Validate();
-  const CsvTable data = CsvTable::Read(command.data_path);
-  const std::vector<double> input = data.FiniteNumbers(command.input_column);
-  const std::vector<double> output = data.FiniteNumbers(command.output_column);
-  std::optional<std::vector<double>> time_s;
-  if (data.Has(columns::kTime)) time_s = data.FiniteNumbers(columns::kTime);
-  return RunIdentifyCommand(command, input, output, time_s ? &*time_s : nullptr);
+  const RecordColumns record = ReadRecordColumns(command);
+  return RunIdentifyCommand(command, record.input, record.output,
+                            record.time_s ? &*record.time_s : nullptr);
 }
 
 std::vector<IpmcLinkParams> PlantsOfKeyFile(const std::string& path) {

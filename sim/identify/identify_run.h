@@ -74,14 +74,17 @@ struct RecordIdentification {
   FrequencyResponseEstimate estimate;
   LinkIdentification id;
   FitCheck check;
+  // Links 2..n from IdentifyCommand::link_records, in order.
+  std::vector<RecordIdentification> other_links;
 };
 
 // The fit spec.plant names (g1 or g2).
 const LinkModelFit& HandedFit(const IdentifySpec& spec, const RecordIdentification& result);
 
 // plant.toml: the handed fit as the scenario keys [plant] (model, a0, b1
-// and b2 or alpha), for every link, which a scenario includes (`include`)
-// to run the identified plant.
+// and b2 or alpha) for every link, or with other_links the fits of links
+// 1..n as plant.link_*, which a scenario includes (`include`) to run the
+// identified plants.
 std::string PlantToml(const IdentifySpec& spec, const RecordIdentification& result);
 
 // Identifies one record: `time_s` (may be null) must be spaced at the
@@ -142,6 +145,9 @@ LinkDesign DesignLink(const DesignSpec& spec, const IpmcLinkParams* own_plant = 
 // `identify` as both front ends run it: the record's columns and rate,
 // the band, and the output folder (response.csv, identification.json).
 struct IdentifyCommand : IdentifySpec {
+  // Records of links 2..n, one per link, with the record's columns, rate
+  // and band: plant.toml then holds one plant per link.
+  std::vector<std::string> link_records;
   std::string out;  // "": no files
 };
 const OptionTable<IdentifyCommand>& IdentifyOptions();
