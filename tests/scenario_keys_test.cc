@@ -84,9 +84,11 @@ TEST(ScenarioKeysTest, EveryKeyTakesItsDefaultAndItsExampleAndRefusesItsRefusedV
   // fluid.rft_coefficients) or the wave's (fluid.rft_wavelength_mm) and
   // fluid.wall_gap_mm (no wall), the Stokeslets' points per mm and blob
   // (from the strip's radius) and the five controller.link_* gains (every
-  // link the scalar key's) has one; every key but the booleans and the
+  // link the scalar key's), include (no files), the strip's four keys
+  // (stating one generates the flagellum) and the plant's eight number
+  // keys (the assigned plant) has one; every key but the booleans and the
   // unbounded ones has a refused value.
-  EXPECT_EQ(defaults, static_cast<int>(ScenarioKeys().size()) - 17);
+  EXPECT_EQ(defaults, static_cast<int>(ScenarioKeys().size()) - 30);
   EXPECT_GE(refusals, 20);
 }
 
@@ -105,7 +107,8 @@ std::string Canonical(const toml::node& node) {
 
 // Each key's reader and writer are one entry of the table: a key's example
 // value read into a scenario comes back from ResolvedScenarioToml as it was
-// given (the model's path comes back resolved, output.dir not at all).
+// given (the model's path comes back resolved, output.dir and include,
+// which is read before the keys, not at all).
 TEST(ScenarioKeysTest, EveryKeysExampleIsWrittenBackAsRead) {
   int compared = 0;
   for (const KeySpec& key : ScenarioKeys()) {
@@ -120,7 +123,7 @@ TEST(ScenarioKeysTest, EveryKeysExampleIsWrittenBackAsRead) {
     EXPECT_EQ(Canonical(*written.node()), Canonical(*given.get("value")));
     ++compared;
   }
-  EXPECT_EQ(compared, static_cast<int>(ScenarioKeys().size()) - 2);
+  EXPECT_EQ(compared, static_cast<int>(ScenarioKeys().size()) - 3);
 }
 
 TEST(ScenarioKeysTest, BoundsInTheTableAreTheReadersBounds) {
@@ -150,8 +153,9 @@ TEST(ScenarioKeysTest, TheReaderAllowsExactlyTheTablesKeys) {
   for (const std::string& name : ScenarioKeysUnder("")) {
     if (!ScenarioKeysUnder(name).empty()) tables.push_back(name);
   }
-  // The top level, controller, waveform, fluid, metrics, electrical, output.
-  EXPECT_EQ(tables.size(), 7u);
+  // The top level, strip, plant, controller, waveform, fluid, metrics,
+  // electrical, output.
+  EXPECT_EQ(tables.size(), 9u);
   for (const std::string& table : tables) {
     SCOPED_TRACE(table);
     const std::string unknown = table.empty() ? "speed" : table + ".speed";

@@ -404,7 +404,7 @@ TEST_F(SweepTest, BadSweepFilesGiveOneLineErrorsBeforeAnyRun) {
        ":3: unknown key 'waveform.frequencyHz' (allowed: kind, c0_um, c1_um_per_mm, "
        "c2_um_per_mm2, c_um, alpha, frequency_Hz, wavelength_mm, start_ramp_cycles)"},
       {"base = \"fast.toml\"\n[grid]\nspeed = [1]\n",
-       ":3: unknown key 'speed' (allowed: model, link_lengths_mm, segments_per_link, plants, actuation, dynamics, hinge_damping_scale, cycles, timestep_s, controller, "
+       ":3: unknown key 'speed' (allowed: include, model, link_lengths_mm, segments_per_link, plants, actuation, dynamics, hinge_damping_scale, cycles, timestep_s, strip, plant, controller, "
        "waveform, fluid, metrics, electrical, output)"},
       {"base = \"fast.toml\"\n[grid]\nactuation = [\"single\"]\ncycles = [1, 1.5]\n",
        ":4: cycles must be an integer (got float)"},

@@ -9,10 +9,18 @@ namespace ipmc {
 namespace {
 
 
-void PrintDesign(const DesignSpec& args, const LinkDesign& result) {
-  std::printf("plant: link %d, P = s^-0.5 %s (Table 2%s)\n", args.link,
-              args.plant == "g2" ? "G2" : "G1",
-              args.link == 3 && args.plant == "g1" ? ", eq. 7" : "");
+void PrintDesign(const DesignSpec& args, const std::string& plant_file, const LinkDesign& result) {
+  const IpmcLinkParams& p = result.params;
+  if (!plant_file.empty()) {
+    const bool g2 = p.kind == IpmcModelKind::kG2;
+    std::printf("plant: link %d, P = s^-0.5 %s, a0 = %.6g mm/V, b1 = %.6g, %s = %.6g (%s)\n",
+                args.link, g2 ? "G2" : "G1", p.a0_mm_per_V, p.b1, g2 ? "alpha" : "b2",
+                g2 ? p.alpha : p.b2_s2, plant_file.c_str());
+  } else {
+    std::printf("plant: link %d, P = s^-0.5 %s (Table 2%s)\n", args.link,
+                args.plant == "g2" ? "G2" : "G1",
+                args.link == 3 && args.plant == "g1" ? ", eq. 7" : "");
+  }
   const FractionalIntegratorDesign& d = result.fractional.design;
   std::printf("fractional integrator for crossover %g rad/s, phase margin %g deg:\n",
               args.crossover_rad_s, args.phase_margin_deg);
@@ -55,8 +63,9 @@ int RunDesignCommandLine(const DesignArgs& args) {
     if (i > 0) std::printf("\n");
     DesignSpec spec = args.spec;
     spec.link = args.spec.links[i];
-    PrintDesign(spec, designs[i]);
+    PrintDesign(spec, args.spec.plant_file, designs[i]);
   }
+  if (!args.spec.out.empty()) std::printf("\nwrote %s\n", args.spec.out.c_str());
   return 0;
 }
 

@@ -63,11 +63,30 @@ int RunIdentify(const IdentifyCommand& args) {
   std::printf("P1 = s^-0.5 G1, %s\n", DescribeG1(id.g1).c_str());
   std::printf("P2 = s^-0.5 G2, %s\n", DescribeG2(id.g2, id).c_str());
   PrintIndicesTable(id);
+  const FitCheck& check = result.check;
+  std::printf("fit check: %d of %d band bins drove the fits (%d below coherence %g, %d below "
+              "excitation -%g dB), mean coherence %.4f\n",
+              check.used_bins, check.band_bins, check.low_coherence, args.min_coherence,
+              check.low_excitation, args.min_excitation_dB, check.mean_coherence);
+  for (const std::string& warning : check.warnings) {
+    std::fprintf(stderr, "warning: %s: %s\n", args.data_path.c_str(), warning.c_str());
+  }
+  for (std::size_t i = 0; i < result.other_links.size(); ++i) {
+    const RecordIdentification& link = result.other_links[i];
+    const std::string& path = args.link_records[i];
+    std::printf("link %zu (%s): P1 = s^-0.5 G1, %s; R^2 = %.5f, %d of %d band bins\n", i + 2,
+                path.c_str(), DescribeG1(link.id.g1).c_str(), link.id.g1.indices.r_squared,
+                link.check.used_bins, link.check.band_bins);
+    for (const std::string& warning : link.check.warnings) {
+      std::fprintf(stderr, "warning: %s: %s\n", path.c_str(), warning.c_str());
+    }
+  }
 
   if (!args.out.empty()) {
     const std::filesystem::path dir(args.out);
-    std::printf("wrote %s and %s\n", (dir / "response.csv").string().c_str(),
-                (dir / "identification.json").string().c_str());
+    std::printf("wrote %s, %s and %s\n", (dir / "response.csv").string().c_str(),
+                (dir / "identification.json").string().c_str(),
+                (dir / "plant.toml").string().c_str());
   }
   return 0;
 }

@@ -69,6 +69,17 @@ OptionTable<GenerateCommand> MakeGenerateOptions() {
   OptionInfo model{"ipmc_model", "", "", "IPMC link model: g1 (eq. 5) | g2 (eq. 6)"};
   model.allowed = "g1 | g2";
   table.Add<std::string>(model, [](G& s) -> std::string& { return s.ipmc_model; });
+  const auto plant = [&table](const char* name, const char* unit, const char* meaning,
+                              std::vector<double> G::*field) {
+    OptionInfo info{name, unit, "one value per link", meaning};
+    info.default_text = "none: the assigned plant's";
+    table.Add<std::vector<double>>(info, [field](G& s) -> std::vector<double>& { return s.*field; });
+  };
+  plant("a0_mm_per_V", "mm/V", "Each link's static gain a0 of G, over the assigned plant's",
+        &G::a0_mm_per_V);
+  plant("b1", "s or s^alpha", "Each link's b1 of G", &G::b1);
+  plant("b2_s2", "s^2", "Each link's b2 of G1", &G::b2_s2);
+  plant("alpha", "", "Each link's order alpha of G2", &G::alpha);
   OptionInfo actuation{"actuation", "", "", "distributed | single"};
   actuation.allowed = "distributed | single";
   table.Add<std::string>(actuation, [](G& s) -> std::string& { return s.actuation; });

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "plugin/actuators/ipmc_actuators.h"
 #include "plugin/base/error.h"
@@ -91,6 +92,14 @@ void WriteCustomFields(const FlagellumSpec& spec, std::ostringstream& xml) {
     text(kAttrPlants, spec.plants);
     text(kAttrModel, spec.ipmc_model);
     text(kAttrActuation, spec.actuation);
+    const std::pair<const char*, const std::vector<double>*> plant[] = {
+        {kAttrA0, &spec.a0_mm_per_V}, {kAttrB1, &spec.b1}, {kAttrB2, &spec.b2_s2},
+        {kAttrAlpha, &spec.alpha}};
+    for (const auto& [name, values] : plant) {
+      std::string data;
+      for (double value : *values) data += (data.empty() ? "" : " ") + Num(value);
+      if (!data.empty()) numeric(name, data);
+    }
   }
   xml << "  </custom>\n";
 }
@@ -168,6 +177,16 @@ void FlagellumSpec::Validate() const {
   if (!ParsePlantAssignment(plants)) {
     throw FieldError("flagellum spec: plants must be uniform or table2 (got '" + plants + "')",
                      "plants", "uniform or table2");
+  }
+  const std::pair<const char*, const std::vector<double>*> plant[] = {
+      {"a0_mm_per_V", &a0_mm_per_V}, {"b1", &b1}, {"b2_s2", &b2_s2}, {"alpha", &alpha}};
+  for (const auto& [field, values] : plant) {
+    if (!values->empty() && values->size() != link_lengths_mm.size()) {
+      throw FieldError("flagellum spec: " + std::string(field) + " must hold one value per link (" +
+                           std::to_string(Links()) + "; got " + std::to_string(values->size()) +
+                           ")",
+                       field, "one value per link");
+    }
   }
   if (ipmc_model != "g1" && ipmc_model != "g2") {
     throw FieldError("flagellum spec: ipmc_model must be g1 or g2 (got '" + ipmc_model + "')",

@@ -77,6 +77,11 @@ struct FlagellumSpec {
   bool ipmc_actuators = true;
   std::string plants = "uniform";           // uniform | table2
   std::string ipmc_model = "g1";            // g1 | g2
+  // The links' own plants of eq. 5 (G1) or eq. 6 (G2) over the assigned,
+  // length-scaled ones: each empty (the assigned plant) or one value per
+  // link, written as ipmc_a0_mm_per_V [mm/V], ipmc_b1 [s or s^alpha],
+  // ipmc_b2_s2 [s^2] and ipmc_alpha.
+  std::vector<double> a0_mm_per_V, b1, b2_s2, alpha;
   std::string actuation = "distributed";    // distributed | single
   std::string name = "flagellum";
 

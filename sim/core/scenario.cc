@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -21,6 +22,7 @@
 #include <utility>
 #include <vector>
 
+#include "sim/core/model_generator.h"
 #include "sim/core/scenario_keys.h"
 #include "plugin/base/error.h"
 #include "sim/io/files.h"
@@ -215,6 +217,9 @@ class ScenarioReader {
     if (spec.upper == Bound::kClosed && !(value <= spec.maximum)) {
       FailBound(entry, value, "<= ", spec.maximum);
     }
+    if (spec.upper == Bound::kOpen && !(value < spec.maximum)) {
+      FailBound(entry, value, "< ", spec.maximum);
+    }
     return value;
   }
   [[noreturn]] void FailBound(const Entry& entry, double value, const std::string& relation,
@@ -265,12 +270,15 @@ class ScenarioReader {
     Fail(InputProblem::kBadValue, TableLine(table), table_name, message, allowed);
   }
 
-  ScenarioConfig Read(const toml::table& root) const;
+  // fragment: an included file, which may leave the model to the file
+  // that includes it.
+  ScenarioConfig Read(const toml::table& root, bool fragment = false) const;
 
   const std::string& source() const { return source_; }
 
  private:
   void CheckWholeStepsPerSample(const toml::table& root, const ScenarioConfig& config) const;
+  void CheckGeneratedModel(const toml::table& root, const ScenarioConfig& config) const;
 
   std::string source_;
 };
@@ -314,7 +322,7 @@ class DocumentValue : public KeyValue {
 // Every key of the table that the document holds, read in table order:
 // first the selectors (the kinds of the tables), then, once every key's
 // kind is checked, the others. The Configs' own Validate() runs last.
-ScenarioConfig ScenarioReader::Read(const toml::table& root) const {
+ScenarioConfig ScenarioReader::Read(const toml::table& root, bool fragment) const {
   RejectUnknownKeys(root, "");
   for (const std::string& name : ScenarioKeysUnder("")) {
     if (FindScenarioKey(name) != nullptr) continue;  // a key, not a table
@@ -337,7 +345,7 @@ ScenarioConfig ScenarioReader::Read(const toml::table& root) const {
   for (const auto& [key, entry] : others) RequireConditions(*key, entry, config);
   for (const auto& [key, entry] : others) key->read(DocumentValue(*this, entry), config);
 
-  if (config.model_path.empty() && !config.GeneratesModel()) {
+  if (config.model_path.empty() && !config.GeneratesModel() && !fragment) {
     Fail(InputProblem::kMissing, 0, kModelKey,
          std::string(kModelKey) + " is required (or " + kLinkLengthsKey + ")");
   }
@@ -361,6 +369,7 @@ ScenarioConfig ScenarioReader::Read(const toml::table& root) const {
     }
   }
   CheckWholeStepsPerSample(root, config);
+  if (config.GeneratesModel() && !fragment) CheckGeneratedModel(root, config);
   if (Table(root, kWaveformTable) != nullptr) {
     try {
       config.waveform.Validate();
@@ -403,6 +412,30 @@ void ScenarioReader::CheckWholeStepsPerSample(const toml::table& root,
             "1 / (sample rate x a whole number) s");
 }
 
+// The flagellum the scenario generates must be one the generator writes
+// (a per-link array holds one value per link, ...); its FieldError is
+// placed on the line of the key that set the field, else the first such
+// key the document holds.
+void ScenarioReader::CheckGeneratedModel(const toml::table& root,
+                                         const ScenarioConfig& config) const {
+  try {
+    ScenarioFlagellumSpec(config).Validate();
+  } catch (const FieldError& error) {
+    std::optional<Entry> where;
+    // Backwards: a per-link array before its scalar key.
+    for (auto key = ScenarioKeys().rbegin(); key != ScenarioKeys().rend(); ++key) {
+      if (!KeyHasField(*key, error.field())) continue;
+      where = FindKey(root, key->name);
+      if (where) break;
+    }
+    if (!where) where = FindKey(root, kLinkLengthsKey);
+    const std::string message = error.what();
+    const std::string reason = message.substr(message.find(": ") + 2);
+    if (where) FailValue(*where, where->key + ": " + reason, error.allowed());
+    Fail(InputProblem::kBadValue, 0, error.field(), reason, error.allowed());
+  }
+}
+
 // Dotted key -> TOML value of every key a scenario resolves to: each key's
 // writer, for the keys whose conditions the scenario meets.
 std::map<std::string, std::string> ResolvedValues(const ScenarioConfig& config) {
@@ -441,9 +474,102 @@ std::string ResolvedScenarioToml(const ScenarioConfig& config) {
   return text;
 }
 
+namespace {
+
+// Deepest chain of included files.
+constexpr int kMaxIncludeDepth = 8;
+
+// `from`'s keys over `into`'s: tables merge key by key, any other value
+// replaces the one before.
+void MergeTable(toml::table& into, const toml::table& from) {
+  for (auto&& [key, node] : from) {
+    toml::table* inner = into.get_as<toml::table>(key.str());
+    if (inner != nullptr && node.is_table()) {
+      MergeTable(*inner, *node.as_table());
+      continue;
+    }
+    node.visit([&into, &key = key](auto&& value) { into.insert_or_assign(key.str(), value); });
+  }
+}
+
+// The files `root`'s include key names, resolved against `source`'s folder.
+std::vector<std::string> IncludedFiles(const toml::table& root, const std::string& source) {
+  namespace fs = std::filesystem;
+  const toml::node* node = root.get(kIncludeKey);
+  if (node == nullptr) return {};
+  const std::uint32_t line = node->source().begin.line;
+  const std::string allowed = "a file or an array of files";
+  std::vector<std::string> names;
+  if (node->is_string()) names.push_back(node->as_string()->get());
+  if (const toml::array* array = node->as_array()) {
+    for (const toml::node& element : *array) {
+      if (!element.is_string()) {
+        throw InputError(InputProblem::kWrongType, {source, line}, kIncludeKey,
+                         std::string(kIncludeKey) + " must be " + allowed + " (strings)", allowed);
+      }
+      names.push_back(element.as_string()->get());
+    }
+  }
+  if (names.empty()) {
+    throw InputError(InputProblem::kWrongType, {source, line}, kIncludeKey,
+                     std::string(kIncludeKey) + " must be " + allowed + " (got " +
+                         TomlTypeName(node->type()) + ")",
+                     allowed);
+  }
+  std::vector<std::string> files;
+  for (const std::string& name : names) {
+    fs::path path(name);
+    if (path.is_relative()) path = fs::path(source).parent_path() / path;
+    files.push_back(fs::absolute(path).lexically_normal().string());
+  }
+  return files;
+}
+
+// `root` with the keys of the files it includes under its own (each
+// included file's own includes first), and its include key gone. Each
+// included file is read as a scenario by itself first (but for the model,
+// which the including file may give), so that its errors name it and its
+// lines; its model path is made absolute, as relative to it.
+toml::table WithIncludes(toml::table root, const std::string& source,
+                         std::vector<std::string>* chain) {
+  const std::vector<std::string> files = IncludedFiles(root, source);
+  if (files.empty()) return root;
+  const std::uint32_t line = root.get(kIncludeKey)->source().begin.line;
+  if (chain->size() >= static_cast<std::size_t>(kMaxIncludeDepth)) {
+    throw InputError(InputProblem::kBadValue, {source, line}, kIncludeKey,
+                     std::string(kIncludeKey) + " nests deeper than " +
+                         std::to_string(kMaxIncludeDepth) + " files",
+                     "at most " + std::to_string(kMaxIncludeDepth) + " nested files");
+  }
+  toml::table merged;
+  for (const std::string& file : files) {
+    if (std::find(chain->begin(), chain->end(), file) != chain->end()) {
+      throw InputError(InputProblem::kBadValue, {source, line}, kIncludeKey,
+                       std::string(kIncludeKey) + ": '" + file + "' includes itself",
+                       "files that do not include each other");
+    }
+    chain->push_back(file);
+    toml::table included =
+        WithIncludes(ParseToml(ReadTextFile(file, "included scenario file"), file), file, chain);
+    chain->pop_back();
+    if (const ScenarioConfig own = ScenarioReader(file).Read(included, /*fragment=*/true);
+        !own.model_path.empty()) {
+      included.insert_or_assign(kModelKey, own.model_path);
+    }
+    MergeTable(merged, included);
+  }
+  root.erase(kIncludeKey);
+  MergeTable(merged, root);
+  return merged;
+}
+
+}  // namespace
+
 ScenarioConfig ParseScenario(const std::string& toml_text, const std::string& source) {
   const ScenarioReader reader(source);
-  return reader.Read(ParseToml(toml_text, source));
+  std::vector<std::string> chain = {
+      std::filesystem::absolute(source).lexically_normal().string()};
+  return reader.Read(WithIncludes(ParseToml(toml_text, source), source, &chain));
 }
 
 ScenarioConfig LoadScenario(const std::string& path) {

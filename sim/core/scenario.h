@@ -61,6 +61,7 @@
 #include "controllers/pid.h"
 #include "plugin/actuators/ipmc_actuators.h"
 #include "sim/core/electrical.h"
+#include "sim/core/strip_keys.h"
 #include "sim/core/waveform.h"
 
 namespace ipmc {
@@ -73,6 +74,8 @@ struct ScenarioConfig {
   std::vector<double> link_lengths_mm;  // non-empty: generate the model instead
   int segments_per_link = 0;            // > 0: generate the model instead
   std::optional<PlantAssignment> plants;  // over the model's ipmc_plants
+  StripConfig strip;  // [strip]: any key generates the model
+  PlantConfig plant;  // [plant]: likewise
   std::string actuation = "distributed";
   std::optional<Dynamics> dynamics;       // over the model's ipmc_dynamics
   double hinge_damping_scale = 1.0;       // times every joint's damping
@@ -118,7 +121,9 @@ struct ScenarioConfig {
   // size limits of sim/core/step_count.h.
   bool allow_long_run = false;
 
-  bool GeneratesModel() const { return !link_lengths_mm.empty() || segments_per_link > 0; }
+  bool GeneratesModel() const {
+    return !link_lengths_mm.empty() || segments_per_link > 0 || strip.Any() || plant.Any();
+  }
 };
 
 // Parses and validates; throws InputError (plugin/base/error.h, a

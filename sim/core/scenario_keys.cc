@@ -17,95 +17,17 @@
 #include "plugin/base/numbers.h"
 #include "plugin/fluid/regularized_stokeslets.h"
 #include "sim/core/model_generator.h"
+#include "sim/core/key_builder.h"
 #include "sim/core/scenario.h"
+#include "sim/core/strip_keys.h"
 
 namespace ipmc {
-namespace {
 
-// Builds one KeySpec entry by named steps.
-class Key {
- public:
-  Key(const char* name, KeyType type, const char* unit, const char* allowed,
-      const char* default_text, const char* meaning) {
-    spec_.name = name;
-    spec_.type = type;
-    spec_.unit = unit;
-    spec_.allowed = allowed;
-    spec_.default_text = default_text;
-    spec_.meaning = meaning;
-  }
-  Key& Default(const char* toml) {
-    spec_.default_toml = toml;
-    return *this;
-  }
-  Key& Example(const char* toml) {
-    spec_.example_toml = toml;
-    return *this;
-  }
-  Key& Refused(const char* toml) {
-    spec_.refused_toml = toml;
-    return *this;
-  }
-  Key& Only(const char* selector, const char* value) {
-    spec_.only.push_back({selector, value});
-    return *this;
-  }
-  Key& Fields(const char* fields) {
-    spec_.fields = fields;
-    return *this;
-  }
-  Key& Reads(KeyReader read) {
-    spec_.read = read;
-    return *this;
-  }
-  Key& Writes(KeyWriter write) {
-    spec_.write = write;
-    return *this;
-  }
-  Key& Choices(const char* choices) {
-    spec_.choices = choices;
-    return *this;
-  }
-  Key& Above(double minimum) { return Lower(Bound::kOpen, minimum); }
-  Key& AtLeast(double minimum) { return Lower(Bound::kClosed, minimum); }
-  Key& AtMost(double maximum) {
-    spec_.upper = Bound::kClosed;
-    spec_.maximum = maximum;
-    return *this;
-  }
-  operator KeySpec() const { return spec_; }
-
- private:
-  Key& Lower(Bound bound, double minimum) {
-    spec_.lower = bound;
-    spec_.minimum = minimum;
-    return *this;
-  }
-  KeySpec spec_{};
-};
-
-// Selectors and the values they choose between.
-constexpr char kControllerKind[] = "controller.kind";
-constexpr char kFluidModel[] = "fluid.model";
-constexpr char kStokeslets[] = "stokeslets";
-constexpr char kRealisation[] = "controller.realisation";
-constexpr char kWaveformKind[] = "waveform.kind";
-constexpr const char* kPid = controller_names::kPid;
-// The controller kind, and the waveform kind spelt the same.
-constexpr const char* kFractional = controller_names::kFractional;
-constexpr char kOustaloup[] = "oustaloup";
-constexpr char kPolynomial[] = "polynomial";
-constexpr int kMaxLinks = 20;
-
-// Values as a resolved scenario writes them.
-const std::optional<std::string> kLeftOut = std::nullopt;
 std::optional<std::string> TomlString(const std::string& text) {
   std::ostringstream out;
   out << toml::value<std::string>(text);
   return out.str();
 }
-// The shortest text that reads back exactly, always a TOML float ("1000.0",
-// "-0.0"), so that even the sign of zero survives.
 std::string FloatText(double value) {
   std::string text = FormatShortest(value);
   if (text.find_first_of(".e") == std::string::npos) text += ".0";
@@ -119,6 +41,21 @@ std::optional<std::string> TomlFloats(const std::vector<double>& values) {
 }
 std::optional<std::string> TomlBool(bool value) { return value ? "true" : "false"; }
 std::optional<std::string> TomlInteger(int value) { return std::to_string(value); }
+
+namespace {
+
+// Selectors and the values they choose between.
+constexpr char kControllerKind[] = "controller.kind";
+constexpr char kFluidModel[] = "fluid.model";
+constexpr char kStokeslets[] = "stokeslets";
+constexpr char kRealisation[] = "controller.realisation";
+constexpr char kWaveformKind[] = "waveform.kind";
+constexpr const char* kPid = controller_names::kPid;
+// The controller kind, and the waveform kind spelt the same.
+constexpr const char* kFractional = controller_names::kFractional;
+constexpr char kOustaloup[] = "oustaloup";
+constexpr char kPolynomial[] = "polynomial";
+constexpr int kMaxLinks = 20;
 
 bool IsPid(const ScenarioConfig& config) { return config.controller == ControllerKind::kPid; }
 
@@ -204,25 +141,9 @@ KeySpec ElectricalKey(const char* name, const char* unit, const char* default_to
 // that link; each value in the scalar key's range.
 template <std::vector<double> ScenarioConfig::LinkGains::*kField>
 Key LinkGainKey(const char* name, const char* unit, const char* allowed, const char* meaning,
-                    const char* example_toml) {
-  Key key(name, KeyType::kNumberArray, unit, allowed, "none: every link the scalar key's",
-          meaning);
-  key.Example(example_toml)
-      .Reads([](const KeyValue& v, ScenarioConfig& c) {
-        std::vector<double>& values = c.link_gains.*kField;
-        values.clear();
-        const std::size_t count = v.ArraySize("an array of one number per link");
-        if (count == 0) {
-          v.Fail(v.name() + ": an empty array; give one value per link, or leave the key out",
-                 "an array of one number per link");
-        }
-        for (std::size_t i = 0; i < count; ++i) values.push_back(v.NumberAt(i));
-      })
-      .Writes([](const ScenarioConfig& c) {
-        const std::vector<double>& values = c.link_gains.*kField;
-        return values.empty() ? kLeftOut : TomlFloats(values);
-      });
-  return key;
+                const char* example_toml) {
+  return PerLinkKey<ScenarioConfig::LinkGains, &ScenarioConfig::link_gains, kField>(
+      name, unit, allowed, meaning, example_toml);
 }
 
 // applies_when of every key: its conditions whose value is not the
@@ -246,6 +167,16 @@ std::vector<KeySpec> MakeScenarioKeys() {
   static_assert(kMaxSegmentsPerLink == 64 && kMaxOustaloupPairs == 64,
                 "the allowed ranges below state these limits");
   std::vector<KeySpec> keys = {
+      // Read before the others (sim/core/scenario.cc, WithIncludes): the
+      // document is its included files' keys with its own over them.
+      Key(kIncludeKey, T::kString, "",
+          "a TOML file of scenario keys, or an array of them; relative to this file; at most 8 "
+          "deep",
+          "none",
+          "Files of scenario keys read first, in order (each by itself, its model relative to "
+          "it), under this file's own keys: e.g. the plant.toml `identify` writes")
+          .Example("\"paper.toml\"")
+          .Reads([](const KeyValue&, ScenarioConfig&) {}),
       Key(kModelKey, T::kString, "", "a readable MJCF file; relative to the scenario file's folder",
           "none: required unless link_lengths_mm or segments_per_link",
           "The MJCF model: links, IPMC actuators and RFT drag (its `ipmc_*` fields)")
@@ -753,6 +684,12 @@ std::vector<KeySpec> MakeScenarioKeys() {
           .Reads([](const KeyValue& v, ScenarioConfig& c) { c.samples_per_cycle = v.Integer(); })
           .Writes([](const ScenarioConfig& c) { return TomlInteger(c.samples_per_cycle); }),
   };
+  // The strip and its plants describe the robot: after the top-level keys.
+  const auto controller = std::find_if(keys.begin(), keys.end(), [](const KeySpec& key) {
+    return std::string(key.name) == kControllerKind;
+  });
+  const std::vector<KeySpec> strip = StripAndPlantKeys();
+  keys.insert(controller, strip.begin(), strip.end());
   WriteAppliesWhen(&keys);
   return keys;
 }
@@ -843,8 +780,9 @@ std::string SelectorValue(const std::string& selector, const ScenarioConfig& con
   if (key == nullptr || key->type != KeyType::kChoice || key->write == nullptr) {
     throw std::logic_error("scenario key " + selector + " is not a selector");
   }
-  // A choice is written as a TOML string of plain characters: 'pid'.
-  const std::string text = *key->write(config);
+  // A choice is written as a TOML string of plain characters: 'pid'; a
+  // selector left out of a resolved scenario has its default.
+  const std::string text = key->write(config).value_or(key->default_toml);
   return text.substr(1, text.size() - 2);
 }
 

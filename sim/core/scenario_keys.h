@@ -24,6 +24,7 @@ namespace ipmc {
 struct ScenarioConfig;  // sim/core/scenario.h
 
 // Keys and tables the reader's checks across keys name.
+constexpr char kIncludeKey[] = "include";
 constexpr char kModelKey[] = "model";
 constexpr char kLinkLengthsKey[] = "link_lengths_mm";
 constexpr char kTimestepKey[] = "timestep_s";

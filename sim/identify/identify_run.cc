@@ -17,6 +17,9 @@
 #include "plugin/base/numbers.h"
 #include "sim/identify/loop_analysis.h"
 #include "sim/io/files.h"
+#include "sim/core/key_builder.h"
+#include "sim/core/model_generator.h"
+#include "sim/core/scenario.h"
 
 namespace ipmc {
 namespace {
@@ -107,6 +110,76 @@ void IdentifySpec::Validate() const {
   if (input_column == output_column) {
     ThrowOption(name, "output", "a column other than input", output_column);
   }
+  if (!(min_coherence >= 0) || !(min_coherence < 1)) {
+    ThrowOption(name, "min_coherence", "in [0, 1)", FormatDouble(min_coherence));
+  }
+  RequireFinitePositive(name, "min_excitation_dB", min_excitation_dB);
+  if (plant != "g1" && plant != "g2") ThrowOption(name, "plant", "g1 or g2", plant);
+}
+
+namespace {
+
+// Fewest bins a fit may rest on (G1 has three parameters).
+constexpr int kMinFitBins = 4;
+
+// The band's bins that drive the fits (FitCheck), and the counts.
+struct FitBins {
+  std::vector<double> w_rad_s;
+  std::vector<Complex> response;
+  FitCheck check;
+};
+
+FitBins SelectFitBins(const FrequencyResponseEstimate& e, const LevyOptions& band,
+                      const IdentifySpec& spec) {
+  FitBins bins;
+  double most_psd = 0;
+  for (std::size_t i = 0; i < e.w_rad_s.size(); ++i) {
+    if (e.w_rad_s[i] >= band.w_low_rad_s && e.w_rad_s[i] <= band.w_high_rad_s) {
+      most_psd = std::max(most_psd, e.input_psd[i]);
+    }
+  }
+  const double least_psd = most_psd * std::pow(10.0, -spec.min_excitation_dB / 10);
+  double coherence_sum = 0;
+  for (std::size_t i = 0; i < e.w_rad_s.size(); ++i) {
+    if (e.w_rad_s[i] < band.w_low_rad_s || e.w_rad_s[i] > band.w_high_rad_s) continue;
+    ++bins.check.band_bins;
+    if (e.coherence[i] < spec.min_coherence) {
+      ++bins.check.low_coherence;
+    } else if (e.input_psd[i] < least_psd) {
+      ++bins.check.low_excitation;
+    } else {
+      bins.w_rad_s.push_back(e.w_rad_s[i]);
+      bins.response.push_back(e.response[i]);
+      coherence_sum += e.coherence[i];
+    }
+  }
+  bins.check.used_bins = static_cast<int>(bins.w_rad_s.size());
+  if (bins.check.used_bins > 0) bins.check.mean_coherence = coherence_sum / bins.check.used_bins;
+  return bins;
+}
+
+// The warnings of a fit resting on `check`'s bins.
+void JudgeFit(const IdentifySpec& spec, const LinkModelFit& fit, FitCheck* check) {
+  check->r_squared = fit.indices.r_squared;
+  const std::string name = spec.plant == "g2" ? "P2" : "P1";
+  if (check->r_squared < kPoorFitR2) {
+    check->warnings.push_back(FormatText("poor fit: %s has R^2 = %.4g (below %.4g)", name.c_str(),
+                                         check->r_squared, kPoorFitR2));
+  }
+  if (2 * check->used_bins < check->band_bins) {
+    check->warnings.push_back(FormatText(
+        "only %d of the band's %d bins drove the fit (%d with coherence below %.4g, %d excited "
+        "less than %.4g dB below the most): excite the band or narrow it",
+        check->used_bins, check->band_bins, check->low_coherence, spec.min_coherence,
+        check->low_excitation, spec.min_excitation_dB));
+  }
+  if (!fit.stable) check->warnings.push_back("the " + name + " fit is unstable");
+}
+
+}  // namespace
+
+const LinkModelFit& HandedFit(const IdentifySpec& spec, const RecordIdentification& result) {
+  return spec.plant == "g2" ? result.id.g2 : result.id.g1;
 }
 
 RecordIdentification IdentifyRecord(const IdentifySpec& spec, const std::vector<double>& input,
@@ -166,13 +239,53 @@ RecordIdentification IdentifyRecord(const IdentifySpec& spec, const std::vector<
         name.c_str(), result.levy.w_low_rad_s, result.estimate.w_rad_s.front(),
         input.size() / spec.sample_rate_Hz, needed_s), "band_rad_s", "above the first Welch bin");
   }
-  result.id = IdentifyLinkModels(result.estimate, result.levy);
+  FitBins bins = SelectFitBins(result.estimate, result.levy, spec);
+  if (bins.check.used_bins < kMinFitBins) {
+    throw FieldError(FormatText("%s: %s has %d bins in band_rad_s [%.4g, %.4g] with coherence >= "
+                                "%.4g and excitation within %.4g dB (at least %d needed)",
+                                name.c_str(), spec.data_path.c_str(), bins.check.used_bins,
+                                result.levy.w_low_rad_s, result.levy.w_high_rad_s,
+                                spec.min_coherence, spec.min_excitation_dB, kMinFitBins),
+                     "band_rad_s", "a band the record excites");
+  }
+  // The fits see only the used bins; their band is the bins' span (the
+  // same points as the band when every bin is used).
+  LevyOptions levy = result.levy;
+  levy.w_low_rad_s = bins.w_rad_s.front();
+  levy.w_high_rad_s = bins.w_rad_s.back();
+  result.id = IdentifyLinkModels(bins.w_rad_s, bins.response, levy);
+  result.check = std::move(bins.check);
+  JudgeFit(spec, HandedFit(spec, result), &result.check);
   return result;
 }
 
+namespace {
+
+nlohmann::json FitCheckJson(const IdentifySpec& spec, const FitCheck& check) {
+  return {{"plant", spec.plant},
+          {"min_coherence", spec.min_coherence},
+          {"min_excitation_dB", spec.min_excitation_dB},
+          {"band_bins", check.band_bins},
+          {"used_bins", check.used_bins},
+          {"low_coherence_bins", check.low_coherence},
+          {"low_excitation_bins", check.low_excitation},
+          {"mean_coherence", check.mean_coherence},
+          {"r_squared", check.r_squared},
+          {"poor_fit", !check.warnings.empty()},
+          {"warnings", check.warnings}};
+}
+
+}  // namespace
+
 nlohmann::json IdentificationJson(const IdentifySpec& spec, const RecordIdentification& result) {
   const FrequencyResponseEstimate& estimate = result.estimate;
-  return {{"data", spec.data_path},
+  nlohmann::json links = nlohmann::json::array();
+  for (const RecordIdentification& link : result.other_links) {
+    links.push_back({{"g1", FitJson(link.id.g1)},
+                     {"g2", FitJson(link.id.g2)},
+                     {"fit_check", FitCheckJson(spec, link.check)}});
+  }
+  nlohmann::json json = {{"data", spec.data_path},
           {"input", spec.input_column},
           {"output", spec.output_column},
           {"sample_rate_Hz", spec.sample_rate_Hz},
@@ -183,7 +296,42 @@ nlohmann::json IdentificationJson(const IdentifySpec& spec, const RecordIdentifi
             {"section_samples", estimate.section_samples},
             {"section_step", estimate.section_step}}},
           {"g1", FitJson(result.id.g1)},
-          {"g2", FitJson(result.id.g2)}};
+          {"g2", FitJson(result.id.g2)},
+          {"fit_check", FitCheckJson(spec, result.check)}};
+  // Links 2..n (identify --link-records), each from its own record.
+  if (!links.empty()) json["other_links"] = links;
+  return json;
+}
+
+std::string PlantToml(const IdentifySpec& spec, const RecordIdentification& result) {
+  std::vector<const RecordIdentification*> links = {&result};
+  for (const RecordIdentification& link : result.other_links) links.push_back(&link);
+  bool poor = false;
+  std::vector<double> a0, b1, b2_or_alpha;
+  for (const RecordIdentification* link : links) {
+    const IpmcLinkParams& p = HandedFit(spec, *link).params;
+    a0.push_back(p.a0_mm_per_V);
+    b1.push_back(p.b1);
+    b2_or_alpha.push_back(spec.plant == "g2" ? p.alpha : p.b2_s2);
+    poor = poor || !link->check.warnings.empty();
+  }
+  std::string text = FormatText(
+      "# The plant%s ipmc-swim identify fitted to %s%s (input %s, output %s)\n"
+      "# over [%.6g, %.6g] rad/s: R^2 = %.6g%s%s. A scenario takes %s with\n"
+      "# include = [\"plant.toml\"].\n[plant]\nmodel = \"%s\"\n",
+      links.size() > 1 ? "s" : "", spec.data_path.c_str(),
+      links.size() > 1 ? " and the other links' records" : "", spec.input_column.c_str(),
+      spec.output_column.c_str(), result.levy.w_low_rad_s, result.levy.w_high_rad_s,
+      result.check.r_squared, links.size() > 1 ? " on link 1" : "",
+      poor ? " (a poor fit: see identification.json)" : "",
+      links.size() > 1 ? "one per link" : "it for every link", spec.plant.c_str());
+  const char* last = spec.plant == "g2" ? "alpha" : "b2_s2";
+  if (links.size() == 1) {
+    return text + "a0_mm_per_V = " + FormatShortest(a0[0]) + "\nb1 = " + FormatShortest(b1[0]) +
+           "\n" + last + " = " + FormatShortest(b2_or_alpha[0]) + "\n";
+  }
+  return text + "link_a0_mm_per_V = " + *TomlFloats(a0) + "\nlink_b1 = " + *TomlFloats(b1) +
+         "\nlink_" + last + " = " + *TomlFloats(b2_or_alpha) + "\n";
 }
 
 std::string ResponseCsv(const FrequencyResponseEstimate& e, const LinkIdentification& id) {
@@ -240,7 +388,7 @@ PidTuningOptions TuningOptions(const std::string& command, double crossover_rad_
   return options;
 }
 
-LinkDesign DesignLink(const DesignSpec& spec) {
+LinkDesign DesignLink(const DesignSpec& spec, const IpmcLinkParams* own_plant) {
   const std::string name = kDesignCommand;
   if (spec.link < 1 || spec.link > 3) {
     ThrowOption(name, "links", "1, 2 or 3", std::to_string(spec.link));
@@ -254,7 +402,9 @@ LinkDesign DesignLink(const DesignSpec& spec) {
   result.tuning = TuningOptions(name, spec.crossover_rad_s, spec.reference_order,
                                 spec.horizon_s, spec.sample_rate_Hz);
   result.params =
-      PaperLinkParams(spec.link, spec.plant == "g2" ? IpmcModelKind::kG2 : IpmcModelKind::kG1);
+      own_plant != nullptr
+          ? *own_plant
+          : PaperLinkParams(spec.link, spec.plant == "g2" ? IpmcModelKind::kG2 : IpmcModelKind::kG1);
   const IpmcLinkParams params = result.params;
   const FrequencyFunction plant = [params](double w) { return LinkResponseExact(params, w); };
   result.fractional = DesignFractionalLoop(plant, spec.crossover_rad_s, spec.phase_margin_deg);
@@ -292,7 +442,22 @@ OptionTable<IdentifyCommand> MakeIdentifyOptions() {
   table.Add<std::vector<double>>(
       {"band_rad_s", "rad/s", "LOW,HIGH with 0 < LOW < HIGH", "Identification band"},
       [](IdentifyCommand& c) -> std::vector<double>& { return c.band_rad_s; });
-  OptionInfo out{"out", "", "a folder", "Folder for response.csv and identification.json"};
+  table.Add<double>({"min_coherence", "", "in [0, 1)",
+                     "Bins with less coherence do not drive the fits"},
+                    [](IdentifyCommand& c) -> double& { return c.min_coherence; });
+  table.Add<double>({"min_excitation_dB", "dB", "finite and > 0",
+                     "Bins whose input density is further below the band's largest do not "
+                     "drive the fits"},
+                    [](IdentifyCommand& c) -> double& { return c.min_excitation_dB; });
+  OptionInfo plant{"plant", "", "", "The fit written to plant.toml: g1 (eq. 5) or g2 (eq. 6)"};
+  plant.choices = {"g1", "g2"};
+  table.Add<std::string>(plant, [](IdentifyCommand& c) -> std::string& { return c.plant; });
+  OptionInfo links{"link_records", "", "CSV files with the record's columns",
+                   "Records of links 2..n, one per link: plant.toml gets one plant per link"};
+  table.Add<std::vector<std::string>>(
+      links, [](IdentifyCommand& c) -> std::vector<std::string>& { return c.link_records; });
+  OptionInfo out{"out", "", "a folder",
+                 "Folder for response.csv, identification.json and plant.toml"};
   out.aliases = {"o"};
   table.AddPath(out, [](IdentifyCommand& c) -> std::string& { return c.out; });
   return table;
@@ -316,6 +481,15 @@ OptionTable<DesignCommand> MakeDesignOptions() {
                     [](DesignCommand& c) -> double& { return c.horizon_s; });
   table.Add<double>({"sample_rate_Hz", "Hz", "finite and > 0", "PID rate in the tuning loop"},
                     [](DesignCommand& c) -> double& { return c.sample_rate_Hz; });
+  OptionInfo plant_file{"plant_file", "", "a TOML file of [plant] scenario keys",
+                        "Design for the plants these keys give (identify's plant.toml) instead "
+                        "of Table 2's"};
+  plant_file.default_text = "none: Table 2";
+  table.AddPath(plant_file, [](DesignCommand& c) -> std::string& { return c.plant_file; });
+  OptionInfo out{"out", "", "a TOML file; links 1..n in order",
+                 "Write the tuned PIDs as controller.link_kp, link_ki, link_kd"};
+  out.aliases = {"o"};
+  table.AddPath(out, [](DesignCommand& c) -> std::string& { return c.out; });
   return table;
 }
 
@@ -331,40 +505,119 @@ const OptionTable<DesignCommand>& DesignOptions() {
   return table;
 }
 
+namespace {
+
+// The columns of the record in the file spec.data_path; a time_s column,
+// if present, is checked against the rate.
+struct RecordColumns {
+  std::vector<double> input, output;
+  std::optional<std::vector<double>> time_s;
+};
+RecordColumns ReadRecordColumns(const IdentifySpec& spec) {
+  const CsvTable data = CsvTable::Read(spec.data_path);
+  RecordColumns record{data.FiniteNumbers(spec.input_column),
+                       data.FiniteNumbers(spec.output_column), std::nullopt};
+  if (data.Has(columns::kTime)) record.time_s = data.FiniteNumbers(columns::kTime);
+  return record;
+}
+
+RecordIdentification IdentifyFile(const IdentifySpec& spec) {
+  const RecordColumns record = ReadRecordColumns(spec);
+  return IdentifyRecord(spec, record.input, record.output,
+                        record.time_s ? &*record.time_s : nullptr);
+}
+
+}  // namespace
+
 RecordIdentification RunIdentifyCommand(const IdentifyCommand& command,
                                         const std::vector<double>& input,
                                         const std::vector<double>& output,
                                         const std::vector<double>* time_s) {
   RecordIdentification result = IdentifyRecord(command, input, output, time_s);
+  for (const std::string& path : command.link_records) {
+    IdentifySpec link = command;
+    link.data_path = path;
+    result.other_links.push_back(IdentifyFile(link));
+  }
   if (!command.out.empty()) {
     const std::string json = IdentificationJson(command, result).dump(2) + "\n";
     EnsureDirectory(command.out);
     const std::filesystem::path dir(command.out);
     WriteFilesTogether({{(dir / "response.csv").string(), ResponseCsv(result.estimate, result.id)},
-                        {(dir / "identification.json").string(), json}});
+                        {(dir / "identification.json").string(), json},
+                        {(dir / "plant.toml").string(), PlantToml(command, result)}});
   }
   return result;
 }
 
 RecordIdentification RunIdentifyCommandOnFile(const IdentifyCommand& command) {
   command.Validate();
-  const CsvTable data = CsvTable::Read(command.data_path);
-  const std::vector<double> input = data.FiniteNumbers(command.input_column);
-  const std::vector<double> output = data.FiniteNumbers(command.output_column);
-  std::optional<std::vector<double>> time_s;
-  if (data.Has(columns::kTime)) time_s = data.FiniteNumbers(columns::kTime);
-  return RunIdentifyCommand(command, input, output, time_s ? &*time_s : nullptr);
+  const RecordColumns record = ReadRecordColumns(command);
+  return RunIdentifyCommand(command, record.input, record.output,
+                            record.time_s ? &*record.time_s : nullptr);
+}
+
+std::vector<IpmcLinkParams> PlantsOfKeyFile(const std::string& path) {
+  // The keys as a scenario that includes the file and generates the
+  // paper's three links: the scenario reader checks them and the
+  // generator's spec holds one value per link.
+  const std::string file = std::filesystem::absolute(path).lexically_normal().string();
+  const ScenarioConfig scenario =
+      ParseScenario("include = " + *TomlString(file) + "\nlink_lengths_mm = [10.0, 10.0, 10.0]\n",
+                    "design --plant-file");
+  const FlagellumSpec spec = ScenarioFlagellumSpec(scenario);
+  const IpmcModelKind kind = spec.ipmc_model == "g2" ? IpmcModelKind::kG2 : IpmcModelKind::kG1;
+  std::vector<IpmcLinkParams> plants;
+  for (int q = 0; q < spec.Links(); ++q) {
+    IpmcLinkParams p = AssignedLinkParams(PlantAssignment::kUniform, q + 1, kind,
+                                          spec.link_lengths_mm[q] * 1e-3);
+    if (!spec.a0_mm_per_V.empty()) p.a0_mm_per_V = spec.a0_mm_per_V[q];
+    if (!spec.b1.empty()) p.b1 = spec.b1[q];
+    if (!spec.b2_s2.empty()) p.b2_s2 = spec.b2_s2[q];
+    if (!spec.alpha.empty()) p.alpha = spec.alpha[q];
+    plants.push_back(p);
+  }
+  return plants;
 }
 
 std::vector<LinkDesign> RunDesignCommand(const DesignCommand& command) {
   ValidateLinkList(kDesignCommand, command.links);
+  if (!command.out.empty()) {
+    for (std::size_t i = 0; i < command.links.size(); ++i) {
+      if (command.links[i] != static_cast<int>(i) + 1) {
+        ThrowOption(kDesignCommand, "out", "links 1..n in order (one gain per link of the run)",
+                    "links " + std::to_string(command.links[i]) + " at place " +
+                        std::to_string(i + 1));
+      }
+    }
+    RequireWritableParent(command.out);
+  }
+  std::vector<IpmcLinkParams> plants;
+  if (!command.plant_file.empty()) plants = PlantsOfKeyFile(command.plant_file);
   std::vector<LinkDesign> designs;
   for (const int link : command.links) {
     DesignSpec spec = command;
     spec.link = link;
-    designs.push_back(DesignLink(spec));
+    designs.push_back(DesignLink(spec, plants.empty() ? nullptr : &plants.at(link - 1)));
   }
+  if (!command.out.empty()) WriteFileAtomically(command.out, GainsToml(command, designs));
   return designs;
+}
+
+std::string GainsToml(const DesignCommand& command, const std::vector<LinkDesign>& designs) {
+  std::vector<double> kp, ki, kd;
+  for (const LinkDesign& design : designs) {
+    kp.push_back(design.tuned.gains.kp);
+    ki.push_back(design.tuned.gains.ki);
+    kd.push_back(design.tuned.gains.kd);
+  }
+  return FormatText("# PIDs ipmc-swim design tuned per link for the plants of %s by J of eq. 11\n"
+                    "# over %g s against 1/((s/%g)^%g + 1); a scenario takes them with\n"
+                    "# include = [\"gains.toml\"].\n",
+                    command.plant_file.empty() ? "Table 2" : command.plant_file.c_str(),
+                    command.horizon_s, command.crossover_rad_s, command.reference_order) +
+         "[controller]\nlink_kp = " + *TomlFloats(kp) + "\nlink_ki = " + *TomlFloats(ki) +
+         "\nlink_kd = " + *TomlFloats(kd) + "\n";
 }
 
 }  // namespace ipmc

@@ -37,18 +37,55 @@ struct IdentifySpec {
   std::string output_column;  // [mm]
   double sample_rate_Hz = 1000.0;
   std::vector<double> band_rad_s = {0.2, 50.0};
+  // Bins of the band drive the fits only where the record excites them and
+  // input and output are coherent: coherence >= min_coherence and the
+  // input's spectral density within min_excitation_dB of its largest in
+  // the band. So a chirp, broadband noise, stepped sines or multisines
+  // each give their excited bins, and a bin between a multisine's lines or
+  // beyond a chirp's end does not pull the fit.
+  double min_coherence = 0.8;       // in [0, 1)
+  double min_excitation_dB = 30.0;  // > 0
+  // The fit handed to a run (plant.toml): g1 or g2.
+  std::string plant = "g1";
 
-  // The sample rate, the band and distinct columns; throws
+  // The sample rate, the band, the thresholds and distinct columns; throws
   // std::invalid_argument naming the field.
   void Validate() const;
 };
+
+// How far the fit can be trusted: which bins of the band drove it, and
+// warnings for a poor fit (R^2 of the handed fit below kPoorFitR2, fewer
+// than half the band's bins used, an unstable fit).
+struct FitCheck {
+  int band_bins = 0;        // Welch bins inside the band
+  int used_bins = 0;        // of which drove the fits
+  int low_coherence = 0;    // left out: coherence below min_coherence
+  int low_excitation = 0;   // left out: input below min_excitation_dB (and not counted above)
+  double mean_coherence = 0;  // over the used bins
+  double r_squared = 0;       // of the handed fit (spec.plant)
+  std::vector<std::string> warnings;  // one line each; empty: a good fit
+};
+// R^2 of a fit below this is a poor fit.
+constexpr double kPoorFitR2 = 0.95;
 
 struct RecordIdentification {
   std::size_t samples = 0;  // of the record
   LevyOptions levy;  // the band
   FrequencyResponseEstimate estimate;
   LinkIdentification id;
+  FitCheck check;
+  // Links 2..n from IdentifyCommand::link_records, in order.
+  std::vector<RecordIdentification> other_links;
 };
+
+// The fit spec.plant names (g1 or g2).
+const LinkModelFit& HandedFit(const IdentifySpec& spec, const RecordIdentification& result);
+
+// plant.toml: the handed fit as the scenario keys [plant] (model, a0, b1
+// and b2 or alpha) for every link, or with other_links the fits of links
+// 1..n as plant.link_*, which a scenario includes (`include`) to run the
+// identified plants.
+std::string PlantToml(const IdentifySpec& spec, const RecordIdentification& result);
 
 // Identifies one record: `time_s` (may be null) must be spaced at the
 // spec's sample rate within 0.1 %, and the record long enough for Welch's
@@ -99,19 +136,23 @@ struct LinkDesign {
   double tuning_s = 0;           // wall time of the PID tuning
 };
 
-// Validates (std::invalid_argument naming the field) and designs.
-LinkDesign DesignLink(const DesignSpec& spec);
+// Validates (std::invalid_argument naming the field) and designs for
+// `own_plant`, or Table 2's row spec.link of spec.plant if null.
+LinkDesign DesignLink(const DesignSpec& spec, const IpmcLinkParams* own_plant = nullptr);
 
 // ------------------------------------------------------ the commands ---
 
 // `identify` as both front ends run it: the record's columns and rate,
 // the band, and the output folder (response.csv, identification.json).
 struct IdentifyCommand : IdentifySpec {
+  // Records of links 2..n, one per link, with the record's columns, rate
+  // and band: plant.toml then holds one plant per link.
+  std::vector<std::string> link_records;
   std::string out;  // "": no files
 };
 const OptionTable<IdentifyCommand>& IdentifyOptions();
-// Identifies the record (IdentifyRecord) and writes OUT/response.csv and
-// OUT/identification.json together.
+// Identifies the record (IdentifyRecord) and writes OUT/response.csv,
+// OUT/identification.json and OUT/plant.toml together.
 RecordIdentification RunIdentifyCommand(const IdentifyCommand& command,
                                         const std::vector<double>& input,
                                         const std::vector<double>& output,
@@ -126,9 +167,21 @@ RecordIdentification RunIdentifyCommandOnFile(const IdentifyCommand& command);
 // `design` as both front ends run it: the links designed in turn.
 struct DesignCommand : DesignSpec {
   std::vector<int> links = {1, 2, 3};
+  // A TOML file of [plant] scenario keys (the plant.toml identify writes):
+  // each link is designed for the plant those keys give it.
+  std::string plant_file;
+  // gains.toml: the tuned PIDs as controller.link_kp, link_ki and link_kd
+  // (links 1..n in order), which a scenario includes.
+  std::string out;
 };
 const OptionTable<DesignCommand>& DesignOptions();
-// Checks the links first, then designs each (DesignLink).
+// The plants of links 1..3 the [plant] keys of `path` give (the paper's
+// eq. 7 where they give none). Throws InputError naming the file.
+std::vector<IpmcLinkParams> PlantsOfKeyFile(const std::string& path);
+// Checks the links and out first, then designs each (DesignLink) and
+// writes out.
 std::vector<LinkDesign> RunDesignCommand(const DesignCommand& command);
+// gains.toml of the designs of links 1..n in order.
+std::string GainsToml(const DesignCommand& command, const std::vector<LinkDesign>& designs);
 
 }  // namespace ipmc

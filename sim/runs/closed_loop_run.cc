@@ -174,10 +174,7 @@ namespace {
 
 // The MJCF of the flagellum a scenario generates (GeneratesModel()).
 std::string GeneratedScenarioMjcf(const ScenarioConfig& scenario) {
-  FlagellumSpec spec;
-  if (!scenario.link_lengths_mm.empty()) spec.link_lengths_mm = scenario.link_lengths_mm;
-  if (scenario.segments_per_link > 0) spec.segments_per_link = scenario.segments_per_link;
-  return GenerateFlagellumMjcf(spec);
+  return GenerateFlagellumMjcf(ScenarioFlagellumSpec(scenario));
 }
 
 }  // namespace

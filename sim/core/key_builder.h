@@ -1,0 +1,119 @@
+// The pieces the key tables are built from (sim/core/scenario_keys.cc and
+// sim/core/strip_keys.cc): a builder for one KeySpec entry, and the TOML
+// text a resolved scenario writes for a value.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sim/core/scenario_keys.h"
+
+namespace ipmc {
+
+// Builds one KeySpec entry by named steps.
+class Key {
+ public:
+  Key(const char* name, KeyType type, const char* unit, const char* allowed,
+      const char* default_text, const char* meaning) {
+    spec_.name = name;
+    spec_.type = type;
+    spec_.unit = unit;
+    spec_.allowed = allowed;
+    spec_.default_text = default_text;
+    spec_.meaning = meaning;
+  }
+  Key& Default(const char* toml) {
+    spec_.default_toml = toml;
+    return *this;
+  }
+  Key& Example(const char* toml) {
+    spec_.example_toml = toml;
+    return *this;
+  }
+  Key& Refused(const char* toml) {
+    spec_.refused_toml = toml;
+    return *this;
+  }
+  Key& Only(const char* selector, const char* value) {
+    spec_.only.push_back({selector, value});
+    return *this;
+  }
+  Key& Fields(const char* fields) {
+    spec_.fields = fields;
+    return *this;
+  }
+  Key& Reads(KeyReader read) {
+    spec_.read = read;
+    return *this;
+  }
+  Key& Writes(KeyWriter write) {
+    spec_.write = write;
+    return *this;
+  }
+  Key& Choices(const char* choices) {
+    spec_.choices = choices;
+    return *this;
+  }
+  Key& Above(double minimum) { return Lower(Bound::kOpen, minimum); }
+  Key& AtLeast(double minimum) { return Lower(Bound::kClosed, minimum); }
+  Key& AtMost(double maximum) {
+    spec_.upper = Bound::kClosed;
+    spec_.maximum = maximum;
+    return *this;
+  }
+  Key& Below(double maximum) {
+    spec_.upper = Bound::kOpen;
+    spec_.maximum = maximum;
+    return *this;
+  }
+  operator KeySpec() const { return spec_; }
+
+ private:
+  Key& Lower(Bound bound, double minimum) {
+    spec_.lower = bound;
+    spec_.minimum = minimum;
+    return *this;
+  }
+  KeySpec spec_{};
+};
+
+// Values as a resolved scenario writes them.
+inline const std::optional<std::string> kLeftOut = std::nullopt;
+std::optional<std::string> TomlString(const std::string& text);
+// The shortest text that reads back exactly, always a TOML float ("1000.0",
+// "-0.0"), so that even the sign of zero survives.
+std::string FloatText(double value);
+std::optional<std::string> TomlFloat(double value);
+std::optional<std::string> TomlFloats(const std::vector<double>& values);
+std::optional<std::string> TomlBool(bool value);
+std::optional<std::string> TomlInteger(int value);
+
+// An array of one number per link, config.*kPart.*kField, over a scalar
+// key (empty: every link the scalar key's): controller.link_kp,
+// plant.link_a0_mm_per_V, ... (ScenarioConfig, sim/core/scenario.h, must be
+// complete where it is used).
+template <typename Part, Part ScenarioConfig::*kPart, std::vector<double> Part::*kField>
+Key PerLinkKey(const char* name, const char* unit, const char* allowed, const char* meaning,
+               const char* example_toml) {
+  Key key(name, KeyType::kNumberArray, unit, allowed, "none: every link the scalar key's",
+          meaning);
+  key.Example(example_toml)
+      .Reads([](const KeyValue& v, auto& c) {
+        std::vector<double>& values = c.*kPart.*kField;
+        values.clear();
+        const std::size_t count = v.ArraySize("an array of one number per link");
+        if (count == 0) {
+          v.Fail(v.name() + ": an empty array; give one value per link, or leave the key out",
+                 "an array of one number per link");
+        }
+        for (std::size_t i = 0; i < count; ++i) values.push_back(v.NumberAt(i));
+      })
+      .Writes([](const auto& c) -> std::optional<std::string> {
+        const std::vector<double>& values = c.*kPart.*kField;
+        return values.empty() ? std::nullopt : TomlFloats(values);
+      });
+  return key;
+}
+
+}  // namespace ipmc

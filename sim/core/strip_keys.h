@@ -1,0 +1,52 @@
+// The strip and its plants as scenario keys: [strip] (width, thickness,
+// Young's modulus, density) and [plant] (eq. 5 / eq. 6 per link). Any of
+// them generates the flagellum (sim/core/model_generator.h) from the
+// generator's defaults with these values over them, as link_lengths_mm
+// does: the drag's equivalent radius follows the width and thickness
+// ((w + h) / 4), the hinges' stiffness E I / s and the links' mass follow
+// the strip, and each link gets the plant the keys give it (its own
+// plant, not scaled to its length). Unset, the generator's defaults are
+// Table 1's strip (3 mm x 250 um, E = 0.25 GPa, 2000 kg/m^3) and each
+// link the plant its `plants` assignment gives.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sim/core/scenario_keys.h"
+
+namespace ipmc {
+
+struct FlagellumSpec;   // sim/core/model_generator.h
+struct ScenarioConfig;  // sim/core/scenario.h
+
+struct StripConfig {
+  std::optional<double> width_mm, thickness_um;  // across the beat plane; in it
+  std::optional<double> youngs_modulus_Pa;       // E of the hinges' E I
+  std::optional<double> density_kg_m3;
+  bool Any() const { return width_mm || thickness_um || youngs_modulus_Pa || density_kg_m3; }
+};
+
+struct PlantConfig {
+  std::string model = "g1";  // g1 (eq. 5) | g2 (eq. 6)
+  // Every link's value (unset: the assigned plant's) and the per-link
+  // arrays over it (empty: every link the scalar's).
+  std::optional<double> a0_mm_per_V, b1, b2_s2, alpha;
+  std::vector<double> link_a0_mm_per_V, link_b1, link_b2_s2, link_alpha;
+  bool Any() const {
+    return model != "g1" || a0_mm_per_V || b1 || b2_s2 || alpha || !link_a0_mm_per_V.empty() ||
+           !link_b1.empty() || !link_b2_s2.empty() || !link_alpha.empty();
+  }
+};
+
+// The [strip] and [plant] keys of the key table, in its order.
+std::vector<KeySpec> StripAndPlantKeys();
+
+// The flagellum a scenario that GeneratesModel() generates: the
+// generator's defaults, the scenario's link lengths, sub-segments, strip
+// and plants. Throws FieldError naming the FlagellumSpec field (the keys'
+// `fields`) when a per-link array does not hold one value per link.
+FlagellumSpec ScenarioFlagellumSpec(const ScenarioConfig& scenario);
+
+}  // namespace ipmc
