@@ -13,6 +13,7 @@
 #include "plugin/base/error.h"
 #include "sim/io/files.h"
 #include "sim/io/result_files.h"
+#include "sim/runs/run_warnings.h"
 
 namespace ipmc {
 namespace {
@@ -235,6 +236,50 @@ std::string ClosedLoopSamplesCsv(const ClosedLoopResult& result) {
   return csv.Text();
 }
 
+std::string MetricCyclesText(const ClosedLoopResult& result) {
+  const int from = result.swim.from_cycle;
+  const std::string cycles = "cycles " + std::to_string(from) + "-" +
+                             std::to_string(result.swim.per_cycle.size());
+  if (result.from_cycle_given) {
+    return cycles + " (metrics.from_cycle = " + std::to_string(from) + ")";
+  }
+  if (result.startup_included) {
+    return cycles + " (no cycle follows the start ramp: the start-up is included; run more "
+                    "cycles for steady values)";
+  }
+  return cycles + " (the cycles after the start ramp; metrics.from_cycle = 1 takes the whole run)";
+}
+
+namespace {
+
+// The cycles before the metric cycles (the start-up), apart: their swim,
+// and the actuators' mean power and work over them.
+nlohmann::json StartupJson(const ClosedLoopResult& result) {
+  const size_t cycles = static_cast<size_t>(result.swim.from_cycle - 1);
+  double com_along_mm = 0.0, work_J = 0.0;
+  for (size_t k = 0; k < cycles && k < result.swim.per_cycle.size(); ++k) {
+    com_along_mm += result.swim.per_cycle[k].com_along;
+  }
+  for (size_t k = 0; k < cycles && k < result.energy.per_cycle.size(); ++k) {
+    work_J += result.energy.per_cycle[k].actuator_power_W_total * result.period_s;
+  }
+  const double time_s = static_cast<double>(cycles) * result.period_s;
+  return {{"cycles", cycles},
+          {"com_along_mm", com_along_mm},
+          {columns::kActuatorPower, time_s > 0.0 ? work_J / time_s : 0.0},
+          {"actuator_work_J", work_J}};
+}
+
+nlohmann::json WarningChecksJson(const RunWarnings& warnings) {
+  nlohmann::json checks = nlohmann::json::object();
+  for (int c = 0; c < kRunWarningCheckCount; ++c) {
+    checks[kRunWarningChecks[c].column] = warnings.failed[c];
+  }
+  return checks;
+}
+
+}  // namespace
+
 nlohmann::json ClosedLoopSummaryJson(const ClosedLoopResult& result) {
   nlohmann::json summary = SwimMetricsJson(result.swim);
   const EnergyMetrics& energy = result.energy;
@@ -263,6 +308,10 @@ nlohmann::json ClosedLoopSummaryJson(const ClosedLoopResult& result) {
     }
   }
   summary["metrics_from_cycle"] = result.swim.from_cycle;
+  summary["metrics_cycles"] = MetricCyclesText(result);
+  if (result.swim.from_cycle > 1) summary["startup"] = StartupJson(result);
+  summary["warnings"] = ClosedLoopWarningLines(result);
+  summary["warning_checks"] = WarningChecksJson(ClosedLoopWarnings(result));
   summary[columns::kActuatorPower] = energy.actuator_power_W_total;
   summary[columns::kFluidPower] = energy.fluid_power_W;
   summary[columns::kHingeDampingPower] = energy.hinge_damping_power_W;

@@ -62,6 +62,12 @@ nlohmann::json GaitSummaryJson(const GaitRunResult& result);
 void WriteGaitOutputs(const std::string& dir, const GaitRunResult& result,
                       const nlohmann::json& inputs, const RunFileFormats& formats = {});
 
+// Which cycles a run's metrics are over, and why: "cycles 2-3 (the cycles
+// after the start ramp; ...)", "cycles 2-3 (metrics.from_cycle = 2)", or
+// the start-up included when no cycle follows the ramp. summary.json's
+// metrics_cycles and the printed summary.
+std::string MetricCyclesText(const ClosedLoopResult& result);
+
 std::string ClosedLoopSamplesCsv(const ClosedLoopResult& result);
 nlohmann::json ClosedLoopSummaryJson(const ClosedLoopResult& result);
 
