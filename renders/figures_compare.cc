@@ -295,7 +295,7 @@ Figure CompareFigure(const std::vector<std::string>& run_dirs, const FigureOptio
   // The first row has its own time axis below it.
   // The head holds the title and, below it, the legend: one run per line,
   // so that no label runs off the page or over a panel's title.
-  constexpr double kTitle = 0.75, kLegendLine = 0.2, kLegendGap = 0.25;
+  constexpr double kTitle = 0.75, kLegendLine = 0.2, kLegendGap = 0.5;
   const double kHead = kTitle + kLegendLine * static_cast<double>(runs.size()) + kLegendGap;
   constexpr double kRow = 1.75, kRowGap = 0.45, kAxisGap = 0.4, kFoot = 0.55;
   Figure figure;

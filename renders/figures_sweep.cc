@@ -223,7 +223,7 @@ Figure SweepFigure(const CsvTable& table, const std::string&, const FigureOption
     std::string circled;
     for (const auto& [x, y] : warned) circled += GnuplotValue(x) + " " + GnuplotValue(y) + "\n";
     plot += ", " + scratch.Data("warned.dat", circled) +
-            " using 1:2 with points pt 6 ps 2.4 lw 1.5 lc rgb '#c00000' title " +
+            " using 1:2 with points pt 6 ps 3.2 lw 2 lc rgb '#c00000' title " +
             Q("circled: " + WarningCountsText(table.columns(), plotted));
     report.notes.push_back(WarningCountsText(table.columns(), plotted) + " (circled)");
   }
