@@ -32,17 +32,13 @@ void PrintMetricCycles(const ClosedLoopResult& result) {
 }
 
 void PrintStartup(const ClosedLoopResult& result) {
-  const size_t cycles = static_cast<size_t>(result.swim.from_cycle - 1);
-  if (cycles == 0 || cycles > result.energy.per_cycle.size()) return;
-  double com_along_mm = 0.0, power_W = 0.0;
-  for (size_t k = 0; k < cycles; ++k) {
-    com_along_mm += result.swim.per_cycle[k].com_along;
-    power_W += result.energy.per_cycle[k].actuator_power_W_total / static_cast<double>(cycles);
-  }
-  std::printf("start-up (cycle%s 1%s, left out of the means): centre of mass %.6g mm along, "
-              "actuators %.6g W\n",
-              cycles > 1 ? "s" : "", cycles > 1 ? ("-" + std::to_string(cycles)).c_str() : "",
-              com_along_mm, power_W);
+  const StartupCycles startup = StartupOf(result);
+  if (startup.cycles == 0) return;
+  const std::string cycles =
+      startup.cycles == 1 ? "cycle 1" : "cycles 1-" + std::to_string(startup.cycles);
+  std::printf("start-up (%s, left out of the means): centre of mass %.6g mm along, actuators "
+              "%.6g W\n",
+              cycles.c_str(), startup.com_along_mm, startup.actuator_power_W);
 }
 
 namespace {

@@ -1,5 +1,6 @@
 #include "sim/runs/output.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <functional>
 #include <sstream>
@@ -236,6 +237,22 @@ std::string ClosedLoopSamplesCsv(const ClosedLoopResult& result) {
   return csv.Text();
 }
 
+StartupCycles StartupOf(const ClosedLoopResult& result) {
+  StartupCycles startup;
+  startup.cycles = std::max(0, result.swim.from_cycle - 1);
+  for (int k = 0; k < startup.cycles; ++k) {
+    if (static_cast<size_t>(k) < result.swim.per_cycle.size()) {
+      startup.com_along_mm += result.swim.per_cycle[k].com_along;
+    }
+    if (static_cast<size_t>(k) < result.energy.per_cycle.size()) {
+      startup.actuator_work_J += result.energy.per_cycle[k].actuator_power_W_total * result.period_s;
+    }
+  }
+  const double time_s = startup.cycles * result.period_s;
+  startup.actuator_power_W = time_s > 0.0 ? startup.actuator_work_J / time_s : 0.0;
+  return startup;
+}
+
 std::string MetricCyclesText(const ClosedLoopResult& result) {
   const int from = result.swim.from_cycle;
   const std::string cycles = "cycles " + std::to_string(from) + "-" +
@@ -252,22 +269,12 @@ std::string MetricCyclesText(const ClosedLoopResult& result) {
 
 namespace {
 
-// The cycles before the metric cycles (the start-up), apart: their swim,
-// and the actuators' mean power and work over them.
 nlohmann::json StartupJson(const ClosedLoopResult& result) {
-  const size_t cycles = static_cast<size_t>(result.swim.from_cycle - 1);
-  double com_along_mm = 0.0, work_J = 0.0;
-  for (size_t k = 0; k < cycles && k < result.swim.per_cycle.size(); ++k) {
-    com_along_mm += result.swim.per_cycle[k].com_along;
-  }
-  for (size_t k = 0; k < cycles && k < result.energy.per_cycle.size(); ++k) {
-    work_J += result.energy.per_cycle[k].actuator_power_W_total * result.period_s;
-  }
-  const double time_s = static_cast<double>(cycles) * result.period_s;
-  return {{"cycles", cycles},
-          {"com_along_mm", com_along_mm},
-          {columns::kActuatorPower, time_s > 0.0 ? work_J / time_s : 0.0},
-          {"actuator_work_J", work_J}};
+  const StartupCycles startup = StartupOf(result);
+  return {{"cycles", startup.cycles},
+          {"com_along_mm", startup.com_along_mm},
+          {columns::kActuatorPower, startup.actuator_power_W},
+          {"actuator_work_J", startup.actuator_work_J}};
 }
 
 nlohmann::json WarningChecksJson(const RunWarnings& warnings) {
