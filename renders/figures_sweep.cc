@@ -220,12 +220,14 @@ Figure SweepFigure(const CsvTable& table, const std::string&, const FigureOption
             Rgb(kSeries[k % kSeriesCount]) + " title " + Q(label);
   }
   if (!warned.empty()) {
+    // The key names how many; the notes (printed) say for what.
+    const std::string counts = WarningCountsText(table.columns(), plotted);
     std::string circled;
     for (const auto& [x, y] : warned) circled += GnuplotValue(x) + " " + GnuplotValue(y) + "\n";
     plot += ", " + scratch.Data("warned.dat", circled) +
             " using 1:2 with points pt 6 ps 3.2 lw 2 lc rgb '#c00000' title " +
-            Q("circled: " + WarningCountsText(table.columns(), plotted));
-    report.notes.push_back(WarningCountsText(table.columns(), plotted) + " (circled)");
+            Q("circled: " + counts.substr(0, counts.find(':')));
+    report.notes.push_back(counts + " (circled)");
   }
   Figure figure;
   figure.width_in = 7.0;
