@@ -56,7 +56,12 @@ std::map<int, std::vector<std::string>> ReusableSweepRows(const SweepPlan& plan,
                                                           const SweepShard& shard,
                                                           const std::string& prefix) {
   std::map<int, std::vector<std::string>> reused;
-  if (prefix.empty() || plan.gait) return reused;
+  std::error_code error;
+  // Nothing to reuse without an earlier table: decided before any work,
+  // so that a new sweep takes its journal (its lock) at once.
+  if (prefix.empty() || plan.gait || !std::filesystem::is_regular_file(prefix + ".csv", error)) {
+    return reused;
+  }
   std::optional<SweepTable> earlier;
   try {
     earlier = EarlierTable(prefix, SweepColumns(plan), SweepFingerprint(plan));
