@@ -245,7 +245,8 @@ StartupCycles StartupOf(const ClosedLoopResult& result) {
       startup.com_along_mm += result.swim.per_cycle[k].com_along;
     }
     if (static_cast<size_t>(k) < result.energy.per_cycle.size()) {
-      startup.actuator_work_J += result.energy.per_cycle[k].actuator_power_W_total * result.period_s;
+      const double power_W = result.energy.per_cycle[k].actuator_power_W_total;
+      startup.actuator_work_J += power_W * result.period_s;
     }
   }
   const double time_s = startup.cycles * result.period_s;

@@ -55,8 +55,8 @@ RunWarnings ClosedLoopWarnings(const ClosedLoopResult& result) {
         " actuator updates and was clamped: the reference asks for more bending than the link has");
   }
   const EnergyMetrics& energy = result.energy;
-  if (std::abs(energy.stepping_power_W) > kSteppingShareWarning * std::abs(energy.actuator_power_W_total) &&
-      energy.actuator_power_W_total != 0.0) {
+  const double actuator_W = std::abs(energy.actuator_power_W_total);
+  if (actuator_W > 0.0 && std::abs(energy.stepping_power_W) > kSteppingShareWarning * actuator_W) {
     warnings.failed[kStepping] = true;
     warnings.messages.push_back(
         "the time step's own power is " +
