@@ -91,7 +91,8 @@ const std::vector<std::pair<std::string, std::vector<std::string>>>& OptionKinds
       {"times-s", {"waveform"}},  {"period-s", {"waveform", "trajectory"}},
       {"max-lines", {"surface"}}, {"x", {"sweep"}},
       {"y", {"sweep"}},           {"group", {"sweep"}},
-      {"log-x", {"sweep"}},       {"log-y", {"sweep"}}};
+      {"log-x", {"sweep"}},       {"log-y", {"sweep"}},
+      {"labels", {"compare"}}};
   return table;
 }
 

@@ -95,6 +95,9 @@ struct FigureOptions {
   // sweep
   std::string x_column, y_column, group_column;
   bool log_x = false, log_y = false;
+  // compare: the legend's name of each run, in the order of the runs
+  // (empty: what differs between their resolved scenarios)
+  std::vector<std::string> labels;
 
   // Throws FieldError "plot: --option must be ..., got ...".
   void Validate(FigureKind kind) const;

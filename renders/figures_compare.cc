@@ -15,6 +15,7 @@
 #include <toml++/toml.h>
 
 #include "plugin/base/error.h"
+#include "plugin/base/numbers.h"
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
 #include "sim/io/toml.h"
@@ -35,18 +36,34 @@ struct ComparedRun {
   std::string label;
 };
 
+// A TOML value as the legend shows it: numbers as the shortest text that
+// reads back exactly (5e-4 s, not 0.00050000000000000001), arrays
+// element by element.
+std::string ValueText(const toml::node& node) {
+  if (const auto* text = node.as_string()) return text->get();
+  if (const auto* integer = node.as_integer()) return std::to_string(integer->get());
+  if (const auto* number = node.as_floating_point()) return FormatShortest(number->get());
+  if (const auto* boolean = node.as_boolean()) return boolean->get() ? "true" : "false";
+  if (const toml::array* array = node.as_array()) {
+    std::string joined;
+    for (const toml::node& element : *array) {
+      joined += (joined.empty() ? "" : ", ") + ValueText(element);
+    }
+    return "[" + joined + "]";
+  }
+  std::ostringstream value;
+  node.visit([&value](const auto& leaf) { value << leaf; });
+  return value.str();
+}
+
 void Flatten(const toml::table& table, const std::string& prefix,
              std::map<std::string, std::string>& out) {
   for (const auto& [key, node] : table) {
     const std::string name = prefix + std::string(key.str());
     if (const toml::table* inner = node.as_table()) {
       Flatten(*inner, name + ".", out);
-    } else if (const auto* text = node.as_string()) {
-      out[name] = text->get();
     } else {
-      std::ostringstream value;
-      node.visit([&value](const auto& leaf) { value << leaf; });
-      out[name] = value.str();
+      out[name] = ValueText(node);
     }
   }
 }
@@ -199,7 +216,14 @@ Figure CompareFigure(const std::vector<std::string>& run_dirs, const FigureOptio
   std::vector<ComparedRun> runs;
   for (const std::string& dir : run_dirs) runs.push_back(ReadRun(dir));
   const std::vector<std::string> differing = DifferingKeys(runs);
-  for (ComparedRun& run : runs) run.label = LabelOf(run, differing);
+  if (!options.labels.empty() && options.labels.size() != runs.size()) {
+    throw FieldError("plot: --labels gives " + std::to_string(options.labels.size()) +
+                         " labels for " + std::to_string(runs.size()) + " runs (one per run)",
+                     "--labels", "one label per run directory");
+  }
+  for (size_t k = 0; k < runs.size(); ++k) {
+    runs[k].label = options.labels.empty() ? LabelOf(runs[k], differing) : options.labels[k];
+  }
   int links = LinksOf(runs.front().table);
   for (const ComparedRun& run : runs) links = std::max(links, LinksOf(run.table));
 
@@ -269,7 +293,11 @@ Figure CompareFigure(const std::vector<std::string>& run_dirs, const FigureOptio
 
   // Inches: title and legend, the displacement row, then a row per link.
   // The first row has its own time axis below it.
-  constexpr double kHead = 1.3, kRow = 1.75, kRowGap = 0.45, kAxisGap = 0.4, kFoot = 0.55;
+  // The head holds the title and, below it, the legend: one run per line,
+  // so that no label runs off the page or over a panel's title.
+  constexpr double kTitle = 0.75, kLegendLine = 0.2, kLegendGap = 0.5;
+  const double kHead = kTitle + kLegendLine * static_cast<double>(runs.size()) + kLegendGap;
+  constexpr double kRow = 1.75, kRowGap = 0.45, kAxisGap = 0.4, kFoot = 0.55;
   Figure figure;
   figure.width_in = 10.0;
   figure.height_in = kHead + (1 + links) * (kRow + kRowGap) - kRowGap + kAxisGap * (links > 0) + kFoot;
@@ -277,8 +305,8 @@ Figure CompareFigure(const std::vector<std::string>& run_dirs, const FigureOptio
   constexpr double kLeft0 = 0.08, kRight0 = 0.49, kLeft1 = 0.585, kRight1 = 0.975;
   const std::string time_label = Q(AxisLabel(columns::kTime));
   std::string commands = "set multiplot title " + Heading(report) + "\n" +
-                         "set key at screen 0.5, screen " + N(1.0 - 0.62 / H) +
-                         " center top horizontal reverse Left samplen 4 maxcols 2 width 2\n"
+                         "set key at screen " + N(kLeft0) + ", screen " + N(1.0 - kTitle / H) +
+                         " left top vertical reverse Left samplen 4 maxcols 1 spacing 1.1\n"
                          "set style textbox opaque noborder margins 2, 1\n";
   commands += StackedPanel(H, kHead, kRow, kLeft0, kRight0) +
               "set title 'centre of mass: displacement along the swimming axis' offset 0,-0.4\n"

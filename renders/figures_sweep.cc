@@ -17,6 +17,7 @@
 #include "sim/io/csv.h"
 #include "plugin/base/error.h"
 #include "plugin/base/numbers.h"
+#include "sim/runs/run_warnings.h"
 
 namespace ipmc::figure_parts {
 namespace {
@@ -81,6 +82,41 @@ std::string LogTicsAtValues(
   return tics + ")\n";
 }
 
+// A logarithmic y axis over the data's own range, 5 % (of its decades)
+// beyond each end, rather than gnuplot's whole decades around it (0.001
+// to 10 for data in 0.045-0.66), and tics at 1, 2 and 5 of each decade
+// when it spans less than two; "" without positive values.
+std::string LogYRange(const std::map<std::string, std::vector<std::pair<double, double>>>& points) {
+  double low = INFINITY, high = 0.0;
+  for (const auto& [group, curve] : points) {
+    for (const auto& point : curve) {
+      if (point.second > 0.0 && std::isfinite(point.second)) {
+        low = std::min(low, point.second);
+        high = std::max(high, point.second);
+      }
+    }
+  }
+  if (!(high > 0.0) || !std::isfinite(low)) return "";
+  const double decades = std::max(std::log10(high / low), 0.3);
+  const double pad = std::pow(10.0, 0.05 * decades);
+  std::string commands = "set yrange [" + GnuplotValue(low / pad) + ":" +
+                         GnuplotValue(high * pad) + "]\n";
+  if (decades < 2.0) {
+    std::string tics;
+    for (int e = static_cast<int>(std::floor(std::log10(low / pad)));
+         e <= static_cast<int>(std::ceil(std::log10(high * pad))); ++e) {
+      for (double m : {1.0, 2.0, 5.0}) {
+        const double tic = e < 0 ? m / std::pow(10.0, -e) : m * std::pow(10.0, e);
+        if (tic < low / pad || tic > high * pad) continue;
+        tics += (tics.empty() ? "set ytics (" : ", ") + Q(FormatShortest(tic)) + " " +
+                GnuplotValue(tic);
+      }
+    }
+    if (!tics.empty()) commands += tics + ")\n";
+  }
+  return commands;
+}
+
 }  // namespace
 
 Figure SweepFigure(const CsvTable& table, const std::string&, const FigureOptions& options,
@@ -106,6 +142,9 @@ Figure SweepFigure(const CsvTable& table, const std::string&, const FigureOption
   std::vector<std::string> categories;  // distinct x values, non-numeric x
   std::vector<std::string> groups;      // distinct group values, in order
   std::map<std::string, std::vector<std::pair<double, double>>> points;
+  // The points whose runs warn (sim/runs/run_warnings.h), circled.
+  std::vector<std::pair<double, double>> warned;
+  std::vector<std::vector<std::string>> plotted;
   for (size_t r : rows) {
     const std::string group = grouped ? group_axis->Text(table, r) : "";
     if (std::find(groups.begin(), groups.end(), group) == groups.end()) groups.push_back(group);
@@ -119,6 +158,10 @@ Figure SweepFigure(const CsvTable& table, const std::string&, const FigureOption
       x = static_cast<double>(at - categories.begin());
     }
     points[group].push_back({x, table.Number(r, y_column)});
+    if (!FailedChecks(table.columns(), table.Row(r)).empty()) {
+      warned.push_back({x, table.Number(r, y_column)});
+    }
+    plotted.push_back(table.Row(r));
   }
   std::string text;
   for (const std::string& group : groups) {
@@ -141,7 +184,7 @@ Figure SweepFigure(const CsvTable& table, const std::string&, const FigureOption
                          Q(AxisLabel(options.y_column)) + "\n" +
                          "set key below horizontal reverse Left samplen 3 spacing 1.1\n";
   if (options.log_x) commands += "set logscale x\n";
-  if (options.log_y) commands += "set logscale y\n";
+  if (options.log_y) commands += "set logscale y\nset autoscale yfix\n" + LogYRange(points);
   if (!numeric_x) {
     commands += "set xrange [-0.5:" + N(categories.size() - 0.5) + "]\nset xtics (";
     for (size_t k = 0; k < categories.size(); ++k) {
@@ -175,6 +218,16 @@ Figure SweepFigure(const CsvTable& table, const std::string&, const FigureOption
     plot += (k ? ", " : "") + data + " index " + std::to_string(k) + " using 1:2 with " +
             (numeric_x ? "linespoints lw 2" : "points") + " pt 7 ps 1.1 lc " +
             Rgb(kSeries[k % kSeriesCount]) + " title " + Q(label);
+  }
+  if (!warned.empty()) {
+    // The key names how many; the notes (printed) say for what.
+    const std::string counts = WarningCountsText(table.columns(), plotted);
+    std::string circled;
+    for (const auto& [x, y] : warned) circled += GnuplotValue(x) + " " + GnuplotValue(y) + "\n";
+    plot += ", " + scratch.Data("warned.dat", circled) +
+            " using 1:2 with points pt 6 ps 3.2 lw 2 lc rgb '#c00000' title " +
+            Q("circled: " + counts.substr(0, counts.find(':')));
+    report.notes.push_back(counts + " (circled)");
   }
   Figure figure;
   figure.width_in = 7.0;

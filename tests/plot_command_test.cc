@@ -409,6 +409,14 @@ TEST_F(PlotCommandTest, CompareNamesWhatDiffers) {
   }
   ExpectFigure("compare " + Quoted(run) + " " + Quoted(outputs.single_run_dir()),
                dir / "compare.pdf");
+  // --labels names the runs instead, one per run.
+  ExpectFigure("compare " + Quoted(run) + " " + Quoted(outputs.single_run_dir()) +
+                   " --labels 'all links driven' 'link 1 alone'",
+               dir / "labels.svg");
+  EXPECT_NE(SvgText(dir / "labels.svg").find("link 1 alone"), std::string::npos);
+  ExpectRefused("compare " + Quoted(run) + " " + Quoted(outputs.single_run_dir()) +
+                    " --labels one",
+                dir / "one_label.png", {"--labels gives 1 labels for 2 runs"});
   ExpectRefused("compare " + Quoted(run), dir / "one.png", {"needs 2 to 8 run directories"});
   const fs::path empty = FreshDir("compare_empty");
   ExpectRefused("compare " + Quoted(run) + " " + Quoted(empty), dir / "empty.png",

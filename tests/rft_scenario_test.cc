@@ -82,12 +82,12 @@ TEST(RftScenarioTest, OverridesReplaceTheModelsFields) {
 TEST(RftScenarioTest, WarnsOnReynoldsNumberAndShortWaves) {
   SwimMetrics swim;
   swim.longest_segment_mm = 10.0;
-  swim.reynolds_tip = 0.4;
+  swim.reynolds_tip = 0.789;                        // the paper run's: inside Re < 1
   EXPECT_TRUE(FluidWarnings(swim, 32.0).empty());  // 3.2 segments per wavelength
-  swim.reynolds_tip = 0.789;                        // the paper run's
+  swim.reynolds_tip = 1.18;                         // 0.015 Hz (docs/RUNS.md, Sweeps)
   const std::vector<std::string> reynolds = FluidWarnings(swim, 32.0);
   ASSERT_EQ(reynolds.size(), 1u);
-  EXPECT_NE(reynolds[0].find("Reynolds number 0.789 is above 0.5"), std::string::npos)
+  EXPECT_NE(reynolds[0].find("Reynolds number 1.18 is above 1"), std::string::npos)
       << reynolds[0];
   swim.reynolds_tip = 0.1;
   const std::vector<std::string> short_wave = FluidWarnings(swim, 16.0);

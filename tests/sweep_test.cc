@@ -4,6 +4,7 @@
 // one-line errors. The runs are one 2 s wave period at a 0.5 ms step
 // (about 0.03 s each).
 #include "sim/batch/sweep.h"
+#include "sim/runs/run_warnings.h"
 
 #include <gtest/gtest.h>
 
@@ -214,7 +215,7 @@ TEST_F(SweepTest, TableDoesNotDependOnJobsAndHoldsTheRunsNumbersExactly) {
 
   ASSERT_EQ(one.rows.size(), 8u);
   const std::vector<std::string>& columns = one.columns;
-  EXPECT_EQ(columns.size(), 1 + 3 + 2 + 3 * 5 + 12u);
+  EXPECT_EQ(columns.size(), 1 + 3 + 2 + 3 * 5 + 12u + 6u);  // ..., the warnings and 5 checks
   auto column = [&](const std::string& name) {
     const auto it = std::find(columns.begin(), columns.end(), name);
     EXPECT_NE(it, columns.end()) << name;
@@ -237,6 +238,9 @@ TEST_F(SweepTest, TableDoesNotDependOnJobsAndHoldsTheRunsNumbersExactly) {
   EXPECT_EQ(std::stod(row[column("fluid_power_W")]), alone.energy.fluid_power_W);
   EXPECT_EQ(std::stod(row[column("cost_of_transport_J_m")]), alone.energy.cost_of_transport_J_m);
   EXPECT_GT(alone.swim.mean_speed_along_mm_s, 0.0);
+  // Its warnings as the library decides them (sim/runs/run_warnings.h).
+  const std::vector<std::string> warnings = RunWarningCells(ClosedLoopWarnings(alone));
+  EXPECT_EQ(std::vector<std::string>(row.end() - 6, row.end()), warnings);
 
   const nlohmann::ordered_json json = SweepTableJson(one);
   EXPECT_EQ(json["points"][6]["point"], 6);

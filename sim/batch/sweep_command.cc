@@ -2,13 +2,16 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
 #include <stdexcept>
 #include <utility>
 
 #include "plugin/base/error.h"
 #include "sim/batch/cpu_affinity.h"
+#include "sim/batch/sweep_grow.h"
 #include "sim/io/columns.h"
 #include "sim/io/files.h"
+#include "sim/runs/run_warnings.h"
 
 namespace ipmc {
 namespace {
@@ -158,8 +161,19 @@ void WriteSweepOutputs(const SweepCommandPlan& plan, const SweepTable& table) {
 
 SweepCommandRun::SweepCommandRun(SweepCommandPlan plan) : plan_(std::move(plan)) {
   if (!plan_.out.empty()) {
-    journal_ = std::make_unique<SweepJournal>(plan_.out + ".journal", plan_.plan,
-                                              plan_.resume_other_version);
+    const std::string path = plan_.out + ".journal";
+    // A grown sweep (sim/batch/sweep_grow.h); not with kept runs, whose
+    // folders are named by the earlier indices.
+    const std::map<int, std::vector<std::string>> reused =
+        plan_.runs_dir.empty() ? ReusableSweepRows(plan_.plan, plan_.shard, plan_.out)
+                               : std::map<int, std::vector<std::string>>();
+    if (!reused.empty()) {
+      JournalFile(path, "in use by another running sweep (one sweep per output prefix at a time)")
+          .Remove();
+    }
+    journal_ = std::make_unique<SweepJournal>(path, plan_.plan, plan_.resume_other_version);
+    for (const auto& [index, row] : reused) journal_->Record(row);
+    reused_ = static_cast<int>(reused.size());
     record_ = CountRecorded(plan_.plan, plan_.shard, *journal_);
   } else {
     record_.points = plan_.points;
@@ -198,6 +212,26 @@ SweepCommandOutcome SweepCommandRun::Run(std::function<void(const SweepProgress&
   }
   WriteSweepOutputs(plan_, outcome.table);
   return outcome;
+}
+
+std::string SweepOutcomeLine(const SweepCommandPlan& plan, const SweepTable& table) {
+  const size_t status = plan.plan.keys.size() + 1;
+  std::vector<std::vector<std::string>> ran;
+  for (const std::vector<std::string>& row : table.rows) {
+    if (status < row.size() && row[status] == columns::kStatusOk) ran.push_back(row);
+  }
+  const size_t failed = table.rows.size() - ran.size();
+  std::string line = std::to_string(table.rows.size()) + " points";
+  if (plan.shard.count > 1) {
+    line += " (shard " + std::to_string(plan.shard.index) + "/" +
+            std::to_string(plan.shard.count) + " of " + std::to_string(plan.plan.points.size()) +
+            ")";
+  }
+  line += ": " + std::to_string(ran.size()) + " ran";
+  if (failed > 0) line += ", " + std::to_string(failed) + " failed";
+  const std::string warnings = WarningCountsText(table.columns, ran);
+  if (!warnings.empty()) line += ", " + warnings;
+  return line;
 }
 
 void CheckMergeOutputs(const MergeCommand& command) {

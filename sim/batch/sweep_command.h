@@ -79,7 +79,9 @@ struct SweepCommandOutcome {
 // the points it holds): it throws std::runtime_error, before any point
 // runs, if another sweep holds it ("in use by another running sweep"), if
 // it records another sweep, or if another version wrote it (unless
-// resume_other_version). Without an output there is no journal.
+// resume_other_version). A sweep that grew takes the rows of its earlier
+// table instead (sim/batch/sweep_grow.h): its journal starts over with
+// them. Without an output there is no journal.
 class SweepCommandRun {
  public:
   explicit SweepCommandRun(SweepCommandPlan plan);
@@ -94,6 +96,9 @@ class SweepCommandRun {
   const ShardRecord& record() const { return record_; }
   // Points left to run.
   int ToRun() const { return record_.points - record_.recorded; }
+  // Of the points recorded, those taken from the earlier table of a sweep
+  // that grew (sim/batch/sweep_grow.h).
+  int Reused() const { return reused_; }
 
   // Runs the points the journal does not hold (each recorded as it
   // finishes, before on_point_done sees it) until all are done or
@@ -109,7 +114,14 @@ class SweepCommandRun {
   SweepCommandPlan plan_;
   std::unique_ptr<SweepJournal> journal_;
   ShardRecord record_;
+  int reused_ = 0;
 };
+
+// A finished sweep's closing line: "20 points: 20 ran, 8 with warnings:
+// Re > 1 (8), clamp > 25 % (5)" (with ", 1 failed" after "ran" when points
+// failed, and the shard when the plan runs one; sim/runs/run_warnings.h
+// counts the warnings from the table's columns).
+std::string SweepOutcomeLine(const SweepCommandPlan& plan, const SweepTable& table);
 
 struct MergeCommand {
   std::vector<std::string> tables;  // the shards' PREFIX.csv

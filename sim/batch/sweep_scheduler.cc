@@ -26,6 +26,7 @@
 #include "sim/io/files.h"
 #include "sim/runs/closed_loop_run.h"
 #include "sim/runs/output.h"
+#include "sim/runs/run_warnings.h"
 
 namespace ipmc {
 namespace {
@@ -112,6 +113,10 @@ std::vector<std::string> RunPoint(const SweepPlan& plan, const SweepPoint& point
   } else {
     row.insert(row.end(), std::size(columns::kSwimResults), "");
   }
+  const std::vector<std::string> warnings =
+      result ? RunWarningCells(ClosedLoopWarnings(*result))
+             : std::vector<std::string>(RunWarningColumns().size(), "");
+  row.insert(row.end(), warnings.begin(), warnings.end());
   return row;
 }
 

@@ -24,6 +24,7 @@
 #include "sim/io/csv.h"
 #include "sim/io/files.h"
 #include "sim/io/result_files.h"
+#include "sim/runs/run_warnings.h"
 
 namespace ipmc {
 namespace {
@@ -86,6 +87,8 @@ std::vector<std::string> SweepColumns(const SweepPlan& plan) {
     }
   }
   names.insert(names.end(), std::begin(columns::kSwimResults), std::end(columns::kSwimResults));
+  const std::vector<std::string> warnings = RunWarningColumns();
+  names.insert(names.end(), warnings.begin(), warnings.end());
   return names;
 }
 

@@ -8,7 +8,10 @@
 //   last_cycle_com_along_mm, mean_speed_along_mm_s, reynolds_tip, reynolds_swim,
 //   actuator_power_W, fluid_power_W, hinge_damping_power_W, stepping_power_W,
 //   lighthill_efficiency, cost_of_transport_J_m, electrical_power_W,
-//   electromechanical_efficiency (0 without the electrical model)
+//   electromechanical_efficiency (0 without the electrical model),
+//   warnings (the count), warn_reynolds, warn_clamp, warn_tracking,
+//   warn_reach, warn_stepping (1 where the run failed the check:
+//   sim/runs/run_warnings.h)
 // (sim/runs/closed_loop_run.h, sim/core/swim_meter.h, sim/core/energy.h). Swept values are printed as
 // the shortest text that reads back exactly ("" where a list's point keeps
 // the base's value); results with 17 significant digits (max_digits10), so

@@ -77,6 +77,9 @@ void AddPlotCommand(CLI::App& app, PlotArgs& args) {
   cmd->add_option("--group", f.group_column, "sweep: one curve per value of this column");
   cmd->add_flag("--log-x", f.log_x, "sweep: logarithmic x axis");
   cmd->add_flag("--log-y", f.log_y, "sweep: logarithmic y axis");
+  cmd->add_option("--labels", f.labels,
+                  "compare: the legend's name of each run, one per run directory, in their order "
+                  "(default: what differs between their resolved scenarios)");
 }
 
 int RunPlotCommand(const CLI::App& app, const PlotArgs& args) {

@@ -5,6 +5,7 @@
 #include "plugin/base/error.h"
 #include "sim/cli/render_command.h"
 #include "sim/cli/run_print.h"
+#include "sim/runs/run_warnings.h"
 
 namespace ipmc {
 namespace {
@@ -12,7 +13,7 @@ namespace {
 void PrintClosedLoopResult(const ClosedLoopResult& r) {
   std::printf("%s controller, %s actuation, wave period %.6g s, time step %.3g s\n",
               r.controller.c_str(), r.actuation.c_str(), r.period_s, r.timestep_s);
-  PrintMetricCycles(r.swim);
+  PrintMetricCycles(r);
   std::printf("%4s %12s %14s %16s %20s %13s %16s\n", "link", "iae_mm_s", "itae_mm_s2",
               "max_abs_error_mm", "max_abs_reference_mm", "rms_voltage_V", "clamped_fraction");
   for (size_t q = 0; q < r.links.size(); ++q) {
@@ -21,8 +22,9 @@ void PrintClosedLoopResult(const ClosedLoopResult& r) {
                 t.itae_mm_s2, t.max_abs_error_mm, t.max_abs_reference_mm, t.rms_voltage_V,
                 t.clamped_fraction);
   }
-  PrintSwimMetrics(r.swim);
+  PrintSwimMetrics(r.swim, ClosedLoopWarningLines(r));
   PrintEnergy(r.energy);
+  PrintStartup(r);
 }
 
 }  // namespace

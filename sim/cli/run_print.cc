@@ -8,7 +8,9 @@
 
 namespace ipmc {
 
-void PrintSwimMetrics(const SwimMetrics& swim) {
+void PrintSwimMetrics(const SwimMetrics& swim) { PrintSwimMetrics(swim, swim.warnings); }
+
+void PrintSwimMetrics(const SwimMetrics& swim, const std::vector<std::string>& warnings) {
   std::printf("%5s %14s %14s %14s %14s\n", "cycle", "com_along_mm", "com_across_mm",
               "head_along_mm", "head_across_mm");
   for (size_t k = 0; k < swim.per_cycle.size(); ++k) {
@@ -19,14 +21,24 @@ void PrintSwimMetrics(const SwimMetrics& swim) {
   std::printf("mean speed along the swimming axis: %.6g mm/s\n", swim.mean_speed_along_mm_s);
   std::printf("Reynolds number: %.3g (peak lateral tip speed x width), %.3g (mean speed x length)\n",
               swim.reynolds_tip, swim.reynolds_swim);
-  for (const std::string& warning : swim.warnings) {
+  for (const std::string& warning : warnings) {
     std::fprintf(stderr, "warning: %s\n", warning.c_str());
   }
 }
 
-void PrintMetricCycles(const SwimMetrics& swim) {
-  std::printf("link metrics, mean speed and mean powers over cycles %d-%zu (metrics.from_cycle = %d)\n",
-              swim.from_cycle, swim.per_cycle.size(), swim.from_cycle);
+void PrintMetricCycles(const ClosedLoopResult& result) {
+  std::printf("link metrics, mean speed and mean powers over %s\n",
+              MetricCyclesText(result).c_str());
+}
+
+void PrintStartup(const ClosedLoopResult& result) {
+  const StartupCycles startup = StartupOf(result);
+  if (startup.cycles == 0) return;
+  const std::string cycles =
+      startup.cycles == 1 ? "cycle 1" : "cycles 1-" + std::to_string(startup.cycles);
+  std::printf("start-up (%s, left out of the means): centre of mass %.6g mm along, actuators "
+              "%.6g W\n",
+              cycles.c_str(), startup.com_along_mm, startup.actuator_power_W);
 }
 
 namespace {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "sim/core/energy.h"
 #include "sim/core/swim_meter.h"
@@ -12,10 +13,16 @@
 namespace ipmc {
 
 void PrintSwimMetrics(const SwimMetrics& swim);
+// The same with the run's warnings (sim/runs/run_warnings.h) on stderr
+// instead of the swim's.
+void PrintSwimMetrics(const SwimMetrics& swim, const std::vector<std::string>& warnings);
 
 // Which cycles the link table, the mean speed and the mean powers are
-// taken over (metrics.from_cycle).
-void PrintMetricCycles(const SwimMetrics& swim);
+// taken over, and why (MetricCyclesText, sim/runs/output.h).
+void PrintMetricCycles(const ClosedLoopResult& result);
+// The start-up cycles, which the means leave out, apart: their swim and
+// the actuators' mean power (nothing when the means hold every cycle).
+void PrintStartup(const ClosedLoopResult& result);
 
 // The energy table of a closed-loop run (sim/core/energy.h): every cycle's
 // mean powers, elastic energy, efficiency and cost of transport, then the

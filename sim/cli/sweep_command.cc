@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "sim/batch/journal.h"
+#include "sim/runs/run_warnings.h"
 #include "sim/batch/sweep.h"
 #include "sim/io/columns.h"
 #include "plugin/base/numbers.h"
@@ -24,7 +25,8 @@ namespace ipmc {
 namespace {
 
 // Result columns shown on stdout (all are in the files).
-constexpr const char* kShownResults[] = {columns::kMeanSpeedAlong, columns::kLastCycleComAlong};
+constexpr const char* kShownResults[] = {columns::kMeanSpeedAlong, columns::kLastCycleComAlong,
+                                         kWarningsColumn};
 
 // Progress on stderr: a bar redrawn in place on a terminal, else one line
 // per point (for logs and pipes).
@@ -109,7 +111,12 @@ int RunSweepFile(const SweepArgs& args) {
       TranslatingFieldErrors(SweepOptionTable(), [&] { return PlanSweepCommand(command); }));
   const ShardRecord& record = sweep.record();
   const std::string& journal = sweep.journal_path();
-  if (record.recorded > 0) {
+  if (sweep.Reused() > 0) {
+    std::fprintf(stderr,
+                 "the sweep grew: %d of its %d points are in %s.csv (matched by their resolved "
+                 "inputs) and are not run again\n",
+                 sweep.Reused(), record.points, command.out.c_str());
+  } else if (record.recorded > 0) {
     std::fprintf(stderr, "resuming from %s: %d of %d points done before\n", journal.c_str(),
                  record.recorded, record.points);
   }
@@ -142,15 +149,9 @@ int RunSweepFile(const SweepArgs& args) {
       std::fprintf(stderr, "point %s failed: %s\n", row[0].c_str(), row[status + 1].c_str());
     }
   }
-  const int failed = run.failed;
   PrintSummary(table);
-  std::string scope = std::to_string(table.rows.size()) + " points";
-  if (sweep.plan().shard.count > 1) {
-    scope += " (shard " + command.shard + " of " + std::to_string(sweep.plan().plan.points.size()) +
-             ")";
-  }
-  std::printf("%s: %zu ok, %d failed; wrote %s.csv and %s.json\n", scope.c_str(),
-              table.rows.size() - failed, failed, command.out.c_str(), command.out.c_str());
+  std::printf("%s; wrote %s.csv and %s.json\n", SweepOutcomeLine(sweep.plan(), table).c_str(),
+              command.out.c_str(), command.out.c_str());
   return 0;
 }
 

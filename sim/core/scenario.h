@@ -47,7 +47,8 @@
 //   model = "stokeslets"               # rft | stokeslets (docs/FLUIDS.md)
 //   [metrics]
 //   from_cycle = 2                     # IAE/ITAE, clamp share, mean speed and
-//                                      # powers over cycles 2..cycles; [1, cycles]
+//                                      # powers over cycles 2..cycles; [1, cycles];
+//                                      # default: the first after the start ramp
 //   [output]
 //   dir = "out/paper"                  # relative to the working directory
 //   samples_per_cycle = 200
@@ -111,8 +112,10 @@ struct ScenarioConfig {
   std::optional<double> stokeslet_points_per_mm, stokeslet_blob_mm;
   double stokeslet_shape_tolerance_rad = 1e-3;
   // The first cycle (1-based, <= cycles) of the run's link metrics, mean
-  // speed and mean powers; the per-cycle tables keep every cycle.
-  int metrics_from_cycle = 1;
+  // speed and mean powers; the per-cycle tables keep every cycle. 0 (the
+  // default): the first cycle after the start ramp (MetricsFromCycle,
+  // sim/runs/closed_loop_run.h).
+  int metrics_from_cycle = 0;
   // The links' electrical power (sim/core/electrical.h); off by default.
   ElectricalConfig electrical;
   std::string output_dir;   // empty: no files

@@ -629,11 +629,11 @@ std::vector<KeySpec> MakeScenarioKeys() {
                        ? kLeftOut
                        : TomlFloat(c.stokeslet_shape_tolerance_rad);
           }),
-      Key("metrics.from_cycle", T::kInteger, "", "[1, cycles]", "1",
+      Key("metrics.from_cycle", T::kInteger, "", "[1, cycles]",
+          "the first cycle after the start ramp (the last cycle if none is)",
           "The first cycle of the links' IAE, ITAE, RMS and peak voltage and clamped fraction, the "
-          "mean speed and the mean powers (2: leave the fade-in out); per-cycle tables keep every "
-          "cycle")
-          .Default("1")
+          "mean speed and the mean powers (1: the whole run, start-up included); per-cycle "
+          "tables keep every cycle")
           .Example("2")
           .Refused("0")
           .AtLeast(1)
@@ -647,7 +647,9 @@ std::vector<KeySpec> MakeScenarioKeys() {
             }
             c.metrics_from_cycle = first;
           })
-          .Writes([](const ScenarioConfig& c) { return TomlInteger(c.metrics_from_cycle); }),
+          .Writes([](const ScenarioConfig& c) {
+            return c.metrics_from_cycle > 0 ? TomlInteger(c.metrics_from_cycle) : kLeftOut;
+          }),
       Key("electrical.enabled", T::kBoolean, "", "true or false", "false",
           "Each link's electrical power <V I> and the electromechanical efficiency from the IPMC "
           "impedance R_s + (R_p || C) per unit electrode area, scaled by the link's length x "

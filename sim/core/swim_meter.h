@@ -38,11 +38,12 @@ struct SwimMetrics {
   std::vector<std::string> warnings;
 };
 
-// A Reynolds number above this warns that the drag models (all of them
-// Stokes flow) lose accuracy: Oseen's first inertial correction to the
-// Stokes drag of a sphere is a factor 1 + 3/16 Re (Re on the diameter),
-// 9 % at 0.5 and 15 % at the paper run's 0.79 (docs/FLUIDS.md).
-constexpr double kReynoldsWarning = 0.5;
+// A Reynolds number above this warns that the run is outside the drag
+// models' validity (all of them Stokes flow, Re < 1): Oseen's first
+// inertial correction to the Stokes drag of a sphere is a factor
+// 1 + 3/16 Re (Re on the diameter), 15 % at the paper run's 0.79 and 19 %
+// at 1 (docs/MODEL.md).
+constexpr double kReynoldsWarning = 1.0;
 // Fewer drag segments than this per wavelength cannot represent the wave
 // (three straight chords of a sine are the fewest that bend both ways).
 constexpr double kMinSegmentsPerWavelength = 3.0;

@@ -72,6 +72,7 @@ struct DriverEvaluation {
   std::string error;        // !ok: why (one line)
   double objective = 0.0;   // as reported (not negated)
   std::vector<double> constraint_values;  // one per DriverProblem::constraints
+  std::string warnings;     // the run's failed checks, "; "-separated (sim/runs/run_warnings.h)
 };
 
 struct DriverRecord {

@@ -21,6 +21,7 @@
 #include "sim/io/files.h"
 #include "sim/io/toml.h"
 #include "sim/runs/closed_loop_run.h"
+#include "sim/runs/run_warnings.h"
 
 namespace ipmc {
 namespace {
@@ -480,6 +481,7 @@ std::vector<std::string> MetricNames(int links) {
     for (const char* result : columns::kLinkResults) names.push_back(columns::LinkResult(q, result));
   }
   for (const char* result : columns::kSwimResults) names.push_back(result);
+  for (const std::string& warning : RunWarningColumns()) names.push_back(warning);
   return names;
 }
 

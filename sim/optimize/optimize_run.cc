@@ -24,6 +24,7 @@
 #include "sim/optimize/retune.h"
 #include "sim/runs/closed_loop_run.h"
 #include "sim/runs/output.h"
+#include "sim/runs/run_warnings.h"
 
 namespace ipmc {
 namespace {
@@ -127,6 +128,10 @@ DriverEvaluation Evaluation(const OptimizeConfig& config, const Cells& cells) {
   evaluation.ok = cells.ok();
   evaluation.error = cells.error();
   if (!evaluation.ok) return evaluation;
+  for (int check : FailedChecks(*cells.columns, cells.cells)) {
+    evaluation.warnings += (evaluation.warnings.empty() ? "" : "; ") +
+                           std::string(kRunWarningChecks[check].label);
+  }
   std::optional<double> objective = cells.Metric(config.objective);
   for (const DesignConstraint& constraint : config.constraints) {
     const std::optional<double> value = cells.Metric(constraint.metric);
@@ -154,7 +159,9 @@ Tables HistoryTables(const OptimizeConfig& config, const DriverResult& result) {
   for (const DesignKey& key : keys) header.push_back(key.name);
   header.push_back("objective");
   for (const DesignConstraint& constraint : config.constraints) header.push_back(constraint.metric);
-  for (const char* name : {"feasible", "error", "best_so_far"}) header.push_back(name);
+  for (const char* name : {"feasible", "error", "best_so_far", kWarningsColumn}) {
+    header.push_back(name);
+  }
   history.Row(header);
   convergence.Row({"start", "evaluation", config.objective});
   Tables tables;
@@ -173,7 +180,7 @@ Tables HistoryTables(const OptimizeConfig& config, const DriverResult& result) {
         best = record.result.objective;
       }
       history.Add(record.feasible ? "true" : "false").Add(record.result.error);
-      history.Add(best ? Number(*best) : "").EndRow();
+      history.Add(best ? Number(*best) : "").Add(record.result.warnings).EndRow();
       if (best) {
         convergence.AddInteger(record.start).AddInteger(record.evaluation).Add(Number(*best)).EndRow();
       }

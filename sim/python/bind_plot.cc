@@ -39,6 +39,7 @@ py::dict Plot(const std::string& kind_name, const py::list& input_list, const py
   options.Read("group", &figure.group_column);
   options.Read("log_x", &figure.log_x);
   options.Read("log_y", &figure.log_y);
+  options.Read("labels", &figure.labels);
   options.RejectUnknown();
   CheckFigureOptionsApply(kind, given);
   FigureReport report;

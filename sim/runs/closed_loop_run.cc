@@ -273,6 +273,12 @@ void CheckLinkGains(const ScenarioConfig& scenario, int links) {
   }
 }
 
+int MetricsFromCycle(const ScenarioConfig& scenario) {
+  if (scenario.metrics_from_cycle > 0) return scenario.metrics_from_cycle;
+  const double after_ramp = std::ceil(std::max(0.0, scenario.start_ramp_cycles)) + 1.0;
+  return static_cast<int>(std::min(after_ramp, static_cast<double>(std::max(1, scenario.cycles))));
+}
+
 ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserver& observer,
                              const RunHeartbeat& heartbeat) {
   const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(scenario);
@@ -320,6 +326,7 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
   const bool clamped = pid ? scenario.pid.clamp_enabled : scenario.fractional.clamp_enabled;
   const double v_max = pid ? scenario.pid.v_max : scenario.fractional.v_max;
 
+  const int from_cycle = MetricsFromCycle(scenario);
   ClosedLoopResult result;
   result.controller = pid ? controller_names::kPid : controller_names::kFractional;
   result.actuation = scenario.actuation;
@@ -343,8 +350,8 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
   energy.MeasureElectrical(scenario.electrical, geometry.length_mm);
   HeartbeatClock beat(heartbeat);
   for (int cycle = 0; cycle < scenario.cycles; ++cycle) {
-    // The link metrics are taken over the cycles from metrics.from_cycle.
-    const bool measuring = cycle + 1 >= scenario.metrics_from_cycle;
+    // The link metrics are taken over the cycles from MetricsFromCycle.
+    const bool measuring = cycle + 1 >= from_cycle;
     for (long step = 0; step < steps_per_cycle; ++step) {
       if (step % steps_per_sample == 0) {
         const double t = d->time;
@@ -390,7 +397,7 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
     result.links[q].clamped_fraction =
         static_cast<double>(clamped_samples[q]) / std::max<long>(1, measured_samples);
   }
-  result.swim = meter.Finish(m, d, scenario.metrics_from_cycle, scenario.waveform.wavelength_mm);
+  result.swim = meter.Finish(m, d, from_cycle, scenario.waveform.wavelength_mm);
   if (scenario.samples_per_cycle > samples_per_cycle) {
     // Not silently fewer rows than asked for.
     result.swim.warnings.push_back(FormatText(
@@ -400,7 +407,10 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
         samples_per_cycle));
   }
   RequireFiniteMetrics(result.swim, sim.source());
-  result.energy = energy.Finish(result.swim, period_s, scenario.metrics_from_cycle);
+  result.energy = energy.Finish(result.swim, period_s, from_cycle);
+  result.from_cycle_given = scenario.metrics_from_cycle > 0;
+  result.startup_included = from_cycle - 1 < scenario.start_ramp_cycles;
+  result.reach_clamps = FindCoupling(d)->actuators->ClampCount();
   return result;
 }
 

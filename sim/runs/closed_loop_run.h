@@ -8,8 +8,8 @@
 // tracks its own reference); the other links get 0 V and are passive.
 // The references fade in over the scenario's start ramp.
 //
-// Tracking indices per link, over the cycles from the scenario's
-// metrics.from_cycle (all by default; rectangle rule at the sample rate),
+// Tracking indices per link, over the cycles from MetricsFromCycle (by
+// default the cycles after the start ramp; rectangle rule at the sample rate),
 // e = r - y [mm]:
 //   IAE = int |e| dt [mm s],  ITAE = int t |e| dt [mm s^2]  (t from the run's start)
 // plus the RMS and peak voltage and the fraction of samples at the clamp;
@@ -58,6 +58,15 @@ struct ClosedLoopResult {
   std::vector<LinkTracking> links;
   SwimMetrics swim;
   EnergyMetrics energy;
+  // Why the metrics start at swim.from_cycle (MetricsFromCycle): true when
+  // the scenario's metrics.from_cycle chose it, else the start ramp did;
+  // startup_included when no cycle follows the ramp, so the metric cycles
+  // hold the start-up.
+  bool from_cycle_given = false;
+  bool startup_included = false;
+  // How often a link's free deflection went beyond the link's reach and
+  // was clamped (IpmcActuators::ClampCount).
+  long reach_clamps = 0;
   std::vector<ClosedLoopSample> samples;
   RecordedStates states;  // the model's qpos at every recorded sample
 };
@@ -110,6 +119,12 @@ void CheckLinkGains(const ScenarioConfig& scenario, int links);
 // samples of sample_period_s (exactly: 9.9 are refused).
 void RequireSamplesPerWaveCycle(const ScenarioConfig& scenario, double period_s,
                                 double sample_period_s);
+
+// The first cycle (1-based) of a run's link metrics, mean speed and mean
+// powers: metrics.from_cycle if the scenario gives it; else the first
+// cycle that starts after the start ramp, ceil(start_ramp_cycles) + 1 (2
+// for the paper's quarter period), or the last cycle if no cycle does.
+int MetricsFromCycle(const ScenarioConfig& scenario);
 
 // The references' fade-in (sim/core/scenario.h): (1 - cos(pi t / T_r)) / 2
 // for t < T_r = ramp_s, then 1.

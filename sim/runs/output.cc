@@ -1,5 +1,6 @@
 #include "sim/runs/output.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <functional>
 #include <sstream>
@@ -13,6 +14,7 @@
 #include "plugin/base/error.h"
 #include "sim/io/files.h"
 #include "sim/io/result_files.h"
+#include "sim/runs/run_warnings.h"
 
 namespace ipmc {
 namespace {
@@ -235,6 +237,57 @@ std::string ClosedLoopSamplesCsv(const ClosedLoopResult& result) {
   return csv.Text();
 }
 
+StartupCycles StartupOf(const ClosedLoopResult& result) {
+  StartupCycles startup;
+  startup.cycles = std::max(0, result.swim.from_cycle - 1);
+  for (int k = 0; k < startup.cycles; ++k) {
+    if (static_cast<size_t>(k) < result.swim.per_cycle.size()) {
+      startup.com_along_mm += result.swim.per_cycle[k].com_along;
+    }
+    if (static_cast<size_t>(k) < result.energy.per_cycle.size()) {
+      const double power_W = result.energy.per_cycle[k].actuator_power_W_total;
+      startup.actuator_work_J += power_W * result.period_s;
+    }
+  }
+  const double time_s = startup.cycles * result.period_s;
+  startup.actuator_power_W = time_s > 0.0 ? startup.actuator_work_J / time_s : 0.0;
+  return startup;
+}
+
+std::string MetricCyclesText(const ClosedLoopResult& result) {
+  const int from = result.swim.from_cycle;
+  const std::string cycles = "cycles " + std::to_string(from) + "-" +
+                             std::to_string(result.swim.per_cycle.size());
+  if (result.from_cycle_given) {
+    return cycles + " (metrics.from_cycle = " + std::to_string(from) + ")";
+  }
+  if (result.startup_included) {
+    return cycles + " (no cycle follows the start ramp: the start-up is included; run more "
+                    "cycles for steady values)";
+  }
+  return cycles + " (the cycles after the start ramp; metrics.from_cycle = 1 takes the whole run)";
+}
+
+namespace {
+
+nlohmann::json StartupJson(const ClosedLoopResult& result) {
+  const StartupCycles startup = StartupOf(result);
+  return {{"cycles", startup.cycles},
+          {"com_along_mm", startup.com_along_mm},
+          {columns::kActuatorPower, startup.actuator_power_W},
+          {"actuator_work_J", startup.actuator_work_J}};
+}
+
+nlohmann::json WarningChecksJson(const RunWarnings& warnings) {
+  nlohmann::json checks = nlohmann::json::object();
+  for (int c = 0; c < kRunWarningCheckCount; ++c) {
+    checks[kRunWarningChecks[c].column] = warnings.failed[c];
+  }
+  return checks;
+}
+
+}  // namespace
+
 nlohmann::json ClosedLoopSummaryJson(const ClosedLoopResult& result) {
   nlohmann::json summary = SwimMetricsJson(result.swim);
   const EnergyMetrics& energy = result.energy;
@@ -263,6 +316,10 @@ nlohmann::json ClosedLoopSummaryJson(const ClosedLoopResult& result) {
     }
   }
   summary["metrics_from_cycle"] = result.swim.from_cycle;
+  summary["metrics_cycles"] = MetricCyclesText(result);
+  if (result.swim.from_cycle > 1) summary["startup"] = StartupJson(result);
+  summary["warnings"] = ClosedLoopWarningLines(result);
+  summary["warning_checks"] = WarningChecksJson(ClosedLoopWarnings(result));
   summary[columns::kActuatorPower] = energy.actuator_power_W_total;
   summary[columns::kFluidPower] = energy.fluid_power_W;
   summary[columns::kHingeDampingPower] = energy.hinge_damping_power_W;

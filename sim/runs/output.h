@@ -62,7 +62,28 @@ nlohmann::json GaitSummaryJson(const GaitRunResult& result);
 void WriteGaitOutputs(const std::string& dir, const GaitRunResult& result,
                       const nlohmann::json& inputs, const RunFileFormats& formats = {});
 
+// Which cycles a run's metrics are over, and why: "cycles 2-3 (the cycles
+// after the start ramp; ...)", "cycles 2-3 (metrics.from_cycle = 2)", or
+// the start-up included when no cycle follows the ramp. summary.json's
+// metrics_cycles and the printed summary.
+std::string MetricCyclesText(const ClosedLoopResult& result);
+
+// The start-up: the cycles before the metric cycles, which the means
+// leave out (none when the metrics start at cycle 1), reported apart.
+struct StartupCycles {
+  int cycles = 0;
+  double com_along_mm = 0.0;      // the centre of mass's swim over them
+  double actuator_power_W = 0.0;  // the actuators' mean power over them
+  double actuator_work_J = 0.0;
+};
+StartupCycles StartupOf(const ClosedLoopResult& result);
+
 std::string ClosedLoopSamplesCsv(const ClosedLoopResult& result);
+// summary.json's results: the swim and energy tables and means, the links,
+// metrics_from_cycle and metrics_cycles (MetricCyclesText), startup
+// (StartupOf, when the metrics leave cycles out), warnings (every line,
+// ClosedLoopWarningLines) and warning_checks (each check of
+// sim/runs/run_warnings.h by its column name: true where the run failed it).
 nlohmann::json ClosedLoopSummaryJson(const ClosedLoopResult& result);
 
 // What a run needs to be made again, kept in summary.json's "inputs":

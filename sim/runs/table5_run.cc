@@ -172,6 +172,7 @@ ScenarioConfig Table5Scenario(const ScenarioConfig& setting, ControllerKind cont
   scenario.plants = reading.plants;
   scenario.cycles = reading.cycles;
   scenario.start_ramp_cycles = reading.start_ramp_cycles;
+  scenario.metrics_from_cycle = 1;  // Table 5's indices: the whole run, start-up included
   scenario.controller = controller;
   scenario.pid.clamp_enabled = false;
   FractionalIntegrator::Config eq15;

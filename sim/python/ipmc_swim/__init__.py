@@ -295,7 +295,7 @@ def plot(kind, input, *, out, **options):
     for compare a list of two or more run directories (their
     timeseries.csv and summary.json). out: FILE.pdf, FILE.svg or FILE.png.
     options: title, width_px, height_px, and the kind's own (curves,
-    instants, times_s, period_s, max_lines, x, y, group, log_x, log_y; one
+    instants, times_s, period_s, max_lines, x, y, group, log_x, log_y, labels; one
     the kind does not use is an error). Returns a Result with the title
     (title, title_lines) and what the figure found (notes: for compare,
     each run's last-cycle displacement and steady tracking error).
