@@ -81,13 +81,12 @@ double GridSpacing(double px_per_m, int* major_every) {
 }
 
 void DrawScaleBar(const DecorCanvas& canvas, double px_per_m) {
-  const int width_ = canvas.width_px, height_ = canvas.height_px;
   int major_every = 5;
   const double spacing = GridSpacing(px_per_m, &major_every);
   const double bar_m = spacing * major_every;
   const int length_px = static_cast<int>(std::lround(bar_m * px_per_m));
-  if (length_px + 2 * kScaleBarMargin_px > width_) return;
-  const mjrRect bar = {width_ - kScaleBarMargin_px - length_px, kScaleBarMargin_px, length_px,
+  if (length_px + 2 * kScaleBarMargin_px > canvas.width_px) return;
+  const mjrRect bar = {canvas.width_px - kScaleBarMargin_px - length_px, kScaleBarMargin_px, length_px,
                        kScaleBarThickness_px};
   const std::string label = FormatLength(bar_m);
   const int text_px = TextWidth_px(canvas, label);

@@ -62,11 +62,16 @@ fs::path ScenarioWith(const fs::path& dir, const std::string& key_line, const st
 
 TEST(StepCountTest, CommandsRefuseRunsWithoutStepsAndLeaveNoOutput) {
   const fs::path dir = FreshDir("step_count");
-  for (const std::string frequency : {"1e-300", "1e300"}) {
+  // Too slow a wave has too many steps a cycle; too fast a one too few
+  // controller samples (closed_loop_run.h, RequireSamplesPerWaveCycle).
+  const std::pair<std::string, std::string> refusals[] = {
+      {"1e-300", "one wave cycle (waveform.frequency_Hz)"},
+      {"1e300", "a cycle takes at least 10 controller samples: at most 100 Hz"}};
+  for (const auto& [frequency, message] : refusals) {
     const fs::path scenario = ScenarioWith(dir, "frequency_Hz = 0.01", "frequency_Hz = " + frequency);
     const CommandResult run = RunCli("run " + scenario.string() + " --out " + (dir / "out").string());
     EXPECT_EQ(run.exit_code, 1) << run.output;
-    EXPECT_NE(run.output.find("one wave cycle (waveform.frequency_Hz)"), std::string::npos) << run.output;
+    EXPECT_NE(run.output.find(message), std::string::npos) << run.output;
     EXPECT_EQ(CountLines(run.output), 1) << run.output;
     EXPECT_FALSE(fs::exists(dir / "out" / "summary.json"));
   }

@@ -188,10 +188,16 @@ def make_fixtures(d):
           "1,2,ok,,0.6\n")
     write(f"{d}/s_ragged.csv", header + "1,2,ok\n")
     write(f"{d}/s_empty.csv", "")
+    # A broadband voltage and its first-order low-pass (pole near 105 rad/s)
+    # as the response: coherent in identify's 8-50 rad/s band, so that the
+    # cases below reach their output's failure.
     bench = ["time_s,voltage1_V,relative1_mm,zero_V"]
+    response_mm = 0.0
     for i in range(4000):
         t = i / 1000.0
-        bench.append(f"{t:.3f},{((i * 7919) % 1000) / 500.0 - 1.0:.6f},{((i * 104729) % 997) / 997.0:.6f},0")
+        voltage_V = ((i * 7919) % 1000) / 500.0 - 1.0
+        response_mm = 0.9 * response_mm + 0.1 * voltage_V
+        bench.append(f"{t:.3f},{voltage_V:.6f},{response_mm:.6f},0")
     write(f"{d}/bench.csv", "\n".join(bench) + "\n")
     write(f"{d}/bench_short.csv", "\n".join(bench[:20]) + "\n")
     write(f"{d}/bench_text.csv", bench[0] + "\n0,1,x,0\n0.001,1,2,0\n")

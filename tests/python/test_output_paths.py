@@ -83,7 +83,9 @@ def command_outputs(folder, short_scenario, target):
                                        '"waveform.frequency_Hz" = 0.5\n[grid]\n'
                                        'segments_per_link = [1]\n')
     return [
-        (["bench", "--model", clamped, "--duration-s", "4", f"--out={target}.csv"],
+        # A chirp long enough for identify's coherence gate (12 bins in 8-50 rad/s).
+        (["bench", "--model", clamped, "--signal", "chirp", "--start-hz", "0.5", "--end-hz", "20",
+          "--duration-s", "8", f"--out={target}.csv"],
          [f"{target}.csv"]),
         (["generate", f"--out={target}.xml"], [f"{target}.xml"]),
         (["run", short_scenario, "--cycles", "1", "--set", "waveform.frequency_Hz=0.5",
