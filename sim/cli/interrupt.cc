@@ -45,6 +45,11 @@ void InterruptAtBoundary::ThrowIfRequested(const std::string& what) const {
 InterruptAtBoundary::InterruptAtBoundary(std::string message) : message_(std::move(message)) {
   const sigset_t set = InterruptSet();
   pthread_sigmask(SIG_BLOCK, &set, &previous_mask_);
+  // A signal already pending (sent while it was blocked, before the work
+  // began) requests the stop before the first safe point.
+  const timespec no_wait = {0, 0};
+  const int pending = sigtimedwait(&set, nullptr, &no_wait);
+  if (pending == SIGINT || pending == SIGTERM || pending == SIGHUP) Take(pending);
   watcher_ = std::thread([this] { Watch(); });
 }
 
@@ -61,13 +66,17 @@ void InterruptAtBoundary::Watch() {
   while (!finished_) {
     const int received = sigtimedwait(&set, nullptr, &interval);
     if (received != SIGINT && received != SIGTERM && received != SIGHUP) continue;  // timeout or EINTR
-    if (Requested()) {
-      std::fputs("\ninterrupted again: stopping now\n", stderr);
-      std::_Exit(InterruptExitCode(received));
-    }
-    signal_ = received;
-    std::fprintf(stderr, "\n%s\n", message_.c_str());
+    Take(received);
   }
+}
+
+void InterruptAtBoundary::Take(int received) {
+  if (Requested()) {
+    std::fputs("\ninterrupted again: stopping now\n", stderr);
+    std::_Exit(InterruptExitCode(received));
+  }
+  signal_ = received;
+  std::fprintf(stderr, "\n%s\n", message_.c_str());
 }
 
 }  // namespace ipmc

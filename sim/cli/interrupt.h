@@ -12,7 +12,9 @@
 // Both signals are blocked in the constructing thread, and so in every
 // thread it starts afterwards (they inherit the mask); a watcher thread
 // takes them with sigtimedwait, so there is no signal handler and no
-// global state. Construct it before starting any worker thread.
+// global state. A signal already pending when it is constructed (sent
+// while the process blocked it) counts as received then. Construct it
+// before starting any worker thread.
 #pragma once
 
 #include <signal.h>
@@ -58,6 +60,8 @@ class InterruptAtBoundary {
 
  private:
   void Watch();
+  // Requests the stop for `received`; a second signal ends the process.
+  void Take(int received);
 
   std::string message_;
   sigset_t previous_mask_;
