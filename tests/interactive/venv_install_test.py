@@ -86,14 +86,19 @@ def main():
         assert result["version"] == version, (result["version"], version)
 
         # A Jupyter kernel of the venv, registered as docs/PYTHON.md says,
-        # imports the venv's package, so the notebooks run on it
-        # (docs/notebooks, notebook_first_study).
+        # imports the venv's package, and the first-study notebook runs on
+        # it, every cell (docs/notebooks).
         # (ipykernel leaves its scratch copy of the spec in TMPDIR.)
         run([python, "-m", "ipykernel", "install", "--prefix", venv, "--name", "ipmc-venv"],
             cwd=scratch, env=dict(os.environ, TMPDIR=scratch))
         kernel = run([python, "-c", KERNEL_IMPORT], cwd=scratch,
                      env=dict(os.environ, PYDEVD_DISABLE_FILE_VALIDATION="1"))
         assert kernel.strip().startswith(os.path.join(venv, "lib")), kernel
+        notebook = os.path.join(SOURCE_DIR, "docs", "notebooks", "first_study.ipynb")
+        print(run([python, os.path.join(os.path.dirname(os.path.abspath(__file__)),
+                                        "run_notebook.py"), notebook, "ipmc-venv"],
+                  cwd=scratch, env=dict(os.environ, PYDEVD_DISABLE_FILE_VALIDATION="1")),
+              end="")
 
         # A package whose files disagree: its Python part against its
         # extension, then the extension against the library it loads.
