@@ -6,23 +6,10 @@
 #include <stdexcept>
 #include <string>
 
+#include "plugin/fluid/spatial_algebra.h"
+
 namespace ipmc {
 namespace {
-
-using Matrix6 = Eigen::Matrix<double, 6, 6>;
-
-Eigen::Matrix3d Cross(const Eigen::Vector3d& r) {
-  Eigen::Matrix3d rx;
-  rx << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
-  return rx;
-}
-
-Eigen::Matrix3d BodyRotation(const mjData* d, int body) {
-  Eigen::Matrix3d q;
-  const mjtNum* x = d->xmat + 9 * body;  // row-major
-  q << x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8];
-  return q;
-}
 
 // The last dof of body b's chain (its own or its nearest moving
 // ancestor's), -1 if it is fixed to the world.
@@ -150,7 +137,7 @@ const Eigen::MatrixXd& FluidModel::WorldResistance(const mjData* d) const {
   const Eigen::Vector3d r =
       Eigen::Vector3d(d->xpos + 3 * root_body_) - Eigen::Vector3d(d->subtree_com + 3 * root_body_);
   Matrix6 t = Matrix6::Identity();
-  t.block<3, 3>(3, 0) = -Cross(r);
+  t.block<3, 3>(3, 0) = -CrossMatrix(r);
   Matrix6 q6 = Matrix6::Zero();
   q6.block<3, 3>(0, 0) = q;
   q6.block<3, 3>(3, 3) = q;
@@ -169,7 +156,7 @@ const Eigen::MatrixXd& FluidModel::WorldResistance(const mjData* d) const {
 Eigen::VectorXd FluidModel::BodyVelocities(const mjModel* /*m*/, const mjData* d) const {
   Eigen::VectorXd v(6 * bodies_.size());
   for (size_t i = 0; i < bodies_.size(); ++i) {
-    v.segment<6>(6 * i) = Eigen::Map<const Eigen::Matrix<double, 6, 1>>(d->cvel + 6 * bodies_[i]);
+    v.segment<6>(6 * i) = Eigen::Map<const Vector6>(d->cvel + 6 * bodies_[i]);
   }
   return v;
 }
@@ -177,9 +164,9 @@ Eigen::VectorXd FluidModel::BodyVelocities(const mjModel* /*m*/, const mjData* d
 void FluidModel::AddBodyWrenches(const mjModel* m, const mjData* d, const Eigen::VectorXd& wrench,
                                  mjtNum* qfrc) const {
   for (size_t i = 0; i < bodies_.size(); ++i) {
-    const Eigen::Matrix<double, 6, 1> w = wrench.segment<6>(6 * i);
+    const Vector6 w = wrench.segment<6>(6 * i);
     for (int j = LastDof(m, bodies_[i]); j >= 0; j = m->dof_parentid[j]) {
-      qfrc[j] += Eigen::Map<const Eigen::Matrix<double, 6, 1>>(d->cdof + 6 * j).dot(w);
+      qfrc[j] += Eigen::Map<const Vector6>(d->cdof + 6 * j).dot(w);
     }
   }
 }

@@ -8,6 +8,7 @@
 #include "plugin/mjcf/custom_fields.h"
 #include "plugin/mjcf/point_velocity.h"
 #include "plugin/base/numbers.h"
+#include "plugin/fluid/spatial_algebra.h"
 
 namespace ipmc {
 namespace {
@@ -169,21 +170,13 @@ Wrench SegmentDragExact(const Segment& segment, const DragCoefficients& xi) {
   return wrench;
 }
 
-namespace {
-Eigen::Matrix3d Cross(const Eigen::Vector3d& r) {
-  Eigen::Matrix3d x;
-  x << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
-  return x;
-}
-}  // namespace
-
 SpatialResistance SegmentResistance(const Eigen::Vector3d& center_W,
                                     const Eigen::Vector3d& tangent_W, double length_m,
                                     const Eigen::Vector3d& c_W, const DragCoefficients& xi) {
   const Eigen::Matrix3d tt = tangent_W * tangent_W.transpose();
   const Eigen::Matrix3d normal = Eigen::Matrix3d::Identity() - tt;
   const Eigen::Matrix3d lr = length_m * (xi.tangential_N_s_m2 * tt + xi.normal_N_s_m2 * normal);
-  const Eigen::Matrix3d rx = Cross(center_W - c_W);
+  const Eigen::Matrix3d rx = CrossMatrix(center_W - c_W);
   const Eigen::Matrix3d rx_lr = rx * lr;
   SpatialResistance s;
   s.topLeftCorner<3, 3>() =
@@ -376,9 +369,9 @@ void RftDrag::Apply(const mjModel* m, mjData* d) const {
   mju_zero(wrench_c, 6 * m->nbody);
   for (const SlenderGeom& geom : slender_) {
     const BodyResistance segment = ResistanceOf<6>(m, d, geom);
-    Eigen::Map<Eigen::Matrix<double, 6, 1>> target(wrench_c + 6 * segment.body);
+    Eigen::Map<Vector6> target(wrench_c + 6 * segment.body);
     target.noalias() -= segment.resistance *
-                        Eigen::Map<const Eigen::Matrix<double, 6, 1>>(d->cvel + 6 * segment.body);
+                        Eigen::Map<const Vector6>(d->cvel + 6 * segment.body);
   }
   // Bodies are numbered parents first; a tree's wrenches stop at its root.
   for (int body = m->nbody - 1; body > 0; --body) {

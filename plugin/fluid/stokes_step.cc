@@ -6,9 +6,10 @@
 #include <stdexcept>
 #include <string>
 
+#include "plugin/fluid/spatial_algebra.h"
+
 namespace ipmc {
 namespace {
-using Vector6 = Eigen::Matrix<double, 6, 1>;  // a motion or force vector (cdof, cvel)
 
 std::string Name(const mjModel* m, mjtObj type, int id) {
   const char* name = mj_id2name(m, type, id);
