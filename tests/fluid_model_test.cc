@@ -54,15 +54,16 @@ void ExpectCacheMovesWithTheRoot(const std::string& fluid) {
       LoadScenarioSimulation(PaperWith("[fluid]\nmodel = \"stokeslets\"\n" + fluid));
   const mjModel* m = sim->model();
   mjData* d = sim->data();
-  const FluidModel& model = *FindCoupling(d)->fluid;
-  ASSERT_TRUE(model.nonlocal());
+  const auto* interacting = dynamic_cast<const StokesletFluid*>(FindCoupling(d)->fluid.get());
+  ASSERT_NE(interacting, nullptr);
+  const StokesletFluid& model = *interacting;
   Pose(m, d, 0, 0, 0);
   model.BodyResistance(m, d);
   const int computed = model.recomputations();
   Pose(m, d, 3e-3, -2e-3, 0.7);
   const Eigen::MatrixXd moved = model.BodyResistance(m, d);
   EXPECT_EQ(model.recomputations(), computed);  // the shape has not changed
-  const FluidModel fresh(m, model.rft(), model.settings());
+  const StokesletFluid fresh(m, model.rft(), model.settings());
   const Eigen::MatrixXd direct = fresh.BodyResistance(m, d);
   EXPECT_NEAR((moved - direct).norm() / direct.norm(), 0.0, 1e-10);
   // A joint moved beyond the tolerance makes a new resistance.
@@ -89,7 +90,7 @@ TEST(FluidModelTest, CallbackPowerIsTheDissipatedPower) {
     const mjModel* m = sim->model();
     mjData* d = sim->data();
     Pose(m, d, 1e-3, 0, 0.2);
-    const FluidModel& fluid = *FindCoupling(d)->fluid;
+    const Fluid& fluid = *FindCoupling(d)->fluid;
     std::vector<mjtNum> before(d->qfrc_passive, d->qfrc_passive + m->nv);
     mju_zero(d->qfrc_passive, m->nv);
     fluid.Apply(m, d);

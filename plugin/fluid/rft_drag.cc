@@ -236,6 +236,15 @@ double SegmentDragPower(const Segment& segment, const Wrench& wrench) {
          wrench.torque_center_W.dot(segment.angular_velocity_W);
 }
 
+bool RftDrag::Chosen(const RftDrag& /*segments*/, const RftDragOverrides& /*overrides*/) {
+  return true;
+}
+
+std::unique_ptr<Fluid> RftDrag::Make(const mjModel* /*m*/, const RftDrag& segments,
+                                     const RftDragOverrides& /*overrides*/) {
+  return std::make_unique<RftDrag>(segments);
+}
+
 RftDrag::RftDrag(const mjModel* m, const RftDragConfig& config)
     : config_(config), coefficients_(config.Coefficients()) {
   config_.Validate();
@@ -330,7 +339,7 @@ std::vector<double> RftDrag::SegmentLengths_m() const {
 // subtree centre of mass of its body's root (where MuJoCo gives cdof and
 // cvel).
 template <int Dim>
-RftDrag::BodyResistanceBlock<Dim> RftDrag::ResistanceOf(const mjModel* m, const mjData* d,
+BodyResistanceBlock<Dim> RftDrag::ResistanceOf(const mjModel* m, const mjData* d,
                                                         const SlenderGeom& geom) const {
   const int body = m->geom_bodyid[geom.geom_id];
   const mjtNum* xmat = d->geom_xmat + 9 * geom.geom_id;  // row-major
@@ -368,7 +377,7 @@ void RftDrag::Apply(const mjModel* m, mjData* d) const {
   mjtNum* wrench_c = mj_stackAlloc(d, 6 * m->nbody);  // [torque; force] at c, per body
   mju_zero(wrench_c, 6 * m->nbody);
   for (const SlenderGeom& geom : slender_) {
-    const BodyResistance segment = ResistanceOf<6>(m, d, geom);
+    const BodyResistanceBlock<6> segment = ResistanceOf<6>(m, d, geom);
     Eigen::Map<Vector6> target(wrench_c + 6 * segment.body);
     target.noalias() -= segment.resistance *
                         Eigen::Map<const Vector6>(d->cvel + 6 * segment.body);

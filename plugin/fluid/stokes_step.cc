@@ -185,21 +185,21 @@ StokesStepper::StokesStepper(const mjModel* m) {
 }
 
 // The fluid's resistance D = sum_s J_s^T S_s J_s enters the step here, and
-// only here (a local fluid: RFT): each segment's spatial resistance S_s
-// (RftDrag::Resistances, the formula the drag callback applies; of a
-// planar body only its [w_z; v_x; v_y] block), extrapolated to the step's
+// only here (a fluid whose segments do not interact: RFT): each segment's
+// spatial resistance S_s (Fluid::LocalResistances, the formula the drag
+// callback applies; of a planar body only its [w_z; v_x; v_y] block), extrapolated to the step's
 // midpoint, 3/2 of this step's minus 1/2 of the last one's if the step
 // continues the last, added to the articulated resistance of its body's
 // last dof, from which Solve's recursion carries it to the root. The sums
-// are kept per dof (own) for the fluid power. A nonlocal fluid adds none
-// (its resistance is dense_).
+// are kept per dof (own) for the fluid power. A fluid whose segments
+// interact adds none (its resistance is dense_).
 template <int Dim>
 void StokesStepper::AssembleResistances(const mjModel* m, const mjData* d,
-                                        const FluidModel* fluid, bool continues) {
+                                        const Fluid* fluid, bool continues) {
   BlockWorkspace<Dim>& w = Workspace<Dim>();
   w.last_resistances.swap(w.resistances);
   w.resistances.clear();
-  if (fluid && !fluid->nonlocal()) fluid->LocalResistances(m, d, &w.resistances);
+  if (fluid) fluid->LocalResistances(m, d, &w.resistances);
   const bool extrapolate = continues && w.last_resistances.size() == w.resistances.size();
   for (int j = 0; j < m->nv; ++j) w.articulated[j].setZero();
   for (size_t i = 0; i < w.resistances.size(); ++i) {
@@ -278,10 +278,10 @@ bool StokesStepper::Solve(const mjModel* m, const double* cdof, const double* ex
 
 // D = J^T R J + diag(extra), J (6 bodies x nv) the bodies' dof motions
 // (their chains' cdof at the midpoint), solved densely.
-bool StokesStepper::SolveDense(const mjModel* m, const FluidModel& fluid, const double* extra,
+bool StokesStepper::SolveDense(const mjModel* m, const Fluid& fluid, const double* extra,
                                const double* f, double* v) {
   const int nv = m->nv;
-  const std::vector<int>& bodies = fluid.bodies();
+  const std::vector<int>& bodies = fluid.InteractingBodies();
   Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(6 * bodies.size(), nv);
   for (size_t i = 0; i < bodies.size(); ++i) {
     for (int j = body_node_[bodies[i]]; j >= 0; j = m->dof_parentid[j]) {
@@ -298,7 +298,7 @@ bool StokesStepper::SolveDense(const mjModel* m, const FluidModel& fluid, const 
   return true;
 }
 
-bool StokesStepper::Step(const mjModel* m, mjData* d, const FluidModel* fluid) {
+bool StokesStepper::Step(const mjModel* m, mjData* d, const Fluid* fluid) {
   const double h = m->opt.timestep;
   const bool sensors = !(m->opt.disableflags & mjDSBL_SENSOR);
   // Position stage without the mass matrix (mj_fwdPosition less mj_crb,
@@ -331,13 +331,12 @@ bool StokesStepper::Step(const mjModel* m, mjData* d, const FluidModel* fluid) {
   }
   ImplicitDiagonal(m, d, h, diagonal_.data());
   const bool solved =
-      fluid && fluid->nonlocal()
-          ? SolveDense(m, *fluid, diagonal_.data(), force_.data(), d->qvel)
-          : Solve(m, midpoint_cdof_.data(), diagonal_.data(), force_.data(), d->qvel);
+      dense_fluid_ ? SolveDense(m, *fluid, diagonal_.data(), force_.data(), d->qvel)
+                   : Solve(m, midpoint_cdof_.data(), diagonal_.data(), force_.data(), d->qvel);
   if (!solved) return false;
   if (!fluid) {
     fluid_power_W_ = 0;
-  } else if (!fluid->nonlocal()) {  // SolveDense sets a nonlocal fluid's
+  } else if (!dense_fluid_) {  // SolveDense sets a dense resistance's
     fluid_power_W_ = planar_motion_ ? LocalFluidPower_W<3>(m) : LocalFluidPower_W<6>(m);
   }
   mju_zero(d->qacc, m->nv);
@@ -434,7 +433,7 @@ void JointActuation(const mjModel* m, mjData* d) {
 // one's (second order), if d continues the last step; this step's
 // otherwise (the first step, or after a reset or rewind).
 void StokesStepper::ExtrapolateToMidpoint(const mjModel* m, const mjData* d,
-                                          const FluidModel* fluid) {
+                                          const Fluid* fluid) {
   last_cdof_.swap(cdof_);
   mju_copy(cdof_.data(), d->cdof, 6 * m->nv);
   const bool planar = PlanarMotions(cdof_.data(), m->nv);
@@ -445,9 +444,11 @@ void StokesStepper::ExtrapolateToMidpoint(const mjModel* m, const mjData* d,
                          planar == planar_motion_;
   planar_motion_ = planar;
   have_last_ = true;
-  if (fluid && fluid->nonlocal()) {
+  const Eigen::MatrixXd* interaction = fluid ? fluid->InteractionResistance(m, d) : nullptr;
+  dense_fluid_ = interaction != nullptr;
+  if (dense_fluid_) {
     last_dense_.swap(dense_);
-    dense_ = fluid->BodyResistance(m, d);
+    dense_ = *interaction;
     midpoint_dense_ = continues && last_dense_.rows() == dense_.rows()
                           ? (1.5 * dense_ - 0.5 * last_dense_).eval()
                           : dense_;

@@ -47,7 +47,6 @@
 #include <vector>
 
 #include "plugin/fluid/fluid_model.h"
-#include "plugin/fluid/rft_drag.h"
 #include "plugin/mjcf/dynamics.h"
 
 namespace ipmc {
@@ -87,11 +86,11 @@ class StokesStepper {
   // joints' damping alone must then resist every dof). Returns false and
   // leaves d's position and time unchanged if a dof has no resistance at
   // all (the force balance is singular); the caller reports that. A
-  // nonlocal fluid (Stokeslets, whose segments interact) gives a dense
-  // resistance over the bodies: D = J^T R J is formed (nv x nv) and
-  // factored (LDL^T) in place of the recursion, O(nv^3), with R
-  // extrapolated to the step's midpoint as the local S are.
-  bool Step(const mjModel* m, mjData* d, const FluidModel* fluid);
+  // fluid whose segments interact (Fluid::InteractionResistance, the
+  // Stokeslets) gives a dense resistance R over its bodies: D = J^T R J is
+  // formed (nv x nv) and factored (LDL^T) in place of the recursion,
+  // O(nv^3), with R extrapolated to the step's midpoint as the local S are.
+  bool Step(const mjModel* m, mjData* d, const Fluid* fluid);
   // The power [W] the last step gave the fluid: v^T D v with the step's
   // velocity v and the resistance D at its midpoint that it solved with,
   // so that over a step the generalised forces' work f . v h is this, the
@@ -105,7 +104,7 @@ class StokesStepper {
   // of the recursion's workspace (the [w_z; v_x; v_y] block if
   // planar_motion_, all of S otherwise) and into own.
   template <int Dim>
-  void AssembleResistances(const mjModel* m, const mjData* d, const FluidModel* fluid,
+  void AssembleResistances(const mjModel* m, const mjData* d, const Fluid* fluid,
                            bool continues);
   // Sum over the dofs of V^T own V, V their velocities in the recursion's
   // last solve.
@@ -134,7 +133,7 @@ class StokesStepper {
     using Matrix = Eigen::Matrix<double, Dim, Dim>;
     std::vector<Matrix, Eigen::aligned_allocator<Matrix>> articulated, own;
     std::vector<Vector, Eigen::aligned_allocator<Vector>> bias, u_vector, velocity;
-    RftDrag::BodyResistanceBlocks<Dim> resistances, last_resistances;
+    BodyResistanceBlocks<Dim> resistances, last_resistances;
     void Resize(int nv) {
       articulated.resize(nv);
       own.resize(nv);
@@ -170,11 +169,12 @@ class StokesStepper {
   bool joint_actuators_only_ = false, moments_set_ = false;
   // Extrapolates S and cdof to the step's midpoint and assembles the
   // local resistances (Step).
-  void ExtrapolateToMidpoint(const mjModel* m, const mjData* d, const FluidModel* fluid);
-  // The dense solve with a nonlocal fluid (Step).
-  bool SolveDense(const mjModel* m, const FluidModel& fluid, const double* extra,
-                  const double* f, double* v);
+  void ExtrapolateToMidpoint(const mjModel* m, const mjData* d, const Fluid* fluid);
+  // The dense solve with a fluid whose segments interact (Step).
+  bool SolveDense(const mjModel* m, const Fluid& fluid, const double* extra, const double* f,
+                  double* v);
   Eigen::MatrixXd dense_, last_dense_, midpoint_dense_;
+  bool dense_fluid_ = false;  // this step's fluid gave a dense resistance
 
   std::vector<double> u_, inverse_pivot_, diagonal_, force_;
   // This step's, the last step's and the midpoint's cdof, and where the
