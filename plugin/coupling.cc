@@ -140,9 +140,7 @@ bool AttachWithOverrides(const mjModel* m, mjData* d, const IpmcActuatorsOverrid
   context->model = m;
   if (std::optional<RftDragConfig> drag = RftDragConfig::FromModel(m, fluid)) {
     context->drag.emplace(m, *drag);
-    context->fluid = fluid.stokeslets
-                         ? std::make_unique<FluidModel>(m, *context->drag, *fluid.stokeslets)
-                         : std::make_unique<FluidModel>(*context->drag);
+    context->fluid = MakeFluid(m, *context->drag, fluid);
   }
   if (std::optional<IpmcActuatorsConfig> actuators = IpmcActuatorsConfig::FromModel(m, overrides)) {
     context->actuators = std::make_unique<IpmcActuators>(std::move(*actuators));

@@ -12,14 +12,17 @@
 #include "plugin/fluid/fluid_model.h"
 #include "plugin/fluid/rft_drag.h"
 #include "plugin/fluid/stokes_step.h"
+#include "plugin/fluid/stokeslet_fluid.h"
 
 namespace ipmc {
 
 struct CouplingContext {
   const mjModel* model = nullptr;
+  // The segments the fluid acts on and their RFT coefficients (the model's
+  // ipmc_rft_* fields), absent without a viscosity.
   std::optional<RftDrag> drag;
-  // The fluid model over drag's segments (RFT, or Stokeslets), with drag.
-  std::unique_ptr<FluidModel> fluid;
+  // The fluid model over drag's segments (MakeFluid), with drag.
+  std::unique_ptr<Fluid> fluid;
   std::unique_ptr<IpmcActuators> actuators;
   Dynamics dynamics = Dynamics::kInertial;
   std::unique_ptr<StokesStepper> stokes;  // with Dynamics::kStokes

@@ -1,6 +1,7 @@
 // The fluid model (plugin/fluid/fluid_model.h): RFT and regularized
-// Stokeslets behind one interface. The Stokeslets' cached resistance,
-// moved with the root, equals one computed afresh (a rigid motion in the
+// Stokeslets behind one interface, built by the registry with the form of
+// resistance each has. The Stokeslets' cached resistance, moved with the
+// root, equals one computed afresh (a rigid motion in the
 // plane, with or without the wall parallel to it, changes nothing); the
 // drag callback's power is the model's dissipated power; and the paper's
 // swimmer swims the same way under both models, Stokeslets within a
@@ -54,15 +55,16 @@ void ExpectCacheMovesWithTheRoot(const std::string& fluid) {
       LoadScenarioSimulation(PaperWith("[fluid]\nmodel = \"stokeslets\"\n" + fluid));
   const mjModel* m = sim->model();
   mjData* d = sim->data();
-  const FluidModel& model = *FindCoupling(d)->fluid;
-  ASSERT_TRUE(model.nonlocal());
+  const auto* interacting = dynamic_cast<const StokesletFluid*>(FindCoupling(d)->fluid.get());
+  ASSERT_NE(interacting, nullptr);
+  const StokesletFluid& model = *interacting;
   Pose(m, d, 0, 0, 0);
   model.BodyResistance(m, d);
   const int computed = model.recomputations();
   Pose(m, d, 3e-3, -2e-3, 0.7);
   const Eigen::MatrixXd moved = model.BodyResistance(m, d);
   EXPECT_EQ(model.recomputations(), computed);  // the shape has not changed
-  const FluidModel fresh(m, model.rft(), model.settings());
+  const StokesletFluid fresh(m, model.rft(), model.settings());
   const Eigen::MatrixXd direct = fresh.BodyResistance(m, d);
   EXPECT_NEAR((moved - direct).norm() / direct.norm(), 0.0, 1e-10);
   // A joint moved beyond the tolerance makes a new resistance.
@@ -70,6 +72,40 @@ void ExpectCacheMovesWithTheRoot(const std::string& fluid) {
   mj_forward(m, d);
   model.BodyResistance(m, d);
   EXPECT_EQ(model.recomputations(), computed + 1);
+}
+
+// The registry builds the model the overrides choose (Stokeslets when they
+// carry Stokeslet settings, RFT otherwise), over the coupling's segments,
+// and the Stokes step's two forms of resistance are each model's own: RFT
+// a block per segment and no dense matrix, Stokeslets a dense matrix over
+// its bodies and no blocks.
+TEST(FluidModelTest, RegistryBuildsTheChosenModel) {
+  const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(PaperWith(""));
+  const mjModel* m = sim->model();
+  mjData* d = sim->data();
+  Pose(m, d, 0, 0, 0);
+  const RftDrag& segments = *FindCoupling(d)->drag;
+  std::vector<std::string> names;
+  for (const FluidModelEntry& entry : FluidModels()) names.push_back(entry.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"stokeslets", "rft"}));
+
+  const std::unique_ptr<Fluid> rft = MakeFluid(m, segments, {});
+  ASSERT_NE(dynamic_cast<const RftDrag*>(rft.get()), nullptr);
+  BodyResistanceBlocks<6> blocks;
+  rft->LocalResistances(m, d, &blocks);
+  EXPECT_EQ(blocks.size(), segments.geom_ids().size());
+  EXPECT_EQ(rft->InteractionResistance(m, d), nullptr);
+
+  RftDragOverrides overrides;
+  overrides.stokeslets = StokesletSettings{};
+  const std::unique_ptr<Fluid> stokeslets = MakeFluid(m, segments, overrides);
+  ASSERT_NE(dynamic_cast<const StokesletFluid*>(stokeslets.get()), nullptr);
+  stokeslets->LocalResistances(m, d, &blocks);
+  EXPECT_TRUE(blocks.empty());
+  const Eigen::MatrixXd* dense = stokeslets->InteractionResistance(m, d);
+  ASSERT_NE(dense, nullptr);
+  EXPECT_EQ(dense->rows(), 6 * static_cast<int>(stokeslets->InteractingBodies().size()));
+  EXPECT_FALSE(stokeslets->InteractingBodies().empty());
 }
 
 TEST(FluidModelTest, CachedStokesletResistanceMovesWithTheRoot) {
@@ -89,7 +125,7 @@ TEST(FluidModelTest, CallbackPowerIsTheDissipatedPower) {
     const mjModel* m = sim->model();
     mjData* d = sim->data();
     Pose(m, d, 1e-3, 0, 0.2);
-    const FluidModel& fluid = *FindCoupling(d)->fluid;
+    const Fluid& fluid = *FindCoupling(d)->fluid;
     std::vector<mjtNum> before(d->qfrc_passive, d->qfrc_passive + m->nv);
     mju_zero(d->qfrc_passive, m->nv);
     fluid.Apply(m, d);

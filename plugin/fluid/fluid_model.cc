@@ -1,227 +1,44 @@
 #include "plugin/fluid/fluid_model.h"
 
-#include <algorithm>
-#include <cmath>
-#include <sstream>
-#include <stdexcept>
-#include <string>
+#include "plugin/fluid/rft_drag.h"
+#include "plugin/fluid/stokeslet_fluid.h"
 
 namespace ipmc {
-namespace {
 
-using Matrix6 = Eigen::Matrix<double, 6, 6>;
-
-Eigen::Matrix3d Cross(const Eigen::Vector3d& r) {
-  Eigen::Matrix3d rx;
-  rx << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
-  return rx;
+void Fluid::LocalResistances(const mjModel* /*m*/, const mjData* /*d*/,
+                             BodyResistanceBlocks<6>* out) const {
+  out->clear();
 }
 
-Eigen::Matrix3d BodyRotation(const mjData* d, int body) {
-  Eigen::Matrix3d q;
-  const mjtNum* x = d->xmat + 9 * body;  // row-major
-  q << x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8];
-  return q;
+void Fluid::LocalResistances(const mjModel* /*m*/, const mjData* /*d*/,
+                             BodyResistanceBlocks<3>* out) const {
+  out->clear();
 }
 
-// The last dof of body b's chain (its own or its nearest moving
-// ancestor's), -1 if it is fixed to the world.
-int LastDof(const mjModel* m, int body) {
-  while (body > 0 && m->body_dofnum[body] == 0) body = m->body_parentid[body];
-  return body > 0 ? m->body_dofadr[body] + m->body_dofnum[body] - 1 : -1;
+const Eigen::MatrixXd* Fluid::InteractionResistance(const mjModel* /*m*/,
+                                                    const mjData* /*d*/) const {
+  return nullptr;
 }
 
-void RequirePositive(double value, const char* what) {
-  if (!(value > 0.0) || !std::isfinite(value)) {
-    std::ostringstream msg;
-    msg << "stokeslet fluid: " << what << " must be finite and > 0 (got " << value << ")";
-    throw std::invalid_argument(msg.str());
-  }
+const std::vector<int>& Fluid::InteractingBodies() const {
+  static const std::vector<int> kNone;
+  return kNone;
 }
 
-}  // namespace
-
-FluidModelKind ParseFluidModelKind(const std::string& text) {
-  if (text == "rft") return FluidModelKind::kRft;
-  if (text == "stokeslets") return FluidModelKind::kStokeslets;
-  throw std::invalid_argument("fluid model must be rft or stokeslets (got '" + text + "')");
+const std::vector<FluidModelEntry>& FluidModels() {
+  static const std::vector<FluidModelEntry> kModels = {
+      {"stokeslets", StokesletFluid::Chosen, StokesletFluid::Make},
+      {"rft", RftDrag::Chosen, RftDrag::Make},
+  };
+  return kModels;
 }
 
-FluidModel::FluidModel(const RftDrag& rft) : rft_(rft) {}
-
-FluidModel::FluidModel(const mjModel* m, const RftDrag& rft, const StokesletSettings& stokeslets)
-    : kind_(FluidModelKind::kStokeslets), rft_(rft), settings_(stokeslets) {
-  if (settings_.width_points < 1 || settings_.width_points > kMaxWidthPoints) {
-    throw std::invalid_argument("stokeslet fluid: the points across the width must be in [1, " +
-                                std::to_string(kMaxWidthPoints) + "] (got " +
-                                std::to_string(settings_.width_points) + ")");
+std::unique_ptr<Fluid> MakeFluid(const mjModel* m, const RftDrag& segments,
+                                 const RftDragOverrides& overrides) {
+  for (const FluidModelEntry& entry : FluidModels()) {
+    if (entry.chosen(segments, overrides)) return entry.make(m, segments, overrides);
   }
-  if (settings_.width_m == 0.0) settings_.width_m = StripWidth_m(m);
-  RequirePositive(settings_.width_m, "the ribbon's width");
-  if (settings_.width_points == 1) {
-    // A centreline: the slender cylinder of RFT's equivalent radius.
-    const double radius_m = rft_.config().equivalent_radius_m;
-    if (settings_.blob_m == 0.0) settings_.blob_m = kBlobOverRadius * radius_m;
-    if (settings_.spacing_m == 0.0) settings_.spacing_m = kSpacingOverBlob * settings_.blob_m;
-  } else {
-    // A sheet: a square grid over the ribbon.
-    if (settings_.spacing_m == 0.0) {
-      settings_.spacing_m = settings_.width_m / settings_.width_points;
-    }
-    if (settings_.blob_m == 0.0) settings_.blob_m = kSheetBlobOverSpacing * settings_.spacing_m;
-  }
-  RequirePositive(settings_.blob_m, "the blob");
-  RequirePositive(settings_.spacing_m, "the point spacing");
-  if (!(settings_.shape_tolerance_rad >= 0.0) || !std::isfinite(settings_.shape_tolerance_rad)) {
-    throw std::invalid_argument("stokeslet fluid: the shape tolerance must be finite and >= 0");
-  }
-  if (settings_.wall_distance_m) RequirePositive(*settings_.wall_distance_m, "the wall distance");
-  for (int g : rft_.geom_ids()) {
-    const int body = m->geom_bodyid[g];
-    auto it = std::find(bodies_.begin(), bodies_.end(), body);
-    body_of_geom_.push_back(static_cast<int>(it - bodies_.begin()));
-    if (it == bodies_.end()) bodies_.push_back(body);
-  }
-  if (bodies_.empty()) throw std::invalid_argument("stokeslet fluid: the model has no segments");
-  root_body_ = m->body_rootid[bodies_[0]];
-  for (int body : bodies_) {
-    if (m->body_rootid[body] != root_body_) {
-      throw std::invalid_argument("stokeslet fluid: the segments must be on one tree of bodies");
-    }
-  }
-  for (int j = 0; j < m->njnt; ++j) {
-    const int type = m->jnt_type[j];
-    if (m->jnt_bodyid[j] == root_body_) continue;
-    if (type != mjJNT_HINGE && type != mjJNT_SLIDE) {
-      throw std::invalid_argument("stokeslet fluid: only hinge and slide joints below the root");
-    }
-    shape_joints_.push_back(m->jnt_qposadr[j]);
-  }
-}
-
-PointList FluidModel::Points(const Eigen::Vector3d& center, const Eigen::Vector3d& tangent,
-                             double length_m) const {
-  // The width lies along z, normal to the plane the generated models beat in.
-  return SegmentPoints(center, tangent, length_m, settings_.spacing_m, Eigen::Vector3d::UnitZ(),
-                       settings_.width_m, settings_.width_points);
-}
-
-void FluidModel::Recompute(const mjModel* m, const mjData* d) const {
-  const std::vector<Segment> segments = rft_.Segments(m, d);
-  PointList points;
-  std::vector<int> body_of_point;
-  for (size_t i = 0; i < segments.size(); ++i) {
-    const PointList along =
-        Points(segments[i].center_W, segments[i].tangent_W, segments[i].length_m);
-    points.insert(points.end(), along.begin(), along.end());
-    body_of_point.insert(body_of_point.end(), along.size(), body_of_geom_[i]);
-  }
-  points_ = static_cast<int>(points.size());
-  StokesletGeometry geometry{settings_.blob_m, std::nullopt};
-  if (settings_.wall_distance_m) geometry.wall_z_m = -*settings_.wall_distance_m;
-  const Eigen::Vector3d origin(d->xpos + 3 * root_body_);
-  const Eigen::MatrixXd world =
-      RigidBodyResistance(points, body_of_point, static_cast<int>(bodies_.size()), origin,
-                          geometry, rft_.config().viscosity_Pa_s);
-  // Into the root's frame: R_root = Q6^T R Q6, Q6 = diag(Q, Q).
-  const int n = static_cast<int>(world.rows());
-  Eigen::MatrixXd q6 = Eigen::MatrixXd::Zero(n, n);
-  const Eigen::Matrix3d q = BodyRotation(d, root_body_);
-  for (int k = 0; k < n / 3; ++k) q6.block<3, 3>(3 * k, 3 * k) = q;
-  root_resistance_ = q6.transpose() * world * q6;
-  cached_shape_.resize(shape_joints_.size());
-  for (size_t k = 0; k < shape_joints_.size(); ++k) cached_shape_[k] = d->qpos[shape_joints_[k]];
-  ++recomputations_;
-}
-
-const Eigen::MatrixXd& FluidModel::BodyResistance(const mjModel* m, const mjData* d) const {
-  bool stale = cached_shape_.size() != shape_joints_.size() || root_resistance_.size() == 0;
-  for (size_t k = 0; !stale && k < shape_joints_.size(); ++k) {
-    stale = std::abs(d->qpos[shape_joints_[k]] - cached_shape_[k]) > settings_.shape_tolerance_rad;
-  }
-  if (stale) Recompute(m, d);
-  return WorldResistance(d);
-}
-
-const Eigen::MatrixXd& FluidModel::WorldResistance(const mjData* d) const {
-  // Back into the world and from the root's origin p to c: V_p = T V_c
-  // with T = [I 0; -[p - c]x I], so R_c = T^T R_p T block by block.
-  const Eigen::Matrix3d q = BodyRotation(d, root_body_);
-  const Eigen::Vector3d r =
-      Eigen::Vector3d(d->xpos + 3 * root_body_) - Eigen::Vector3d(d->subtree_com + 3 * root_body_);
-  Matrix6 t = Matrix6::Identity();
-  t.block<3, 3>(3, 0) = -Cross(r);
-  Matrix6 q6 = Matrix6::Zero();
-  q6.block<3, 3>(0, 0) = q;
-  q6.block<3, 3>(3, 3) = q;
-  const Matrix6 a = q6.transpose() * t;  // V_root-frame at p = a V_c
-  const int bodies = static_cast<int>(bodies_.size());
-  world_resistance_.resize(6 * bodies, 6 * bodies);
-  for (int i = 0; i < bodies; ++i) {
-    for (int j = 0; j < bodies; ++j) {
-      world_resistance_.block<6, 6>(6 * i, 6 * j) =
-          a.transpose() * root_resistance_.block<6, 6>(6 * i, 6 * j) * a;
-    }
-  }
-  return world_resistance_;
-}
-
-Eigen::VectorXd FluidModel::BodyVelocities(const mjModel* /*m*/, const mjData* d) const {
-  Eigen::VectorXd v(6 * bodies_.size());
-  for (size_t i = 0; i < bodies_.size(); ++i) {
-    v.segment<6>(6 * i) = Eigen::Map<const Eigen::Matrix<double, 6, 1>>(d->cvel + 6 * bodies_[i]);
-  }
-  return v;
-}
-
-void FluidModel::AddBodyWrenches(const mjModel* m, const mjData* d, const Eigen::VectorXd& wrench,
-                                 mjtNum* qfrc) const {
-  for (size_t i = 0; i < bodies_.size(); ++i) {
-    const Eigen::Matrix<double, 6, 1> w = wrench.segment<6>(6 * i);
-    for (int j = LastDof(m, bodies_[i]); j >= 0; j = m->dof_parentid[j]) {
-      qfrc[j] += Eigen::Map<const Eigen::Matrix<double, 6, 1>>(d->cdof + 6 * j).dot(w);
-    }
-  }
-}
-
-void FluidModel::Apply(const mjModel* m, mjData* d) const {
-  if (!nonlocal()) {
-    rft_.Apply(m, d);
-    return;
-  }
-  const Eigen::VectorXd wrench = -(BodyResistance(m, d) * BodyVelocities(m, d));
-  AddBodyWrenches(m, d, wrench, d->qfrc_passive);
-}
-
-double FluidModel::DissipatedPower_W(const mjModel* m, const mjData* d) const {
-  if (!nonlocal()) return rft_.DissipatedPower_W(m, d);
-  // The resistance the drag was last applied with: measuring the power
-  // must not refresh the cache (after a step d's positions are the next
-  // step's while its kinematics are still this one's).
-  if (root_resistance_.size() == 0) Recompute(m, d);
-  const Eigen::VectorXd v = BodyVelocities(m, d);
-  return v.dot(WorldResistance(d) * v);
-}
-
-double FluidModel::TowingDrag_N(double speed_m_s) const {
-  if (!nonlocal()) return rft_.TowingDrag_N(speed_m_s);
-  // The segments end to end along x at z = 0, every point moving at U x.
-  PointList points;
-  double start_m = 0.0;
-  for (double length_m : rft_.SegmentLengths_m()) {
-    const PointList along =
-        Points(Eigen::Vector3d(start_m + 0.5 * length_m, 0, 0), Eigen::Vector3d::UnitX(), length_m);
-    points.insert(points.end(), along.begin(), along.end());
-    start_m += length_m;
-  }
-  StokesletGeometry geometry{settings_.blob_m, std::nullopt};
-  if (settings_.wall_distance_m) geometry.wall_z_m = -*settings_.wall_distance_m;
-  const MobilitySolver solver(StokesletMobility(points, geometry, rft_.config().viscosity_Pa_s));
-  const Eigen::VectorXd f = solver.Forces(
-      Eigen::Vector3d(speed_m_s, 0, 0).replicate(static_cast<int>(points.size()), 1));
-  double drag_N = 0.0;
-  for (size_t k = 0; k < points.size(); ++k) drag_N += f[3 * k];
-  return drag_N;
+  return nullptr;
 }
 
 }  // namespace ipmc

@@ -1,116 +1,94 @@
-// The fluid model the body's segments feel: the one place the drag
-// callback (mjcb_passive, inertial dynamics), the Stokes stepper
-// (plugin/fluid/stokes_step.h) and the energy terms ask for the segments'
-// forces and resistance.
+// The fluid the body's segments feel, as one interface: the drag callback
+// (mjcb_passive, inertial dynamics), the Stokes stepper
+// (plugin/fluid/stokes_step.h) and the energy meter (sim/core/energy.h)
+// call `Fluid` and nothing else, and the registry below builds the model a
+// run asks for. The models, one header/source pair each:
 //
-//   rft         resistive-force theory (plugin/fluid/rft_drag.h): each
-//               segment's resistance is its own (local), a 6 x 6 block per
-//               segment; the numbers are RftDrag's, unchanged.
-//   stokeslets  regularized Stokeslets (plugin/fluid/regularized_stokeslets.h)
-//               at points along each segment's centreline, spaced
-//               `spacing_m` (default the blob), blob eps (default
-//               sqrt(e) a, a RFT's equivalent radius), or, with
-//               `width_points` k > 1, on a sheet across the strip's width
-//               w (along z): a grid w / k apart, blob 0.7 w / k; with the image
-//               system of a no-slip wall z = -h when a wall distance h is
-//               set: the centreline is then h above the wall, which is
-//               parallel to the plane z = 0 the generated models beat and
-//               swim in. Every segment's velocity moves every other
-//               segment (hydrodynamic interaction): the resistance is one
-//               dense 6B x 6B matrix over the segments' B bodies.
+//   rft            resistive-force theory (plugin/fluid/rft_drag.h): each
+//                  segment's resistance is its own (local), a 6 x 6 block
+//                  per segment (also near a wall, with Katz, Blake &
+//                  Paveri-Fontana's coefficients).
+//   stokeslets     regularized Stokeslets (plugin/fluid/stokeslet_fluid.h):
+//                  every segment's velocity moves every other segment
+//                  (hydrodynamic interaction), one dense resistance over
+//                  the segments' bodies.
 //
-// The Stokeslet resistance depends on the body's shape only (a rigid
-// motion in the plane z = 0, the generated models' root joints, is a
-// symmetry of free space and of the wall), so it is computed in the root
-// body's frame and kept until a joint (any but the root body's) has moved
-// more than `shape_tolerance_rad` from the shape it was computed at
-// (docs/FLUIDS.md measures the tolerance's effect on the swim).
+// Every model acts on the same segments, the slender geoms RftDrag finds
+// (RftDragConfig::FromModel reads them and the viscosity from the model's
+// ipmc_rft_* <custom> fields), and reads its own settings from its own
+// fields and the program's overrides (RftDragOverrides).
+//
+// Adding a model: a header/source pair with a class derived from Fluid and
+// its Config, and one line in FluidModels() (fluid_model.cc).
 #pragma once
 
 #include <mujoco/mujoco.h>
 
 #include <Eigen/Core>
-#include <optional>
+#include <Eigen/StdVector>
+#include <memory>
 #include <string>
 #include <vector>
 
-#include "plugin/fluid/regularized_stokeslets.h"
-#include "plugin/fluid/rft_drag.h"
-
 namespace ipmc {
 
-enum class FluidModelKind { kRft, kStokeslets };
-// "rft" or "stokeslets"; throws std::invalid_argument naming the allowed set.
-FluidModelKind ParseFluidModelKind(const std::string& text);
+class RftDrag;
+struct RftDragOverrides;
 
-class FluidModel {
+// One segment's body and its spatial resistance S about the subtree centre
+// of mass of the body's root (where MuJoCo gives cdof and cvel): all of S
+// (Dim = 6, [w; v]) or its [w_z; v_x; v_y] block (Dim = 3, a body moving
+// in the x-y plane). The drag wrench [torque; force] is -S cvel.
+template <int Dim>
+struct BodyResistanceBlock {
+  int body;
+  Eigen::Matrix<double, Dim, Dim> resistance;
+};
+template <int Dim>
+using BodyResistanceBlocks =
+    std::vector<BodyResistanceBlock<Dim>, Eigen::aligned_allocator<BodyResistanceBlock<Dim>>>;
+
+class Fluid {
  public:
-  // rft's geoms, viscosity and equivalent radius are the model's; with
-  // kStokeslets `stokeslets` sets the points (0 fields: the defaults
-  // above). Throws std::invalid_argument on bad settings.
-  FluidModel(const mjModel* m, const RftDrag& rft, const StokesletSettings& stokeslets);
-  explicit FluidModel(const RftDrag& rft);  // the RFT model
-
-  FluidModelKind kind() const { return kind_; }
-  const RftDrag& rft() const { return rft_; }
-  // True if the segments interact (stokeslets): use BodyResistance.
-  bool nonlocal() const { return kind_ == FluidModelKind::kStokeslets; }
+  virtual ~Fluid() = default;
 
   // Adds the drag into d->qfrc_passive (positions and velocities from d).
-  void Apply(const mjModel* m, mjData* d) const;
-  // rft: the segments' own resistances (RftDrag::Resistances), whole or
-  // their planar blocks.
-  template <int Dim>  // 6 or 3
-  void LocalResistances(const mjModel* m, const mjData* d,
-                        RftDrag::BodyResistanceBlocks<Dim>* out) const {
-    rft_.Resistances(m, d, out);
-  }
-  // stokeslets: the resistance R over bodies() about the subtree centre of
-  // mass of the root (where MuJoCo gives cdof and cvel), world frame, from
-  // d's positions (after mj_comPos): the drag wrenches [torque; force] of
-  // the bodies are -R [w; v] of their spatial velocities.
-  const Eigen::MatrixXd& BodyResistance(const mjModel* m, const mjData* d) const;
-  const std::vector<int>& bodies() const { return bodies_; }
-  // The power the body loses to the fluid [W], never negative: stokeslets
-  // with the resistance last computed (the cache is not refreshed, so a
-  // measurement does not change the run).
-  double DissipatedPower_W(const mjModel* m, const mjData* d) const;
+  virtual void Apply(const mjModel* m, mjData* d) const = 0;
+  // The power the body loses to the fluid [W], never negative, from d's
+  // positions and velocities; measuring it does not change the run.
+  virtual double DissipatedPower_W(const mjModel* m, const mjData* d) const = 0;
   // The drag [N] on the body laid straight along x and towed along it.
-  double TowingDrag_N(double speed_m_s) const;
-  // Stokeslet resistances computed so far (the cache's misses).
-  int recomputations() const { return recomputations_; }
-  // The Stokeslets' settings, defaults filled in.
-  const StokesletSettings& settings() const { return settings_; }
-  double blob_m() const { return settings_.blob_m; }
-  double spacing_m() const { return settings_.spacing_m; }
-  int points() const { return points_; }
+  virtual double TowingDrag_N(double speed_m_s) const = 0;
 
- private:
-  // The points of a straight segment (the centreline, or the sheet across
-  // the width).
-  PointList Points(const Eigen::Vector3d& center, const Eigen::Vector3d& tangent,
-                   double length_m) const;
-  // R about the root body's origin in its frame for the current shape.
-  void Recompute(const mjModel* m, const mjData* d) const;
-  // The cached R, in the world frame about the subtree centre of mass.
-  const Eigen::MatrixXd& WorldResistance(const mjData* d) const;
-  // The generalised force of body wrenches W (6 per body of bodies_).
-  void AddBodyWrenches(const mjModel* m, const mjData* d, const Eigen::VectorXd& wrench,
-                       mjtNum* qfrc) const;
-  Eigen::VectorXd BodyVelocities(const mjModel* m, const mjData* d) const;
-
-  FluidModelKind kind_ = FluidModelKind::kRft;
-  RftDrag rft_;
-  StokesletSettings settings_;
-  std::vector<int> bodies_;        // distinct bodies of the slender geoms
-  std::vector<int> body_of_geom_;  // index into bodies_, per rft_ geom
-  std::vector<int> shape_joints_;  // qpos addresses of the non-root hinges and slides
-  int root_body_ = -1;
-  mutable int points_ = 0;
-  mutable std::vector<double> cached_shape_;
-  mutable Eigen::MatrixXd root_resistance_;  // about the root's origin, root frame
-  mutable Eigen::MatrixXd world_resistance_;
-  mutable int recomputations_ = 0;
+  // The resistance the Stokes step solves with, from d's positions (after
+  // mj_comPos), in one of two forms. A model whose segments do not
+  // interact gives one block per segment (LocalResistances: all of S, or
+  // the planar block); one whose segments interact gives the dense
+  // resistance R over InteractingBodies() (InteractionResistance: 6 per
+  // body, [w; v] about the subtree centre of mass of the root, world
+  // frame; the bodies' drag wrenches are -R V of their velocities V). The
+  // form a model does not use is empty: no blocks, a null matrix.
+  virtual void LocalResistances(const mjModel* m, const mjData* d,
+                                BodyResistanceBlocks<6>* out) const;
+  virtual void LocalResistances(const mjModel* m, const mjData* d,
+                                BodyResistanceBlocks<3>* out) const;
+  virtual const Eigen::MatrixXd* InteractionResistance(const mjModel* m, const mjData* d) const;
+  virtual const std::vector<int>& InteractingBodies() const;
 };
+
+// The registry of fluid models: a name, when the settings choose it, and
+// how it is built over the segments (the first entry chosen wins).
+struct FluidModelEntry {
+  const char* name;
+  bool (*chosen)(const RftDrag& segments, const RftDragOverrides& overrides);
+  std::unique_ptr<Fluid> (*make)(const mjModel* m, const RftDrag& segments,
+                                 const RftDragOverrides& overrides);
+};
+const std::vector<FluidModelEntry>& FluidModels();
+// The model the overrides choose, built over `segments` (the model's RFT
+// segments and coefficients). Throws std::invalid_argument on bad
+// settings, naming the model.
+std::unique_ptr<Fluid> MakeFluid(const mjModel* m, const RftDrag& segments,
+                                 const RftDragOverrides& overrides);
 
 }  // namespace ipmc

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "plugin/base/numbers.h"
+#include "plugin/fluid/spatial_algebra.h"
 
 namespace ipmc {
 
@@ -137,10 +138,8 @@ Eigen::MatrixXd RigidBodyResistance(const PointList& points, const std::vector<i
   Eigen::MatrixXd b = Eigen::MatrixXd::Zero(3 * n, 6 * bodies);
   for (int k = 0; k < n; ++k) {
     const Eigen::Vector3d r = points[k] - c;
-    Eigen::Matrix3d rx;
-    rx << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
     const int body = body_of_point[k];
-    b.block<3, 3>(3 * k, 6 * body) = -rx;
+    b.block<3, 3>(3 * k, 6 * body) = -CrossMatrix(r);
     b.block<3, 3>(3 * k, 6 * body + 3) = Eigen::Matrix3d::Identity();
   }
   const MobilitySolver solver(StokesletMobility(points, geometry, viscosity_Pa_s));

@@ -8,6 +8,7 @@
 #include "plugin/mjcf/custom_fields.h"
 #include "plugin/mjcf/point_velocity.h"
 #include "plugin/base/numbers.h"
+#include "plugin/fluid/spatial_algebra.h"
 
 namespace ipmc {
 namespace {
@@ -169,21 +170,13 @@ Wrench SegmentDragExact(const Segment& segment, const DragCoefficients& xi) {
   return wrench;
 }
 
-namespace {
-Eigen::Matrix3d Cross(const Eigen::Vector3d& r) {
-  Eigen::Matrix3d x;
-  x << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
-  return x;
-}
-}  // namespace
-
 SpatialResistance SegmentResistance(const Eigen::Vector3d& center_W,
                                     const Eigen::Vector3d& tangent_W, double length_m,
                                     const Eigen::Vector3d& c_W, const DragCoefficients& xi) {
   const Eigen::Matrix3d tt = tangent_W * tangent_W.transpose();
   const Eigen::Matrix3d normal = Eigen::Matrix3d::Identity() - tt;
   const Eigen::Matrix3d lr = length_m * (xi.tangential_N_s_m2 * tt + xi.normal_N_s_m2 * normal);
-  const Eigen::Matrix3d rx = Cross(center_W - c_W);
+  const Eigen::Matrix3d rx = CrossMatrix(center_W - c_W);
   const Eigen::Matrix3d rx_lr = rx * lr;
   SpatialResistance s;
   s.topLeftCorner<3, 3>() =
@@ -241,6 +234,15 @@ Wrench SegmentDragQuadrature(const Segment& segment, const DragCoefficients& xi,
 double SegmentDragPower(const Segment& segment, const Wrench& wrench) {
   return wrench.force_W.dot(segment.velocity_center_W) +
          wrench.torque_center_W.dot(segment.angular_velocity_W);
+}
+
+bool RftDrag::Chosen(const RftDrag& /*segments*/, const RftDragOverrides& /*overrides*/) {
+  return true;
+}
+
+std::unique_ptr<Fluid> RftDrag::Make(const mjModel* /*m*/, const RftDrag& segments,
+                                     const RftDragOverrides& /*overrides*/) {
+  return std::make_unique<RftDrag>(segments);
 }
 
 RftDrag::RftDrag(const mjModel* m, const RftDragConfig& config)
@@ -337,7 +339,7 @@ std::vector<double> RftDrag::SegmentLengths_m() const {
 // subtree centre of mass of its body's root (where MuJoCo gives cdof and
 // cvel).
 template <int Dim>
-RftDrag::BodyResistanceBlock<Dim> RftDrag::ResistanceOf(const mjModel* m, const mjData* d,
+BodyResistanceBlock<Dim> RftDrag::ResistanceOf(const mjModel* m, const mjData* d,
                                                         const SlenderGeom& geom) const {
   const int body = m->geom_bodyid[geom.geom_id];
   const mjtNum* xmat = d->geom_xmat + 9 * geom.geom_id;  // row-major
@@ -375,10 +377,10 @@ void RftDrag::Apply(const mjModel* m, mjData* d) const {
   mjtNum* wrench_c = mj_stackAlloc(d, 6 * m->nbody);  // [torque; force] at c, per body
   mju_zero(wrench_c, 6 * m->nbody);
   for (const SlenderGeom& geom : slender_) {
-    const BodyResistance segment = ResistanceOf<6>(m, d, geom);
-    Eigen::Map<Eigen::Matrix<double, 6, 1>> target(wrench_c + 6 * segment.body);
+    const BodyResistanceBlock<6> segment = ResistanceOf<6>(m, d, geom);
+    Eigen::Map<Vector6> target(wrench_c + 6 * segment.body);
     target.noalias() -= segment.resistance *
-                        Eigen::Map<const Eigen::Matrix<double, 6, 1>>(d->cvel + 6 * segment.body);
+                        Eigen::Map<const Vector6>(d->cvel + 6 * segment.body);
   }
   // Bodies are numbered parents first; a tree's wrenches stop at its root.
   for (int body = m->nbody - 1; body > 0; --body) {

@@ -60,10 +60,12 @@
 
 #include <Eigen/Core>
 #include <Eigen/StdVector>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "plugin/fluid/fluid_model.h"
 #include "plugin/fluid/regularized_stokeslets.h"
 
 namespace ipmc {
@@ -107,8 +109,8 @@ struct RftDragOverrides {
   std::optional<CoefficientModel> model;
   std::optional<double> wavelength_m;
   std::optional<double> wall_distance_m;
-  // Set: the fluid model is regularized Stokeslets (plugin/fluid/fluid_model.h)
-  // over these segments, RFT otherwise.
+  // Set: the fluid model is regularized Stokeslets
+  // (plugin/fluid/stokeslet_fluid.h) over these segments, RFT otherwise.
   std::optional<StokesletSettings> stokeslets;
 };
 
@@ -170,44 +172,49 @@ Wrench SegmentDragQuadrature(const Segment& segment, const DragCoefficients& xi,
 // Mechanical power of the drag wrench on the segment [W]; never positive.
 double SegmentDragPower(const Segment& segment, const Wrench& wrench);
 
-class RftDrag {
+// The RFT fluid model (fluid_model.h), and the segments every fluid model
+// acts on.
+class RftDrag : public Fluid {
  public:
   // Resolves geoms and coefficients; throws std::invalid_argument on a bad
   // configuration (unknown geom name, non-slender geom).
   RftDrag(const mjModel* m, const RftDragConfig& config);
+  // The registry's entry (fluid_model.h): the model unless another is
+  // chosen; a copy of `segments`.
+  static bool Chosen(const RftDrag& segments, const RftDragOverrides& overrides);
+  static std::unique_ptr<Fluid> Make(const mjModel* m, const RftDrag& segments,
+                                     const RftDragOverrides& overrides);
 
   // Adds the drag of every segment into d->qfrc_passive.
-  void Apply(const mjModel* m, mjData* d) const;
+  void Apply(const mjModel* m, mjData* d) const override;
   // The current segments (positions and velocities from d).
   std::vector<Segment> Segments(const mjModel* m, const mjData* d) const;
   // The power the body loses to the fluid [W], minus the sum over the
   // segments of the drag wrench's power (F . v_c + T_c . w, the integral
   // of -f . u along each segment), from d's positions and velocities
   // (xpos, cvel); never negative.
-  double DissipatedPower_W(const mjModel* m, const mjData* d) const;
+  double DissipatedPower_W(const mjModel* m, const mjData* d) const override;
   // The drag [N] on the segments laid straight along one axis and towed
   // along it at `speed_m_s` (the resistance of the straightened body:
   // the sum of xi_t L, by SegmentDragExact).
-  double TowingDrag_N(double speed_m_s) const;
+  double TowingDrag_N(double speed_m_s) const override;
   // The segments' lengths, in geom_ids() order.
   std::vector<double> SegmentLengths_m() const;
 
-  // One segment's body and spatial resistance S about the subtree centre of
-  // mass of its body's root (where MuJoCo gives cdof and cvel), from d's
-  // positions (valid after mj_comPos): all of S (Dim = 6), or its
+  // Each segment's block (see Fluid): its resistance S about the subtree
+  // centre of mass of its body's root, from d's positions (valid after
+  // mj_comPos): all of S (Dim = 6, SegmentResistance), or its
   // [w_z; v_x; v_y] block (Dim = 3, SegmentPlanarResistance).
-  template <int Dim>
-  struct BodyResistanceBlock {
-    int body;
-    Eigen::Matrix<double, Dim, Dim> resistance;
-  };
-  template <int Dim>
-  using BodyResistanceBlocks =
-      std::vector<BodyResistanceBlock<Dim>, Eigen::aligned_allocator<BodyResistanceBlock<Dim>>>;
-  using BodyResistance = BodyResistanceBlock<6>;
-  using BodyResistances = BodyResistanceBlocks<6>;
   template <int Dim>  // 6 or 3
   void Resistances(const mjModel* m, const mjData* d, BodyResistanceBlocks<Dim>* out) const;
+  void LocalResistances(const mjModel* m, const mjData* d,
+                        BodyResistanceBlocks<6>* out) const override {
+    Resistances(m, d, out);
+  }
+  void LocalResistances(const mjModel* m, const mjData* d,
+                        BodyResistanceBlocks<3>* out) const override {
+    Resistances(m, d, out);
+  }
 
   const RftDragConfig& config() const { return config_; }
   const DragCoefficients& coefficients() const { return coefficients_; }

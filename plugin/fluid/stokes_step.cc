@@ -6,9 +6,10 @@
 #include <stdexcept>
 #include <string>
 
+#include "plugin/fluid/spatial_algebra.h"
+
 namespace ipmc {
 namespace {
-using Vector6 = Eigen::Matrix<double, 6, 1>;  // a motion or force vector (cdof, cvel)
 
 std::string Name(const mjModel* m, mjtObj type, int id) {
   const char* name = mj_id2name(m, type, id);
@@ -44,7 +45,7 @@ void RequireSupported(const mjModel* m) {
 // actuator's dependence on its joint's position and velocity (a servo's
 // bias -kp q - kv qdot), force = gain(ctrl) + b0 + b1 l + b2 ldot with
 // l = g q on a joint transmission.
-void ImplicitDiagonal(const mjModel* m, const mjData* d, double h, double* diagonal) {
+void StiffnessAndDamping(const mjModel* m, const mjData* d, double h, double* diagonal) {
   for (int dof = 0; dof < m->nv; ++dof) {
     diagonal[dof] = m->dof_damping[dof];
     const int joint = m->dof_jntid[dof];
@@ -161,64 +162,69 @@ bool JointActuatorsOnly(const mjModel* m) {
   return true;
 }
 
-StokesStepper::StokesStepper(const mjModel* m) {
+StokesTopology::StokesTopology(const mjModel* m) {
   RequireSupported(m);
-  joint_actuators_only_ = JointActuatorsOnly(m);
-  hinges_and_slides_only_ = HingesAndSlidesOnly(m);
-  body_node_.assign(m->nbody, -1);
+  joint_actuators_only = JointActuatorsOnly(m);
+  hinges_and_slides_only = HingesAndSlidesOnly(m);
+  body_last_dof.assign(m->nbody, -1);
   for (int body = 1; body < m->nbody; ++body) {
-    body_node_[body] = m->body_dofnum[body] > 0
-                           ? m->body_dofadr[body] + m->body_dofnum[body] - 1
-                           : body_node_[m->body_parentid[body]];
+    body_last_dof[body] = m->body_dofnum[body] > 0
+                              ? m->body_dofadr[body] + m->body_dofnum[body] - 1
+                              : body_last_dof[m->body_parentid[body]];
   }
+}
+
+StokesStepper::StokesStepper(const mjModel* m) : topology_(m) {
   spatial_.Resize(m->nv);
   planar_.Resize(m->nv);
-  u_.resize(m->nv);
+  force_less_bias_.resize(m->nv);
   inverse_pivot_.resize(m->nv);
-  diagonal_.resize(m->nv);
-  force_.resize(m->nv);
+  stiffness_damping_.resize(m->nv);
+  force_at_rest_.resize(m->nv);
   cdof_.resize(6 * m->nv);
   last_cdof_.resize(6 * m->nv);
   midpoint_cdof_.resize(6 * m->nv);
-  end_qpos_.resize(m->nq);
+  last_end_qpos_.resize(m->nq);
 }
 
 // The fluid's resistance D = sum_s J_s^T S_s J_s enters the step here, and
-// only here (a local fluid: RFT): each segment's spatial resistance S_s
-// (RftDrag::Resistances, the formula the drag callback applies; of a
-// planar body only its [w_z; v_x; v_y] block), extrapolated to the step's
-// midpoint, 3/2 of this step's minus 1/2 of the last one's if the step
-// continues the last, added to the articulated resistance of its body's
-// last dof, from which Solve's recursion carries it to the root. The sums
-// are kept per dof (own) for the fluid power. A nonlocal fluid adds none
-// (its resistance is dense_).
+// only here (a fluid whose segments do not interact: RFT): each segment's
+// spatial resistance S_s (Fluid::LocalResistances, the formula the drag
+// callback applies; of a planar body only its [w_z; v_x; v_y] block),
+// extrapolated to the step's midpoint, 3/2 of this step's minus 1/2 of the
+// last one's if the step continues the last, added to the resistance of
+// its body's last dof (body_resistance), from which Solve's recursion
+// carries it to the root; the fluid power reads it too. A fluid whose
+// segments interact adds none (its resistance is interaction_).
 template <int Dim>
 void StokesStepper::AssembleResistances(const mjModel* m, const mjData* d,
-                                        const FluidModel* fluid, bool continues) {
-  BlockWorkspace<Dim>& w = Workspace<Dim>();
-  w.last_resistances.swap(w.resistances);
-  w.resistances.clear();
-  if (fluid && !fluid->nonlocal()) fluid->LocalResistances(m, d, &w.resistances);
-  const bool extrapolate = continues && w.last_resistances.size() == w.resistances.size();
-  for (int j = 0; j < m->nv; ++j) w.articulated[j].setZero();
-  for (size_t i = 0; i < w.resistances.size(); ++i) {
-    const int node = body_node_[w.resistances[i].body];
-    if (node < 0) continue;
+                                        const Fluid* fluid, bool continues_last_step) {
+  StokesBlockWorkspace<Dim>& w = Workspace<Dim>();
+  w.last_segment_resistances.swap(w.segment_resistances);
+  w.segment_resistances.clear();
+  if (fluid) fluid->LocalResistances(m, d, &w.segment_resistances);
+  const bool extrapolate = continues_last_step &&
+                           w.last_segment_resistances.size() == w.segment_resistances.size();
+  for (int j = 0; j < m->nv; ++j) w.body_resistance[j].setZero();
+  for (size_t i = 0; i < w.segment_resistances.size(); ++i) {
+    const int dof = topology_.body_last_dof[w.segment_resistances[i].body];
+    if (dof < 0) continue;
     if (extrapolate) {
-      w.articulated[node] +=
-          1.5 * w.resistances[i].resistance - 0.5 * w.last_resistances[i].resistance;
+      w.body_resistance[dof] += 1.5 * w.segment_resistances[i].resistance -
+                                0.5 * w.last_segment_resistances[i].resistance;
     } else {
-      w.articulated[node] += w.resistances[i].resistance;
+      w.body_resistance[dof] += w.segment_resistances[i].resistance;
     }
   }
-  w.own = w.articulated;
 }
 
 template <int Dim>
 double StokesStepper::LocalFluidPower_W(const mjModel* m) {
-  const BlockWorkspace<Dim>& w = Workspace<Dim>();
+  const StokesBlockWorkspace<Dim>& w = Workspace<Dim>();
   double power_W = 0;
-  for (int j = 0; j < m->nv; ++j) power_W += w.velocity[j].dot(w.own[j] * w.velocity[j]);
+  for (int j = 0; j < m->nv; ++j) {
+    power_W += w.spatial_velocity[j].dot(w.body_resistance[j] * w.spatial_velocity[j]);
+  }
   return power_W;
 }
 
@@ -234,70 +240,76 @@ double StokesStepper::LocalFluidPower_W(const mjModel* m) {
 // and V's other components multiply zeros of s, so the recursion runs on
 // the Dim x Dim block (the same sums less terms that are exact zeros: the
 // same result to round-off, at a quarter of the 6 x 6 recursion's work).
+// In the code: e_j stiffness_damping, A_j articulated_resistance (from the
+// body's own, body_resistance), p_j articulated_bias, U
+// resistance_times_motion, u_j force_less_bias_.
 template <int First, int Dim>
-bool StokesStepper::SolveBlock(const mjModel* m, const double* cdof, const double* extra,
-                               const double* f, double* v) {
+bool StokesStepper::SolveBlock(const mjModel* m, const double* cdof,
+                               const double* stiffness_damping, const double* f, double* v) {
   using Vector = Eigen::Matrix<double, Dim, 1>;
   using Matrix = Eigen::Matrix<double, Dim, Dim>;
-  BlockWorkspace<Dim>& w = Workspace<Dim>();
+  StokesBlockWorkspace<Dim>& w = Workspace<Dim>();
   const int nv = m->nv;
-  for (int j = 0; j < nv; ++j) w.bias[j].setZero();
+  w.articulated_resistance = w.body_resistance;
+  for (int j = 0; j < nv; ++j) w.articulated_bias[j].setZero();
   for (int j = nv - 1; j >= 0; --j) {
     const Eigen::Map<const Vector> s(cdof + 6 * j + First);
-    Vector& u_vector = w.u_vector[j];
-    u_vector.noalias() = w.articulated[j] * s;
-    const double pivot = s.dot(u_vector) + extra[j];
+    Vector& u = w.resistance_times_motion[j];
+    u.noalias() = w.articulated_resistance[j] * s;
+    const double pivot = s.dot(u) + stiffness_damping[j];
     if (!(pivot > 0)) return false;
     // One division per dof (its latency is on the recursion's critical
     // path), the rest multiplications by 1 / D_j.
     inverse_pivot_[j] = 1.0 / pivot;
-    u_[j] = f[j] - s.dot(w.bias[j]);
+    force_less_bias_[j] = f[j] - s.dot(w.articulated_bias[j]);
     const int parent = m->dof_parentid[j];
     if (parent < 0) continue;
-    Matrix& target = w.articulated[parent];
-    target += w.articulated[j];
-    target.noalias() -= u_vector * (u_vector.transpose() * inverse_pivot_[j]);
-    w.bias[parent] += w.bias[j] + u_vector * (u_[j] * inverse_pivot_[j]);
+    Matrix& target = w.articulated_resistance[parent];
+    target += w.articulated_resistance[j];
+    target.noalias() -= u * (u.transpose() * inverse_pivot_[j]);
+    w.articulated_bias[parent] +=
+        w.articulated_bias[j] + u * (force_less_bias_[j] * inverse_pivot_[j]);
   }
   for (int j = 0; j < nv; ++j) {
     const Eigen::Map<const Vector> s(cdof + 6 * j + First);
     const int parent = m->dof_parentid[j];
-    const Vector parent_velocity = parent < 0 ? Vector::Zero() : w.velocity[parent];
-    v[j] = (u_[j] - w.u_vector[j].dot(parent_velocity)) * inverse_pivot_[j];
-    w.velocity[j] = parent_velocity + s * v[j];
+    const Vector parent_velocity = parent < 0 ? Vector::Zero() : w.spatial_velocity[parent];
+    v[j] = (force_less_bias_[j] - w.resistance_times_motion[j].dot(parent_velocity)) *
+           inverse_pivot_[j];
+    w.spatial_velocity[j] = parent_velocity + s * v[j];
   }
   return true;
 }
 
-bool StokesStepper::Solve(const mjModel* m, const double* cdof, const double* extra,
+bool StokesStepper::Solve(const mjModel* m, const double* cdof, const double* stiffness_damping,
                           const double* f, double* v) {
-  return planar_motion_ ? SolveBlock<2, 3>(m, cdof, extra, f, v)
-                        : SolveBlock<0, 6>(m, cdof, extra, f, v);
+  return planar_motion_ ? SolveBlock<2, 3>(m, cdof, stiffness_damping, f, v)
+                        : SolveBlock<0, 6>(m, cdof, stiffness_damping, f, v);
 }
 
-// D = J^T R J + diag(extra), J (6 bodies x nv) the bodies' dof motions
-// (their chains' cdof at the midpoint), solved densely.
-bool StokesStepper::SolveDense(const mjModel* m, const FluidModel& fluid, const double* extra,
-                               const double* f, double* v) {
+// D = J^T R J + diag(stiffness_damping), J (6 bodies x nv) the bodies' dof
+// motions (their chains' cdof at the midpoint), solved densely.
+bool StokesStepper::SolveDense(const mjModel* m, const Fluid& fluid,
+                               const double* stiffness_damping, const double* f, double* v) {
   const int nv = m->nv;
-  const std::vector<int>& bodies = fluid.bodies();
+  const std::vector<int>& bodies = fluid.InteractingBodies();
   Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(6 * bodies.size(), nv);
   for (size_t i = 0; i < bodies.size(); ++i) {
-    for (int j = body_node_[bodies[i]]; j >= 0; j = m->dof_parentid[j]) {
+    for (int j = topology_.body_last_dof[bodies[i]]; j >= 0; j = m->dof_parentid[j]) {
       jacobian.block(6 * i, j, 6, 1) = Eigen::Map<const Vector6>(midpoint_cdof_.data() + 6 * j);
     }
   }
-  Eigen::MatrixXd system = jacobian.transpose() * midpoint_dense_ * jacobian;
-  for (int j = 0; j < nv; ++j) system(j, j) += extra[j];
+  Eigen::MatrixXd system = jacobian.transpose() * midpoint_interaction_ * jacobian;
+  for (int j = 0; j < nv; ++j) system(j, j) += stiffness_damping[j];
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(system);
   if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0)) return false;
   Eigen::Map<Eigen::VectorXd>(v, nv) = ldlt.solve(Eigen::Map<const Eigen::VectorXd>(f, nv));
   const Eigen::VectorXd body_velocity = jacobian * Eigen::Map<const Eigen::VectorXd>(v, nv);
-  fluid_power_W_ = body_velocity.dot(midpoint_dense_ * body_velocity);
+  fluid_power_W_ = body_velocity.dot(midpoint_interaction_ * body_velocity);
   return true;
 }
 
-bool StokesStepper::Step(const mjModel* m, mjData* d, const FluidModel* fluid) {
+bool StokesStepper::Step(const mjModel* m, mjData* d, const Fluid* fluid) {
   const double h = m->opt.timestep;
   const bool sensors = !(m->opt.disableflags & mjDSBL_SENSOR);
   // Position stage without the mass matrix (mj_fwdPosition less mj_crb,
@@ -326,17 +338,18 @@ bool StokesStepper::Step(const mjModel* m, mjData* d, const FluidModel* fluid) {
   }
   Actuation(m, d);
   for (int j = 0; j < m->nv; ++j) {
-    force_[j] = d->qfrc_passive[j] + d->qfrc_actuator[j] + d->qfrc_applied[j];
+    force_at_rest_[j] = d->qfrc_passive[j] + d->qfrc_actuator[j] + d->qfrc_applied[j];
   }
-  ImplicitDiagonal(m, d, h, diagonal_.data());
+  StiffnessAndDamping(m, d, h, stiffness_damping_.data());
   const bool solved =
-      fluid && fluid->nonlocal()
-          ? SolveDense(m, *fluid, diagonal_.data(), force_.data(), d->qvel)
-          : Solve(m, midpoint_cdof_.data(), diagonal_.data(), force_.data(), d->qvel);
+      dense_fluid_
+          ? SolveDense(m, *fluid, stiffness_damping_.data(), force_at_rest_.data(), d->qvel)
+          : Solve(m, midpoint_cdof_.data(), stiffness_damping_.data(), force_at_rest_.data(),
+                  d->qvel);
   if (!solved) return false;
   if (!fluid) {
     fluid_power_W_ = 0;
-  } else if (!fluid->nonlocal()) {  // SolveDense sets a nonlocal fluid's
+  } else if (!dense_fluid_) {  // SolveDense sets a dense resistance's
     fluid_power_W_ = planar_motion_ ? LocalFluidPower_W<3>(m) : LocalFluidPower_W<6>(m);
   }
   mju_zero(d->qacc, m->nv);
@@ -344,13 +357,13 @@ bool StokesStepper::Step(const mjModel* m, mjData* d, const FluidModel* fluid) {
   if (sensors) mj_sensorVel(m, d);
   mj_integratePos(m, d->qpos, d->qvel, h);
   d->time += h;
-  mju_copy(end_qpos_.data(), d->qpos, m->nq);
-  end_time_ = d->time;
+  mju_copy(last_end_qpos_.data(), d->qpos, m->nq);
+  last_end_time_ = d->time;
   return true;
 }
 
 void StokesStepper::ComPos(const mjModel* m, mjData* d) {
-  if (hinges_and_slides_only_) {
+  if (topology_.hinges_and_slides_only) {
     StokesComPos(m, d);
   } else {
     mj_comPos(m, d);
@@ -358,7 +371,7 @@ void StokesStepper::ComPos(const mjModel* m, mjData* d) {
 }
 
 void StokesStepper::ComVel(const mjModel* m, mjData* d) {
-  if (hinges_and_slides_only_) {
+  if (topology_.hinges_and_slides_only) {
     StokesComVel(m, d);
   } else {
     mj_comVel(m, d);
@@ -366,7 +379,7 @@ void StokesStepper::ComVel(const mjModel* m, mjData* d) {
 }
 
 void StokesStepper::Transmission(const mjModel* m, mjData* d) {
-  if (!joint_actuators_only_ || !moments_set_) {
+  if (!topology_.joint_actuators_only || !moments_set_) {
     mj_transmission(m, d);
     moments_set_ = true;
     return;
@@ -375,7 +388,7 @@ void StokesStepper::Transmission(const mjModel* m, mjData* d) {
 }
 
 void StokesStepper::Actuation(const mjModel* m, mjData* d) {
-  if (joint_actuators_only_) {
+  if (topology_.joint_actuators_only) {
     JointActuation(m, d);
   } else {
     mj_fwdActuation(m, d);
@@ -433,30 +446,34 @@ void JointActuation(const mjModel* m, mjData* d) {
 // one's (second order), if d continues the last step; this step's
 // otherwise (the first step, or after a reset or rewind).
 void StokesStepper::ExtrapolateToMidpoint(const mjModel* m, const mjData* d,
-                                          const FluidModel* fluid) {
+                                          const Fluid* fluid) {
   last_cdof_.swap(cdof_);
   mju_copy(cdof_.data(), d->cdof, 6 * m->nv);
   const bool planar = PlanarMotions(cdof_.data(), m->nv);
   // A step that changes between planar and spatial motions starts afresh
   // (the two keep different blocks of S).
-  const bool continues = have_last_ && d->time == end_time_ &&
-                         std::equal(end_qpos_.begin(), end_qpos_.end(), d->qpos) &&
-                         planar == planar_motion_;
+  const bool continues_last_step =
+      has_last_step_ && d->time == last_end_time_ &&
+      std::equal(last_end_qpos_.begin(), last_end_qpos_.end(), d->qpos) &&
+      planar == planar_motion_;
   planar_motion_ = planar;
-  have_last_ = true;
-  if (fluid && fluid->nonlocal()) {
-    last_dense_.swap(dense_);
-    dense_ = fluid->BodyResistance(m, d);
-    midpoint_dense_ = continues && last_dense_.rows() == dense_.rows()
-                          ? (1.5 * dense_ - 0.5 * last_dense_).eval()
-                          : dense_;
+  has_last_step_ = true;
+  const Eigen::MatrixXd* interaction = fluid ? fluid->InteractionResistance(m, d) : nullptr;
+  dense_fluid_ = interaction != nullptr;
+  if (dense_fluid_) {
+    last_interaction_.swap(interaction_);
+    interaction_ = *interaction;
+    midpoint_interaction_ =
+        continues_last_step && last_interaction_.rows() == interaction_.rows()
+            ? (1.5 * interaction_ - 0.5 * last_interaction_).eval()
+            : interaction_;
   }
   if (planar) {
-    AssembleResistances<3>(m, d, fluid, continues);
+    AssembleResistances<3>(m, d, fluid, continues_last_step);
   } else {
-    AssembleResistances<6>(m, d, fluid, continues);
+    AssembleResistances<6>(m, d, fluid, continues_last_step);
   }
-  if (!continues) {
+  if (!continues_last_step) {
     midpoint_cdof_ = cdof_;
     return;
   }

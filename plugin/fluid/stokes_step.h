@@ -47,7 +47,6 @@
 #include <vector>
 
 #include "plugin/fluid/fluid_model.h"
-#include "plugin/fluid/rft_drag.h"
 #include "plugin/mjcf/dynamics.h"
 
 namespace ipmc {
@@ -77,6 +76,44 @@ bool HingesAndSlidesOnly(const mjModel* m);
 void StokesComPos(const mjModel* m, mjData* d);
 void StokesComVel(const mjModel* m, mjData* d);
 
+// What a model fixes for every step of the Stokes stepper: its tree of
+// dofs and which of MuJoCo's stages have the O(nv) replacements above.
+struct StokesTopology {
+  // Throws std::invalid_argument naming what the model has that the
+  // stepper does not support.
+  explicit StokesTopology(const mjModel* m);
+
+  // The last dof of each body's chain of dofs (its own last dof or its
+  // nearest moving ancestor's), -1 for a body fixed to the world.
+  std::vector<int> body_last_dof;
+  bool hinges_and_slides_only = false;  // HingesAndSlidesOnly
+  bool joint_actuators_only = false;    // JointActuatorsOnly
+};
+
+// The recursion's workspace in Dim components of the spatial vectors (6:
+// all of [w; v], 3: [w_z; v_x; v_y] of a planar motion), per dof, and per
+// segment its resistance's block this step and the last.
+template <int Dim>
+struct StokesBlockWorkspace {
+  using Vector = Eigen::Matrix<double, Dim, 1>;
+  using Matrix = Eigen::Matrix<double, Dim, Dim>;
+  std::vector<Matrix, Eigen::aligned_allocator<Matrix>> articulated_resistance;
+  // The resistance of the segments on the dof's body: its share of D.
+  std::vector<Matrix, Eigen::aligned_allocator<Matrix>> body_resistance;
+  // The subtree's bias p, U = A s (articulated resistance times the dof's
+  // motion) and the spatial velocity the solve gives.
+  std::vector<Vector, Eigen::aligned_allocator<Vector>> articulated_bias, resistance_times_motion,
+      spatial_velocity;
+  BodyResistanceBlocks<Dim> segment_resistances, last_segment_resistances;
+  void Resize(int nv) {
+    articulated_resistance.resize(nv);
+    body_resistance.resize(nv);
+    articulated_bias.resize(nv);
+    resistance_times_motion.resize(nv);
+    spatial_velocity.resize(nv);
+  }
+};
+
 class StokesStepper {
  public:
   // Throws std::invalid_argument naming what the model has that the
@@ -87,11 +124,11 @@ class StokesStepper {
   // joints' damping alone must then resist every dof). Returns false and
   // leaves d's position and time unchanged if a dof has no resistance at
   // all (the force balance is singular); the caller reports that. A
-  // nonlocal fluid (Stokeslets, whose segments interact) gives a dense
-  // resistance over the bodies: D = J^T R J is formed (nv x nv) and
-  // factored (LDL^T) in place of the recursion, O(nv^3), with R
-  // extrapolated to the step's midpoint as the local S are.
-  bool Step(const mjModel* m, mjData* d, const FluidModel* fluid);
+  // fluid whose segments interact (Fluid::InteractionResistance, the
+  // Stokeslets) gives a dense resistance R over its bodies: D = J^T R J is
+  // formed (nv x nv) and factored (LDL^T) in place of the recursion,
+  // O(nv^3), with R extrapolated to the step's midpoint as the local S are.
+  bool Step(const mjModel* m, mjData* d, const Fluid* fluid);
   // The power [W] the last step gave the fluid: v^T D v with the step's
   // velocity v and the resistance D at its midpoint that it solved with,
   // so that over a step the generalised forces' work f . v h is this, the
@@ -100,89 +137,74 @@ class StokesStepper {
   double fluid_power_W() const { return fluid_power_W_; }
 
  private:
-  // Each dof's own share of D: the segments' resistances at the step's
-  // midpoint, on their bodies' last dofs, into the articulated resistances
-  // of the recursion's workspace (the [w_z; v_x; v_y] block if
-  // planar_motion_, all of S otherwise) and into own.
+  // Each dof's body_resistance: the segments' resistances at the step's
+  // midpoint, on their bodies' last dofs (the [w_z; v_x; v_y] block if
+  // planar_motion_, all of S otherwise); the recursion starts from them.
   template <int Dim>
-  void AssembleResistances(const mjModel* m, const mjData* d, const FluidModel* fluid,
-                           bool continues);
-  // Sum over the dofs of V^T own V, V their velocities in the recursion's
-  // last solve.
+  void AssembleResistances(const mjModel* m, const mjData* d, const Fluid* fluid,
+                           bool continues_last_step);
+  // Sum over the dofs of V^T body_resistance V, V their spatial velocities
+  // in the recursion's last solve.
   template <int Dim>
   double LocalFluidPower_W(const mjModel* m);
-  // Solves (D + diag(extra)) v = f for v, D from the dofs' motions cdof
-  // and the assembled articulated resistances. Returns false if the system
-  // is singular. Planar motions (planar_motion_) take the 3 x 3
+  // Solves (D + diag(stiffness_damping)) v = f for v, D from the dofs'
+  // motions cdof and the assembled resistances. Returns false if the
+  // system is singular. Planar motions (planar_motion_) take the 3 x 3
   // recursion, others the 6 x 6 one.
-  bool Solve(const mjModel* m, const double* cdof, const double* extra, const double* f,
-             double* v);
+  bool Solve(const mjModel* m, const double* cdof, const double* stiffness_damping,
+             const double* f, double* v);
   template <int First, int Dim>
-  bool SolveBlock(const mjModel* m, const double* cdof, const double* extra, const double* f,
-                  double* v);
-
-  // The last dof of each body's chain of dofs (its own last dof or its
-  // nearest moving ancestor's), -1 for a body fixed to the world.
-  std::vector<int> body_node_;
-  // Per dof, in the recursion's Dim components: articulated resistance,
-  // its own share of D (the segments on its body), bias, U = A s and
-  // spatial velocity; per segment, its resistance's block in those
-  // components this step and the last.
+  bool SolveBlock(const mjModel* m, const double* cdof, const double* stiffness_damping,
+                  const double* f, double* v);
+  // The dense solve with a fluid whose segments interact (Step).
+  bool SolveDense(const mjModel* m, const Fluid& fluid, const double* stiffness_damping,
+                  const double* f, double* v);
+  // Extrapolates S and cdof to the step's midpoint and assembles the
+  // local resistances (Step).
+  void ExtrapolateToMidpoint(const mjModel* m, const mjData* d, const Fluid* fluid);
+  // mj_transmission and mj_fwdActuation: JointTransmission and
+  // JointActuation if joint_actuators_only (after one mj_transmission,
+  // which sets the moments' zeros), MuJoCo's own otherwise.
+  void Transmission(const mjModel* m, mjData* d);
+  void Actuation(const mjModel* m, mjData* d);
+  // mj_comPos and mj_comVel: StokesComPos and StokesComVel if
+  // hinges_and_slides_only, MuJoCo's own otherwise.
+  void ComPos(const mjModel* m, mjData* d);
+  void ComVel(const mjModel* m, mjData* d);
   template <int Dim>
-  struct BlockWorkspace {
-    using Vector = Eigen::Matrix<double, Dim, 1>;
-    using Matrix = Eigen::Matrix<double, Dim, Dim>;
-    std::vector<Matrix, Eigen::aligned_allocator<Matrix>> articulated, own;
-    std::vector<Vector, Eigen::aligned_allocator<Vector>> bias, u_vector, velocity;
-    RftDrag::BodyResistanceBlocks<Dim> resistances, last_resistances;
-    void Resize(int nv) {
-      articulated.resize(nv);
-      own.resize(nv);
-      bias.resize(nv);
-      u_vector.resize(nv);
-      velocity.resize(nv);
-    }
-  };
-  BlockWorkspace<6> spatial_;
-  BlockWorkspace<3> planar_;
-  // Every dof moves in the x-y plane (no w_x, w_y, v_z) at the step's
-  // start and so at its midpoint: the segments' resistances and the
-  // recursion take 3 x 3 blocks.
-  bool planar_motion_ = false;
-  template <int Dim>
-  BlockWorkspace<Dim>& Workspace() {
+  StokesBlockWorkspace<Dim>& Workspace() {
     if constexpr (Dim == 6) {
       return spatial_;
     } else {
       return planar_;
     }
   }
-  // mj_transmission and mj_fwdActuation: JointTransmission and
-  // JointActuation if JointActuatorsOnly (after one mj_transmission, which
-  // sets the moments' zeros), MuJoCo's own otherwise.
-  void Transmission(const mjModel* m, mjData* d);
-  // mj_comPos and mj_comVel: StokesComPos and StokesComVel if
-  // HingesAndSlidesOnly, MuJoCo's own otherwise.
-  void ComPos(const mjModel* m, mjData* d);
-  void ComVel(const mjModel* m, mjData* d);
-  bool hinges_and_slides_only_ = false;
-  void Actuation(const mjModel* m, mjData* d);
-  bool joint_actuators_only_ = false, moments_set_ = false;
-  // Extrapolates S and cdof to the step's midpoint and assembles the
-  // local resistances (Step).
-  void ExtrapolateToMidpoint(const mjModel* m, const mjData* d, const FluidModel* fluid);
-  // The dense solve with a nonlocal fluid (Step).
-  bool SolveDense(const mjModel* m, const FluidModel& fluid, const double* extra,
-                  const double* f, double* v);
-  Eigen::MatrixXd dense_, last_dense_, midpoint_dense_;
 
-  std::vector<double> u_, inverse_pivot_, diagonal_, force_;
-  // This step's, the last step's and the midpoint's cdof, and where the
-  // last step ended (a step that starts elsewhere does not extrapolate).
-  std::vector<double> cdof_, last_cdof_, midpoint_cdof_, end_qpos_;
-  double end_time_ = 0;
+  const StokesTopology topology_;
+
+  // The per-step workspace.
+  StokesBlockWorkspace<6> spatial_;
+  StokesBlockWorkspace<3> planar_;
+  // Per dof: f_j - s_j . p_j, 1 / D_j, h K + C, and the forces at zero
+  // velocity.
+  std::vector<double> force_less_bias_, inverse_pivot_, stiffness_damping_, force_at_rest_;
+  // The dense resistance of a fluid whose segments interact: this step's,
+  // the last step's and the midpoint's.
+  Eigen::MatrixXd interaction_, last_interaction_, midpoint_interaction_;
+
+  // What carries from step to step: this step's, the last step's and the
+  // midpoint's cdof, where the last step ended (a step that starts
+  // elsewhere does not extrapolate), and the step's form.
+  std::vector<double> cdof_, last_cdof_, midpoint_cdof_, last_end_qpos_;
+  double last_end_time_ = 0;
+  bool has_last_step_ = false;
+  // Every dof moves in the x-y plane (no w_x, w_y, v_z) at the step's
+  // start and so at its midpoint: the segments' resistances and the
+  // recursion take 3 x 3 blocks.
+  bool planar_motion_ = false;
+  bool dense_fluid_ = false;  // the fluid gave a dense resistance
+  bool moments_set_ = false;  // the first mj_transmission has run
   double fluid_power_W_ = 0;
-  bool have_last_ = false;
 };
 
 }  // namespace ipmc

@@ -12,7 +12,7 @@
 //                   actuators' work the k dtheta0^2 / 2 per step that a
 //                   jump of the rest angle dissipates
 //   fluid           P_f = -sum over the drag segments of (F . v_c + T_c . w)
-//                   (RftDrag::DissipatedPower_W: the drag model itself)
+//                   (Fluid::DissipatedPower_W: the fluid model itself)
 //   hinge damping   P_c = sum over the dofs of c qdot^2 (the joints'
 //                   `damping`, not the paper's plant: docs/ENERGY.md)
 //   time stepping   what the step leaves of the balance. MuJoCo's Euler
@@ -39,7 +39,7 @@
 //   Lighthill's efficiency  eta = D_tow(U) U / P_f, D_tow the drag of the
 //                           straightened body towed along its axis at the
 //                           mean speed U, from the same drag model
-//                           (RftDrag::TowingDrag_N; Lighthill 1975,
+//                           (Fluid::TowingDrag_N; Lighthill 1975,
 //                           "Mathematical Biofluiddynamics", ch. 3)
 //   cost of transport       P_actuators / |U| [J/m], the actuators' work
 //                           per distance swum
@@ -124,7 +124,7 @@ class EnergyMeter {
   static double ElasticEnergy_J(const mjModel* m, const mjData* d);
 
   std::vector<std::vector<int>> link_dofs_;
-  const FluidModel* drag_ = nullptr;  // the run's fluid model (RFT or Stokeslets)
+  const Fluid* drag_ = nullptr;  // the run's fluid model
   // Stokes dynamics: the stepper, which gives its step's own fluid power.
   const StokesStepper* stokes_ = nullptr;
   bool inertial_ = true;
