@@ -96,8 +96,15 @@ def make_node(path, kind):
         os.mkfifo(path)
         return lambda: stat.S_ISFIFO(os.lstat(path).st_mode)
     if kind == "socket":
+        # A socket's address is limited to 107 bytes and the build tree may sit
+        # deep: bind by the name relative to its folder.
         server = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
-        server.bind(path)
+        here = os.getcwd()
+        os.chdir(os.path.dirname(path))
+        try:
+            server.bind(os.path.basename(path))
+        finally:
+            os.chdir(here)
         make_node.sockets.append(server)
         return lambda: stat.S_ISSOCK(os.lstat(path).st_mode)
     os.mkdir(path)
