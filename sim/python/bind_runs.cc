@@ -37,9 +37,7 @@ py::dict ColumnDict(const NamedColumns& columns) {
 py::dict Run(const py::object& scenario_arg, const py::dict& overrides, const py::dict& kwargs,
              const py::object& progress_callback) {
   Options options("run", kwargs);
-  RunCommand command;
-  ReadTableOptions(options, RunOptions(), &command);
-  options.RejectUnknown();
+  const RunCommand command = ReadCommandKeywords(options, RunOptions());
   ScenarioArgument argument = ReadScenarioArgument(scenario_arg, overrides, "run");
   const nlohmann::json& source = argument.inputs["scenario"];
   const std::vector<std::string> input_files =
@@ -72,10 +70,9 @@ py::dict Run(const py::object& scenario_arg, const py::dict& overrides, const py
 py::object Sweep(const py::object& path_arg, const py::dict& kwargs,
                  const py::object& progress_callback) {
   Options options("sweep", kwargs);
-  SweepCommand command;
-  command.sweep = PathText(path_arg, "sweep");
-  ReadTableOptions(options, SweepOptionTable(), &command);
-  options.RejectUnknown();
+  SweepCommand file;
+  file.sweep = PathText(path_arg, "sweep");
+  const SweepCommand command = ReadCommandKeywords(options, SweepOptionTable(), file);
   // As the command line: the journal PREFIX.journal holds the output (one
   // sweep per prefix, from either front end) and resumes a stopped sweep.
   std::unique_ptr<SweepCommandRun> sweep = WithoutGil(
@@ -95,16 +92,15 @@ py::object Sweep(const py::object& path_arg, const py::dict& kwargs,
 
 py::object Merge(const py::object& tables_arg, const py::dict& kwargs) {
   Options options("merge", kwargs);
-  MergeCommand command;
+  MergeCommand tables;
   if (py::isinstance<py::str>(tables_arg) || !py::isinstance<py::sequence>(tables_arg)) {
-    command.tables.push_back(PathText(tables_arg, "merge(): tables"));
+    tables.tables.push_back(PathText(tables_arg, "merge(): tables"));
   } else {
     for (const py::handle table : tables_arg) {
-      command.tables.push_back(PathText(table, "merge(): tables"));
+      tables.tables.push_back(PathText(table, "merge(): tables"));
     }
   }
-  ReadTableOptions(options, MergeOptionTable(), &command);
-  options.RejectUnknown();
+  const MergeCommand command = ReadCommandKeywords(options, MergeOptionTable(), tables);
   // Ctrl-C stops it before it writes, as on the command line.
   const SweepTable merged = Interruptible([&](const std::atomic<bool>& stop) {
     return RunMergeCommand(command, [&stop] { ThrowIfStopRequested(stop); });
@@ -116,27 +112,19 @@ py::object Merge(const py::object& tables_arg, const py::dict& kwargs) {
 
 std::string Keys(const py::dict& kwargs) {
   Options options("keys", kwargs);
-  ReferenceCommand command;
-  ReadTableOptions(options, KeysOptions(), &command);
-  options.RejectUnknown();
-  return KeysReference(command);
+  return KeysReference(ReadCommandKeywords(options, KeysOptions()));
 }
 
 std::string OptionsText(const py::dict& kwargs) {
   Options options("options", kwargs);
-  ReferenceCommand command;
-  ReadTableOptions(options, OptionsOptions(), &command);
-  options.RejectUnknown();
-  return OptionsReference(command);
+  return OptionsReference(ReadCommandKeywords(options, OptionsOptions()));
 }
 
 // ----------------------------------------------------------------- bench ---
 
 py::dict Bench(const py::dict& kwargs, const py::object& progress_callback) {
   Options options("bench", kwargs);
-  BenchCommand command;
-  ReadTableOptions(options, BenchOptions(), &command);
-  options.RejectUnknown();
+  const BenchCommand command = ReadCommandKeywords(options, BenchOptions());
   Progress progress(progress_callback, command.bench.duration_s);
   const BenchRecord record = Interruptible([&](const std::atomic<bool>& stop) {
     return RunBenchCommand(command, [&](double t_s) {
@@ -152,10 +140,7 @@ py::dict Bench(const py::dict& kwargs, const py::object& progress_callback) {
 
 std::string GenerateModel(const py::dict& kwargs) {
   Options options("generate_model", kwargs);
-  GenerateCommand command;
-  ReadTableOptions(options, GenerateOptions(), &command);
-  options.RejectUnknown();
-  return RunGenerateCommand(command);
+  return RunGenerateCommand(ReadCommandKeywords(options, GenerateOptions()));
 }
 
 }  // namespace
