@@ -35,6 +35,7 @@ void AddRunCommand(CLI::App& app, RunArgs& args) {
 }
 
 int RunScenarioCommand(const RunArgs& args) {
+  if (!args.Chosen()) return -1;
   const RunCommand& command = args.spec;
   const RunPlan plan = TranslatingFieldErrors(RunOptions(), [&] {
     if (command.video.empty() && AnyVideoOptionGiven(args.command)) {
