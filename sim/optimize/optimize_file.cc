@@ -476,6 +476,7 @@ void OptimizeReader::ReadControllers(const toml::node& node, OptimizeConfig& con
 
 DriverProblem OptimizeConfig::Problem() const {
   DriverProblem problem;
+  static_cast<DriverSettings&>(problem) = *this;
   for (const DesignVariable& variable : variables) {
     problem.lower.push_back(variable.lower);
     problem.upper.push_back(variable.upper);
@@ -483,14 +484,6 @@ DriverProblem OptimizeConfig::Problem() const {
   }
   if (sum) problem.sum = EliminatedSum{sum->total, sum->of, sum->lower, sum->upper};
   for (const DesignConstraint& constraint : constraints) problem.constraints.push_back(constraint.bound);
-  problem.maximize = maximize;
-  problem.algorithm = algorithm;
-  problem.max_evaluations = max_evaluations;
-  problem.xtol_rel = xtol_rel;
-  problem.ftol_rel = ftol_rel;
-  problem.multistart = multistart;
-  problem.penalty = penalty;
-  problem.failed_objective = failed_objective;
   return problem;
 }
 
