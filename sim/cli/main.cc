@@ -63,20 +63,20 @@ int main(int argc, char** argv) {
       ipmc::Registration(ipmc::AddGenerateCommand, ipmc::RunGenerateCommandLine),
       ipmc::Registration(ipmc::AddGaitCommand, ipmc::RunGaitCommandLine),
       ipmc::Registration(ipmc::AddBenchCommand, ipmc::RunBenchCommandLine),
-      ipmc::Registration(ipmc::AddRunCommand, ipmc::RunScenarioCommand),
+      ipmc::Registration(ipmc::AddRunCommand, ipmc::RunRunCommandLine),
       ipmc::Registration(ipmc::AddBodeCommand, ipmc::RunBodeCommandLine),
       ipmc::Registration(ipmc::AddStepCommand, ipmc::RunStepCommandLine),
-      ipmc::Registration(ipmc::AddRenderCommand, ipmc::RunRenderCommand),
-      ipmc::Registration(ipmc::AddViewCommand, ipmc::RunViewCommand),
-      ipmc::Registration(ipmc::AddPlotCommand, ipmc::RunPlotCommand),
+      ipmc::Registration(ipmc::AddRenderCommand, ipmc::RunRenderCommandLine),
+      ipmc::Registration(ipmc::AddViewCommand, ipmc::RunViewCommandLine),
+      ipmc::Registration(ipmc::AddPlotCommand, ipmc::RunPlotCommandLine),
       ipmc::Registration(ipmc::AddIdentifyCommand, ipmc::RunIdentifyCommandLine),
       ipmc::Registration(ipmc::AddDesignCommand, ipmc::RunDesignCommandLine),
       ipmc::Registration(ipmc::AddPipelineCommand, ipmc::RunPipelineCommandLine),
-      ipmc::Registration(ipmc::AddSweepCommands, ipmc::RunSweepCommand),  // sweep and merge
+      ipmc::Registration(ipmc::AddSweepCommands, ipmc::RunSweepCommandLine),  // sweep and merge
       ipmc::Registration(ipmc::AddOptimizeCommand, ipmc::RunOptimizeCommandLine),
       ipmc::Registration(ipmc::AddTable5Command, ipmc::RunTable5CommandLine),
-      ipmc::Registration(ipmc::AddKeysCommand, ipmc::RunKeysCommand),
-      ipmc::Registration(ipmc::AddOptionsCommand, ipmc::RunOptionsCommand),
+      ipmc::Registration(ipmc::AddKeysCommand, ipmc::RunKeysCommandLine),
+      ipmc::Registration(ipmc::AddOptionsCommand, ipmc::RunOptionsCommandLine),
   };
   std::vector<ipmc::CommandRunner> runners;
   for (const ipmc::CommandRegistration& add : commands) runners.push_back(add(app));

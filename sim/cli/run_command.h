@@ -27,6 +27,6 @@ void AddRunCommand(CLI::App& app, RunArgs& args);
 
 // Runs the scenario, prints its results and writes its files.
 // The exit status, or -1 when the command line chose another command.
-int RunScenarioCommand(const RunArgs& args);
+int RunRunCommandLine(const RunArgs& args);
 
 }  // namespace ipmc
