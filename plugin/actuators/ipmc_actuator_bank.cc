@@ -239,7 +239,9 @@ void IpmcActuatorBank::Impl::Derivative(double t_s, const double* in, double* ou
     double integral_Vs = 0, double_integral_Vs2 = 0;
     VoltageIntegrals(t_s, static_cast<int>(q), &integral_Vs, &double_integral_Vs2);
     const Block& block = blocks[q];
-    for (int i = 0; i < block.size; ++i) out[block.offset + i] += block.aab[i] * double_integral_Vs2;
+    for (int i = 0; i < block.size; ++i) {
+      out[block.offset + i] += block.aab[i] * double_integral_Vs2;
+    }
   }
 }
 
@@ -250,7 +252,8 @@ void IpmcActuatorBank::Impl::StateFromEta(double t_s) {
     double integral_Vs = 0, double_integral_Vs2 = 0;
     VoltageIntegrals(t_s, static_cast<int>(q), &integral_Vs, &double_integral_Vs2);
     const Block& block = blocks[q];
-    state.segment(block.offset, block.size) += block.b * integral_Vs + block.ab * double_integral_Vs2;
+    state.segment(block.offset, block.size) +=
+        block.b * integral_Vs + block.ab * double_integral_Vs2;
   }
 }
 

@@ -78,7 +78,8 @@ py::dict BodeLinkDict(const BodeLink& link) {
 }
 
 py::list Bode(const py::dict& kwargs) {
-  const std::vector<BodeLink> links = RunCommandWithoutGil("bode", kwargs, BodeOptions(), RunBodeCommand);
+  const std::vector<BodeLink> links =
+      RunCommandWithoutGil("bode", kwargs, BodeOptions(), RunBodeCommand);
   py::list result;
   for (const BodeLink& link : links) result.append(BodeLinkDict(link));
   return result;
