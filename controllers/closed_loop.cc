@@ -66,13 +66,13 @@ HeldPlant::HeldPlant(DiscreteStateSpace hold)
       next_(hold_.a.rows()) {}
 
 double HeldPlant::Output() const {
-  return (x_.size() > 0 ? (hold_.c * x_)(0, 0) : 0.0) + hold_.d(0, 0) * u_;
+  return (x_.size() > 0 ? (hold_.c * x_)(0, 0) : 0.0) + hold_.d(0, 0) * held_input_V_;
 }
 
 void HeldPlant::Advance() {
   if (x_.size() == 0) return;
   next_.noalias() = hold_.a * x_;
-  next_ += hold_.b.col(0) * u_;
+  next_ += hold_.b.col(0) * held_input_V_;
   x_.swap(next_);
 }
 

@@ -49,14 +49,14 @@ class HeldPlant {
 
   // y = c x + d u with the input now held: before Hold(u_k), y(t_k^-).
   double Output() const;
-  void Hold(double u) { u_ = u; }
+  void Hold(double u) { held_input_V_ = u; }
   // x over one hold interval under the held input.
   void Advance();
 
  private:
   DiscreteStateSpace hold_;
   Eigen::VectorXd x_, next_;
-  double u_ = 0.0;
+  double held_input_V_ = 0.0;  // u_k, the voltage held over the interval [V]
 };
 
 // The tracking indices of an error e [mm] sampled every T [s] from t = 0,

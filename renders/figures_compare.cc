@@ -209,33 +209,39 @@ struct Span {
   }
 };
 
-}  // namespace
+// The page's rows [in]: each panel's height, the gap between rows and the
+// time axis below the first row; its columns (the fraction of its width):
+// the displacement and errors left, the cycles and voltages right.
+constexpr double kRow = 1.75, kRowGap = 0.45, kAxisGap = 0.4;
+constexpr double kLeft0 = 0.08, kRight0 = 0.49, kLeft1 = 0.585, kRight1 = 0.975;
 
-Figure CompareFigure(const std::vector<std::string>& run_dirs, const FigureOptions& options,
-                     const FigureScratch& scratch, FigureReport& report) {
-  std::vector<ComparedRun> runs;
-  for (const std::string& dir : run_dirs) runs.push_back(ReadRun(dir));
-  const std::vector<std::string> differing = DifferingKeys(runs);
-  if (!options.labels.empty() && options.labels.size() != runs.size()) {
-    throw FieldError("plot: --labels gives " + std::to_string(options.labels.size()) +
-                         " labels for " + std::to_string(runs.size()) + " runs (one per run)",
-                     "--labels", "one label per run directory");
-  }
-  for (size_t k = 0; k < runs.size(); ++k) {
-    runs[k].label = options.labels.empty() ? LabelOf(runs[k], differing) : options.labels[k];
-  }
-  int links = LinksOf(runs.front().table);
-  for (const ComparedRun& run : runs) links = std::max(links, LinksOf(run.table));
-
-  // Per run: time, displacement along the axis, per link error and
-  // voltage; and its cycles.
-  std::vector<std::string> series(runs.size()), cycles(runs.size());
-  std::vector<std::vector<double>> steady_rms(runs.size());
+// Per run its data files (time, displacement along the axis, per link
+// error and voltage; its cycles), its RMS tracking error per link over its
+// steady cycles, and each column's span over every run.
+struct ComparedSeries {
+  std::vector<std::string> series, cycles;
+  std::vector<std::vector<double>> steady_rms;
   std::string steady_what;
   // Column c's span over every run (c as in the data files, from 1), and
   // the per-cycle displacements'.
-  std::vector<Span> spans(3 + 2 * links);
+  std::vector<Span> spans;
   Span cycle_span;
+};
+
+// Writes the runs' data files into `scratch` and one note per run into `report`.
+ComparedSeries WriteComparedSeries(const std::vector<ComparedRun>& runs, int links,
+                                   const FigureScratch& scratch, FigureReport& report) {
+  ComparedSeries data;
+  data.series.resize(runs.size());
+  data.cycles.resize(runs.size());
+  data.steady_rms.resize(runs.size());
+  data.spans.resize(3 + 2 * links);
+  std::vector<std::string>& series = data.series;
+  std::vector<std::string>& cycles = data.cycles;
+  std::vector<std::vector<double>>& steady_rms = data.steady_rms;
+  std::string& steady_what = data.steady_what;
+  std::vector<Span>& spans = data.spans;
+  Span& cycle_span = data.cycle_span;
   for (size_t k = 0; k < runs.size(); ++k) {
     const CsvTable& table = runs[k].table;
     const std::vector<double> t = table.Numbers(columns::kTime);
@@ -285,45 +291,19 @@ Figure CompareFigure(const std::vector<std::string>& run_dirs, const FigureOptio
     }
     report.notes.push_back(note);
   }
+  return data;
+}
 
-  std::string differs;
-  for (const std::string& key : differing) differs += (differs.empty() ? "" : ", ") + key;
-  SetTitle(report, options, "Comparison of " + std::to_string(runs.size()) + " runs",
-           differing.empty() ? "the same scenario" : "differing in " + differs);
-
-  // Inches: title and legend, the displacement row, then a row per link.
-  // The first row has its own time axis below it.
-  // The head holds the title and, below it, the legend: one run per line,
-  // so that no label runs off the page or over a panel's title.
-  constexpr double kTitle = 0.75, kLegendLine = 0.2, kLegendGap = 0.5;
-  const double kHead = kTitle + kLegendLine * static_cast<double>(runs.size()) + kLegendGap;
-  constexpr double kRow = 1.75, kRowGap = 0.45, kAxisGap = 0.4, kFoot = 0.55;
-  Figure figure;
-  figure.width_in = 10.0;
-  figure.height_in = kHead + (1 + links) * (kRow + kRowGap) - kRowGap + kAxisGap * (links > 0) + kFoot;
-  const double H = figure.height_in;
-  constexpr double kLeft0 = 0.08, kRight0 = 0.49, kLeft1 = 0.585, kRight1 = 0.975;
+// The panels of links 1..links below the displacement's, each the error
+// and the voltage of every run, from the top `head_in` of a figure
+// `height_in` high.
+std::string LinkPanels(const std::vector<ComparedRun>& runs, int links, const ComparedSeries& data,
+                       double height_in, double head_in) {
+  const double H = height_in, kHead = head_in;
+  const std::vector<std::string>& series = data.series;
+  const std::vector<Span>& spans = data.spans;
   const std::string time_label = Q(AxisLabel(columns::kTime));
-  std::string commands = "set multiplot title " + Heading(report) + "\n" +
-                         "set key at screen " + N(kLeft0) + ", screen " + N(1.0 - kTitle / H) +
-                         " left top vertical reverse Left samplen 4 maxcols 1 spacing 1.1\n"
-                         "set style textbox opaque noborder margins 2, 1\n";
-  commands += StackedPanel(H, kHead, kRow, kLeft0, kRight0) +
-              "set title 'centre of mass: displacement along the swimming axis' offset 0,-0.4\n"
-              "set xlabel " +
-              time_label + " offset 0,0.3\nset ylabel 'displacement [mm]'\n" +
-              YAxis(spans[2].low, spans[2].high) + RunLines(series, 2, true, runs) +
-              "set key off\n";
-  bool any_cycles = false;
-  for (const std::string& data : cycles) any_cycles = any_cycles || !data.empty();
-  if (any_cycles) {
-    commands += StackedPanel(H, kHead, kRow, kLeft1, kRight1) +
-                "set title 'displacement per cycle (summary.json)' offset 0,-0.4\n"
-                "set xlabel 'cycle' offset 0,0.3\nset ylabel 'along the axis [mm]'\n"
-                "set xtics 1\nset offsets 0.25, 0.25, 0, 0\n" +
-                YAxis(cycle_span.low, cycle_span.high) + RunLines(cycles, 2, false, runs, "linespoints") +
-                "set xtics autofreq\nset offsets 0, 0, 0, 0\n";
-  }
+  std::string commands;
   for (int q = 1; q <= links; ++q) {
     const double top = kHead + q * (kRow + kRowGap) + kAxisGap;
     const bool last = q == links;
@@ -332,10 +312,10 @@ Figure CompareFigure(const std::vector<std::string>& run_dirs, const FigureOptio
                                     : std::string("set format x ''\nunset xlabel\n");
     std::string rms_labels;
     for (size_t k = 0; k < runs.size(); ++k) {
-      const double rms = steady_rms[k][q - 1];
+      const double rms = data.steady_rms[k][q - 1];
       if (!std::isfinite(rms)) continue;
       rms_labels += "set label " + std::to_string(k + 1) + " " +
-                    Q("RMS over " + steady_what + ": " + Format("%.4g", rms) + " mm") +
+                    Q("RMS over " + data.steady_what + ": " + Format("%.4g", rms) + " mm") +
                     " at graph 0.02, graph " + N(0.9 - 0.11 * static_cast<double>(k)) +
                     " left front boxed textcolor " + Rgb(kSeries[k % kSeriesCount]) + "\n";
     }
@@ -350,6 +330,71 @@ Figure CompareFigure(const std::vector<std::string>& run_dirs, const FigureOptio
                 " offset 0,-0.4\nset ylabel 'voltage [V]'\n" +
                 YAxis(spans[2 + 2 * q].low, spans[2 + 2 * q].high) + RunLines(series, 2 + 2 * q, false, runs);
   }
+  return commands;
+}
+
+}  // namespace
+
+Figure CompareFigure(const std::vector<std::string>& run_dirs, const FigureOptions& options,
+                     const FigureScratch& scratch, FigureReport& report) {
+  std::vector<ComparedRun> runs;
+  for (const std::string& dir : run_dirs) runs.push_back(ReadRun(dir));
+  const std::vector<std::string> differing = DifferingKeys(runs);
+  if (!options.labels.empty() && options.labels.size() != runs.size()) {
+    throw FieldError("plot: --labels gives " + std::to_string(options.labels.size()) +
+                         " labels for " + std::to_string(runs.size()) + " runs (one per run)",
+                     "--labels", "one label per run directory");
+  }
+  for (size_t k = 0; k < runs.size(); ++k) {
+    runs[k].label = options.labels.empty() ? LabelOf(runs[k], differing) : options.labels[k];
+  }
+  int links = LinksOf(runs.front().table);
+  for (const ComparedRun& run : runs) links = std::max(links, LinksOf(run.table));
+
+  const ComparedSeries data = WriteComparedSeries(runs, links, scratch, report);
+  const std::vector<std::string>& series = data.series;
+  const std::vector<std::string>& cycles = data.cycles;
+  const std::vector<Span>& spans = data.spans;
+  const Span& cycle_span = data.cycle_span;
+
+  std::string differs;
+  for (const std::string& key : differing) differs += (differs.empty() ? "" : ", ") + key;
+  SetTitle(report, options, "Comparison of " + std::to_string(runs.size()) + " runs",
+           differing.empty() ? "the same scenario" : "differing in " + differs);
+
+  // Inches: title and legend, the displacement row, then a row per link.
+  // The first row has its own time axis below it.
+  // The head holds the title and, below it, the legend: one run per line,
+  // so that no label runs off the page or over a panel's title.
+  constexpr double kTitle = 0.75, kLegendLine = 0.2, kLegendGap = 0.5;
+  const double kHead = kTitle + kLegendLine * static_cast<double>(runs.size()) + kLegendGap;
+  constexpr double kFoot = 0.55;
+  Figure figure;
+  figure.width_in = 10.0;
+  figure.height_in = kHead + (1 + links) * (kRow + kRowGap) - kRowGap + kAxisGap * (links > 0) + kFoot;
+  const double H = figure.height_in;
+  const std::string time_label = Q(AxisLabel(columns::kTime));
+  std::string commands = "set multiplot title " + Heading(report) + "\n" +
+                         "set key at screen " + N(kLeft0) + ", screen " + N(1.0 - kTitle / H) +
+                         " left top vertical reverse Left samplen 4 maxcols 1 spacing 1.1\n"
+                         "set style textbox opaque noborder margins 2, 1\n";
+  commands += StackedPanel(H, kHead, kRow, kLeft0, kRight0) +
+              "set title 'centre of mass: displacement along the swimming axis' offset 0,-0.4\n"
+              "set xlabel " +
+              time_label + " offset 0,0.3\nset ylabel 'displacement [mm]'\n" +
+              YAxis(spans[2].low, spans[2].high) + RunLines(series, 2, true, runs) +
+              "set key off\n";
+  bool any_cycles = false;
+  for (const std::string& cycle_file : cycles) any_cycles = any_cycles || !cycle_file.empty();
+  if (any_cycles) {
+    commands += StackedPanel(H, kHead, kRow, kLeft1, kRight1) +
+                "set title 'displacement per cycle (summary.json)' offset 0,-0.4\n"
+                "set xlabel 'cycle' offset 0,0.3\nset ylabel 'along the axis [mm]'\n"
+                "set xtics 1\nset offsets 0.25, 0.25, 0, 0\n" +
+                YAxis(cycle_span.low, cycle_span.high) + RunLines(cycles, 2, false, runs, "linespoints") +
+                "set xtics autofreq\nset offsets 0, 0, 0, 0\n";
+  }
+  commands += LinkPanels(runs, links, data, H, kHead);
   figure.commands = commands + "unset multiplot\n";
   return figure;
 }

@@ -49,6 +49,54 @@ std::optional<double> LinkSummaryNumber(const nlohmann::json& summary, int q, co
   return std::nullopt;
 }
 
+// The clamp's intervals, as a band from -1.2 to 1.2 V_max where the
+// voltage is at the limit, NaN (a break) elsewhere (none without a clamp),
+// and how many samples are at it.
+struct ClampBand {
+  std::vector<double> low, high;
+  size_t samples = 0;
+};
+
+ClampBand ClampBandOf(const std::vector<double>& voltage, bool clamp, double v_max) {
+  ClampBand band;
+  band.low.assign(voltage.size(), NAN);
+  band.high.assign(voltage.size(), NAN);
+  for (size_t i = 0; clamp && i < voltage.size(); ++i) {
+    if (std::abs(voltage[i]) >= v_max * (1.0 - 1e-9)) {
+      band.low[i] = -1.2 * v_max;
+      band.high[i] = 1.2 * v_max;
+      ++band.samples;
+    }
+  }
+  return band;
+}
+
+// A link's largest |deflection| [mm], and its error panel's y axis, which
+// leaves its top fifth to the RMS, with no tic there (a tic at the top
+// would touch the panel above).
+struct TrackingAxes {
+  double deflection_max_mm = 0.0;
+  std::string error_axis;
+};
+
+TrackingAxes TrackingAxesOf(const std::vector<double>& reference,
+                            const std::vector<double>& measured) {
+  double deflection_max = 0.0, error_max = 0.0;
+  for (size_t i = 0; i < reference.size(); ++i) {
+    deflection_max = std::max({deflection_max, std::abs(reference[i]), std::abs(measured[i])});
+    if (std::isfinite(measured[i] - reference[i])) {
+      error_max = std::max(error_max, std::abs(measured[i] - reference[i]));
+    }
+  }
+  if (!(error_max > 0.0)) error_max = 1e-3;
+  const double error_step = NiceStep(2.2 * error_max, 4);
+  const double error_tic = error_step * std::max(1.0, std::floor(1.1 * error_max / error_step));
+  const std::string error_axis = "set yrange [" + N(-1.1 * error_max) + ":" +
+                                 N(1.1 * error_max + 0.5 * error_max) + "]\nset ytics " +
+                                 N(-error_tic) + ", " + N(error_step) + ", " + N(error_tic) + "\n";
+  return {deflection_max, error_axis};
+}
+
 // Closed loop: per link, deflection above and voltage below.
 Figure LinkTrackingFigure(const CsvTable& table, const std::vector<int>& links,
                           const nlohmann::json& summary, const FigureScratch& scratch,
@@ -84,20 +132,10 @@ Figure LinkTrackingFigure(const CsvTable& table, const std::vector<int>& links,
     const bool has_voltage = table.Has(columns::Voltage(q));
     const std::vector<double> voltage =
         has_voltage ? table.Numbers(columns::Voltage(q)) : std::vector<double>(t.size(), NAN);
-    // The clamp's intervals, as a band from -1.2 to 1.2 V_max where the
-    // voltage is at the limit, NaN (a break) elsewhere.
-    std::vector<double> shade_low(t.size(), NAN), shade_high(t.size(), NAN);
-    size_t at_clamp = 0;
-    for (size_t i = 0; clamp && i < t.size(); ++i) {
-      if (std::abs(voltage[i]) >= v_max * (1.0 - 1e-9)) {
-        shade_low[i] = -1.2 * v_max;
-        shade_high[i] = 1.2 * v_max;
-        ++at_clamp;
-      }
-    }
+    const ClampBand band = ClampBandOf(voltage, clamp, v_max);
     const std::string data =
         scratch.Data("tracking" + std::to_string(q) + ".dat",
-                     GnuplotTable({t, reference, measured, voltage, shade_low, shade_high}));
+                     GnuplotTable({t, reference, measured, voltage, band.low, band.high}));
     const double top = kHead + k * kBlock;
     const bool last = k + 1 == n;
     std::string panel_title = "link " + std::to_string(q);
@@ -106,40 +144,25 @@ Figure LinkTrackingFigure(const CsvTable& table, const std::vector<int>& links,
       // else that of the recorded samples.
       const double fraction =
           LinkSummaryNumber(summary, q, "clamped_fraction")
-              .value_or(static_cast<double>(at_clamp) / std::max<size_t>(1, t.size()));
+              .value_or(static_cast<double>(band.samples) / std::max<size_t>(1, t.size()));
       panel_title += Format(": voltage at the clamp %.1f %% of the time", 100.0 * fraction);
     }
-    double deflection_max = 0.0, error_max = 0.0;
-    for (size_t i = 0; i < t.size(); ++i) {
-      deflection_max = std::max({deflection_max, std::abs(reference[i]), std::abs(measured[i])});
-      if (std::isfinite(measured[i] - reference[i])) {
-        error_max = std::max(error_max, std::abs(measured[i] - reference[i]));
-      }
-    }
-    if (!(error_max > 0.0)) error_max = 1e-3;
+    const TrackingAxes axes = TrackingAxesOf(reference, measured);
     const double rms = RmsError(t, reference, measured, steady.from_s);
     const std::string rms_text =
         "RMS over " + steady.what + ": " + Format("%.4g", rms) + " mm";
     report.notes.push_back("link " + std::to_string(q) + ": tracking error " + rms_text);
-    // The error's axis leaves its top fifth to the RMS, with no tic there
-    // (a tic at the top would touch the panel above).
-    const double error_step = NiceStep(2.2 * error_max, 4);
-    const double error_tic = error_step * std::max(1.0, std::floor(1.1 * error_max / error_step));
-    const std::string error_axis = "set yrange [" + N(-1.1 * error_max) + ":" +
-                                   N(1.1 * error_max + 0.5 * error_max) + "]\nset ytics " +
-                                   N(-error_tic) + ", " + N(error_step) + ", " + N(error_tic) +
-                                   "\n";
     commands += StackedPanel(H, top + kLinkHeading, kDeflection, kLeft) + "set title " + Q(panel_title) +
                 " offset 0,-0.4\nset format x ''\nunset xlabel\n"
                 "set ylabel 'deflection [mm]'\nset ytics " +
-                N(NiceStep(2.0 * deflection_max, 4)) + "\nset key at screen 0.545, screen " +
+                N(NiceStep(2.0 * axes.deflection_max_mm, 4)) + "\nset key at screen 0.545, screen " +
                 key_y + " center top horizontal maxrows 1 samplen 4\n" + "plot " + data +
                 " using 1:2 with lines lw 2 dt 2 lc rgb 'black' " +
                 (k == 0 ? "title 'reference'" : "notitle") +
                 ", '' using 1:3 with lines lw 1.6 lc " + Rgb(kBlue) + " " +
                 (k == 0 ? "title 'measured'" : "notitle") +
                 "\n" + "unset title\n" + StackedPanel(H, top + kLinkHeading + kDeflection + kGap, kError, kLeft) +
-                "set ylabel 'error [mm]'\nset key off\n" + error_axis +
+                "set ylabel 'error [mm]'\nset key off\n" + axes.error_axis +
                 "set style textbox opaque noborder margins 2, 1\nset label 1 " +
                 Q("measured - reference; " + rms_text) +
                 " at graph 0.01, graph 0.86 left front boxed textcolor " + Rgb(kGreen) + "\n" +

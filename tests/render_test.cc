@@ -268,7 +268,7 @@ int RunRenderInProcess(std::vector<std::string> args) {
   args.insert(args.begin(), "render");
   std::reverse(args.begin(), args.end());  // CLI11 parses a vector from the back
   app.parse(args);
-  return RunRenderCommand(app, render);
+  return RunRenderCommandLine(app, render);
 }
 
 TEST(RenderCommandTest, FilmsAShortScenario) {
@@ -310,7 +310,7 @@ TEST(RenderCommandTest, BadOptionsWriteNothing) {
   CLI::App app{"render test"};
   RenderArgs render;
   AddRenderCommand(app, render);
-  EXPECT_EQ(RunRenderCommand(app, render), -1);  // nothing parsed: not chosen
+  EXPECT_EQ(RunRenderCommandLine(app, render), -1);  // nothing parsed: not chosen
 }
 
 // The same through the ipmc-swim program, which lists "render" among its

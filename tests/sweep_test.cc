@@ -74,7 +74,7 @@ class SweepTest : public ::testing::Test {
     SweepArgs sweep_args;
     AddSweepCommands(app, sweep_args);
     app.parse(args);
-    return RunSweepCommand(app, sweep_args);
+    return RunSweepCommandLine(app, sweep_args);
   }
 
   fs::path dir_;
@@ -266,7 +266,7 @@ TEST_F(SweepTest, ShardsMergeIntoTheWholeTable) {
   AddSweepCommands(other, unused);
   other.add_subcommand("run");
   other.parse("run");
-  EXPECT_EQ(RunSweepCommand(other, unused), -1);
+  EXPECT_EQ(RunSweepCommandLine(other, unused), -1);
 
   const SweepTable a = LoadSweepTableCsv(out + "/a.csv");
   const SweepTable b = LoadSweepTableCsv(out + "/b.csv");

@@ -92,12 +92,13 @@ struct IpmcActuatorBank::Impl {
   // What CVODE integrates (header, "Stepping"); y_vector wraps its storage.
   // The plain form: eta = x. The smooth form: eta = x - B P(t) - A B Q(t)
   // with P and Q the first and second integrals of u since the last
-  // restart, base_s; the current voltages hold from segment_s, where link
-  // q's integrals were segment_p[q] and segment_q[q].
+  // restart, base_s; the current voltages hold from segment_s, where
+  // link q's voltage integrals were segment_integral_Vs[q] and
+  // segment_double_integral_Vs2[q].
   Eigen::VectorXd eta;
   bool smooth = false;
   double base_s = 0, segment_s = 0;
-  std::vector<double> segment_p, segment_q, segment_voltage_V;
+  std::vector<double> segment_integral_Vs, segment_double_integral_Vs2, segment_voltage_V;
   std::vector<double> voltage_V;
   double time_s = 0;
   // A restart due at the next AdvanceTo, and in which form: the plain one
@@ -133,8 +134,10 @@ struct IpmcActuatorBank::Impl {
   CvodePtr cvode;
 
   void Check(int flag, const char* call) const;
-  // P_q(t) and Q_q(t) of link q in the current segment.
-  void Integrals(double t_s, int q, double* p, double* q_value) const;
+  // P_q(t) and Q_q(t) of link q in the current segment: the integral of
+  // its voltage [V s] and the integral of that [V s^2].
+  void VoltageIntegrals(double t_s, int link, double* integral_Vs,
+                        double* double_integral_Vs2) const;
   // out = d eta / dt at t for eta = in, in the current form.
   void Derivative(double t_s, const double* in, double* out) const;
   // x at t from eta at t.
@@ -217,11 +220,13 @@ int IpmcActuatorBank::Impl::Rhs(realtype t, N_Vector x, N_Vector xdot, void* use
   return 0;
 }
 
-void IpmcActuatorBank::Impl::Integrals(double t_s, int q, double* p, double* q_value) const {
+void IpmcActuatorBank::Impl::VoltageIntegrals(double t_s, int link, double* integral_Vs,
+                                              double* double_integral_Vs2) const {
   const double tau = t_s - segment_s;
-  const double u = segment_voltage_V[q];
-  *p = segment_p[q] + u * tau;
-  *q_value = segment_q[q] + (segment_p[q] + 0.5 * u * tau) * tau;
+  const double u = segment_voltage_V[link];
+  *integral_Vs = segment_integral_Vs[link] + u * tau;
+  *double_integral_Vs2 =
+      segment_double_integral_Vs2[link] + (segment_integral_Vs[link] + 0.5 * u * tau) * tau;
 }
 
 void IpmcActuatorBank::Impl::Derivative(double t_s, const double* in, double* out) const {
@@ -231,10 +236,12 @@ void IpmcActuatorBank::Impl::Derivative(double t_s, const double* in, double* ou
   }
   ApplyA(in, nullptr, out);
   for (std::size_t q = 0; q < blocks.size(); ++q) {
-    double p = 0, q_value = 0;
-    Integrals(t_s, static_cast<int>(q), &p, &q_value);
+    double integral_Vs = 0, double_integral_Vs2 = 0;
+    VoltageIntegrals(t_s, static_cast<int>(q), &integral_Vs, &double_integral_Vs2);
     const Block& block = blocks[q];
-    for (int i = 0; i < block.size; ++i) out[block.offset + i] += block.aab[i] * q_value;
+    for (int i = 0; i < block.size; ++i) {
+      out[block.offset + i] += block.aab[i] * double_integral_Vs2;
+    }
   }
 }
 
@@ -242,10 +249,11 @@ void IpmcActuatorBank::Impl::StateFromEta(double t_s) {
   state = eta;
   if (!smooth) return;
   for (std::size_t q = 0; q < blocks.size(); ++q) {
-    double p = 0, q_value = 0;
-    Integrals(t_s, static_cast<int>(q), &p, &q_value);
+    double integral_Vs = 0, double_integral_Vs2 = 0;
+    VoltageIntegrals(t_s, static_cast<int>(q), &integral_Vs, &double_integral_Vs2);
     const Block& block = blocks[q];
-    state.segment(block.offset, block.size) += block.b * p + block.ab * q_value;
+    state.segment(block.offset, block.size) +=
+        block.b * integral_Vs + block.ab * double_integral_Vs2;
   }
 }
 
@@ -544,8 +552,8 @@ std::unique_ptr<IpmcActuatorBank> IpmcActuatorBank::CreateFromStateSpace(
   impl->state = Eigen::VectorXd::Zero(n);
   impl->eta = Eigen::VectorXd::Zero(n);
   impl->voltage_V.assign(impl->blocks.size(), 0.0);
-  impl->segment_p.assign(impl->blocks.size(), 0.0);
-  impl->segment_q.assign(impl->blocks.size(), 0.0);
+  impl->segment_integral_Vs.assign(impl->blocks.size(), 0.0);
+  impl->segment_double_integral_Vs2.assign(impl->blocks.size(), 0.0);
   impl->segment_voltage_V = impl->voltage_V;
   impl->pending_restart = Impl::PendingRestart::kPlain;
   if (integration == ActuatorIntegration::kExact) {
@@ -603,8 +611,8 @@ void IpmcActuatorBank::Impl::RestartAt(bool smooth_form) {
   steps_before_reinit += steps;
   smooth = smooth_form;
   base_s = segment_s = time_s;
-  segment_p.assign(blocks.size(), 0.0);
-  segment_q.assign(blocks.size(), 0.0);
+  segment_integral_Vs.assign(blocks.size(), 0.0);
+  segment_double_integral_Vs2.assign(blocks.size(), 0.0);
   segment_voltage_V = voltage_V;
   eta = state;  // P = Q = 0 at the restart
   // From x(time_s): no step taken with the old input beyond time_s is used.
@@ -633,10 +641,11 @@ void IpmcActuatorBank::Impl::OnVoltageChange() {
   if (smooth && stopped_here && same_window) {
     // Continue: P and Q stay continuous, the new voltages hold from here.
     for (std::size_t q = 0; q < blocks.size(); ++q) {
-      double p = 0, q_value = 0;
-      Integrals(t_cvode, static_cast<int>(q), &p, &q_value);
-      segment_p[q] = p;
-      segment_q[q] = q_value;
+      double integral_Vs = 0, double_integral_Vs2 = 0;
+      VoltageIntegrals(t_cvode, static_cast<int>(q), &integral_Vs,
+                       &double_integral_Vs2);
+      segment_integral_Vs[q] = integral_Vs;
+      segment_double_integral_Vs2[q] = double_integral_Vs2;
     }
     segment_s = t_cvode;
     segment_voltage_V = voltage_V;

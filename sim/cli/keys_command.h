@@ -20,6 +20,6 @@ using KeysArgs = TableCommand<ReferenceCommand>;
 void AddKeysCommand(CLI::App& app, KeysArgs& args);
 
 // Prints the reference if `keys` was chosen; -1 if not.
-int RunKeysCommand(const KeysArgs& args);
+int RunKeysCommandLine(const KeysArgs& args);
 
 }  // namespace ipmc

@@ -58,44 +58,32 @@ int main(int argc, char** argv) {
   CLI::App app{"ipmc-swim: an IPMC flagellum swimming in Stokes flow (MuJoCo 2.2)"};
   app.set_version_flag("--version", std::string("ipmc-swim ") + ipmc::ProgramVersion());
   app.require_subcommand(1);
-  ipmc::GenerateArgs generate;
-  ipmc::GaitArgs gait;
-  ipmc::AddGenerateCommand(app, generate);
-  ipmc::AddGaitCommand(app, gait);
-  ipmc::BenchArgs bench;
-  ipmc::AddBenchCommand(app, bench);
-  ipmc::RunArgs run;
-  ipmc::AddRunCommand(app, run);
-  ipmc::BodeArgs bode;
-  ipmc::AddBodeCommand(app, bode);
-  ipmc::StepArgs step;
-  ipmc::AddStepCommand(app, step);
-  ipmc::RenderArgs render;
-  ipmc::AddRenderCommand(app, render);
-  ipmc::ViewArgs view;
-  ipmc::AddViewCommand(app, view);
-  ipmc::PlotArgs plot;
-  ipmc::AddPlotCommand(app, plot);
-  ipmc::IdentifyArgs identify;
-  ipmc::AddIdentifyCommand(app, identify);
-  ipmc::DesignArgs design;
-  ipmc::AddDesignCommand(app, design);
-  ipmc::PipelineArgs pipeline;
-  ipmc::AddPipelineCommand(app, pipeline);
-  ipmc::SweepArgs sweep;
-  ipmc::AddSweepCommands(app, sweep);
-  ipmc::OptimizeArgs optimize;
-  ipmc::AddOptimizeCommand(app, optimize);
-  ipmc::Table5Args table5;
-  ipmc::AddTable5Command(app, table5);
-  ipmc::KeysArgs keys;
-  ipmc::AddKeysCommand(app, keys);
-  ipmc::OptionsArgs options;
-  ipmc::AddOptionsCommand(app, options);
-  std::string commands;
+  // Every command, in the order --help lists them.
+  const ipmc::CommandRegistration commands[] = {
+      ipmc::Registration(ipmc::AddGenerateCommand, ipmc::RunGenerateCommandLine),
+      ipmc::Registration(ipmc::AddGaitCommand, ipmc::RunGaitCommandLine),
+      ipmc::Registration(ipmc::AddBenchCommand, ipmc::RunBenchCommandLine),
+      ipmc::Registration(ipmc::AddRunCommand, ipmc::RunRunCommandLine),
+      ipmc::Registration(ipmc::AddBodeCommand, ipmc::RunBodeCommandLine),
+      ipmc::Registration(ipmc::AddStepCommand, ipmc::RunStepCommandLine),
+      ipmc::Registration(ipmc::AddRenderCommand, ipmc::RunRenderCommandLine),
+      ipmc::Registration(ipmc::AddViewCommand, ipmc::RunViewCommandLine),
+      ipmc::Registration(ipmc::AddPlotCommand, ipmc::RunPlotCommandLine),
+      ipmc::Registration(ipmc::AddIdentifyCommand, ipmc::RunIdentifyCommandLine),
+      ipmc::Registration(ipmc::AddDesignCommand, ipmc::RunDesignCommandLine),
+      ipmc::Registration(ipmc::AddPipelineCommand, ipmc::RunPipelineCommandLine),
+      ipmc::Registration(ipmc::AddSweepCommands, ipmc::RunSweepCommandLine),  // sweep and merge
+      ipmc::Registration(ipmc::AddOptimizeCommand, ipmc::RunOptimizeCommandLine),
+      ipmc::Registration(ipmc::AddTable5Command, ipmc::RunTable5CommandLine),
+      ipmc::Registration(ipmc::AddKeysCommand, ipmc::RunKeysCommandLine),
+      ipmc::Registration(ipmc::AddOptionsCommand, ipmc::RunOptionsCommandLine),
+  };
+  std::vector<ipmc::CommandRunner> runners;
+  for (const ipmc::CommandRegistration& add : commands) runners.push_back(add(app));
+  std::string names;
   bool known = false;
   for (const CLI::App* command : app.get_subcommands({})) {
-    commands += (commands.empty() ? "" : ", ") + command->get_name();
+    names += (names.empty() ? "" : ", ") + command->get_name();
     known = known || (argc > 1 && command->get_name() == argv[1]);
   }
   if (argc > 1 && argv[1][0] != '-' && !known) {
@@ -119,23 +107,9 @@ int main(int argc, char** argv) {
   std::signal(SIGXFSZ, SIG_IGN);
   try {
     int status = 0;
-    if (int s = ipmc::RunGenerateCommandLine(generate); s >= 0) status = s;
-    if (int s = ipmc::RunGaitCommandLine(gait); s >= 0) status = s;
-    if (int s = ipmc::RunBenchCommandLine(bench); s >= 0) status = s;
-    if (app.got_subcommand("run")) status = ipmc::RunScenarioCommand(run);
-    if (int s = ipmc::RunBodeCommandLine(bode); s >= 0) status = s;
-    if (int s = ipmc::RunStepCommandLine(step); s >= 0) status = s;
-    if (int s = ipmc::RunRenderCommand(app, render); s >= 0) status = s;
-    if (int s = ipmc::RunViewCommand(app, view); s >= 0) status = s;
-    if (int s = ipmc::RunPlotCommand(app, plot); s >= 0) status = s;
-    if (int s = ipmc::RunIdentifyCommandLine(identify); s >= 0) status = s;
-    if (int s = ipmc::RunDesignCommandLine(design); s >= 0) status = s;
-    if (int s = ipmc::RunPipelineCommandLine(pipeline); s >= 0) status = s;
-    if (int s = ipmc::RunSweepCommand(app, sweep); s >= 0) status = s;
-    if (int s = ipmc::RunOptimizeCommandLine(optimize); s >= 0) status = s;
-    if (int s = ipmc::RunTable5CommandLine(table5); s >= 0) status = s;
-    if (int s = ipmc::RunKeysCommand(keys); s >= 0) status = s;
-    if (int s = ipmc::RunOptionsCommand(options); s >= 0) status = s;
+    for (const ipmc::CommandRunner& run : runners) {
+      if (int s = run(); s >= 0) status = s;
+    }
     PrintMujocoWarnings();
     return status;
   } catch (const ipmc::Interrupted& stop) {

@@ -11,7 +11,7 @@ void AddOptionsCommand(CLI::App& app, OptionsArgs& args) {
   AddTableCommand(app, OptionsOptions(), args);
 }
 
-int RunOptionsCommand(const OptionsArgs& args) {
+int RunOptionsCommandLine(const OptionsArgs& args) {
   if (!args.Chosen()) return -1;
   const std::string reference = OptionsReference(args.spec);
   std::fwrite(reference.data(), 1, reference.size(), stdout);

@@ -20,6 +20,6 @@ using OptionsArgs = TableCommand<ReferenceCommand>;
 void AddOptionsCommand(CLI::App& app, OptionsArgs& args);
 
 // Prints the reference if `options` was chosen; -1 if not.
-int RunOptionsCommand(const OptionsArgs& args);
+int RunOptionsCommandLine(const OptionsArgs& args);
 
 }  // namespace ipmc

@@ -82,7 +82,7 @@ void AddPlotCommand(CLI::App& app, PlotArgs& args) {
                   "(default: what differs between their resolved scenarios)");
 }
 
-int RunPlotCommand(const CLI::App& app, const PlotArgs& args) {
+int RunPlotCommandLine(const CLI::App& app, const PlotArgs& args) {
   if (!app.got_subcommand(kPlotCommand)) return -1;
   return RunPlot(*app.get_subcommand(kPlotCommand), args);
 }

@@ -35,6 +35,6 @@ void AddPlotCommand(CLI::App& app, PlotArgs& args);
 
 // Runs "plot" if app parsed it and returns 0; returns -1 if it was not
 // chosen. Throws as described above.
-int RunPlotCommand(const CLI::App& app, const PlotArgs& args);
+int RunPlotCommandLine(const CLI::App& app, const PlotArgs& args);
 
 }  // namespace ipmc

@@ -227,7 +227,7 @@ void AddRenderCommand(CLI::App& app, RenderArgs& args) {
   AddVideoOptions(cmd, args.film);
 }
 
-int RunRenderCommand(const CLI::App& app, const RenderArgs& args) {
+int RunRenderCommandLine(const CLI::App& app, const RenderArgs& args) {
   if (!app.got_subcommand(kRenderCommand)) return -1;
   TranslatingFilmErrors("--cycles", [&] { RunRender(args); });
   return 0;

@@ -68,6 +68,6 @@ void AddRenderCommand(CLI::App& app, RenderArgs& args);
 
 // Runs "render" if app parsed it and returns its exit code; -1 if "render"
 // was not the chosen subcommand.
-int RunRenderCommand(const CLI::App& app, const RenderArgs& args);
+int RunRenderCommandLine(const CLI::App& app, const RenderArgs& args);
 
 }  // namespace ipmc

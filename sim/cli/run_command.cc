@@ -34,7 +34,8 @@ void AddRunCommand(CLI::App& app, RunArgs& args) {
   AddVideoOptions(args.command, args.film, "Video (with --video)", "--film-cycles");
 }
 
-int RunScenarioCommand(const RunArgs& args) {
+int RunRunCommandLine(const RunArgs& args) {
+  if (!args.Chosen()) return -1;
   const RunCommand& command = args.spec;
   const RunPlan plan = TranslatingFieldErrors(RunOptions(), [&] {
     if (command.video.empty() && AnyVideoOptionGiven(args.command)) {

@@ -26,6 +26,7 @@ struct RunArgs : TableCommand<RunCommand> {
 void AddRunCommand(CLI::App& app, RunArgs& args);
 
 // Runs the scenario, prints its results and writes its files.
-int RunScenarioCommand(const RunArgs& args);
+// The exit status, or -1 when the command line chose another command.
+int RunRunCommandLine(const RunArgs& args);
 
 }  // namespace ipmc

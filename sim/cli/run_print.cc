@@ -93,11 +93,11 @@ void PrintEnergy(const EnergyMetrics& energy) {
 }
 
 void PrintWritten(const std::string& dir, const RunFileFormats& formats) {
-  std::string extra;
-  if (formats.mat) extra += std::string(", ") + kRunMatFile;
-  if (formats.hdf5) extra += std::string(", ") + kRunHdf5File;
+  std::string format_files;
+  if (formats.mat) format_files += std::string(", ") + kRunMatFile;
+  if (formats.hdf5) format_files += std::string(", ") + kRunHdf5File;
   std::printf("wrote %s/timeseries.csv, states.csv%s and summary.json\n", dir.c_str(),
-              extra.c_str());
+              format_files.c_str());
 }
 
 }  // namespace ipmc

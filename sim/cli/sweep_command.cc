@@ -59,7 +59,7 @@ class ProgressReport {
 
 // A number cell at 6 significant digits; other cells as they are.
 // (The table writes numbers without a '+'; a cell with one is text.)
-std::string Readable(const std::string& cell) {
+std::string PrintedCell(const std::string& cell) {
   const std::optional<double> value = cell.empty() || cell[0] == '+' ? std::nullopt
                                                                      : ParseDouble(cell);
   return value ? FormatDouble(*value, 6) : cell;
@@ -79,7 +79,7 @@ void PrintSummary(const SweepTable& table) {
   std::vector<size_t> width;
   for (size_t c : shown) {
     size_t w = names[c].size();
-    for (const auto& row : table.rows) w = std::max(w, Readable(row[c]).size());
+    for (const auto& row : table.rows) w = std::max(w, PrintedCell(row[c]).size());
     width.push_back(w);
   }
   auto print_row = [&](auto cell_of) {
@@ -93,7 +93,7 @@ void PrintSummary(const SweepTable& table) {
     std::printf("%s\n", line.c_str());
   };
   print_row([&](size_t c) { return names[c]; });
-  for (const auto& row : table.rows) print_row([&](size_t c) { return Readable(row[c]); });
+  for (const auto& row : table.rows) print_row([&](size_t c) { return PrintedCell(row[c]); });
 }
 
 int RunSweepFile(const SweepArgs& args) {
@@ -181,7 +181,7 @@ void AddSweepCommands(CLI::App& app, SweepArgs& args) {
   AddTableCommand(app, MergeOptionTable(), args.merge);
 }
 
-int RunSweepCommand(const CLI::App&, const SweepArgs& args) {
+int RunSweepCommandLine(const CLI::App&, const SweepArgs& args) {
   if (args.sweep.Chosen()) return RunSweepFile(args);
   if (args.merge.Chosen()) return RunMergeTables(args);
   return -1;

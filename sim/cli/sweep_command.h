@@ -53,6 +53,6 @@ void AddSweepCommands(CLI::App& app, SweepArgs& args);
 // Runs the subcommand that app parsed; returns its exit code, or -1 if
 // neither was chosen. Throws FieldError for bad option values and
 // std::runtime_error for bad files and output failures.
-int RunSweepCommand(const CLI::App& app, const SweepArgs& args);
+int RunSweepCommandLine(const CLI::App& app, const SweepArgs& args);
 
 }  // namespace ipmc

@@ -72,7 +72,7 @@ void AddViewCommand(CLI::App& app, ViewArgs& args) {
   cmd->footer(ViewerKeysText());
 }
 
-int RunViewCommand(const CLI::App& app, const ViewArgs& args) {
+int RunViewCommandLine(const CLI::App& app, const ViewArgs& args) {
   if (!app.got_subcommand(kViewCommand)) return -1;
   int status = 0;
   TranslatingFilmErrors("--cycles", [&] { status = RunView(args); });

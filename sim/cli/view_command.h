@@ -32,6 +32,6 @@ void AddViewCommand(CLI::App& app, ViewArgs& args);
 
 // Runs "view" if app parsed it and returns its exit code; -1 if "view"
 // was not the chosen subcommand.
-int RunViewCommand(const CLI::App& app, const ViewArgs& args);
+int RunViewCommandLine(const CLI::App& app, const ViewArgs& args);
 
 }  // namespace ipmc

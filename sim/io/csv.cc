@@ -169,6 +169,18 @@ std::vector<double> CsvTable::FiniteNumbers(const std::string& column) const {
   return values;
 }
 
+std::string NamedColumnsCsv(const NamedColumns& columns, int significant_digits) {
+  CsvWriter csv(significant_digits);
+  for (const auto& column : columns) csv.Add(column.first);
+  csv.EndRow();
+  const size_t rows = columns.empty() ? 0 : columns.front().second.size();
+  for (size_t i = 0; i < rows; ++i) {
+    for (const auto& column : columns) csv.Add(column.second[i]);
+    csv.EndRow();
+  }
+  return csv.Text();
+}
+
 std::string CsvField(const std::string& text) {
   const bool blank_end = !text.empty() && (IsBlank(text.front()) || IsBlank(text.back()));
   if (!blank_end && text.find_first_of(",\"\n\r") == std::string::npos) return text;

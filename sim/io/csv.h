@@ -22,6 +22,7 @@
 
 #include <cstddef>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "plugin/base/numbers.h"
@@ -73,6 +74,16 @@ class CsvTable {
 
 // `text` as one CSV field, quoted if it must be.
 std::string CsvField(const std::string& text);
+
+// A table held by columns: each column's name and its numbers, in the
+// order of the file. The one description of a time series that its CSV
+// (NamedColumnsCsv) and the Python module's arrays are both made from.
+using NamedColumns = std::vector<std::pair<std::string, std::vector<double>>>;
+
+// `columns` as CSV text: their names, then one row per sample (every
+// column holds as many numbers as the first), numbers at
+// `significant_digits`.
+std::string NamedColumnsCsv(const NamedColumns& columns, int significant_digits);
 
 // Builds CSV text a row at a time:
 //   CsvWriter csv(10);

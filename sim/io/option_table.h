@@ -142,10 +142,10 @@ class OptionTable {
     std::vector<std::string> names = info.aliases;
     names.push_back(info.name);
     for (const Option<Spec>& option : options_) {
-      std::vector<std::string> taken = option.info.aliases;
-      taken.push_back(option.info.name);
+      std::vector<std::string> existing_flags = option.info.aliases;
+      existing_flags.push_back(option.info.name);
       for (const std::string& name : names) {
-        for (const std::string& other : taken) {
+        for (const std::string& other : existing_flags) {
           if (OptionFlag(name) == OptionFlag(other)) {
             throw std::logic_error(command_ + ": options " + other + " and " + name +
                                    " have the same flag " + OptionFlag(name));

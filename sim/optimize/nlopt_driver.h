@@ -51,19 +51,25 @@ struct EliminatedSum {
   double Value(const std::vector<double>& x) const;
 };
 
-struct DriverProblem {
-  std::vector<double> lower, upper, initial;
-  std::optional<EliminatedSum> sum;
-  std::vector<ValueBound> constraints;  // one per constraint value
+// How the driver searches: the sense, the algorithm and its stopping
+// rules, the starts; an optimisation file's [objective] sense and
+// [algorithm] (OptimizeConfig) hold them as they are.
+struct DriverSettings {
   bool maximize = true;
   OptimizeAlgorithm algorithm = OptimizeAlgorithm::kCobyla;
   int max_evaluations = 100;  // per start
   double xtol_rel = 1e-4;
   double ftol_rel = 0.0;      // 0: not used
   int multistart = 0;         // starts besides the initial point
-  int only_start = -1;        // >= 0: run this start alone, the others left empty
   double penalty = 10.0;      // BOBYQA, SBPLX: the penalty weight
   double failed_objective = 0.0;
+};
+
+struct DriverProblem : DriverSettings {
+  std::vector<double> lower, upper, initial;
+  std::optional<EliminatedSum> sum;
+  std::vector<ValueBound> constraints;  // one per constraint value
+  int only_start = -1;        // >= 0: run this start alone, the others left empty
 };
 
 // What one evaluation reports.

@@ -142,6 +142,14 @@ class OptimizeReader : public ScenarioOverrides {
     if (table == nullptr) Bad(&node, field, "must be a table", "a table");
     return *table;
   }
+  // The steps of Read, one per part of the file, in its order: each reads
+  // its part into `config`, the parts before it already read.
+  void ReadBaseAndSet(const toml::table& root, OptimizeConfig& config);
+  void ReadVariables(const toml::table& root, OptimizeConfig& config) const;
+  void ReadSum(const toml::node& node, OptimizeConfig& config) const;
+  void ReadObjectiveAndConstraints(const toml::table& root, OptimizeConfig& config) const;
+  void ReadAlgorithm(const toml::table& root, OptimizeConfig& config) const;
+  void ReadControllers(const toml::node& node, OptimizeConfig& config) const;
 };
 
 void OptimizeReader::RejectUnknown(const toml::table& table, const std::string& prefix,
@@ -256,8 +264,17 @@ OptimizeConfig OptimizeReader::Read(const std::string& toml_text) {
                 {kBase, kSet, kVariable, kSum, kObjective, kConstraint, kAlgorithm, kControllers});
   OptimizeConfig config;
   config.source = source_;
+  ReadBaseAndSet(root, config);
+  ReadVariables(root, config);
+  if (const toml::node* node = root.get(kSum)) ReadSum(*node, config);
+  ReadObjectiveAndConstraints(root, config);
+  ReadAlgorithm(root, config);
+  if (const toml::node* node = root.get(kControllers)) ReadControllers(*node, config);
+  return config;
+}
 
-  // The base and [set], parsed once.
+// The base and [set], parsed once.
+void OptimizeReader::ReadBaseAndSet(const toml::table& root, OptimizeConfig& config) {
   fs::path path(Text(root, "", kBase));
   if (path.is_relative()) path = fs::path(source_).parent_path() / path;
   config.base_path = path.lexically_normal().string();
@@ -279,8 +296,10 @@ OptimizeConfig OptimizeReader::Read(const std::string& toml_text) {
     const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(config.base);
     config.links = LinkSensors(sim->model(), sim->data(), config.base_path).Links();
   }
+}
 
-  // [[variable]]
+// [[variable]]
+void OptimizeReader::ReadVariables(const toml::table& root, OptimizeConfig& config) const {
   const toml::array* variables = root[kVariable].as_array();
   if (variables == nullptr || variables->empty() || !variables->is_array_of_tables()) {
     Bad(root.get(kVariable), kVariable, "one or more [[variable]] tables are required",
@@ -307,50 +326,56 @@ OptimizeConfig OptimizeReader::Read(const std::string& toml_text) {
     }
     config.variables.push_back(std::move(variable));
   }
+}
 
-  // [sum]
-  if (const toml::node* node = root.get(kSum)) {
-    const std::string prefix = std::string(kSum) + ".";
-    const toml::table& table = TableAt(*node, kSum);
-    RejectUnknown(table, prefix, {"key", "total", "lower", "upper", "of"});
-    DesignSum sum;
-    sum.key = ReadKey(table, prefix, config.base);
-    if (names.count(sum.key.name) > 0) {
-      Bad(table.get("key"), prefix + "key", "'" + sum.key.name + "' is a variable too",
-          "a key that is not a variable");
-    }
-    sum.total = Number(table, prefix, "total");
-    ReadBounds(table, prefix, sum.key, config.base, &sum.lower, &sum.upper);
-    if (const toml::node* of = table.get("of")) {
-      const toml::array* array = of->as_array();
-      if (array == nullptr || array->empty()) {
-        Bad(of, prefix + "of", "must be an array of variable keys", "variable keys");
-      }
-      for (const toml::node& element : *array) {
-        const std::optional<std::string> name = element.value<std::string>();
-        const auto at = std::find_if(config.variables.begin(), config.variables.end(),
-                                     [&](const DesignVariable& v) { return name && v.key.name == *name; });
-        if (at == config.variables.end()) {
-          Bad(of, prefix + "of", "'" + name.value_or("?") + "' is not a variable", "variable keys");
-        }
-        sum.of.push_back(static_cast<int>(at - config.variables.begin()));
-      }
-    } else {
-      for (size_t i = 0; i < config.variables.size(); ++i) sum.of.push_back(static_cast<int>(i));
-    }
-    double initial = sum.total;
-    for (int i : sum.of) initial -= config.variables[i].initial;
-    if (!(initial >= sum.lower && initial <= sum.upper)) {
-      const std::string allowed = "[" + FormatShortest(sum.lower) + ", " + FormatShortest(sum.upper) + "]";
-      Bad(node, prefix + "total",
-          "the initial point gives " + sum.key.name + " = " + FormatShortest(initial) +
-              ", outside " + allowed,
-          "an initial point with " + sum.key.name + " in " + allowed);
-    }
-    config.sum = std::move(sum);
+// [sum]
+void OptimizeReader::ReadSum(const toml::node& node, OptimizeConfig& config) const {
+  const std::string prefix = std::string(kSum) + ".";
+  const toml::table& table = TableAt(node, kSum);
+  RejectUnknown(table, prefix, {"key", "total", "lower", "upper", "of"});
+  DesignSum sum;
+  sum.key = ReadKey(table, prefix, config.base);
+  const bool is_variable =
+      std::any_of(config.variables.begin(), config.variables.end(),
+                  [&](const DesignVariable& v) { return v.key.name == sum.key.name; });
+  if (is_variable) {
+    Bad(table.get("key"), prefix + "key", "'" + sum.key.name + "' is a variable too",
+        "a key that is not a variable");
   }
+  sum.total = Number(table, prefix, "total");
+  ReadBounds(table, prefix, sum.key, config.base, &sum.lower, &sum.upper);
+  if (const toml::node* of = table.get("of")) {
+    const toml::array* array = of->as_array();
+    if (array == nullptr || array->empty()) {
+      Bad(of, prefix + "of", "must be an array of variable keys", "variable keys");
+    }
+    for (const toml::node& element : *array) {
+      const std::optional<std::string> name = element.value<std::string>();
+      const auto at = std::find_if(config.variables.begin(), config.variables.end(),
+                                   [&](const DesignVariable& v) { return name && v.key.name == *name; });
+      if (at == config.variables.end()) {
+        Bad(of, prefix + "of", "'" + name.value_or("?") + "' is not a variable", "variable keys");
+      }
+      sum.of.push_back(static_cast<int>(at - config.variables.begin()));
+    }
+  } else {
+    for (size_t i = 0; i < config.variables.size(); ++i) sum.of.push_back(static_cast<int>(i));
+  }
+  double initial = sum.total;
+  for (int i : sum.of) initial -= config.variables[i].initial;
+  if (!(initial >= sum.lower && initial <= sum.upper)) {
+    const std::string allowed = "[" + FormatShortest(sum.lower) + ", " + FormatShortest(sum.upper) + "]";
+    Bad(&node, prefix + "total",
+        "the initial point gives " + sum.key.name + " = " + FormatShortest(initial) +
+            ", outside " + allowed,
+        "an initial point with " + sum.key.name + " in " + allowed);
+  }
+  config.sum = std::move(sum);
+}
 
-  // [objective] and [[constraint]]
+// [objective] and [[constraint]]
+void OptimizeReader::ReadObjectiveAndConstraints(const toml::table& root,
+                                                 OptimizeConfig& config) const {
   const std::vector<std::string> metrics = MetricNames(config.links);
   std::string metric_list;
   for (const std::string& name : metrics) metric_list += (metric_list.empty() ? "" : ", ") + name;
@@ -396,8 +421,10 @@ OptimizeConfig OptimizeReader::Read(const std::string& toml_text) {
       config.constraints.push_back(std::move(constraint));
     }
   }
+}
 
-  // [algorithm]
+// [algorithm]
+void OptimizeReader::ReadAlgorithm(const toml::table& root, OptimizeConfig& config) const {
   toml::table defaults;
   const toml::node* algorithm_node = root.get(kAlgorithm);
   const toml::table& algorithm = algorithm_node ? TableAt(*algorithm_node, kAlgorithm) : defaults;
@@ -425,31 +452,31 @@ OptimizeConfig OptimizeReader::Read(const std::string& toml_text) {
   config.penalty = Number(algorithm, prefix, "penalty", config.penalty);
   if (!(config.penalty > 0.0)) Bad(algorithm.get("penalty"), prefix + "penalty", "must be > 0", "> 0");
   config.failed_objective = Number(algorithm, prefix, "failed_objective", 0.0);
+}
 
-  // [controllers]
-  if (const toml::node* node = root.get(kControllers)) {
-    const toml::table& controllers = TableAt(*node, kControllers);
-    const std::string where = std::string(kControllers) + ".";
-    RejectUnknown(controllers, where, {"retune"});
-    if (const toml::node* retune = controllers.get("retune")) {
-      if (!retune->is_boolean()) Bad(retune, where + "retune", "must be true or false", "true or false");
-      config.retune_controllers = retune->as_boolean()->get();
-    }
-    if (config.retune_controllers &&
-        config.base.controller == ControllerKind::kFractional &&
-        config.base.fractional.realisation != FractionalRealisation::kOustaloup) {
-      Bad(controllers.get("retune"), where + "retune",
-          "needs the base's controller.realisation = \"oustaloup\" (eq. 15 fixes the order)",
-          "false with realisation eq15");
-    }
+// [controllers]
+void OptimizeReader::ReadControllers(const toml::node& node, OptimizeConfig& config) const {
+  const toml::table& controllers = TableAt(node, kControllers);
+  const std::string where = std::string(kControllers) + ".";
+  RejectUnknown(controllers, where, {"retune"});
+  if (const toml::node* retune = controllers.get("retune")) {
+    if (!retune->is_boolean()) Bad(retune, where + "retune", "must be true or false", "true or false");
+    config.retune_controllers = retune->as_boolean()->get();
   }
-  return config;
+  if (config.retune_controllers &&
+      config.base.controller == ControllerKind::kFractional &&
+      config.base.fractional.realisation != FractionalRealisation::kOustaloup) {
+    Bad(controllers.get("retune"), where + "retune",
+        "needs the base's controller.realisation = \"oustaloup\" (eq. 15 fixes the order)",
+        "false with realisation eq15");
+  }
 }
 
 }  // namespace
 
 DriverProblem OptimizeConfig::Problem() const {
   DriverProblem problem;
+  static_cast<DriverSettings&>(problem) = *this;
   for (const DesignVariable& variable : variables) {
     problem.lower.push_back(variable.lower);
     problem.upper.push_back(variable.upper);
@@ -457,14 +484,6 @@ DriverProblem OptimizeConfig::Problem() const {
   }
   if (sum) problem.sum = EliminatedSum{sum->total, sum->of, sum->lower, sum->upper};
   for (const DesignConstraint& constraint : constraints) problem.constraints.push_back(constraint.bound);
-  problem.maximize = maximize;
-  problem.algorithm = algorithm;
-  problem.max_evaluations = max_evaluations;
-  problem.xtol_rel = xtol_rel;
-  problem.ftol_rel = ftol_rel;
-  problem.multistart = multistart;
-  problem.penalty = penalty;
-  problem.failed_objective = failed_objective;
   return problem;
 }
 

@@ -71,7 +71,9 @@ struct DesignConstraint {
   ValueBound bound;
 };
 
-struct OptimizeConfig {
+// The file's sense ([objective] sense) and [algorithm] are the driver's
+// settings (DriverSettings), held once.
+struct OptimizeConfig : DriverSettings {
   std::string source;     // the OPT file
   std::string base_path;  // the base scenario, resolved against it
   ScenarioConfig base;    // the base with [set], parsed once
@@ -79,15 +81,7 @@ struct OptimizeConfig {
   std::vector<DesignVariable> variables;
   std::optional<DesignSum> sum;
   std::string objective;  // a metric name
-  bool maximize = true;
   std::vector<DesignConstraint> constraints;
-  OptimizeAlgorithm algorithm = OptimizeAlgorithm::kCobyla;
-  int max_evaluations = 100;
-  double xtol_rel = 1e-4;
-  double ftol_rel = 0.0;
-  int multistart = 0;
-  double penalty = 10.0;
-  double failed_objective = 0.0;
   // Each design's controllers retuned for its plants (sim/optimize/retune.h).
   bool retune_controllers = false;
 

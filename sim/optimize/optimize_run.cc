@@ -359,10 +359,10 @@ OptimizeOutcome RunOptimizeCommand(const OptimizePlan& plan, const OptimizeHooks
   const std::string fingerprint = Fingerprint(config);
   // The start journals are read first: one that is refused leaves no
   // journal of this optimisation behind.
-  JournalRecords taken;
+  JournalRecords start_records;
   for (const std::string& path : plan.start_journals) {
     const JournalRecords records = ReadOptimizeJournal(path, fingerprint, columns);
-    taken.insert(records.begin(), records.end());
+    start_records.insert(records.begin(), records.end());
   }
   OptimizeJournal journal(plan.journal, fingerprint, columns);
 
@@ -376,7 +376,7 @@ OptimizeOutcome RunOptimizeCommand(const OptimizePlan& plan, const OptimizeHooks
                                       const std::vector<double>& x) -> std::optional<DriverEvaluation> {
     std::optional<std::vector<std::string>> cells = journal.Find(x);
     if (!cells) {
-      if (const auto it = taken.find(HexKey(x)); it != taken.end()) {
+      if (const auto it = start_records.find(HexKey(x)); it != start_records.end()) {
         cells = it->second;
         journal.Record(x, *cells);
       }

@@ -78,12 +78,8 @@ py::dict BodeLinkDict(const BodeLink& link) {
 }
 
 py::list Bode(const py::dict& kwargs) {
-  Options options("bode", kwargs);
-  BodeCommand command;
-  ReadTableOptions(options, BodeOptions(), &command);
-  options.RejectUnknown();
   const std::vector<BodeLink> links =
-      WithoutGil([&] { return RunBodeCommand(command, GivenKeywords(options, BodeOptions())); });
+      RunCommandWithoutGil("bode", kwargs, BodeOptions(), RunBodeCommand);
   py::list result;
   for (const BodeLink& link : links) result.append(BodeLinkDict(link));
   return result;
@@ -92,12 +88,7 @@ py::list Bode(const py::dict& kwargs) {
 // ------------------------------------------------------------------ step ---
 
 py::dict Step(const py::dict& kwargs) {
-  Options options("step", kwargs);
-  StepCommand command;
-  ReadTableOptions(options, StepOptions(), &command);
-  options.RejectUnknown();
-  const StepAnalysis analysis =
-      WithoutGil([&] { return RunStepCommand(command, GivenKeywords(options, StepOptions())); });
+  const StepAnalysis analysis = RunCommandWithoutGil("step", kwargs, StepOptions(), RunStepCommand);
 
   py::list links;
   for (const LinkStep& step : analysis.links) {
@@ -171,11 +162,10 @@ py::array_t<std::complex<double>> FittedArray(const LinkModelFit& fit,
 // line's is the file's path.
 py::dict Identify(const py::object& data, const py::dict& kwargs) {
   Options options("identify", kwargs);
-  IdentifyCommand command;
-  command.data_path = "data";
-  options.ReadPath("name", &command.data_path);
-  ReadTableOptions(options, IdentifyOptions(), &command);
-  options.RejectUnknown();
+  IdentifyCommand named;
+  named.data_path = "data";
+  options.ReadPath("name", &named.data_path);
+  IdentifyCommand command = ReadCommandKeywords(options, IdentifyOptions(), std::move(named));
   command.Validate();
   const IdentifySpec& spec = command;
   const std::vector<double> u = Column(data, spec.input_column, spec.data_path);
@@ -245,14 +235,15 @@ py::dict DesignDict(int link, const LinkDesign& design) {
 }
 
 py::list Design(const py::dict& kwargs) {
-  Options options("design", kwargs);
-  DesignCommand command;
-  ReadTableOptions(options, DesignOptions(), &command);
-  options.RejectUnknown();
-  const std::vector<LinkDesign> designs = WithoutGil([&] { return RunDesignCommand(command); });
+  std::vector<int> links;
+  const std::vector<LinkDesign> designs = RunCommandWithoutGil(
+      "design", kwargs, DesignOptions(), [&](const DesignCommand& command, const auto&) {
+        links = command.links;
+        return RunDesignCommand(command);
+      });
   py::list result;
   for (std::size_t i = 0; i < designs.size(); ++i) {
-    result.append(DesignDict(command.links[i], designs[i]));
+    result.append(DesignDict(links[i], designs[i]));
   }
   return result;
 }

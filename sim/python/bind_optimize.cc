@@ -12,10 +12,9 @@ namespace {
 py::object Optimize(const py::object& path_arg, const py::dict& kwargs,
                     const py::object& progress_callback) {
   Options options("optimize", kwargs);
-  OptimizeCommand command;
-  command.file = PathText(path_arg, "file");
-  ReadTableOptions(options, OptimizeOptionTable(), &command);
-  options.RejectUnknown();
+  OptimizeCommand file;
+  file.file = PathText(path_arg, "file");
+  const OptimizeCommand command = ReadCommandKeywords(options, OptimizeOptionTable(), file);
   const OptimizePlan plan = WithoutGil([&] { return PlanOptimizeCommand(command); });
   const int starts = plan.config.multistart + 1;
   Progress progress(progress_callback, static_cast<double>(plan.config.max_evaluations) * starts);

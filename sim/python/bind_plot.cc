@@ -42,11 +42,8 @@ py::dict Plot(const std::string& kind_name, const py::list& input_list, const py
   options.Read("labels", &figure.labels);
   options.RejectUnknown();
   CheckFigureOptionsApply(kind, given);
-  FigureReport report;
-  {
-    py::gil_scoped_release unlocked;
-    report = DrawFigureOf(kind, inputs, figure, out_path);
-  }
+  const FigureReport report =
+      WithoutGil([&] { return DrawFigureOf(kind, inputs, figure, out_path); });
   py::dict result;
   result["title"] = report.title;
   result["title_lines"] = report.title_lines;

@@ -25,62 +25,11 @@
 namespace ipmc::python {
 namespace {
 
-using Columns = std::vector<std::pair<std::string, std::vector<double>>>;
-
-py::dict ColumnDict(const Columns& columns) {
+// A table by columns (the library's, as its CSV holds them), one array per column.
+py::dict ColumnDict(const NamedColumns& columns) {
   py::dict dict;
   for (const auto& [name, values] : columns) dict[py::str(name)] = Array(values);
   return dict;
-}
-
-// The time series of a closed-loop run, one array per column of its
-// timeseries.csv (sim/runs/output.h), in the same order.
-py::dict ClosedLoopColumns(const ClosedLoopResult& result) {
-  const std::vector<ClosedLoopSample>& samples = result.samples;
-  const size_t links = result.links.size();
-  const size_t tips = samples.empty() ? 0 : samples.front().pose.tip_x_mm.size();
-  Columns columns = {{"time_s", {}},    {"com_x_mm", {}},  {"com_y_mm", {}},
-                     {"head_x_mm", {}}, {"head_y_mm", {}}, {"yaw_rad", {}}};
-  for (size_t q = 1; q <= links; ++q) {
-    for (const char* name : {"reference", "measured"}) {
-      columns.push_back({name + std::to_string(q) + "_mm", {}});
-    }
-    columns.push_back({"voltage" + std::to_string(q) + "_V", {}});
-  }
-  for (size_t k = 1; k <= tips; ++k) {
-    columns.push_back({"tip" + std::to_string(k) + "_x_mm", {}});
-    columns.push_back({"tip" + std::to_string(k) + "_y_mm", {}});
-  }
-  for (const ClosedLoopSample& s : samples) {
-    const BodyPose& p = s.pose;
-    size_t c = 0;
-    for (double value : {p.t_s, p.com_x_mm, p.com_y_mm, p.head_x_mm, p.head_y_mm, p.yaw_rad}) {
-      columns[c++].second.push_back(value);
-    }
-    for (size_t q = 0; q < links; ++q) {
-      for (double value : {s.reference_mm[q], s.measured_mm[q], s.voltage_V[q]}) {
-        columns[c++].second.push_back(value);
-      }
-    }
-    for (size_t k = 0; k < tips; ++k) {
-      columns[c++].second.push_back(p.tip_x_mm[k]);
-      columns[c++].second.push_back(p.tip_y_mm[k]);
-    }
-  }
-  return ColumnDict(columns);
-}
-
-// A bench record, one array per column of the bench CSV (BenchCsv).
-py::dict BenchColumns(const BenchRecord& record) {
-  Columns columns = {{"time_s", record.t_s}};
-  for (size_t q = 0; q < record.voltage_V.size(); ++q) {
-    const std::string link = std::to_string(q + 1);
-    columns.push_back({"voltage" + link + "_V", record.voltage_V[q]});
-    columns.push_back({"relative" + link + "_mm", record.relative_mm[q]});
-    columns.push_back({"tip" + link + "_lateral_mm", record.tip_lateral_mm[q]});
-    columns.push_back({"free" + link + "_mm", record.free_mm[q]});
-  }
-  return ColumnDict(columns);
 }
 
 // ------------------------------------------------------------------- run ---
@@ -88,9 +37,7 @@ py::dict BenchColumns(const BenchRecord& record) {
 py::dict Run(const py::object& scenario_arg, const py::dict& overrides, const py::dict& kwargs,
              const py::object& progress_callback) {
   Options options("run", kwargs);
-  RunCommand command;
-  ReadTableOptions(options, RunOptions(), &command);
-  options.RejectUnknown();
+  const RunCommand command = ReadCommandKeywords(options, RunOptions());
   ScenarioArgument argument = ReadScenarioArgument(scenario_arg, overrides, "run");
   const nlohmann::json& source = argument.inputs["scenario"];
   const std::vector<std::string> input_files =
@@ -113,7 +60,7 @@ py::dict Run(const py::object& scenario_arg, const py::dict& overrides, const py
   progress.Report(total_s, true);
   WithoutGil([&] { WriteRunOutputs(plan, result); });
   py::dict dict;
-  dict["timeseries"] = ClosedLoopColumns(result);
+  dict["timeseries"] = ColumnDict(ClosedLoopSeriesColumns(result));
   dict["summary"] = ToPython(ClosedLoopSummaryJson(result));
   return dict;
 }
@@ -123,10 +70,9 @@ py::dict Run(const py::object& scenario_arg, const py::dict& overrides, const py
 py::object Sweep(const py::object& path_arg, const py::dict& kwargs,
                  const py::object& progress_callback) {
   Options options("sweep", kwargs);
-  SweepCommand command;
-  command.sweep = PathText(path_arg, "sweep");
-  ReadTableOptions(options, SweepOptionTable(), &command);
-  options.RejectUnknown();
+  SweepCommand file;
+  file.sweep = PathText(path_arg, "sweep");
+  const SweepCommand command = ReadCommandKeywords(options, SweepOptionTable(), file);
   // As the command line: the journal PREFIX.journal holds the output (one
   // sweep per prefix, from either front end) and resumes a stopped sweep.
   std::unique_ptr<SweepCommandRun> sweep = WithoutGil(
@@ -146,16 +92,15 @@ py::object Sweep(const py::object& path_arg, const py::dict& kwargs,
 
 py::object Merge(const py::object& tables_arg, const py::dict& kwargs) {
   Options options("merge", kwargs);
-  MergeCommand command;
+  MergeCommand tables;
   if (py::isinstance<py::str>(tables_arg) || !py::isinstance<py::sequence>(tables_arg)) {
-    command.tables.push_back(PathText(tables_arg, "merge(): tables"));
+    tables.tables.push_back(PathText(tables_arg, "merge(): tables"));
   } else {
     for (const py::handle table : tables_arg) {
-      command.tables.push_back(PathText(table, "merge(): tables"));
+      tables.tables.push_back(PathText(table, "merge(): tables"));
     }
   }
-  ReadTableOptions(options, MergeOptionTable(), &command);
-  options.RejectUnknown();
+  const MergeCommand command = ReadCommandKeywords(options, MergeOptionTable(), tables);
   // Ctrl-C stops it before it writes, as on the command line.
   const SweepTable merged = Interruptible([&](const std::atomic<bool>& stop) {
     return RunMergeCommand(command, [&stop] { ThrowIfStopRequested(stop); });
@@ -167,27 +112,19 @@ py::object Merge(const py::object& tables_arg, const py::dict& kwargs) {
 
 std::string Keys(const py::dict& kwargs) {
   Options options("keys", kwargs);
-  ReferenceCommand command;
-  ReadTableOptions(options, KeysOptions(), &command);
-  options.RejectUnknown();
-  return KeysReference(command);
+  return KeysReference(ReadCommandKeywords(options, KeysOptions()));
 }
 
 std::string OptionsText(const py::dict& kwargs) {
   Options options("options", kwargs);
-  ReferenceCommand command;
-  ReadTableOptions(options, OptionsOptions(), &command);
-  options.RejectUnknown();
-  return OptionsReference(command);
+  return OptionsReference(ReadCommandKeywords(options, OptionsOptions()));
 }
 
 // ----------------------------------------------------------------- bench ---
 
 py::dict Bench(const py::dict& kwargs, const py::object& progress_callback) {
   Options options("bench", kwargs);
-  BenchCommand command;
-  ReadTableOptions(options, BenchOptions(), &command);
-  options.RejectUnknown();
+  const BenchCommand command = ReadCommandKeywords(options, BenchOptions());
   Progress progress(progress_callback, command.bench.duration_s);
   const BenchRecord record = Interruptible([&](const std::atomic<bool>& stop) {
     return RunBenchCommand(command, [&](double t_s) {
@@ -196,17 +133,14 @@ py::dict Bench(const py::dict& kwargs, const py::object& progress_callback) {
     });
   });
   progress.Report(command.bench.duration_s, true);
-  return BenchColumns(record);
+  return ColumnDict(BenchColumns(record));
 }
 
 // -------------------------------------------------------------- generate ---
 
 std::string GenerateModel(const py::dict& kwargs) {
   Options options("generate_model", kwargs);
-  GenerateCommand command;
-  ReadTableOptions(options, GenerateOptions(), &command);
-  options.RejectUnknown();
-  return RunGenerateCommand(command);
+  return RunGenerateCommand(ReadCommandKeywords(options, GenerateOptions()));
 }
 
 }  // namespace

@@ -158,11 +158,7 @@ class PythonSimulation {
     const BodyPose pose = meter_.Pose(sim_->data());
     py::dict dict;
     dict["t_s"] = pose.t_s;
-    dict["com_x_mm"] = pose.com_x_mm;
-    dict["com_y_mm"] = pose.com_y_mm;
-    dict["head_x_mm"] = pose.head_x_mm;
-    dict["head_y_mm"] = pose.head_y_mm;
-    dict["yaw_rad"] = pose.yaw_rad;
+    for (const auto& [name, value] : BodyPoseValues(pose)) dict[name] = value;
     dict["tip_x_mm"] = Array(pose.tip_x_mm);
     dict["tip_y_mm"] = Array(pose.tip_y_mm);
     return dict;

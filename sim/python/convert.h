@@ -206,6 +206,16 @@ std::function<bool(const std::string&)> GivenKeywords(const Options& options,
   };
 }
 
+// The first steps of every command's binding: the keywords read by the
+// command's option table (ReadTableOptions) into `command`, which holds
+// what the call's own arguments set, and any other keyword refused.
+template <typename Spec>
+Spec ReadCommandKeywords(Options& options, const OptionTable<Spec>& table, Spec command = Spec()) {
+  ReadTableOptions(options, table, &command);
+  options.RejectUnknown();
+  return command;
+}
+
 // Reports progress, done of total (simulated seconds, points), to a Python
 // callable `callback(done, total)` (or None) first at once, then at most
 // every 0.2 s of wall time, and raises pending signals when called in the
@@ -247,6 +257,19 @@ auto WithoutGil(F&& f) {
     EmitMujocoWarnings();
     return result;
   }
+}
+
+// The whole binding of a command that reports no progress: `function`'s
+// keywords read (ReadCommandKeywords), then run(command, given), where
+// given(name) tells whether the call named that table option
+// (GivenKeywords), with the GIL released.
+template <typename Spec, typename Run>
+auto RunCommandWithoutGil(const std::string& function, const py::dict& kwargs,
+                          const OptionTable<Spec>& table, Run&& run) {
+  Options options(function, kwargs);
+  const Spec command = ReadCommandKeywords(options, table);
+  const std::function<bool(const std::string&)> given = GivenKeywords(options, table);
+  return WithoutGil([&] { return run(command, given); });
 }
 
 // Runs work(stop) without the GIL on a thread of its own while the

@@ -143,25 +143,18 @@ BenchRecord RunBench(Simulation& sim, const BenchSignal& signal, double record_f
   return record;
 }
 
-std::string BenchCsv(const BenchRecord& record) {
-  CsvWriter csv(10);
-  const size_t links = record.voltage_V.size();
-  csv.Add(columns::kTime);
-  for (size_t q = 1; q <= links; ++q) {
-    const int link = static_cast<int>(q);
-    csv.Add(columns::Voltage(link)).Add(columns::Relative(link)).Add(columns::TipLateral(link));
-    csv.Add(columns::Free(link));
+NamedColumns BenchColumns(const BenchRecord& record) {
+  NamedColumns columns = {{columns::kTime, record.t_s}};
+  for (size_t q = 0; q < record.voltage_V.size(); ++q) {
+    const int link = static_cast<int>(q + 1);
+    columns.push_back({columns::Voltage(link), record.voltage_V[q]});
+    columns.push_back({columns::Relative(link), record.relative_mm[q]});
+    columns.push_back({columns::TipLateral(link), record.tip_lateral_mm[q]});
+    columns.push_back({columns::Free(link), record.free_mm[q]});
   }
-  csv.EndRow();
-  for (size_t i = 0; i < record.t_s.size(); ++i) {
-    csv.Add(record.t_s[i]);
-    for (size_t q = 0; q < links; ++q) {
-      csv.Add(record.voltage_V[q][i]).Add(record.relative_mm[q][i]);
-      csv.Add(record.tip_lateral_mm[q][i]).Add(record.free_mm[q][i]);
-    }
-    csv.EndRow();
-  }
-  return csv.Text();
+  return columns;
 }
+
+std::string BenchCsv(const BenchRecord& record) { return NamedColumnsCsv(BenchColumns(record), 10); }
 
 }  // namespace ipmc

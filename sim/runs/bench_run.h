@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "sim/core/simulation.h"
+#include "sim/io/csv.h"
 
 namespace ipmc {
 
@@ -50,6 +51,10 @@ using BenchProgress = std::function<void(double t_s)>;
 BenchRecord RunBench(Simulation& sim, const BenchSignal& signal, double record_from_s = 0.0,
                      const BenchProgress& progress = {});
 
+// The record by the columns of its CSV (BenchCsv) and of the Python
+// module's arrays: time_s, then per link voltage<q>_V, relative<q>_mm,
+// tip<q>_lateral_mm and free<q>_mm.
+NamedColumns BenchColumns(const BenchRecord& record);
 std::string BenchCsv(const BenchRecord& record);
 
 }  // namespace ipmc

@@ -285,6 +285,150 @@ ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserve
   return RunClosedLoop(*sim, scenario, observer, heartbeat);
 }
 
+namespace {
+
+// A run's timing: the time step, the controller's sample and the wave
+// cycle in steps, and which samples are recorded.
+struct ClosedLoopTiming {
+  double dt_s = 0.0;
+  double period_s = 0.0;
+  long steps_per_sample = 0;
+  double sample_period_s = 0.0;
+  long steps_per_cycle = 0;
+  long samples_per_cycle = 0;
+  long record_every = 0;  // a recorded sample every this many controller samples
+};
+
+// The timing of `scenario` on model `m` with `links` links; throws, naming
+// the scenario's key, if a controller sample or a wave cycle takes too few
+// steps or the run is too long or too large to record.
+ClosedLoopTiming PlanTiming(const ScenarioConfig& scenario, const mjModel* m, int links) {
+  ClosedLoopTiming timing;
+  const double dt = m->opt.timestep;
+  timing.dt_s = dt;
+  timing.period_s = 1.0 / std::abs(scenario.waveform.frequency_Hz);
+  CheckedStepCount(1.0 / scenario.sample_rate_Hz, dt, 1,
+                   scenario.source + ": one controller sample (controller.sample_rate_Hz)");
+  timing.steps_per_sample = StepsPerSample(scenario.sample_rate_Hz, dt, scenario.source);
+  timing.sample_period_s = timing.steps_per_sample * dt;
+  RequireSamplesPerWaveCycle(scenario, timing.period_s, timing.sample_period_s);
+  // At least kMinSamplesPerWaveCycle controller samples per wave cycle.
+  timing.steps_per_cycle = CheckedStepCount(
+      timing.period_s, dt, kMinSamplesPerWaveCycle * timing.steps_per_sample,
+      scenario.source + ": one wave cycle (waveform.frequency_Hz), at least " +
+          std::to_string(kMinSamplesPerWaveCycle) + " controller samples,");
+  timing.samples_per_cycle = timing.steps_per_cycle / timing.steps_per_sample;
+  timing.record_every =
+      std::max<long>(1, timing.samples_per_cycle / std::max(1, scenario.samples_per_cycle));
+  const double recorded =
+      static_cast<double>(scenario.cycles) * timing.samples_per_cycle / timing.record_every;
+  CheckRunSize(static_cast<double>(scenario.cycles) * timing.steps_per_cycle,
+               recorded * RecordedSampleBytes(m->nq, links), scenario.allow_long_run,
+               scenario.source + ": the run (cycles x waveform.frequency_Hz)");
+  return timing;
+}
+
+// Each link's tracking metrics (LinkTracking) over the measured cycles:
+// IAE and ITAE, the largest error and reference, the RMS and peak voltage,
+// the fraction of samples at the clamp and the peak active moment.
+class LinkTrackingMeter {
+ public:
+  LinkTrackingMeter(int links, int driven, bool clamped, double v_max_V, double sample_period_s)
+      : links_(links),
+        driven_(driven),
+        clamped_(clamped),
+        v_max_V_(v_max_V),
+        sample_period_s_(sample_period_s),
+        tracking_(links),
+        sum_v2_(links, 0.0),
+        clamped_samples_(links, 0) {}
+
+  // One controller sample at `t_s` of every link.
+  void AddSample(double t_s, const std::vector<double>& reference_mm,
+                 const std::vector<double>& measured_mm, const std::vector<double>& volts) {
+    for (int q = 0; q < links_; ++q) {
+      const double error = reference_mm[q] - measured_mm[q];
+      LinkTracking& track = tracking_[q];
+      track.Add(t_s, error, sample_period_s_);
+      track.max_abs_error_mm = std::max(track.max_abs_error_mm, std::abs(error));
+      track.max_abs_reference_mm = std::max(track.max_abs_reference_mm, std::abs(reference_mm[q]));
+      sum_v2_[q] += volts[q] * volts[q];
+      track.peak_voltage_V = std::max(track.peak_voltage_V, std::abs(volts[q]));
+      if (clamped_ && q < driven_ && std::abs(volts[q]) >= v_max_V_ * (1.0 - 1e-12)) {
+        ++clamped_samples_[q];
+      }
+    }
+    ++samples_;
+  }
+
+  // The active moments after a step, each link's read at its root hinge.
+  void ObserveMoments(const mjData* d, const std::vector<int>& root_dofs) {
+    for (size_t q = 0; q < root_dofs.size() && q < tracking_.size(); ++q) {
+      double& peak = tracking_[q].peak_moment_Nm;
+      peak = std::max(peak, std::abs(d->qfrc_actuator[root_dofs[q]]));
+    }
+  }
+
+  std::vector<LinkTracking> Finish() {
+    for (int q = 0; q < links_; ++q) {
+      tracking_[q].rms_voltage_V = std::sqrt(sum_v2_[q] / std::max<long>(1, samples_));
+      tracking_[q].clamped_fraction =
+          static_cast<double>(clamped_samples_[q]) / std::max<long>(1, samples_);
+    }
+    return tracking_;
+  }
+
+ private:
+  int links_, driven_;
+  bool clamped_;
+  double v_max_V_, sample_period_s_;
+  std::vector<LinkTracking> tracking_;
+  std::vector<double> sum_v2_;
+  std::vector<long> clamped_samples_;
+  long samples_ = 0;
+};
+
+// The result's description of the run, before its samples and metrics.
+ClosedLoopResult StartResult(const ScenarioConfig& scenario, const mjModel* m,
+                             const ClosedLoopTiming& timing, int links) {
+  const bool pid = scenario.controller == ControllerKind::kPid;
+  ClosedLoopResult result;
+  result.controller = pid ? controller_names::kPid : controller_names::kFractional;
+  result.actuation = scenario.actuation;
+  result.clamp_enabled = pid ? scenario.pid.clamp_enabled : scenario.fractional.clamp_enabled;
+  result.v_max_V = pid ? scenario.pid.v_max : scenario.fractional.v_max;
+  result.period_s = timing.period_s;
+  result.timestep_s = timing.dt_s;
+  result.links.resize(links);
+  result.states = RecordedStates::For(m);
+  return result;
+}
+
+// The result's metrics once the last cycle is stepped: the swim, its
+// warnings, the energy and the clamps reached.
+void FinishResult(const ScenarioConfig& scenario, const ClosedLoopTiming& timing, int from_cycle,
+                  Simulation& sim, SwimMeter& meter, EnergyMeter& energy,
+                  ClosedLoopResult& result) {
+  mjModel* m = sim.model();
+  mjData* d = sim.data();
+  result.swim = meter.Finish(m, d, from_cycle, scenario.waveform.wavelength_mm);
+  if (scenario.samples_per_cycle > timing.samples_per_cycle) {
+    // Not silently fewer rows than asked for.
+    result.swim.warnings.push_back(FormatText(
+        "%s: output.samples_per_cycle %d is more than the %ld controller samples of a wave cycle "
+        "(controller.sample_rate_Hz / waveform.frequency_Hz): recorded every sample, %ld a cycle",
+        scenario.source.c_str(), scenario.samples_per_cycle, timing.samples_per_cycle,
+        timing.samples_per_cycle));
+  }
+  RequireFiniteMetrics(result.swim, sim.source());
+  result.energy = energy.Finish(result.swim, timing.period_s, from_cycle);
+  result.from_cycle_given = scenario.metrics_from_cycle > 0;
+  result.startup_included = from_cycle - 1 < scenario.start_ramp_cycles;
+  result.reach_clamps = FindCoupling(d)->actuators->ClampCount();
+}
+
+}  // namespace
+
 ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
                                const SampleObserver& observer, const RunHeartbeat& heartbeat) {
   scenario.waveform.Validate();
@@ -297,50 +441,18 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
   if (static_cast<int>(geometry.pitch_mm.size()) != links) {
     throw std::runtime_error(sim.source() + ": ipmc_links must drive hinges j1..jN in order");
   }
-  const bool single = scenario.actuation == "single";
-  const int driven = single ? 1 : links;
+  const int driven = scenario.actuation == "single" ? 1 : links;
   std::vector<LinkController> controllers;
   CheckLinkGains(scenario, links);
   for (int q = 0; q < driven; ++q) controllers.emplace_back(scenario, q);
-
-  const double dt = m->opt.timestep;
-  const double period_s = 1.0 / std::abs(scenario.waveform.frequency_Hz);
-  CheckedStepCount(1.0 / scenario.sample_rate_Hz, dt, 1,
-                   scenario.source + ": one controller sample (controller.sample_rate_Hz)");
-  const long steps_per_sample = StepsPerSample(scenario.sample_rate_Hz, dt, scenario.source);
-  const double sample_period_s = steps_per_sample * dt;
-  RequireSamplesPerWaveCycle(scenario, period_s, sample_period_s);
-  // At least kMinSamplesPerWaveCycle controller samples per wave cycle.
-  const long steps_per_cycle = CheckedStepCount(
-      period_s, dt, kMinSamplesPerWaveCycle * steps_per_sample,
-      scenario.source + ": one wave cycle (waveform.frequency_Hz), at least " +
-          std::to_string(kMinSamplesPerWaveCycle) + " controller samples,");
-  const long samples_per_cycle = steps_per_cycle / steps_per_sample;
-  const long record_every =
-      std::max<long>(1, samples_per_cycle / std::max(1, scenario.samples_per_cycle));
-  const double recorded = static_cast<double>(scenario.cycles) * samples_per_cycle / record_every;
-  CheckRunSize(static_cast<double>(scenario.cycles) * steps_per_cycle,
-               recorded * RecordedSampleBytes(m->nq, links), scenario.allow_long_run,
-               scenario.source + ": the run (cycles x waveform.frequency_Hz)");
-  const bool pid = scenario.controller == ControllerKind::kPid;
-  const bool clamped = pid ? scenario.pid.clamp_enabled : scenario.fractional.clamp_enabled;
-  const double v_max = pid ? scenario.pid.v_max : scenario.fractional.v_max;
+  const ClosedLoopTiming timing = PlanTiming(scenario, m, links);
 
   const int from_cycle = MetricsFromCycle(scenario);
-  ClosedLoopResult result;
-  result.controller = pid ? controller_names::kPid : controller_names::kFractional;
-  result.actuation = scenario.actuation;
-  result.clamp_enabled = clamped;
-  result.v_max_V = v_max;
-  result.period_s = period_s;
-  result.timestep_s = dt;
-  result.links.resize(links);
-  result.states = RecordedStates::For(m);
-  std::vector<double> sum_v2(links, 0.0);
-  std::vector<long> clamped_samples(links, 0);
+  ClosedLoopResult result = StartResult(scenario, m, timing, links);
+  LinkTrackingMeter tracking(links, driven, result.clamp_enabled, result.v_max_V,
+                             timing.sample_period_s);
   std::vector<double> volts(links, 0.0), reference(links, 0.0), measured(links, 0.0);
-  long samples = 0, measured_samples = 0;
-
+  long samples = 0;
   SwimMeter meter(m);
   meter.Start(d);
   EnergyMeter energy(m, d);
@@ -352,26 +464,17 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
   for (int cycle = 0; cycle < scenario.cycles; ++cycle) {
     // The link metrics are taken over the cycles from MetricsFromCycle.
     const bool measuring = cycle + 1 >= from_cycle;
-    for (long step = 0; step < steps_per_cycle; ++step) {
-      if (step % steps_per_sample == 0) {
+    for (long step = 0; step < timing.steps_per_cycle; ++step) {
+      if (step % timing.steps_per_sample == 0) {
         const double t = d->time;
         reference = LinkReferences_mm(scenario, geometry, t);
         for (int q = 0; q < links; ++q) {
           measured[q] = sensors.RelativeDeflection_mm(d, q);
-          const double error = reference[q] - measured[q];
-          volts[q] = q < driven ? controllers[q].Update(error) : 0.0;
-          if (!measuring) continue;
-          LinkTracking& track = result.links[q];
-          track.Add(t, error, sample_period_s);
-          track.max_abs_error_mm = std::max(track.max_abs_error_mm, std::abs(error));
-          track.max_abs_reference_mm = std::max(track.max_abs_reference_mm, std::abs(reference[q]));
-          sum_v2[q] += volts[q] * volts[q];
-          track.peak_voltage_V = std::max(track.peak_voltage_V, std::abs(volts[q]));
-          if (clamped && q < driven && std::abs(volts[q]) >= v_max * (1.0 - 1e-12)) ++clamped_samples[q];
+          volts[q] = q < driven ? controllers[q].Update(reference[q] - measured[q]) : 0.0;
         }
-        if (measuring) ++measured_samples;
+        if (measuring) tracking.AddSample(t, reference, measured, volts);
         SetVoltages(d, volts.data(), links);
-        if (samples % record_every == 0) {
+        if (samples % timing.record_every == 0) {
           result.samples.push_back({meter.Pose(d), reference, measured, volts});
           result.states.Record(d);
           if (observer) observer(m, d, result.samples.back());
@@ -379,38 +482,18 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
         ++samples;
       }
       // The sensors are read at the next sample, from this step's values.
-      const long next = step + 1 == steps_per_cycle ? 0 : step + 1;
-      sim.Step(next % steps_per_sample == 0);
+      const long next = step + 1 == timing.steps_per_cycle ? 0 : step + 1;
+      sim.Step(next % timing.steps_per_sample == 0);
       beat.Tick(d->time);
       meter.Observe(m, d);
       energy.Observe(m, d);
-      for (size_t q = 0; measuring && q < root_dofs.size() && q < result.links.size(); ++q) {
-        double& peak = result.links[q].peak_moment_Nm;
-        peak = std::max(peak, std::abs(d->qfrc_actuator[root_dofs[q]]));
-      }
+      if (measuring) tracking.ObserveMoments(d, root_dofs);
     }
     meter.EndCycle(d);
     energy.EndCycle(m, d);
   }
-  for (int q = 0; q < links; ++q) {
-    result.links[q].rms_voltage_V = std::sqrt(sum_v2[q] / std::max<long>(1, measured_samples));
-    result.links[q].clamped_fraction =
-        static_cast<double>(clamped_samples[q]) / std::max<long>(1, measured_samples);
-  }
-  result.swim = meter.Finish(m, d, from_cycle, scenario.waveform.wavelength_mm);
-  if (scenario.samples_per_cycle > samples_per_cycle) {
-    // Not silently fewer rows than asked for.
-    result.swim.warnings.push_back(FormatText(
-        "%s: output.samples_per_cycle %d is more than the %ld controller samples of a wave cycle "
-        "(controller.sample_rate_Hz / waveform.frequency_Hz): recorded every sample, %ld a cycle",
-        scenario.source.c_str(), scenario.samples_per_cycle, samples_per_cycle,
-        samples_per_cycle));
-  }
-  RequireFiniteMetrics(result.swim, sim.source());
-  result.energy = energy.Finish(result.swim, period_s, from_cycle);
-  result.from_cycle_given = scenario.metrics_from_cycle > 0;
-  result.startup_included = from_cycle - 1 < scenario.start_ramp_cycles;
-  result.reach_clamps = FindCoupling(d)->actuators->ClampCount();
+  result.links = tracking.Finish();
+  FinishResult(scenario, timing, from_cycle, sim, meter, energy, result);
   return result;
 }
 

@@ -28,27 +28,35 @@ constexpr char kProgramVersion[] = "program_version";
 constexpr char kResolvedScenario[] = "resolved_scenario";
 constexpr char kModelSha256[] = "model_sha256";
 
-// The body's columns, first in every time series.
-void AddPoseColumns(CsvWriter& csv) {
-  for (const char* name : {columns::kTime, columns::kComX, columns::kComY, columns::kHeadX,
-                           columns::kHeadY, columns::kYaw}) {
-    csv.Add(name);
+// Appends a sample's pose to the body's columns (time and BodyPoseValues,
+// first in every time series) and to the tips' (last).
+void AddPose(const BodyPose& pose, size_t tips, NamedColumns& body, NamedColumns& tip_columns) {
+  if (body.empty()) {
+    body.push_back({columns::kTime, {}});
+    for (const auto& [name, value] : BodyPoseValues(pose)) body.push_back({name, {}});
+    for (size_t k = 1; k <= tips; ++k) {
+      tip_columns.push_back({columns::TipX(static_cast<int>(k)), {}});
+      tip_columns.push_back({columns::TipY(static_cast<int>(k)), {}});
+    }
+  }
+  size_t c = 0;
+  body[c++].second.push_back(pose.t_s);
+  for (const auto& [name, value] : BodyPoseValues(pose)) body[c++].second.push_back(value);
+  for (size_t k = 0; k < tips; ++k) {
+    tip_columns[2 * k].second.push_back(pose.tip_x_mm[k]);
+    tip_columns[2 * k + 1].second.push_back(pose.tip_y_mm[k]);
   }
 }
 
-void AddPose(CsvWriter& csv, const BodyPose& p) {
-  csv.Add(p.t_s).Add(p.com_x_mm).Add(p.com_y_mm).Add(p.head_x_mm).Add(p.head_y_mm).Add(p.yaw_rad);
-}
-
-// The tips' columns, last.
-void AddTipColumns(CsvWriter& csv, size_t tips) {
-  for (size_t k = 1; k <= tips; ++k) {
-    csv.Add(columns::TipX(static_cast<int>(k))).Add(columns::TipY(static_cast<int>(k)));
+// A time series's columns: the body's, `middle` (per link or joint), the tips'.
+NamedColumns SeriesColumns(NamedColumns body, NamedColumns middle, NamedColumns tips) {
+  if (body.empty()) {
+    body.push_back({columns::kTime, {}});
+    for (const auto& [name, value] : BodyPoseValues(BodyPose{})) body.push_back({name, {}});
   }
-}
-
-void AddTips(CsvWriter& csv, const BodyPose& p, size_t tips) {
-  for (size_t k = 0; k < tips; ++k) csv.Add(p.tip_x_mm[k]).Add(p.tip_y_mm[k]);
+  for (auto& column : middle) body.push_back(std::move(column));
+  for (auto& column : tips) body.push_back(std::move(column));
+  return body;
 }
 
 std::string RunOutputPath(const std::string& dir, int file) {
@@ -155,24 +163,34 @@ nlohmann::ordered_json RunResultTree(const std::string& samples_csv, const std::
   return tree;
 }
 
-std::string GaitSamplesCsv(const GaitRunResult& result) {
-  CsvWriter csv(kSeriesDigits);
+NamedColumns GaitSeriesColumns(const GaitRunResult& result) {
   const size_t joints = result.samples.empty() ? 0 : result.samples.front().q_rad.size();
   const size_t tips = result.samples.empty() ? 0 : result.samples.front().pose.tip_x_mm.size();
-  AddPoseColumns(csv);
+  NamedColumns body, per_joint, tip_columns;
   for (size_t j = 1; j <= joints; ++j) {
-    const int joint = static_cast<int>(j);
-    csv.Add(columns::JointReference(joint)).Add(columns::JointAngle(joint));
+    per_joint.push_back({columns::JointReference(static_cast<int>(j)), {}});
+    per_joint.push_back({columns::JointAngle(static_cast<int>(j)), {}});
   }
-  AddTipColumns(csv, tips);
-  csv.EndRow();
   for (const GaitSample& s : result.samples) {
-    AddPose(csv, s.pose);
-    for (size_t j = 0; j < joints; ++j) csv.Add(s.q_ref_rad[j]).Add(s.q_rad[j]);
-    AddTips(csv, s.pose, tips);
-    csv.EndRow();
+    AddPose(s.pose, tips, body, tip_columns);
+    for (size_t j = 0; j < joints; ++j) {
+      per_joint[2 * j].second.push_back(s.q_ref_rad[j]);
+      per_joint[2 * j + 1].second.push_back(s.q_rad[j]);
+    }
   }
-  return csv.Text();
+  return SeriesColumns(std::move(body), std::move(per_joint), std::move(tip_columns));
+}
+
+std::string GaitSamplesCsv(const GaitRunResult& result) {
+  return NamedColumnsCsv(GaitSeriesColumns(result), kSeriesDigits);
+}
+
+std::vector<std::pair<const char*, double>> BodyPoseValues(const BodyPose& pose) {
+  return {{columns::kComX, pose.com_x_mm},
+          {columns::kComY, pose.com_y_mm},
+          {columns::kHeadX, pose.head_x_mm},
+          {columns::kHeadY, pose.head_y_mm},
+          {columns::kYaw, pose.yaw_rad}};
 }
 
 nlohmann::json SwimMetricsJson(const SwimMetrics& swim) {
@@ -215,26 +233,30 @@ void WriteGaitOutputs(const std::string& dir, const GaitRunResult& result,
                   GaitSummaryJson(result), all, formats);
 }
 
-std::string ClosedLoopSamplesCsv(const ClosedLoopResult& result) {
-  CsvWriter csv(kSeriesDigits);
+NamedColumns ClosedLoopSeriesColumns(const ClosedLoopResult& result) {
   const size_t links = result.links.size();
   const size_t tips = result.samples.empty() ? 0 : result.samples.front().pose.tip_x_mm.size();
-  AddPoseColumns(csv);
+  NamedColumns body, per_link, tip_columns;
   for (size_t q = 1; q <= links; ++q) {
     const int link = static_cast<int>(q);
-    csv.Add(columns::Reference(link)).Add(columns::Measured(link)).Add(columns::Voltage(link));
-  }
-  AddTipColumns(csv, tips);
-  csv.EndRow();
-  for (const ClosedLoopSample& s : result.samples) {
-    AddPose(csv, s.pose);
-    for (size_t q = 0; q < links; ++q) {
-      csv.Add(s.reference_mm[q]).Add(s.measured_mm[q]).Add(s.voltage_V[q]);
+    for (const std::string& name :
+         {columns::Reference(link), columns::Measured(link), columns::Voltage(link)}) {
+      per_link.push_back({name, {}});
     }
-    AddTips(csv, s.pose, tips);
-    csv.EndRow();
   }
-  return csv.Text();
+  for (const ClosedLoopSample& s : result.samples) {
+    AddPose(s.pose, tips, body, tip_columns);
+    for (size_t q = 0; q < links; ++q) {
+      per_link[3 * q].second.push_back(s.reference_mm[q]);
+      per_link[3 * q + 1].second.push_back(s.measured_mm[q]);
+      per_link[3 * q + 2].second.push_back(s.voltage_V[q]);
+    }
+  }
+  return SeriesColumns(std::move(body), std::move(per_link), std::move(tip_columns));
+}
+
+std::string ClosedLoopSamplesCsv(const ClosedLoopResult& result) {
+  return NamedColumnsCsv(ClosedLoopSeriesColumns(result), kSeriesDigits);
 }
 
 StartupCycles StartupOf(const ClosedLoopResult& result) {

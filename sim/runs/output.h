@@ -3,10 +3,12 @@
 #pragma once
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "sim/io/csv.h"
 #include "sim/runs/closed_loop_run.h"
 #include "sim/runs/gait_run.h"
 
@@ -52,7 +54,14 @@ void CheckRunOutputDirectory(const std::string& who, const std::string& option,
 nlohmann::ordered_json RunResultTree(const std::string& samples_csv, const std::string& states_csv,
                                      const nlohmann::json& summary);
 
+// The body's pose after its time, by the names of its time-series columns
+// (com_x_mm, com_y_mm, head_x_mm, head_y_mm, yaw_rad; sim/io/columns.h).
+std::vector<std::pair<const char*, double>> BodyPoseValues(const BodyPose& pose);
+
 nlohmann::json SwimMetricsJson(const SwimMetrics& swim);
+// A gait run's timeseries.csv by columns: time_s and the body's pose,
+// q_ref<j>_rad and q<j>_rad per joint, tip<k>_x_mm and tip<k>_y_mm.
+NamedColumns GaitSeriesColumns(const GaitRunResult& result);
 std::string GaitSamplesCsv(const GaitRunResult& result);
 nlohmann::json GaitSummaryJson(const GaitRunResult& result);
 
@@ -78,6 +87,11 @@ struct StartupCycles {
 };
 StartupCycles StartupOf(const ClosedLoopResult& result);
 
+// A closed-loop run's timeseries.csv by columns, the one source of the
+// CSV (ClosedLoopSamplesCsv; run.mat and run.h5 read it back) and of the
+// Python module's arrays: time_s and the body's pose, reference<q>_mm,
+// measured<q>_mm and voltage<q>_V per link, tip<k>_x_mm and tip<k>_y_mm.
+NamedColumns ClosedLoopSeriesColumns(const ClosedLoopResult& result);
 std::string ClosedLoopSamplesCsv(const ClosedLoopResult& result);
 // summary.json's results: the swim and energy tables and means, the links,
 // metrics_from_cycle and metrics_cycles (MetricCyclesText), startup
