@@ -102,8 +102,4 @@ class StokesletFluid : public Fluid {
   mutable int recomputations_ = 0;
 };
 
-// The Stokeslet model's former name, which sim/runs/closed_loop_run.cc's
-// resolution check still uses; new code names StokesletFluid.
-using FluidModel = StokesletFluid;
-
 }  // namespace ipmc

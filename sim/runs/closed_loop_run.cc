@@ -47,13 +47,13 @@ void OverrideViscosity(mjModel* m, double viscosity_Pa_s, const std::string& mod
 void CheckStokesletResolution(const ScenarioConfig& scenario, const mjModel* m,
                               const RftDragOverrides& overrides) {
   if (!overrides.stokeslets) return;
-  std::unique_ptr<FluidModel> fluid;
+  std::unique_ptr<StokesletFluid> fluid;
   std::optional<RftDrag> drag;
   try {
     const std::optional<RftDragConfig> config = RftDragConfig::FromModel(m, overrides);
     if (!config) return;
     drag.emplace(m, *config);
-    fluid = std::make_unique<FluidModel>(m, *drag, *overrides.stokeslets);  // builds no points
+    fluid = std::make_unique<StokesletFluid>(m, *drag, *overrides.stokeslets);  // builds no points
   } catch (const std::exception&) {
     return;
   }
