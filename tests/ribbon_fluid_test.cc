@@ -135,8 +135,8 @@ TEST(RibbonFluidTest, FlatEllipseGivesTheLeadingOrderDrags) {
 // k = 6 points across (the ribbon rule of regularized_stokeslets.h), whose
 // own error on the flat ellipsoid is -1.3 % face-on and +3.0 % axially
 // (regularized_stokeslets_test). Measured, ribbon / sheet - 1: axial
-// -5.56 %, broadside -0.37 %, edgewise -8.84 %, rotation about the width
-// -1.37 %; bounds: about twice these.
+// -5.52 %, broadside -0.37 %, edgewise -8.84 %, rotation about the width
+// -1.36 %; bounds: about twice these.
 TEST(RibbonFluidTest, StraightStripAgreesWithTheStokesletSheet) {
   RibbonSettings settings;
   settings.width_m = kStripWidth_m;
