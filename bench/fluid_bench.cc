@@ -6,7 +6,8 @@
 // the resistance kept within 1e-3 rad of shape) in free space and near a
 // wall (1 mm gap), Stokeslets recomputed at every evaluation (tolerance 0)
 // and at twice the points per mm, and on a sheet of 2 and 4 points across
-// the width; each in the model's inertial dynamics
+// the width; slender-ribbon theory at its default modes; each in the
+// model's inertial dynamics
 // and in Stokes dynamics. The runs' simulated time is the same, so the
 // ratios are per simulated time. docs/BENCHMARKS.md records them.
 //
@@ -25,7 +26,7 @@ namespace {
 
 const std::string kPaperScenario = ScenariosDir() + "/paper.toml";
 
-// args: model (0 rft, 1 stokeslets), dynamics (0 inertial, 1 stokes),
+// args: model (0 rft, 1 stokeslets, 2 ribbon), dynamics (0 inertial, 1 stokes),
 // variant (0 default, 1 wall gap 1 mm, 2 tolerance 0, 3 twice the points,
 // 4 and 5: 2 and 4 points across the width).
 void BM_PaperCycle(benchmark::State& state) {
@@ -33,6 +34,7 @@ void BM_PaperCycle(benchmark::State& state) {
   scenario.cycles = 1;
   scenario.output_dir.clear();
   if (state.range(0) == 1) scenario.fluid_model = "stokeslets";
+  if (state.range(0) == 2) scenario.fluid_model = "ribbon";
   if (state.range(1) == 1) scenario.dynamics = Dynamics::kStokes;
   if (state.range(2) == 1) scenario.wall_gap_mm = 1.0;
   if (state.range(2) == 2) scenario.stokeslet_shape_tolerance_rad = 0.0;
@@ -52,6 +54,8 @@ BENCHMARK(BM_PaperCycle)
     ->Args({0, 1, 0})
     ->Args({1, 1, 0})
     ->Args({1, 1, 1})
+    ->Args({2, 0, 0})
+    ->Args({2, 1, 0})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
 
@@ -61,6 +65,7 @@ BENCHMARK(BM_PaperCycle)
 int main(int argc, char** argv) {
   return ipmc::RunWithRatios(argc, argv, {"BM_PaperCycle/0/0/0"},
                              {{"BM_PaperCycle/1/1/0", "BM_PaperCycle/0/1/0"},
-                              {"BM_PaperCycle/1/1/1", "BM_PaperCycle/0/1/0"}},
+                              {"BM_PaperCycle/1/1/1", "BM_PaperCycle/0/1/0"},
+                              {"BM_PaperCycle/2/1/0", "BM_PaperCycle/0/1/0"}},
                              ipmc::RatioClock::kCpu);
 }

@@ -87,7 +87,7 @@ TEST(FluidModelTest, RegistryBuildsTheChosenModel) {
   const RftDrag& segments = *FindCoupling(d)->drag;
   std::vector<std::string> names;
   for (const FluidModelEntry& entry : FluidModels()) names.push_back(entry.name);
-  EXPECT_EQ(names, (std::vector<std::string>{"stokeslets", "rft"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"stokeslets", "ribbon", "rft"}));
 
   const std::unique_ptr<Fluid> rft = MakeFluid(m, segments, {});
   ASSERT_NE(dynamic_cast<const RftDrag*>(rft.get()), nullptr);
@@ -106,6 +106,16 @@ TEST(FluidModelTest, RegistryBuildsTheChosenModel) {
   ASSERT_NE(dense, nullptr);
   EXPECT_EQ(dense->rows(), 6 * static_cast<int>(stokeslets->InteractingBodies().size()));
   EXPECT_FALSE(stokeslets->InteractingBodies().empty());
+
+  RftDragOverrides ribbon_overrides;
+  ribbon_overrides.ribbon = RibbonSettings{};
+  const std::unique_ptr<Fluid> ribbon = MakeFluid(m, segments, ribbon_overrides);
+  ASSERT_NE(dynamic_cast<const RibbonFluid*>(ribbon.get()), nullptr);
+  ribbon->LocalResistances(m, d, &blocks);
+  EXPECT_TRUE(blocks.empty());
+  const Eigen::MatrixXd* ribbon_dense = ribbon->InteractionResistance(m, d);
+  ASSERT_NE(ribbon_dense, nullptr);
+  EXPECT_EQ(ribbon_dense->rows(), 6 * static_cast<int>(ribbon->InteractingBodies().size()));
 }
 
 TEST(FluidModelTest, CachedStokesletResistanceMovesWithTheRoot) {

@@ -12,6 +12,9 @@
 //                  every segment's velocity moves every other segment
 //                  (hydrodynamic interaction), one dense resistance over
 //                  the segments' bodies.
+//   ribbon         slender-ribbon theory (plugin/fluid/ribbon_fluid.h): the
+//                  strip as one flat ribbon with a kinked centreline, the
+//                  same dense resistance over the segments' bodies.
 //
 // Every model acts on the same segments, the slender geoms RftDrag finds
 // (RftDragConfig::FromModel reads them and the viscosity from the model's

@@ -67,6 +67,7 @@
 
 #include "plugin/fluid/fluid_model.h"
 #include "plugin/fluid/regularized_stokeslets.h"
+#include "plugin/fluid/ribbon_fluid.h"
 
 namespace ipmc {
 
@@ -112,6 +113,8 @@ struct RftDragOverrides {
   // Set: the fluid model is regularized Stokeslets
   // (plugin/fluid/stokeslet_fluid.h) over these segments, RFT otherwise.
   std::optional<StokesletSettings> stokeslets;
+  // Set: the fluid model is slender-ribbon theory (plugin/fluid/ribbon_fluid.h).
+  std::optional<RibbonSettings> ribbon;
 };
 
 struct RftDragConfig {

@@ -105,12 +105,13 @@ struct ScenarioConfig {
   // A no-slip wall this far below the strip's lower edge (near-wall RFT,
   // or the Stokeslets' image system).
   std::optional<double> wall_gap_mm;
-  // The fluid model, "rft" or "stokeslets", and the Stokeslets' points
+  // The fluid model, "rft", "stokeslets" or "ribbon", and the Stokeslets' points
   // (unset: the defaults of plugin/fluid/fluid_model.h).
   std::string fluid_model = "rft";
   int stokeslet_width_points = 1;  // across the strip's width; 1: the centreline
   std::optional<double> stokeslet_points_per_mm, stokeslet_blob_mm;
   double stokeslet_shape_tolerance_rad = 1e-3;
+  int ribbon_modes = 8;  // slender-ribbon theory's Legendre modes (plugin/fluid/ribbon_fluid.h)
   // The first cycle (1-based, <= cycles) of the run's link metrics, mean
   // speed and mean powers; the per-cycle tables keep every cycle. 0 (the
   // default): the first cycle after the start ramp (MetricsFromCycle,

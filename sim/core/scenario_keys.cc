@@ -16,6 +16,7 @@
 #include "plugin/actuators/ipmc_actuators.h"
 #include "plugin/base/numbers.h"
 #include "plugin/fluid/regularized_stokeslets.h"
+#include "plugin/fluid/ribbon_fluid.h"
 #include "sim/core/model_generator.h"
 #include "sim/core/key_builder.h"
 #include "sim/core/scenario.h"
@@ -48,6 +49,7 @@ namespace {
 constexpr char kControllerKind[] = "controller.kind";
 constexpr char kFluidModel[] = "fluid.model";
 constexpr char kStokeslets[] = "stokeslets";
+constexpr char kRibbon[] = "ribbon";
 constexpr char kRealisation[] = "controller.realisation";
 constexpr char kWaveformKind[] = "waveform.kind";
 constexpr const char* kPid = controller_names::kPid;
@@ -562,14 +564,15 @@ std::vector<KeySpec> MakeScenarioKeys() {
           .Writes([](const ScenarioConfig& c) {
             return c.wall_gap_mm ? TomlFloat(*c.wall_gap_mm) : kLeftOut;
           }),
-      Key(kFluidModel, T::kChoice, "", "\"rft\" or \"stokeslets\"", "\"rft\"",
-          "The fluid model (plugin/fluid/fluid_model.h, docs/FLUIDS.md): local RFT, or "
+      Key(kFluidModel, T::kChoice, "", "\"rft\", \"stokeslets\" or \"ribbon\"", "\"rft\"",
+          "The fluid model (plugin/fluid/fluid_model.h, docs/FLUIDS.md): local RFT, "
           "regularized Stokeslets along the segments' centrelines, whose segments interact "
-          "(with the wall's image system when fluid.wall_gap_mm is set)")
+          "(with the wall's image system when fluid.wall_gap_mm is set), or slender-ribbon "
+          "theory, the strip as one flat ribbon with kinks (free space only)")
           .Default("\"rft\"")
           .Example("\"stokeslets\"")
           .Refused("\"bem\"")
-          .Choices("rft|stokeslets")
+          .Choices("rft|stokeslets|ribbon")
           .Reads([](const KeyValue& v, ScenarioConfig& c) { c.fluid_model = v.Choice(); })
           .Writes([](const ScenarioConfig& c) { return TomlString(c.fluid_model); }),
       Key("fluid.stokeslet_width_points", T::kInteger, "", "[1, 16]", "1",
@@ -628,6 +631,22 @@ std::vector<KeySpec> MakeScenarioKeys() {
             return c.stokeslet_shape_tolerance_rad == 1e-3
                        ? kLeftOut
                        : TomlFloat(c.stokeslet_shape_tolerance_rad);
+          }),
+      Key("fluid.ribbon_modes", T::kInteger, "", "[1, 9]", "8",
+          "Legendre modes of each component of the ribbon's force density along the whole "
+          "strip (slender-ribbon theory; from 10 on they resolve wavelengths near the strip's "
+          "width, where the theory's resistance stops being positive: docs/FLUIDS.md)")
+          .Default("8")
+          .Example("6")
+          .Refused("10")
+          .AtLeast(1)
+          .AtMost(kMaxRibbonModes)
+          .Only(kFluidModel, kRibbon)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.ribbon_modes = static_cast<int>(v.Integer());
+          })
+          .Writes([](const ScenarioConfig& c) {
+            return c.ribbon_modes == kDefaultRibbonModes ? kLeftOut : TomlInteger(c.ribbon_modes);
           }),
       Key("metrics.from_cycle", T::kInteger, "", "[1, cycles]",
           "the first cycle after the start ramp (the last cycle if none is)",

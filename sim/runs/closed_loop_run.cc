@@ -255,6 +255,16 @@ RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mj
     stokeslets.shape_tolerance_rad = scenario.stokeslet_shape_tolerance_rad;
     fluid.stokeslets = stokeslets;
   }
+  if (scenario.fluid_model == "ribbon") {
+    if (scenario.wall_gap_mm) {
+      throw std::runtime_error(scenario.source +
+                               ": fluid.wall_gap_mm needs fluid.model \"rft\" or \"stokeslets\" "
+                               "(the ribbon model is free space only)");
+    }
+    RibbonSettings ribbon;
+    ribbon.modes = scenario.ribbon_modes;
+    fluid.ribbon = ribbon;
+  }
   return fluid;
 }
 
