@@ -1,57 +1,19 @@
 // A scenario file (TOML) describes one closed-loop run: model, actuation,
-// controller, waveform, duration, fluid and outputs. Every key is
-// optional except model; unknown keys, wrong types and out-of-range values
-// are errors naming the file, key and line. The key table with types,
-// units, ranges and defaults is sim/core/scenario_keys.h (`ipmc-swim keys`,
-// docs/SCENARIO_KEYS.md); in short:
+// controller, waveform, duration, fluid, metrics and outputs. Every key is
+// optional except model (or a generated flagellum); unknown keys, wrong
+// types and out-of-range values are errors naming the file, key and line.
+// The keys, with their types, units, ranges, defaults and meanings, are
+// the key table of sim/core/scenario_keys.h, and only there: `ipmc-swim
+// keys` prints it and docs/SCENARIO_KEYS.md is its Markdown form. E.g.
 //
-//   model = "models/flagellum3.xml"    # relative to the scenario file
-//   link_lengths_mm = [8, 10, 12]      # instead: the generated flagellum with
-//                                      # these links (1-20, > 0) and the
-//                                      # generator's other defaults; wins
-//                                      # over model
-//   segments_per_link = 4              # rigid sub-segments per link, [1, 31] on
-//                                      # three links (MuJoCo's nesting limit);
-//                                      # also generates the flagellum (links
-//                                      # of 10 mm unless link_lengths_mm)
-//   plants = "uniform"                 # uniform | table2, over the model's
-//                                      # ipmc_plants (plugin/actuators/ipmc_actuators.h)
-//   actuation = "distributed"          # distributed | single
-//   dynamics = "stokes"                # inertial | stokes, over the model's
-//                                      # ipmc_dynamics (plugin/fluid/stokes_step.h)
-//   hinge_damping_scale = 1.0          # times the joints' damping; >= 0
-//   cycles = 3                         # >= 1
-//   timestep_s = 5e-4                  # overrides the model's step; (0, 1e-3]
+//   model = "../models/flagellum3.xml"   # relative to the scenario file
+//   cycles = 3
 //   [controller]
-//   kind = "pid"                       # pid | fractional
-//   sample_rate_Hz = 1000.0            # > 0, a whole number of steps
-//   v_max_V = 6.0                      # > 0
-//   clamp = true
-//   kp = 8.12; ki = 53.36; kd = 0.61; derivative_filter_s = 0.0     # pid
-//   gain = 15.62; order = 0.62; oustaloup_n = 4; band_rad_s = [1e-3, 1e2]  # fractional
-//   realisation = "oustaloup"          # fractional: oustaloup (K / s^lambda by
-//                                      # Oustaloup on the band) | eq15 (the
-//                                      # paper's printed eq. 15; no gain,
-//                                      # order, oustaloup_n or band_rad_s)
+//   kind = "pid"
 //   [waveform]
-//   kind = "polynomial"                # polynomial | fractional
-//   c0_um = 0.0; c1_um_per_mm = 200.0; c2_um_per_mm2 = 0.0
-//   c_um = 0.0; alpha = 0.5
-//   frequency_Hz = 0.01; wavelength_mm = 32.0
-//   start_ramp_cycles = 0.25           # references fade in over this; [0, cycles]
-//   [fluid]
-//   viscosity_Pa_s = 1e-3              # overrides the model's; > 0
-//   rft_coefficients = "lighthill"     # gray_hancock | lighthill, over the model's
-//   rft_wavelength_mm = 32.0           # in the coefficients; default the wave's
-//   wall_gap_mm = 2.0                  # a wall below the strip's edge; > 0
-//   model = "stokeslets"               # rft | stokeslets (docs/FLUIDS.md)
-//   [metrics]
-//   from_cycle = 2                     # IAE/ITAE, clamp share, mean speed and
-//                                      # powers over cycles 2..cycles; [1, cycles];
-//                                      # default: the first after the start ramp
+//   frequency_Hz = 0.01
 //   [output]
-//   dir = "out/paper"                  # relative to the working directory
-//   samples_per_cycle = 200
+//   dir = "out/paper"                    # relative to the working directory
 #pragma once
 
 #include <optional>

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <cmath>
 #include <cstddef>
 #include <filesystem>
 #include <fstream>
@@ -532,6 +533,42 @@ std::vector<std::string> KeyChoices(const KeySpec& key) {
     start = bar + 1;
   }
   return choices;
+}
+
+namespace {
+
+// "NAME must be RELATION BOUND (got VALUE)", the bound and the value
+// written by `text`.
+template <typename Value, typename Text>
+std::optional<KeyRangeError> OutOfRange(const KeySpec& key, const std::string& name, Value value,
+                                        Value minimum, Value maximum, const Text& text) {
+  const auto error = [&](const char* relation, Value bound) {
+    const std::string allowed = relation + text(bound);
+    return KeyRangeError{name + " must be " + allowed + " (got " + text(value) + ")", allowed};
+  };
+  if (key.lower == Bound::kClosed && !(value >= minimum)) return error(">= ", minimum);
+  if (key.lower == Bound::kOpen && !(value > minimum)) return error("> ", minimum);
+  if (key.upper == Bound::kClosed && !(value <= maximum)) return error("<= ", maximum);
+  if (key.upper == Bound::kOpen && !(value < maximum)) return error("< ", maximum);
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<KeyRangeError> NumberOutOfRange(const KeySpec& key, const std::string& name,
+                                              double value) {
+  if (!std::isfinite(value)) {
+    return KeyRangeError{name + " must be finite (got " + FormatShortest(value) + ")", "finite"};
+  }
+  return OutOfRange(key, name, value, key.minimum, key.maximum,
+                    [](double number) { return FormatShortest(number); });
+}
+
+std::optional<KeyRangeError> IntegerOutOfRange(const KeySpec& key, const std::string& name,
+                                               long long value) {
+  return OutOfRange(key, name, value, static_cast<long long>(key.minimum),
+                    static_cast<long long>(key.maximum),
+                    [](long long number) { return std::to_string(number); });
 }
 
 std::string KeyTypeName(KeyType type) {

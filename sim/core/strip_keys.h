@@ -5,9 +5,9 @@
 // does: the drag's equivalent radius follows the width and thickness
 // ((w + h) / 4), the hinges' stiffness E I / s and the links' mass follow
 // the strip, and each link gets the plant the keys give it (its own
-// plant, not scaled to its length). Unset, the generator's defaults are
-// Table 1's strip (3 mm x 250 um, E = 0.25 GPa, 2000 kg/m^3) and each
-// link the plant its `plants` assignment gives.
+// plant, not scaled to its length). Unset, the generator's defaults hold
+// (Table 1's strip; `ipmc-swim keys` lists them) and each link gets the
+// plant its `plants` assignment gives.
 #pragma once
 
 #include <optional>
