@@ -52,17 +52,18 @@ Key LinkGainKey(const char* name, const char* unit, const char* allowed, const c
 std::vector<KeySpec> CommonKeys() {
   using T = KeyType;
   return {
-      Key(kControllerKind, T::kChoice, "", "\"pid\" or \"fractional\"", "\"pid\"",
+      Key(kControllerKind, T::kChoice, "", "", "\"pid\"",
           "pid: eq. 12 per link; fractional: K / s^lambda per link (eq. 13-15)")
           .Default("\"pid\"")
           .Example("\"fractional\"")
           .Refused("\"lqr\"")
-          .Choices("pid|fractional")
+          .Choices(kControllerKindNames)
           .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.controller = v.Choice() == kPid ? ControllerKind::kPid : ControllerKind::kFractional;
+            c.controller = ChoiceValue(kControllerKindNames, v.Choice());
           })
-          .Writes(
-              [](const ScenarioConfig& c) { return TomlString(IsPid(c) ? kPid : kFractional); }),
+          .Writes([](const ScenarioConfig& c) {
+            return TomlString(ChoiceText(kControllerKindNames, c.controller));
+          }),
       Key(kSampleRateKey, T::kNumber, "Hz", "> 0; a whole number of time steps per sample", "1000",
           "Controller sample rate (the data-acquisition board's)")
           .Default("1000.0")

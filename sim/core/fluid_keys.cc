@@ -27,16 +27,19 @@ std::vector<KeySpec> RftKeys() {
           .Writes([](const ScenarioConfig& c) {
             return c.viscosity_Pa_s ? TomlFloat(*c.viscosity_Pa_s) : kLeftOut;
           }),
-      Key("fluid.rft_coefficients", T::kChoice, "", "\"gray_hancock\" or \"lighthill\"",
-          "the model's `ipmc_rft_coefficients`",
+      Key("fluid.rft_coefficients", T::kChoice, "", "", "the model's `ipmc_rft_coefficients`",
           "RFT drag coefficients (plugin/fluid/rft_drag.h), overriding the model's; either "
           "follows fluid.rft_wavelength_mm")
           .Example("\"lighthill\"")
           .Refused("\"direct\"")
-          .Choices("gray_hancock|lighthill")
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.rft_coefficients = v.Choice(); })
+          .Choices(kRftCoefficientNames)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.rft_coefficients = ChoiceValue(kRftCoefficientNames, v.Choice());
+          })
           .Writes([](const ScenarioConfig& c) {
-            return c.rft_coefficients ? TomlString(*c.rft_coefficients) : kLeftOut;
+            return c.rft_coefficients
+                       ? TomlString(ChoiceText(kRftCoefficientNames, *c.rft_coefficients))
+                       : kLeftOut;
           }),
       Key("fluid.rft_wavelength_mm", T::kNumber, "mm", "finite and > 0", "waveform.wavelength_mm",
           "Wavelength in the Gray-Hancock and Lighthill coefficients, over the model's "
@@ -60,16 +63,20 @@ std::vector<KeySpec> RftKeys() {
           .Writes([](const ScenarioConfig& c) {
             return c.wall_gap_mm ? TomlFloat(*c.wall_gap_mm) : kLeftOut;
           }),
-      Key(kFluidModel, T::kChoice, "", "\"rft\" or \"stokeslets\"", "\"rft\"",
+      Key(kFluidModel, T::kChoice, "", "", "\"rft\"",
           "The fluid model (plugin/fluid/fluid_model.h, docs/FLUIDS.md): local RFT, or "
           "regularized Stokeslets along the segments' centrelines, whose segments interact "
           "(with the wall's image system when fluid.wall_gap_mm is set)")
           .Default("\"rft\"")
           .Example("\"stokeslets\"")
           .Refused("\"bem\"")
-          .Choices("rft|stokeslets")
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.fluid_model = v.Choice(); })
-          .Writes([](const ScenarioConfig& c) { return TomlString(c.fluid_model); }),
+          .Choices(kFluidModelNames)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.fluid_model = ChoiceValue(kFluidModelNames, v.Choice());
+          })
+          .Writes([](const ScenarioConfig& c) {
+            return TomlString(ChoiceText(kFluidModelNames, c.fluid_model));
+          }),
   };
 }
 

@@ -163,11 +163,7 @@ class ScenarioReader {
     const std::string value = String(entry);
     const std::vector<std::string> choices = KeyChoices(Spec(entry.key));
     if (!Contains(choices, value)) {
-      std::string allowed;
-      for (const std::string& choice : choices) {
-        if (!allowed.empty()) allowed += " or ";
-        allowed += Quoted(choice);
-      }
+      const std::string allowed = QuotedChoices(choices);
       FailValue(entry, entry.name + " must be " + allowed + " (got " + Quoted(value) + ")",
                 allowed);
     }

@@ -23,6 +23,8 @@
 #include "controllers/fractional_integrator.h"
 #include "controllers/pid.h"
 #include "plugin/actuators/ipmc_actuators.h"
+#include "plugin/fluid/rft_drag.h"
+#include "sim/core/choice_table.h"
 #include "sim/core/electrical.h"
 #include "sim/core/strip_keys.h"
 #include "sim/core/waveform.h"
@@ -30,6 +32,31 @@
 namespace ipmc {
 
 enum class ControllerKind { kPid, kFractional };
+enum class FluidModel { kRft, kStokeslets };
+
+// The texts of the scenario's choices, each parsed once by its key's
+// reader (sim/core/scenario_keys.cc): a new value is one line here.
+inline constexpr ChoiceName<ControllerKind> kControllerKindNames[] = {
+    {"pid", ControllerKind::kPid},
+    {"fractional", ControllerKind::kFractional},
+};
+inline constexpr ChoiceName<Actuation> kActuationNames[] = {
+    {"distributed", Actuation::kDistributed},
+    {"single", Actuation::kSingle},
+};
+inline constexpr ChoiceName<WaveformKind> kWaveformKindNames[] = {
+    {"polynomial", WaveformKind::kPolynomial},
+    {"fractional", WaveformKind::kFractional},
+};
+// fluid.rft_coefficients: the sets a scenario may choose over the model's.
+inline constexpr ChoiceName<CoefficientModel> kRftCoefficientNames[] = {
+    {"gray_hancock", CoefficientModel::kGrayHancock},
+    {"lighthill", CoefficientModel::kLighthill},
+};
+inline constexpr ChoiceName<FluidModel> kFluidModelNames[] = {
+    {"rft", FluidModel::kRft},
+    {"stokeslets", FluidModel::kStokeslets},
+};
 
 struct ScenarioConfig {
   std::string source;       // the scenario file, for messages
@@ -39,7 +66,7 @@ struct ScenarioConfig {
   std::optional<PlantAssignment> plants;  // over the model's ipmc_plants
   StripConfig strip;  // [strip]: any key generates the model
   PlantConfig plant;  // [plant]: likewise
-  std::string actuation = "distributed";
+  Actuation actuation = Actuation::kDistributed;
   std::optional<Dynamics> dynamics;       // over the model's ipmc_dynamics
   double hinge_damping_scale = 1.0;       // times every joint's damping
   int cycles = 3;
@@ -60,16 +87,16 @@ struct ScenarioConfig {
   // t < T_r = start_ramp_cycles / f, so the run starts without a jump.
   double start_ramp_cycles = 0.25;
   std::optional<double> viscosity_Pa_s;
-  // Over the model's ipmc_rft_coefficients: gray_hancock or lighthill.
-  std::optional<std::string> rft_coefficients;
+  // Over the model's ipmc_rft_coefficients.
+  std::optional<CoefficientModel> rft_coefficients;
   // The wavelength in those coefficients; waveform.wavelength_mm if unset.
   std::optional<double> rft_wavelength_mm;
   // A no-slip wall this far below the strip's lower edge (near-wall RFT,
   // or the Stokeslets' image system).
   std::optional<double> wall_gap_mm;
-  // The fluid model, "rft" or "stokeslets", and the Stokeslets' points
-  // (unset: the defaults of plugin/fluid/fluid_model.h).
-  std::string fluid_model = "rft";
+  // The fluid model and the Stokeslets' points (unset: the defaults of
+  // plugin/fluid/fluid_model.h).
+  FluidModel fluid_model = FluidModel::kRft;
   int stokeslet_width_points = 1;  // across the strip's width; 1: the centreline
   std::optional<double> stokeslet_points_per_mm, stokeslet_blob_mm;
   double stokeslet_shape_tolerance_rad = 1e-3;

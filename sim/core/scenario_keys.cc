@@ -211,14 +211,18 @@ std::vector<KeySpec> ModelKeys() {
 std::vector<KeySpec> RunKeys() {
   using T = KeyType;
   return {
-      Key("actuation", T::kChoice, "", "\"distributed\" or \"single\"", "\"distributed\"",
+      Key("actuation", T::kChoice, "", "", "\"distributed\"",
           "distributed: one controller and voltage per link; single: only link 1 is driven")
           .Default("\"distributed\"")
           .Example("\"single\"")
           .Refused("\"none\"")
-          .Choices("distributed|single")
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.actuation = v.Choice(); })
-          .Writes([](const ScenarioConfig& c) { return TomlString(c.actuation); }),
+          .Choices(kActuationNames)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.actuation = ChoiceValue(kActuationNames, v.Choice());
+          })
+          .Writes([](const ScenarioConfig& c) {
+            return TomlString(ChoiceText(kActuationNames, c.actuation));
+          }),
       Key("dynamics", T::kChoice, "", "\"inertial\" or \"stokes\"",
           "the model's `ipmc_dynamics` (inertial if absent)",
           "inertial: mj_step with the bodies' inertia; stokes: no inertia, velocities from the "
@@ -263,19 +267,17 @@ std::vector<KeySpec> RunKeys() {
 std::vector<KeySpec> WaveformKeys() {
   using T = KeyType;
   return {
-      Key(kWaveformKind, T::kChoice, "", "\"polynomial\" or \"fractional\"", "\"polynomial\"",
+      Key(kWaveformKind, T::kChoice, "", "", "\"polynomial\"",
           "polynomial: eq. 2 with Table 4's envelope; fractional: the envelope c x^alpha (eq. 3)")
           .Default("\"polynomial\"")
           .Example("\"fractional\"")
           .Refused("\"sine\"")
-          .Choices("polynomial|fractional")
+          .Choices(kWaveformKindNames)
           .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.waveform.kind =
-                v.Choice() == kPolynomial ? WaveformKind::kPolynomial : WaveformKind::kFractional;
+            c.waveform.kind = ChoiceValue(kWaveformKindNames, v.Choice());
           })
           .Writes([](const ScenarioConfig& c) {
-            return TomlString(c.waveform.kind == WaveformKind::kPolynomial ? kPolynomial
-                                                                           : kFractional);
+            return TomlString(ChoiceText(kWaveformKindNames, c.waveform.kind));
           }),
       Key("waveform.c0_um", T::kNumber, "um", "finite", "0", "Polynomial: envelope c0")
           .Default("0.0")
@@ -569,6 +571,14 @@ std::optional<KeyRangeError> IntegerOutOfRange(const KeySpec& key, const std::st
   return OutOfRange(key, name, value, static_cast<long long>(key.minimum),
                     static_cast<long long>(key.maximum),
                     [](long long number) { return std::to_string(number); });
+}
+
+std::string QuotedChoices(const std::vector<std::string>& choices) {
+  std::string text;
+  for (const std::string& choice : choices) {
+    text += (text.empty() ? "\"" : " or \"") + choice + "\"";
+  }
+  return text;
 }
 
 std::string KeyTypeName(KeyType type) {

@@ -83,7 +83,7 @@ struct KeySpec {
   const char* name;     // dotted: "controller.kp"
   KeyType type;
   const char* unit;     // "" for none
-  const char* allowed;  // the allowed range or values, as messages state it
+  std::string allowed;  // the allowed range or values, as messages state it
   const char* default_text;  // the default as documented (a TOML value or words)
   const char* meaning;
   // A TOML value equal to the default ("" if the default is not a value,
@@ -102,7 +102,9 @@ struct KeySpec {
   // ("controller.kind = \"fractional\""), from `only` where a selector's
   // value is not its default; "" if it applies by default.
   std::string applies_when;
-  const char* choices = "";  // kChoice: "pid|fractional"
+  // kChoice: "pid|fractional", from the choice's table (sim/core/choice_table.h)
+  // or, for a choice the plugin parses, as the plugin spells it.
+  std::string choices;
   // Bounds of numbers (each element of a kNumberArray), checked by
   // NumberOutOfRange / IntegerOutOfRange; kNone: unbounded there, or checked by a Config's Validate()
   // (the allowed text states it).
@@ -141,6 +143,8 @@ std::string SelectorValue(const std::string& selector, const ScenarioConfig& con
 const KeyCondition* FailedCondition(const KeySpec& key, const ScenarioConfig& config);
 // The choices of a kChoice key.
 std::vector<std::string> KeyChoices(const KeySpec& key);
+// The choices as a message states them: "\"rft\" or \"stokeslets\"".
+std::string QuotedChoices(const std::vector<std::string>& choices);
 
 // A value outside its key's range: the one-line message ("NAME must be >=
 // 0 (got -1)") and the allowed range (">= 0").
