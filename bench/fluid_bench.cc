@@ -33,8 +33,8 @@ void BM_PaperCycle(benchmark::State& state) {
   ScenarioConfig scenario = LoadScenario(kPaperScenario);
   scenario.cycles = 1;
   scenario.output_dir.clear();
-  if (state.range(0) == 1) scenario.fluid_model = "stokeslets";
-  if (state.range(0) == 2) scenario.fluid_model = "ribbon";
+  if (state.range(0) == 1) scenario.fluid_model = FluidModel::kStokeslets;
+  if (state.range(0) == 2) scenario.fluid_model = FluidModel::kRibbon;
   if (state.range(1) == 1) scenario.dynamics = Dynamics::kStokes;
   if (state.range(2) == 1) scenario.wall_gap_mm = 1.0;
   if (state.range(2) == 2) scenario.stokeslet_shape_tolerance_rad = 0.0;

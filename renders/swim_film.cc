@@ -458,7 +458,7 @@ std::vector<std::array<std::string, 2>> ClosedLoopOverlayRows(const ScenarioConf
   } else {
     std::snprintf(controller + n, sizeof(controller) - n, ", no clamp");
   }
-  return {{"controller", controller}, {"actuation", scenario.actuation}};
+  return {{"controller", controller}, {"actuation", ChoiceText(kActuationNames, scenario.actuation)}};
 }
 
 }  // namespace ipmc

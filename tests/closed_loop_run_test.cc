@@ -22,7 +22,7 @@ ScenarioConfig PaperScenario(ControllerKind controller, const std::string& actua
   ScenarioConfig scenario;
   scenario.source = "test scenario";
   scenario.model_path = std::string(IPMC_SWIM_SOURCE_DIR) + "/models/flagellum3.xml";
-  scenario.actuation = actuation;
+  scenario.actuation = ChoiceValue(kActuationNames, actuation);
   scenario.cycles = cycles;
   scenario.timestep_s = 5e-4;
   scenario.controller = controller;

@@ -14,7 +14,7 @@ namespace {
 // Three driven links well inside every limit.
 ClosedLoopResult Clean() {
   ClosedLoopResult result;
-  result.actuation = "distributed";
+  result.actuation = Actuation::kDistributed;
   result.links.resize(3);
   for (LinkTracking& link : result.links) {
     link.max_abs_reference_mm = 5.0;
@@ -60,7 +60,7 @@ TEST(RunWarningsTest, EachCheckFailsJustAboveItsLimitOnly) {
   result.links[0].max_abs_error_mm = 5.001;
   EXPECT_EQ(Failed(result), only(2));
   // A passive link of single actuation tracks nothing: no warning.
-  result.actuation = "single";
+  result.actuation = Actuation::kSingle;
   result.links[0].max_abs_error_mm = 0.01;
   result.links[1].max_abs_error_mm = 50.0;
   result.links[1].clamped_fraction = 1.0;

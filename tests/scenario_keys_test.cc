@@ -12,12 +12,14 @@
 #include <string>
 
 #include "sim/core/data_paths.h"
+#include "sim/core/key_builder.h"
 #include "sim/core/keys_command.h"
 #include "sim/core/scenario.h"
 #include "sim/core/scenario_keys.h"
 #include "plugin/base/error.h"
 #include "plugin/base/numbers.h"
 #include "sim/io/toml.h"
+#include "sim/optimize/optimize_file.h"
 
 namespace ipmc {
 namespace {
@@ -142,6 +144,36 @@ TEST(ScenarioKeysTest, BoundsInTheTableAreTheReadersBounds) {
     if (std::string(key.name) == "controller.sample_rate_Hz") continue;  // 1e-12 Hz: no whole steps
     EXPECT_NO_THROW(ParseScenario(ScenarioWith(key, accepted.str()), Source()));
   }
+}
+
+// One range check (NumberOutOfRange) for scenario files and for an
+// optimisation's designs (DesignScenario): a value outside a key's lower
+// bound is refused by both, with the same message.
+TEST(ScenarioKeysTest, ScenarioFilesAndDesignsShareTheRangeCheck) {
+  int compared = 0;
+  for (const KeySpec& key : ScenarioKeys()) {
+    if (key.type != KeyType::kNumber || key.lower == Bound::kNone || key.read == nullptr) continue;
+    SCOPED_TRACE(key.name);
+    const double refused = key.lower == Bound::kOpen ? key.minimum : key.minimum - 1.0;
+    std::string from_file, from_design;
+    try {
+      ParseScenario(ScenarioWith(key, FloatText(refused)), Source());
+    } catch (const InputError& error) {
+      from_file = error.message();
+    }
+    const ScenarioConfig base = ParseScenario(ScenarioWithout(key), Source());
+    DesignKey design;
+    design.name = design.key = key.name;
+    try {
+      DesignScenario(base, {design}, {refused});
+    } catch (const InputError& error) {
+      from_design = error.message();
+    }
+    EXPECT_NE(from_file.find(" must be "), std::string::npos) << from_file;
+    EXPECT_EQ(from_design, from_file);
+    ++compared;
+  }
+  EXPECT_GE(compared, 20);
 }
 
 TEST(ScenarioKeysTest, TheReaderAllowsExactlyTheTablesKeys) {

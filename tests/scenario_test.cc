@@ -58,7 +58,7 @@ TEST(ScenarioTest, PaperScenarioHasThePapersValues) {
   const ScenarioConfig config = LoadScenario(path);
   EXPECT_EQ(config.source, path);
   EXPECT_EQ(fs::path(config.model_path), fs::canonical(kSourceDir / "models" / "flagellum3.xml"));
-  EXPECT_EQ(config.actuation, "distributed");
+  EXPECT_EQ(config.actuation, Actuation::kDistributed);
   EXPECT_EQ(config.cycles, 3);
   ASSERT_TRUE(config.timestep_s.has_value());
   EXPECT_DOUBLE_EQ(*config.timestep_s, 5e-4);
@@ -89,7 +89,7 @@ TEST(ScenarioTest, PaperFractionalScenarioHasEquation15) {
   const ScenarioConfig config =
       LoadScenario((kSourceDir / "scenarios" / "paper_fractional.toml").string());
   EXPECT_EQ(fs::path(config.model_path), fs::canonical(kSourceDir / "models" / "flagellum3.xml"));
-  EXPECT_EQ(config.actuation, "distributed");
+  EXPECT_EQ(config.actuation, Actuation::kDistributed);
   EXPECT_EQ(config.cycles, 3);
   ASSERT_TRUE(config.timestep_s.has_value());
   EXPECT_DOUBLE_EQ(*config.timestep_s, 5e-4);
@@ -113,7 +113,7 @@ TEST_F(ScenarioErrorTest, OnlyTheModelGivesTheDefaults) {
   const ScenarioConfig config = Parse(kModelLine);
   EXPECT_EQ(config.source, source_);
   EXPECT_EQ(config.model_path, (dir_ / "m.xml").string());
-  EXPECT_EQ(config.actuation, "distributed");
+  EXPECT_EQ(config.actuation, Actuation::kDistributed);
   EXPECT_EQ(config.cycles, 3);
   EXPECT_FALSE(config.timestep_s.has_value());
   EXPECT_EQ(config.controller, ControllerKind::kPid);
@@ -307,7 +307,7 @@ TEST_F(ScenarioErrorTest, EnumsListTheChoices) {
               ":3: controller.kind must be \"pid\" or \"fractional\" (got \"PID\")");
   ExpectError(model + "[waveform]\nkind = \"sine\"\n",
               ":3: waveform.kind must be \"polynomial\" or \"fractional\" (got \"sine\")");
-  EXPECT_EQ(Parse(model + "actuation = \"single\"\n").actuation, "single");
+  EXPECT_EQ(Parse(model + "actuation = \"single\"\n").actuation, Actuation::kSingle);
 }
 
 TEST_F(ScenarioErrorTest, KeysOfTheOtherKindAreRejected) {

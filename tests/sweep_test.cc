@@ -92,7 +92,7 @@ TEST_F(SweepTest, GridRunsInFileOrderWithTheLastKeyFastest) {
   EXPECT_EQ(plan.points[7].values, (std::vector<std::string>{"1", "distributed", "4"}));
   const ScenarioConfig& last = *plan.points[7].scenario;
   EXPECT_EQ(last.waveform.frequency_Hz, 1.0);
-  EXPECT_EQ(last.actuation, "distributed");
+  EXPECT_EQ(last.actuation, Actuation::kDistributed);
   EXPECT_EQ(last.pid.kp, 4.0);
   EXPECT_EQ(last.pid.ki, 53.36);  // the rest is the base's
   EXPECT_EQ(last.cycles, 1);

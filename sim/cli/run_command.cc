@@ -12,7 +12,7 @@ namespace {
 
 void PrintClosedLoopResult(const ClosedLoopResult& r) {
   std::printf("%s controller, %s actuation, wave period %.6g s, time step %.3g s\n",
-              r.controller.c_str(), r.actuation.c_str(), r.period_s, r.timestep_s);
+              r.controller.c_str(), ChoiceText(kActuationNames, r.actuation), r.period_s, r.timestep_s);
   PrintMetricCycles(r);
   std::printf("%4s %12s %14s %16s %20s %13s %16s\n", "link", "iae_mm_s", "itae_mm_s2",
               "max_abs_error_mm", "max_abs_reference_mm", "rms_voltage_V", "clamped_fraction");

@@ -3,10 +3,12 @@
 // text a resolved scenario writes for a value.
 #pragma once
 
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "sim/core/choice_table.h"
 #include "sim/core/scenario_keys.h"
 
 namespace ipmc {
@@ -51,8 +53,18 @@ class Key {
     spec_.write = write;
     return *this;
   }
+  // A choice whose text the plugin or the controllers parse
+  // (ParsePlantAssignment, ...): "uniform|table2".
   Key& Choices(const char* choices) {
     spec_.choices = choices;
+    return *this;
+  }
+  // A choice parsed by the scenario: its values and allowed text from its
+  // table (sim/core/choice_table.h), where adding a value is one line.
+  template <typename Enum, std::size_t N>
+  Key& Choices(const ChoiceName<Enum> (&table)[N]) {
+    spec_.choices = ChoiceTexts(table);
+    spec_.allowed = QuotedChoices(KeyChoices(spec_));
     return *this;
   }
   Key& Above(double minimum) { return Lower(Bound::kOpen, minimum); }

@@ -138,35 +138,12 @@ class ScenarioReader {
          expected);
   }
 
-  // A finite number; integers are accepted.
-  double Number(const Entry& entry) const {
-    if (!entry.node->is_number()) FailType(entry, "a number");
-    const double value = entry.node->is_integer()
-                             ? static_cast<double>(entry.node->as_integer()->get())
-                             : entry.node->as_floating_point()->get();
-    if (!std::isfinite(value)) {
-      FailValue(entry, entry.name + " must be finite (got " + FormatShortest(value) + ")",
-                "finite");
-    }
-    return value;
-  }
-
-  // An integer in the key's bounds.
+  // An integer in the key's range (IntegerOutOfRange, sim/core/scenario_keys.h).
   int Integer(const Entry& entry) const {
     if (!entry.node->is_integer()) FailType(entry, "an integer");
-    const KeySpec& spec = Spec(entry.key);
-    const std::int64_t minimum = static_cast<std::int64_t>(spec.minimum);
-    const std::int64_t maximum = static_cast<std::int64_t>(spec.maximum);
     const std::int64_t value = entry.node->as_integer()->get();
-    if (value < minimum) {
-      FailValue(entry, entry.name + " must be >= " + std::to_string(minimum) + " (got " +
-                           std::to_string(value) + ")",
-                ">= " + std::to_string(minimum));
-    }
-    if (value > maximum) {
-      FailValue(entry, entry.name + " must be <= " + std::to_string(maximum) + " (got " +
-                           std::to_string(value) + ")",
-                "<= " + std::to_string(maximum));
+    if (const auto error = IntegerOutOfRange(Spec(entry.key), entry.name, value)) {
+      FailValue(entry, error->message, error->allowed);
     }
     return static_cast<int>(value);
   }
@@ -186,11 +163,7 @@ class ScenarioReader {
     const std::string value = String(entry);
     const std::vector<std::string> choices = KeyChoices(Spec(entry.key));
     if (!Contains(choices, value)) {
-      std::string allowed;
-      for (const std::string& choice : choices) {
-        if (!allowed.empty()) allowed += " or ";
-        allowed += Quoted(choice);
-      }
+      const std::string allowed = QuotedChoices(choices);
       FailValue(entry, entry.name + " must be " + allowed + " (got " + Quoted(value) + ")",
                 allowed);
     }
@@ -204,29 +177,17 @@ class ScenarioReader {
     return entry->node->as_table();
   }
 
-  // A number within the key's bounds in the key table.
+  // A finite number in the key's range (NumberOutOfRange); integers are
+  // accepted.
   double Bounded(const Entry& entry) const {
-    const double value = Number(entry);
-    const KeySpec& spec = Spec(entry.key);
-    if (spec.lower == Bound::kClosed && !(value >= spec.minimum)) {
-      FailBound(entry, value, ">= ", spec.minimum);
-    }
-    if (spec.lower == Bound::kOpen && !(value > spec.minimum)) {
-      FailBound(entry, value, "> ", spec.minimum);
-    }
-    if (spec.upper == Bound::kClosed && !(value <= spec.maximum)) {
-      FailBound(entry, value, "<= ", spec.maximum);
-    }
-    if (spec.upper == Bound::kOpen && !(value < spec.maximum)) {
-      FailBound(entry, value, "< ", spec.maximum);
+    if (!entry.node->is_number()) FailType(entry, "a number");
+    const double value = entry.node->is_integer()
+                             ? static_cast<double>(entry.node->as_integer()->get())
+                             : entry.node->as_floating_point()->get();
+    if (const auto error = NumberOutOfRange(Spec(entry.key), entry.name, value)) {
+      FailValue(entry, error->message, error->allowed);
     }
     return value;
-  }
-  [[noreturn]] void FailBound(const Entry& entry, double value, const std::string& relation,
-                              double bound) const {
-    const std::string allowed = relation + FormatShortest(bound);
-    FailValue(entry, entry.name + " must be " + allowed + " (got " + FormatShortest(value) + ")",
-              allowed);
   }
 
   // The value of dotted `key` in the document, if it is there.

@@ -1,57 +1,19 @@
 // A scenario file (TOML) describes one closed-loop run: model, actuation,
-// controller, waveform, duration, fluid and outputs. Every key is
-// optional except model; unknown keys, wrong types and out-of-range values
-// are errors naming the file, key and line. The key table with types,
-// units, ranges and defaults is sim/core/scenario_keys.h (`ipmc-swim keys`,
-// docs/SCENARIO_KEYS.md); in short:
+// controller, waveform, duration, fluid, metrics and outputs. Every key is
+// optional except model (or a generated flagellum); unknown keys, wrong
+// types and out-of-range values are errors naming the file, key and line.
+// The keys, with their types, units, ranges, defaults and meanings, are
+// the key table of sim/core/scenario_keys.h, and only there: `ipmc-swim
+// keys` prints it and docs/SCENARIO_KEYS.md is its Markdown form. E.g.
 //
-//   model = "models/flagellum3.xml"    # relative to the scenario file
-//   link_lengths_mm = [8, 10, 12]      # instead: the generated flagellum with
-//                                      # these links (1-20, > 0) and the
-//                                      # generator's other defaults; wins
-//                                      # over model
-//   segments_per_link = 4              # rigid sub-segments per link, [1, 31] on
-//                                      # three links (MuJoCo's nesting limit);
-//                                      # also generates the flagellum (links
-//                                      # of 10 mm unless link_lengths_mm)
-//   plants = "uniform"                 # uniform | table2, over the model's
-//                                      # ipmc_plants (plugin/actuators/ipmc_actuators.h)
-//   actuation = "distributed"          # distributed | single
-//   dynamics = "stokes"                # inertial | stokes, over the model's
-//                                      # ipmc_dynamics (plugin/fluid/stokes_step.h)
-//   hinge_damping_scale = 1.0          # times the joints' damping; >= 0
-//   cycles = 3                         # >= 1
-//   timestep_s = 5e-4                  # overrides the model's step; (0, 1e-3]
+//   model = "../models/flagellum3.xml"   # relative to the scenario file
+//   cycles = 3
 //   [controller]
-//   kind = "pid"                       # pid | fractional
-//   sample_rate_Hz = 1000.0            # > 0, a whole number of steps
-//   v_max_V = 6.0                      # > 0
-//   clamp = true
-//   kp = 8.12; ki = 53.36; kd = 0.61; derivative_filter_s = 0.0     # pid
-//   gain = 15.62; order = 0.62; oustaloup_n = 4; band_rad_s = [1e-3, 1e2]  # fractional
-//   realisation = "oustaloup"          # fractional: oustaloup (K / s^lambda by
-//                                      # Oustaloup on the band) | eq15 (the
-//                                      # paper's printed eq. 15; no gain,
-//                                      # order, oustaloup_n or band_rad_s)
+//   kind = "pid"
 //   [waveform]
-//   kind = "polynomial"                # polynomial | fractional
-//   c0_um = 0.0; c1_um_per_mm = 200.0; c2_um_per_mm2 = 0.0
-//   c_um = 0.0; alpha = 0.5
-//   frequency_Hz = 0.01; wavelength_mm = 32.0
-//   start_ramp_cycles = 0.25           # references fade in over this; [0, cycles]
-//   [fluid]
-//   viscosity_Pa_s = 1e-3              # overrides the model's; > 0
-//   rft_coefficients = "lighthill"     # gray_hancock | lighthill, over the model's
-//   rft_wavelength_mm = 32.0           # in the coefficients; default the wave's
-//   wall_gap_mm = 2.0                  # a wall below the strip's edge; > 0
-//   model = "stokeslets"               # rft | stokeslets (docs/FLUIDS.md)
-//   [metrics]
-//   from_cycle = 2                     # IAE/ITAE, clamp share, mean speed and
-//                                      # powers over cycles 2..cycles; [1, cycles];
-//                                      # default: the first after the start ramp
+//   frequency_Hz = 0.01
 //   [output]
-//   dir = "out/paper"                  # relative to the working directory
-//   samples_per_cycle = 200
+//   dir = "out/paper"                    # relative to the working directory
 #pragma once
 
 #include <optional>
@@ -61,6 +23,8 @@
 #include "controllers/fractional_integrator.h"
 #include "controllers/pid.h"
 #include "plugin/actuators/ipmc_actuators.h"
+#include "plugin/fluid/rft_drag.h"
+#include "sim/core/choice_table.h"
 #include "sim/core/electrical.h"
 #include "sim/core/strip_keys.h"
 #include "sim/core/waveform.h"
@@ -68,6 +32,32 @@
 namespace ipmc {
 
 enum class ControllerKind { kPid, kFractional };
+enum class FluidModel { kRft, kStokeslets, kRibbon };
+
+// The texts of the scenario's choices, each parsed once by its key's
+// reader (sim/core/scenario_keys.cc): a new value is one line here.
+inline constexpr ChoiceName<ControllerKind> kControllerKindNames[] = {
+    {"pid", ControllerKind::kPid},
+    {"fractional", ControllerKind::kFractional},
+};
+inline constexpr ChoiceName<Actuation> kActuationNames[] = {
+    {"distributed", Actuation::kDistributed},
+    {"single", Actuation::kSingle},
+};
+inline constexpr ChoiceName<WaveformKind> kWaveformKindNames[] = {
+    {"polynomial", WaveformKind::kPolynomial},
+    {"fractional", WaveformKind::kFractional},
+};
+// fluid.rft_coefficients: the sets a scenario may choose over the model's.
+inline constexpr ChoiceName<CoefficientModel> kRftCoefficientNames[] = {
+    {"gray_hancock", CoefficientModel::kGrayHancock},
+    {"lighthill", CoefficientModel::kLighthill},
+};
+inline constexpr ChoiceName<FluidModel> kFluidModelNames[] = {
+    {"rft", FluidModel::kRft},
+    {"stokeslets", FluidModel::kStokeslets},
+    {"ribbon", FluidModel::kRibbon},
+};
 
 struct ScenarioConfig {
   std::string source;       // the scenario file, for messages
@@ -77,7 +67,7 @@ struct ScenarioConfig {
   std::optional<PlantAssignment> plants;  // over the model's ipmc_plants
   StripConfig strip;  // [strip]: any key generates the model
   PlantConfig plant;  // [plant]: likewise
-  std::string actuation = "distributed";
+  Actuation actuation = Actuation::kDistributed;
   std::optional<Dynamics> dynamics;       // over the model's ipmc_dynamics
   double hinge_damping_scale = 1.0;       // times every joint's damping
   int cycles = 3;
@@ -98,16 +88,16 @@ struct ScenarioConfig {
   // t < T_r = start_ramp_cycles / f, so the run starts without a jump.
   double start_ramp_cycles = 0.25;
   std::optional<double> viscosity_Pa_s;
-  // Over the model's ipmc_rft_coefficients: gray_hancock or lighthill.
-  std::optional<std::string> rft_coefficients;
+  // Over the model's ipmc_rft_coefficients.
+  std::optional<CoefficientModel> rft_coefficients;
   // The wavelength in those coefficients; waveform.wavelength_mm if unset.
   std::optional<double> rft_wavelength_mm;
   // A no-slip wall this far below the strip's lower edge (near-wall RFT,
   // or the Stokeslets' image system).
   std::optional<double> wall_gap_mm;
-  // The fluid model, "rft", "stokeslets" or "ribbon", and the Stokeslets' points
-  // (unset: the defaults of plugin/fluid/fluid_model.h).
-  std::string fluid_model = "rft";
+  // The fluid model and the Stokeslets' points (unset: the defaults of
+  // plugin/fluid/fluid_model.h).
+  FluidModel fluid_model = FluidModel::kRft;
   int stokeslet_width_points = 1;  // across the strip's width; 1: the centreline
   std::optional<double> stokeslet_points_per_mm, stokeslet_blob_mm;
   double stokeslet_shape_tolerance_rad = 1e-3;

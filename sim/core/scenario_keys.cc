@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <cmath>
 #include <cstddef>
 #include <filesystem>
 #include <fstream>
@@ -12,13 +13,12 @@
 #include <string>
 
 #include "controllers/controller_names.h"
-#include "controllers/fractional_integrator.h"
 #include "plugin/actuators/ipmc_actuators.h"
 #include "plugin/base/numbers.h"
-#include "plugin/fluid/regularized_stokeslets.h"
-#include "plugin/fluid/ribbon_fluid.h"
-#include "sim/core/model_generator.h"
+#include "sim/core/controller_keys.h"
+#include "sim/core/fluid_keys.h"
 #include "sim/core/key_builder.h"
+#include "sim/core/model_generator.h"
 #include "sim/core/scenario.h"
 #include "sim/core/strip_keys.h"
 
@@ -46,20 +46,11 @@ std::optional<std::string> TomlInteger(int value) { return std::to_string(value)
 namespace {
 
 // Selectors and the values they choose between.
-constexpr char kControllerKind[] = "controller.kind";
-constexpr char kFluidModel[] = "fluid.model";
-constexpr char kStokeslets[] = "stokeslets";
-constexpr char kRibbon[] = "ribbon";
-constexpr char kRealisation[] = "controller.realisation";
 constexpr char kWaveformKind[] = "waveform.kind";
-constexpr const char* kPid = controller_names::kPid;
-// The controller kind, and the waveform kind spelt the same.
+// The waveform kind spelt as the controller kind.
 constexpr const char* kFractional = controller_names::kFractional;
-constexpr char kOustaloup[] = "oustaloup";
 constexpr char kPolynomial[] = "polynomial";
 constexpr int kMaxLinks = 20;
-
-bool IsPid(const ScenarioConfig& config) { return config.controller == ControllerKind::kPid; }
 
 // The model, resolved against the scenario file's folder; it must be a
 // readable file.
@@ -92,24 +83,6 @@ void ReadLinkLengths(const KeyValue& value, ScenarioConfig& config) {
   for (std::size_t i = 0; i < count; ++i) config.link_lengths_mm.push_back(value.NumberAt(i));
 }
 
-// Oustaloup's band [w_b, w_h], 0 < w_b < w_h.
-void ReadBand(const KeyValue& value, ScenarioConfig& config) {
-  const std::string expected = "an array of two numbers [w_b, w_h]";
-  const std::size_t count = value.ArraySize(expected);
-  if (count != 2) {
-    value.Fail(value.name() + " must be " + expected + " (got " + std::to_string(count) + ")",
-               "two numbers [w_b, w_h]");
-  }
-  const double low = value.NumberAt(0), high = value.NumberAt(1);
-  if (!(low < high)) {
-    value.Fail(value.name() + " must have w_b < w_h (got [" + FormatShortest(low) + ", " +
-                   FormatShortest(high) + "])",
-               "w_b < w_h");
-  }
-  config.fractional.w_low_rad_s = low;
-  config.fractional.w_high_rad_s = high;
-}
-
 // The references' fade-in, in [0, cycles] wave periods (cycles is read
 // before: it comes first in the table).
 void ReadStartRamp(const KeyValue& value, ScenarioConfig& config) {
@@ -139,15 +112,6 @@ KeySpec ElectricalKey(const char* name, const char* unit, const char* default_to
       });
 }
 
-// controller.link_*: one gain per link overriding controller.<scalar> for
-// that link; each value in the scalar key's range.
-template <std::vector<double> ScenarioConfig::LinkGains::*kField>
-Key LinkGainKey(const char* name, const char* unit, const char* allowed, const char* meaning,
-                const char* example_toml) {
-  return PerLinkKey<ScenarioConfig::LinkGains, &ScenarioConfig::link_gains, kField>(
-      name, unit, allowed, meaning, example_toml);
-}
-
 // applies_when of every key: its conditions whose value is not the
 // selector's default, as TOML lines.
 void WriteAppliesWhen(std::vector<KeySpec>* keys) {
@@ -164,11 +128,10 @@ void WriteAppliesWhen(std::vector<KeySpec>* keys) {
   }
 }
 
-std::vector<KeySpec> MakeScenarioKeys() {
+// The model: its file, or the flagellum generated in its place, and its plants.
+std::vector<KeySpec> ModelKeys() {
   using T = KeyType;
-  static_assert(kMaxSegmentsPerLink == 64 && kMaxOustaloupPairs == 64,
-                "the allowed ranges below state these limits");
-  std::vector<KeySpec> keys = {
+  return {
       // Read before the others (sim/core/scenario.cc, WithIncludes): the
       // document is its included files' keys with its own over them.
       Key(kIncludeKey, T::kString, "",
@@ -241,14 +204,25 @@ std::vector<KeySpec> MakeScenarioKeys() {
           .Writes([](const ScenarioConfig& c) {
             return c.plants ? TomlString(PlantAssignmentName(*c.plants)) : kLeftOut;
           }),
-      Key("actuation", T::kChoice, "", "\"distributed\" or \"single\"", "\"distributed\"",
+  };
+}
+
+// How the run drives and steps the model, and for how long.
+std::vector<KeySpec> RunKeys() {
+  using T = KeyType;
+  return {
+      Key("actuation", T::kChoice, "", "", "\"distributed\"",
           "distributed: one controller and voltage per link; single: only link 1 is driven")
           .Default("\"distributed\"")
           .Example("\"single\"")
           .Refused("\"none\"")
-          .Choices("distributed|single")
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.actuation = v.Choice(); })
-          .Writes([](const ScenarioConfig& c) { return TomlString(c.actuation); }),
+          .Choices(kActuationNames)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.actuation = ChoiceValue(kActuationNames, v.Choice());
+          })
+          .Writes([](const ScenarioConfig& c) {
+            return TomlString(ChoiceText(kActuationNames, c.actuation));
+          }),
       Key("dynamics", T::kChoice, "", "\"inertial\" or \"stokes\"",
           "the model's `ipmc_dynamics` (inertial if absent)",
           "inertial: mj_step with the bodies' inertia; stokes: no inertia, velocities from the "
@@ -286,190 +260,24 @@ std::vector<KeySpec> MakeScenarioKeys() {
           .Writes([](const ScenarioConfig& c) {
             return c.timestep_s ? TomlFloat(*c.timestep_s) : kLeftOut;
           }),
-      Key(kControllerKind, T::kChoice, "", "\"pid\" or \"fractional\"", "\"pid\"",
-          "pid: eq. 12 per link; fractional: K / s^lambda per link (eq. 13-15)")
-          .Default("\"pid\"")
-          .Example("\"fractional\"")
-          .Refused("\"lqr\"")
-          .Choices("pid|fractional")
-          .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.controller = v.Choice() == kPid ? ControllerKind::kPid : ControllerKind::kFractional;
-          })
-          .Writes(
-              [](const ScenarioConfig& c) { return TomlString(IsPid(c) ? kPid : kFractional); }),
-      Key(kSampleRateKey, T::kNumber, "Hz", "> 0; a whole number of time steps per sample", "1000",
-          "Controller sample rate (the data-acquisition board's)")
-          .Default("1000.0")
-          .Refused("0")
-          .Above(0.0)
-          .Fields("sample_period_s")
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.sample_rate_Hz = v.Number(); })
-          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.sample_rate_Hz); }),
-      Key("controller.v_max_V", T::kNumber, "V", "> 0", "6", "Output voltage limit")
-          .Default("6.0")
-          .Refused("0")
-          .Above(0.0)
-          .Fields("v_max")
-          .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.pid.v_max = c.fractional.v_max = v.Number();
-          })
-          .Writes([](const ScenarioConfig& c) {
-            return TomlFloat(IsPid(c) ? c.pid.v_max : c.fractional.v_max);
-          }),
-      Key("controller.clamp", T::kBoolean, "", "true or false", "true",
-          "Clamp the output to +-v_max_V with anti-windup; false: the linear loop")
-          .Default("true")
-          .Example("false")
-          .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.pid.clamp_enabled = c.fractional.clamp_enabled = v.Boolean();
-          })
-          .Writes([](const ScenarioConfig& c) {
-            return TomlBool(IsPid(c) ? c.pid.clamp_enabled : c.fractional.clamp_enabled);
-          }),
-      Key("controller.kp", T::kNumber, "V/mm", ">= 0", "8.12", "PID: proportional gain Kp")
-          .Default("8.12")
-          .Refused("-1")
-          .AtLeast(0.0)
-          .Only(kControllerKind, kPid)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.pid.kp = v.Number(); })
-          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.pid.kp); }),
-      Key("controller.ki", T::kNumber, "V/(mm s)", ">= 0", "53.36", "PID: integral gain Ki")
-          .Default("53.36")
-          .Refused("-1")
-          .AtLeast(0.0)
-          .Only(kControllerKind, kPid)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.pid.ki = v.Number(); })
-          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.pid.ki); }),
-      Key("controller.kd", T::kNumber, "V s/mm", ">= 0", "0.61", "PID: derivative gain Kd")
-          .Default("0.61")
-          .Refused("-1")
-          .AtLeast(0.0)
-          .Only(kControllerKind, kPid)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.pid.kd = v.Number(); })
-          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.pid.kd); }),
-      LinkGainKey<&ScenarioConfig::LinkGains::kp>(
-          "controller.link_kp", "V/mm", "each >= 0",
-          "One Kp per link, in order, over controller.kp (set by an optimisation that retunes "
-          "each design's controllers)",
-          "[10.3, 2.6, 1.2]")
-          .Refused("[1, -1, 1]")
-          .AtLeast(0.0)
-          .Only(kControllerKind, kPid),
-      LinkGainKey<&ScenarioConfig::LinkGains::ki>(
-          "controller.link_ki", "V/(mm s)", "each >= 0",
-          "One Ki per link, in order, over controller.ki (set by an optimisation that retunes "
-          "each design's controllers)",
-          "[36, 9, 4]")
-          .Refused("[1, -1, 1]")
-          .AtLeast(0.0)
-          .Only(kControllerKind, kPid),
-      LinkGainKey<&ScenarioConfig::LinkGains::kd>(
-          "controller.link_kd", "V s/mm", "each >= 0",
-          "One Kd per link, in order, over controller.kd (set by an optimisation that retunes "
-          "each design's controllers)",
-          "[0.57, 0.14, 0.06]")
-          .Refused("[1, -1, 1]")
-          .AtLeast(0.0)
-          .Only(kControllerKind, kPid),
-      Key("controller.derivative_filter_s", T::kNumber, "s", ">= 0", "0",
-          "PID: derivative filter time constant Tf (0: the ideal derivative)")
-          .Default("0.0")
-          .Example("0.01")
-          .Refused("-1")
-          .AtLeast(0.0)
-          .Only(kControllerKind, kPid)
-          .Fields("derivative_filter_time_s")
-          .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.pid.derivative_filter_time_s = v.Number();
-          })
-          .Writes(
-              [](const ScenarioConfig& c) { return TomlFloat(c.pid.derivative_filter_time_s); }),
-      Key("controller.gain", T::kNumber, "V/(mm s^lambda)", ">= 0", "15.62", "Fractional: gain K")
-          .Default("15.62")
-          .Refused("-1")
-          .AtLeast(0.0)
-          .Only(kControllerKind, kFractional)
-          .Only(kRealisation, kOustaloup)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.fractional.gain = v.Number(); })
-          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.fractional.gain); }),
-      Key("controller.order", T::kNumber, "", "(0, 1]", "0.62", "Fractional: order lambda")
-          .Default("0.62")
-          .Refused("1.5")
-          .Above(0.0)
-          .AtMost(1.0)
-          .Only(kControllerKind, kFractional)
-          .Only(kRealisation, kOustaloup)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.fractional.order = v.Number(); })
-          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.fractional.order); }),
-      LinkGainKey<&ScenarioConfig::LinkGains::gain>(
-          "controller.link_gain", "V/(mm s^lambda)", "each >= 0",
-          "One K per link, in order, over controller.gain (set by an optimisation that retunes "
-          "each design's controllers)",
-          "[14.6, 3.7, 1.6]")
-          .Refused("[1, -1, 1]")
-          .AtLeast(0.0)
-          .Only(kControllerKind, kFractional),
-      LinkGainKey<&ScenarioConfig::LinkGains::order>(
-          "controller.link_order", "", "each in (0, 1]",
-          "One lambda per link, in order, over controller.order (set by an optimisation that retunes "
-          "each design's controllers)",
-          "[0.59, 0.59, 0.59]")
-          .Refused("[0.5, 1.5, 0.5]")
-          .Above(0.0)
-          .AtMost(1.0)
-          .Only(kControllerKind, kFractional)
-          .Only(kRealisation, kOustaloup),
-      Key("controller.oustaloup_n", T::kInteger, "", "[1, 64]", "4",
-          "Fractional: Oustaloup pole-zero pairs N")
-          .Default("4")
-          .Refused("0")
-          .AtLeast(1)
-          .AtMost(kMaxOustaloupPairs)
-          .Only(kControllerKind, kFractional)
-          .Only(kRealisation, kOustaloup)
-          .Reads(
-              [](const KeyValue& v, ScenarioConfig& c) { c.fractional.oustaloup_n = v.Integer(); })
-          .Writes([](const ScenarioConfig& c) { return TomlInteger(c.fractional.oustaloup_n); }),
-      Key("controller.band_rad_s", T::kNumberArray, "rad/s",
-          "two numbers [w_b, w_h], 0 < w_b < w_h", "[1e-3, 1e2]",
-          "Fractional: Oustaloup's fitting band")
-          .Default("[1e-3, 1e2]")
-          .Refused("[10, 1]")
-          .Above(0.0)
-          .Only(kControllerKind, kFractional)
-          .Only(kRealisation, kOustaloup)
-          .Fields("w_low_rad_s w_high_rad_s")
-          .Reads(ReadBand)
-          .Writes([](const ScenarioConfig& c) {
-            return TomlFloats({c.fractional.w_low_rad_s, c.fractional.w_high_rad_s});
-          }),
-      Key(kRealisation, T::kChoice, "", "\"oustaloup\" or \"eq15\"", "\"oustaloup\"",
-          "Fractional: oustaloup (K / s^lambda on the band) or eq15 (the paper's printed eq. "
-          "15; no gain, order, oustaloup_n or band_rad_s)")
-          .Default("\"oustaloup\"")
-          .Example("\"eq15\"")
-          .Refused("\"tustin\"")
-          .Choices("oustaloup|eq15")
-          .Only(kControllerKind, kFractional)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.fractional.realisation = *ParseFractionalRealisation(v.Choice());
-          })
-          .Writes([](const ScenarioConfig& c) {
-            return TomlString(FractionalRealisationName(c.fractional.realisation));
-          }),
-      Key(kWaveformKind, T::kChoice, "", "\"polynomial\" or \"fractional\"", "\"polynomial\"",
+  };
+}
+
+// [waveform]: the travelling wave the links track (eq. 2, 3).
+std::vector<KeySpec> WaveformKeys() {
+  using T = KeyType;
+  return {
+      Key(kWaveformKind, T::kChoice, "", "", "\"polynomial\"",
           "polynomial: eq. 2 with Table 4's envelope; fractional: the envelope c x^alpha (eq. 3)")
           .Default("\"polynomial\"")
           .Example("\"fractional\"")
           .Refused("\"sine\"")
-          .Choices("polynomial|fractional")
+          .Choices(kWaveformKindNames)
           .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.waveform.kind =
-                v.Choice() == kPolynomial ? WaveformKind::kPolynomial : WaveformKind::kFractional;
+            c.waveform.kind = ChoiceValue(kWaveformKindNames, v.Choice());
           })
           .Writes([](const ScenarioConfig& c) {
-            return TomlString(c.waveform.kind == WaveformKind::kPolynomial ? kPolynomial
-                                                                           : kFractional);
+            return TomlString(ChoiceText(kWaveformKindNames, c.waveform.kind));
           }),
       Key("waveform.c0_um", T::kNumber, "um", "finite", "0", "Polynomial: envelope c0")
           .Default("0.0")
@@ -521,133 +329,13 @@ std::vector<KeySpec> MakeScenarioKeys() {
           .Refused("-1")
           .Reads(ReadStartRamp)
           .Writes([](const ScenarioConfig& c) { return TomlFloat(c.start_ramp_cycles); }),
-      Key("fluid.viscosity_Pa_s", T::kNumber, "Pa s", "> 0",
-          "the model's `ipmc_rft_viscosity_Pa_s`",
-          "Dynamic viscosity of the fluid, overriding the model's")
-          .Example("1e-3")
-          .Refused("0")
-          .Above(0.0)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.viscosity_Pa_s = v.Number(); })
-          .Writes([](const ScenarioConfig& c) {
-            return c.viscosity_Pa_s ? TomlFloat(*c.viscosity_Pa_s) : kLeftOut;
-          }),
-      Key("fluid.rft_coefficients", T::kChoice, "", "\"gray_hancock\" or \"lighthill\"",
-          "the model's `ipmc_rft_coefficients`",
-          "RFT drag coefficients (plugin/fluid/rft_drag.h), overriding the model's; either "
-          "follows fluid.rft_wavelength_mm")
-          .Example("\"lighthill\"")
-          .Refused("\"direct\"")
-          .Choices("gray_hancock|lighthill")
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.rft_coefficients = v.Choice(); })
-          .Writes([](const ScenarioConfig& c) {
-            return c.rft_coefficients ? TomlString(*c.rft_coefficients) : kLeftOut;
-          }),
-      Key("fluid.rft_wavelength_mm", T::kNumber, "mm", "finite and > 0", "waveform.wavelength_mm",
-          "Wavelength in the Gray-Hancock and Lighthill coefficients, over the model's "
-          "`ipmc_rft_wavelength_m`")
-          .Example("32.0")
-          .Refused("0")
-          .Above(0.0)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.rft_wavelength_mm = v.Number(); })
-          .Writes([](const ScenarioConfig& c) {
-            return c.rft_wavelength_mm ? TomlFloat(*c.rft_wavelength_mm) : kLeftOut;
-          }),
-      Key("fluid.wall_gap_mm", T::kNumber, "mm", "> 0", "no wall",
-          "A no-slip plane wall this far below the strip's lower edge (the centreline is the "
-          "gap plus half the width above it), parallel to the plane the strip beats in: RFT takes "
-          "the near-wall coefficients of Katz, Blake & Paveri-Fontana (1975) in place of "
-          "fluid.rft_coefficients, Stokeslets the wall's image system")
-          .Example("2.0")
-          .Refused("0")
-          .Above(0.0)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.wall_gap_mm = v.Number(); })
-          .Writes([](const ScenarioConfig& c) {
-            return c.wall_gap_mm ? TomlFloat(*c.wall_gap_mm) : kLeftOut;
-          }),
-      Key(kFluidModel, T::kChoice, "", "\"rft\", \"stokeslets\" or \"ribbon\"", "\"rft\"",
-          "The fluid model (plugin/fluid/fluid_model.h, docs/FLUIDS.md): local RFT, "
-          "regularized Stokeslets along the segments' centrelines, whose segments interact "
-          "(with the wall's image system when fluid.wall_gap_mm is set), or slender-ribbon "
-          "theory, the strip as one flat ribbon with kinks (free space only)")
-          .Default("\"rft\"")
-          .Example("\"stokeslets\"")
-          .Refused("\"bem\"")
-          .Choices("rft|stokeslets|ribbon")
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.fluid_model = v.Choice(); })
-          .Writes([](const ScenarioConfig& c) { return TomlString(c.fluid_model); }),
-      Key("fluid.stokeslet_width_points", T::kInteger, "", "[1, 16]", "1",
-          "Stokeslet points across the strip's width (ipmc_strip_width_m): 1 puts them on the "
-          "centreline; k > 1 makes the strip a sheet, a square grid w / k apart with the blob "
-          "0.7 w / k (docs/FLUIDS.md, \"Ribbon calibration\")")
-          .Default("1")
-          .Example("4")
-          .Refused("0")
-          .AtLeast(1)
-          .AtMost(kMaxWidthPoints)
-          .Only(kFluidModel, kStokeslets)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.stokeslet_width_points = static_cast<int>(v.Integer());
-          })
-          .Writes([](const ScenarioConfig& c) {
-            return c.stokeslet_width_points == 1 ? kLeftOut
-                                                 : TomlInteger(c.stokeslet_width_points);
-          }),
-      Key("fluid.stokeslet_points_per_mm", T::kNumber, "1/mm", "> 0",
-          "one per blob (1 / fluid.stokeslet_blob_mm)",
-          "Stokeslet points per mm along each segment's centreline (each segment gets the "
-          "smallest whole number of equal intervals at least this dense)")
-          .Example("2.0")
-          .Refused("0")
-          .Above(0.0)
-          .Only(kFluidModel, kStokeslets)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.stokeslet_points_per_mm = v.Number(); })
-          .Writes([](const ScenarioConfig& c) {
-            return c.stokeslet_points_per_mm ? TomlFloat(*c.stokeslet_points_per_mm) : kLeftOut;
-          }),
-      Key("fluid.stokeslet_blob_mm", T::kNumber, "mm", "> 0",
-          "sqrt(e) a = 1.340 mm for the paper's strip (a the RFT equivalent radius)",
-          "Blob size eps of the regularized Stokeslets; sqrt(e) a makes the line of points the "
-          "slender cylinder of radius a")
-          .Example("1.0")
-          .Refused("0")
-          .Above(0.0)
-          .Only(kFluidModel, kStokeslets)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.stokeslet_blob_mm = v.Number(); })
-          .Writes([](const ScenarioConfig& c) {
-            return c.stokeslet_blob_mm ? TomlFloat(*c.stokeslet_blob_mm) : kLeftOut;
-          }),
-      Key("fluid.stokeslet_shape_tolerance_rad", T::kNumber, "rad", ">= 0", "1e-3",
-          "The Stokeslet resistance is recomputed when a joint has moved more than this since "
-          "it was last computed (0: every evaluation)")
-          .Default("1e-3")
-          .Example("1e-4")
-          .Refused("-1")
-          .AtLeast(0.0)
-          .Only(kFluidModel, kStokeslets)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.stokeslet_shape_tolerance_rad = v.Number();
-          })
-          .Writes([](const ScenarioConfig& c) {
-            return c.stokeslet_shape_tolerance_rad == 1e-3
-                       ? kLeftOut
-                       : TomlFloat(c.stokeslet_shape_tolerance_rad);
-          }),
-      Key("fluid.ribbon_modes", T::kInteger, "", "[1, 9]", "8",
-          "Legendre modes of each component of the ribbon's force density along the whole "
-          "strip (slender-ribbon theory; from 10 on they resolve wavelengths near the strip's "
-          "width, where the theory's resistance stops being positive: docs/FLUIDS.md)")
-          .Default("8")
-          .Example("6")
-          .Refused("10")
-          .AtLeast(1)
-          .AtMost(kMaxRibbonModes)
-          .Only(kFluidModel, kRibbon)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.ribbon_modes = static_cast<int>(v.Integer());
-          })
-          .Writes([](const ScenarioConfig& c) {
-            return c.ribbon_modes == kDefaultRibbonModes ? kLeftOut : TomlInteger(c.ribbon_modes);
-          }),
+  };
+}
+
+// [metrics]: the cycles the run's summary metrics cover.
+std::vector<KeySpec> MetricsKeys() {
+  using T = KeyType;
+  return {
       Key("metrics.from_cycle", T::kInteger, "", "[1, cycles]",
           "the first cycle after the start ramp (the last cycle if none is)",
           "The first cycle of the links' IAE, ITAE, RMS and peak voltage and clamped fraction, the "
@@ -669,6 +357,13 @@ std::vector<KeySpec> MakeScenarioKeys() {
           .Writes([](const ScenarioConfig& c) {
             return c.metrics_from_cycle > 0 ? TomlInteger(c.metrics_from_cycle) : kLeftOut;
           }),
+  };
+}
+
+// [electrical]: the IPMC impedance behind each link's electrical power.
+std::vector<KeySpec> ElectricalKeys() {
+  using T = KeyType;
+  return {
       Key("electrical.enabled", T::kBoolean, "", "true or false", "false",
           "Each link's electrical power <V I> and the electromechanical efficiency from the IPMC "
           "impedance R_s + (R_p || C) per unit electrode area, scaled by the link's length x "
@@ -692,6 +387,13 @@ std::vector<KeySpec> MakeScenarioKeys() {
       ElectricalKey<&ElectricalConfig::electrode_width_mm>(
           "electrical.electrode_width_mm", "mm", "3.0", "2.5",
           "Electrode width; a link's electrode area A is its length times this"),
+  };
+}
+
+// [output]: what the run writes.
+std::vector<KeySpec> OutputKeys() {
+  using T = KeyType;
+  return {
       Key("output.dir", T::kString, "", "a directory; relative to the working directory",
           "\"\": no files", "Where timeseries.csv, states.csv and summary.json go")
           .Default("\"\"")
@@ -705,12 +407,20 @@ std::vector<KeySpec> MakeScenarioKeys() {
           .Reads([](const KeyValue& v, ScenarioConfig& c) { c.samples_per_cycle = v.Integer(); })
           .Writes([](const ScenarioConfig& c) { return TomlInteger(c.samples_per_cycle); }),
   };
-  // The strip and its plants describe the robot: after the top-level keys.
-  const auto controller = std::find_if(keys.begin(), keys.end(), [](const KeySpec& key) {
-    return std::string(key.name) == kControllerKind;
-  });
-  const std::vector<KeySpec> strip = StripAndPlantKeys();
-  keys.insert(controller, strip.begin(), strip.end());
+}
+
+// Every scenario key, one part after another in the order the reader lists
+// them: the top-level keys, the strip and its plants (the robot), then
+// one table after another.
+std::vector<KeySpec> MakeScenarioKeys() {
+  static_assert(kMaxSegmentsPerLink == 64, "the allowed ranges state this limit");
+  std::vector<KeySpec> keys;
+  for (std::vector<KeySpec> (*part)() :
+       {ModelKeys, RunKeys, StripAndPlantKeys, ControllerKeys, WaveformKeys, FluidKeys,
+        MetricsKeys, ElectricalKeys, OutputKeys}) {
+    const std::vector<KeySpec> part_keys = part();
+    keys.insert(keys.end(), part_keys.begin(), part_keys.end());
+  }
   WriteAppliesWhen(&keys);
   return keys;
 }
@@ -825,6 +535,50 @@ std::vector<std::string> KeyChoices(const KeySpec& key) {
     start = bar + 1;
   }
   return choices;
+}
+
+namespace {
+
+// "NAME must be RELATION BOUND (got VALUE)", the bound and the value
+// written by `text`.
+template <typename Value, typename Text>
+std::optional<KeyRangeError> OutOfRange(const KeySpec& key, const std::string& name, Value value,
+                                        Value minimum, Value maximum, const Text& text) {
+  const auto error = [&](const char* relation, Value bound) {
+    const std::string allowed = relation + text(bound);
+    return KeyRangeError{name + " must be " + allowed + " (got " + text(value) + ")", allowed};
+  };
+  if (key.lower == Bound::kClosed && !(value >= minimum)) return error(">= ", minimum);
+  if (key.lower == Bound::kOpen && !(value > minimum)) return error("> ", minimum);
+  if (key.upper == Bound::kClosed && !(value <= maximum)) return error("<= ", maximum);
+  if (key.upper == Bound::kOpen && !(value < maximum)) return error("< ", maximum);
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<KeyRangeError> NumberOutOfRange(const KeySpec& key, const std::string& name,
+                                              double value) {
+  if (!std::isfinite(value)) {
+    return KeyRangeError{name + " must be finite (got " + FormatShortest(value) + ")", "finite"};
+  }
+  return OutOfRange(key, name, value, key.minimum, key.maximum,
+                    [](double number) { return FormatShortest(number); });
+}
+
+std::optional<KeyRangeError> IntegerOutOfRange(const KeySpec& key, const std::string& name,
+                                               long long value) {
+  return OutOfRange(key, name, value, static_cast<long long>(key.minimum),
+                    static_cast<long long>(key.maximum),
+                    [](long long number) { return std::to_string(number); });
+}
+
+std::string QuotedChoices(const std::vector<std::string>& choices) {
+  std::string text;
+  for (const std::string& choice : choices) {
+    text += (text.empty() ? "\"" : " or \"") + choice + "\"";
+  }
+  return text;
 }
 
 std::string KeyTypeName(KeyType type) {

@@ -83,7 +83,7 @@ struct KeySpec {
   const char* name;     // dotted: "controller.kp"
   KeyType type;
   const char* unit;     // "" for none
-  const char* allowed;  // the allowed range or values, as messages state it
+  std::string allowed;  // the allowed range or values, as messages state it
   const char* default_text;  // the default as documented (a TOML value or words)
   const char* meaning;
   // A TOML value equal to the default ("" if the default is not a value,
@@ -102,9 +102,11 @@ struct KeySpec {
   // ("controller.kind = \"fractional\""), from `only` where a selector's
   // value is not its default; "" if it applies by default.
   std::string applies_when;
-  const char* choices = "";  // kChoice: "pid|fractional"
-  // Bounds of numbers (each element of a kNumberArray), checked by the
-  // reader; kNone: unbounded there, or checked by a Config's Validate()
+  // kChoice: "pid|fractional", from the choice's table (sim/core/choice_table.h)
+  // or, for a choice the plugin parses, as the plugin spells it.
+  std::string choices;
+  // Bounds of numbers (each element of a kNumberArray), checked by
+  // NumberOutOfRange / IntegerOutOfRange; kNone: unbounded there, or checked by a Config's Validate()
   // (the allowed text states it).
   Bound lower = Bound::kNone;
   double minimum = 0.0;
@@ -141,6 +143,24 @@ std::string SelectorValue(const std::string& selector, const ScenarioConfig& con
 const KeyCondition* FailedCondition(const KeySpec& key, const ScenarioConfig& config);
 // The choices of a kChoice key.
 std::vector<std::string> KeyChoices(const KeySpec& key);
+// The choices as a message states them: "\"rft\" or \"stokeslets\"".
+std::string QuotedChoices(const std::vector<std::string>& choices);
+
+// A value outside its key's range: the one-line message ("NAME must be >=
+// 0 (got -1)") and the allowed range (">= 0").
+struct KeyRangeError {
+  std::string message;
+  std::string allowed;
+};
+// The range check of every reader (scenario files, and so sweeps and
+// --set, and optimisation designs): a number must be finite and within
+// the key's bounds (each element of a kNumberArray); `name` is what the
+// message calls it ("controller.kp", "link_lengths_mm[1]").
+std::optional<KeyRangeError> NumberOutOfRange(const KeySpec& key, const std::string& name,
+                                              double value);
+// The same for an integer key, its bounds and value written as integers.
+std::optional<KeyRangeError> IntegerOutOfRange(const KeySpec& key, const std::string& name,
+                                               long long value);
 std::string KeyTypeName(KeyType type);
 
 }  // namespace ipmc

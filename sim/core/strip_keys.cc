@@ -89,17 +89,21 @@ std::vector<KeySpec> StripAndPlantKeys() {
           "strip.density_kg_m3", "kg/m^3", "2000",
           "Strip density: the links' mass (inertial dynamics only); generates the flagellum",
           "1500.0", "density_kg_m3"),
-      Key(kPlantModel, T::kChoice, "", "\"g1\" or \"g2\"", "\"g1\"",
+      Key(kPlantModel, T::kChoice, "", "", "\"g1\"",
           "Every link's plant P = s^-0.5 G: g1, G1 = a0 / (b2 s^2 + b1 s + 1) (eq. 5); g2, "
           "G2 = a0 / (b1 s^alpha + 1) (eq. 6); g2 generates the flagellum")
           .Default("\"g1\"")
           .Example("\"g2\"")
           .Refused("\"g3\"")
-          .Choices("g1|g2")
+          .Choices(kPlantModelNames)
           .Fields("ipmc_model")
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.plant.model = v.Choice(); })
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.plant.model = ChoiceValue(kPlantModelNames, v.Choice());
+          })
           .Writes([](const ScenarioConfig& c) {
-            return c.plant.model == "g1" ? kLeftOut : TomlString(c.plant.model);
+            return c.plant.model == IpmcModelKind::kG1
+                       ? kLeftOut
+                       : TomlString(ChoiceText(kPlantModelNames, c.plant.model));
           }),
       PlantKey<&PlantConfig::a0_mm_per_V>(
           "plant.a0_mm_per_V", "mm/V", "> 0",
@@ -164,7 +168,7 @@ FlagellumSpec ScenarioFlagellumSpec(const ScenarioConfig& scenario) {
   if (strip.density_kg_m3) spec.density_kg_m3 = *strip.density_kg_m3;
   const PlantConfig& plant = scenario.plant;
   const int links = spec.Links();
-  spec.ipmc_model = plant.model;
+  spec.ipmc_model = ChoiceText(kPlantModelNames, plant.model);
   spec.a0_mm_per_V = PerLink(plant.a0_mm_per_V, plant.link_a0_mm_per_V, links);
   spec.b1 = PerLink(plant.b1, plant.link_b1, links);
   spec.b2_s2 = PerLink(plant.b2_s2, plant.link_b2_s2, links);

@@ -5,15 +5,17 @@
 // does: the drag's equivalent radius follows the width and thickness
 // ((w + h) / 4), the hinges' stiffness E I / s and the links' mass follow
 // the strip, and each link gets the plant the keys give it (its own
-// plant, not scaled to its length). Unset, the generator's defaults are
-// Table 1's strip (3 mm x 250 um, E = 0.25 GPa, 2000 kg/m^3) and each
-// link the plant its `plants` assignment gives.
+// plant, not scaled to its length). Unset, the generator's defaults hold
+// (Table 1's strip; `ipmc-swim keys` lists them) and each link gets the
+// plant its `plants` assignment gives.
 #pragma once
 
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "plugin/actuators/ipmc_link_model.h"
+#include "sim/core/choice_table.h"
 #include "sim/core/scenario_keys.h"
 
 namespace ipmc {
@@ -28,14 +30,20 @@ struct StripConfig {
   bool Any() const { return width_mm || thickness_um || youngs_modulus_Pa || density_kg_m3; }
 };
 
+// plant.model's texts.
+inline constexpr ChoiceName<IpmcModelKind> kPlantModelNames[] = {
+    {"g1", IpmcModelKind::kG1},
+    {"g2", IpmcModelKind::kG2},
+};
+
 struct PlantConfig {
-  std::string model = "g1";  // g1 (eq. 5) | g2 (eq. 6)
+  IpmcModelKind model = IpmcModelKind::kG1;  // eq. 5 or eq. 6
   // Every link's value (unset: the assigned plant's) and the per-link
   // arrays over it (empty: every link the scalar's).
   std::optional<double> a0_mm_per_V, b1, b2_s2, alpha;
   std::vector<double> link_a0_mm_per_V, link_b1, link_b2_s2, link_alpha;
   bool Any() const {
-    return model != "g1" || a0_mm_per_V || b1 || b2_s2 || alpha || !link_a0_mm_per_V.empty() ||
+    return model != IpmcModelKind::kG1 || a0_mm_per_V || b1 || b2_s2 || alpha || !link_a0_mm_per_V.empty() ||
            !link_b1.empty() || !link_b2_s2.empty() || !link_alpha.empty();
   }
 };

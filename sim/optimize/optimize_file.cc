@@ -69,16 +69,11 @@ class DesignValue : public KeyValue {
 
  private:
   [[noreturn]] void NotANumberKey() const { Fail(name_ + " is not a number key", "a number"); }
+  // The key table's range check, as the scenario reader's.
   double Bounded(double value, const std::string& name) const {
-    auto fail = [&](const std::string& relation, double bound) {
-      const std::string allowed = relation + FormatShortest(bound);
-      Fail(name + " must be " + allowed + " (got " + FormatShortest(value) + ")", allowed);
-    };
-    if (!std::isfinite(value)) Fail(name + " must be finite", "finite");
-    if (spec_.lower == Bound::kClosed && !(value >= spec_.minimum)) fail(">= ", spec_.minimum);
-    if (spec_.lower == Bound::kOpen && !(value > spec_.minimum)) fail("> ", spec_.minimum);
-    if (spec_.upper == Bound::kClosed && !(value <= spec_.maximum)) fail("<= ", spec_.maximum);
-    if (spec_.upper == Bound::kOpen && !(value < spec_.maximum)) fail("< ", spec_.maximum);
+    if (const auto error = NumberOutOfRange(spec_, name, value)) {
+      Fail(error->message, error->allowed);
+    }
     return value;
   }
 

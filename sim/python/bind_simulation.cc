@@ -223,7 +223,7 @@ class PythonSimulation {
       dict["clamp"] = s.fractional.clamp_enabled;
       dict["v_max_V"] = s.fractional.v_max;
     }
-    dict["actuation"] = s.actuation;
+    dict["actuation"] = ChoiceText(kActuationNames, s.actuation);
     return dict;
   }
 

@@ -222,7 +222,7 @@ std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenari
     name(scenario.rft_coefficients.has_value(), "fluid.rft_coefficients");
     name(scenario.rft_wavelength_mm.has_value(), "fluid.rft_wavelength_mm");
     name(scenario.wall_gap_mm.has_value(), "fluid.wall_gap_mm");
-    name(scenario.fluid_model != "rft", "fluid.model");
+    name(scenario.fluid_model != FluidModel::kRft, "fluid.model");
     if (!keys.empty()) {
       throw std::runtime_error(NoDragMessage(sim->source(), scenario.source, keys));
     }
@@ -238,13 +238,13 @@ RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mj
                              ": fluid.rft_coefficients and fluid.wall_gap_mm exclude each other "
                              "(near a wall RFT takes the near-wall coefficients)");
   }
-  if (scenario.rft_coefficients) fluid.model = ParseCoefficientModel(*scenario.rft_coefficients);
+  fluid.model = scenario.rft_coefficients;
   fluid.wavelength_m =
       scenario.rft_wavelength_mm.value_or(scenario.waveform.wavelength_mm) * kMmToM;
   if (scenario.wall_gap_mm) {
     fluid.wall_distance_m = *scenario.wall_gap_mm * kMmToM + 0.5 * StripWidth_m(m);
   }
-  if (scenario.fluid_model == "stokeslets") {
+  if (scenario.fluid_model == FluidModel::kStokeslets) {
     StokesletSettings stokeslets;
     if (scenario.stokeslet_blob_mm) stokeslets.blob_m = *scenario.stokeslet_blob_mm * kMmToM;
     if (scenario.stokeslet_points_per_mm) {
@@ -255,7 +255,7 @@ RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mj
     stokeslets.shape_tolerance_rad = scenario.stokeslet_shape_tolerance_rad;
     fluid.stokeslets = stokeslets;
   }
-  if (scenario.fluid_model == "ribbon") {
+  if (scenario.fluid_model == FluidModel::kRibbon) {
     if (scenario.wall_gap_mm) {
       throw std::runtime_error(scenario.source +
                                ": fluid.wall_gap_mm needs fluid.model \"rft\" or \"stokeslets\" "
@@ -451,7 +451,7 @@ ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
   if (static_cast<int>(geometry.pitch_mm.size()) != links) {
     throw std::runtime_error(sim.source() + ": ipmc_links must drive hinges j1..jN in order");
   }
-  const int driven = scenario.actuation == "single" ? 1 : links;
+  const int driven = scenario.actuation == Actuation::kSingle ? 1 : links;
   std::vector<LinkController> controllers;
   CheckLinkGains(scenario, links);
   for (int q = 0; q < driven; ++q) controllers.emplace_back(scenario, q);

@@ -50,7 +50,7 @@ struct ClosedLoopSample {
 
 struct ClosedLoopResult {
   std::string controller;
-  std::string actuation;
+  Actuation actuation = Actuation::kDistributed;
   bool clamp_enabled = false;  // the voltages clamped to +-v_max_V
   double v_max_V = 0.0;
   double period_s = 0.0;

@@ -373,7 +373,7 @@ nlohmann::json ClosedLoopSummaryJson(const ClosedLoopResult& result) {
     }
   }
   summary["controller"] = result.controller;
-  summary["actuation"] = result.actuation;
+  summary["actuation"] = ChoiceText(kActuationNames, result.actuation);
   summary["clamp_enabled"] = result.clamp_enabled;
   summary["v_max_V"] = result.v_max_V;
   summary["period_s"] = result.period_s;

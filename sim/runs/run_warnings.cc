@@ -27,7 +27,7 @@ RunWarnings ClosedLoopWarnings(const ClosedLoopResult& result) {
   const SwimMetrics& swim = result.swim;
   // Its message is the swim's own (FluidWarnings, sim/core/swim_meter.h).
   warnings.failed[kReynolds] = std::max(swim.reynolds_tip, swim.reynolds_swim) > kReynoldsWarning;
-  const int driven = result.actuation == "single" ? 1 : static_cast<int>(result.links.size());
+  const int driven = result.actuation == Actuation::kSingle ? 1 : static_cast<int>(result.links.size());
   for (int q = 0; q < driven && q < static_cast<int>(result.links.size()); ++q) {
     const LinkTracking& link = result.links[q];
     const std::string name = "link " + std::to_string(q + 1);

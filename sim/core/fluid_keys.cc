@@ -1,0 +1,183 @@
+#include "sim/core/fluid_keys.h"
+
+#include <string>
+
+#include "plugin/fluid/regularized_stokeslets.h"
+#include "plugin/fluid/ribbon_fluid.h"
+#include "sim/core/key_builder.h"
+#include "sim/core/scenario.h"
+
+namespace ipmc {
+namespace {
+
+// The selector of the Stokeslets' keys and the value they apply under.
+constexpr char kFluidModel[] = "fluid.model";
+constexpr char kStokeslets[] = "stokeslets";
+constexpr char kRibbon[] = "ribbon";
+
+// The fluid and the model that computes its drag: viscosity, RFT coefficients, wall.
+std::vector<KeySpec> RftKeys() {
+  using T = KeyType;
+  return {
+      Key("fluid.viscosity_Pa_s", T::kNumber, "Pa s", "> 0",
+          "the model's `ipmc_rft_viscosity_Pa_s`",
+          "Dynamic viscosity of the fluid, overriding the model's")
+          .Example("1e-3")
+          .Refused("0")
+          .Above(0.0)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.viscosity_Pa_s = v.Number(); })
+          .Writes([](const ScenarioConfig& c) {
+            return c.viscosity_Pa_s ? TomlFloat(*c.viscosity_Pa_s) : kLeftOut;
+          }),
+      Key("fluid.rft_coefficients", T::kChoice, "", "", "the model's `ipmc_rft_coefficients`",
+          "RFT drag coefficients (plugin/fluid/rft_drag.h), overriding the model's; either "
+          "follows fluid.rft_wavelength_mm")
+          .Example("\"lighthill\"")
+          .Refused("\"direct\"")
+          .Choices(kRftCoefficientNames)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.rft_coefficients = ChoiceValue(kRftCoefficientNames, v.Choice());
+          })
+          .Writes([](const ScenarioConfig& c) {
+            return c.rft_coefficients
+                       ? TomlString(ChoiceText(kRftCoefficientNames, *c.rft_coefficients))
+                       : kLeftOut;
+          }),
+      Key("fluid.rft_wavelength_mm", T::kNumber, "mm", "finite and > 0", "waveform.wavelength_mm",
+          "Wavelength in the Gray-Hancock and Lighthill coefficients, over the model's "
+          "`ipmc_rft_wavelength_m`")
+          .Example("32.0")
+          .Refused("0")
+          .Above(0.0)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.rft_wavelength_mm = v.Number(); })
+          .Writes([](const ScenarioConfig& c) {
+            return c.rft_wavelength_mm ? TomlFloat(*c.rft_wavelength_mm) : kLeftOut;
+          }),
+      Key("fluid.wall_gap_mm", T::kNumber, "mm", "> 0", "no wall",
+          "A no-slip plane wall this far below the strip's lower edge (the centreline is the "
+          "gap plus half the width above it), parallel to the plane the strip beats in: RFT takes "
+          "the near-wall coefficients of Katz, Blake & Paveri-Fontana (1975) in place of "
+          "fluid.rft_coefficients, Stokeslets the wall's image system")
+          .Example("2.0")
+          .Refused("0")
+          .Above(0.0)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.wall_gap_mm = v.Number(); })
+          .Writes([](const ScenarioConfig& c) {
+            return c.wall_gap_mm ? TomlFloat(*c.wall_gap_mm) : kLeftOut;
+          }),
+      Key(kFluidModel, T::kChoice, "", "", "\"rft\"",
+          "The fluid model (plugin/fluid/fluid_model.h, docs/FLUIDS.md): local RFT, "
+          "regularized Stokeslets along the segments' centrelines, whose segments interact "
+          "(with the wall's image system when fluid.wall_gap_mm is set), or slender-ribbon "
+          "theory, the strip as one flat ribbon with kinks (free space only)")
+          .Default("\"rft\"")
+          .Example("\"stokeslets\"")
+          .Refused("\"bem\"")
+          .Choices(kFluidModelNames)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.fluid_model = ChoiceValue(kFluidModelNames, v.Choice());
+          })
+          .Writes([](const ScenarioConfig& c) {
+            return TomlString(ChoiceText(kFluidModelNames, c.fluid_model));
+          }),
+  };
+}
+
+// The regularized Stokeslets' points and blob (fluid.model = "stokeslets").
+std::vector<KeySpec> StokesletKeys() {
+  using T = KeyType;
+  return {
+      Key("fluid.stokeslet_width_points", T::kInteger, "", "[1, 16]", "1",
+          "Stokeslet points across the strip's width (ipmc_strip_width_m): 1 puts them on the "
+          "centreline; k > 1 makes the strip a sheet, a square grid w / k apart with the blob "
+          "0.7 w / k (docs/FLUIDS.md, \"Ribbon calibration\")")
+          .Default("1")
+          .Example("4")
+          .Refused("0")
+          .AtLeast(1)
+          .AtMost(kMaxWidthPoints)
+          .Only(kFluidModel, kStokeslets)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.stokeslet_width_points = static_cast<int>(v.Integer());
+          })
+          .Writes([](const ScenarioConfig& c) {
+            return c.stokeslet_width_points == 1 ? kLeftOut
+                                                 : TomlInteger(c.stokeslet_width_points);
+          }),
+      Key("fluid.stokeslet_points_per_mm", T::kNumber, "1/mm", "> 0",
+          "one per blob (1 / fluid.stokeslet_blob_mm)",
+          "Stokeslet points per mm along each segment's centreline (each segment gets the "
+          "smallest whole number of equal intervals at least this dense)")
+          .Example("2.0")
+          .Refused("0")
+          .Above(0.0)
+          .Only(kFluidModel, kStokeslets)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.stokeslet_points_per_mm = v.Number(); })
+          .Writes([](const ScenarioConfig& c) {
+            return c.stokeslet_points_per_mm ? TomlFloat(*c.stokeslet_points_per_mm) : kLeftOut;
+          }),
+      Key("fluid.stokeslet_blob_mm", T::kNumber, "mm", "> 0",
+          "sqrt(e) a = 1.340 mm for the paper's strip (a the RFT equivalent radius)",
+          "Blob size eps of the regularized Stokeslets; sqrt(e) a makes the line of points the "
+          "slender cylinder of radius a")
+          .Example("1.0")
+          .Refused("0")
+          .Above(0.0)
+          .Only(kFluidModel, kStokeslets)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.stokeslet_blob_mm = v.Number(); })
+          .Writes([](const ScenarioConfig& c) {
+            return c.stokeslet_blob_mm ? TomlFloat(*c.stokeslet_blob_mm) : kLeftOut;
+          }),
+      Key("fluid.stokeslet_shape_tolerance_rad", T::kNumber, "rad", ">= 0", "1e-3",
+          "The Stokeslet resistance is recomputed when a joint has moved more than this since "
+          "it was last computed (0: every evaluation)")
+          .Default("1e-3")
+          .Example("1e-4")
+          .Refused("-1")
+          .AtLeast(0.0)
+          .Only(kFluidModel, kStokeslets)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.stokeslet_shape_tolerance_rad = v.Number();
+          })
+          .Writes([](const ScenarioConfig& c) {
+            return c.stokeslet_shape_tolerance_rad == 1e-3
+                       ? kLeftOut
+                       : TomlFloat(c.stokeslet_shape_tolerance_rad);
+          }),
+  };
+}
+
+// Slender-ribbon theory's resolution (fluid.model = "ribbon").
+std::vector<KeySpec> RibbonKeys() {
+  using T = KeyType;
+  return {
+      Key("fluid.ribbon_modes", T::kInteger, "", "[1, 9]", "8",
+          "Legendre modes of each component of the ribbon's force density along the whole "
+          "strip (slender-ribbon theory; from 10 on they resolve wavelengths near the strip's "
+          "width, where the theory's resistance stops being positive: docs/FLUIDS.md)")
+          .Default("8")
+          .Example("6")
+          .Refused("10")
+          .AtLeast(1)
+          .AtMost(kMaxRibbonModes)
+          .Only(kFluidModel, kRibbon)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.ribbon_modes = static_cast<int>(v.Integer());
+          })
+          .Writes([](const ScenarioConfig& c) {
+            return c.ribbon_modes == kDefaultRibbonModes ? kLeftOut : TomlInteger(c.ribbon_modes);
+          }),
+  };
+}
+
+}  // namespace
+
+std::vector<KeySpec> FluidKeys() {
+  std::vector<KeySpec> keys = RftKeys();
+  for (const std::vector<KeySpec>& part : {StokesletKeys(), RibbonKeys()}) {
+    keys.insert(keys.end(), part.begin(), part.end());
+  }
+  return keys;
+}
+
+}  // namespace ipmc
