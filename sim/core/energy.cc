@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "plugin/coupling.h"
+#include "sim/core/hinge_damping.h"
 
 namespace ipmc {
 namespace {
@@ -67,7 +68,8 @@ EnergyMeter::EnergyMeter(const mjModel* m, const mjData* d) {
   }
   inertial_ = !coupling || coupling->dynamics == Dynamics::kInertial;
   if (!inertial_) stokes_ = coupling->stokes.get();
-  stepping_sign_ = inertial_ ? -1.0 : 1.0;
+  implicit_damping_ = inertial_ && StepDampsImplicitly(m);
+  step_start_velocity_.assign(d->qvel, d->qvel + m->nv);
   actuator_J_.assign(link_dofs_.size(), 0.0);
   scratch_.assign(m->nv, 0.0);
   step_start_moment_N_m_.assign(d->qfrc_actuator, d->qfrc_actuator + m->nv);
@@ -107,6 +109,15 @@ double EnergyMeter::StoredEnergy_J(const mjModel* m, const mjData* d) {
   return energy_J;
 }
 
+double EnergyMeter::KineticStepError_J(const mjModel* m, const mjData* d) {
+  std::vector<double>& change = step_start_velocity_;  // becomes v_(n+1) - v_n
+  for (int dof = 0; dof < m->nv; ++dof) change[dof] = d->qvel[dof] - change[dof];
+  mj_mulM(m, d, scratch_.data(), change.data());  // M of the step's start, which it solved with
+  const double error_J = 0.5 * mju_dot(change.data(), scratch_.data(), m->nv);
+  change.assign(d->qvel, d->qvel + m->nv);
+  return error_J;
+}
+
 void EnergyMeter::Observe(const mjModel* m, const mjData* d) {
   const double h = m->opt.timestep;
   // Stokes: the trapezoid of the active moments over the step, whose
@@ -127,7 +138,6 @@ void EnergyMeter::Observe(const mjModel* m, const mjData* d) {
   }
   double damping_W = 0.0;
   for (int dof = 0; dof < m->nv; ++dof) damping_W += m->dof_damping[dof] * d->qvel[dof] * d->qvel[dof];
-  damping_J_ += h * damping_W;
   double spring_h_W = 0.0;  // sum of k h qdot^2 / 2 over the joints
   for (int j = 0; j < m->njnt; ++j) {
     const int type = m->jnt_type[j];
@@ -135,7 +145,17 @@ void EnergyMeter::Observe(const mjModel* m, const mjData* d) {
     const double rate = d->qvel[m->jnt_dofadr[j]];
     spring_h_W += 0.5 * m->jnt_stiffness[j] * h * rate * rate;
   }
-  stepping_J_ += h * (stepping_sign_ * spring_h_W - moment_change_W);
+  if (!inertial_) {
+    damping_J_ += h * damping_W;
+    stepping_J_ += h * (spring_h_W - moment_change_W);
+  } else if (implicit_damping_) {
+    // (c_eff - k h / 2) qdot^2 per joint (sim/core/hinge_damping.h).
+    damping_J_ += h * (damping_W - spring_h_W);
+    stepping_J_ += KineticStepError_J(m, d);
+  } else {
+    damping_J_ += h * damping_W;
+    stepping_J_ -= h * spring_h_W;
+  }
   if (stokes_) {
     fluid_J_ += h * stokes_->fluid_power_W();
   } else if (drag_) {

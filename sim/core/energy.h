@@ -14,14 +14,17 @@
 //   fluid           P_f = -sum over the drag segments of (F . v_c + T_c . w)
 //                   (Fluid::DissipatedPower_W: the fluid model itself)
 //   hinge damping   P_c = sum over the dofs of c qdot^2 (the joints'
-//                   `damping`, not the paper's plant: docs/ENERGY.md)
-//   time stepping   what the step leaves of the balance. MuJoCo's Euler
-//                   step (inertial) takes the spring force at the step's
-//                   start, -k (q_n - q_spring), and so puts in k dq^2 / 2
-//                   per step: P_h = -sum over the joints of k h qdot^2 / 2
-//                   (a negative damping k h / 2). The Stokes step's
-//                   backward Euler takes the springs and the moments at
-//                   the step's end: P_h = sum over the joints of
+//                   `damping`, not the paper's plant: docs/ENERGY.md); in
+//                   the inertial mode (MuJoCo's Euler or implicit step,
+//                   spring at the step's start, damping c_eff at its end,
+//                   sim/core/hinge_damping.h) (c_eff - k h / 2) qdot^2 per
+//                   joint, what the step dissipates: the explicit spring
+//                   puts in k dq^2 / 2 per step
+//   time stepping   what the step leaves of the balance. Inertial: the
+//                   kinetic energy's step error dv^T M dv / 2 per step
+//                   (M (v_(n+1) - v_n) = h F, booked with v_(n+1)). The
+//                   Stokes step's backward Euler takes the springs and the
+//                   moments at the step's end: P_h = sum over the joints of
 //                   k h qdot^2 / 2 - sum over the links' hinges of
 //                   qdot (f_(n+1) - f_n) / 2 = qdot k (dq - dtheta0) / 2,
 //                   which vanishes for rest angles that change smoothly
@@ -31,8 +34,7 @@
 // energy 1/2 qdot^T M qdot. Over a cycle
 //   W_actuators = W_fluid + W_damping + W_stepping
 //                 + (stored energy at its end - at its start)
-// (up to the kinetic energy's own step error, dqdot^T M dqdot / 2, and the
-// drag's power taken with the step's start velocity), which over a steady
+// (up to the drag's power taken with the step's end velocity), which over a steady
 // (periodic) cycle is W_fluid + W_damping + W_stepping.
 //
 // From the means over the chosen cycles (metrics.from_cycle):
@@ -122,13 +124,19 @@ class EnergyMeter {
  private:
   double StoredEnergy_J(const mjModel* m, const mjData* d);
   static double ElasticEnergy_J(const mjModel* m, const mjData* d);
+  // The inertial step's kinetic-energy error dv^T M dv / 2 over the step
+  // just taken; moves the step's start to its end.
+  double KineticStepError_J(const mjModel* m, const mjData* d);
 
   std::vector<std::vector<int>> link_dofs_;
   const Fluid* drag_ = nullptr;  // the run's fluid model
   // Stokes dynamics: the stepper, which gives its step's own fluid power.
   const StokesStepper* stokes_ = nullptr;
   bool inertial_ = true;
-  double stepping_sign_ = -1.0;  // -1: spring at the step's start (Euler); +1: at its end
+  // Inertial with MuJoCo's Euler or implicit integrator: the damping the
+  // step dissipates is c_eff - k h / 2 (sim/core/hinge_damping.h).
+  bool implicit_damping_ = true;
+  std::vector<double> step_start_velocity_;  // qvel at the step's start
   double towing_drag_N_per_m_s_ = 0.0;  // the drag is linear in the speed
   // The running cycle's energies [J] and time [s].
   std::vector<double> actuator_J_;

@@ -12,6 +12,7 @@
 #include "plugin/coupling.h"
 #include "plugin/mjcf/custom_fields.h"
 #include "sim/core/step_count.h"
+#include "sim/core/hinge_damping.h"
 #include "sim/core/model_generator.h"
 #include "sim/core/link_sensors.h"
 #include "sim/core/sha256.h"
@@ -197,7 +198,7 @@ ModelPtr LoadScenarioModel(const ScenarioConfig& scenario, std::string* source) 
   if (scenario.viscosity_Pa_s) {
     OverrideViscosity(model.get(), *scenario.viscosity_Pa_s, *source, scenario.source);
   }
-  for (int dof = 0; dof < model->nv; ++dof) model->dof_damping[dof] *= scenario.hinge_damping_scale;
+  SetHingeDamping(model.get(), scenario.hinge_damping_scale, scenario.dynamics);
   return model;
 }
 

@@ -1,0 +1,56 @@
+// The hinges' damping as MuJoCo's inertial step takes it (docs/ENERGY.md).
+//
+// MuJoCo's Euler step (and its implicit one) takes a joint's spring at the
+// step's start and its damping at the step's end:
+//   M (v_(n+1) - v_n) = h (f - k (q_n - q_0) - c v_(n+1)),
+//   q_(n+1) = q_n + h v_(n+1).
+// In the massless limit (M -> 0, the relaxation of a hinge of lag c / k)
+// with the input f held over the step, with e = q - q_0 - f / k,
+//   e_(n+1) = (1 - k h / c) e_n,
+// a decay that is only first-order right, rings for k h / c > 1 and grows
+// for k h / c > 2. Giving the step the damping
+//   c_eff = k h / (1 - exp(-k h / c))
+// makes it e_(n+1) = exp(-k h / c) e_n: the exact solution of
+// c de/dt = -k e over the step. For k h / c << 1, c_eff = c + k h / 2
+// + O(k^2 h^2 / c) (the trapezoid); for k h / c >> 1, c_eff -> k h
+// (backward Euler: the hinge reaches its rest angle in one step,
+// L-stable). With the mass, the step of a hinge of inertia J is stable
+// for h^2 k < 4 J + 2 h c_eff, which c_eff >= k h makes hold for every h.
+//
+// The energy: the explicit spring's work over the step is the elastic
+// energy's loss plus k dq^2 / 2, so the step dissipates
+// (c_eff - k h / 2) v_(n+1)^2 h at the hinge (with r = exp(-k h / c),
+// (k h / 2) (1 + r) / (1 - r) v^2 h is the elastic energy k e_n^2 (1 - r^2)
+// / 2 that the exact relaxation loses). EnergyMeter books that as the
+// hinges' damping; it tends to c v^2 for k h / c << 1.
+#pragma once
+
+#include <mujoco/mujoco.h>
+
+#include <optional>
+
+#include "plugin/mjcf/dynamics.h"
+
+namespace ipmc {
+
+// c_eff above [N m s/rad] (or [N s/m] for a slide joint) for the physical
+// damping c >= 0, stiffness k >= 0 and step h > 0; c for k = 0 (no spring),
+// k h for c = 0.
+double EulerHingeDamping(double damping, double stiffness, double timestep_s);
+
+// The damping the step dissipates at a joint whose step damping is
+// `step_damping` (c_eff): step_damping - k h / 2.
+double EulerDissipatedDamping(double step_damping, double stiffness, double timestep_s);
+
+// Scales every dof's damping by `scale` (the scenario's
+// hinge_damping_scale: the physical c), then, when the model is stepped by
+// mj_step (dynamics, or else the model's ipmc_dynamics, inertial) with the
+// Euler or implicit integrator at m->opt.timestep, gives every hinge and
+// slide joint with a spring c_eff. Call after the time step is set.
+void SetHingeDamping(mjModel* m, double scale, std::optional<Dynamics> dynamics);
+
+// Whether m's step takes its joints' damping as c_eff (SetHingeDamping):
+// Euler or implicit integrator.
+bool StepDampsImplicitly(const mjModel* m);
+
+}  // namespace ipmc
