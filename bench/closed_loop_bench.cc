@@ -177,7 +177,7 @@ void CoupledSteps(benchmark::State& state, const std::string& xml, double timest
 // The paper's run and its floors, all over the same steps.
 void BM_PaperRun(benchmark::State& state) {
   const ScenarioConfig scenario = LoadScenario(kPaperScenario);
-  for (auto _ : state) benchmark::DoNotOptimize(RunScenario(scenario));
+  for (auto _ : state) benchmark::DoNotOptimize(SimulateScenario(scenario));
   CountSteps(state, Paper().steps, 3);
 }
 void BM_BareEuler(benchmark::State& state) {
@@ -280,17 +280,17 @@ long PeakMemoryOfChild_kB(void (*run)(int), int argument) {
 
 // The paper's scenario at 0.05 Hz (20 s cycles) for `cycles` cycles, one
 // recorded sample per cycle.
-void RunClosedLoopFor(int cycles) {
+void SimulatePaperScenarioFor(int cycles) {
   ScenarioConfig scenario = LoadScenario(kPaperScenario);
   scenario.waveform.frequency_Hz = 0.05;
   scenario.cycles = cycles;
   scenario.samples_per_cycle = 1;
-  RunScenario(scenario);
+  SimulateScenario(scenario);
 }
 
 void ReportMemoryGrowth() {
-  const long short_kB = PeakMemoryOfChild_kB(RunClosedLoopFor, 1);
-  const long long_kB = PeakMemoryOfChild_kB(RunClosedLoopFor, 100);
+  const long short_kB = PeakMemoryOfChild_kB(SimulatePaperScenarioFor, 1);
+  const long long_kB = PeakMemoryOfChild_kB(SimulatePaperScenarioFor, 100);
   std::printf("peak memory: %ld kB for a 20 s closed-loop run, %ld kB for a 2000 s one "
               "(ratio %.3f)\n\n",
               short_kB, long_kB, static_cast<double>(long_kB) / short_kB);

@@ -41,7 +41,7 @@ void BM_PaperCycle(benchmark::State& state) {
   if (state.range(2) == 3) scenario.stokeslet_points_per_mm = 2.0 / 1.340;
   if (state.range(2) == 4) scenario.stokeslet_width_points = 2;
   if (state.range(2) == 5) scenario.stokeslet_width_points = 4;
-  for (auto _ : state) benchmark::DoNotOptimize(RunScenario(scenario));
+  for (auto _ : state) benchmark::DoNotOptimize(SimulateScenario(scenario));
 }
 BENCHMARK(BM_PaperCycle)
     ->Args({0, 0, 0})

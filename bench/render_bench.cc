@@ -83,7 +83,7 @@ ScenarioConfig PaperCycle() {
 
 void BM_PaperRun(benchmark::State& state) {
   const ScenarioConfig scenario = PaperCycle();
-  for (auto _ : state) benchmark::DoNotOptimize(RunScenario(scenario));
+  for (auto _ : state) benchmark::DoNotOptimize(SimulateScenario(scenario));
 }
 
 void BM_PaperRunFilmed(benchmark::State& state) {
@@ -91,7 +91,7 @@ void BM_PaperRunFilmed(benchmark::State& state) {
   FilmConfig film;
   film.frames_per_cycle = 25;
   const std::string path = "/tmp/ipmc_render_bench_film.mp4";
-  for (auto _ : state) benchmark::DoNotOptimize(RunScenarioAndFilm(scenario, film, path));
+  for (auto _ : state) benchmark::DoNotOptimize(SimulateAndFilmScenario(scenario, film, path));
   std::remove(path.c_str());
 }
 

@@ -52,11 +52,11 @@ ScenarioConfig PaperCycle(Dynamics dynamics, double timestep_s, int segments, do
 
 void BM_PaperCycleStokes(benchmark::State& state) {
   const ScenarioConfig scenario = PaperCycle(Dynamics::kStokes, 1e-3, 0, 0);
-  for (auto _ : state) benchmark::DoNotOptimize(RunScenario(scenario));
+  for (auto _ : state) benchmark::DoNotOptimize(SimulateScenario(scenario));
 }
 void BM_PaperCycleInertial(benchmark::State& state) {
   const ScenarioConfig scenario = PaperCycle(Dynamics::kInertial, 5e-4, 0, 0);
-  for (auto _ : state) benchmark::DoNotOptimize(RunScenario(scenario));
+  for (auto _ : state) benchmark::DoNotOptimize(SimulateScenario(scenario));
 }
 // Bare mj_step (Euler, no callbacks) of the paper's model, 100 s at 0.5 ms.
 void BM_BareEuler(benchmark::State& state) {
@@ -82,12 +82,12 @@ void BM_BareEuler(benchmark::State& state) {
 void BM_SegmentsStokes(benchmark::State& state) {
   const ScenarioConfig scenario =
       PaperCycle(Dynamics::kStokes, 1e-3, static_cast<int>(state.range(0)), 150);
-  for (auto _ : state) benchmark::DoNotOptimize(RunScenario(scenario));
+  for (auto _ : state) benchmark::DoNotOptimize(SimulateScenario(scenario));
 }
 void BM_SegmentsInertial(benchmark::State& state) {
   const ScenarioConfig scenario =
       PaperCycle(Dynamics::kInertial, 5e-4, static_cast<int>(state.range(0)), 150);
-  for (auto _ : state) benchmark::DoNotOptimize(RunScenario(scenario));
+  for (auto _ : state) benchmark::DoNotOptimize(SimulateScenario(scenario));
 }
 
 // `steps` Stokes steps of 1 ms of the clamped flagellum (no head, so 32

@@ -343,7 +343,7 @@ FilmSummary FilmRun(const FilmedRun& run, const FilmConfig& config, const std::s
   return summary;
 }
 
-ClosedLoopResult RunScenarioAndFilm(
+ClosedLoopResult SimulateAndFilmScenario(
     const ScenarioConfig& scenario, const FilmConfig& config, const std::string& video_path,
     const std::function<void(const ClosedLoopResult&)>& before_filming,
     const FilmProgress& progress, FilmSummary* summary, const SampleObserver& observer,
@@ -357,7 +357,7 @@ ClosedLoopResult RunScenarioAndFilm(
     CheckFilmFits(m, config);
     model.reset(mj_copyModel(nullptr, m));
   };
-  const ClosedLoopResult result = RunScenario(scenario, copy_model, heartbeat);
+  const ClosedLoopResult result = SimulateScenario(scenario, copy_model, heartbeat);
   if (before_filming) before_filming(result);
   const FilmSummary film =
       FilmRun(ClosedLoopFilm(model.get(), result, scenario), config, video_path, progress);

@@ -176,13 +176,13 @@ void CheckFilmFits(const mjModel* m, const FilmConfig& config);
 FilmSummary FilmRun(const FilmedRun& run, const FilmConfig& config, const std::string& out_path,
                     const FilmProgress& progress = {});
 
-// Runs the scenario once (RunScenario), hands the result to
+// Runs the scenario once (SimulateScenario), hands the result to
 // `before_filming` (if set), and films the run from its recorded states
 // into video_path; the frame size is checked against the model as the run
 // starts, so a bad size does not wait for the run. Returns the run's
 // result; *summary (if given) gets the film's; `observer` (if set) sees
 // every recorded sample of the run, `heartbeat` the time between them.
-ClosedLoopResult RunScenarioAndFilm(
+ClosedLoopResult SimulateAndFilmScenario(
     const ScenarioConfig& scenario, const FilmConfig& config, const std::string& video_path,
     const std::function<void(const ClosedLoopResult&)>& before_filming = {},
     const FilmProgress& progress = {}, FilmSummary* summary = nullptr,

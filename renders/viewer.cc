@@ -179,7 +179,7 @@ LiveRun::LiveRun(const ScenarioConfig& scenario) : shared_(std::make_unique<Shar
     };
     std::string error;
     try {
-      RunScenario(s->scenario, record);
+      SimulateScenario(s->scenario, record);
     } catch (const StopLiveRun&) {
     } catch (const std::exception& failure) {
       error = failure.what();

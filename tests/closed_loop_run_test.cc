@@ -55,8 +55,9 @@ constexpr double kDistributedSecondCycle_mm = 0.499191;
 
 TEST(ClosedLoopRunTest, DistributedActuationSwimsAndSingleActuationDoesNot) {
   const ClosedLoopResult distributed =
-      RunScenario(PaperScenario(ControllerKind::kPid, "distributed", 2, true));
-  const ClosedLoopResult single = RunScenario(PaperScenario(ControllerKind::kPid, "single", 2, true));
+      SimulateScenario(PaperScenario(ControllerKind::kPid, "distributed", 2, true));
+  const ClosedLoopResult single =
+      SimulateScenario(PaperScenario(ControllerKind::kPid, "single", 2, true));
   Print("distributed", distributed);
   Print("single", single);
   const double distributed_mm = distributed.swim.per_cycle[1].com_along;
@@ -76,9 +77,10 @@ TEST(ClosedLoopRunTest, DistributedActuationSwimsAndSingleActuationDoesNot) {
 
 TEST(ClosedLoopRunTest, PidTracksBetterThanTheFractionalIntegrator) {
   // The paper's linear setting (no clamp), one cycle.
-  const ClosedLoopResult pid = RunScenario(PaperScenario(ControllerKind::kPid, "distributed", 1, false));
+  const ClosedLoopResult pid =
+      SimulateScenario(PaperScenario(ControllerKind::kPid, "distributed", 1, false));
   const ClosedLoopResult fractional =
-      RunScenario(PaperScenario(ControllerKind::kFractional, "distributed", 1, false));
+      SimulateScenario(PaperScenario(ControllerKind::kFractional, "distributed", 1, false));
   Print("PID, no clamp", pid);
   Print("fractional integrator, no clamp", fractional);
   for (size_t q = 0; q < 3; ++q) {
@@ -107,7 +109,7 @@ TEST(ClosedLoopRunTest, LinkLengthsGenerateTheFlagellum) {
       "[waveform]\nfrequency_Hz = 0.5\n",
       std::string(IPMC_SWIM_SOURCE_DIR) + "/scenarios/two_links.toml");
   ASSERT_EQ(scenario.link_lengths_mm.size(), 2u);
-  const ClosedLoopResult result = RunScenario(scenario);
+  const ClosedLoopResult result = SimulateScenario(scenario);
   EXPECT_EQ(result.links.size(), 2u);
   EXPECT_GT(result.links[1].max_abs_reference_mm, 0.0);
 }
@@ -133,7 +135,7 @@ TEST(ClosedLoopRunTest, MetricsFromCycleLeaveTheFadeInOut) {
   ScenarioConfig all = steady;
   all.metrics_from_cycle = 1;
   EXPECT_EQ(MetricsFromCycle(steady), 2);
-  const ClosedLoopResult a = RunScenario(all), s = RunScenario(steady);
+  const ClosedLoopResult a = SimulateScenario(all), s = SimulateScenario(steady);
   EXPECT_TRUE(a.from_cycle_given && a.startup_included);
   EXPECT_FALSE(s.from_cycle_given || s.startup_included);
   ASSERT_EQ(s.swim.per_cycle.size(), 3u);
@@ -187,7 +189,7 @@ TEST(ClosedLoopRunTest, PeakMomentIsThePeakOfEachLinksRootHingeMoment) {
   scenario.samples_per_cycle = 100000;  // every 1 ms sample of the 100 s cycle
   std::vector<double> sampled_peak_Nm(3, 0.0);
   const ClosedLoopResult result =
-      RunScenario(scenario, [&](const mjModel* m, const mjData* d, const ClosedLoopSample&) {
+      SimulateScenario(scenario, [&](const mjModel* m, const mjData* d, const ClosedLoopSample&) {
         for (int q = 0; q < 3; ++q) {
           const std::string joint = "j" + std::to_string(q + 1);
           const int dof = m->jnt_dofadr[mj_name2id(m, mjOBJ_JOINT, joint.c_str())];

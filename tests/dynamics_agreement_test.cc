@@ -48,7 +48,7 @@ double PaperCycle_mm(Dynamics dynamics, double timestep_s, double mass_scale) {
   scenario.samples_per_cycle = 10;
   const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(scenario);
   if (mass_scale != 1.0) ScaleInertia(sim->model(), sim->data(), mass_scale);
-  const ClosedLoopResult result = RunClosedLoop(*sim, scenario);
+  const ClosedLoopResult result = StepClosedLoop(*sim, scenario);
   return result.swim.per_cycle.at(0).com_along;
 }
 

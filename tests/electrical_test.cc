@@ -162,7 +162,7 @@ TEST(ElectricalTest, TheRunReportsTheHeldVoltagesPowerPerLink) {
       "[output]\nsamples_per_cycle = 500\n",
       std::string(IPMC_SWIM_SOURCE_DIR) + "/scenarios/electrical.toml");
   std::vector<std::vector<double>> volts;
-  const ClosedLoopResult result = RunScenario(
+  const ClosedLoopResult result = SimulateScenario(
       scenario, [&](const mjModel*, const mjData*, const ClosedLoopSample& sample) {
         volts.push_back(sample.voltage_V);
       });
@@ -196,7 +196,7 @@ TEST(ElectricalTest, OffByDefaultWithNothingReported) {
       "model = \"../models/flagellum3.xml\"\ncycles = 1\n[waveform]\nfrequency_Hz = 2.0\n",
       std::string(IPMC_SWIM_SOURCE_DIR) + "/scenarios/electrical.toml");
   EXPECT_FALSE(scenario.electrical.enabled);
-  const ClosedLoopResult result = RunScenario(scenario);
+  const ClosedLoopResult result = SimulateScenario(scenario);
   EXPECT_FALSE(result.energy.electrical);
   EXPECT_TRUE(result.energy.electrical_power_W.empty());
   EXPECT_EQ(result.energy.electromechanical_efficiency, 0.0);

@@ -32,7 +32,7 @@ const ClosedLoopResult& PaperRun(const std::string& dynamics) {
   scenario.output_dir.clear();
   scenario.metrics_from_cycle = 2;
   scenario.dynamics = ParseDynamics(dynamics);
-  return runs.emplace(dynamics, RunScenario(scenario)).first->second;
+  return runs.emplace(dynamics, SimulateScenario(scenario)).first->second;
 }
 
 class EnergyTest : public ::testing::TestWithParam<const char*> {};
@@ -156,7 +156,7 @@ TEST(StokesEnergyTest, PowersDoNotDependOnTheStep) {
     std::map<double, EnergyMetrics> by_step;
     for (double h_s : {1e-3, 5e-4}) {
       scenario.timestep_s = h_s;
-      by_step[h_s] = RunScenario(scenario).energy;
+      by_step[h_s] = SimulateScenario(scenario).energy;
       const EnergyMetrics& e = by_step[h_s];
       std::printf("n = %d, h = %g s: actuators %.7e W, fluid %.7e W, damping %.7e W, "
                   "stepping %.3e W, elastic %.7e J\n",

@@ -335,7 +335,7 @@ TEST_F(FlexibleLinkTest, StokesSwimConvergesAgainstSegments) {
   std::map<int, double> swim_mm;
   for (int n : kStokesSegments) {
     scenario.segments_per_link = n;
-    swim_mm[n] = RunScenario(scenario).swim.per_cycle.at(1).com_along;
+    swim_mm[n] = SimulateScenario(scenario).swim.per_cycle.at(1).com_along;
     std::printf("swim %d %.7f\n", n, swim_mm[n]);
   }
   for (const auto& n : {std::array<int, 3>{4, 8, 16}, std::array<int, 3>{8, 16, 31}}) {

@@ -39,7 +39,7 @@ const std::string kShortRun = "cycles = 1\ntimestep_s = 1e-3\ndynamics = \"stoke
                               "[waveform]\nfrequency_Hz = 0.5\n";
 
 double ShortRunSwim_mm(const ScenarioConfig& scenario) {
-  return RunScenario(scenario).swim.per_cycle.at(0).com_along;
+  return SimulateScenario(scenario).swim.per_cycle.at(0).com_along;
 }
 
 // A bent shape, the root moved and turned, velocities on every dof.

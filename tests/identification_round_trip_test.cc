@@ -83,7 +83,7 @@ std::string Paper() { return (fs::path(IPMC_SWIM_SOURCE_DIR) / "scenarios" / "pa
 // The paper's run with `keys` over it, two cycles.
 ClosedLoopResult PaperRun(const std::string& keys) {
   const std::string text = "include = \"" + Paper() + "\"\ncycles = 2\n" + keys;
-  return RunScenario(ParseScenario(
+  return SimulateScenario(ParseScenario(
       text, (fs::path(IPMC_SWIM_SOURCE_DIR) / "scenarios" / "with_keys.toml").string()));
 }
 // Cycle 2's swim (after the fade-in) [mm].

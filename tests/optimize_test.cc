@@ -382,14 +382,14 @@ TEST(RetuneTest, PerLinkGainsDriveEachLinksController) {
   ScenarioConfig each = scalar;
   each.link_gains.kp = {scalar.pid.kp, scalar.pid.kp, scalar.pid.kp};
   each.link_gains.kd = {scalar.pid.kd, scalar.pid.kd, scalar.pid.kd};
-  const ClosedLoopResult a = RunScenario(scalar), b = RunScenario(each);
+  const ClosedLoopResult a = SimulateScenario(scalar), b = SimulateScenario(each);
   for (int q = 0; q < 3; ++q) EXPECT_EQ(a.links[q].iae_mm_s, b.links[q].iae_mm_s) << q;
   each.link_gains.kp = {scalar.pid.kp, scalar.pid.kp, 2 * scalar.pid.kp};
-  const ClosedLoopResult c = RunScenario(each);
+  const ClosedLoopResult c = SimulateScenario(each);
   EXPECT_NE(c.links[2].iae_mm_s, a.links[2].iae_mm_s);
   each.link_gains.kp = {1.0, 2.0};
   try {
-    RunScenario(each);
+    SimulateScenario(each);
     ADD_FAILURE() << "two gains for three links accepted";
   } catch (const std::runtime_error& error) {
     EXPECT_NE(std::string(error.what()).find("controller.link_kp must hold one value per link (3; "

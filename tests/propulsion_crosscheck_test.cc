@@ -148,12 +148,13 @@ constexpr int kCycle = 1;
 
 void RunCrossCheck(const ScenarioConfig& scenario, CrossCheck* out) {
   CrossCheck& c = *out;
-  c.run = RunScenario(scenario, [&](const mjModel* m, const mjData* d, const ClosedLoopSample&) {
+  const SampleObserver record = [&](const mjModel* m, const mjData* d, const ClosedLoopSample&) {
     if (!c.chain) c.chain = ChainFromModel(m);
     c.recording.t_s.push_back(d->time);
     c.recording.angle_rad.push_back(HingeAngles_rad(*c.chain, d));
     c.recording.root_yaw_rad.push_back(RootYaw_rad(m, d));
-  });
+  };
+  c.run = SimulateScenario(scenario, record);
   ASSERT_TRUE(c.chain.has_value());
   ASSERT_GE(c.chain->Hinges(), static_cast<int>(c.run.links.size()));  // a hinge per link at least
   // The end of a cycle is recorded as the first sample of the next one,

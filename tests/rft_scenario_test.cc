@@ -103,7 +103,7 @@ TEST(RftScenarioTest, ARunCarriesItsWarnings) {
       PaperWith("cycles = 1\ntimestep_s = 1e-3\n[waveform]\nwavelength_mm = 16.0\n"
                 "frequency_Hz = 0.5\n");
   scenario.dynamics = Dynamics::kStokes;
-  const ClosedLoopResult result = RunScenario(scenario);
+  const ClosedLoopResult result = SimulateScenario(scenario);
   bool resolution = false;
   for (const std::string& warning : result.swim.warnings) {
     resolution = resolution || warning.find("drag segments") != std::string::npos;
@@ -144,8 +144,8 @@ TEST(RftScenarioTest, TheWallChangesTheSwim) {
   free.dynamics = Dynamics::kStokes;
   ScenarioConfig wall = free;
   wall.wall_gap_mm = 2.0;
-  const double free_mm = RunScenario(free).swim.per_cycle.at(0).com_along;
-  const double wall_mm = RunScenario(wall).swim.per_cycle.at(0).com_along;
+  const double free_mm = SimulateScenario(free).swim.per_cycle.at(0).com_along;
+  const double wall_mm = SimulateScenario(wall).swim.per_cycle.at(0).com_along;
   std::printf("per cycle: free %.6g mm, 2 mm from a wall %.6g mm\n", free_mm, wall_mm);
   EXPECT_GT(std::abs(wall_mm / free_mm - 1.0), 0.01);
 }

@@ -127,11 +127,12 @@ TEST(RibbonCalibrationTest, CalibratedCoefficientsChangeTheSwim) {
   const std::string run = "cycles = 1\ntimestep_s = 1e-3\ndynamics = \"stokes\"\n"
                           "[waveform]\nfrequency_Hz = 0.5\nwavelength_mm = 32.0\n";
   const std::string paper = std::string(IPMC_SWIM_SOURCE_DIR) + "/scenarios/paper.toml";
-  const double rod = RunScenario(ParseScenario("model = \"../models/flagellum3.xml\"\n" + run, paper))
-                         .swim.per_cycle.at(0).com_along;
+  const std::string rod_model = "model = \"../models/flagellum3.xml\"\n";
+  const std::string ribbon_model = "model = \"" + (dir / "ribbon.xml").string() + "\"\n";
+  const double rod =
+      SimulateScenario(ParseScenario(rod_model + run, paper)).swim.per_cycle.at(0).com_along;
   const double ribbon =
-      RunScenario(ParseScenario("model = \"" + (dir / "ribbon.xml").string() + "\"\n" + run, paper))
-          .swim.per_cycle.at(0).com_along;
+      SimulateScenario(ParseScenario(ribbon_model + run, paper)).swim.per_cycle.at(0).com_along;
   std::filesystem::remove_all(dir);
   std::printf("xi_n x %.4f, xi_t x %.4f; per cycle: rod %.6g mm, ribbon %.6g mm, ratio %.4f\n",
               face, axial, rod, ribbon, ribbon / rod);

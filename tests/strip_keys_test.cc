@@ -132,8 +132,8 @@ TEST(StripKeysTest, RmsVoltageFallsAsOneOverA0) {
   // V ~ 1 / a0. a0 at 2.7 and 5.3 times eq. 7's keeps every link off the
   // clamp (at 0.05 Hz, |s^-0.5| is 2.2 times smaller than at 0.01 Hz).
   const std::string run = "cycles = 1\n[waveform]\nfrequency_Hz = 0.05\n";
-  const ClosedLoopResult low = RunScenario(PaperWith(run + "[plant]\na0_mm_per_V = 1.0\n"));
-  const ClosedLoopResult high = RunScenario(PaperWith(run + "[plant]\na0_mm_per_V = 2.0\n"));
+  const ClosedLoopResult low = SimulateScenario(PaperWith(run + "[plant]\na0_mm_per_V = 1.0\n"));
+  const ClosedLoopResult high = SimulateScenario(PaperWith(run + "[plant]\na0_mm_per_V = 2.0\n"));
   for (std::size_t q = 0; q < low.links.size(); ++q) {
     SCOPED_TRACE(q);
     EXPECT_EQ(low.links[q].clamped_fraction, 0.0);

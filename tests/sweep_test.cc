@@ -227,7 +227,7 @@ TEST_F(SweepTest, TableDoesNotDependOnJobsAndHoldsTheRunsNumbersExactly) {
   }
   // Point 6 (1 Hz, distributed, Kp 8.12) run alone: the cells read back
   // as the very same doubles.
-  const ClosedLoopResult alone = RunScenario(*plan.points[6].scenario);
+  const ClosedLoopResult alone = SimulateScenario(*plan.points[6].scenario);
   const std::vector<std::string>& row = one.rows[6];
   EXPECT_EQ(std::stod(row[column("link2_iae_mm_s")]), alone.links[1].iae_mm_s);
   EXPECT_EQ(std::stod(row[column("link3_clamped_fraction")]), alone.links[2].clamped_fraction);

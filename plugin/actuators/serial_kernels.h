@@ -1,6 +1,6 @@
 // Serial N_Vector kernels compiled with the project, installed on the
-// vector that the actuator bank's CVODE integrates (plugin/
-// ipmc_actuator_bank.cc). Why they exist: see serial_kernels.cc.
+// vector that the actuators' CVODE integrates
+// (plugin/actuators/cvode_integrator.cc). Why they exist: see serial_kernels.cc.
 #ifndef IPMC_SWIM_PLUGIN_SERIAL_KERNELS_H_
 #define IPMC_SWIM_PLUGIN_SERIAL_KERNELS_H_
 

@@ -1,5 +1,5 @@
-// Linear algebra of the IPMC actuator bank's exact Newton solve
-// (plugin/actuators/ipmc_actuator_bank.h, kBlockSchur): each link block's A
+// Linear algebra of the CVODE integrator's exact Newton solve
+// (plugin/actuators/cvode_integrator.h, kBlockSchur): each link block's A
 // in real Schur form, solved shifted, (I - gamma T) w = z, by back
 // substitution.
 #pragma once

@@ -1,5 +1,5 @@
-// RAII owners of the SUNDIALS objects the IPMC actuator bank creates
-// (plugin/actuators/ipmc_actuator_bank.cc). A holder declares them in
+// RAII owners of the SUNDIALS objects the IPMC actuators' CVODE integrator
+// creates (plugin/actuators/cvode_integrator.cc). A holder declares them in
 // creation order, so C++ destroys them in reverse: CVODE memory, linear
 // solver, matrix, vector, context.
 #pragma once

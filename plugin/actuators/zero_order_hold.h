@@ -1,6 +1,6 @@
 // Exact integration of the IPMC links' linear ODE under a zero-order hold.
 //
-// The stacked link models (plugin/actuators/ipmc_actuator_bank.h) are
+// The stacked link models (plugin/actuators/stacked_linear_system.h) are
 // linear and time-invariant, dx/dt = A x + B u, and the coupling holds each
 // link's voltage u_q constant between the controller's samples. Over an
 // interval of length h with u held, the solution is exact in closed form

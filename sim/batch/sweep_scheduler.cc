@@ -72,7 +72,7 @@ std::vector<std::string> RunPoint(const SweepPlan& plan, const SweepPoint& point
   *error = point.error;
   if (point.scenario) {
     try {
-      result = RunScenario(*point.scenario);
+      result = SimulateScenario(*point.scenario);
       if (!runs_dir.empty()) {
         const nlohmann::json inputs = {
             {"scenario", plan.base_path}, {"sweep", plan.source}, {"sweep_point", point.index}};

@@ -54,9 +54,9 @@ std::string SweepPointRunDir(const std::string& runs_dir, int index);
 // of a sweep writing PREFIX.csv: PREFIX_runs.
 std::string SweepRunsDir(const std::string& out_prefix);
 
-// Runs the shard's points on options.jobs threads (RunScenario per point),
-// the longest runs (cycles / frequency / time step) first. The rows, in
-// index order, do not depend on the number of jobs. Points in
+// Runs the shard's points on options.jobs threads (SimulateScenario per
+// point), the longest runs (cycles / frequency / time step) first. The
+// rows, in index order, do not depend on the number of jobs. Points in
 // options.finished are not run; progress counts only the points run. If
 // stop_requested stopped the sweep, the table holds the points finished
 // by then (fewer rows than the shard has points). Throws

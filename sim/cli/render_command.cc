@@ -104,7 +104,7 @@ int RunRender(const RenderArgs& args) {
   scenario.cycles = args.film.cycles == 0 ? scenario.cycles : first_cycle + args.film.cycles - 1;
   scenario.samples_per_cycle = args.film.frames_per_cycle;
   scenario.output_dir.clear();
-  RunScenarioFilmed(scenario, args.film, args.out_path);
+  SimulateScenarioWithProgress(scenario, args.film, args.out_path);
   return 0;
 }
 
@@ -189,7 +189,7 @@ bool AnyVideoOptionGiven(const CLI::App* cmd) {
   return false;
 }
 
-ClosedLoopResult RunScenarioFilmed(
+ClosedLoopResult SimulateScenarioWithProgress(
     const ScenarioConfig& scenario, const FilmConfig& film, const std::string& video_path,
     const std::function<void(const ClosedLoopResult&)>& before_filming) {
   RunWatch watch("running", ScenarioDuration_s(scenario));
@@ -202,16 +202,16 @@ ClosedLoopResult RunScenarioFilmed(
     if (before_filming) before_filming(result);
   };
   if (video_path.empty()) {
-    const ClosedLoopResult result = RunScenario(scenario, observer, heartbeat);
+    const ClosedLoopResult result = SimulateScenario(scenario, observer, heartbeat);
     report(result);
     return result;
   }
   FilmProgressBar bar(watch.interrupt());
   bar.SetKept("the video was not written; the run's results above are kept");
   FilmSummary summary;
-  const ClosedLoopResult result = RunScenarioAndFilm(scenario, film, video_path, report,
-                                                     bar.Callback(), &summary, observer,
-                                                     heartbeat);
+  const ClosedLoopResult result = SimulateAndFilmScenario(scenario, film, video_path, report,
+                                                          bar.Callback(), &summary, observer,
+                                                          heartbeat);
   bar.Finish();
   PrintFilmSummary(summary, film, video_path);
   return result;

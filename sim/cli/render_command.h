@@ -54,12 +54,13 @@ bool AnyVideoOptionGiven(const CLI::App* cmd);
 // `cycles_option` is the flag of FilmConfig::cycles.
 void TranslatingFilmErrors(const std::string& cycles_option, const std::function<void()>& f);
 
-// Runs the scenario once and hands the result to `before_filming` (if
-// set); then, with a non-empty video_path, films the run from its recorded
-// states into video_path (the frame size is checked against the model when
-// the run starts) and prints where the video went. Throws as RunScenario
-// and FilmRun do.
-ClosedLoopResult RunScenarioFilmed(
+// Runs the scenario once (SimulateScenario) with a progress bar on the
+// terminal and hands the result to `before_filming` (if set); then, with a
+// non-empty video_path, films the run from its recorded states into
+// video_path (the frame size is checked against the model when the run
+// starts) and prints where the video went. Throws as SimulateScenario and
+// FilmRun do.
+ClosedLoopResult SimulateScenarioWithProgress(
     const ScenarioConfig& scenario, const FilmConfig& film, const std::string& video_path,
     const std::function<void(const ClosedLoopResult&)>& before_filming = {});
 

@@ -45,12 +45,13 @@ int RunRunCommandLine(const RunArgs& args) {
   });
   // The results are printed and written before the film is made.
   TranslatingFilmErrors("--film-cycles", [&] {
-    RunScenarioFilmed(plan.scenario, args.film, plan.video, [&](const ClosedLoopResult& result) {
-      PrintClosedLoopResult(result);
-      if (plan.dir.empty()) return;
-      WriteRunOutputs(plan, result);
-      PrintWritten(plan.dir, plan.formats);
-    });
+    SimulateScenarioWithProgress(plan.scenario, args.film, plan.video,
+                                 [&](const ClosedLoopResult& result) {
+                                   PrintClosedLoopResult(result);
+                                   if (plan.dir.empty()) return;
+                                   WriteRunOutputs(plan, result);
+                                   PrintWritten(plan.dir, plan.formats);
+                                 });
   });
   return 0;
 }

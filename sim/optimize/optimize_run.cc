@@ -436,7 +436,7 @@ OptimizeOutcome RunOptimizeCommand(const OptimizePlan& plan, const OptimizeHooks
                       {PathIn(plan.out, kResult), outcome.result.dump(2) + "\n"}});
   if (result.best) {
     const ScenarioConfig scenario = EvaluationScenario(config, keys, result.best->x);
-    const ClosedLoopResult run = RunScenario(scenario);
+    const ClosedLoopResult run = SimulateScenario(scenario);
     const nlohmann::json inputs = {{"scenario", config.base_path},
                                    {"optimize", config.source},
                                    {"evaluation", result.best->evaluation},

@@ -55,7 +55,7 @@ py::dict Run(const py::object& scenario_arg, const py::dict& overrides, const py
       ThrowIfStopRequested(stop);
       progress.Report(d->time);
     };
-    return RunScenario(scenario, observer, [&stop](double) { ThrowIfStopRequested(stop); });
+    return SimulateScenario(scenario, observer, [&stop](double) { ThrowIfStopRequested(stop); });
   });
   progress.Report(total_s, true);
   WithoutGil([&] { WriteRunOutputs(plan, result); });

@@ -205,7 +205,7 @@ ModelPtr LoadScenarioModel(const ScenarioConfig& scenario, std::string* source) 
 std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenario) {
   std::string source;
   ModelPtr model = LoadScenarioModel(scenario, &source);
-  UseEulerWhereImplicitAddsNothing(model.get());  // as RunClosedLoop steps it
+  UseEulerWhereImplicitAddsNothing(model.get());  // as StepClosedLoop steps it
   IpmcActuatorsOverrides overrides;
   overrides.plants = scenario.plants;
   overrides.dynamics = scenario.dynamics;
@@ -290,10 +290,10 @@ int MetricsFromCycle(const ScenarioConfig& scenario) {
   return static_cast<int>(std::min(after_ramp, static_cast<double>(std::max(1, scenario.cycles))));
 }
 
-ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserver& observer,
-                             const RunHeartbeat& heartbeat) {
+ClosedLoopResult SimulateScenario(const ScenarioConfig& scenario, const SampleObserver& observer,
+                                  const RunHeartbeat& heartbeat) {
   const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(scenario);
-  return RunClosedLoop(*sim, scenario, observer, heartbeat);
+  return StepClosedLoop(*sim, scenario, observer, heartbeat);
 }
 
 namespace {
@@ -440,8 +440,8 @@ void FinishResult(const ScenarioConfig& scenario, const ClosedLoopTiming& timing
 
 }  // namespace
 
-ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
-                               const SampleObserver& observer, const RunHeartbeat& heartbeat) {
+ClosedLoopResult StepClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
+                                const SampleObserver& observer, const RunHeartbeat& heartbeat) {
   scenario.waveform.Validate();
   mjModel* m = sim.model();
   UseEulerWhereImplicitAddsNothing(m);  // no servo: Euler suffices

@@ -141,7 +141,7 @@ ModelPtr LoadScenarioModel(const ScenarioConfig& scenario, std::string* source);
 std::string ScenarioModelSha256(const ScenarioConfig& scenario);
 
 // The scenario's model (LoadScenarioModel) with the scenario's plants
-// imposed, attached, on the integrator RunClosedLoop steps it with
+// imposed, attached, on the integrator StepClosedLoop steps it with
 // (UseEulerWhereImplicitAddsNothing), so that a caller stepping it itself
 // gets the run's numbers.
 std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenario);
@@ -154,15 +154,18 @@ std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenari
 // from it.
 RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mjModel* m);
 
-// Loads the scenario's model (LoadScenarioSimulation) and runs it. Throws
-// std::runtime_error naming the file on bad input or divergence.
-ClosedLoopResult RunScenario(const ScenarioConfig& scenario, const SampleObserver& observer = {},
-                             const RunHeartbeat& heartbeat = {});
+// A scenario made into a run: loads its model (LoadScenarioSimulation) and
+// steps it (StepClosedLoop). Throws std::runtime_error naming the file on
+// bad input or divergence.
+ClosedLoopResult SimulateScenario(const ScenarioConfig& scenario,
+                                  const SampleObserver& observer = {},
+                                  const RunHeartbeat& heartbeat = {});
 
-// Runs on an existing simulation (its time step and fluid as they are).
-ClosedLoopResult RunClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
-                               const SampleObserver& observer = {},
-                               const RunHeartbeat& heartbeat = {});
+// The closed-loop stepping loop on an existing simulation (its time step
+// and fluid as they are): controllers, references, metrics.
+ClosedLoopResult StepClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
+                                const SampleObserver& observer = {},
+                                const RunHeartbeat& heartbeat = {});
 
 // The segment pitches of a model at rest (hinges j1..jN and the last tip)
 // and its IPMC links' lengths, which the references are projected on.

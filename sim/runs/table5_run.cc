@@ -114,7 +114,7 @@ std::vector<TrackingIndices> RunTransferFunctionLoop(const ScenarioConfig& scena
 
 std::vector<TrackingIndices> RunController(const ScenarioConfig& scenario, Table5Loop loop) {
   if (loop == Table5Loop::kTransferFunction) return RunTransferFunctionLoop(scenario);
-  return IndicesOf(RunScenario(scenario));
+  return IndicesOf(SimulateScenario(scenario));
 }
 
 }  // namespace
