@@ -124,7 +124,7 @@ TEST(InertialEnergyTest, HalvingTheStepHardlyMovesThePowers) {
   std::map<double, EnergyMetrics> by_step;
   for (double h_s : {5e-4, 2.5e-4}) {
     scenario.timestep_s = h_s;
-    by_step[h_s] = RunScenario(scenario).energy;
+    by_step[h_s] = SimulateScenario(scenario).energy;
     const EnergyMetrics& e = by_step[h_s];
     std::printf("h = %g s: actuators %.7e W, fluid %.7e W, damping %.7e W, stepping %.3e W\n",
                 h_s, e.actuator_power_W_total, e.fluid_power_W, e.hinge_damping_power_W,
