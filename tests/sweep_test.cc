@@ -154,7 +154,7 @@ TEST_F(SweepTest, OverridesReachEveryPartOfTheScenario) {
   EXPECT_EQ(fractional.fractional.gain, 10.0);
   EXPECT_EQ(fractional.fractional.order, 0.5);
   EXPECT_EQ(fractional.viscosity_Pa_s, 2e-3);
-  EXPECT_EQ(plan.points[2].scenario->actuation, "single");
+  EXPECT_EQ(plan.points[2].scenario->actuation, Actuation::kSingle);
 }
 
 // Sweeping the fractional integrator's realisation over
