@@ -181,7 +181,7 @@ TEST(ScenarioKeysTest, TheReaderAllowsExactlyTheTablesKeys) {
             (std::vector<std::string>{"viscosity_Pa_s", "rft_coefficients", "rft_wavelength_mm",
                                       "wall_gap_mm", "model", "stokeslet_width_points",
                                       "stokeslet_points_per_mm", "stokeslet_blob_mm",
-                                      "stokeslet_shape_tolerance_rad"}));
+                                      "stokeslet_shape_tolerance_rad", "ribbon_modes"}));
   std::vector<std::string> tables = {""};
   for (const std::string& name : ScenarioKeysUnder("")) {
     if (!ScenarioKeysUnder(name).empty()) tables.push_back(name);
