@@ -252,6 +252,25 @@ void WriteFilesTogether(const std::vector<std::pair<std::string, std::string>>& 
   }
 }
 
+namespace {
+
+enum class LockOutcome { kLocked, kHeldElsewhere, kUnsupported };
+
+// flock(LOCK_EX | LOCK_NB) on `fd`, again when a signal interrupts it. A
+// file system without locks (ENOLCK) is let through (kUnsupported): the
+// user then keeps runs apart. Any other failure throws, naming `path`.
+LockOutcome LockWithoutWaiting(int fd, const std::string& path) {
+  for (;;) {
+    if (flock(fd, LOCK_EX | LOCK_NB) == 0) return LockOutcome::kLocked;
+    if (errno == EINTR) continue;
+    if (errno == EWOULDBLOCK) return LockOutcome::kHeldElsewhere;
+    if (errno == ENOLCK) return LockOutcome::kUnsupported;
+    throw std::runtime_error(path + ": cannot lock (" + std::strerror(errno) + ")");
+  }
+}
+
+}  // namespace
+
 DirectoryLock::DirectoryLock(const std::string& dir) : dir_(dir) {
   namespace fs = std::filesystem;
   std::error_code error;
@@ -267,9 +286,7 @@ DirectoryLock::DirectoryLock(const std::string& dir) : dir_(dir) {
       throw std::runtime_error(dir + ": cannot open output directory (" + std::strerror(errno) +
                                ")");
     }
-    // A file system without locks (ENOLCK) is let through: the user then
-    // keeps runs apart.
-    if (flock(fd_, LOCK_EX | LOCK_NB) != 0 && errno == EWOULDBLOCK) {
+    if (LockWithoutWaiting(fd_, dir) == LockOutcome::kHeldElsewhere) {
       throw std::runtime_error(dir + ": in use by another run (one run per output directory)");
     }
   } catch (...) {
@@ -309,9 +326,13 @@ int OpenLockedJournal(const std::string& path, const std::string& in_use) {
       close(fd);
       throw std::runtime_error(path + ": is not a regular file; a journal must be one");
     }
-    if (flock(fd, LOCK_EX | LOCK_NB) != 0 && errno == EWOULDBLOCK) {
+    try {
+      if (LockWithoutWaiting(fd, path) == LockOutcome::kHeldElsewhere) {
+        throw std::runtime_error(path + ": " + in_use);
+      }
+    } catch (...) {
       close(fd);
-      throw std::runtime_error(path + ": " + in_use);
+      throw;
     }
     struct stat named {};
     const bool still_named = stat(path.c_str(), &named) == 0 && named.st_ino == status.st_ino &&

@@ -41,8 +41,12 @@ to the command wherever a document shows it. The test fails when a command
 is neither run nor skipped, when an entry matches no command of any
 document, and when an edit or replacement finds nothing to change.
 
-Usage: readme_examples.py README DATA SOURCE_DIR BUILD_DIR [--without-python] [--without-bench]
-(the docs/*.md beside README are read too)
+Usage: readme_examples.py README DATA SOURCE_DIR BUILD_DIR [--shard K/N]
+                          [--without-python] [--without-bench]
+(the docs/*.md beside README are read too; with --shard K/N only the K-th
+of every N documents, counted from 1 in the order above, runs, in a scratch
+folder of its own, so that N tests share the documents; the data file is
+checked against all of them in each)
 (a build without the Python module or the benchmarks: their commands are
 reported as not run)
 """
@@ -282,13 +286,21 @@ def main():
                             "the benchmarks are not built"),
     }
     flags = sys.argv[5:]
+    shard, shards = 1, 1
+    if "--shard" in flags:
+        at = flags.index("--shard")
+        shard, shards = (int(n) for n in flags[at + 1].split("/"))
+        del flags[at:at + 2]
+        if not 1 <= shard <= shards:
+            raise SystemExit(f"--shard {shard}/{shards}: K must be in [1, N]")
     for flag in flags:
         if flag not in absent:
             raise SystemExit(f"unknown option {flag} (allowed: {', '.join(absent)})")
     # README.md, then every docs/*.md by name.
     documents = [readme] + sorted(glob.glob(os.path.join(os.path.dirname(readme), "docs", "*.md")))
-    units = [unit for path in documents
-             for unit in document_units(path, os.path.relpath(path, os.path.dirname(readme)))]
+    units_of = {path: document_units(path, os.path.relpath(path, os.path.dirname(readme)))
+                for path in documents}
+    units = [unit for path in documents for unit in units_of[path]]
     entries = read_entries(data)
     keys = {u.key for u in units}
     failures = []
@@ -304,6 +316,8 @@ def main():
             failures.append(f"{unit.where}: `{unit.key}` is skipped and also overridden")
     if failures:
         raise SystemExit("\n".join(failures))
+    shard_documents = documents[shard - 1::shards]
+    shard_units = [unit for path in shard_documents for unit in units_of[path]]
 
     scratch = tempfile.mkdtemp(prefix="readme_examples_")
     # Commands say their own PYTHONPATH; a python block runs in the
@@ -319,7 +333,7 @@ def main():
         for kind, name, _, where in entries:
             if kind == "file" and not any(name in command_to_run(u, entries) for u in units):
                 failures.append(f"{where}: no command uses the file {name}; remove the entry")
-        for unit in units:
+        for unit in shard_units:
             mine = [(k, v) for k, key, v, _ in entries if key == unit.key]
             reasons = [v for k, v in mine if k == "skip"]
             label = f"{unit.where}: {unit.key}"
@@ -356,7 +370,7 @@ def main():
                                 f"  stderr:\n{tail(err)}")
     finally:
         shutil.rmtree(scratch, ignore_errors=True)
-    print(f"{ran} commands of {len(documents)} documents run, {skipped} skipped")
+    print(f"{ran} commands of {len(shard_documents)} documents run, {skipped} skipped")
     if failures:
         print("\n".join(failures), file=sys.stderr)
         sys.exit(1)
