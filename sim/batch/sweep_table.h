@@ -30,7 +30,7 @@ namespace ipmc {
 
 // Where a row's result comes from: the point's scenario as run (every key,
 // defaults filled in: ResolvedScenarioToml, sim/core/scenario.h) and the
-// SHA-256 of its model's bytes (ScenarioModelSha256, sim/runs/closed_loop_run.h).
+// SHA-256 of its model's bytes (ScenarioModelSha256, sim/core/scenario_simulation.h).
 struct PointProvenance {
   std::string resolved_scenario;
   std::string model_sha256;

@@ -13,14 +13,13 @@
 
 #include "plugin/base/error.h"
 #include "plugin/base/numbers.h"
-#include "sim/core/link_sensors.h"
 #include "sim/core/scenario_keys.h"
 #include "sim/core/scenario_overrides.h"
+#include "sim/core/scenario_simulation.h"
 #include "sim/core/simulation.h"
 #include "sim/io/columns.h"
 #include "sim/io/files.h"
 #include "sim/io/toml.h"
-#include "sim/runs/closed_loop_run.h"
 #include "sim/runs/run_warnings.h"
 
 namespace ipmc {
@@ -287,10 +286,7 @@ void OptimizeReader::ReadBaseAndSet(const toml::table& root, OptimizeConfig& con
   if (read.fatal) throw *read.fatal;
   if (read.failure) throw *read.failure;
   config.base = std::move(*read.scenario);
-  {
-    const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(config.base);
-    config.links = LinkSensors(sim->model(), sim->data(), config.base_path).Links();
-  }
+  config.links = ScenarioLinkCount(config.base);
 }
 
 // [[variable]]

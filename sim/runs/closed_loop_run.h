@@ -25,6 +25,7 @@
 #include "controllers/closed_loop.h"
 #include "sim/core/energy.h"
 #include "sim/core/scenario.h"
+#include "sim/core/scenario_simulation.h"
 #include "sim/core/simulation.h"
 #include "sim/core/swim_meter.h"
 #include "sim/runs/recorded_states.h"
@@ -129,30 +130,6 @@ int MetricsFromCycle(const ScenarioConfig& scenario);
 // The references' fade-in (sim/core/scenario.h): (1 - cos(pi t / T_r)) / 2
 // for t < T_r = ramp_s, then 1.
 double StartRamp(double t_s, double ramp_s);
-
-// The scenario's model (its file, or the generated flagellum it names) with
-// its overrides applied (time step, viscosity); *source is set to the name
-// used in messages. Throws std::runtime_error naming the file on bad input.
-ModelPtr LoadScenarioModel(const ScenarioConfig& scenario, std::string* source);
-
-// The SHA-256 (sim/core/sha256.h) of the bytes of the scenario's model: its
-// file, or the MJCF text of the generated flagellum it names. Throws
-// InputError if the file cannot be read.
-std::string ScenarioModelSha256(const ScenarioConfig& scenario);
-
-// The scenario's model (LoadScenarioModel) with the scenario's plants
-// imposed, attached, on the integrator StepClosedLoop steps it with
-// (UseEulerWhereImplicitAddsNothing), so that a caller stepping it itself
-// gets the run's numbers.
-std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenario);
-// The fluid settings the scenario imposes: fluid.rft_coefficients, and the
-// wavelength in the RFT coefficients, fluid.rft_wavelength_mm or else the
-// wave's (waveform.wavelength_mm), so that the drag follows the wave; and
-// with fluid.wall_gap_mm the near-wall coefficients, for a wall that far
-// below the strip's lower edge: the centreline is the gap plus half the
-// strip's width (m's ipmc_strip_width_m, else 2 ipmc_rft_equivalent_radius_m)
-// from it.
-RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mjModel* m);
 
 // A scenario made into a run: loads its model (LoadScenarioSimulation) and
 // steps it (StepClosedLoop). Throws std::runtime_error naming the file on

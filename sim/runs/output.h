@@ -104,7 +104,7 @@ nlohmann::json ClosedLoopSummaryJson(const ClosedLoopResult& result);
 //   program_version    ProgramVersion() (sim/core/data_paths.h)
 //   resolved_scenario  ResolvedScenarioToml (sim/core/scenario.h): every
 //                      key with its value, defaults filled in
-//   model_sha256       ScenarioModelSha256 (sim/runs/closed_loop_run.h)
+//   model_sha256       ScenarioModelSha256 (sim/core/scenario_simulation.h)
 nlohmann::json ClosedLoopProvenance(const ScenarioConfig& scenario);
 
 // The scenario a run's summary.json recorded (inputs.resolved_scenario), to

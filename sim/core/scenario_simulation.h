@@ -1,0 +1,45 @@
+// A scenario made into a simulation, in one place for every front end
+// (`run`, sweeps, optimisation, films and the Python module): the model
+// it names or generates, with the scenario's time step, viscosity and
+// hinge damping, and the fluid settings and plants it imposes.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "plugin/fluid/rft_drag.h"
+#include "sim/core/scenario.h"
+#include "sim/core/simulation.h"
+
+namespace ipmc {
+
+// The scenario's model (its file, or the generated flagellum it names) with
+// its overrides applied (time step, viscosity, hinge damping); *source is set to the name
+// used in messages. Throws std::runtime_error naming the file on bad input.
+ModelPtr LoadScenarioModel(const ScenarioConfig& scenario, std::string* source);
+
+// The SHA-256 (sim/core/sha256.h) of the bytes of the scenario's model: its
+// file, or the MJCF text of the generated flagellum it names. Throws
+// InputError if the file cannot be read.
+std::string ScenarioModelSha256(const ScenarioConfig& scenario);
+
+// The scenario's model (LoadScenarioModel) with the scenario's plants
+// imposed, attached, on the integrator StepClosedLoop steps it with
+// (UseEulerWhereImplicitAddsNothing), so that a caller stepping it itself
+// gets the run's numbers.
+std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenario);
+// The fluid settings the scenario imposes: fluid.rft_coefficients, and the
+// wavelength in the RFT coefficients, fluid.rft_wavelength_mm or else the
+// wave's (waveform.wavelength_mm), so that the drag follows the wave; and
+// with fluid.wall_gap_mm the near-wall coefficients, for a wall that far
+// below the strip's lower edge: the centreline is the gap plus half the
+// strip's width (m's ipmc_strip_width_m, else 2 ipmc_rft_equivalent_radius_m)
+// from it.
+RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mjModel* m);
+
+// The number of IPMC links of the scenario's model, read from its fields
+// without building the simulation. Throws std::runtime_error naming the
+// model if it has no IPMC actuators.
+int ScenarioLinkCount(const ScenarioConfig& scenario);
+
+}  // namespace ipmc
