@@ -10,8 +10,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "plugin/base/error.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/error.h"
+#include "sim/base/numbers.h"
 #include "renders/frame_decor.h"
 #include "sim/core/simulation.h"
 

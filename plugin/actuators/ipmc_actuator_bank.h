@@ -29,7 +29,7 @@
 
 #include <Eigen/Dense>
 
-#include "controllers/linear/state_space.h"
+#include "sim/linear/state_space.h"
 #include "plugin/actuators/cvode_integrator.h"
 #include "plugin/actuators/ipmc_link_model.h"
 #include "plugin/actuators/linear_system_integrator.h"

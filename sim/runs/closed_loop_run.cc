@@ -17,7 +17,7 @@
 #include "sim/core/link_sensors.h"
 #include "sim/core/sha256.h"
 #include "sim/io/files.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc {
 namespace {
