@@ -22,7 +22,7 @@
 #include "ipmc_swim/ipmc_swim.h"
 #include "sim/core/model_generator.h"
 #include "sim/core/simulation.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc {
 namespace {

@@ -48,7 +48,7 @@
 #include "sim/core/model_generator.h"
 #include "sim/core/scenario.h"
 #include "sim/core/simulation.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 #include "sim/runs/bench_run.h"
 #include "sim/runs/closed_loop_run.h"
 

@@ -1,4 +1,4 @@
-// The Stokes-flow stepper (plugin/fluid/stokes_step.h, docs/DYNAMICS.md)
+// The Stokes-flow stepper (plugin/dynamics/stokes_step.h, docs/DYNAMICS.md)
 // against the inertial step and against bare MuJoCo, in one run:
 //  - one 100 s cycle of the paper's closed-loop run (scenarios/paper.toml)
 //    with dynamics = stokes at the 1 kHz controller sample, against bare
@@ -32,7 +32,7 @@
 #include "sim/core/model_generator.h"
 #include "sim/core/scenario.h"
 #include "sim/core/simulation.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 #include "sim/runs/closed_loop_run.h"
 
 namespace ipmc {

@@ -30,7 +30,7 @@
 #include "controllers/fractional_integrator.h"
 #include "controllers/pid.h"
 #include "controllers/reference_model.h"
-#include "controllers/linear/state_space.h"
+#include "sim/linear/state_space.h"
 
 namespace ipmc {
 

@@ -10,8 +10,8 @@
 
 #include <unsupported/Eigen/MatrixFunctions>
 
-#include "plugin/base/error.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/error.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc {
 namespace {

@@ -6,7 +6,7 @@
 // realised as a continuous state-space block (a, b, c, d) in one of two
 // ways (Config::realisation):
 //  - kOustaloup (default): the Oustaloup approximation of s^-lambda
-//    (controllers/linear/oustaloup.h) with N pairs on the band [w_b, w_h],
+//    (sim/linear/oustaloup.h) with N pairs on the band [w_b, w_h],
 //    scaled by K; the defaults are eq. 15's setting (N = 4 pairs on
 //    [1e-3, 1e2] rad/s). Inside the band C_I(j w) is matched within the
 //    Oustaloup ripple and outside it the gain levels off (finite DC gain:
@@ -34,8 +34,8 @@
 
 #include <Eigen/Dense>
 
-#include "controllers/linear/oustaloup.h"
-#include "controllers/linear/state_space.h"
+#include "sim/linear/oustaloup.h"
+#include "sim/linear/state_space.h"
 
 namespace ipmc {
 
@@ -81,7 +81,7 @@ class FractionalIntegrator {
     bool clamp_enabled = true;
     double v_max = 6.0;  // output limit [V], > 0 (checked if clamp_enabled)
 
-    // Throws FieldError (plugin/base/error.h, a std::invalid_argument) with a
+    // Throws FieldError (sim/base/error.h, a std::invalid_argument) with a
     // one-line message naming the field and its allowed range (both also
     // carried as its field() and allowed()).
     void Validate() const;

@@ -16,7 +16,7 @@
 // z_k and p_k (numerator and denominator), so
 //   C_I*(s) = g prod_k (s + z_k) / (s + p_k),  g = 32.08 / 36.47,
 // which is realised like the Oustaloup blocks, as a cascade of
-// first-order sections (controllers/linear/oustaloup.h, ZeroPoleGainStateSpace).
+// first-order sections (sim/linear/oustaloup.h, ZeroPoleGainStateSpace).
 // The roots come from the eigenvalues of the polynomials' companion
 // matrices, polished by Newton steps on the printed polynomials.
 #ifndef IPMC_SWIM_CONTROLLERS_PAPER_EQ15_H_
@@ -26,8 +26,8 @@
 #include <complex>
 #include <string>
 
-#include "controllers/linear/oustaloup.h"
-#include "controllers/linear/state_space.h"
+#include "sim/linear/oustaloup.h"
+#include "sim/linear/state_space.h"
 
 namespace ipmc {
 

@@ -7,8 +7,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "plugin/base/error.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/error.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc {
 namespace {

@@ -44,7 +44,7 @@ class PidController {
     bool clamp_enabled = true;
     double v_max = 6.0;  // output limit [V], > 0 (checked if clamp_enabled)
 
-    // Throws FieldError (plugin/base/error.h, a std::invalid_argument) with a
+    // Throws FieldError (sim/base/error.h, a std::invalid_argument) with a
     // one-line message naming the field and its allowed range (both also
     // carried as its field() and allowed()). All fields must be finite.
     void Validate() const;

@@ -1,4 +1,4 @@
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 #include "controllers/reference_model.h"
 
 #include <algorithm>

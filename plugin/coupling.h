@@ -11,7 +11,7 @@
 #include "plugin/actuators/ipmc_actuators.h"
 #include "plugin/fluid/fluid_model.h"
 #include "plugin/fluid/rft_drag.h"
-#include "plugin/fluid/stokes_step.h"
+#include "plugin/dynamics/stokes_step.h"
 #include "plugin/fluid/stokeslet_fluid.h"
 
 namespace ipmc {

@@ -4,7 +4,7 @@
 #include <optional>
 #include <string>
 
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc {
 namespace {

@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 
 namespace ipmc::figure_parts {
 

@@ -11,8 +11,8 @@
 #include "renders/figure_parts.h"
 #include "sim/io/csv.h"
 #include "sim/io/files.h"
-#include "plugin/base/error.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/error.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc {
 

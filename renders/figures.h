@@ -119,7 +119,7 @@ struct FigureReport {
 };
 
 // Draws figure `kind` of the CSV at `input` into out_path. Throws
-// FieldError (plugin/base/error.h) for a bad option or an unknown output
+// FieldError (sim/base/error.h) for a bad option or an unknown output
 // format, InputError naming the file and the column for input without the
 // needed columns or rows, std::runtime_error if gnuplot fails; nothing is
 // written then.

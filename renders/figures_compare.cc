@@ -14,8 +14,8 @@
 #include <nlohmann/json.hpp>
 #include <toml++/toml.h>
 
-#include "plugin/base/error.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/error.h"
+#include "sim/base/numbers.h"
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
 #include "sim/io/toml.h"

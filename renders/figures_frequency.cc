@@ -13,8 +13,8 @@
 
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
-#include "plugin/base/error.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/error.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc::figure_parts {
 namespace {
@@ -22,7 +22,7 @@ namespace {
 // ------------------------------------------------------------------ bode ---
 
 // The open loop's margins as the bode command found them by root search on
-// the exact response (controllers/linear/frequency_response.h) and wrote
+// the exact response (sim/linear/frequency_response.h) and wrote
 // them to bode.json; empty where there is none or no bode.json.
 struct Margins {
   bool known = false;  // bode.json holds them

@@ -15,8 +15,8 @@
 
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
-#include "plugin/base/error.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/error.h"
+#include "sim/base/numbers.h"
 #include "sim/runs/run_warnings.h"
 
 namespace ipmc::figure_parts {

@@ -6,7 +6,7 @@
 
 #include <GL/gl.h>
 
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc {
 namespace {

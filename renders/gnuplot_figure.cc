@@ -8,10 +8,10 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 #include "sim/io/files.h"
 #include "sim/io/process.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc {
 namespace {

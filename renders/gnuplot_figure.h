@@ -23,7 +23,7 @@ namespace ipmc {
 enum class FigureFormat { kPdf, kSvg, kPng };
 
 // The format of `path` by its extension (case-insensitive). Throws
-// FieldError (plugin/base/error.h, field --out) "PATH: unknown figure format 'EXT' (allowed: .pdf,
+// FieldError (sim/base/error.h, field --out) "PATH: unknown figure format 'EXT' (allowed: .pdf,
 // .svg, .png)".
 FigureFormat FigureFormatOf(const std::string& path);
 

@@ -1,7 +1,5 @@
 #include "renders/offscreen_renderer.h"
 
-#include <GL/osmesa.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -10,9 +8,10 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "plugin/base/error.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/error.h"
+#include "sim/base/numbers.h"
 #include "renders/frame_decor.h"
+#include "renders/offscreen_context.h"
 #include "sim/core/simulation.h"
 
 namespace ipmc {
@@ -60,12 +59,8 @@ constexpr double kMaxStripThickness_m = 0.01;
 // The head (clamp) is drawn this many times as thick as the strip.
 constexpr double kClampThicknessRatio = 2.5;
 
-// Colours (rgb in [0, 1]) as they should appear on screen. Decor geoms
-// glow (emission kDecorEmission) besides being lit like the body, so that
-// rounded ones (ghost, trails) look nearly flat; FlatRgba divides by the
-// emission plus the light that falls on an upward face so an upward face
-// appears as given.
-constexpr float kDecorEmission = 4.0f;
+// Colours (rgb in [0, 1]) as they should appear on screen (decor geoms
+// glow: OffscreenRenderer::Context::FlatRgba, renders/offscreen_context.h).
 constexpr float kBackground[3] = {0.965f, 0.965f, 0.950f};
 constexpr float kGridMinor[3] = {0.855f, 0.860f, 0.870f};
 constexpr float kGridMajor[3] = {0.700f, 0.715f, 0.735f};
@@ -116,19 +111,6 @@ Box3 GeomBox(const mjModel* m, const mjData* d) {
   return box;
 }
 
-// Light falling on an upward face: the headlight's ambient and diffuse
-// plus, for each directional model light, its ambient and its diffuse
-// times the cosine to +z.
-float UpwardLight(const mjModel* m) {
-  float light = m->vis.headlight.ambient[0] + m->vis.headlight.diffuse[0];
-  for (int l = 0; l < m->nlight; ++l) {
-    if (!m->light_active[l]) continue;
-    const double cosine = std::max(0.0, -m->light_dir[3 * l + 2]);
-    light += m->light_ambient[3 * l] + m->light_diffuse[3 * l] * static_cast<float>(cosine);
-  }
-  return std::max(light, 0.05f);
-}
-
 // The point on the ray from eye through (x, y, 0) at height z: drawn there,
 // it covers the pixel of (x, y, 0).
 void OnRayAtHeight(const double eye[3], double x, double y, double z, mjtNum out[3]) {
@@ -153,119 +135,6 @@ struct OffscreenRenderer::Layers {
     grid_z = ghost_z;
     grid_half_thickness = 0.02 * ghost_radius;
     background_z = grid_z - 0.2 * ghost_radius;
-  }
-};
-
-// Each resource is its own member, so a constructor that throws halfway
-// releases what it made; members are destroyed in reverse order of
-// declaration: MuJoCo's GL context (with its OSMesa context current), the
-// OSMesa context, the scene, the scratch data, the model copy.
-struct OffscreenRenderer::Context {
-  struct Scene {
-    mjvScene scn;
-    Scene(const mjModel* m, int maxgeom) {
-      mjv_defaultScene(&scn);
-      mjv_makeScene(m, &scn, maxgeom);
-    }
-    ~Scene() { mjv_freeScene(&scn); }
-  };
-  struct Osmesa {
-    OSMesaContext context = nullptr;
-    std::vector<unsigned char> buffer;  // the context's own framebuffer (unused: we draw off-screen)
-    int width, height;
-    Osmesa(int w, int h) : buffer(static_cast<size_t>(w) * h * 4), width(w), height(h) {
-      context = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 0, nullptr);
-      if (!context) throw std::runtime_error("renderer: OSMesaCreateContextExt failed");
-    }
-    ~Osmesa() { OSMesaDestroyContext(context); }
-    void MakeCurrent() {
-      if (OSMesaGetCurrentContext() == context) return;
-      if (!OSMesaMakeCurrent(context, buffer.data(), GL_UNSIGNED_BYTE, width, height)) {
-        throw std::runtime_error("renderer: OSMesaMakeCurrent failed");
-      }
-    }
-  };
-  // MuJoCo's GL context, on the OSMesa context or (osmesa null) on the
-  // window's context, which the caller keeps current.
-  struct Render {
-    Osmesa* osmesa;
-    mjrContext con;
-    Render(const mjModel* m, Osmesa* gl, int fontscale) : osmesa(gl) {
-      mjr_defaultContext(&con);
-      if (osmesa) osmesa->MakeCurrent();  // before mjr_makeContext, which loads the GL functions
-      mjr_makeContext(m, &con, fontscale);
-    }
-    ~Render() {
-      try {
-        if (osmesa) osmesa->MakeCurrent();
-      } catch (const std::exception&) {
-        return;  // no current context: freeing GL objects would touch another context
-      }
-      mjr_freeContext(&con);
-    }
-    void MakeCurrent() {
-      if (osmesa) osmesa->MakeCurrent();
-    }
-  };
-
-  ModelPtr model;
-  DataPtr scratch;
-  Scene scene;
-  std::unique_ptr<Osmesa> osmesa;  // null in a window
-  Render render;
-  mjvCamera camera;
-  mjvOption option;
-  mjvPerturb perturb;
-  float upward_light = 1.0f;
-  std::vector<unsigned char> pixels;  // bottom row first, as OpenGL reads them
-
-  Context(ModelPtr m, int maxgeom, int width, int height, int fontscale, bool window)
-      : model(std::move(m)),
-        scratch(mj_makeData(model.get())),
-        scene(model.get(), maxgeom),
-        osmesa(window ? nullptr : std::make_unique<Osmesa>(width, height)),
-        render(model.get(), osmesa.get(), fontscale),
-        pixels(static_cast<size_t>(width) * height * 3) {
-    if (!scratch) throw std::runtime_error("renderer: cannot allocate mjData");
-    mjv_defaultCamera(&camera);
-    mjv_defaultOption(&option);
-    mjv_defaultPerturb(&perturb);
-    std::fill_n(option.sitegroup, mjNGROUP, 0);
-    upward_light = UpwardLight(model.get());
-  }
-
-  // rgba of a decor geom (emission kDecorEmission) that appears as `rgb`
-  // on an upward face.
-  void FlatRgba(const float rgb[3], float out[4]) const {
-    for (int i = 0; i < 3; ++i) out[i] = rgb[i] / (kDecorEmission + upward_light);
-    out[3] = 1.0f;
-  }
-  // Appends a decor geom of the given type and flat colour to the scene
-  // (nullptr if the scene is full); size, pos, mat as in mjv_initGeom.
-  mjvGeom* AddDecorGeom(int type, const float rgb[3], const mjtNum* size = nullptr,
-                        const mjtNum* pos = nullptr) {
-    mjvScene& scn = scene.scn;
-    if (scn.ngeom >= scn.maxgeom) return nullptr;
-    float rgba[4];
-    FlatRgba(rgb, rgba);
-    mjvGeom* geom = scn.geoms + scn.ngeom++;
-    mjv_initGeom(geom, type, size, pos, nullptr, rgba);
-    geom->category = mjCAT_DECOR;
-    geom->emission = kDecorEmission;
-    geom->specular = 0.0f;
-    return geom;
-  }
-  // Appends a line from a to b, width_px pixels wide (at least 1), drawn
-  // flat in colour rgb; false if the scene is full.
-  bool AddDecorLine(const float rgb[3], const mjtNum a[3], const mjtNum b[3], double width_px) {
-    mjvScene& scn = scene.scn;
-    if (scn.ngeom >= scn.maxgeom) return false;
-    const float rgba[4] = {rgb[0], rgb[1], rgb[2], 1.0f};  // lines are drawn unlit
-    mjvGeom* geom = scn.geoms + scn.ngeom++;
-    mjv_initGeom(geom, mjGEOM_LINE, nullptr, nullptr, nullptr, rgba);
-    geom->category = mjCAT_DECOR;
-    mjv_makeConnector(geom, mjGEOM_LINE, std::max(1.0, width_px), a[0], a[1], a[2], b[0], b[1], b[2]);
-    return true;
   }
 };
 

@@ -11,7 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 #include "renders/offscreen_renderer.h"
 #include "renders/video.h"
 #include "sim/core/simulation.h"

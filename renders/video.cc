@@ -11,7 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 #include "sim/io/files.h"
 #include "sim/io/process.h"
 

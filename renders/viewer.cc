@@ -14,8 +14,8 @@
 #include <stdexcept>
 #include <thread>
 
-#include "plugin/base/error.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/error.h"
+#include "sim/base/numbers.h"
 #include "renders/frame_decor.h"
 #include "renders/offscreen_renderer.h"
 #include "renders/video.h"

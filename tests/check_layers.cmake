@@ -3,17 +3,21 @@
 # docs/ARCHITECTURE.md). Run by CTest as
 #   cmake -DSOURCE_DIR=<project> -P tests/check_layers.cmake
 # Each layer lists the layers its files may include (its own is implied).
-# plugin/base is the bottom and includes nothing of the project; plugin/
-# and controllers/ never include sim/ (they are libraries of their own that
-# a program other than ipmc-swim may link).
+# The two bottom layers are sim/base (numbers as text, input errors), which
+# includes nothing of the project, and sim/linear (the linear-systems
+# toolbox), which includes only sim/base. plugin/ and controllers/ include
+# these two and nothing else of sim/ (they are libraries of their own that
+# a program other than ipmc-swim may link); controllers/ includes nothing
+# of plugin/.
 set(layers
-  plugin/base
+  sim/base
+  sim/linear
   sim/io
-  controllers/linear
   controllers
   plugin/include
   plugin/mjcf
   plugin/fluid
+  plugin/dynamics
   plugin/actuators
   plugin
   sim/core
@@ -25,18 +29,19 @@ set(layers
   sim/cli
   sim/python
   sim)
-set(allowed_plugin/base "")
-set(allowed_sim/io plugin/base)
-set(allowed_controllers/linear plugin/base)
-set(allowed_controllers controllers/linear plugin/base)
+set(allowed_sim/base "")
+set(allowed_sim/linear sim/base)
+set(allowed_sim/io sim/base)
+set(allowed_controllers sim/linear sim/base)
 set(allowed_plugin/include "")
-set(allowed_plugin/mjcf plugin/base)
-set(allowed_plugin/fluid plugin/mjcf plugin/base)
-set(allowed_plugin/actuators plugin/include plugin/mjcf controllers/linear plugin/base)
-set(allowed_plugin plugin/include plugin/mjcf plugin/fluid plugin/actuators controllers/linear
-  plugin/base)
-set(below_sim plugin/base sim/io controllers/linear controllers plugin/include plugin/mjcf
-  plugin/fluid plugin/actuators plugin)
+set(allowed_plugin/mjcf sim/base)
+set(allowed_plugin/fluid plugin/mjcf sim/base)
+set(allowed_plugin/dynamics plugin/fluid plugin/mjcf sim/base)
+set(allowed_plugin/actuators plugin/include plugin/mjcf sim/linear sim/base)
+set(allowed_plugin plugin/include plugin/mjcf plugin/fluid plugin/dynamics plugin/actuators
+  sim/linear sim/base)
+set(below_sim sim/base sim/linear sim/io controllers plugin/include plugin/mjcf plugin/fluid
+  plugin/dynamics plugin/actuators plugin)
 set(allowed_sim/core ${below_sim})
 set(allowed_sim/runs sim/core ${below_sim})
 set(allowed_sim/identify sim/runs sim/core ${below_sim})

@@ -24,11 +24,11 @@
 #include "tests/controller_test_util.h"
 #include "controllers/closed_loop.h"
 #include "controllers/fractional_integrator.h"
-#include "controllers/linear/oustaloup.h"
-#include "controllers/linear/state_space.h"
+#include "sim/linear/oustaloup.h"
+#include "sim/linear/state_space.h"
 #include "controllers/pid.h"
 #include "controllers/reference_model.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc {
 namespace {

@@ -8,7 +8,7 @@
 
 #include "controllers/fractional_integrator.h"
 #include "controllers/pid.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc::testing {
 

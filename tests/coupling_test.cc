@@ -14,7 +14,7 @@
 
 #include "ipmc_swim/ipmc_swim.h"
 #include "plugin/coupling.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 #include "tests/test_util.h"
 
 namespace ipmc::testing {

@@ -1,4 +1,4 @@
-// The two dynamics (plugin/fluid/stokes_step.h) agree where the bodies'
+// The two dynamics (plugin/dynamics/stokes_step.h) agree where the bodies'
 // inertia vanishes: the paper's closed-loop run (scenarios/paper.toml, one
 // 100 s cycle at 0.01 Hz) and the clamped bench's sine responses. The
 // inertial run is at a converged small step (1.25e-4 s) with every body's
@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "sim/core/scenario.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 #include "sim/runs/bench_run.h"
 #include "sim/runs/closed_loop_run.h"
 #include "tests/test_util.h"

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "plugin/base/error.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/error.h"
+#include "sim/base/numbers.h"
 #include "sim/core/scenario.h"
 #include "sim/runs/closed_loop_run.h"
 

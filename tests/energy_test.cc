@@ -12,7 +12,7 @@
 #include <map>
 #include <string>
 
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 #include "plugin/fluid/rft_drag.h"
 #include "sim/core/model_generator.h"
 #include "sim/core/scenario.h"

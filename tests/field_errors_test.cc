@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 #include "renders/offscreen_renderer.h"
 #include "renders/swim_film.h"
 #include "renders/video.h"

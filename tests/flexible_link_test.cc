@@ -20,7 +20,7 @@
 #include "sim/core/model_generator.h"
 #include "sim/core/scenario.h"
 #include "tests/test_util.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc::testing {
 namespace {

@@ -22,10 +22,10 @@
 #include "tests/test_util.h"
 #include "tests/controller_test_util.h"
 #include "controllers/fractional_integrator.h"
-#include "controllers/linear/oustaloup.h"
-#include "controllers/linear/state_space.h"
+#include "sim/linear/oustaloup.h"
+#include "sim/linear/state_space.h"
 #include "controllers/paper_eq15.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc {
 namespace {

@@ -1,4 +1,4 @@
-// Bode data, crossovers and margins (controllers/linear/frequency_response.h):
+// Bode data, crossovers and margins (sim/linear/frequency_response.h):
 // textbook loops with closed-form answers, then the paper's open loops of
 // section 5.2 on the link-3 model of eq. 7.
 //
@@ -9,7 +9,7 @@
 // last quoted digit plus about ten times the residual measured against the
 // unrounded values (crossovers to 1e-9 relative).
 #include "tests/test_util.h"
-#include "controllers/linear/frequency_response.h"
+#include "sim/linear/frequency_response.h"
 
 #include <cmath>
 #include <complex>
@@ -24,7 +24,7 @@
 
 #include "controllers/fractional_integrator.h"
 #include "controllers/pid.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 #include "sim/identify/loop_analysis.h"
 
 namespace ipmc {

@@ -9,7 +9,7 @@
 #include <limits>
 #include <string>
 
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 #include "sim/core/gait.h"
 #include "sim/runs/gait_run.h"
 

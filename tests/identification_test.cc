@@ -30,7 +30,7 @@
 
 #include "controllers/closed_loop.h"
 #include "controllers/fractional_integrator.h"
-#include "controllers/linear/frequency_response.h"
+#include "sim/linear/frequency_response.h"
 #include "controllers/pid.h"
 #include "controllers/reference_model.h"
 #include "plugin/actuators/ipmc_actuators.h"
@@ -45,7 +45,7 @@
 #include "sim/identify/welch.h"
 #include "tests/cli_util.h"
 #include "tests/test_util.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc::testing {
 namespace {

@@ -35,7 +35,7 @@
 #include "sim/core/scenario.h"
 #include "sim/core/simulation.h"
 #include "tests/test_util.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc::testing {
 

@@ -14,10 +14,10 @@
 #include <gtest/gtest.h>
 #include <unsupported/Eigen/MatrixFunctions>
 
-#include "controllers/linear/oustaloup.h"
-#include "controllers/linear/state_space.h"
+#include "sim/linear/oustaloup.h"
+#include "sim/linear/state_space.h"
 #include "plugin/actuators/ipmc_link_model.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc {
 namespace {

@@ -14,7 +14,7 @@
 #include "plugin/coupling.h"
 #include "plugin/actuators/ipmc_link_model.h"
 #include "tests/test_util.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc::testing {
 namespace {

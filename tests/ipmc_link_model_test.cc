@@ -2,7 +2,7 @@
 // realisation against the exact fractional response, and the G2 fit.
 #include "tests/test_util.h"
 #include "plugin/actuators/ipmc_link_model.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 #include <cmath>
 #include <complex>

@@ -1,4 +1,4 @@
-// The Stokes step's O(nu) actuation (plugin/fluid/stokes_step.h,
+// The Stokes step's O(nu) actuation (plugin/dynamics/stokes_step.h,
 // JointTransmission and JointActuation) against MuJoCo 2.2's own
 // mj_transmission and mj_fwdActuation, which form the dense nu x nv moment
 // matrix: the same lengths, moments, actuator forces and generalised
@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "plugin/fluid/stokes_step.h"
+#include "plugin/dynamics/stokes_step.h"
 #include "sim/core/model_generator.h"
 #include "sim/core/simulation.h"
 

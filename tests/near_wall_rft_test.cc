@@ -14,7 +14,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 #include "plugin/fluid/regularized_stokeslets.h"
 #include "plugin/fluid/rft_drag.h"
 

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "plugin/base/error.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/error.h"
+#include "sim/base/numbers.h"
 #include "plugin/coupling.h"
 #include "sim/optimize/nlopt_driver.h"
 #include "sim/optimize/optimize_file.h"

@@ -1,7 +1,7 @@
-// Oustaloup approximation (controllers/linear/oustaloup.h) and the state-space
-// toolbox (controllers/linear/state_space.h).
+// Oustaloup approximation (sim/linear/oustaloup.h) and the state-space
+// toolbox (sim/linear/state_space.h).
 #include "tests/test_util.h"
-#include "controllers/linear/oustaloup.h"
+#include "sim/linear/oustaloup.h"
 
 #include <cmath>
 #include <complex>
@@ -14,8 +14,8 @@
 #include <gtest/gtest.h>
 
 #include "controllers/paper_eq15.h"
-#include "controllers/linear/state_space.h"
-#include "plugin/base/numbers.h"
+#include "sim/linear/state_space.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc {
 namespace {

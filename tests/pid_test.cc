@@ -18,7 +18,7 @@
 #include "tests/test_util.h"
 #include "tests/controller_test_util.h"
 #include "controllers/pid.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc {
 namespace {

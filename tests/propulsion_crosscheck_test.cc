@@ -24,7 +24,7 @@
 #include "sim/core/scenario.h"
 #include "sim/core/simulation.h"
 #include "tests/test_util.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 #include "tests/inertia_free_rft.h"
 
 namespace ipmc::testing {
@@ -246,7 +246,7 @@ TEST(PropulsionCrossCheckTest, DefaultRunMatchesInertiaFreeRft) {
 }
 
 // The same run stepped without inertia (dynamics = stokes, at the 1 kHz
-// sample; plugin/fluid/stokes_step.h): the solver and the run then solve
+// sample; plugin/dynamics/stokes_step.h): the solver and the run then solve
 // the same force balance, so the gap above, the body's inertia, closes.
 // Measured -1.0e-9 along, -1.5e-9 for the head (docs/DYNAMICS.md,
 // "Evidence"); tolerance 1e-8.

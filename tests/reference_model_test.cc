@@ -7,7 +7,7 @@
 // times that residual.
 #include "tests/test_util.h"
 #include "controllers/reference_model.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 #include <cmath>
 #include <complex>

@@ -17,7 +17,7 @@
 #include <Eigen/Eigenvalues>
 #include <boost/math/quadrature/exp_sinh.hpp>
 
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc::testing {
 namespace {

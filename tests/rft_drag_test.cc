@@ -9,7 +9,7 @@
 
 #include "ipmc_swim/ipmc_swim.h"
 #include "tests/test_util.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc::testing {
 namespace {

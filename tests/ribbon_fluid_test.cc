@@ -15,7 +15,7 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 #include "plugin/fluid/regularized_stokeslets.h"
 
 namespace ipmc::testing {

@@ -16,8 +16,8 @@
 #include "sim/core/keys_command.h"
 #include "sim/core/scenario.h"
 #include "sim/core/scenario_keys.h"
-#include "plugin/base/error.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/error.h"
+#include "sim/base/numbers.h"
 #include "sim/io/toml.h"
 #include "sim/optimize/optimize_file.h"
 

@@ -11,7 +11,7 @@
 #include <string>
 
 #include "controllers/pid.h"
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 #include "tests/test_util.h"
 
 namespace ipmc {

@@ -1,4 +1,4 @@
-// The Stokes-flow stepper (plugin/fluid/stokes_step.h) against the linear
+// The Stokes-flow stepper (plugin/dynamics/stokes_step.h) against the linear
 // elastohydrodynamics of a passive elastic filament whose base angle is
 // driven, theta(0, t) = eps cos(omega t), in RFT drag (Lauga, "Floppy
 // swimming", PRE 75, 041916, 2007; Wiggins & Goldstein, PRL 80, 3879, 1998):

@@ -1,4 +1,4 @@
-// The Stokes step's centre-of-mass stage (plugin/fluid/stokes_step.h,
+// The Stokes step's centre-of-mass stage (plugin/dynamics/stokes_step.h,
 // StokesComPos and StokesComVel) against MuJoCo 2.2's mj_comPos and
 // mj_comVel: the same subtree centres of mass, dof motions cdof and body
 // velocities cvel, bit for bit, on the flexible flagellum (a planar chain
@@ -10,7 +10,7 @@
 #include <cmath>
 #include <string>
 
-#include "plugin/fluid/stokes_step.h"
+#include "plugin/dynamics/stokes_step.h"
 #include "sim/core/model_generator.h"
 #include "sim/core/simulation.h"
 

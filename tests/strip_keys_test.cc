@@ -11,8 +11,8 @@
 #include <string>
 
 #include "plugin/actuators/ipmc_actuators.h"
-#include "plugin/base/error.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/error.h"
+#include "sim/base/numbers.h"
 #include "plugin/coupling.h"
 #include "plugin/fluid/rft_drag.h"
 #include "sim/core/model_generator.h"

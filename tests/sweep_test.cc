@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 #include "sim/runs/closed_loop_run.h"
 #include "sim/cli/sweep_command.h"
 #include "tests/cli_util.h"

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 #include "renders/swim_film.h"
 #include "sim/core/simulation.h"
 #include "sim/runs/recorded_states.h"

@@ -8,7 +8,7 @@
 
 #include "plugin/fluid/rft_drag.h"
 #include "tests/test_util.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc::testing {
 namespace {

@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "tests/test_util.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc {
 namespace {

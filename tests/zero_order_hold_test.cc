@@ -22,7 +22,7 @@
 #include "plugin/actuators/ipmc_actuator_bank.h"
 #include "plugin/actuators/ipmc_actuators.h"
 #include "plugin/actuators/ipmc_link_model.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 #include "sim/core/simulation.h"
 
 namespace ipmc {

@@ -68,29 +68,12 @@
 #include <Eigen/Core>
 #include <cvode/cvode.h>
 
+#include "plugin/actuators/cvode_options.h"
 #include "plugin/actuators/linear_system_integrator.h"
 #include "plugin/actuators/stacked_linear_system.h"
 #include "plugin/actuators/sundials_handles.h"
 
 namespace ipmc {
-
-// Default CVODE tolerances: relative, and absolute per state (mm or V).
-constexpr double kRelTol = 1e-8;
-constexpr double kAbsTol = 1e-10;
-// Default cap on internal steps per Advance call.
-constexpr int kMaxStepsPerAdvance = 100000;
-
-enum class CvodeLinearSolver { kBlockSchur, kDense, kBand };
-
-struct CvodeOptions {
-  CvodeLinearSolver linear_solver = CvodeLinearSolver::kBlockSchur;
-  double rel_tol = kRelTol;      // in [1e-14, 1e-2]
-  double abs_tol_mm = kAbsTol;   // > 0, finite; applied to every state
-  int max_steps = kMaxStepsPerAdvance;  // >= 1, per Advance call
-
-  // Throws std::invalid_argument naming the field and its allowed range.
-  void Validate() const;
-};
 
 class CvodeIntegrator : public LinearSystemIntegrator {
  public:

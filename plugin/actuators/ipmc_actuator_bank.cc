@@ -6,6 +6,7 @@
 #include <string>
 #include <utility>
 
+#include "plugin/actuators/cvode_integrator.h"
 #include "plugin/actuators/zero_order_hold_integrator.h"
 
 namespace ipmc {

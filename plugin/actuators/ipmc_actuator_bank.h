@@ -29,8 +29,8 @@
 
 #include <Eigen/Dense>
 
-#include "controllers/linear/state_space.h"
-#include "plugin/actuators/cvode_integrator.h"
+#include "sim/linear/state_space.h"
+#include "plugin/actuators/cvode_options.h"
 #include "plugin/actuators/ipmc_link_model.h"
 #include "plugin/actuators/linear_system_integrator.h"
 #include "plugin/actuators/stacked_linear_system.h"

@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "plugin/mjcf/custom_fields.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc {
 namespace {

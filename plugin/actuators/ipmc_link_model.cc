@@ -1,5 +1,5 @@
 #include "plugin/actuators/ipmc_link_model.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 #include <algorithm>
 #include <cmath>

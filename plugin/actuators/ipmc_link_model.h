@@ -6,7 +6,7 @@
 //   G2(s) = a0 / (b1 s^alpha + 1),  alpha in (1, 2) in the paper (eq. 6)
 //
 // Every fractional power is realised by an Oustaloup approximation
-// (controllers/linear/oustaloup.h) inside a finite state-space block:
+// (sim/linear/oustaloup.h) inside a finite state-space block:
 //  - H(s): OustaloupStateSpace(integrator), a cascade of first-order
 //    sections. Its DC gain is bounded only by the band: |H| -> w_b^-0.5 below
 //    w_b, so w_b is the slowest time scale the model can represent
@@ -38,8 +38,8 @@
 #include <optional>
 #include <string>
 
-#include "controllers/linear/oustaloup.h"
-#include "controllers/linear/state_space.h"
+#include "sim/linear/oustaloup.h"
+#include "sim/linear/state_space.h"
 
 namespace ipmc {
 

@@ -15,7 +15,7 @@
 
 #include <Eigen/Dense>
 
-#include "controllers/linear/state_space.h"
+#include "sim/linear/state_space.h"
 
 namespace ipmc {
 

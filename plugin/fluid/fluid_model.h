@@ -1,6 +1,6 @@
 // The fluid the body's segments feel, as one interface: the drag callback
 // (mjcb_passive, inertial dynamics), the Stokes stepper
-// (plugin/fluid/stokes_step.h) and the energy meter (sim/core/energy.h)
+// (plugin/dynamics/stokes_step.h) and the energy meter (sim/core/energy.h)
 // call `Fluid` and nothing else, and the registry below builds the model a
 // run asks for. The models, one header/source pair each:
 //

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "plugin/base/numbers.h"
-#include "plugin/fluid/spatial_algebra.h"
+#include "sim/base/numbers.h"
+#include "plugin/mjcf/spatial_algebra.h"
 
 namespace ipmc {
 

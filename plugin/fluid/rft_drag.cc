@@ -7,8 +7,8 @@
 
 #include "plugin/mjcf/custom_fields.h"
 #include "plugin/mjcf/point_velocity.h"
-#include "plugin/base/numbers.h"
-#include "plugin/fluid/spatial_algebra.h"
+#include "sim/base/numbers.h"
+#include "plugin/mjcf/spatial_algebra.h"
 
 namespace ipmc {
 namespace {

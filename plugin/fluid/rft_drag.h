@@ -16,7 +16,7 @@
 //   S = [ K_w - L [r x] R [r x]    L [r x] R ]
 //       [ -L R [r x]               L R       ],  K_w = xi_n L^3/12 (I - t t^T),
 // T_c = T + r x F the torque about c. The drag callback applies -S V and
-// the Stokes stepper (plugin/fluid/stokes_step.h) assembles J^T S J from
+// the Stokes stepper (plugin/dynamics/stokes_step.h) assembles J^T S J from
 // the same S, so the two share one formula.
 //
 // Coefficients [N s/m^2] from the viscosity mu, the equivalent radius a and

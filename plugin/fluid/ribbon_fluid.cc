@@ -9,9 +9,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 #include "plugin/fluid/rft_drag.h"
-#include "plugin/fluid/spatial_algebra.h"
+#include "plugin/mjcf/spatial_algebra.h"
 
 namespace ipmc {
 namespace {

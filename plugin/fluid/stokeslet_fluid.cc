@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "plugin/fluid/spatial_algebra.h"
+#include "plugin/mjcf/spatial_algebra.h"
 
 namespace ipmc {
 namespace {

@@ -1,6 +1,6 @@
 // How a coupled model is stepped (the MJCF field and its choices): mj_step
 // with the bodies' inertia, or the Stokes-flow step without it
-// (plugin/fluid/stokes_step.h, docs/DYNAMICS.md).
+// (plugin/dynamics/stokes_step.h, docs/DYNAMICS.md).
 #pragma once
 
 #include <stdexcept>

@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 #include "sim/batch/cpu_affinity.h"
 #include "sim/batch/sweep_grow.h"
 #include "sim/io/columns.h"

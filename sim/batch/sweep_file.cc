@@ -20,8 +20,8 @@
 #include <utility>
 #include <vector>
 
-#include "plugin/base/error.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/error.h"
+#include "sim/base/numbers.h"
 #include "sim/core/data_paths.h"
 #include "sim/core/link_sensors.h"
 #include "sim/core/scenario_keys.h"

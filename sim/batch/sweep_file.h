@@ -41,7 +41,7 @@
 //  - a malformed sweep file, an unknown key or a value of the wrong type
 //    (as the scenario reader judges it), or a base that is not a valid
 //    scenario by itself stops the sweep before any run: InputError
-//    (plugin/base/error.h, a std::runtime_error) with one line "FILE:LINE: key
+//    (sim/base/error.h, a std::runtime_error) with one line "FILE:LINE: key
 //    ..." naming the sweep file (or the base); the scenario reader's errors
 //    are classified and relocated by their problem and key, not by their
 //    text;

@@ -8,8 +8,8 @@
 #include <utility>
 #include <variant>
 
-#include "plugin/base/error.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/error.h"
+#include "sim/base/numbers.h"
 #include "sim/io/columns.h"
 #include "sim/io/toml.h"
 

@@ -16,8 +16,8 @@
 #include <string_view>
 #include <utility>
 
-#include "plugin/base/error.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/error.h"
+#include "sim/base/numbers.h"
 #include "sim/core/data_paths.h"
 #include "sim/core/fan_out.h"
 #include "sim/batch/sweep_gait.h"

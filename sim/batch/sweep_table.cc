@@ -18,8 +18,8 @@
 #include <string>
 #include <utility>
 
-#include "plugin/base/error.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/error.h"
+#include "sim/base/numbers.h"
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
 #include "sim/io/files.h"

@@ -67,7 +67,7 @@ std::string SweepTableCsv(const SweepTable& table);
 nlohmann::ordered_json SweepTableJson(const SweepTable& table);
 
 // Reads a table written by SweepTableCsv; throws InputError
-// (plugin/base/error.h) "SOURCE:LINE: ..." if it is not one.
+// (sim/base/error.h) "SOURCE:LINE: ..." if it is not one.
 SweepTable ParseSweepTableCsv(const std::string& csv_text, const std::string& source);
 // The same from PREFIX.csv, with program_version, provenance and
 // fingerprint from PREFIX.json beside it if there is one (InputError if it

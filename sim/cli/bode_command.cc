@@ -3,7 +3,7 @@
 #include <complex>
 #include <cstdio>
 
-#include "controllers/linear/frequency_response.h"
+#include "sim/linear/frequency_response.h"
 
 namespace ipmc {
 namespace {

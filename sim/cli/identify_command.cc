@@ -8,12 +8,12 @@
 
 #include <nlohmann/json.hpp>
 #include "controllers/fractional_integrator.h"
-#include "controllers/linear/frequency_response.h"
+#include "sim/linear/frequency_response.h"
 #include "controllers/reference_model.h"
 #include "plugin/actuators/ipmc_actuators.h"
 #include "plugin/actuators/ipmc_link_model.h"
-#include "plugin/base/error.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/error.h"
+#include "sim/base/numbers.h"
 #include "sim/cli/command.h"
 #include "sim/core/data_paths.h"
 #include "sim/core/fan_out.h"

@@ -19,7 +19,7 @@
 #include "sim/cli/step_command.h"
 #include "sim/cli/command.h"
 #include "sim/cli/interrupt.h"
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 #include "sim/batch/sweep.h"
 #include "sim/cli/run_watch.h"
 #include "sim/core/gait.h"

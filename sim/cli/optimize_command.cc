@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <string>
 
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 #include "sim/cli/interrupt.h"
 #include "sim/io/process.h"
 

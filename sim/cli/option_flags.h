@@ -14,7 +14,7 @@
 #include <CLI/CLI.hpp>
 
 #include "sim/cli/command.h"
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 #include "sim/io/option_table.h"
 
 namespace ipmc {

@@ -15,8 +15,8 @@
 #include "sim/cli/interrupt.h"
 #include "sim/cli/run_watch.h"
 #include "sim/io/files.h"
-#include "plugin/base/error.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/error.h"
+#include "sim/base/numbers.h"
 #include "sim/io/option_table.h"
 #include "sim/io/progress_bar.h"
 

@@ -2,7 +2,7 @@
 
 #include <cstdio>
 
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 #include "sim/cli/render_command.h"
 #include "sim/cli/run_print.h"
 #include "sim/runs/run_warnings.h"

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc {
 namespace {

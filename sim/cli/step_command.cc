@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "controllers/controller_names.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc {
 namespace {

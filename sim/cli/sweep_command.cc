@@ -15,7 +15,7 @@
 #include "sim/runs/run_warnings.h"
 #include "sim/batch/sweep.h"
 #include "sim/io/columns.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 #include "sim/cli/interrupt.h"
 #include "sim/cli/slurm_command.h"
 #include "sim/io/files.h"

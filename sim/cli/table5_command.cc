@@ -7,8 +7,8 @@
 
 #include "controllers/fractional_integrator.h"
 #include "controllers/pid.h"
-#include "plugin/base/error.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/error.h"
+#include "sim/base/numbers.h"
 #include "plugin/coupling.h"
 #include "sim/core/data_paths.h"
 #include "sim/core/fan_out.h"

@@ -5,7 +5,7 @@
 
 #include "controllers/controller_names.h"
 #include "controllers/fractional_integrator.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 #include "sim/core/key_builder.h"
 #include "sim/core/scenario.h"
 

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <string>
 
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 
 namespace ipmc {
 namespace {

@@ -58,7 +58,7 @@
 
 #include "plugin/fluid/fluid_model.h"
 #include "plugin/fluid/rft_drag.h"
-#include "plugin/fluid/stokes_step.h"
+#include "plugin/dynamics/stokes_step.h"
 #include "sim/core/electrical.h"
 #include "sim/core/swim_meter.h"
 

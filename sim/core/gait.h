@@ -51,7 +51,7 @@ std::unique_ptr<Gait> MakeSquareStroke(const SquareStrokeConfig& config);
 // Trajectory from CSV (sim/io/csv.h): rows "time_s, q_1, ..., q_n" [s,
 // rad], an optional header line, strictly increasing times; linear
 // interpolation, repeated with period t_last - t_first. Throws InputError
-// (plugin/base/error.h, a std::runtime_error) "PATH:LINE: reason".
+// (sim/base/error.h, a std::runtime_error) "PATH:LINE: reason".
 std::unique_ptr<Gait> LoadCsvGait(const std::string& path, int joints);
 
 }  // namespace ipmc

@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 #include "sim/core/scenario_keys.h"
 
 namespace ipmc {

@@ -9,8 +9,8 @@
 #include <utility>
 
 #include "plugin/actuators/ipmc_actuators.h"
-#include "plugin/base/error.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/error.h"
+#include "sim/base/numbers.h"
 #include "plugin/fluid/rft_drag.h"
 #include "plugin/mjcf/custom_fields.h"
 

@@ -24,9 +24,9 @@
 
 #include "sim/core/model_generator.h"
 #include "sim/core/scenario_keys.h"
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 #include "sim/io/files.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 #include "sim/io/toml.h"
 
 namespace ipmc {
@@ -69,7 +69,7 @@ struct Entry {
 };
 
 // Reads one scenario document; every failure throws InputError
-// (plugin/base/error.h) naming the source, the line and the key, with one line
+// (sim/base/error.h) naming the source, the line and the key, with one line
 // of text.
 class ScenarioReader {
  public:

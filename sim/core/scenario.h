@@ -120,7 +120,7 @@ struct ScenarioConfig {
   }
 };
 
-// Parses and validates; throws InputError (plugin/base/error.h, a
+// Parses and validates; throws InputError (sim/base/error.h, a
 // std::runtime_error) "FILE:LINE: key: reason" that carries the file, line,
 // dotted key, what is wrong (InputProblem) and the allowed range.
 ScenarioConfig LoadScenario(const std::string& path);

@@ -14,7 +14,7 @@
 
 #include "controllers/controller_names.h"
 #include "plugin/actuators/ipmc_actuators.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 #include "sim/core/controller_keys.h"
 #include "sim/core/fluid_keys.h"
 #include "sim/core/key_builder.h"

@@ -17,7 +17,7 @@
 #include <string_view>
 #include <vector>
 
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 
 namespace ipmc {
 

@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 #include "sim/core/scenario.h"
 
 namespace ipmc {

@@ -7,7 +7,7 @@
 #include <stdexcept>
 
 #include "ipmc_swim/ipmc_swim.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 #include "plugin/coupling.h"
 #include "plugin/fluid/stokeslet_fluid.h"
 #include "sim/core/hinge_damping.h"

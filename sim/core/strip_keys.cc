@@ -4,7 +4,7 @@
 #include <string>
 #include <utility>
 
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 #include "sim/core/key_builder.h"
 #include "sim/core/model_generator.h"
 #include "sim/core/scenario.h"

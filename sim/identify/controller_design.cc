@@ -9,7 +9,7 @@
 
 #include <nlopt.hpp>
 
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 #include "controllers/fractional_integrator.h"
 #include "controllers/pid.h"
 

@@ -7,7 +7,7 @@
 //     deg, so  lambda = (arg P(j w_c) + 180 deg - PM) / 90 deg;
 //   gain condition: |L(j w_c)| = 1, so  K = w_c^lambda / |P(j w_c)|.
 // arg P is unwrapped along a logarithmic grid from 1e-4 w_c up to w_c
-// (controllers/linear/frequency_response.h), so plants whose phase passes -180 deg
+// (sim/linear/frequency_response.h), so plants whose phase passes -180 deg
 // below w_c are handled. For eq. 7 with w_c = 5 rad/s, PM = 75 deg:
 // arg P(j5) = -52.02 deg, |P(j5)| = 0.17632 mm/V, lambda = 0.5887,
 // K = 14.63 (the paper prints 0.62 and 15.62, which give a crossover of
@@ -41,10 +41,10 @@
 #include <Eigen/Dense>
 
 #include "controllers/closed_loop.h"
-#include "controllers/linear/frequency_response.h"
+#include "sim/linear/frequency_response.h"
 #include "controllers/pid.h"
 #include "controllers/reference_model.h"
-#include "controllers/linear/state_space.h"
+#include "sim/linear/state_space.h"
 #include "plugin/actuators/ipmc_link_model.h"
 
 namespace ipmc {

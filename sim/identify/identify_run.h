@@ -20,7 +20,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "controllers/linear/frequency_response.h"
+#include "sim/linear/frequency_response.h"
 #include "plugin/actuators/ipmc_link_model.h"
 #include "sim/identify/controller_design.h"
 #include "sim/identify/levy.h"

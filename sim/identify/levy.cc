@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc {
 namespace {

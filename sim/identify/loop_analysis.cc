@@ -14,14 +14,14 @@
 
 #include "controllers/controller_names.h"
 #include "controllers/fractional_integrator.h"
-#include "controllers/linear/oustaloup.h"
-#include "controllers/linear/state_space.h"
+#include "sim/linear/oustaloup.h"
+#include "sim/linear/state_space.h"
 #include "controllers/paper_eq15.h"
 #include "controllers/pid.h"
 #include "controllers/reference_model.h"
 #include "plugin/actuators/ipmc_link_model.h"
-#include "plugin/base/error.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/error.h"
+#include "sim/base/numbers.h"
 #include "sim/identify/controller_design.h"
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
@@ -31,7 +31,7 @@ namespace ipmc {
 namespace {
 
 // The margins the bode command prints (the root search of
-// controllers/linear/frequency_response.h), null where there is none; the
+// sim/linear/frequency_response.h), null where there is none; the
 // Bode figure marks these.
 nlohmann::json MarginsJson(const StabilityMargins& margins) {
   const auto number = [](const std::optional<double>& value) {

@@ -28,7 +28,7 @@
 
 #include "controllers/closed_loop.h"
 #include "controllers/fractional_integrator.h"
-#include "controllers/linear/frequency_response.h"
+#include "sim/linear/frequency_response.h"
 #include "controllers/pid.h"
 #include "sim/io/option_table.h"
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "controllers/fractional_integrator.h"
-#include "controllers/linear/frequency_response.h"
+#include "sim/linear/frequency_response.h"
 #include "controllers/reference_model.h"
 #include "plugin/actuators/ipmc_actuators.h"
 #include "plugin/actuators/ipmc_link_model.h"
@@ -25,9 +25,9 @@
 #include "sim/identify/report_text.h"
 #include "sim/identify/welch.h"
 #include "sim/io/columns.h"
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 #include "sim/io/files.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 #include "sim/runs/bench_run.h"
 
 namespace ipmc {

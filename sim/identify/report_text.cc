@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc {
 

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "controllers/fractional_integrator.h"
-#include "controllers/linear/frequency_response.h"
+#include "sim/linear/frequency_response.h"
 #include "sim/identify/controller_design.h"
 #include "sim/identify/levy.h"
 #include "sim/identify/welch.h"

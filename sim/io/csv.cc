@@ -5,7 +5,7 @@
 #include <optional>
 #include <utility>
 
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 #include "sim/io/files.h"
 
 namespace ipmc {

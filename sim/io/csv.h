@@ -3,7 +3,7 @@
 //
 // Writing: a field is quoted when it holds a comma, a quote, a line break
 // or blanks (spaces, tabs) at either end; a quote inside quotes is
-// doubled. Numbers are written by FormatDouble (plugin/base/numbers.h) at the
+// doubled. Numbers are written by FormatDouble (sim/base/numbers.h) at the
 // writer's significant digits.
 //
 // Reading: unquoted fields lose their leading and trailing blanks (and
@@ -11,7 +11,7 @@
 // with a quote is quoted, may hold commas and line breaks, and ends at the
 // next lone quote; blank lines are skipped. A number field must be a
 // number as a whole (ParseDouble). Every error is an InputError
-// (plugin/base/error.h) naming the source and line, and the column where there
+// (sim/base/error.h) naming the source and line, and the column where there
 // is one:
 //   SOURCE:LINE: unterminated quoted cell
 //   SOURCE:LINE: expected N cells, got M            (rows against the header)
@@ -25,7 +25,7 @@
 #include <utility>
 #include <vector>
 
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc {
 

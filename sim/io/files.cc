@@ -20,7 +20,7 @@
 #include <system_error>
 #include <utility>
 
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 
 namespace ipmc {
 namespace {

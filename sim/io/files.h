@@ -47,7 +47,7 @@ class PendingFile {
 // (RequireWritableParent) and again as it renames into place.
 void RequireReplaceable(const std::string& path);
 
-// Throws InputError (plugin/base/error.h, kUnreadable) "PATH: is a WHAT,
+// Throws InputError (sim/base/error.h, kUnreadable) "PATH: is a WHAT,
 // not a regular file (the WHAT_READ)" unless `path` leads to a regular
 // file or to nothing (the caller reports a missing file its own way): a
 // FIFO or a device would block or never end, a directory is no file.
@@ -157,7 +157,7 @@ void RequireWritableParent(const std::string& path, const std::string& longest_s
 // The same for the directory `path` is in, if it names one.
 void EnsureParentDirectory(const std::string& path);
 
-// The whole content of `path`. Throws InputError (plugin/base/error.h)
+// The whole content of `path`. Throws InputError (sim/base/error.h)
 // "PATH: cannot open the WHAT", "PATH: cannot read the WHAT" or, for
 // anything but a regular file, RequireRegularInput's.
 std::string ReadTextFile(const std::string& path, const std::string& what);

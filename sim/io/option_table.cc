@@ -2,7 +2,7 @@
 
 #include <cctype>
 
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc {
 namespace {

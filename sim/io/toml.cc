@@ -2,7 +2,7 @@
 
 #include <cstdint>
 
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 
 namespace ipmc {
 namespace {

@@ -8,7 +8,7 @@
 
 namespace ipmc {
 
-// Parses `text`; a syntax error throws InputError (plugin/base/error.h,
+// Parses `text`; a syntax error throws InputError (sim/base/error.h,
 // problem kSyntax) "SOURCE:LINE:COLUMN: description" on one line.
 toml::table ParseToml(const std::string& text, const std::string& source);
 

@@ -11,8 +11,8 @@
 #include <set>
 #include <utility>
 
-#include "plugin/base/error.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/error.h"
+#include "sim/base/numbers.h"
 #include "sim/core/scenario_keys.h"
 #include "sim/core/scenario_overrides.h"
 #include "sim/core/scenario_simulation.h"

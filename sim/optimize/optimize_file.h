@@ -1,6 +1,6 @@
 // Optimisation files (OPT.toml): a scenario's design optimised over some
 // of its number keys (docs/OPTIMIZE.md). Read and checked here, once,
-// before any run; every error is a FieldError (plugin/base/error.h) whose
+// before any run; every error is a FieldError (sim/base/error.h) whose
 // one-line message names the file (and line), the field and its allowed
 // range; errors of the base scenario and of [set] are the scenario
 // reader's InputErrors.

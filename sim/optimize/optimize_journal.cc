@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 #include "sim/core/sha256.h"
 #include "sim/io/files.h"
 

@@ -10,8 +10,8 @@
 #include <stdexcept>
 #include <utility>
 
-#include "plugin/base/error.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/error.h"
+#include "sim/base/numbers.h"
 #include "renders/figures.h"
 #include "sim/batch/cpu_affinity.h"
 #include "sim/batch/sweep_scheduler.h"

@@ -2,7 +2,7 @@
 
 #include <sys/stat.h>
 
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 #include "sim/io/files.h"
 #include "sim/io/process.h"
 

@@ -1,7 +1,7 @@
 #include "sim/runs/bench_command.h"
 
 #include "sim/core/data_paths.h"
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 #include "sim/io/files.h"
 
 namespace ipmc {

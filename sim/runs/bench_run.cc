@@ -11,8 +11,8 @@
 #include "sim/core/link_sensors.h"
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
-#include "plugin/base/error.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/error.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc {
 namespace {

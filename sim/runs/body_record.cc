@@ -4,8 +4,8 @@
 #include <cmath>
 #include <cstddef>
 
-#include "plugin/base/error.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/error.h"
+#include "sim/base/numbers.h"
 #include "sim/io/columns.h"
 
 namespace ipmc {

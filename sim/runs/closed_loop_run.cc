@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 #include "controllers/controller_names.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 #include "plugin/coupling.h"
 #include "sim/core/link_sensors.h"
 #include "sim/core/step_count.h"

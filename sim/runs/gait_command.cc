@@ -5,7 +5,7 @@
 
 #include "sim/core/data_paths.h"
 #include "sim/core/simulation.h"
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 #include "sim/io/files.h"
 #include "sim/runs/output.h"
 

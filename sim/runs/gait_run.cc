@@ -4,8 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "plugin/base/error.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/error.h"
+#include "sim/base/numbers.h"
 #include "plugin/coupling.h"
 #include "sim/core/step_count.h"
 

@@ -11,7 +11,7 @@
 #include "sim/core/sha256.h"
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 #include "sim/io/files.h"
 #include "sim/io/result_files.h"
 #include "sim/runs/run_warnings.h"

@@ -109,7 +109,7 @@ nlohmann::json ClosedLoopProvenance(const ScenarioConfig& scenario);
 
 // The scenario a run's summary.json recorded (inputs.resolved_scenario), to
 // run it again: the same scenario gives the same timeseries.csv and
-// metrics bit for bit. Throws InputError (plugin/base/error.h) naming the
+// metrics bit for bit. Throws InputError (sim/base/error.h) naming the
 // summary and the key if it has no resolved scenario, or if the model's
 // bytes no longer have the recorded SHA-256.
 ScenarioConfig ScenarioOfSummary(const std::string& summary_path);

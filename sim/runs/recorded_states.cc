@@ -6,7 +6,7 @@
 
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc {
 namespace {

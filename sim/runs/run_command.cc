@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 #include "sim/core/scenario_overrides.h"
 
 namespace ipmc {

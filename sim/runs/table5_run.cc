@@ -12,9 +12,9 @@
 
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 #include "sim/io/files.h"
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 #include "controllers/fractional_integrator.h"
 #include "controllers/pid.h"
 #include "plugin/coupling.h"

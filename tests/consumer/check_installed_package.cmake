@@ -14,6 +14,12 @@ function(run)
 endfunction()
 
 run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
+# The one installed header is the public one; the internal headers
+# (plugin/, sim/base, sim/linear) are used from the build tree only.
+file(GLOB_RECURSE installed_headers RELATIVE ${prefix}/include ${prefix}/include/*)
+if(NOT installed_headers STREQUAL "ipmc_swim/ipmc_swim.h")
+  message(FATAL_ERROR "installed headers: ${installed_headers} (expected ipmc_swim/ipmc_swim.h alone)")
+endif()
 # A sanitized package needs its runtime in the consumer too.
 set(consumer_flags "")
 if(SANITIZE)

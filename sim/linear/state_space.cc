@@ -1,4 +1,4 @@
-#include "controllers/linear/state_space.h"
+#include "sim/linear/state_space.h"
 
 #include <cmath>
 #include <sstream>

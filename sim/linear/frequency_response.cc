@@ -1,4 +1,4 @@
-#include "controllers/linear/frequency_response.h"
+#include "sim/linear/frequency_response.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +12,7 @@
 
 #include <boost/math/tools/toms748_solve.hpp>
 
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc {
 namespace {

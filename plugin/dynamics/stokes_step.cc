@@ -1,4 +1,4 @@
-#include "plugin/fluid/stokes_step.h"
+#include "plugin/dynamics/stokes_step.h"
 
 #include <Eigen/Cholesky>
 
@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "plugin/fluid/spatial_algebra.h"
+#include "plugin/mjcf/spatial_algebra.h"
 
 namespace ipmc {
 namespace {

@@ -34,7 +34,7 @@
 #include <complex>
 #include <vector>
 
-#include "controllers/linear/state_space.h"
+#include "sim/linear/state_space.h"
 
 namespace ipmc {
 

@@ -1,10 +1,10 @@
-#include "plugin/base/error.h"
+#include "sim/base/error.h"
 
 #include <algorithm>
 #include <cmath>
 #include <utility>
 
-#include "plugin/base/numbers.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc {
 namespace {

@@ -1,4 +1,4 @@
-#include "controllers/linear/oustaloup.h"
+#include "sim/linear/oustaloup.h"
 
 #include <cmath>
 #include <sstream>
