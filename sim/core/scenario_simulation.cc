@@ -7,9 +7,9 @@
 #include <stdexcept>
 
 #include "ipmc_swim/ipmc_swim.h"
-#include "sim/base/numbers.h"
 #include "plugin/coupling.h"
 #include "plugin/fluid/stokeslet_fluid.h"
+#include "sim/base/numbers.h"
 #include "sim/core/hinge_damping.h"
 #include "sim/core/model_generator.h"
 #include "sim/core/sha256.h"

@@ -8,8 +8,8 @@
 #include <stdexcept>
 
 #include "controllers/controller_names.h"
-#include "sim/base/numbers.h"
 #include "plugin/coupling.h"
+#include "sim/base/numbers.h"
 #include "sim/core/link_sensors.h"
 #include "sim/core/step_count.h"
 
