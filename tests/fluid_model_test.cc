@@ -87,7 +87,7 @@ TEST(FluidModelTest, RegistryBuildsTheChosenModel) {
   const RftDrag& segments = *FindCoupling(d)->drag;
   std::vector<std::string> names;
   for (const FluidModelEntry& entry : FluidModels()) names.push_back(entry.name);
-  EXPECT_EQ(names, (std::vector<std::string>{"stokeslets", "ribbon", "rft"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"stokeslets", "ribbon", "plates", "rft"}));
 
   const std::unique_ptr<Fluid> rft = MakeFluid(m, segments, {});
   ASSERT_NE(dynamic_cast<const RftDrag*>(rft.get()), nullptr);

@@ -1,5 +1,6 @@
 #include "plugin/fluid/fluid_model.h"
 
+#include "plugin/fluid/plate_fluid.h"
 #include "plugin/fluid/ribbon_fluid.h"
 #include "plugin/fluid/rft_drag.h"
 #include "plugin/fluid/stokeslet_fluid.h"
@@ -30,6 +31,7 @@ const std::vector<FluidModelEntry>& FluidModels() {
   static const std::vector<FluidModelEntry> kModels = {
       {"stokeslets", StokesletFluid::Chosen, StokesletFluid::Make},
       {"ribbon", RibbonFluid::Chosen, RibbonFluid::Make},
+      {"plates", PlateFluid::Chosen, PlateFluid::Make},
       {"rft", RftDrag::Chosen, RftDrag::Make},
   };
   return kModels;

@@ -15,6 +15,10 @@
 //   ribbon         slender-ribbon theory (plugin/fluid/ribbon_fluid.h): the
 //                  strip as one flat ribbon with a kinked centreline, the
 //                  same dense resistance over the segments' bodies.
+//   plates         flat plates (plugin/fluid/plate_fluid.h): each segment a
+//                  rectangle of the strip's width, regularized Stokeslets
+//                  on its surface by the nearest-neighbour method, the
+//                  same dense resistance (dense_resistance_fluid.h).
 //
 // Every model acts on the same segments, the slender geoms RftDrag finds
 // (RftDragConfig::FromModel reads them and the viscosity from the model's

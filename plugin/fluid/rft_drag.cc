@@ -38,8 +38,9 @@ CoefficientModel ParseCoefficientModel(const std::string& text) {
   if (text == "lighthill") return CoefficientModel::kLighthill;
   if (text == "near_wall") return CoefficientModel::kNearWall;
   if (text == "direct") return CoefficientModel::kDirect;
+  if (text == "ribbon") return CoefficientModel::kRibbon;
   throw std::invalid_argument(std::string("rft drag: ") + kAttrCoefficients +
-                              " must be gray_hancock, lighthill, near_wall or direct (got '" +
+                              " must be gray_hancock, lighthill, near_wall, direct or ribbon (got '" +
                               text + "')");
 }
 
@@ -154,6 +155,7 @@ DragCoefficients RftDragConfig::Coefficients() const {
     case CoefficientModel::kNearWall:
       return NearWallCoefficients(viscosity_Pa_s, equivalent_radius_m, wall_distance_m);
     case CoefficientModel::kDirect:
+    case CoefficientModel::kRibbon:  // set by RftDrag, which knows the strip's length
       return direct;
   }
   return direct;
@@ -281,6 +283,13 @@ RftDrag::RftDrag(const mjModel* m, const RftDragConfig& config)
                                     mj_id2name(m, mjOBJ_GEOM, g) +
                                     "' is not a box, capsule or cylinder");
     }
+  }
+  if (config_.model == CoefficientModel::kRibbon) {
+    double length_m = 0.0;
+    for (const SlenderGeom& geom : slender_) length_m += geom.length_m;
+    const StripDragPerLength strip =
+        ConvergedStripDrag(config_.viscosity_Pa_s, length_m, StripWidth_m(m));
+    coefficients_ = {strip.broadside_N_s_m2, strip.axial_N_s_m2};
   }
 }
 

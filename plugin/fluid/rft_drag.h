@@ -67,6 +67,7 @@
 
 #include "plugin/fluid/fluid_model.h"
 #include "plugin/fluid/regularized_stokeslets.h"
+#include "plugin/fluid/plate_fluid.h"
 #include "plugin/fluid/ribbon_fluid.h"
 
 namespace ipmc {
@@ -97,7 +98,10 @@ DragCoefficients LighthillCoefficients(double viscosity_Pa_s, double radius_m,
 DragCoefficients NearWallCoefficients(double viscosity_Pa_s, double radius_m,
                                       double wall_distance_m);
 
-enum class CoefficientModel { kGrayHancock, kLighthill, kNearWall, kDirect };
+// kRibbon: the converged flat plate's drag per length (plate_fluid.h,
+// ConvergedStripDrag) for the strip's own width and total length, broadside
+// as xi_n and axial as xi_t.
+enum class CoefficientModel { kGrayHancock, kLighthill, kNearWall, kDirect, kRibbon };
 // Throws std::invalid_argument naming the allowed set.
 CoefficientModel ParseCoefficientModel(const std::string& text);
 
@@ -115,6 +119,8 @@ struct RftDragOverrides {
   std::optional<StokesletSettings> stokeslets;
   // Set: the fluid model is slender-ribbon theory (plugin/fluid/ribbon_fluid.h).
   std::optional<RibbonSettings> ribbon;
+  // Set: the fluid model is flat plates (plugin/fluid/plate_fluid.h).
+  std::optional<PlateSettings> plates;
 };
 
 struct RftDragConfig {

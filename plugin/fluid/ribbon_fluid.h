@@ -53,7 +53,7 @@
 #include <memory>
 #include <vector>
 
-#include "plugin/fluid/fluid_model.h"
+#include "plugin/fluid/dense_resistance_fluid.h"
 
 namespace ipmc {
 
@@ -96,47 +96,28 @@ Eigen::MatrixXd RibbonBodyResistance(const std::vector<RibbonPiece>& pieces, int
 // width along z, all of body 0.
 std::vector<RibbonPiece> StraightRibbon(const std::vector<double>& lengths_m);
 
-class RibbonFluid : public Fluid {
+class RibbonFluid : public DenseResistanceFluid {
  public:
   // The segments' geoms and viscosity are `segments`' (the model's RFT
   // fields); the 0 lengths of `ribbon` take the model's strip width.
   // Throws std::invalid_argument on bad settings.
   RibbonFluid(const mjModel* m, const RftDrag& segments, const RibbonSettings& ribbon);
-  ~RibbonFluid() override;
   // The registry's entry (fluid_model.h): chosen when the overrides carry
   // ribbon settings.
   static bool Chosen(const RftDrag& segments, const RftDragOverrides& overrides);
   static std::unique_ptr<Fluid> Make(const mjModel* m, const RftDrag& segments,
                                      const RftDragOverrides& overrides);
 
-  void Apply(const mjModel* m, mjData* d) const override;
-  // With the resistance last computed (a measurement does not refresh it).
-  double DissipatedPower_W(const mjModel* m, const mjData* d) const override;
   double TowingDrag_N(double speed_m_s) const override;
-  const Eigen::MatrixXd* InteractionResistance(const mjModel* m, const mjData* d) const override;
-  const std::vector<int>& InteractingBodies() const override { return bodies_; }
-
   const RibbonSettings& settings() const { return settings_; }
-  int recomputations() const { return recomputations_; }
 
  private:
   std::vector<RibbonPiece> Pieces(const mjModel* m, const mjData* d) const;
-  void Recompute(const mjModel* m, const mjData* d) const;
-  const Eigen::MatrixXd& WorldResistance(const mjData* d) const;
-  Eigen::VectorXd BodyVelocities(const mjData* d) const;
-  void AddBodyWrenches(const mjModel* m, const mjData* d, const Eigen::VectorXd& wrench,
-                       mjtNum* qfrc) const;
+  Eigen::MatrixXd ComputeResistance(const mjModel* m, const mjData* d,
+                                    const Eigen::Vector3d& origin_W) const override;
+  double shape_tolerance_rad() const override { return settings_.shape_tolerance_rad; }
 
-  std::unique_ptr<const RftDrag> rft_;  // held by pointer: rft_drag.h includes this header
   RibbonSettings settings_;
-  std::vector<int> bodies_;        // distinct bodies of the slender geoms
-  std::vector<int> body_of_geom_;  // index into bodies_, per rft_ geom
-  std::vector<int> shape_joints_;  // qpos addresses of the non-root hinges and slides
-  int root_body_ = -1;
-  mutable std::vector<double> cached_shape_;
-  mutable Eigen::MatrixXd root_resistance_;  // about the root's origin, root frame
-  mutable Eigen::MatrixXd world_resistance_;
-  mutable int recomputations_ = 0;
 };
 
 }  // namespace ipmc

@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "plugin/fluid/plate_fluid.h"
 #include "plugin/fluid/regularized_stokeslets.h"
 #include "plugin/fluid/ribbon_fluid.h"
 #include "sim/core/key_builder.h"
@@ -14,6 +15,7 @@ namespace {
 constexpr char kFluidModel[] = "fluid.model";
 constexpr char kStokeslets[] = "stokeslets";
 constexpr char kRibbon[] = "ribbon";
+constexpr char kPlates[] = "plates";
 
 // The fluid and the model that computes its drag: viscosity, RFT coefficients, wall.
 std::vector<KeySpec> RftKeys() {
@@ -30,8 +32,10 @@ std::vector<KeySpec> RftKeys() {
             return c.viscosity_Pa_s ? TomlFloat(*c.viscosity_Pa_s) : kLeftOut;
           }),
       Key("fluid.rft_coefficients", T::kChoice, "", "", "the model's `ipmc_rft_coefficients`",
-          "RFT drag coefficients (plugin/fluid/rft_drag.h), overriding the model's; either "
-          "follows fluid.rft_wavelength_mm")
+          "RFT drag coefficients (plugin/fluid/rft_drag.h), overriding the model's; "
+          "gray_hancock and lighthill follow fluid.rft_wavelength_mm, ribbon is the converged "
+          "flat plate's broadside and axial drag per length for the strip's own width and "
+          "length (plugin/fluid/plate_fluid.h)")
           .Example("\"lighthill\"")
           .Refused("\"direct\"")
           .Choices(kRftCoefficientNames)
@@ -69,7 +73,9 @@ std::vector<KeySpec> RftKeys() {
           "The fluid model (plugin/fluid/fluid_model.h, docs/FLUIDS.md): local RFT, "
           "regularized Stokeslets along the segments' centrelines, whose segments interact "
           "(with the wall's image system when fluid.wall_gap_mm is set), or slender-ribbon "
-          "theory, the strip as one flat ribbon with kinks (free space only)")
+          "theory, the strip as one flat ribbon with kinks (free space only), or flat plates, "
+          "each link a rectangle of regularized Stokeslets by the nearest-neighbour method "
+          "(free space only)")
           .Default("\"rft\"")
           .Example("\"stokeslets\"")
           .Refused("\"bem\"")
@@ -170,11 +176,60 @@ std::vector<KeySpec> RibbonKeys() {
   };
 }
 
+// The flat plates' resolution (fluid.model = "plates").
+std::vector<KeySpec> PlateKeys() {
+  using T = KeyType;
+  return {
+      Key("fluid.plate_points_across", T::kInteger, "", "[1, 16]", "4",
+          "Force points across the strip's width on each plate (square cells along its "
+          "length; the blob is half their spacing): the plate model's resolution "
+          "(docs/FLUIDS.md, \"Flat plates\")")
+          .Default("4")
+          .Example("6")
+          .Refused("0")
+          .AtLeast(1)
+          .AtMost(kMaxPlatePointsAcross)
+          .Only(kFluidModel, kPlates)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.plate_points_across = static_cast<int>(v.Integer());
+          })
+          .Writes([](const ScenarioConfig& c) {
+            return c.plate_points_across == 4 ? kLeftOut : TomlInteger(c.plate_points_across);
+          }),
+      Key("fluid.plate_quadrature_refinement", T::kInteger, "", "[1, 8]", "4",
+          "Quadrature points per force point along each side of its cell (the nearest-neighbour "
+          "method's finer grid)")
+          .Default("4")
+          .Example("6")
+          .Refused("0")
+          .AtLeast(1)
+          .AtMost(kMaxPlateQuadratureRefinement)
+          .Only(kFluidModel, kPlates)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.plate_quadrature_refinement = static_cast<int>(v.Integer());
+          })
+          .Writes([](const ScenarioConfig& c) {
+            return c.plate_quadrature_refinement == 4 ? kLeftOut
+                                                      : TomlInteger(c.plate_quadrature_refinement);
+          }),
+      Key("fluid.plate_richardson", T::kBoolean, "", "true or false", "true",
+          "Richardson extrapolation in the blob: 2 R(eps / 2) - R(eps), which removes the "
+          "regularization's error, linear in eps (two solves per resistance)")
+          .Default("true")
+          .Example("false")
+          .Only(kFluidModel, kPlates)
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.plate_richardson = v.Boolean(); })
+          .Writes([](const ScenarioConfig& c) {
+            return c.plate_richardson ? kLeftOut : TomlBool(false);
+          }),
+  };
+}
+
 }  // namespace
 
 std::vector<KeySpec> FluidKeys() {
   std::vector<KeySpec> keys = RftKeys();
-  for (const std::vector<KeySpec>& part : {StokesletKeys(), RibbonKeys()}) {
+  for (const std::vector<KeySpec>& part : {StokesletKeys(), RibbonKeys(), PlateKeys()}) {
     keys.insert(keys.end(), part.begin(), part.end());
   }
   return keys;

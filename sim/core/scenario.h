@@ -32,7 +32,7 @@
 namespace ipmc {
 
 enum class ControllerKind { kPid, kFractional };
-enum class FluidModel { kRft, kStokeslets, kRibbon };
+enum class FluidModel { kRft, kStokeslets, kRibbon, kPlates };
 
 // The texts of the scenario's choices, each parsed once by its key's
 // reader (sim/core/scenario_keys.cc): a new value is one line here.
@@ -52,11 +52,13 @@ inline constexpr ChoiceName<WaveformKind> kWaveformKindNames[] = {
 inline constexpr ChoiceName<CoefficientModel> kRftCoefficientNames[] = {
     {"gray_hancock", CoefficientModel::kGrayHancock},
     {"lighthill", CoefficientModel::kLighthill},
+    {"ribbon", CoefficientModel::kRibbon},
 };
 inline constexpr ChoiceName<FluidModel> kFluidModelNames[] = {
     {"rft", FluidModel::kRft},
     {"stokeslets", FluidModel::kStokeslets},
     {"ribbon", FluidModel::kRibbon},
+    {"plates", FluidModel::kPlates},
 };
 
 struct ScenarioConfig {
@@ -102,6 +104,10 @@ struct ScenarioConfig {
   std::optional<double> stokeslet_points_per_mm, stokeslet_blob_mm;
   double stokeslet_shape_tolerance_rad = 1e-3;
   int ribbon_modes = 8;  // slender-ribbon theory's Legendre modes (plugin/fluid/ribbon_fluid.h)
+  // The plates' resolution (plugin/fluid/plate_fluid.h).
+  int plate_points_across = 4;
+  int plate_quadrature_refinement = 4;
+  bool plate_richardson = true;
   // The first cycle (1-based, <= cycles) of the run's link metrics, mean
   // speed and mean powers; the per-cycle tables keep every cycle. 0 (the
   // default): the first cycle after the start ramp (MetricsFromCycle,

@@ -165,6 +165,18 @@ RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mj
     ribbon.modes = scenario.ribbon_modes;
     fluid.ribbon = ribbon;
   }
+  if (scenario.fluid_model == FluidModel::kPlates) {
+    if (scenario.wall_gap_mm) {
+      throw std::runtime_error(scenario.source +
+                               ": fluid.wall_gap_mm needs fluid.model \"rft\" or \"stokeslets\" "
+                               "(the plate model is free space only)");
+    }
+    PlateSettings plates;
+    plates.points_across = scenario.plate_points_across;
+    plates.quadrature_refinement = scenario.plate_quadrature_refinement;
+    plates.richardson = scenario.plate_richardson;
+    fluid.plates = plates;
+  }
   return fluid;
 }
 

@@ -1,0 +1,130 @@
+#include "plugin/fluid/dense_resistance_fluid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "plugin/fluid/rft_drag.h"
+#include "plugin/mjcf/spatial_algebra.h"
+
+namespace ipmc {
+namespace {
+
+// The last dof of body b's chain (its own or its nearest moving
+// ancestor's), -1 if it is fixed to the world.
+int LastDof(const mjModel* m, int body) {
+  while (body > 0 && m->body_dofnum[body] == 0) body = m->body_parentid[body];
+  return body > 0 ? m->body_dofadr[body] + m->body_dofnum[body] - 1 : -1;
+}
+
+}  // namespace
+
+DenseResistanceFluid::~DenseResistanceFluid() = default;
+
+DenseResistanceFluid::DenseResistanceFluid(const mjModel* m, const RftDrag& segments,
+                                           const std::string& name)
+    : rft_(std::make_unique<const RftDrag>(segments)) {
+  for (int g : rft_->geom_ids()) {
+    const int body = m->geom_bodyid[g];
+    auto it = std::find(bodies_.begin(), bodies_.end(), body);
+    body_of_geom_.push_back(static_cast<int>(it - bodies_.begin()));
+    if (it == bodies_.end()) bodies_.push_back(body);
+  }
+  if (bodies_.empty()) throw std::invalid_argument(name + ": the model has no segments");
+  root_body_ = m->body_rootid[bodies_[0]];
+  for (int body : bodies_) {
+    if (m->body_rootid[body] != root_body_) {
+      throw std::invalid_argument(name + ": the segments must be on one tree of bodies");
+    }
+  }
+  for (int j = 0; j < m->njnt; ++j) {
+    const int type = m->jnt_type[j];
+    if (m->jnt_bodyid[j] == root_body_) continue;
+    if (type != mjJNT_HINGE && type != mjJNT_SLIDE) {
+      throw std::invalid_argument(name + ": only hinge and slide joints below the root");
+    }
+    shape_joints_.push_back(m->jnt_qposadr[j]);
+  }
+}
+
+void DenseResistanceFluid::Recompute(const mjModel* m, const mjData* d) const {
+  const Eigen::Vector3d origin(d->xpos + 3 * root_body_);
+  const Eigen::MatrixXd world = ComputeResistance(m, d, origin);
+  // Into the root's frame: R_root = Q6^T R Q6, Q6 = diag(Q, Q, ...).
+  const int n = static_cast<int>(world.rows());
+  Eigen::MatrixXd q6 = Eigen::MatrixXd::Zero(n, n);
+  const Eigen::Matrix3d q = BodyRotation(d, root_body_);
+  for (int k = 0; k < n / 3; ++k) q6.block<3, 3>(3 * k, 3 * k) = q;
+  root_resistance_ = q6.transpose() * world * q6;
+  cached_shape_.resize(shape_joints_.size());
+  for (size_t k = 0; k < shape_joints_.size(); ++k) cached_shape_[k] = d->qpos[shape_joints_[k]];
+  ++recomputations_;
+}
+
+const Eigen::MatrixXd* DenseResistanceFluid::InteractionResistance(const mjModel* m,
+                                                                   const mjData* d) const {
+  bool stale = cached_shape_.size() != shape_joints_.size() || root_resistance_.size() == 0;
+  for (size_t k = 0; !stale && k < shape_joints_.size(); ++k) {
+    stale = std::abs(d->qpos[shape_joints_[k]] - cached_shape_[k]) > shape_tolerance_rad();
+  }
+  if (stale) Recompute(m, d);
+  return &WorldResistance(d);
+}
+
+const Eigen::MatrixXd& DenseResistanceFluid::WorldResistance(const mjData* d) const {
+  // Back into the world and from the root's origin p to the subtree centre
+  // of mass c: V_p = T V_c with T = [I 0; -[p - c]x I], so R_c = T^T R_p T
+  // block by block.
+  const Eigen::Matrix3d q = BodyRotation(d, root_body_);
+  const Eigen::Vector3d r =
+      Eigen::Vector3d(d->xpos + 3 * root_body_) - Eigen::Vector3d(d->subtree_com + 3 * root_body_);
+  Matrix6 t = Matrix6::Identity();
+  t.block<3, 3>(3, 0) = -CrossMatrix(r);
+  Matrix6 q6 = Matrix6::Zero();
+  q6.block<3, 3>(0, 0) = q;
+  q6.block<3, 3>(3, 3) = q;
+  const Matrix6 a = q6.transpose() * t;  // V_root-frame at p = a V_c
+  const int bodies = body_count();
+  world_resistance_.resize(6 * bodies, 6 * bodies);
+  for (int i = 0; i < bodies; ++i) {
+    for (int j = 0; j < bodies; ++j) {
+      world_resistance_.block<6, 6>(6 * i, 6 * j) =
+          a.transpose() * root_resistance_.block<6, 6>(6 * i, 6 * j) * a;
+    }
+  }
+  return world_resistance_;
+}
+
+Eigen::VectorXd DenseResistanceFluid::BodyVelocities(const mjData* d) const {
+  Eigen::VectorXd v(6 * bodies_.size());
+  for (size_t i = 0; i < bodies_.size(); ++i) {
+    v.segment<6>(6 * i) = Eigen::Map<const Vector6>(d->cvel + 6 * bodies_[i]);
+  }
+  return v;
+}
+
+void DenseResistanceFluid::AddBodyWrenches(const mjModel* m, const mjData* d,
+                                           const Eigen::VectorXd& wrench, mjtNum* qfrc) const {
+  for (size_t i = 0; i < bodies_.size(); ++i) {
+    const Vector6 w = wrench.segment<6>(6 * i);
+    for (int j = LastDof(m, bodies_[i]); j >= 0; j = m->dof_parentid[j]) {
+      qfrc[j] += Eigen::Map<const Vector6>(d->cdof + 6 * j).dot(w);
+    }
+  }
+}
+
+void DenseResistanceFluid::Apply(const mjModel* m, mjData* d) const {
+  const Eigen::VectorXd wrench = -(*InteractionResistance(m, d) * BodyVelocities(d));
+  AddBodyWrenches(m, d, wrench, d->qfrc_passive);
+}
+
+double DenseResistanceFluid::DissipatedPower_W(const mjModel* m, const mjData* d) const {
+  // The resistance the drag was last applied with: measuring the power
+  // must not refresh the cache (after a step d's positions are the next
+  // step's while its kinematics are still this one's).
+  if (root_resistance_.size() == 0) Recompute(m, d);
+  const Eigen::VectorXd v = BodyVelocities(d);
+  return v.dot(WorldResistance(d) * v);
+}
+
+}  // namespace ipmc

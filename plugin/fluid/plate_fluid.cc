@@ -1,0 +1,302 @@
+#include "plugin/fluid/plate_fluid.h"
+
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "sim/base/numbers.h"
+#include "plugin/fluid/rft_drag.h"
+#include "plugin/mjcf/spatial_algebra.h"
+
+namespace ipmc {
+namespace {
+
+void RequireInRange(double value, double low, double high, const char* what) {
+  if (!(value > low && value <= high)) {
+    std::ostringstream msg;
+    msg << "plate fluid: " << what << " must be in (" << low << ", " << high << "] (got " << value
+        << ")";
+    throw std::invalid_argument(msg.str());
+  }
+}
+
+void RequireCount(int value, int high, const char* what) {
+  if (value < 1 || value > high) {
+    throw std::invalid_argument(std::string("plate fluid: ") + what + " must be in [1, " +
+                                std::to_string(high) + "] (got " + std::to_string(value) + ")");
+  }
+}
+
+// The cells of `cells` equal intervals of [-half, half] cut into `refinement`
+// sub-intervals each: the sub-interval centres.
+std::vector<double> SubCentres(double half_m, int cells, int refinement) {
+  const int n = cells * refinement;
+  std::vector<double> centres(n);
+  for (int i = 0; i < n; ++i) centres[i] = -half_m + (i + 0.5) * 2.0 * half_m / n;
+  return centres;
+}
+
+// Each quadrature point's nearest force point (brute force, once per mesh).
+void AssignNearest(SurfaceMesh* mesh) {
+  mesh->owner.assign(mesh->quadrature_points.size(), -1);
+  for (size_t q = 0; q < mesh->quadrature_points.size(); ++q) {
+    double best = std::numeric_limits<double>::infinity();
+    for (size_t j = 0; j < mesh->force_points.size(); ++j) {
+      const double d2 = (mesh->quadrature_points[q] - mesh->force_points[j]).squaredNorm();
+      if (d2 < best) {
+        best = d2;
+        mesh->owner[q] = static_cast<int>(j);
+      }
+    }
+  }
+}
+
+// The world positions of a placed mesh's points.
+std::vector<Eigen::Vector3d> Placed(const PlacedSurface& s, const std::vector<Eigen::Vector3d>& p) {
+  std::vector<Eigen::Vector3d> out(p.size());
+  for (size_t k = 0; k < p.size(); ++k) out[k] = s.position + s.rotation * p[k];
+  return out;
+}
+
+// diag(Q, Q, ...) A diag(Q, Q, ...)^T, 3 x 3 blocks.
+Eigen::MatrixXd RotateBlocks(const Eigen::MatrixXd& a, const Eigen::Matrix3d& q) {
+  Eigen::MatrixXd out(a.rows(), a.cols());
+  for (int i = 0; i < a.rows() / 3; ++i) {
+    for (int j = 0; j < a.cols() / 3; ++j) {
+      out.block<3, 3>(3 * i, 3 * j) = q * a.block<3, 3>(3 * i, 3 * j) * q.transpose();
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+void PlateSettings::Validate() const {
+  RequireCount(points_across, kMaxPlatePointsAcross, "the force points across the width");
+  RequireCount(quadrature_refinement, kMaxPlateQuadratureRefinement,
+               "the quadrature refinement");
+  RequireInRange(blob_over_spacing, 0.0, 2.0, "the blob over the force spacing");
+  if (!(width_m > 0.0) || !std::isfinite(width_m)) {
+    throw std::invalid_argument("plate fluid: the plates' width must be finite and > 0");
+  }
+  if (!(shape_tolerance_rad >= 0.0) || !std::isfinite(shape_tolerance_rad)) {
+    throw std::invalid_argument("plate fluid: the shape tolerance must be finite and >= 0");
+  }
+}
+
+SurfaceMesh RectangleMesh(double length_m, double width_m, int across, int refinement) {
+  const int along = std::max(1, static_cast<int>(std::lround(length_m / (width_m / across))));
+  SurfaceMesh mesh;
+  for (double x : SubCentres(0.5 * length_m, along, 1)) {
+    for (double z : SubCentres(0.5 * width_m, across, 1)) mesh.force_points.emplace_back(x, 0, z);
+  }
+  const double area_m2 = length_m * width_m / (along * across * refinement * refinement);
+  for (double x : SubCentres(0.5 * length_m, along, refinement)) {
+    for (double z : SubCentres(0.5 * width_m, across, refinement)) {
+      mesh.quadrature_points.emplace_back(x, 0, z);
+      mesh.quadrature_area_m2.push_back(area_m2);
+    }
+  }
+  AssignNearest(&mesh);
+  return mesh;
+}
+
+SurfaceMesh DiskMesh(double radius_m, int rings, int refinement) {
+  // Ring i spans [i, i + 1] dr and holds the nearest whole number of
+  // cells to its mid-circumference over dr (at least 3): cells close to
+  // square, the rim exact.
+  SurfaceMesh mesh;
+  const double dr_m = radius_m / rings;
+  for (int i = 0; i < rings; ++i) {
+    const int cells = std::max(3, static_cast<int>(std::lround(2.0 * kPi * (i + 0.5))));
+    const double dtheta = 2.0 * kPi / cells;
+    for (int j = 0; j < cells; ++j) {
+      const int owner = static_cast<int>(mesh.force_points.size());
+      double area_m2 = 0.0;
+      Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+      for (int a = 0; a < refinement; ++a) {
+        const double r0 = (i + static_cast<double>(a) / refinement) * dr_m;
+        const double r1 = r0 + dr_m / refinement;
+        for (int b = 0; b < refinement; ++b) {
+          const double theta = (j + (b + 0.5) / refinement) * dtheta;
+          // The sub-cell's centroid radius and area.
+          const double rc = 2.0 / 3.0 * (r1 * r1 * r1 - r0 * r0 * r0) / (r1 * r1 - r0 * r0);
+          const double cell_m2 = 0.5 * (r1 * r1 - r0 * r0) * dtheta / refinement;
+          mesh.quadrature_points.emplace_back(rc * std::cos(theta), rc * std::sin(theta), 0);
+          mesh.quadrature_area_m2.push_back(cell_m2);
+          mesh.owner.push_back(owner);
+          area_m2 += cell_m2;
+          centroid += cell_m2 * mesh.quadrature_points.back();
+        }
+      }
+      mesh.force_points.push_back(centroid / area_m2);
+    }
+  }
+  return mesh;
+}
+
+Eigen::MatrixXd NearestNeighbourBlock(const PlacedSurface& target, const PlacedSurface& source,
+                                      double blob_m, double viscosity_Pa_s) {
+  const std::vector<Eigen::Vector3d> x = Placed(target, target.mesh->force_points);
+  const std::vector<Eigen::Vector3d> y = Placed(source, source.mesh->quadrature_points);
+  const std::vector<int>& owner = source.mesh->owner;
+  const std::vector<double>& area = source.mesh->quadrature_area_m2;
+  const double e2 = blob_m * blob_m;
+  const double scale = 1.0 / (8.0 * kPi * viscosity_Pa_s);
+  Eigen::MatrixXd block = Eigen::MatrixXd::Zero(3 * x.size(), 3 * source.mesh->force_points.size());
+  for (size_t i = 0; i < x.size(); ++i) {
+    for (size_t q = 0; q < y.size(); ++q) {
+      // Cortez et al. (2005) eq. 10a: [(r^2 + 2 eps^2) I + r r^T] / (r^2 + eps^2)^(3/2).
+      const Eigen::Vector3d r = x[i] - y[q];
+      const double r2 = r.squaredNorm();
+      const double inv3 = scale * area[q] / ((r2 + e2) * std::sqrt(r2 + e2));
+      Eigen::Matrix3d g = (r * inv3) * r.transpose();
+      g.diagonal().array() += (r2 + 2.0 * e2) * inv3;
+      block.block<3, 3>(3 * i, 3 * owner[q]) += g;
+    }
+  }
+  return block;
+}
+
+Eigen::MatrixXd SurfaceResistance(const std::vector<PlacedSurface>& surfaces, int bodies,
+                                  const Eigen::Vector3d& c, double blob_m, double viscosity_Pa_s,
+                                  const std::vector<Eigen::MatrixXd>& self_blocks) {
+  std::vector<int> offset(surfaces.size() + 1, 0);
+  for (size_t s = 0; s < surfaces.size(); ++s) {
+    offset[s + 1] = offset[s] + 3 * static_cast<int>(surfaces[s].mesh->force_points.size());
+  }
+  const int n = offset.back();
+  Eigen::MatrixXd velocity(n, n);  // u = velocity f, f the force per area
+  Eigen::MatrixXd rigid = Eigen::MatrixXd::Zero(n, 6 * bodies);  // u of the bodies' motion
+  Eigen::MatrixXd wrench = Eigen::MatrixXd::Zero(6 * bodies, n);  // wrench on the fluid of f
+  for (size_t t = 0; t < surfaces.size(); ++t) {
+    for (size_t s = 0; s < surfaces.size(); ++s) {
+      velocity.block(offset[t], offset[s], offset[t + 1] - offset[t], offset[s + 1] - offset[s]) =
+          (s == t && !self_blocks.empty())
+              ? RotateBlocks(self_blocks[s], surfaces[s].rotation)
+              : NearestNeighbourBlock(surfaces[t], surfaces[s], blob_m, viscosity_Pa_s);
+    }
+    // Each force point's cell area: the areas of the quadrature points it owns.
+    const SurfaceMesh& mesh = *surfaces[t].mesh;
+    std::vector<double> cell_m2(mesh.force_points.size(), 0.0);
+    for (size_t q = 0; q < mesh.owner.size(); ++q) cell_m2[mesh.owner[q]] += mesh.quadrature_area_m2[q];
+    const std::vector<Eigen::Vector3d> x = Placed(surfaces[t], mesh.force_points);
+    const int body = surfaces[t].body;
+    for (size_t j = 0; j < x.size(); ++j) {
+      Eigen::Matrix<double, 3, 6> motion;  // u = -[x - c]x w + v
+      motion << -CrossMatrix(x[j] - c), Eigen::Matrix3d::Identity();
+      rigid.block<3, 6>(offset[t] + 3 * j, 6 * body) = motion;
+      wrench.block<6, 3>(6 * body, offset[t] + 3 * j) = cell_m2[j] * motion.transpose();
+    }
+  }
+  const Eigen::MatrixXd forces = velocity.partialPivLu().solve(rigid);
+  const Eigen::MatrixXd resistance = wrench * forces;
+  return 0.5 * (resistance + resistance.transpose());  // reciprocal theorem
+}
+
+Eigen::MatrixXd ExtrapolatedResistance(const std::vector<PlacedSurface>& surfaces, int bodies,
+                                       const Eigen::Vector3d& c, double blob_m, bool richardson,
+                                       double viscosity_Pa_s) {
+  const Eigen::MatrixXd coarse = SurfaceResistance(surfaces, bodies, c, blob_m, viscosity_Pa_s);
+  if (!richardson) return coarse;
+  return 2.0 * SurfaceResistance(surfaces, bodies, c, 0.5 * blob_m, viscosity_Pa_s) - coarse;
+}
+
+StripDragPerLength ConvergedStripDrag(double viscosity_Pa_s, double length_m, double width_m) {
+  constexpr int kCoarse = 4, kFine = 6, kRefinement = 4;
+  constexpr double kBlobOverSpacing = 0.5;
+  Eigen::Vector2d drag[2];  // broadside, axial at kCoarse and kFine
+  for (int i = 0; i < 2; ++i) {
+    const int across = i == 0 ? kCoarse : kFine;
+    const SurfaceMesh mesh = RectangleMesh(length_m, width_m, across, kRefinement);
+    PlacedSurface plate;
+    plate.mesh = &mesh;
+    const Eigen::MatrixXd r =
+        ExtrapolatedResistance({plate}, 1, Eigen::Vector3d::Zero(),
+                               kBlobOverSpacing * width_m / across, true, viscosity_Pa_s);
+    drag[i] = Eigen::Vector2d(r(4, 4), r(3, 3));  // the face's normal is y
+  }
+  const Eigen::Vector2d converged = (kFine * drag[1] - kCoarse * drag[0]) / (kFine - kCoarse);
+  return {converged[0] / length_m, converged[1] / length_m};
+}
+
+bool PlateFluid::Chosen(const RftDrag& /*segments*/, const RftDragOverrides& overrides) {
+  return overrides.plates.has_value();
+}
+
+std::unique_ptr<Fluid> PlateFluid::Make(const mjModel* m, const RftDrag& segments,
+                                        const RftDragOverrides& overrides) {
+  return std::make_unique<PlateFluid>(m, segments, *overrides.plates);
+}
+
+PlateFluid::PlateFluid(const mjModel* m, const RftDrag& segments, const PlateSettings& plates)
+    : DenseResistanceFluid(m, segments, "plate fluid"), settings_(plates) {
+  if (settings_.width_m == 0.0) settings_.width_m = StripWidth_m(m);
+  settings_.Validate();
+  const double spacing_m = settings_.width_m / settings_.points_across;
+  blob_m_ = settings_.blob_over_spacing * spacing_m;
+  const double mu = rft().config().viscosity_Pa_s;
+  for (double length_m : rft().SegmentLengths_m()) {
+    meshes_.push_back(RectangleMesh(length_m, settings_.width_m, settings_.points_across,
+                                    settings_.quadrature_refinement));
+    PlacedSurface own;
+    own.mesh = &meshes_.back();
+    self_blocks_.push_back(NearestNeighbourBlock(own, own, blob_m_, mu));
+    if (settings_.richardson) {
+      half_blob_self_blocks_.push_back(NearestNeighbourBlock(own, own, 0.5 * blob_m_, mu));
+    }
+  }
+}
+
+int PlateFluid::force_points() const {
+  int n = 0;
+  for (const SurfaceMesh& mesh : meshes_) n += static_cast<int>(mesh.force_points.size());
+  return n;
+}
+
+Eigen::MatrixXd PlateFluid::Resistance(const std::vector<PlacedSurface>& plates,
+                                       const Eigen::Vector3d& c) const {
+  const double mu = rft().config().viscosity_Pa_s;
+  const Eigen::MatrixXd coarse =
+      SurfaceResistance(plates, body_count(), c, blob_m_, mu, self_blocks_);
+  if (!settings_.richardson) return coarse;
+  return 2.0 * SurfaceResistance(plates, body_count(), c, 0.5 * blob_m_, mu,
+                                 half_blob_self_blocks_) -
+         coarse;
+}
+
+Eigen::MatrixXd PlateFluid::ComputeResistance(const mjModel* m, const mjData* d,
+                                              const Eigen::Vector3d& origin_W) const {
+  const std::vector<Segment> segments = rft().Segments(m, d);
+  std::vector<PlacedSurface> plates(segments.size());
+  for (size_t i = 0; i < segments.size(); ++i) {
+    // The plate's frame: x along the segment, z across the width (the
+    // generated models' width, normal to the beat plane).
+    const Eigen::Vector3d t = segments[i].tangent_W.normalized();
+    const Eigen::Vector3d w = (Eigen::Vector3d::UnitZ() - t.z() * t).normalized();
+    plates[i].rotation << t, w.cross(t), w;
+    plates[i].position = segments[i].center_W;
+    plates[i].mesh = &meshes_[i];
+    plates[i].body = body_of_geom(static_cast<int>(i));
+  }
+  return Resistance(plates, origin_W);
+}
+
+double PlateFluid::TowingDrag_N(double speed_m_s) const {
+  // The plates end to end along x, one body.
+  std::vector<PlacedSurface> plates(meshes_.size());
+  double start_m = 0.0;
+  const std::vector<double> lengths_m = rft().SegmentLengths_m();
+  for (size_t i = 0; i < plates.size(); ++i) {
+    plates[i].mesh = &meshes_[i];
+    plates[i].position = Eigen::Vector3d(start_m + 0.5 * lengths_m[i], 0, 0);
+    start_m += lengths_m[i];
+  }
+  return Resistance(plates, Eigen::Vector3d::Zero())(3, 3) * speed_m_s;
+}
+
+}  // namespace ipmc

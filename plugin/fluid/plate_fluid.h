@@ -1,0 +1,155 @@
+// Flat plates as a fluid model: each segment of the strip is a rigid
+// rectangle of zero thickness, its length along the segment and the strip's
+// width along z (normal to the plane the generated models beat in), and
+// the plates' surface force densities follow from a boundary integral
+// equation of the first kind with regularized Stokeslets, every plate's
+// force felt on every other plate (the links interact through the fluid).
+//
+// Equation (Cortez, Fauci & Medovikov, Phys. Fluids 17, 031504, 2005,
+// eq. 10a; the kernel of plugin/fluid/regularized_stokeslets.h): the
+// velocity of the surface point x is
+//   8 pi mu u(x) = int_S S_eps(x - y) f(y) dS(y),
+// with f the force per area the surface exerts on the fluid.
+//
+// Discretisation: the nearest-neighbour method (Smith, J. Comput. Phys.
+// 358, 88-102, 2018). f is constant on the cells of a coarse grid of force
+// points (`points_across` across the width, square cells along the
+// length); the integral is a midpoint rule on a grid `quadrature_refinement`
+// times finer, each quadrature point's kernel added to the column of its
+// nearest force point (the cell it lies in, on its own plate). So the
+// quadrature error (h_q^2 / eps) and the regularization error (O(eps)) are
+// controlled separately while the matrix stays (3 N_force)^2. The blob is
+// eps = `blob_over_spacing` h_f (h_f the force spacing across the width).
+//
+// Richardson extrapolation in eps (Gallagher & Smith, R. Soc. Open Sci. 8,
+// 210108, 2021): the regularization error is linear in eps, so with
+// `richardson` the resistance is 2 R(eps / 2) - R(eps), the same force
+// and quadrature grids solved twice.
+//
+// Rigid links: a plate's block of the matrix (its force points against
+// its own quadrature points) is the same in the plate's frame for every
+// shape, so it is computed once per plate and rotated; only the blocks
+// between plates are recomputed. The resistance is kept while the shape
+// moves less than `shape_tolerance_rad` (dense_resistance_fluid.h).
+// docs/FLUIDS.md has the validation (disk, straight strip) and the
+// convergence of the paper's swimmer.
+#pragma once
+
+#include <mujoco/mujoco.h>
+
+#include <Eigen/Core>
+#include <Eigen/StdVector>
+#include <memory>
+#include <vector>
+
+#include "plugin/fluid/dense_resistance_fluid.h"
+
+namespace ipmc {
+
+constexpr int kMaxPlatePointsAcross = 16;
+constexpr int kMaxPlateQuadratureRefinement = 8;
+
+// The plate model's settings; a 0 width takes the model's strip width.
+struct PlateSettings {
+  int points_across = 4;           // force points across each plate's width
+  int quadrature_refinement = 4;   // quadrature points per force point, along each side
+  double blob_over_spacing = 0.5;  // eps over the force spacing h_f
+  bool richardson = true;          // 2 R(eps / 2) - R(eps)
+  double width_m = 0.0;            // the plates' width; default the strip's
+  double shape_tolerance_rad = 1e-3;  // recompute beyond this joint motion
+  // Checked: throws std::invalid_argument naming the setting and its range.
+  void Validate() const;
+};
+
+// A rigid surface in its own frame: force points, and quadrature points
+// (with their areas) each owned by its nearest force point.
+struct SurfaceMesh {
+  std::vector<Eigen::Vector3d> force_points;
+  std::vector<Eigen::Vector3d> quadrature_points;
+  std::vector<double> quadrature_area_m2;
+  std::vector<int> owner;  // the nearest force point of each quadrature point
+};
+
+// A rectangle `length_m` along x and `width_m` along z, centred on the
+// origin: `across` force cells across the width, square-ish cells along
+// (the whole number of cells nearest w / across long), each cut into
+// refinement^2 quadrature cells.
+SurfaceMesh RectangleMesh(double length_m, double width_m, int across, int refinement);
+// A disk of radius `radius_m` in the x-y plane, centred on the origin:
+// `rings` rings of force cells, near-square (polar cells, the rim exact),
+// each cut into refinement^2 quadrature cells, which its force point (the
+// cell's centroid) owns.
+SurfaceMesh DiskMesh(double radius_m, int rings, int refinement);
+
+// A mesh placed in the world: x_W = position + rotation x, part of rigid
+// body `body`.
+struct PlacedSurface {
+  const SurfaceMesh* mesh = nullptr;
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  int body = 0;
+};
+
+// The velocity matrix of the nearest-neighbour method, (1 / 8 pi mu) times
+// sum over the quadrature points y owned by force point j of
+// S_eps(x_i - y) dA(y), for force points i of `target` and j of `source`.
+Eigen::MatrixXd NearestNeighbourBlock(const PlacedSurface& target, const PlacedSurface& source,
+                                      double blob_m, double viscosity_Pa_s);
+
+// The resistance of rigid bodies made of surfaces: R (6 bodies x 6 bodies)
+// maps the bodies' spatial velocities [w; v] (v that of the body point at
+// c) to minus their drag wrenches [torque about c; force]. `self_blocks`,
+// if not empty, holds each surface's own block in its frame
+// (NearestNeighbourBlock of the unrotated surface with itself).
+Eigen::MatrixXd SurfaceResistance(const std::vector<PlacedSurface>& surfaces, int bodies,
+                                  const Eigen::Vector3d& c, double blob_m, double viscosity_Pa_s,
+                                  const std::vector<Eigen::MatrixXd>& self_blocks = {});
+// The same, Richardson-extrapolated in eps when asked: 2 R(eps/2) - R(eps).
+Eigen::MatrixXd ExtrapolatedResistance(const std::vector<PlacedSurface>& surfaces, int bodies,
+                                       const Eigen::Vector3d& c, double blob_m, bool richardson,
+                                       double viscosity_Pa_s);
+
+// The straight strip's drag per length [N s/m^2], broadside (normal to
+// its face) and axial: the plates' resistance of one rectangle, Richardson
+// in eps at 4 and 6 force points across, then extrapolated in the spacing
+// (the remaining error is first order in it): F = (6 F_6 - 4 F_4) / 2.
+// RFT's coefficients calibrated on the strip ("ribbon", rft_drag.h).
+struct StripDragPerLength {
+  double broadside_N_s_m2 = 0.0;
+  double axial_N_s_m2 = 0.0;
+};
+StripDragPerLength ConvergedStripDrag(double viscosity_Pa_s, double length_m, double width_m);
+
+class PlateFluid : public DenseResistanceFluid {
+ public:
+  // The segments' geoms and viscosity are `segments`' (the model's RFT
+  // fields); a 0 width takes the model's strip width. Throws
+  // std::invalid_argument on bad settings.
+  PlateFluid(const mjModel* m, const RftDrag& segments, const PlateSettings& plates);
+  // The registry's entry (fluid_model.h): chosen when the overrides carry
+  // plate settings.
+  static bool Chosen(const RftDrag& segments, const RftDragOverrides& overrides);
+  static std::unique_ptr<Fluid> Make(const mjModel* m, const RftDrag& segments,
+                                     const RftDragOverrides& overrides);
+
+  double TowingDrag_N(double speed_m_s) const override;
+  const PlateSettings& settings() const { return settings_; }
+  double blob_m() const { return blob_m_; }
+  int force_points() const;
+
+ private:
+  Eigen::MatrixXd ComputeResistance(const mjModel* m, const mjData* d,
+                                    const Eigen::Vector3d& origin_W) const override;
+  double shape_tolerance_rad() const override { return settings_.shape_tolerance_rad; }
+  // R for the plates placed as given, with the cached self blocks.
+  Eigen::MatrixXd Resistance(const std::vector<PlacedSurface>& plates,
+                             const Eigen::Vector3d& c) const;
+
+  PlateSettings settings_;
+  double blob_m_ = 0.0;
+  std::vector<SurfaceMesh> meshes_;  // one per segment, in geom_ids() order
+  // Each plate's own block in its frame, at eps and (Richardson) eps / 2.
+  std::vector<Eigen::MatrixXd> self_blocks_, half_blob_self_blocks_;
+};
+
+}  // namespace ipmc
