@@ -147,8 +147,8 @@ TEST(InertialEnergyTest, HalvingTheStepHardlyMovesThePowers) {
 // 1.0e-4 and 4.5e-5 of the actuators' work, and the balance with the
 // stored energy's change closes to 1.3e-6 and 6.4e-7 of it (the drag's
 // power taken with the step's end velocity, first order in h). With the
-// moment held over the
-// step the damping was first order in the step instead (docs/ENERGY.md).
+// moment held over the step the damping was first order in the step
+// instead (docs/ENERGY.md).
 TEST(InertialEnergyTest, FlexibleLinksPowersDoNotDependOnTheStep) {
   ScenarioConfig scenario =
       LoadScenario(std::string(IPMC_SWIM_SOURCE_DIR) + "/scenarios/paper.toml");
