@@ -238,7 +238,9 @@ bool Step(const mjModel* m, mjData* d) {
           "joint damping or stiffness)";
     }
   } else {
+    if (context->actuators) context->actuators->BeginInertialStep(m);
     mj_step(m, d);
+    if (context->actuators) context->actuators->EndInertialStep();
   }
   WarnIfCallbackReplaced(context, passive_before, control_before);
   return context->error.empty();

@@ -291,6 +291,16 @@ std::optional<IpmcActuatorsConfig> IpmcActuatorsConfig::FromModel(
     for (IpmcLinkParams& p : config.links) p.integrator.n = *pairs;
   }
   config.integration = IntegrationOf(m);
+  if (!overrides.physical_damping.empty() &&
+      overrides.physical_damping.size() != static_cast<size_t>(m->nv)) {
+    Fail("physical_damping must hold one value per dof (" + std::to_string(m->nv) + "), got " +
+         std::to_string(overrides.physical_damping.size()));
+  }
+  config.physical_damping = overrides.physical_damping;
+  // Flexible links only: a rigid link's hinge (k h / c = 0.156 in the
+  // paper's model at 0.5 ms) keeps the moment held at the step's start,
+  // which its step relaxes without the jumps' dissipation (docs/ENERGY.md).
+  config.first_order_hold = !config.physical_damping.empty() && segments > 1;
   if (auto rel_tol = FindCustomScalar(m, kAttrRelTol)) config.cvode.rel_tol = *rel_tol;
   if (auto limit = FindCustomScalar(m, kAttrVoltageLimit)) {
     if (!std::isfinite(*limit) || !(*limit > 0.0)) {
@@ -435,7 +445,9 @@ void IpmcActuators::SetVoltages(const mjData* d, const std::vector<double>& volt
   bank_->SetVoltages(voltage_V_);
 }
 
-void IpmcActuators::ApplyFreeShape(const mjModel* m, mjData* d, int q, double deflection_mm) {
+void IpmcActuators::FreeShapeMoments(const mjModel* m, const mjData* d, int q,
+                                     double deflection_mm, bool count_clamps,
+                                     std::vector<double>* moment_N_m) {
   const LinkChain& chain = config_.chains[q];
   const ChainShape& shape = shapes_[q];
   bool clamped = false;
@@ -443,7 +455,7 @@ void IpmcActuators::ApplyFreeShape(const mjModel* m, mjData* d, int q, double de
   if (config_.actuation == Actuation::kDistributed || q == 0) {
     kappa_1_m = shape.Curvature_1_m(deflection_mm * kMmToM, curvature_1_m_[q], &clamped);
   }
-  if (clamped && clamp_count_++ == 0) {
+  if (clamped && count_clamps && clamp_count_++ == 0) {
     char message[200];
     std::snprintf(message, sizeof(message),
                   "ipmc link %d: free deflection %.6g mm at t = %.6g s exceeds the link's reach "
@@ -453,13 +465,57 @@ void IpmcActuators::ApplyFreeShape(const mjModel* m, mjData* d, int q, double de
   }
   curvature_1_m_[q] = kappa_1_m;
   for (size_t i = 0; i < chain.joints.size(); ++i) {
-    d->ctrl[chain.motors[i]] = m->jnt_stiffness[chain.joints[i]] * kappa_1_m * shape.Share_m(i);
+    (*moment_N_m)[chain.motors[i]] =
+        m->jnt_stiffness[chain.joints[i]] * kappa_1_m * shape.Share_m(i);
+  }
+}
+
+void IpmcActuators::BeginInertialStep(const mjModel* m) {
+  inertial_step_ = config_.first_order_hold &&
+                   (m->opt.integrator == mjINT_EULER || m->opt.integrator == mjINT_IMPLICIT);
+}
+
+void IpmcActuators::UpdateFirstOrderHold(const mjModel* m, mjData* d) {
+  step_start_moment_N_m_.assign(m->nu, 0.0);
+  step_end_moment_N_m_.assign(m->nu, 0.0);
+  for (int q = 0; q < Links(); ++q) {
+    // The step's start is the last step's end: its clamp was counted there.
+    FreeShapeMoments(m, d, q, bank_->FreeTipDeflection_mm(q), false, &step_start_moment_N_m_);
+  }
+  const double h = m->opt.timestep;
+  bank_->AdvanceTo(d->time + h);
+  for (int q = 0; q < Links(); ++q) {
+    FreeShapeMoments(m, d, q, bank_->FreeTipDeflection_mm(q), true, &step_end_moment_N_m_);
+  }
+  for (const LinkChain& chain : config_.chains) {
+    for (size_t i = 0; i < chain.joints.size(); ++i) {
+      const int joint = chain.joints[i], motor = chain.motors[i];
+      const double spring_step = m->jnt_stiffness[joint] * h;  // k h
+      const int dof = m->jnt_dofadr[joint];
+      const double weight =
+          spring_step > 0 ? (m->dof_damping[dof] - config_.physical_damping[dof]) / spring_step
+                          : 0.5;
+      d->ctrl[motor] = step_start_moment_N_m_[motor] +
+                       weight * (step_end_moment_N_m_[motor] - step_start_moment_N_m_[motor]);
+    }
   }
 }
 
 void IpmcActuators::Update(const mjModel* m, mjData* d) {
   AdvanceTo(d);
-  for (int q = 0; q < Links(); ++q) ApplyFreeShape(m, d, q, bank_->FreeTipDeflection_mm(q));
+  if (inertial_step_) {
+    inertial_step_ = false;  // once per step: the step's forward pass
+    UpdateFirstOrderHold(m, d);
+    return;
+  }
+  std::vector<double>& moment_N_m = scratch_moment_N_m_;
+  moment_N_m.assign(m->nu, 0.0);
+  for (int q = 0; q < Links(); ++q) {
+    FreeShapeMoments(m, d, q, bank_->FreeTipDeflection_mm(q), true, &moment_N_m);
+  }
+  for (const LinkChain& chain : config_.chains) {
+    for (int motor : chain.motors) d->ctrl[motor] = moment_N_m[motor];
+  }
 }
 
 }  // namespace ipmc

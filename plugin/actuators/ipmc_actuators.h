@@ -157,6 +157,10 @@ struct IpmcActuatorsOverrides {
   // Over the model's ipmc_dynamics (plugin/mjcf/dynamics.h); also
   // applies to a model with drag and no actuators.
   std::optional<Dynamics> dynamics;
+  // The joints' physical damping c per dof [N m s/rad] when the model's
+  // dof_damping holds the inertial step's c_eff instead (the program's
+  // SetHingeDamping); empty: no first-order hold (IpmcActuators::Update).
+  std::vector<double> physical_damping;
 };
 
 struct IpmcActuatorsConfig {
@@ -176,6 +180,10 @@ struct IpmcActuatorsConfig {
   ActuatorIntegration integration = ActuatorIntegration::kExact;
   // SetVoltages refuses |voltage| above this (ipmc_voltage_limit_V).
   double voltage_limit_V = kDefaultVoltageLimit_V;
+  // IpmcActuatorsOverrides::physical_damping; the first-order hold of the
+  // inertial step needs it and flexible links (ipmc_segments_per_link > 1).
+  std::vector<double> physical_damping;
+  bool first_order_hold = false;
 
   // nullopt if the model has no ipmc_links field; throws
   // std::invalid_argument naming the field on a malformed one.
@@ -207,8 +215,36 @@ class IpmcActuators {
   const std::vector<double>& Voltages_V() const { return voltage_V_; }
 
   // Advances the link models to d->time and writes the active moments
-  // into d->ctrl. Called from mjcb_control.
+  // into d->ctrl. Called from mjcb_control. Inside an inertial step
+  // (BeginInertialStep) of a model with first_order_hold, the moment each
+  // hinge gets is instead the one that makes the step's relaxation of the
+  // massless hinge exact for a rest angle that moves linearly from t_n to
+  // t_n + h (a first-order hold): with the moments f_n and f_(n+1) of the
+  // link models at the step's ends, the step's damping c_s (c_eff) and the
+  // physical c,
+  //   f = f_n + w (f_(n+1) - f_n),  w = (c_s - c) / (k h),
+  // and the link models are advanced to t_n + h, where the step leaves
+  // d->time. Derivation: with e = theta - theta0 and theta0 = theta0_n + s t,
+  // c de/dt = -k e - c s gives over the step e_(n+1) = e* + r (e_n - e*),
+  // r = exp(-k h / c), e* = -c s / k; MuJoCo's massless step,
+  // c_s (theta_(n+1) - theta_n) / h = f - k theta_n, with c_s = k h / (1 - r)
+  // matches it for f / k = theta0_n + s (c_s - c) / k.
+  // w tends to 1/2 + k h / (12 c) for k h / c << 1 (the step's midpoint) and
+  // to 1 - c / (k h) for k h / c >> 1 (the step's end less the hinge's lag
+  // c / k).
   void Update(const mjModel* m, mjData* d);
+  // Brackets MuJoCo's Euler or implicit step of an inertial model
+  // (ipmc::Step), inside which Update applies the first-order hold.
+  void BeginInertialStep(const mjModel* m);
+  void EndInertialStep() { inertial_step_ = false; }
+  // Whether Update applies the first-order hold in inertial steps.
+  bool FirstOrderHold() const { return config_.first_order_hold; }
+  // The link models' moments k_i theta0_i at the last first-order-hold
+  // step's start and end, per motor [N m] (empty before one).
+  const std::vector<double>& StepStartMoments_N_m() const { return step_start_moment_N_m_; }
+  const std::vector<double>& StepEndMoments_N_m() const { return step_end_moment_N_m_; }
+  // IpmcActuatorsConfig::physical_damping (per dof, may be empty).
+  const std::vector<double>& PhysicalDamping() const { return config_.physical_damping; }
 
   // The state the next Update depends on (ipmc_swim.h: SaveState). Makes
   // the bank restart at the saved time, so that this coupling and every
@@ -235,8 +271,12 @@ class IpmcActuators {
   // Advances the bank to d->time; an earlier d->time resets the state
   // (ResetState) and is reported through mju_warning.
   void AdvanceTo(const mjData* d);
-  // Writes link q's active moments k_i theta0_i into d->ctrl.
-  void ApplyFreeShape(const mjModel* m, mjData* d, int q, double deflection_mm);
+  // Link q's active moments k_i theta0_i into moment_N_m (per motor);
+  // counts and reports a clamp if count_clamps.
+  void FreeShapeMoments(const mjModel* m, const mjData* d, int q, double deflection_mm,
+                        bool count_clamps, std::vector<double>* moment_N_m);
+  // Update within an inertial step: the first-order hold above.
+  void UpdateFirstOrderHold(const mjModel* m, mjData* d);
 
   IpmcActuatorsConfig config_;
   std::vector<double> length_m_;
@@ -246,6 +286,9 @@ class IpmcActuators {
   std::vector<double> voltage_V_;      // held voltages, passive links at 0 V
   long clamp_count_ = 0;
   std::unique_ptr<IpmcActuatorBank> bank_;
+  bool inertial_step_ = false;  // inside BeginInertialStep / EndInertialStep
+  std::vector<double> step_start_moment_N_m_, step_end_moment_N_m_;
+  std::vector<double> scratch_moment_N_m_;  // Update's moments, per motor
 };
 
 }  // namespace ipmc

@@ -69,6 +69,8 @@ EnergyMeter::EnergyMeter(const mjModel* m, const mjData* d) {
   inertial_ = !coupling || coupling->dynamics == Dynamics::kInertial;
   if (!inertial_) stokes_ = coupling->stokes.get();
   implicit_damping_ = inertial_ && StepDampsImplicitly(m);
+  first_order_hold_ = implicit_damping_ && actuators_ && actuators_->FirstOrderHold();
+  if (first_order_hold_) physical_damping_ = actuators_->PhysicalDamping();
   step_start_velocity_.assign(d->qvel, d->qvel + m->nv);
   actuator_J_.assign(link_dofs_.size(), 0.0);
   scratch_.assign(m->nv, 0.0);
@@ -118,8 +120,49 @@ double EnergyMeter::KineticStepError_J(const mjModel* m, const mjData* d) {
   return error_J;
 }
 
+double EnergyMeter::FirstOrderHoldStep(const mjModel* m, const mjData* d) {
+  const double h = m->opt.timestep;
+  const std::vector<double>& start_N_m = actuators_->StepStartMoments_N_m();
+  const std::vector<double>& end_N_m = actuators_->StepEndMoments_N_m();
+  // The held moment's excess over the trapezoid, (w - 1/2) (f_(n+1) - f_n),
+  // times the joint rate [W].
+  double held_excess_W = 0.0;
+  for (size_t q = 0; q < link_dofs_.size(); ++q) {
+    const std::vector<int>& motors = actuators_->chains()[q].motors;
+    double power_W = 0.0;
+    for (size_t i = 0; i < link_dofs_[q].size() && !end_N_m.empty(); ++i) {
+      const int dof = link_dofs_[q][i], motor = motors[i];
+      const double mean_N_m = 0.5 * (start_N_m[motor] + end_N_m[motor]);
+      power_W += mean_N_m * d->qvel[dof];
+      held_excess_W += (d->qfrc_actuator[dof] - mean_N_m) * d->qvel[dof];
+    }
+    actuator_J_[q] += h * power_W;
+  }
+  // Every dof: c qdot^2 booked as damping, (c_eff - c - k h / 2) qdot^2
+  // of what the step dissipates left to the stepping term.
+  double damping_W = 0.0, excess_damping_W = 0.0;
+  for (int dof = 0; dof < m->nv; ++dof) {
+    const double rate2 = d->qvel[dof] * d->qvel[dof];
+    damping_W += physical_damping_[dof] * rate2;
+    excess_damping_W += (m->dof_damping[dof] - physical_damping_[dof]) * rate2;
+  }
+  for (int j = 0; j < m->njnt; ++j) {
+    const int type = m->jnt_type[j];
+    if (type != mjJNT_HINGE && type != mjJNT_SLIDE) continue;
+    const double rate = d->qvel[m->jnt_dofadr[j]];
+    excess_damping_W -= 0.5 * m->jnt_stiffness[j] * h * rate * rate;
+  }
+  damping_J_ += h * damping_W;
+  return h * (excess_damping_W - held_excess_W) + KineticStepError_J(m, d);
+}
+
 void EnergyMeter::Observe(const mjModel* m, const mjData* d) {
   const double h = m->opt.timestep;
+  if (first_order_hold_) {
+    stepping_J_ += FirstOrderHoldStep(m, d);
+    ObserveFluidAndElectrical(m, d);
+    return;
+  }
   // Stokes: the trapezoid of the active moments over the step, whose
   // change v . (f_end - f_start) h / 2 the backward-Euler balance leaves
   // to the stepping term.
@@ -156,6 +199,11 @@ void EnergyMeter::Observe(const mjModel* m, const mjData* d) {
     damping_J_ += h * damping_W;
     stepping_J_ -= h * spring_h_W;
   }
+  ObserveFluidAndElectrical(m, d);
+}
+
+void EnergyMeter::ObserveFluidAndElectrical(const mjModel* m, const mjData* d) {
+  const double h = m->opt.timestep;
   if (stokes_) {
     fluid_J_ += h * stokes_->fluid_power_W();
   } else if (drag_) {

@@ -29,6 +29,16 @@
 //                   qdot (f_(n+1) - f_n) / 2 = qdot k (dq - dtheta0) / 2,
 //                   which vanishes for rest angles that change smoothly
 //                   (docs/ENERGY.md gives its size).
+//   inertial, flexible links (the IPMC actuators' first-order hold,
+//                   IpmcActuators::Update: the step applies
+//                   f = f_n + w (f_(n+1) - f_n)): the moments' trapezoid
+//                   (f_n + f_(n+1)) / 2 . qdot as the active moments,
+//                   the physical c qdot^2 as the damping, and as stepping
+//                   dv^T M dv / 2 plus, per joint,
+//                   h [(c_eff - c - k h / 2) qdot^2 - (w - 1/2) (f_(n+1)
+//                   - f_n) qdot] = h (c_eff - c - k h / 2) qdot (qdot -
+//                   dtheta0 / h), which vanishes as the hinges' lag
+//                   changes smoothly, as the Stokes step's does.
 // and at every cycle boundary the stored energy, the hinges' elastic
 // energy sum 1/2 k (q - q_spring)^2 plus, with inertia, the kinetic
 // energy 1/2 qdot^T M qdot. Over a cycle
@@ -127,6 +137,12 @@ class EnergyMeter {
   // The inertial step's kinetic-energy error dv^T M dv / 2 over the step
   // just taken; moves the step's start to its end.
   double KineticStepError_J(const mjModel* m, const mjData* d);
+  // Observe for an inertial step with the actuators' first-order hold:
+  // books the active moments' trapezoid and the physical damping, returns
+  // the step's stepping energy [J] (above).
+  double FirstOrderHoldStep(const mjModel* m, const mjData* d);
+  // Observe's fluid, elastic and electrical shares and the time.
+  void ObserveFluidAndElectrical(const mjModel* m, const mjData* d);
 
   std::vector<std::vector<int>> link_dofs_;
   const Fluid* drag_ = nullptr;  // the run's fluid model
@@ -136,6 +152,10 @@ class EnergyMeter {
   // Inertial with MuJoCo's Euler or implicit integrator: the damping the
   // step dissipates is c_eff - k h / 2 (sim/core/hinge_damping.h).
   bool implicit_damping_ = true;
+  // Inertial with the IPMC actuators' first-order hold (flexible links,
+  // IpmcActuators::Update): the physical c per dof.
+  bool first_order_hold_ = false;
+  std::vector<double> physical_damping_;
   std::vector<double> step_start_velocity_;  // qvel at the step's start
   double towing_drag_N_per_m_s_ = 0.0;  // the drag is linear in the speed
   // The running cycle's energies [J] and time [s].

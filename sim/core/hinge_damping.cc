@@ -23,18 +23,20 @@ bool StepDampsImplicitly(const mjModel* m) {
   return m->opt.integrator == mjINT_EULER || m->opt.integrator == mjINT_IMPLICIT;
 }
 
-void SetHingeDamping(mjModel* m, double scale, std::optional<Dynamics> dynamics) {
+std::vector<double> SetHingeDamping(mjModel* m, double scale, std::optional<Dynamics> dynamics) {
   for (int dof = 0; dof < m->nv; ++dof) m->dof_damping[dof] *= scale;
   if (!dynamics) {
     const std::optional<std::string> text = FindCustomText(m, kAttrDynamics);
     dynamics = text ? ParseDynamics(*text) : Dynamics::kInertial;
   }
-  if (*dynamics != Dynamics::kInertial || !StepDampsImplicitly(m)) return;
+  if (*dynamics != Dynamics::kInertial || !StepDampsImplicitly(m)) return {};
+  std::vector<double> physical_damping(m->dof_damping, m->dof_damping + m->nv);
   for (int j = 0; j < m->njnt; ++j) {
     if (m->jnt_type[j] != mjJNT_HINGE && m->jnt_type[j] != mjJNT_SLIDE) continue;
     mjtNum& damping = m->dof_damping[m->jnt_dofadr[j]];
     damping = EulerHingeDamping(damping, m->jnt_stiffness[j], m->opt.timestep);
   }
+  return physical_damping;
 }
 
 }  // namespace ipmc

@@ -23,11 +23,21 @@
 // (k h / 2) (1 + r) / (1 - r) v^2 h is the elastic energy k e_n^2 (1 - r^2)
 // / 2 that the exact relaxation loses). EnergyMeter books that as the
 // hinges' damping; it tends to c v^2 for k h / c << 1.
+//
+// With the input held, the step of a stiff hinge (k h / c >> 1, the
+// flexible links' sub-segments) relaxes the jump of the rest angle that
+// each step's new input makes, and (c_eff - k h / 2) v^2 ~ k h v^2 / 2 is
+// that jump's dissipation, first order in h. For flexible links the IPMC
+// actuators therefore apply the moment of a rest angle moving linearly
+// over the step (IpmcActuators::Update, with the physical c that
+// SetHingeDamping returns), with which the same c_eff relaxes the massless
+// hinge exactly, and EnergyMeter books c v^2.
 #pragma once
 
 #include <mujoco/mujoco.h>
 
 #include <optional>
+#include <vector>
 
 #include "plugin/mjcf/dynamics.h"
 
@@ -47,7 +57,10 @@ double EulerDissipatedDamping(double step_damping, double stiffness, double time
 // mj_step (dynamics, or else the model's ipmc_dynamics, inertial) with the
 // Euler or implicit integrator at m->opt.timestep, gives every hinge and
 // slide joint with a spring c_eff. Call after the time step is set.
-void SetHingeDamping(mjModel* m, double scale, std::optional<Dynamics> dynamics);
+// Returns the physical c per dof when it set c_eff (the IPMC actuators'
+// first-order hold, IpmcActuatorsOverrides::physical_damping, needs it),
+// else nothing.
+std::vector<double> SetHingeDamping(mjModel* m, double scale, std::optional<Dynamics> dynamics);
 
 // Whether m's step takes its joints' damping as c_eff (SetHingeDamping):
 // Euler or implicit integrator.

@@ -84,7 +84,8 @@ std::string ScenarioModelSha256(const ScenarioConfig& scenario) {
                                              : ReadTextFile(scenario.model_path, "model file"));
 }
 
-ModelPtr LoadScenarioModel(const ScenarioConfig& scenario, std::string* source) {
+ModelPtr LoadScenarioModel(const ScenarioConfig& scenario, std::string* source,
+                           std::vector<double>* physical_damping) {
   *source = scenario.model_path;
   ModelPtr model;
   if (!scenario.GeneratesModel()) {
@@ -97,15 +98,17 @@ ModelPtr LoadScenarioModel(const ScenarioConfig& scenario, std::string* source) 
   if (scenario.viscosity_Pa_s) {
     OverrideViscosity(model.get(), *scenario.viscosity_Pa_s, *source, scenario.source);
   }
-  SetHingeDamping(model.get(), scenario.hinge_damping_scale, scenario.dynamics);
+  std::vector<double> damping =
+      SetHingeDamping(model.get(), scenario.hinge_damping_scale, scenario.dynamics);
+  if (physical_damping) *physical_damping = std::move(damping);
   return model;
 }
 
 std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenario) {
   std::string source;
-  ModelPtr model = LoadScenarioModel(scenario, &source);
-  UseEulerWhereImplicitAddsNothing(model.get());  // as StepClosedLoop steps it
   IpmcActuatorsOverrides overrides;
+  ModelPtr model = LoadScenarioModel(scenario, &source, &overrides.physical_damping);
+  UseEulerWhereImplicitAddsNothing(model.get());  // as StepClosedLoop steps it
   overrides.plants = scenario.plants;
   overrides.dynamics = scenario.dynamics;
   const RftDragOverrides fluid = ScenarioFluidOverrides(scenario, model.get());

@@ -6,6 +6,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "plugin/fluid/rft_drag.h"
 #include "sim/core/scenario.h"
@@ -14,9 +15,12 @@
 namespace ipmc {
 
 // The scenario's model (its file, or the generated flagellum it names) with
-// its overrides applied (time step, viscosity, hinge damping); *source is set to the name
-// used in messages. Throws std::runtime_error naming the file on bad input.
-ModelPtr LoadScenarioModel(const ScenarioConfig& scenario, std::string* source);
+// its overrides applied (time step, viscosity, hinge damping); *source is
+// set to the name used in messages; *physical_damping (if given) to the
+// joints' damping per dof when the inertial step's c_eff replaced it
+// (SetHingeDamping). Throws std::runtime_error naming the file on bad input.
+ModelPtr LoadScenarioModel(const ScenarioConfig& scenario, std::string* source,
+                           std::vector<double>* physical_damping = nullptr);
 
 // The SHA-256 (sim/core/sha256.h) of the bytes of the scenario's model: its
 // file, or the MJCF text of the generated flagellum it names. Throws
