@@ -15,9 +15,9 @@
 #include <cmath>
 #include <cstdio>
 #include <Eigen/Eigenvalues>
-#include <boost/math/quadrature/exp_sinh.hpp>
 
 #include "sim/base/numbers.h"
+#include "tests/oberbeck_drag.h"
 
 namespace ipmc::testing {
 namespace {
@@ -240,19 +240,9 @@ TEST(RegularizedStokesletsTest, SphereNearAWall) {
   }
 }
 
-// Oberbeck's (1876) drag of an ellipsoid of semi-axes c translating along
-// its axis i (Kim & Karrila, Microhydrodynamics, 1991, sec. 3.3):
-//   F_i = 16 pi mu U / (chi + c_i^2 alpha_i),  chi = int_0^inf dl / D,
-//   alpha_i = int_0^inf dl / ((c_i^2 + l) D),  D = sqrt(prod_k (c_k^2 + l)).
+// Oberbeck's exact drag (tests/oberbeck_drag.h) at this file's viscosity.
 double OberbeckDrag(const Eigen::Vector3d& c, int axis) {
-  const auto d = [&](double l) {
-    return std::sqrt((c[0] * c[0] + l) * (c[1] * c[1] + l) * (c[2] * c[2] + l));
-  };
-  boost::math::quadrature::exp_sinh<double> integrator;
-  const double chi = integrator.integrate([&](double l) { return 1.0 / d(l); });
-  const double alpha =
-      integrator.integrate([&](double l) { return 1.0 / ((c[axis] * c[axis] + l) * d(l)); });
-  return 16.0 * kPi * kMu / (chi + c[axis] * c[axis] * alpha);
+  return ipmc::testing::OberbeckEllipsoid(c, kMu).Drag_N_s_m(axis);
 }
 
 // The flat ellipsoid x^2 / A^2 + z^2 / B^2 <= 1 (in y = 0) as a sheet by

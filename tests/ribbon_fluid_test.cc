@@ -10,13 +10,13 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
-#include <boost/math/quadrature/exp_sinh.hpp>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
 #include "sim/base/numbers.h"
 #include "plugin/fluid/regularized_stokeslets.h"
+#include "tests/oberbeck_drag.h"
 
 namespace ipmc::testing {
 namespace {
@@ -26,31 +26,12 @@ constexpr double kMu = 1e-3;  // Pa s
 const std::vector<double> kStripPieces_m = {1e-3, 10e-3, 10e-3, 10e-3};
 constexpr double kStripWidth_m = 3e-3;
 
-// Oberbeck's ellipsoid of semi-axes c (Kim & Karrila 1991, sec. 3.3), with
-//   chi = int_0^inf dl / D,  alpha_i = int_0^inf dl / ((c_i^2 + l) D),
-//   D = sqrt(prod_k (c_k^2 + l)):
-// translation along axis i, F_i = 16 pi mu U / (chi + c_i^2 alpha_i);
-// rotation about axis i, T_i = 16 pi mu (c_j^2 + c_k^2) Omega /
-// (3 (c_j^2 alpha_j + c_k^2 alpha_k)).
+// Oberbeck's exact ellipsoid (tests/oberbeck_drag.h) at this file's viscosity.
 struct Oberbeck {
-  Eigen::Vector3d c, alpha;
-  double chi = 0.0;
-  explicit Oberbeck(const Eigen::Vector3d& semi_axes) : c(semi_axes) {
-    const auto d = [&](double l) {
-      return std::sqrt((c[0] * c[0] + l) * (c[1] * c[1] + l) * (c[2] * c[2] + l));
-    };
-    boost::math::quadrature::exp_sinh<double> integrator;
-    chi = integrator.integrate([&](double l) { return 1.0 / d(l); });
-    for (int i = 0; i < 3; ++i) {
-      alpha[i] = integrator.integrate([&](double l) { return 1.0 / ((c[i] * c[i] + l) * d(l)); });
-    }
-  }
-  double Force(int i) const { return 16.0 * kPi * kMu / (chi + c[i] * c[i] * alpha[i]); }
-  double Torque(int i) const {
-    const int j = (i + 1) % 3, k = (i + 2) % 3;
-    return 16.0 * kPi * kMu * (c[j] * c[j] + c[k] * c[k]) /
-           (3.0 * (c[j] * c[j] * alpha[j] + c[k] * c[k] * alpha[k]));
-  }
+  explicit Oberbeck(const Eigen::Vector3d& semi_axes) : exact(semi_axes, kMu) {}
+  double Force(int i) const { return exact.Drag_N_s_m(i); }
+  double Torque(int i) const { return exact.RotationalDrag_N_m_s(i); }
+  ipmc::testing::OberbeckEllipsoid exact;
 };
 
 // The flat ellipse of semi-axes a (along x) and bw (across, along z) as a

@@ -158,22 +158,19 @@ RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mj
     stokeslets.shape_tolerance_rad = scenario.stokeslet_shape_tolerance_rad;
     fluid.stokeslets = stokeslets;
   }
+  const bool free_space_only =
+      scenario.fluid_model == FluidModel::kRibbon || scenario.fluid_model == FluidModel::kPlates;
+  if (free_space_only && scenario.wall_gap_mm) {
+    throw std::runtime_error(scenario.source + ": fluid.wall_gap_mm needs fluid.model \"rft\" or " +
+                             "\"stokeslets\" (the " + ChoiceText(kFluidModelNames, scenario.fluid_model) +
+                             " model is free space only)");
+  }
   if (scenario.fluid_model == FluidModel::kRibbon) {
-    if (scenario.wall_gap_mm) {
-      throw std::runtime_error(scenario.source +
-                               ": fluid.wall_gap_mm needs fluid.model \"rft\" or \"stokeslets\" "
-                               "(the ribbon model is free space only)");
-    }
     RibbonSettings ribbon;
     ribbon.modes = scenario.ribbon_modes;
     fluid.ribbon = ribbon;
   }
   if (scenario.fluid_model == FluidModel::kPlates) {
-    if (scenario.wall_gap_mm) {
-      throw std::runtime_error(scenario.source +
-                               ": fluid.wall_gap_mm needs fluid.model \"rft\" or \"stokeslets\" "
-                               "(the plate model is free space only)");
-    }
     PlateSettings plates;
     plates.points_across = scenario.plate_points_across;
     plates.quadrature_refinement = scenario.plate_quadrature_refinement;
