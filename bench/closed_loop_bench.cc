@@ -86,9 +86,9 @@ struct PaperSetting {
 const PaperSetting& Paper() {
   static const PaperSetting setting = [] {
     const ScenarioConfig scenario = LoadScenario(kPaperScenario);
-    const double timestep_s = scenario.timestep_s.value_or(5e-4);
-    const double duration_s = scenario.cycles / std::abs(scenario.waveform.frequency_Hz);
-    return PaperSetting{ReadText(scenario.model_path), timestep_s,
+    const double timestep_s = scenario.run.timestep_s.value_or(5e-4);
+    const double duration_s = scenario.run.cycles / std::abs(scenario.waveform.frequency_Hz);
+    return PaperSetting{ReadText(scenario.model.path), timestep_s,
                         std::lround(duration_s / timestep_s)};
   }();
   return setting;
@@ -283,8 +283,8 @@ long PeakMemoryOfChild_kB(void (*run)(int), int argument) {
 void SimulatePaperScenarioFor(int cycles) {
   ScenarioConfig scenario = LoadScenario(kPaperScenario);
   scenario.waveform.frequency_Hz = 0.05;
-  scenario.cycles = cycles;
-  scenario.samples_per_cycle = 1;
+  scenario.run.cycles = cycles;
+  scenario.output.samples_per_cycle = 1;
   SimulateScenario(scenario);
 }
 

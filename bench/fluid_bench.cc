@@ -31,16 +31,16 @@ const std::string kPaperScenario = ScenariosDir() + "/paper.toml";
 // 4 and 5: 2 and 4 points across the width).
 void BM_PaperCycle(benchmark::State& state) {
   ScenarioConfig scenario = LoadScenario(kPaperScenario);
-  scenario.cycles = 1;
-  scenario.output_dir.clear();
-  if (state.range(0) == 1) scenario.fluid_model = FluidModel::kStokeslets;
-  if (state.range(0) == 2) scenario.fluid_model = FluidModel::kRibbon;
-  if (state.range(1) == 1) scenario.dynamics = Dynamics::kStokes;
-  if (state.range(2) == 1) scenario.wall_gap_mm = 1.0;
-  if (state.range(2) == 2) scenario.stokeslet_shape_tolerance_rad = 0.0;
-  if (state.range(2) == 3) scenario.stokeslet_points_per_mm = 2.0 / 1.340;
-  if (state.range(2) == 4) scenario.stokeslet_width_points = 2;
-  if (state.range(2) == 5) scenario.stokeslet_width_points = 4;
+  scenario.run.cycles = 1;
+  scenario.output.dir.clear();
+  if (state.range(0) == 1) scenario.fluid.model = FluidModel::kStokeslets;
+  if (state.range(0) == 2) scenario.fluid.model = FluidModel::kRibbon;
+  if (state.range(1) == 1) scenario.model.dynamics = Dynamics::kStokes;
+  if (state.range(2) == 1) scenario.fluid.wall_gap_mm = 1.0;
+  if (state.range(2) == 2) scenario.fluid.stokeslets.shape_tolerance_rad = 0.0;
+  if (state.range(2) == 3) scenario.fluid.stokeslets.points_per_mm = 2.0 / 1.340;
+  if (state.range(2) == 4) scenario.fluid.stokeslets.width_points = 2;
+  if (state.range(2) == 5) scenario.fluid.stokeslets.width_points = 4;
   for (auto _ : state) benchmark::DoNotOptimize(SimulateScenario(scenario));
 }
 BENCHMARK(BM_PaperCycle)

@@ -76,8 +76,8 @@ void BM_Render640x480WithEncoding(benchmark::State& state) {
 
 ScenarioConfig PaperCycle() {
   ScenarioConfig scenario = LoadScenario(ScenariosDir() + "/paper.toml");
-  scenario.cycles = 1;
-  scenario.output_dir.clear();
+  scenario.run.cycles = 1;
+  scenario.output.dir.clear();
   return scenario;
 }
 

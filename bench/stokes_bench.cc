@@ -42,10 +42,10 @@ const std::string kPaperScenario = ScenariosDir() + "/paper.toml";
 
 ScenarioConfig PaperCycle(Dynamics dynamics, double timestep_s, int segments, double c1) {
   ScenarioConfig scenario = LoadScenario(kPaperScenario);
-  scenario.cycles = 1;
-  scenario.dynamics = dynamics;
-  scenario.timestep_s = timestep_s;
-  if (segments > 0) scenario.segments_per_link = segments;
+  scenario.run.cycles = 1;
+  scenario.model.dynamics = dynamics;
+  scenario.run.timestep_s = timestep_s;
+  if (segments > 0) scenario.model.segments_per_link = segments;
   if (c1 > 0) scenario.waveform.c1_um_per_mm = c1;
   return scenario;
 }

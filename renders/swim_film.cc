@@ -438,21 +438,24 @@ RunRecording LoadRunRecording(const std::string& dir) {
 
 std::function<double(double, double)> ScenarioIdealShape(const ScenarioConfig& scenario) {
   const WaveformConfig wave = scenario.waveform;
-  const double ramp_s = scenario.start_ramp_cycles / std::abs(wave.frequency_Hz);
+  const double ramp_s = scenario.waveform.start_ramp_cycles / std::abs(wave.frequency_Hz);
   return [wave, ramp_s](double x_m, double t_s) {
     return StartRamp(t_s, ramp_s) * WaveY_um(wave, x_m * 1e3, t_s) * 1e-6;
   };
 }
 
 std::vector<std::array<std::string, 2>> ClosedLoopOverlayRows(const ScenarioConfig& scenario) {
-  const bool pid = scenario.controller == ControllerKind::kPid;
-  const bool clamp = pid ? scenario.pid.clamp_enabled : scenario.fractional.clamp_enabled;
-  const double v_max = pid ? scenario.pid.v_max : scenario.fractional.v_max;
+  const bool pid = scenario.controller.kind == ControllerKind::kPid;
+  const bool clamp =
+      pid ? scenario.controller.pid.clamp_enabled : scenario.controller.fractional.clamp_enabled;
+  const double v_max = pid ? scenario.controller.pid.v_max : scenario.controller.fractional.v_max;
   char controller[128];
   int n = pid ? std::snprintf(controller, sizeof(controller), "PID, Kp %g, Ki %g, Kd %g",
-                              scenario.pid.kp, scenario.pid.ki, scenario.pid.kd)
+                              scenario.controller.pid.kp, scenario.controller.pid.ki,
+                              scenario.controller.pid.kd)
               : std::snprintf(controller, sizeof(controller), "fractional, %g / s^%g",
-                              scenario.fractional.gain, scenario.fractional.order);
+                              scenario.controller.fractional.gain,
+                              scenario.controller.fractional.order);
   if (clamp) {
     std::snprintf(controller + n, sizeof(controller) - n, ", clamp +-%g V", v_max);
   } else {

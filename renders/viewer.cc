@@ -162,8 +162,8 @@ struct StopLiveRun {};
 
 LiveRun::LiveRun(const ScenarioConfig& scenario) : shared_(std::make_unique<Shared>()) {
   shared_->scenario = scenario;
-  shared_->scenario.output_dir.clear();
-  duration_s_ = scenario.cycles / std::abs(scenario.waveform.frequency_Hz);
+  shared_->scenario.output.dir.clear();
+  duration_s_ = scenario.run.cycles / std::abs(scenario.waveform.frequency_Hz);
   Shared* s = shared_.get();
   s->thread = std::thread([s] {
     const auto record = [s](const mjModel* m, const mjData* d, const ClosedLoopSample&) {
@@ -344,7 +344,7 @@ void Viewer::AddPanel(ViewedRun& source, int index) {
     panel->run.model = source.live->model();
     panel->run.states = &panel->live_states;
     panel->run.period_s = 1.0 / std::abs(scenario.waveform.frequency_Hz);
-    panel->run.cycles = scenario.cycles;
+    panel->run.cycles = scenario.run.cycles;
     panel->run.overlay_rows = ClosedLoopOverlayRows(scenario);
     panel->run.ideal_y_m = ScenarioIdealShape(scenario);
   } else {

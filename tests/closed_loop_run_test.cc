@@ -21,13 +21,13 @@ ScenarioConfig PaperScenario(ControllerKind controller, const std::string& actua
                              bool clamp) {
   ScenarioConfig scenario;
   scenario.source = "test scenario";
-  scenario.model_path = std::string(IPMC_SWIM_SOURCE_DIR) + "/models/flagellum3.xml";
+  scenario.model.path = std::string(IPMC_SWIM_SOURCE_DIR) + "/models/flagellum3.xml";
   scenario.actuation = ChoiceValue(kActuationNames, actuation);
-  scenario.cycles = cycles;
-  scenario.timestep_s = 5e-4;
-  scenario.controller = controller;
-  scenario.pid.clamp_enabled = clamp;
-  scenario.fractional.clamp_enabled = clamp;
+  scenario.run.cycles = cycles;
+  scenario.run.timestep_s = 5e-4;
+  scenario.controller.kind = controller;
+  scenario.controller.pid.clamp_enabled = clamp;
+  scenario.controller.fractional.clamp_enabled = clamp;
   return scenario;
 }
 
@@ -108,7 +108,7 @@ TEST(ClosedLoopRunTest, LinkLengthsGenerateTheFlagellum) {
       "link_lengths_mm = [15, 15.5]\ncycles = 1\ntimestep_s = 5e-4\n"
       "[waveform]\nfrequency_Hz = 0.5\n",
       std::string(IPMC_SWIM_SOURCE_DIR) + "/scenarios/two_links.toml");
-  ASSERT_EQ(scenario.link_lengths_mm.size(), 2u);
+  ASSERT_EQ(scenario.model.link_lengths_mm.size(), 2u);
   const ClosedLoopResult result = SimulateScenario(scenario);
   EXPECT_EQ(result.links.size(), 2u);
   EXPECT_GT(result.links[1].max_abs_reference_mm, 0.0);
@@ -131,9 +131,9 @@ TEST(ClosedLoopRunTest, BadLinkLengthsNameTheKey) {
 // cycle). The per-cycle tables keep every cycle either way.
 TEST(ClosedLoopRunTest, MetricsFromCycleLeaveTheFadeInOut) {
   ScenarioConfig steady = LoadScenario(std::string(IPMC_SWIM_SOURCE_DIR) + "/scenarios/paper.toml");
-  steady.output_dir.clear();
+  steady.output.dir.clear();
   ScenarioConfig all = steady;
-  all.metrics_from_cycle = 1;
+  all.metrics.from_cycle = 1;
   EXPECT_EQ(MetricsFromCycle(steady), 2);
   const ClosedLoopResult a = SimulateScenario(all), s = SimulateScenario(steady);
   EXPECT_TRUE(a.from_cycle_given && a.startup_included);
@@ -166,12 +166,12 @@ TEST(ClosedLoopRunTest, MetricsFromCycleLeaveTheFadeInOut) {
   EXPECT_NEAR(a.energy.cost_of_transport_J_m, 0.0427, 0.0001);
   // No cycle after the ramp: the only cycle, start-up included.
   ScenarioConfig one = steady;
-  one.cycles = 1;
+  one.run.cycles = 1;
   EXPECT_EQ(MetricsFromCycle(one), 1);
-  one.start_ramp_cycles = 0.0;
-  one.cycles = 3;
+  one.waveform.start_ramp_cycles = 0.0;
+  one.run.cycles = 3;
   EXPECT_EQ(MetricsFromCycle(one), 1);
-  one.start_ramp_cycles = 1.0;
+  one.waveform.start_ramp_cycles = 1.0;
   EXPECT_EQ(MetricsFromCycle(one), 2);
   ExpectThrowMentioning<std::runtime_error>(
       [] { ParseScenario("link_lengths_mm = [10, 10, 10]\ncycles = 2\n[metrics]\nfrom_cycle = 3\n", "s.toml"); },
@@ -187,7 +187,7 @@ TEST(ClosedLoopRunTest, MetricsFromCycleLeaveTheFadeInOut) {
 // or a missed step shows as a mismatch well beyond the 1e-3 band.
 TEST(ClosedLoopRunTest, PeakMomentIsThePeakOfEachLinksRootHingeMoment) {
   ScenarioConfig scenario = PaperScenario(ControllerKind::kPid, "distributed", 1, true);
-  scenario.samples_per_cycle = 100000;  // every 1 ms sample of the 100 s cycle
+  scenario.output.samples_per_cycle = 100000;  // every 1 ms sample of the 100 s cycle
   std::vector<double> sampled_peak_Nm(3, 0.0);
   const ClosedLoopResult result =
       SimulateScenario(scenario, [&](const mjModel* m, const mjData* d, const ClosedLoopSample&) {

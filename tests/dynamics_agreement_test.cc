@@ -42,10 +42,10 @@ void ScaleInertia(mjModel* m, mjData* d, double scale) {
 
 double PaperCycle_mm(Dynamics dynamics, double timestep_s, double mass_scale) {
   ScenarioConfig scenario = LoadScenario(kSource + "/scenarios/paper.toml");
-  scenario.cycles = 1;
-  scenario.dynamics = dynamics;
-  scenario.timestep_s = timestep_s;
-  scenario.samples_per_cycle = 10;
+  scenario.run.cycles = 1;
+  scenario.model.dynamics = dynamics;
+  scenario.run.timestep_s = timestep_s;
+  scenario.output.samples_per_cycle = 10;
   const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(scenario);
   if (mass_scale != 1.0) ScaleInertia(sim->model(), sim->data(), mass_scale);
   const ClosedLoopResult result = StepClosedLoop(*sim, scenario);

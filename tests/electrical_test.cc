@@ -173,7 +173,7 @@ TEST(ElectricalTest, TheRunReportsTheHeldVoltagesPowerPerLink) {
   const double sample_s = 1e-3, period_s = 0.5;
   double total_W = 0.0;
   for (int q = 0; q < 3; ++q) {
-    IpmcImpedance link = IpmcImpedance::ForArea(scenario.electrical, 10e-3 * 3e-3);
+    IpmcImpedance link = IpmcImpedance::ForArea(scenario.metrics.electrical, 10e-3 * 3e-3);
     std::vector<double> cycle_J(2, 0.0);
     for (size_t k = 0; k < volts.size(); ++k) {
       cycle_J[k / 500] += link.Hold(volts[k][q], sample_s).input_J;
@@ -195,7 +195,7 @@ TEST(ElectricalTest, OffByDefaultWithNothingReported) {
   const ScenarioConfig scenario = ParseScenario(
       "model = \"../models/flagellum3.xml\"\ncycles = 1\n[waveform]\nfrequency_Hz = 2.0\n",
       std::string(IPMC_SWIM_SOURCE_DIR) + "/scenarios/electrical.toml");
-  EXPECT_FALSE(scenario.electrical.enabled);
+  EXPECT_FALSE(scenario.metrics.electrical.enabled);
   const ClosedLoopResult result = SimulateScenario(scenario);
   EXPECT_FALSE(result.energy.electrical);
   EXPECT_TRUE(result.energy.electrical_power_W.empty());

@@ -29,9 +29,9 @@ const ClosedLoopResult& PaperRun(const std::string& dynamics) {
   if (it != runs.end()) return it->second;
   ScenarioConfig scenario =
       LoadScenario(std::string(IPMC_SWIM_SOURCE_DIR) + "/scenarios/paper.toml");
-  scenario.output_dir.clear();
-  scenario.metrics_from_cycle = 2;
-  scenario.dynamics = ParseDynamics(dynamics);
+  scenario.output.dir.clear();
+  scenario.metrics.from_cycle = 2;
+  scenario.model.dynamics = ParseDynamics(dynamics);
   return runs.emplace(dynamics, SimulateScenario(scenario)).first->second;
 }
 
@@ -115,15 +115,15 @@ TEST(EnergyMetricsTest, TowingDragIsTangentialResistanceTimesLengthAndSpeed) {
 TEST(InertialEnergyTest, HalvingTheStepHardlyMovesThePowers) {
   ScenarioConfig scenario =
       LoadScenario(std::string(IPMC_SWIM_SOURCE_DIR) + "/scenarios/paper.toml");
-  scenario.output_dir.clear();
-  scenario.dynamics = Dynamics::kInertial;
+  scenario.output.dir.clear();
+  scenario.model.dynamics = Dynamics::kInertial;
   scenario.waveform.frequency_Hz = 1.0;
-  scenario.samples_per_cycle = 10;
-  scenario.cycles = 2;
-  scenario.metrics_from_cycle = 2;
+  scenario.output.samples_per_cycle = 10;
+  scenario.run.cycles = 2;
+  scenario.metrics.from_cycle = 2;
   std::map<double, EnergyMetrics> by_step;
   for (double h_s : {5e-4, 2.5e-4}) {
-    scenario.timestep_s = h_s;
+    scenario.run.timestep_s = h_s;
     by_step[h_s] = SimulateScenario(scenario).energy;
     const EnergyMetrics& e = by_step[h_s];
     std::printf("h = %g s: actuators %.7e W, fluid %.7e W, damping %.7e W, stepping %.3e W\n",
@@ -152,17 +152,17 @@ TEST(InertialEnergyTest, HalvingTheStepHardlyMovesThePowers) {
 TEST(InertialEnergyTest, FlexibleLinksPowersDoNotDependOnTheStep) {
   ScenarioConfig scenario =
       LoadScenario(std::string(IPMC_SWIM_SOURCE_DIR) + "/scenarios/paper.toml");
-  scenario.output_dir.clear();
-  scenario.dynamics = Dynamics::kInertial;
-  scenario.segments_per_link = 8;
+  scenario.output.dir.clear();
+  scenario.model.dynamics = Dynamics::kInertial;
+  scenario.model.segments_per_link = 8;
   scenario.waveform.c1_um_per_mm = 150;
   scenario.waveform.frequency_Hz = 1.0;
-  scenario.samples_per_cycle = 10;
-  scenario.cycles = 2;
-  scenario.metrics_from_cycle = 2;
+  scenario.output.samples_per_cycle = 10;
+  scenario.run.cycles = 2;
+  scenario.metrics.from_cycle = 2;
   std::map<double, EnergyMetrics> by_step;
   for (double h_s : {5e-4, 2.5e-4}) {
-    scenario.timestep_s = h_s;
+    scenario.run.timestep_s = h_s;
     by_step[h_s] = SimulateScenario(scenario).energy;
     const EnergyMetrics& e = by_step[h_s];
     std::printf("n = 8, h = %g s: actuators %.7e W, fluid %.7e W, damping %.7e W, "
@@ -197,17 +197,17 @@ TEST(InertialEnergyTest, FlexibleLinksPowersDoNotDependOnTheStep) {
 TEST(StokesEnergyTest, PowersDoNotDependOnTheStep) {
   ScenarioConfig scenario =
       LoadScenario(std::string(IPMC_SWIM_SOURCE_DIR) + "/scenarios/paper.toml");
-  scenario.output_dir.clear();
-  scenario.dynamics = Dynamics::kStokes;
+  scenario.output.dir.clear();
+  scenario.model.dynamics = Dynamics::kStokes;
   scenario.waveform.c1_um_per_mm = 150;
-  scenario.samples_per_cycle = 10;
-  scenario.cycles = 3;
-  scenario.metrics_from_cycle = 3;
+  scenario.output.samples_per_cycle = 10;
+  scenario.run.cycles = 3;
+  scenario.metrics.from_cycle = 3;
   for (int n : {1, 8}) {
-    scenario.segments_per_link = n;
+    scenario.model.segments_per_link = n;
     std::map<double, EnergyMetrics> by_step;
     for (double h_s : {1e-3, 5e-4}) {
-      scenario.timestep_s = h_s;
+      scenario.run.timestep_s = h_s;
       by_step[h_s] = SimulateScenario(scenario).energy;
       const EnergyMetrics& e = by_step[h_s];
       std::printf("n = %d, h = %g s: actuators %.7e W, fluid %.7e W, damping %.7e W, "

@@ -325,16 +325,16 @@ TEST_F(FlexibleLinkTest, StokesSwimConvergesAgainstSegments) {
   ExpectWarning("exceeds the link's reach");
   ScenarioConfig scenario =
       LoadScenario(std::string(IPMC_SWIM_SOURCE_DIR) + "/scenarios/paper.toml");
-  scenario.output_dir.clear();
-  scenario.cycles = 2;
-  scenario.metrics_from_cycle = 2;
-  scenario.dynamics = Dynamics::kStokes;
-  scenario.timestep_s = 1e-3;
+  scenario.output.dir.clear();
+  scenario.run.cycles = 2;
+  scenario.metrics.from_cycle = 2;
+  scenario.model.dynamics = Dynamics::kStokes;
+  scenario.run.timestep_s = 1e-3;
   scenario.waveform.c1_um_per_mm = 150;
-  scenario.samples_per_cycle = 10;
+  scenario.output.samples_per_cycle = 10;
   std::map<int, double> swim_mm;
   for (int n : kStokesSegments) {
-    scenario.segments_per_link = n;
+    scenario.model.segments_per_link = n;
     swim_mm[n] = SimulateScenario(scenario).swim.per_cycle.at(1).com_along;
     std::printf("swim %d %.7f\n", n, swim_mm[n]);
   }
@@ -440,8 +440,8 @@ TEST_F(LinkPlantsTest, AScenarioChoosesThePlantsOverTheModel) {
   const ScenarioConfig scenario =
       ParseScenario("model = \"../models/flagellum3.xml\"\nplants = \"table2\"\n",
                     std::string(IPMC_SWIM_SOURCE_DIR) + "/scenarios/x.toml");
-  ASSERT_TRUE(scenario.plants.has_value());
-  EXPECT_EQ(*scenario.plants, PlantAssignment::kTable2);
+  ASSERT_TRUE(scenario.model.plants.has_value());
+  EXPECT_EQ(*scenario.model.plants, PlantAssignment::kTable2);
 }
 
 // ---------------------------------------------------------- bad input ---

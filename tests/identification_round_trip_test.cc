@@ -186,11 +186,11 @@ TEST(IdentificationRoundTripTest, OneRecordPerLinkGivesEachLinkItsPlant) {
   const ScenarioConfig scenario = ParseScenario(
       "include = [\"" + Paper() + "\", \"" + (dir / "plant.toml").string() + "\"]\n",
       (dir / "run.toml").string());
-  ASSERT_EQ(scenario.plant.link_a0_mm_per_V.size(), 3u);
-  for (double a0 : scenario.plant.link_a0_mm_per_V) {
+  ASSERT_EQ(scenario.model.plant.link_a0_mm_per_V.size(), 3u);
+  for (double a0 : scenario.model.plant.link_a0_mm_per_V) {
     EXPECT_DOUBLE_EQ(a0, id.id.g1.params.a0_mm_per_V);
   }
-  EXPECT_EQ(scenario.plant.link_b2_s2.size(), 3u);
+  EXPECT_EQ(scenario.model.plant.link_b2_s2.size(), 3u);
   const nlohmann::json json = nlohmann::json::parse(testing::ReadFile(dir / "identification.json"));
   EXPECT_EQ(json["other_links"].size(), 2u);
 }

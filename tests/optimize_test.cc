@@ -327,7 +327,7 @@ ScenarioConfig GeneratedLinks(const std::vector<double>& lengths_mm, const std::
   ScenarioConfig scenario =
       ParseScenario(testing::OneCycleScenario(0.5) + "[controller]\nkind = \"" + kind + "\"\n",
                     (fs::path(IPMC_SWIM_SOURCE_DIR) / "scenarios" / "x.toml").string());
-  scenario.link_lengths_mm = lengths_mm;
+  scenario.model.link_lengths_mm = lengths_mm;
   return scenario;
 }
 
@@ -338,7 +338,7 @@ ScenarioConfig GeneratedLinks(const std::vector<double>& lengths_mm, const std::
 // too, so not exactly).
 TEST(RetuneTest, PidGainsFollowEachLinksPlant) {
   const ScenarioConfig retuned = RetunedControllers(GeneratedLinks({10.0, 10.0, 5.0}, "pid"));
-  const ScenarioConfig::LinkGains& g = retuned.link_gains;
+  const ControllerScenario::LinkGains& g = retuned.controller.link_gains;
   ASSERT_EQ(g.kp.size(), 3u);
   EXPECT_NEAR(g.kp[0], 10.28, 0.01);
   EXPECT_NEAR(g.ki[0], 36.25, 0.01);
@@ -356,7 +356,7 @@ TEST(RetuneTest, PidGainsFollowEachLinksPlant) {
 TEST(RetuneTest, FractionalLoopsMeetTheSpecificationOnEachLinksPlant) {
   const ScenarioConfig scenario = GeneratedLinks({14.0, 8.0, 8.0}, "fractional");
   const ScenarioConfig retuned = RetunedControllers(scenario);
-  const ScenarioConfig::LinkGains& g = retuned.link_gains;
+  const ControllerScenario::LinkGains& g = retuned.controller.link_gains;
   ASSERT_EQ(g.gain.size(), 3u);
   const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(scenario);
   const auto& plants = FindCoupling(sim->data())->actuators->link_params();
@@ -370,8 +370,8 @@ TEST(RetuneTest, FractionalLoopsMeetTheSpecificationOnEachLinksPlant) {
         << "link " << q + 1;
   }
   const ScenarioConfig ten = RetunedControllers(GeneratedLinks({10.0, 10.0, 10.0}, "fractional"));
-  EXPECT_NEAR(ten.link_gains.gain[0], 14.6275, 1e-4);
-  EXPECT_NEAR(ten.link_gains.order[0], 0.5887, 1e-4);
+  EXPECT_NEAR(ten.controller.link_gains.gain[0], 14.6275, 1e-4);
+  EXPECT_NEAR(ten.controller.link_gains.order[0], 0.5887, 1e-4);
 }
 
 // controller.link_*: equal to the scalar gains on every link, the run is
@@ -380,14 +380,17 @@ TEST(RetuneTest, FractionalLoopsMeetTheSpecificationOnEachLinksPlant) {
 TEST(RetuneTest, PerLinkGainsDriveEachLinksController) {
   ScenarioConfig scalar = GeneratedLinks({10.0, 10.0, 10.0}, "pid");
   ScenarioConfig each = scalar;
-  each.link_gains.kp = {scalar.pid.kp, scalar.pid.kp, scalar.pid.kp};
-  each.link_gains.kd = {scalar.pid.kd, scalar.pid.kd, scalar.pid.kd};
+  each.controller.link_gains.kp = {scalar.controller.pid.kp, scalar.controller.pid.kp,
+                                   scalar.controller.pid.kp};
+  each.controller.link_gains.kd = {scalar.controller.pid.kd, scalar.controller.pid.kd,
+                                   scalar.controller.pid.kd};
   const ClosedLoopResult a = SimulateScenario(scalar), b = SimulateScenario(each);
   for (int q = 0; q < 3; ++q) EXPECT_EQ(a.links[q].iae_mm_s, b.links[q].iae_mm_s) << q;
-  each.link_gains.kp = {scalar.pid.kp, scalar.pid.kp, 2 * scalar.pid.kp};
+  each.controller.link_gains.kp = {scalar.controller.pid.kp, scalar.controller.pid.kp,
+                                   2 * scalar.controller.pid.kp};
   const ClosedLoopResult c = SimulateScenario(each);
   EXPECT_NE(c.links[2].iae_mm_s, a.links[2].iae_mm_s);
-  each.link_gains.kp = {1.0, 2.0};
+  each.controller.link_gains.kp = {1.0, 2.0};
   try {
     SimulateScenario(each);
     ADD_FAILURE() << "two gains for three links accepted";

@@ -177,7 +177,7 @@ void RunCrossCheck(const ScenarioConfig& scenario, CrossCheck* out) {
 TEST(PropulsionCrossCheckTest, DefaultRunMatchesInertiaFreeRft) {
   ScenarioConfig scenario =
       LoadScenario(std::string(IPMC_SWIM_SOURCE_DIR) + "/scenarios/paper.toml");
-  scenario.samples_per_cycle = kSamplesPerCycle;
+  scenario.output.samples_per_cycle = kSamplesPerCycle;
   CrossCheck check;
   RunCrossCheck(scenario, &check);
   if (HasFatalFailure()) return;
@@ -253,9 +253,9 @@ TEST(PropulsionCrossCheckTest, DefaultRunMatchesInertiaFreeRft) {
 TEST(PropulsionCrossCheckTest, StokesRunMatchesInertiaFreeRft) {
   ScenarioConfig scenario =
       LoadScenario(std::string(IPMC_SWIM_SOURCE_DIR) + "/scenarios/paper.toml");
-  scenario.samples_per_cycle = kSamplesPerCycle;
-  scenario.dynamics = Dynamics::kStokes;
-  scenario.timestep_s = 1e-3;
+  scenario.output.samples_per_cycle = kSamplesPerCycle;
+  scenario.model.dynamics = Dynamics::kStokes;
+  scenario.run.timestep_s = 1e-3;
   CrossCheck check;
   RunCrossCheck(scenario, &check);
   if (HasFatalFailure()) return;

@@ -102,7 +102,7 @@ TEST(RftScenarioTest, ARunCarriesItsWarnings) {
   ScenarioConfig scenario =
       PaperWith("cycles = 1\ntimestep_s = 1e-3\n[waveform]\nwavelength_mm = 16.0\n"
                 "frequency_Hz = 0.5\n");
-  scenario.dynamics = Dynamics::kStokes;
+  scenario.model.dynamics = Dynamics::kStokes;
   const ClosedLoopResult result = SimulateScenario(scenario);
   bool resolution = false;
   for (const std::string& warning : result.swim.warnings) {
@@ -141,9 +141,9 @@ TEST(RftScenarioTest, WallGapGivesNearWallCoefficients) {
 TEST(RftScenarioTest, TheWallChangesTheSwim) {
   ScenarioConfig free =
       PaperWith("cycles = 1\ntimestep_s = 1e-3\n[waveform]\nfrequency_Hz = 0.5\n");
-  free.dynamics = Dynamics::kStokes;
+  free.model.dynamics = Dynamics::kStokes;
   ScenarioConfig wall = free;
-  wall.wall_gap_mm = 2.0;
+  wall.fluid.wall_gap_mm = 2.0;
   const double free_mm = SimulateScenario(free).swim.per_cycle.at(0).com_along;
   const double wall_mm = SimulateScenario(wall).swim.per_cycle.at(0).com_along;
   std::printf("per cycle: free %.6g mm, 2 mm from a wall %.6g mm\n", free_mm, wall_mm);

@@ -57,20 +57,20 @@ TEST(ScenarioTest, PaperScenarioHasThePapersValues) {
   const std::string path = (kSourceDir / "scenarios" / "paper.toml").string();
   const ScenarioConfig config = LoadScenario(path);
   EXPECT_EQ(config.source, path);
-  EXPECT_EQ(fs::path(config.model_path), fs::canonical(kSourceDir / "models" / "flagellum3.xml"));
+  EXPECT_EQ(fs::path(config.model.path), fs::canonical(kSourceDir / "models" / "flagellum3.xml"));
   EXPECT_EQ(config.actuation, Actuation::kDistributed);
-  EXPECT_EQ(config.cycles, 3);
-  ASSERT_TRUE(config.timestep_s.has_value());
-  EXPECT_DOUBLE_EQ(*config.timestep_s, 5e-4);
-  EXPECT_EQ(config.controller, ControllerKind::kPid);
-  EXPECT_DOUBLE_EQ(config.sample_rate_Hz, 1000.0);
-  EXPECT_DOUBLE_EQ(config.pid.kp, 8.12);
-  EXPECT_DOUBLE_EQ(config.pid.ki, 53.36);
-  EXPECT_DOUBLE_EQ(config.pid.kd, 0.61);
-  EXPECT_DOUBLE_EQ(config.pid.derivative_filter_time_s, 0.0);
-  EXPECT_DOUBLE_EQ(config.pid.sample_period_s, 1e-3);
-  EXPECT_TRUE(config.pid.clamp_enabled);
-  EXPECT_DOUBLE_EQ(config.pid.v_max, 6.0);
+  EXPECT_EQ(config.run.cycles, 3);
+  ASSERT_TRUE(config.run.timestep_s.has_value());
+  EXPECT_DOUBLE_EQ(*config.run.timestep_s, 5e-4);
+  EXPECT_EQ(config.controller.kind, ControllerKind::kPid);
+  EXPECT_DOUBLE_EQ(config.controller.sample_rate_Hz, 1000.0);
+  EXPECT_DOUBLE_EQ(config.controller.pid.kp, 8.12);
+  EXPECT_DOUBLE_EQ(config.controller.pid.ki, 53.36);
+  EXPECT_DOUBLE_EQ(config.controller.pid.kd, 0.61);
+  EXPECT_DOUBLE_EQ(config.controller.pid.derivative_filter_time_s, 0.0);
+  EXPECT_DOUBLE_EQ(config.controller.pid.sample_period_s, 1e-3);
+  EXPECT_TRUE(config.controller.pid.clamp_enabled);
+  EXPECT_DOUBLE_EQ(config.controller.pid.v_max, 6.0);
   EXPECT_EQ(config.waveform.kind, WaveformKind::kPolynomial);
   EXPECT_DOUBLE_EQ(config.waveform.c0_um, 0.0);
   EXPECT_DOUBLE_EQ(config.waveform.c1_um_per_mm, 200.0);
@@ -79,59 +79,59 @@ TEST(ScenarioTest, PaperScenarioHasThePapersValues) {
   EXPECT_DOUBLE_EQ(config.waveform.wavelength_mm, 32.0);
   // Table 4 read as um per mm: 6.2 mm at the tip, 31 mm from the head.
   EXPECT_NEAR(config.waveform.c1_um_per_mm * 31.0 * 1e-3, 6.2, 1e-12);
-  ASSERT_TRUE(config.viscosity_Pa_s.has_value());
-  EXPECT_DOUBLE_EQ(*config.viscosity_Pa_s, 1e-3);
-  EXPECT_EQ(config.output_dir, "out/paper");
-  EXPECT_EQ(config.samples_per_cycle, 200);
+  ASSERT_TRUE(config.fluid.viscosity_Pa_s.has_value());
+  EXPECT_DOUBLE_EQ(*config.fluid.viscosity_Pa_s, 1e-3);
+  EXPECT_EQ(config.output.dir, "out/paper");
+  EXPECT_EQ(config.output.samples_per_cycle, 200);
 }
 
 TEST(ScenarioTest, PaperFractionalScenarioHasEquation15) {
   const ScenarioConfig config =
       LoadScenario((kSourceDir / "scenarios" / "paper_fractional.toml").string());
-  EXPECT_EQ(fs::path(config.model_path), fs::canonical(kSourceDir / "models" / "flagellum3.xml"));
+  EXPECT_EQ(fs::path(config.model.path), fs::canonical(kSourceDir / "models" / "flagellum3.xml"));
   EXPECT_EQ(config.actuation, Actuation::kDistributed);
-  EXPECT_EQ(config.cycles, 3);
-  ASSERT_TRUE(config.timestep_s.has_value());
-  EXPECT_DOUBLE_EQ(*config.timestep_s, 5e-4);
-  EXPECT_EQ(config.controller, ControllerKind::kFractional);
-  EXPECT_DOUBLE_EQ(config.fractional.gain, 15.62);
-  EXPECT_DOUBLE_EQ(config.fractional.order, 0.62);
-  EXPECT_EQ(config.fractional.oustaloup_n, 4);
-  EXPECT_DOUBLE_EQ(config.fractional.w_low_rad_s, 1e-3);
-  EXPECT_DOUBLE_EQ(config.fractional.w_high_rad_s, 1e2);
-  EXPECT_DOUBLE_EQ(config.fractional.sample_period_s, 1e-3);
-  EXPECT_TRUE(config.fractional.clamp_enabled);
-  EXPECT_DOUBLE_EQ(config.fractional.v_max, 6.0);
+  EXPECT_EQ(config.run.cycles, 3);
+  ASSERT_TRUE(config.run.timestep_s.has_value());
+  EXPECT_DOUBLE_EQ(*config.run.timestep_s, 5e-4);
+  EXPECT_EQ(config.controller.kind, ControllerKind::kFractional);
+  EXPECT_DOUBLE_EQ(config.controller.fractional.gain, 15.62);
+  EXPECT_DOUBLE_EQ(config.controller.fractional.order, 0.62);
+  EXPECT_EQ(config.controller.fractional.oustaloup_n, 4);
+  EXPECT_DOUBLE_EQ(config.controller.fractional.w_low_rad_s, 1e-3);
+  EXPECT_DOUBLE_EQ(config.controller.fractional.w_high_rad_s, 1e2);
+  EXPECT_DOUBLE_EQ(config.controller.fractional.sample_period_s, 1e-3);
+  EXPECT_TRUE(config.controller.fractional.clamp_enabled);
+  EXPECT_DOUBLE_EQ(config.controller.fractional.v_max, 6.0);
   EXPECT_EQ(config.waveform.kind, WaveformKind::kPolynomial);
   EXPECT_DOUBLE_EQ(config.waveform.c1_um_per_mm, 200.0);
   EXPECT_DOUBLE_EQ(config.waveform.frequency_Hz, 0.01);
   EXPECT_DOUBLE_EQ(config.waveform.wavelength_mm, 32.0);
-  EXPECT_EQ(config.output_dir, "out/paper_fractional");
+  EXPECT_EQ(config.output.dir, "out/paper_fractional");
 }
 
 TEST_F(ScenarioErrorTest, OnlyTheModelGivesTheDefaults) {
   const ScenarioConfig config = Parse(kModelLine);
   EXPECT_EQ(config.source, source_);
-  EXPECT_EQ(config.model_path, (dir_ / "m.xml").string());
+  EXPECT_EQ(config.model.path, (dir_ / "m.xml").string());
   EXPECT_EQ(config.actuation, Actuation::kDistributed);
-  EXPECT_EQ(config.cycles, 3);
-  EXPECT_FALSE(config.timestep_s.has_value());
-  EXPECT_EQ(config.controller, ControllerKind::kPid);
-  EXPECT_DOUBLE_EQ(config.pid.sample_period_s, 1e-3);
-  EXPECT_DOUBLE_EQ(config.fractional.sample_period_s, 1e-3);
-  EXPECT_FALSE(config.viscosity_Pa_s.has_value());
-  EXPECT_EQ(config.output_dir, "");
-  EXPECT_EQ(config.samples_per_cycle, 200);
+  EXPECT_EQ(config.run.cycles, 3);
+  EXPECT_FALSE(config.run.timestep_s.has_value());
+  EXPECT_EQ(config.controller.kind, ControllerKind::kPid);
+  EXPECT_DOUBLE_EQ(config.controller.pid.sample_period_s, 1e-3);
+  EXPECT_DOUBLE_EQ(config.controller.fractional.sample_period_s, 1e-3);
+  EXPECT_FALSE(config.fluid.viscosity_Pa_s.has_value());
+  EXPECT_EQ(config.output.dir, "");
+  EXPECT_EQ(config.output.samples_per_cycle, 200);
 }
 
 TEST_F(ScenarioErrorTest, ModelResolvesAgainstTheScenarioDirectory) {
   fs::create_directories(dir_ / "sub");
   const ScenarioConfig config =
       ParseScenario("model = \"../m.xml\"\n", (dir_ / "sub" / "s.toml").string());
-  EXPECT_EQ(config.model_path, (dir_ / "m.xml").string());
+  EXPECT_EQ(config.model.path, (dir_ / "m.xml").string());
   const ScenarioConfig absolute =
       ParseScenario("model = \"" + (dir_ / "m.xml").string() + "\"\n", "elsewhere/s.toml");
-  EXPECT_EQ(absolute.model_path, (dir_ / "m.xml").string());
+  EXPECT_EQ(absolute.model.path, (dir_ / "m.xml").string());
 }
 
 TEST_F(ScenarioErrorTest, IntegersAreAcceptedForFloats) {
@@ -143,26 +143,26 @@ TEST_F(ScenarioErrorTest, IntegersAreAcceptedForFloats) {
                                       "[waveform]\nc1_um_per_mm = 150\nwavelength_mm = 30\n"
                                       "frequency_Hz = 1\n"
                                       "[fluid]\nviscosity_Pa_s = 1\n");
-  EXPECT_DOUBLE_EQ(config.sample_rate_Hz, 500.0);
-  EXPECT_DOUBLE_EQ(config.pid.sample_period_s, 2e-3);
-  EXPECT_DOUBLE_EQ(config.pid.v_max, 5.0);
-  EXPECT_DOUBLE_EQ(config.pid.kp, 8.0);
-  EXPECT_DOUBLE_EQ(config.pid.ki, 53.0);
-  EXPECT_DOUBLE_EQ(config.pid.kd, 1.0);
+  EXPECT_DOUBLE_EQ(config.controller.sample_rate_Hz, 500.0);
+  EXPECT_DOUBLE_EQ(config.controller.pid.sample_period_s, 2e-3);
+  EXPECT_DOUBLE_EQ(config.controller.pid.v_max, 5.0);
+  EXPECT_DOUBLE_EQ(config.controller.pid.kp, 8.0);
+  EXPECT_DOUBLE_EQ(config.controller.pid.ki, 53.0);
+  EXPECT_DOUBLE_EQ(config.controller.pid.kd, 1.0);
   EXPECT_DOUBLE_EQ(config.waveform.c1_um_per_mm, 150.0);
   EXPECT_DOUBLE_EQ(config.waveform.wavelength_mm, 30.0);
   EXPECT_DOUBLE_EQ(config.waveform.frequency_Hz, 1.0);
-  EXPECT_DOUBLE_EQ(*config.viscosity_Pa_s, 1.0);
+  EXPECT_DOUBLE_EQ(*config.fluid.viscosity_Pa_s, 1.0);
 
   const ScenarioConfig fractional =
       Parse(std::string(kModelLine) +
             "[controller]\nkind = \"fractional\"\n"
             "gain = 15\norder = 1\nband_rad_s = [1, 100]\n"
             "[waveform]\nkind = \"fractional\"\nc_um = 1000\nalpha = 1\n");
-  EXPECT_DOUBLE_EQ(fractional.fractional.gain, 15.0);
-  EXPECT_DOUBLE_EQ(fractional.fractional.order, 1.0);
-  EXPECT_DOUBLE_EQ(fractional.fractional.w_low_rad_s, 1.0);
-  EXPECT_DOUBLE_EQ(fractional.fractional.w_high_rad_s, 100.0);
+  EXPECT_DOUBLE_EQ(fractional.controller.fractional.gain, 15.0);
+  EXPECT_DOUBLE_EQ(fractional.controller.fractional.order, 1.0);
+  EXPECT_DOUBLE_EQ(fractional.controller.fractional.w_low_rad_s, 1.0);
+  EXPECT_DOUBLE_EQ(fractional.controller.fractional.w_high_rad_s, 100.0);
   EXPECT_EQ(fractional.waveform.kind, WaveformKind::kFractional);
   EXPECT_DOUBLE_EQ(fractional.waveform.c_um, 1000.0);
   EXPECT_DOUBLE_EQ(fractional.waveform.alpha, 1.0);
@@ -329,10 +329,11 @@ TEST_F(ScenarioErrorTest, KeysOfTheOtherKindAreRejected) {
 // the paper's printed eq. 15, which fixes gain, order and band.
 TEST_F(ScenarioErrorTest, FractionalRealisationKey) {
   const std::string fractional = std::string(kModelLine) + "[controller]\nkind = \"fractional\"\n";
-  EXPECT_EQ(Parse(fractional).fractional.realisation, FractionalRealisation::kOustaloup);
-  EXPECT_EQ(Parse(fractional + "realisation = \"oustaloup\"\ngain = 10\n").fractional.realisation,
+  EXPECT_EQ(Parse(fractional).controller.fractional.realisation, FractionalRealisation::kOustaloup);
+  EXPECT_EQ(Parse(fractional + "realisation = \"oustaloup\"\ngain = 10\n")
+                .controller.fractional.realisation,
             FractionalRealisation::kOustaloup);
-  EXPECT_EQ(Parse(fractional + "realisation = \"eq15\"\n").fractional.realisation,
+  EXPECT_EQ(Parse(fractional + "realisation = \"eq15\"\n").controller.fractional.realisation,
             FractionalRealisation::kEq15);
   ExpectError(fractional + "realisation = \"Eq15\"\n",
               ":4: controller.realisation must be \"oustaloup\" or \"eq15\" (got \"Eq15\")");
@@ -382,7 +383,7 @@ TEST_F(ScenarioErrorTest, WaveformIsValidatedByWaveformConfig) {
 TEST_F(ScenarioErrorTest, SamplePeriodIsAWholeNumberOfTimesteps) {
   const std::string model = kModelLine;
   EXPECT_DOUBLE_EQ(
-      *Parse(model + "timestep_s = 2.5e-4\n[controller]\nsample_rate_Hz = 1000\n").timestep_s,
+      *Parse(model + "timestep_s = 2.5e-4\n[controller]\nsample_rate_Hz = 1000\n").run.timestep_s,
       2.5e-4);
   ExpectError(
       model + "timestep_s = 3e-4\n[controller]\nsample_rate_Hz = 1000\n",
@@ -409,7 +410,7 @@ TEST_F(ScenarioErrorTest, LoadScenarioReportsAMissingFile) {
     EXPECT_EQ(std::string(error.what()), path + ": cannot open the scenario file");
   }
   std::ofstream(source_) << kModelLine << "cycles = 2\n";
-  EXPECT_EQ(LoadScenario(source_).cycles, 2);
+  EXPECT_EQ(LoadScenario(source_).run.cycles, 2);
 }
 
 // The errors carry what the sweeps decide by: the problem, the dotted key

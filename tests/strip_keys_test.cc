@@ -61,12 +61,12 @@ TEST(StripKeysTest, ThePapersStripAndPlantGenerateTheShippedModel) {
   const ScenarioConfig scenario = PaperWith(
       "[strip]\nwidth_mm = 3.0\nthickness_um = 250.0\nyoungs_modulus_Pa = 0.25e9\n"
       "density_kg_m3 = 2000.0\n");
-  ASSERT_TRUE(scenario.GeneratesModel());
+  ASSERT_TRUE(scenario.model.Generated());
   const std::string shipped =
       ReadTextFile((fs::path(IPMC_SWIM_SOURCE_DIR) / "models" / "flagellum3.xml").string(), "model");
-  EXPECT_EQ(GenerateFlagellumMjcf(ScenarioFlagellumSpec(scenario)), shipped);
+  EXPECT_EQ(GenerateFlagellumMjcf(ScenarioFlagellumSpec(scenario.model)), shipped);
   // plant.model = "g1" is the default: no key, the model file.
-  EXPECT_FALSE(PaperWith("[plant]\nmodel = \"g1\"\n").GeneratesModel());
+  EXPECT_FALSE(PaperWith("[plant]\nmodel = \"g1\"\n").model.Generated());
 }
 
 TEST(StripKeysTest, BendingStiffnessScalesAsThicknessCubedAndYoungsModulus) {

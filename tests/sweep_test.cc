@@ -93,9 +93,9 @@ TEST_F(SweepTest, GridRunsInFileOrderWithTheLastKeyFastest) {
   const ScenarioConfig& last = *plan.points[7].scenario;
   EXPECT_EQ(last.waveform.frequency_Hz, 1.0);
   EXPECT_EQ(last.actuation, Actuation::kDistributed);
-  EXPECT_EQ(last.pid.kp, 4.0);
-  EXPECT_EQ(last.pid.ki, 53.36);  // the rest is the base's
-  EXPECT_EQ(last.cycles, 1);
+  EXPECT_EQ(last.controller.pid.kp, 4.0);
+  EXPECT_EQ(last.controller.pid.ki, 53.36);  // the rest is the base's
+  EXPECT_EQ(last.run.cycles, 1);
 
   // A nested table and a quoted dotted key are the same key.
   const SweepPlan nested = Parse(
@@ -140,8 +140,8 @@ TEST_F(SweepTest, OverridesReachEveryPartOfTheScenario) {
             (std::vector<std::string>{"fractional", "150", "0.7", "", "", "", "", "", ""}));
   for (const SweepPoint& point : plan.points) {
     ASSERT_TRUE(point.scenario) << point.error;
-    EXPECT_EQ(point.scenario->cycles, 2);
-    EXPECT_EQ(fs::path(point.scenario->model_path),
+    EXPECT_EQ(point.scenario->run.cycles, 2);
+    EXPECT_EQ(fs::path(point.scenario->model.path),
               fs::canonical(kSourceDir / "models" / "flagellum3.xml"));
   }
   const WaveformConfig& wave = plan.points[0].scenario->waveform;
@@ -150,10 +150,10 @@ TEST_F(SweepTest, OverridesReachEveryPartOfTheScenario) {
   EXPECT_EQ(wave.alpha, 0.7);
   EXPECT_EQ(wave.frequency_Hz, 0.01);  // paper.toml's
   const ScenarioConfig& fractional = *plan.points[1].scenario;
-  EXPECT_EQ(fractional.controller, ControllerKind::kFractional);
-  EXPECT_EQ(fractional.fractional.gain, 10.0);
-  EXPECT_EQ(fractional.fractional.order, 0.5);
-  EXPECT_EQ(fractional.viscosity_Pa_s, 2e-3);
+  EXPECT_EQ(fractional.controller.kind, ControllerKind::kFractional);
+  EXPECT_EQ(fractional.controller.fractional.gain, 10.0);
+  EXPECT_EQ(fractional.controller.fractional.order, 0.5);
+  EXPECT_EQ(fractional.fluid.viscosity_Pa_s, 2e-3);
   EXPECT_EQ(plan.points[2].scenario->actuation, Actuation::kSingle);
 }
 
@@ -168,8 +168,10 @@ TEST_F(SweepTest, RealisationOverridesDropTheBasesOustaloupKeys) {
                          "\"controller.realisation\" = [\"oustaloup\", \"eq15\"]\n");
   ASSERT_EQ(plan.points.size(), 2u);
   for (const SweepPoint& point : plan.points) ASSERT_TRUE(point.scenario) << point.error;
-  EXPECT_EQ(plan.points[0].scenario->fractional.realisation, FractionalRealisation::kOustaloup);
-  EXPECT_EQ(plan.points[1].scenario->fractional.realisation, FractionalRealisation::kEq15);
+  EXPECT_EQ(plan.points[0].scenario->controller.fractional.realisation,
+            FractionalRealisation::kOustaloup);
+  EXPECT_EQ(plan.points[1].scenario->controller.fractional.realisation,
+            FractionalRealisation::kEq15);
 
   plan = Parse("base = \"" + base + "\"\n"
                "[[point]]\n"
@@ -191,7 +193,7 @@ TEST_F(SweepTest, TheWorkedExampleHasTwelvePoints) {
   EXPECT_EQ(plan.points[11].values, (std::vector<std::string>{"distributed", "0.04"}));
   for (const SweepPoint& point : plan.points) {
     ASSERT_TRUE(point.scenario) << point.error;
-    EXPECT_EQ(point.scenario->cycles, 2);
+    EXPECT_EQ(point.scenario->run.cycles, 2);
   }
 }
 

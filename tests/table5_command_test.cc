@@ -116,20 +116,20 @@ TEST(Table5Test, ScenariosAreTheLinearLoopWithEq15) {
   reading.cycles = 2;
   reading.start_ramp_cycles = 0.0;
   const ScenarioConfig fractional = Table5Scenario(setting, ControllerKind::kFractional, reading);
-  EXPECT_EQ(fractional.controller, ControllerKind::kFractional);
-  EXPECT_EQ(fractional.fractional.realisation, FractionalRealisation::kEq15);
-  EXPECT_FALSE(fractional.fractional.clamp_enabled);
-  EXPECT_EQ(fractional.fractional.sample_period_s, 1e-3);
-  EXPECT_EQ(fractional.plants, PlantAssignment::kTable2);
-  EXPECT_EQ(fractional.cycles, 2);
-  EXPECT_EQ(fractional.start_ramp_cycles, 0.0);
-  EXPECT_TRUE(fractional.output_dir.empty());
+  EXPECT_EQ(fractional.controller.kind, ControllerKind::kFractional);
+  EXPECT_EQ(fractional.controller.fractional.realisation, FractionalRealisation::kEq15);
+  EXPECT_FALSE(fractional.controller.fractional.clamp_enabled);
+  EXPECT_EQ(fractional.controller.fractional.sample_period_s, 1e-3);
+  EXPECT_EQ(fractional.model.plants, PlantAssignment::kTable2);
+  EXPECT_EQ(fractional.run.cycles, 2);
+  EXPECT_EQ(fractional.waveform.start_ramp_cycles, 0.0);
+  EXPECT_TRUE(fractional.output.dir.empty());
   const ScenarioConfig pid = Table5Scenario(setting, ControllerKind::kPid, reading);
-  EXPECT_EQ(pid.controller, ControllerKind::kPid);
-  EXPECT_FALSE(pid.pid.clamp_enabled);
-  EXPECT_EQ(pid.pid.kp, 8.12);  // eq. 12, from paper.toml
-  EXPECT_EQ(pid.pid.ki, 53.36);
-  EXPECT_EQ(pid.pid.kd, 0.61);
+  EXPECT_EQ(pid.controller.kind, ControllerKind::kPid);
+  EXPECT_FALSE(pid.controller.pid.clamp_enabled);
+  EXPECT_EQ(pid.controller.pid.kp, 8.12);  // eq. 12, from paper.toml
+  EXPECT_EQ(pid.controller.pid.ki, 53.36);
+  EXPECT_EQ(pid.controller.pid.kd, 0.61);
 }
 
 std::string ReadText(const fs::path& path) {

@@ -182,8 +182,8 @@ std::string SweepFingerprint(const SweepPlan& plan) {
         hash.Add(models.at(*file));
       }
     }
-    if (point.scenario && !point.scenario->GeneratesModel()) {
-      const std::string& model = point.scenario->model_path;
+    if (point.scenario && !point.scenario->model.Generated()) {
+      const std::string& model = point.scenario->model.path;
       if (models.count(model) == 0) models.emplace(model, FileText(model));
       hash.Add(models.at(model));
     }

@@ -330,7 +330,7 @@ SweepPlan SweepReader::Read(const std::string& toml_text) {
 int CountLinks(const SweepPlan& plan) {
   std::set<std::string> models;
   for (const SweepPoint& point : plan.points) {
-    if (point.scenario) models.insert(point.scenario->model_path);
+    if (point.scenario) models.insert(point.scenario->model.path);
   }
   int links = 0;
   for (const std::string& model : models) {

@@ -38,8 +38,8 @@ double EstimatedSteps(const SweepPoint& point) {
   if (point.gait) return point.gait->run.cycles / std::abs(point.gait->frequency_Hz) / kDefaultStep_s;
   if (!point.scenario) return 0.0;
   const ScenarioConfig& scenario = *point.scenario;
-  return scenario.cycles / std::abs(scenario.waveform.frequency_Hz) /
-         scenario.timestep_s.value_or(kDefaultStep_s);
+  return scenario.run.cycles / std::abs(scenario.waveform.frequency_Hz) /
+         scenario.run.timestep_s.value_or(kDefaultStep_s);
 }
 
 // One point's row; `error` receives the failure, if any. With runs_dir,
@@ -227,8 +227,8 @@ SweepTable RunSweep(const SweepPlan& plan, const SweepOptions& options) {
     }
     if (table.rows[k].empty() || !point.scenario) continue;
     const ScenarioConfig& scenario = *point.scenario;
-    const std::string model = scenario.GeneratesModel() ? "" : scenario.model_path;
-    if (scenario.GeneratesModel() || model_sha256.count(model) == 0) {
+    const std::string model = scenario.model.Generated() ? "" : scenario.model.path;
+    if (scenario.model.Generated() || model_sha256.count(model) == 0) {
       model_sha256[model] = ScenarioModelSha256(scenario);
     }
     table.provenance[point.index] = {ResolvedScenarioToml(scenario), model_sha256[model]};

@@ -63,7 +63,7 @@ class FilmProgressBar {
 
 // The simulated time a closed-loop scenario reaches [s].
 double ScenarioDuration_s(const ScenarioConfig& scenario) {
-  return scenario.cycles / std::abs(scenario.waveform.frequency_Hz);
+  return scenario.run.cycles / std::abs(scenario.waveform.frequency_Hz);
 }
 
 void PrintFilmSummary(const FilmSummary& summary, const FilmConfig& film,
@@ -96,14 +96,16 @@ int RunRender(const RenderArgs& args) {
   }
   ScenarioConfig scenario = LoadScenario(args.input_path);
   const int first_cycle = args.film.start_cycle;
-  if (args.film.cycles == 0 && first_cycle > scenario.cycles) {
+  if (args.film.cycles == 0 && first_cycle > scenario.run.cycles) {
     throw std::invalid_argument("render: --start-cycle " + std::to_string(first_cycle) +
                                 " is after the scenario's last cycle " +
-                                std::to_string(scenario.cycles) + " (add --cycles to extend it)");
+                                std::to_string(scenario.run.cycles) +
+                                " (add --cycles to extend it)");
   }
-  scenario.cycles = args.film.cycles == 0 ? scenario.cycles : first_cycle + args.film.cycles - 1;
-  scenario.samples_per_cycle = args.film.frames_per_cycle;
-  scenario.output_dir.clear();
+  scenario.run.cycles =
+      args.film.cycles == 0 ? scenario.run.cycles : first_cycle + args.film.cycles - 1;
+  scenario.output.samples_per_cycle = args.film.frames_per_cycle;
+  scenario.output.dir.clear();
   SimulateScenarioWithProgress(scenario, args.film, args.out_path);
   return 0;
 }

@@ -47,7 +47,8 @@ void PrintTable(const Table5Values& here, const Table5Values& paper,
   std::printf("  horizon %d cycles (%g s); %s\n", reading.cycles, reading.cycles * period_s,
               StartDescription(reading).c_str());
   std::printf("  C_I: eq. 15 as printed; PID: eq. 12 (%g + %g/s + %g s); sampled at %g Hz\n",
-              setting.pid.kp, setting.pid.ki, setting.pid.kd, setting.sample_rate_Hz);
+              setting.controller.pid.kp, setting.controller.pid.ki, setting.controller.pid.kd,
+              setting.controller.sample_rate_Hz);
   std::printf("%-5s %4s %12s %10s %9s %12s %10s %9s\n", "index", "link", "C_I_here", "C_I_paper",
               "C_I_err_%", "PID_here", "PID_paper", "PID_err_%");
   for (const Table5Row& row : Table5Rows(here, paper)) {

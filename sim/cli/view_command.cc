@@ -24,12 +24,13 @@ ViewedRun OpenInput(const std::string& input, const FilmConfig& film) {
   }
   // A scenario, run live for the cycles the film shows (as `render` runs it).
   ScenarioConfig scenario = LoadScenario(input);
-  if (film.cycles == 0 && film.start_cycle > scenario.cycles) {
+  if (film.cycles == 0 && film.start_cycle > scenario.run.cycles) {
     throw std::invalid_argument("view: --start-cycle " + std::to_string(film.start_cycle) +
                                 " is after the scenario's last cycle " +
-                                std::to_string(scenario.cycles) + " (add --cycles to extend it)");
+                                std::to_string(scenario.run.cycles) +
+                                " (add --cycles to extend it)");
   }
-  if (film.cycles > 0) scenario.cycles = film.start_cycle + film.cycles - 1;
+  if (film.cycles > 0) scenario.run.cycles = film.start_cycle + film.cycles - 1;
   run.live = std::make_unique<LiveRun>(scenario);
   return run;
 }

@@ -19,7 +19,7 @@ constexpr const char* kPid = controller_names::kPid;
 constexpr const char* kFractional = controller_names::kFractional;
 constexpr char kOustaloup[] = "oustaloup";
 
-bool IsPid(const ScenarioConfig& config) { return config.controller == ControllerKind::kPid; }
+bool IsPid(const ScenarioConfig& config) { return config.controller.kind == ControllerKind::kPid; }
 
 // Oustaloup's band [w_b, w_h], 0 < w_b < w_h.
 void ReadBand(const KeyValue& value, ScenarioConfig& config) {
@@ -35,17 +35,18 @@ void ReadBand(const KeyValue& value, ScenarioConfig& config) {
                    FormatShortest(high) + "])",
                "w_b < w_h");
   }
-  config.fractional.w_low_rad_s = low;
-  config.fractional.w_high_rad_s = high;
+  config.controller.fractional.w_low_rad_s = low;
+  config.controller.fractional.w_high_rad_s = high;
 }
 
 // controller.link_*: one gain per link overriding controller.<scalar> for
 // that link; each value in the scalar key's range.
-template <std::vector<double> ScenarioConfig::LinkGains::*kField>
+template <std::vector<double> ControllerScenario::LinkGains::*kField>
 Key LinkGainKey(const char* name, const char* unit, const char* allowed, const char* meaning,
                 const char* example_toml) {
-  return PerLinkKey<ScenarioConfig::LinkGains, &ScenarioConfig::link_gains, kField>(
-      name, unit, allowed, meaning, example_toml);
+  return PerLinkKey<ControllerScenario, ControllerScenario::LinkGains, &ScenarioConfig::controller,
+                    &ControllerScenario::link_gains, kField>(name, unit, allowed, meaning,
+                                                             example_toml);
 }
 
 // The keys of every controller kind: the kind, the sample rate, the clamp.
@@ -59,10 +60,10 @@ std::vector<KeySpec> CommonKeys() {
           .Refused("\"lqr\"")
           .Choices(kControllerKindNames)
           .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.controller = ChoiceValue(kControllerKindNames, v.Choice());
+            c.controller.kind = ChoiceValue(kControllerKindNames, v.Choice());
           })
           .Writes([](const ScenarioConfig& c) {
-            return TomlString(ChoiceText(kControllerKindNames, c.controller));
+            return TomlString(ChoiceText(kControllerKindNames, c.controller.kind));
           }),
       Key(kSampleRateKey, T::kNumber, "Hz", "> 0; a whole number of time steps per sample", "1000",
           "Controller sample rate (the data-acquisition board's)")
@@ -70,28 +71,31 @@ std::vector<KeySpec> CommonKeys() {
           .Refused("0")
           .Above(0.0)
           .Fields("sample_period_s")
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.sample_rate_Hz = v.Number(); })
-          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.sample_rate_Hz); }),
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.controller.sample_rate_Hz = v.Number();
+          })
+          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.controller.sample_rate_Hz); }),
       Key("controller.v_max_V", T::kNumber, "V", "> 0", "6", "Output voltage limit")
           .Default("6.0")
           .Refused("0")
           .Above(0.0)
           .Fields("v_max")
           .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.pid.v_max = c.fractional.v_max = v.Number();
+            c.controller.pid.v_max = c.controller.fractional.v_max = v.Number();
           })
           .Writes([](const ScenarioConfig& c) {
-            return TomlFloat(IsPid(c) ? c.pid.v_max : c.fractional.v_max);
+            return TomlFloat(IsPid(c) ? c.controller.pid.v_max : c.controller.fractional.v_max);
           }),
       Key("controller.clamp", T::kBoolean, "", "true or false", "true",
           "Clamp the output to +-v_max_V with anti-windup; false: the linear loop")
           .Default("true")
           .Example("false")
           .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.pid.clamp_enabled = c.fractional.clamp_enabled = v.Boolean();
+            c.controller.pid.clamp_enabled = c.controller.fractional.clamp_enabled = v.Boolean();
           })
           .Writes([](const ScenarioConfig& c) {
-            return TomlBool(IsPid(c) ? c.pid.clamp_enabled : c.fractional.clamp_enabled);
+            return TomlBool(IsPid(c) ? c.controller.pid.clamp_enabled
+                                     : c.controller.fractional.clamp_enabled);
           }),
   };
 }
@@ -105,23 +109,23 @@ std::vector<KeySpec> PidKeys() {
           .Refused("-1")
           .AtLeast(0.0)
           .Only(kControllerKind, kPid)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.pid.kp = v.Number(); })
-          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.pid.kp); }),
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.controller.pid.kp = v.Number(); })
+          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.controller.pid.kp); }),
       Key("controller.ki", T::kNumber, "V/(mm s)", ">= 0", "53.36", "PID: integral gain Ki")
           .Default("53.36")
           .Refused("-1")
           .AtLeast(0.0)
           .Only(kControllerKind, kPid)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.pid.ki = v.Number(); })
-          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.pid.ki); }),
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.controller.pid.ki = v.Number(); })
+          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.controller.pid.ki); }),
       Key("controller.kd", T::kNumber, "V s/mm", ">= 0", "0.61", "PID: derivative gain Kd")
           .Default("0.61")
           .Refused("-1")
           .AtLeast(0.0)
           .Only(kControllerKind, kPid)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.pid.kd = v.Number(); })
-          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.pid.kd); }),
-      LinkGainKey<&ScenarioConfig::LinkGains::kp>(
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.controller.pid.kd = v.Number(); })
+          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.controller.pid.kd); }),
+      LinkGainKey<&ControllerScenario::LinkGains::kp>(
           "controller.link_kp", "V/mm", "each >= 0",
           "One Kp per link, in order, over controller.kp (set by an optimisation that retunes "
           "each design's controllers)",
@@ -129,7 +133,7 @@ std::vector<KeySpec> PidKeys() {
           .Refused("[1, -1, 1]")
           .AtLeast(0.0)
           .Only(kControllerKind, kPid),
-      LinkGainKey<&ScenarioConfig::LinkGains::ki>(
+      LinkGainKey<&ControllerScenario::LinkGains::ki>(
           "controller.link_ki", "V/(mm s)", "each >= 0",
           "One Ki per link, in order, over controller.ki (set by an optimisation that retunes "
           "each design's controllers)",
@@ -137,7 +141,7 @@ std::vector<KeySpec> PidKeys() {
           .Refused("[1, -1, 1]")
           .AtLeast(0.0)
           .Only(kControllerKind, kPid),
-      LinkGainKey<&ScenarioConfig::LinkGains::kd>(
+      LinkGainKey<&ControllerScenario::LinkGains::kd>(
           "controller.link_kd", "V s/mm", "each >= 0",
           "One Kd per link, in order, over controller.kd (set by an optimisation that retunes "
           "each design's controllers)",
@@ -154,10 +158,11 @@ std::vector<KeySpec> PidKeys() {
           .Only(kControllerKind, kPid)
           .Fields("derivative_filter_time_s")
           .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.pid.derivative_filter_time_s = v.Number();
+            c.controller.pid.derivative_filter_time_s = v.Number();
           })
-          .Writes(
-              [](const ScenarioConfig& c) { return TomlFloat(c.pid.derivative_filter_time_s); }),
+          .Writes([](const ScenarioConfig& c) {
+            return TomlFloat(c.controller.pid.derivative_filter_time_s);
+          }),
   };
 }
 
@@ -171,8 +176,10 @@ std::vector<KeySpec> FractionalKeys() {
           .AtLeast(0.0)
           .Only(kControllerKind, kFractional)
           .Only(kRealisation, kOustaloup)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.fractional.gain = v.Number(); })
-          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.fractional.gain); }),
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.controller.fractional.gain = v.Number();
+          })
+          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.controller.fractional.gain); }),
       Key("controller.order", T::kNumber, "", "(0, 1]", "0.62", "Fractional: order lambda")
           .Default("0.62")
           .Refused("1.5")
@@ -180,9 +187,11 @@ std::vector<KeySpec> FractionalKeys() {
           .AtMost(1.0)
           .Only(kControllerKind, kFractional)
           .Only(kRealisation, kOustaloup)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.fractional.order = v.Number(); })
-          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.fractional.order); }),
-      LinkGainKey<&ScenarioConfig::LinkGains::gain>(
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.controller.fractional.order = v.Number();
+          })
+          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.controller.fractional.order); }),
+      LinkGainKey<&ControllerScenario::LinkGains::gain>(
           "controller.link_gain", "V/(mm s^lambda)", "each >= 0",
           "One K per link, in order, over controller.gain (set by an optimisation that retunes "
           "each design's controllers)",
@@ -190,10 +199,10 @@ std::vector<KeySpec> FractionalKeys() {
           .Refused("[1, -1, 1]")
           .AtLeast(0.0)
           .Only(kControllerKind, kFractional),
-      LinkGainKey<&ScenarioConfig::LinkGains::order>(
+      LinkGainKey<&ControllerScenario::LinkGains::order>(
           "controller.link_order", "", "each in (0, 1]",
-          "One lambda per link, in order, over controller.order (set by an optimisation that retunes "
-          "each design's controllers)",
+          "One lambda per link, in order, over controller.order (set by an optimisation that "
+          "retunes each design's controllers)",
           "[0.59, 0.59, 0.59]")
           .Refused("[0.5, 1.5, 0.5]")
           .Above(0.0)
@@ -208,9 +217,12 @@ std::vector<KeySpec> FractionalKeys() {
           .AtMost(kMaxOustaloupPairs)
           .Only(kControllerKind, kFractional)
           .Only(kRealisation, kOustaloup)
-          .Reads(
-              [](const KeyValue& v, ScenarioConfig& c) { c.fractional.oustaloup_n = v.Integer(); })
-          .Writes([](const ScenarioConfig& c) { return TomlInteger(c.fractional.oustaloup_n); }),
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.controller.fractional.oustaloup_n = v.Integer();
+          })
+          .Writes([](const ScenarioConfig& c) {
+            return TomlInteger(c.controller.fractional.oustaloup_n);
+          }),
       Key("controller.band_rad_s", T::kNumberArray, "rad/s",
           "two numbers [w_b, w_h], 0 < w_b < w_h", "[1e-3, 1e2]",
           "Fractional: Oustaloup's fitting band")
@@ -222,7 +234,8 @@ std::vector<KeySpec> FractionalKeys() {
           .Fields("w_low_rad_s w_high_rad_s")
           .Reads(ReadBand)
           .Writes([](const ScenarioConfig& c) {
-            return TomlFloats({c.fractional.w_low_rad_s, c.fractional.w_high_rad_s});
+            return TomlFloats(
+                {c.controller.fractional.w_low_rad_s, c.controller.fractional.w_high_rad_s});
           }),
       Key(kRealisation, T::kChoice, "", "\"oustaloup\" or \"eq15\"", "\"oustaloup\"",
           "Fractional: oustaloup (K / s^lambda on the band) or eq15 (the paper's printed eq. "
@@ -233,15 +246,28 @@ std::vector<KeySpec> FractionalKeys() {
           .Choices("oustaloup|eq15")
           .Only(kControllerKind, kFractional)
           .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.fractional.realisation = *ParseFractionalRealisation(v.Choice());
+            c.controller.fractional.realisation = *ParseFractionalRealisation(v.Choice());
           })
           .Writes([](const ScenarioConfig& c) {
-            return TomlString(FractionalRealisationName(c.fractional.realisation));
+            return TomlString(FractionalRealisationName(c.controller.fractional.realisation));
           }),
   };
 }
 
 }  // namespace
+
+void ControllerScenario::SetSamplePeriod() {
+  pid.sample_period_s = 1.0 / sample_rate_Hz;
+  fractional.sample_period_s = 1.0 / sample_rate_Hz;
+}
+
+void ControllerScenario::Validate() const {
+  if (kind == ControllerKind::kPid) {
+    pid.Validate();
+  } else {
+    fractional.Validate();
+  }
+}
 
 std::vector<KeySpec> ControllerKeys() {
   static_assert(kMaxOustaloupPairs == 64, "the allowed range of oustaloup_n states this limit");

@@ -27,9 +27,9 @@ std::vector<KeySpec> RftKeys() {
           .Example("1e-3")
           .Refused("0")
           .Above(0.0)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.viscosity_Pa_s = v.Number(); })
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.fluid.viscosity_Pa_s = v.Number(); })
           .Writes([](const ScenarioConfig& c) {
-            return c.viscosity_Pa_s ? TomlFloat(*c.viscosity_Pa_s) : kLeftOut;
+            return c.fluid.viscosity_Pa_s ? TomlFloat(*c.fluid.viscosity_Pa_s) : kLeftOut;
           }),
       Key("fluid.rft_coefficients", T::kChoice, "", "", "the model's `ipmc_rft_coefficients`",
           "RFT drag coefficients (plugin/fluid/rft_drag.h), overriding the model's; "
@@ -40,11 +40,11 @@ std::vector<KeySpec> RftKeys() {
           .Refused("\"direct\"")
           .Choices(kRftCoefficientNames)
           .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.rft_coefficients = ChoiceValue(kRftCoefficientNames, v.Choice());
+            c.fluid.rft_coefficients = ChoiceValue(kRftCoefficientNames, v.Choice());
           })
           .Writes([](const ScenarioConfig& c) {
-            return c.rft_coefficients
-                       ? TomlString(ChoiceText(kRftCoefficientNames, *c.rft_coefficients))
+            return c.fluid.rft_coefficients
+                       ? TomlString(ChoiceText(kRftCoefficientNames, *c.fluid.rft_coefficients))
                        : kLeftOut;
           }),
       Key("fluid.rft_wavelength_mm", T::kNumber, "mm", "finite and > 0", "waveform.wavelength_mm",
@@ -53,9 +53,10 @@ std::vector<KeySpec> RftKeys() {
           .Example("32.0")
           .Refused("0")
           .Above(0.0)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.rft_wavelength_mm = v.Number(); })
+          .Reads(
+              [](const KeyValue& v, ScenarioConfig& c) { c.fluid.rft_wavelength_mm = v.Number(); })
           .Writes([](const ScenarioConfig& c) {
-            return c.rft_wavelength_mm ? TomlFloat(*c.rft_wavelength_mm) : kLeftOut;
+            return c.fluid.rft_wavelength_mm ? TomlFloat(*c.fluid.rft_wavelength_mm) : kLeftOut;
           }),
       Key("fluid.wall_gap_mm", T::kNumber, "mm", "> 0", "no wall",
           "A no-slip plane wall this far below the strip's lower edge (the centreline is the "
@@ -65,9 +66,9 @@ std::vector<KeySpec> RftKeys() {
           .Example("2.0")
           .Refused("0")
           .Above(0.0)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.wall_gap_mm = v.Number(); })
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.fluid.wall_gap_mm = v.Number(); })
           .Writes([](const ScenarioConfig& c) {
-            return c.wall_gap_mm ? TomlFloat(*c.wall_gap_mm) : kLeftOut;
+            return c.fluid.wall_gap_mm ? TomlFloat(*c.fluid.wall_gap_mm) : kLeftOut;
           }),
       Key(kFluidModel, T::kChoice, "", "", "\"rft\"",
           "The fluid model (plugin/fluid/fluid_model.h, docs/FLUIDS.md): local RFT, "
@@ -81,10 +82,10 @@ std::vector<KeySpec> RftKeys() {
           .Refused("\"bem\"")
           .Choices(kFluidModelNames)
           .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.fluid_model = ChoiceValue(kFluidModelNames, v.Choice());
+            c.fluid.model = ChoiceValue(kFluidModelNames, v.Choice());
           })
           .Writes([](const ScenarioConfig& c) {
-            return TomlString(ChoiceText(kFluidModelNames, c.fluid_model));
+            return TomlString(ChoiceText(kFluidModelNames, c.fluid.model));
           }),
   };
 }
@@ -104,11 +105,12 @@ std::vector<KeySpec> StokesletKeys() {
           .AtMost(kMaxWidthPoints)
           .Only(kFluidModel, kStokeslets)
           .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.stokeslet_width_points = static_cast<int>(v.Integer());
+            c.fluid.stokeslets.width_points = static_cast<int>(v.Integer());
           })
           .Writes([](const ScenarioConfig& c) {
-            return c.stokeslet_width_points == 1 ? kLeftOut
-                                                 : TomlInteger(c.stokeslet_width_points);
+            return c.fluid.stokeslets.width_points == 1
+                       ? kLeftOut
+                       : TomlInteger(c.fluid.stokeslets.width_points);
           }),
       Key("fluid.stokeslet_points_per_mm", T::kNumber, "1/mm", "> 0",
           "one per blob (1 / fluid.stokeslet_blob_mm)",
@@ -118,9 +120,12 @@ std::vector<KeySpec> StokesletKeys() {
           .Refused("0")
           .Above(0.0)
           .Only(kFluidModel, kStokeslets)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.stokeslet_points_per_mm = v.Number(); })
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.fluid.stokeslets.points_per_mm = v.Number();
+          })
           .Writes([](const ScenarioConfig& c) {
-            return c.stokeslet_points_per_mm ? TomlFloat(*c.stokeslet_points_per_mm) : kLeftOut;
+            return c.fluid.stokeslets.points_per_mm ? TomlFloat(*c.fluid.stokeslets.points_per_mm)
+                                                    : kLeftOut;
           }),
       Key("fluid.stokeslet_blob_mm", T::kNumber, "mm", "> 0",
           "sqrt(e) a = 1.340 mm for the paper's strip (a the RFT equivalent radius)",
@@ -130,9 +135,10 @@ std::vector<KeySpec> StokesletKeys() {
           .Refused("0")
           .Above(0.0)
           .Only(kFluidModel, kStokeslets)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.stokeslet_blob_mm = v.Number(); })
+          .Reads(
+              [](const KeyValue& v, ScenarioConfig& c) { c.fluid.stokeslets.blob_mm = v.Number(); })
           .Writes([](const ScenarioConfig& c) {
-            return c.stokeslet_blob_mm ? TomlFloat(*c.stokeslet_blob_mm) : kLeftOut;
+            return c.fluid.stokeslets.blob_mm ? TomlFloat(*c.fluid.stokeslets.blob_mm) : kLeftOut;
           }),
       Key("fluid.stokeslet_shape_tolerance_rad", T::kNumber, "rad", ">= 0", "1e-3",
           "The Stokeslet resistance is recomputed when a joint has moved more than this since "
@@ -143,12 +149,12 @@ std::vector<KeySpec> StokesletKeys() {
           .AtLeast(0.0)
           .Only(kFluidModel, kStokeslets)
           .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.stokeslet_shape_tolerance_rad = v.Number();
+            c.fluid.stokeslets.shape_tolerance_rad = v.Number();
           })
           .Writes([](const ScenarioConfig& c) {
-            return c.stokeslet_shape_tolerance_rad == 1e-3
+            return c.fluid.stokeslets.shape_tolerance_rad == 1e-3
                        ? kLeftOut
-                       : TomlFloat(c.stokeslet_shape_tolerance_rad);
+                       : TomlFloat(c.fluid.stokeslets.shape_tolerance_rad);
           }),
   };
 }
@@ -168,10 +174,11 @@ std::vector<KeySpec> RibbonKeys() {
           .AtMost(kMaxRibbonModes)
           .Only(kFluidModel, kRibbon)
           .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.ribbon_modes = static_cast<int>(v.Integer());
+            c.fluid.ribbon.modes = static_cast<int>(v.Integer());
           })
           .Writes([](const ScenarioConfig& c) {
-            return c.ribbon_modes == kDefaultRibbonModes ? kLeftOut : TomlInteger(c.ribbon_modes);
+            return c.fluid.ribbon.modes == kDefaultRibbonModes ? kLeftOut
+                                                               : TomlInteger(c.fluid.ribbon.modes);
           }),
   };
 }
@@ -191,10 +198,11 @@ std::vector<KeySpec> PlateKeys() {
           .AtMost(kMaxPlatePointsAcross)
           .Only(kFluidModel, kPlates)
           .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.plate_points_across = static_cast<int>(v.Integer());
+            c.fluid.plates.points_across = static_cast<int>(v.Integer());
           })
           .Writes([](const ScenarioConfig& c) {
-            return c.plate_points_across == 4 ? kLeftOut : TomlInteger(c.plate_points_across);
+            return c.fluid.plates.points_across == 4 ? kLeftOut
+                                                     : TomlInteger(c.fluid.plates.points_across);
           }),
       Key("fluid.plate_quadrature_refinement", T::kInteger, "", "[1, 8]", "4",
           "Quadrature points per force point along each side of its cell (the nearest-neighbour "
@@ -206,11 +214,12 @@ std::vector<KeySpec> PlateKeys() {
           .AtMost(kMaxPlateQuadratureRefinement)
           .Only(kFluidModel, kPlates)
           .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.plate_quadrature_refinement = static_cast<int>(v.Integer());
+            c.fluid.plates.quadrature_refinement = static_cast<int>(v.Integer());
           })
           .Writes([](const ScenarioConfig& c) {
-            return c.plate_quadrature_refinement == 4 ? kLeftOut
-                                                      : TomlInteger(c.plate_quadrature_refinement);
+            return c.fluid.plates.quadrature_refinement == 4
+                       ? kLeftOut
+                       : TomlInteger(c.fluid.plates.quadrature_refinement);
           }),
       Key("fluid.plate_richardson", T::kBoolean, "", "true or false", "true",
           "Richardson extrapolation in the blob: 2 R(eps / 2) - R(eps), which removes the "
@@ -218,9 +227,10 @@ std::vector<KeySpec> PlateKeys() {
           .Default("true")
           .Example("false")
           .Only(kFluidModel, kPlates)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.plate_richardson = v.Boolean(); })
+          .Reads(
+              [](const KeyValue& v, ScenarioConfig& c) { c.fluid.plates.richardson = v.Boolean(); })
           .Writes([](const ScenarioConfig& c) {
-            return c.plate_richardson ? kLeftOut : TomlBool(false);
+            return c.fluid.plates.richardson ? kLeftOut : TomlBool(false);
           }),
   };
 }

@@ -101,18 +101,20 @@ std::optional<std::string> TomlFloats(const std::vector<double>& values);
 std::optional<std::string> TomlBool(bool value);
 std::optional<std::string> TomlInteger(int value);
 
-// An array of one number per link, config.*kPart.*kField, over a scalar
-// key (empty: every link the scalar key's): controller.link_kp,
-// plant.link_a0_mm_per_V, ... (ScenarioConfig, sim/core/scenario.h, must be
-// complete where it is used).
-template <typename Part, Part ScenarioConfig::*kPart, std::vector<double> Part::*kField>
+// An array of one number per link, config.*kPart.*kGroup.*kField, over a
+// scalar key (empty: every link the scalar key's): controller.link_kp
+// (config.controller.link_gains.kp), plant.link_a0_mm_per_V
+// (config.model.plant.link_a0_mm_per_V), ... (ScenarioConfig,
+// sim/core/scenario.h, must be complete where it is used).
+template <typename Part, typename Group, Part ScenarioConfig::*kPart, Group Part::*kGroup,
+          std::vector<double> Group::*kField>
 Key PerLinkKey(const char* name, const char* unit, const char* allowed, const char* meaning,
                const char* example_toml) {
   Key key(name, KeyType::kNumberArray, unit, allowed, "none: every link the scalar key's",
           meaning);
   key.Example(example_toml)
       .Reads([](const KeyValue& v, auto& c) {
-        std::vector<double>& values = c.*kPart.*kField;
+        std::vector<double>& values = c.*kPart.*kGroup.*kField;
         values.clear();
         const std::size_t count = v.ArraySize("an array of one number per link");
         if (count == 0) {
@@ -122,7 +124,7 @@ Key PerLinkKey(const char* name, const char* unit, const char* allowed, const ch
         for (std::size_t i = 0; i < count; ++i) values.push_back(v.NumberAt(i));
       })
       .Writes([](const auto& c) -> std::optional<std::string> {
-        const std::vector<double>& values = c.*kPart.*kField;
+        const std::vector<double>& values = c.*kPart.*kGroup.*kField;
         return values.empty() ? std::nullopt : TomlFloats(values);
       });
   return key;

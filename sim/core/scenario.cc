@@ -306,21 +306,15 @@ ScenarioConfig ScenarioReader::Read(const toml::table& root, bool fragment) cons
   for (const auto& [key, entry] : others) RequireConditions(*key, entry, config);
   for (const auto& [key, entry] : others) key->read(DocumentValue(*this, entry), config);
 
-  if (config.model_path.empty() && !config.GeneratesModel() && !fragment) {
+  if (config.model.path.empty() && !config.model.Generated() && !fragment) {
     Fail(InputProblem::kMissing, 0, kModelKey,
          std::string(kModelKey) + " is required (or " + kLinkLengthsKey + ")");
   }
 
-  const double sample_period_s = 1.0 / config.sample_rate_Hz;
-  config.pid.sample_period_s = sample_period_s;
-  config.fractional.sample_period_s = sample_period_s;
+  config.controller.SetSamplePeriod();
   if (Table(root, kControllerTable) != nullptr) {
     try {
-      if (config.controller == ControllerKind::kPid) {
-        config.pid.Validate();
-      } else {
-        config.fractional.Validate();
-      }
+      config.controller.Validate();
     } catch (const FieldError& error) {
       FailValidation(root, kControllerTable, error.field(),
                      std::string(kControllerTable) + ": " + error.what(), error.allowed());
@@ -330,7 +324,7 @@ ScenarioConfig ScenarioReader::Read(const toml::table& root, bool fragment) cons
     }
   }
   CheckWholeStepsPerSample(root, config);
-  if (config.GeneratesModel() && !fragment) CheckGeneratedModel(root, config);
+  if (config.model.Generated() && !fragment) CheckGeneratedModel(root, config);
   if (Table(root, kWaveformTable) != nullptr) {
     try {
       config.waveform.Validate();
@@ -345,17 +339,18 @@ ScenarioConfig ScenarioReader::Read(const toml::table& root, bool fragment) cons
 // The controller is sampled every k physics steps, k a whole number.
 void ScenarioReader::CheckWholeStepsPerSample(const toml::table& root,
                                               const ScenarioConfig& config) const {
-  if (!config.timestep_s) return;
-  const double steps_per_sample = 1.0 / (config.sample_rate_Hz * *config.timestep_s);
+  if (!config.run.timestep_s) return;
+  const double rate_Hz = config.controller.sample_rate_Hz;
+  const double steps_per_sample = 1.0 / (rate_Hz * *config.run.timestep_s);
   const double whole = std::round(steps_per_sample);
   if (whole >= 1.0 &&
       std::abs(steps_per_sample - whole) <= kWholeStepsTolerance * steps_per_sample) {
     return;
   }
-  const std::string ratio = "(1 / (" + FormatShortest(config.sample_rate_Hz) + " Hz x " +
-                            FormatShortest(*config.timestep_s) +
+  const std::string ratio = "(1 / (" + FormatShortest(rate_Hz) + " Hz x " +
+                            FormatShortest(*config.run.timestep_s) +
                             " s) = " + FormatShortest(steps_per_sample) + ")";
-  // config.timestep_s is set: its key is in the document.
+  // config.run.timestep_s is set: its key is in the document.
   const std::optional<Entry> rate = FindKey(root, kSampleRateKey);
   if (rate) {
     FailValue(*rate, std::string(kSampleRateKey) +
@@ -363,13 +358,11 @@ void ScenarioReader::CheckWholeStepsPerSample(const toml::table& root,
               "a whole number of timesteps per sample");
   }
   // The rate is its default: the time step the user wrote is what to change.
-  const double fitting_s =
-      1.0 / (config.sample_rate_Hz * std::max(1.0, std::ceil(steps_per_sample)));
+  const double fitting_s = 1.0 / (rate_Hz * std::max(1.0, std::ceil(steps_per_sample)));
   FailValue(*FindKey(root, kTimestepKey),
             std::string(kTimestepKey) + " must make a controller sample (" + kSampleRateKey +
-                " = " + FormatShortest(config.sample_rate_Hz) +
-                " Hz, its default) a whole number of timesteps " + ratio + ", e.g. " +
-                kTimestepKey + " = " + FormatShortest(fitting_s),
+                " = " + FormatShortest(rate_Hz) + " Hz, its default) a whole number of timesteps " +
+                ratio + ", e.g. " + kTimestepKey + " = " + FormatShortest(fitting_s),
             "1 / (sample rate x a whole number) s");
 }
 
@@ -380,7 +373,7 @@ void ScenarioReader::CheckWholeStepsPerSample(const toml::table& root,
 void ScenarioReader::CheckGeneratedModel(const toml::table& root,
                                          const ScenarioConfig& config) const {
   try {
-    ScenarioFlagellumSpec(config).Validate();
+    ScenarioFlagellumSpec(config.model).Validate();
   } catch (const FieldError& error) {
     std::optional<Entry> where;
     // Backwards: a per-link array before its scalar key.
@@ -514,8 +507,8 @@ toml::table WithIncludes(toml::table root, const std::string& source,
         WithIncludes(ParseToml(ReadTextFile(file, "included scenario file"), file), file, chain);
     chain->pop_back();
     if (const ScenarioConfig own = ScenarioReader(file).Read(included, /*fragment=*/true);
-        !own.model_path.empty()) {
-      included.insert_or_assign(kModelKey, own.model_path);
+        !own.model.path.empty()) {
+      included.insert_or_assign(kModelKey, own.model.path);
     }
     MergeTable(merged, included);
   }

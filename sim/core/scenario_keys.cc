@@ -68,7 +68,7 @@ void ReadModel(const KeyValue& value, ScenarioConfig& config) {
     value.Fail(value.name() + ": cannot open '" + path.string() + "'", "",
                InputProblem::kUnreadable);
   }
-  config.model_path = path.string();
+  config.model.path = path.string();
 }
 
 // 1 to kMaxLinks positive link lengths [mm].
@@ -79,20 +79,21 @@ void ReadLinkLengths(const KeyValue& value, ScenarioConfig& config) {
     value.Fail(value.name() + " must hold " + allowed + " (got " + std::to_string(count) + ")",
                allowed);
   }
-  config.link_lengths_mm.clear();  // a value replaces the lengths, as every reader sets its field
-  for (std::size_t i = 0; i < count; ++i) config.link_lengths_mm.push_back(value.NumberAt(i));
+  // A value replaces the lengths, as every reader sets its field.
+  config.model.link_lengths_mm.clear();
+  for (std::size_t i = 0; i < count; ++i) config.model.link_lengths_mm.push_back(value.NumberAt(i));
 }
 
 // The references' fade-in, in [0, cycles] wave periods (cycles is read
 // before: it comes first in the table).
 void ReadStartRamp(const KeyValue& value, ScenarioConfig& config) {
   const double cycles = value.Number();
-  if (cycles < 0.0 || cycles > config.cycles) {
-    const std::string allowed = "in [0, cycles] = [0, " + std::to_string(config.cycles) + "]";
+  if (cycles < 0.0 || cycles > config.run.cycles) {
+    const std::string allowed = "in [0, cycles] = [0, " + std::to_string(config.run.cycles) + "]";
     value.Fail(value.name() + " must be " + allowed + " (got " + FormatShortest(cycles) + ")",
                allowed);
   }
-  config.start_ramp_cycles = cycles;
+  config.waveform.start_ramp_cycles = cycles;
 }
 
 // A value of the IPMC impedance (sim/core/electrical.h), > 0; written when
@@ -105,10 +106,12 @@ KeySpec ElectricalKey(const char* name, const char* unit, const char* default_to
       .Example(example_toml)
       .Refused("0")
       .Above(0.0)
-      .Reads([](const KeyValue& v, ScenarioConfig& c) { c.electrical.*kField = v.Number(); })
+      .Reads(
+          [](const KeyValue& v, ScenarioConfig& c) { c.metrics.electrical.*kField = v.Number(); })
       .Writes([](const ScenarioConfig& c) {
-        const bool shown = c.electrical.enabled || c.electrical.*kField != ElectricalConfig{}.*kField;
-        return shown ? TomlFloat(c.electrical.*kField) : kLeftOut;
+        const bool shown = c.metrics.electrical.enabled ||
+                           c.metrics.electrical.*kField != ElectricalConfig{}.*kField;
+        return shown ? TomlFloat(c.metrics.electrical.*kField) : kLeftOut;
       });
 }
 
@@ -149,7 +152,7 @@ std::vector<KeySpec> ModelKeys() {
           .Refused("\"no_such_model.xml\"")
           .Reads(ReadModel)
           .Writes([](const ScenarioConfig& c) {
-            return c.model_path.empty() ? kLeftOut : TomlString(c.model_path);
+            return c.model.path.empty() ? kLeftOut : TomlString(c.model.path);
           }),
       Key(kLinkLengthsKey, T::kNumberArray, "mm", "1 to 20 lengths, each > 0",
           "none: the model file",
@@ -160,11 +163,12 @@ std::vector<KeySpec> ModelKeys() {
           .Above(0.0)
           .Reads(ReadLinkLengths)
           .Writes([](const ScenarioConfig& c) {
-            return c.link_lengths_mm.empty() ? kLeftOut : TomlFloats(c.link_lengths_mm);
+            return c.model.link_lengths_mm.empty() ? kLeftOut : TomlFloats(c.model.link_lengths_mm);
           }),
       Key("segments_per_link", T::kInteger, "",
           "[1, 64] and 1 + links x segments_per_link <= 96 (31 on three links): MuJoCo 2.2 "
-          "nests at most 96 bodies, the head included", "none: the model file",
+          "nests at most 96 bodies, the head included",
+          "none: the model file",
           "Rigid sub-segments per link; also generates the flagellum (links of 10 mm "
           "unless link_lengths_mm)")
           .Example("2")
@@ -172,26 +176,28 @@ std::vector<KeySpec> ModelKeys() {
           .AtLeast(1)
           .AtMost(kMaxSegmentsPerLink)
           .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.segments_per_link = v.Integer();
+            c.model.segments_per_link = v.Integer();
             // The generated flagellum (the generator's defaults but the
             // links) nests its bodies; MuJoCo's reader limits the nesting.
             // link_lengths_mm, read before this key, gives the links.
             const FlagellumSpec spec;
-            const int links = c.link_lengths_mm.empty()
+            const int links = c.model.link_lengths_mm.empty()
                                   ? spec.Links()
-                                  : static_cast<int>(c.link_lengths_mm.size());
+                                  : static_cast<int>(c.model.link_lengths_mm.size());
             const int most = MaxSegmentsPerLink(links, spec.head_length_mm > 0);
-            if (c.segments_per_link > most) {
+            if (c.model.segments_per_link > most) {
               const std::string allowed = "[1, " + std::to_string(most) + "] for " +
                                           std::to_string(links) + " links and the head";
               v.Fail(v.name() + " must be in " + allowed + " (got " +
-                         std::to_string(c.segments_per_link) + "): MuJoCo 2.2 reads at most " +
-                         std::to_string(kMaxNestedBodies) + " nested bodies",
+                         std::to_string(c.model.segments_per_link) +
+                         "): MuJoCo 2.2 reads at most " + std::to_string(kMaxNestedBodies) +
+                         " nested bodies",
                      allowed);
             }
           })
           .Writes([](const ScenarioConfig& c) {
-            return c.segments_per_link > 0 ? TomlInteger(c.segments_per_link) : kLeftOut;
+            return c.model.segments_per_link > 0 ? TomlInteger(c.model.segments_per_link)
+                                                 : kLeftOut;
           }),
       Key("plants", T::kChoice, "", "\"uniform\" or \"table2\"", "the model's `ipmc_plants`",
           "uniform: every link eq. 7's plant; table2: link q Table 2's row q")
@@ -199,10 +205,10 @@ std::vector<KeySpec> ModelKeys() {
           .Refused("\"measured\"")
           .Choices("uniform|table2")
           .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.plants = *ParsePlantAssignment(v.Choice());
+            c.model.plants = *ParsePlantAssignment(v.Choice());
           })
           .Writes([](const ScenarioConfig& c) {
-            return c.plants ? TomlString(PlantAssignmentName(*c.plants)) : kLeftOut;
+            return c.model.plants ? TomlString(PlantAssignmentName(*c.model.plants)) : kLeftOut;
           }),
   };
 }
@@ -230,9 +236,11 @@ std::vector<KeySpec> RunKeys() {
           .Example("\"stokes\"")
           .Refused("\"quasi_static\"")
           .Choices("inertial|stokes")
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.dynamics = ParseDynamics(v.Choice()); })
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.model.dynamics = ParseDynamics(v.Choice());
+          })
           .Writes([](const ScenarioConfig& c) {
-            return c.dynamics ? TomlString(DynamicsName(*c.dynamics)) : kLeftOut;
+            return c.model.dynamics ? TomlString(DynamicsName(*c.model.dynamics)) : kLeftOut;
           }),
       Key("hinge_damping_scale", T::kNumber, "", ">= 0", "1",
           "Multiplies the damping of every joint of the model (the hinges' `damping`, not the "
@@ -242,24 +250,26 @@ std::vector<KeySpec> RunKeys() {
           .Example("0.5")
           .Refused("-1")
           .AtLeast(0.0)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.hinge_damping_scale = v.Number(); })
-          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.hinge_damping_scale); }),
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.model.hinge_damping_scale = v.Number();
+          })
+          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.model.hinge_damping_scale); }),
       Key("cycles", T::kInteger, "", ">= 1", "3", "Wave periods to run")
           .Default("3")
           .Refused("0")
           .AtLeast(1)
           .AtMost(INT_MAX)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.cycles = v.Integer(); })
-          .Writes([](const ScenarioConfig& c) { return TomlInteger(c.cycles); }),
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.run.cycles = v.Integer(); })
+          .Writes([](const ScenarioConfig& c) { return TomlInteger(c.run.cycles); }),
       Key(kTimestepKey, T::kNumber, "s", "(0, 1e-3]; a whole number of steps per controller sample",
           "the model's timestep", "Physics time step, overriding the model's")
           .Example("5e-4")
           .Refused("2e-3")
           .Above(0.0)
           .AtMost(1e-3)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.timestep_s = v.Number(); })
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.run.timestep_s = v.Number(); })
           .Writes([](const ScenarioConfig& c) {
-            return c.timestep_s ? TomlFloat(*c.timestep_s) : kLeftOut;
+            return c.run.timestep_s ? TomlFloat(*c.run.timestep_s) : kLeftOut;
           }),
   };
 }
@@ -329,7 +339,7 @@ std::vector<KeySpec> WaveformKeys() {
           .Default("0.25")
           .Refused("-1")
           .Reads(ReadStartRamp)
-          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.start_ramp_cycles); }),
+          .Writes([](const ScenarioConfig& c) { return TomlFloat(c.waveform.start_ramp_cycles); }),
   };
 }
 
@@ -348,15 +358,16 @@ std::vector<KeySpec> MetricsKeys() {
           .AtMost(INT_MAX)
           .Reads([](const KeyValue& v, ScenarioConfig& c) {
             const int first = v.Integer();
-            if (first > c.cycles) {
-              const std::string allowed = "in [1, cycles] = [1, " + std::to_string(c.cycles) + "]";
+            if (first > c.run.cycles) {
+              const std::string allowed =
+                  "in [1, cycles] = [1, " + std::to_string(c.run.cycles) + "]";
               v.Fail(v.name() + " must be " + allowed + " (got " + std::to_string(first) + ")",
                      allowed);
             }
-            c.metrics_from_cycle = first;
+            c.metrics.from_cycle = first;
           })
           .Writes([](const ScenarioConfig& c) {
-            return c.metrics_from_cycle > 0 ? TomlInteger(c.metrics_from_cycle) : kLeftOut;
+            return c.metrics.from_cycle > 0 ? TomlInteger(c.metrics.from_cycle) : kLeftOut;
           }),
   };
 }
@@ -372,9 +383,11 @@ std::vector<KeySpec> ElectricalKeys() {
           "values, not a measured set)")
           .Default("false")
           .Example("true")
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.electrical.enabled = v.Boolean(); })
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.metrics.electrical.enabled = v.Boolean();
+          })
           .Writes([](const ScenarioConfig& c) {
-            return c.electrical.enabled ? TomlBool(true) : kLeftOut;
+            return c.metrics.electrical.enabled ? TomlBool(true) : kLeftOut;
           }),
       ElectricalKey<&ElectricalConfig::series_resistance_ohm_m2>(
           "electrical.series_resistance_ohm_m2", "ohm m^2", "1.0e-4", "2e-4",
@@ -398,15 +411,17 @@ std::vector<KeySpec> OutputKeys() {
       Key("output.dir", T::kString, "", "a directory; relative to the working directory",
           "\"\": no files", "Where timeseries.csv, states.csv and summary.json go")
           .Default("\"\"")
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.output_dir = v.String(); }),
+          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.output.dir = v.String(); }),
       Key("output.samples_per_cycle", T::kInteger, "", ">= 1", "200",
           "Time-series samples per wave period")
           .Default("200")
           .Refused("0")
           .AtLeast(1)
           .AtMost(INT_MAX)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) { c.samples_per_cycle = v.Integer(); })
-          .Writes([](const ScenarioConfig& c) { return TomlInteger(c.samples_per_cycle); }),
+          .Reads([](const KeyValue& v, ScenarioConfig& c) {
+            c.output.samples_per_cycle = v.Integer();
+          })
+          .Writes([](const ScenarioConfig& c) { return TomlInteger(c.output.samples_per_cycle); }),
   };
 }
 

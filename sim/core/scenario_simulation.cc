@@ -62,44 +62,45 @@ void CheckStokesletResolution(const ScenarioConfig& scenario, const mjModel* m,
               settings.width_points;
   }
   std::string key = "fluid.model";
-  if (scenario.stokeslet_points_per_mm) {
-    key = "fluid.stokeslet_points_per_mm " + FormatShortest(*scenario.stokeslet_points_per_mm);
-  } else if (scenario.stokeslet_blob_mm && scenario.stokeslet_width_points == 1) {
-    key = "fluid.stokeslet_blob_mm " + FormatShortest(*scenario.stokeslet_blob_mm);
-  } else if (scenario.stokeslet_width_points > 1) {
-    key = "fluid.stokeslet_width_points " + std::to_string(scenario.stokeslet_width_points);
+  if (scenario.fluid.stokeslets.points_per_mm) {
+    key =
+        "fluid.stokeslet_points_per_mm " + FormatShortest(*scenario.fluid.stokeslets.points_per_mm);
+  } else if (scenario.fluid.stokeslets.blob_mm && scenario.fluid.stokeslets.width_points == 1) {
+    key = "fluid.stokeslet_blob_mm " + FormatShortest(*scenario.fluid.stokeslets.blob_mm);
+  } else if (scenario.fluid.stokeslets.width_points > 1) {
+    key = "fluid.stokeslet_width_points " + std::to_string(scenario.fluid.stokeslets.width_points);
   }
-  CheckStokesletSize(points, scenario.allow_long_run, scenario.source + ": " + key);
+  CheckStokesletSize(points, scenario.run.allow_long, scenario.source + ": " + key);
 }
 
-// The MJCF of the flagellum a scenario generates (GeneratesModel()).
+// The MJCF of the flagellum a scenario generates (ModelScenario::Generated()).
 std::string GeneratedScenarioMjcf(const ScenarioConfig& scenario) {
-  return GenerateFlagellumMjcf(ScenarioFlagellumSpec(scenario));
+  return GenerateFlagellumMjcf(ScenarioFlagellumSpec(scenario.model));
 }
 
 }  // namespace
 
 std::string ScenarioModelSha256(const ScenarioConfig& scenario) {
-  return Sha256Hex(scenario.GeneratesModel() ? GeneratedScenarioMjcf(scenario)
-                                             : ReadTextFile(scenario.model_path, "model file"));
+  return Sha256Hex(scenario.model.Generated() ? GeneratedScenarioMjcf(scenario)
+                                              : ReadTextFile(scenario.model.path, "model file"));
 }
 
 ModelPtr LoadScenarioModel(const ScenarioConfig& scenario, std::string* source,
                            std::vector<double>* physical_damping) {
-  *source = scenario.model_path;
+  *source = scenario.model.path;
   ModelPtr model;
-  if (!scenario.GeneratesModel()) {
-    model = LoadModelFile(scenario.model_path);
+  if (!scenario.model.Generated()) {
+    model = LoadModelFile(scenario.model.path);
   } else {
     *source = scenario.source + " (generated flagellum)";
     model = LoadModelString(GeneratedScenarioMjcf(scenario));
   }
-  if (scenario.timestep_s) model->opt.timestep = *scenario.timestep_s;
-  if (scenario.viscosity_Pa_s) {
-    OverrideViscosity(model.get(), *scenario.viscosity_Pa_s, *source, scenario.source);
+  if (scenario.run.timestep_s) model->opt.timestep = *scenario.run.timestep_s;
+  if (scenario.fluid.viscosity_Pa_s) {
+    OverrideViscosity(model.get(), *scenario.fluid.viscosity_Pa_s, *source, scenario.source);
   }
   std::vector<double> damping =
-      SetHingeDamping(model.get(), scenario.hinge_damping_scale, scenario.dynamics);
+      SetHingeDamping(model.get(), scenario.model.hinge_damping_scale, scenario.model.dynamics);
   if (physical_damping) *physical_damping = std::move(damping);
   return model;
 }
@@ -109,8 +110,8 @@ std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenari
   IpmcActuatorsOverrides overrides;
   ModelPtr model = LoadScenarioModel(scenario, &source, &overrides.physical_damping);
   UseEulerWhereImplicitAddsNothing(model.get());  // as StepClosedLoop steps it
-  overrides.plants = scenario.plants;
-  overrides.dynamics = scenario.dynamics;
+  overrides.plants = scenario.model.plants;
+  overrides.dynamics = scenario.model.dynamics;
   const RftDragOverrides fluid = ScenarioFluidOverrides(scenario, model.get());
   // Before the simulation's first evaluation factors the Stokeslet matrix.
   CheckStokesletResolution(scenario, model.get(), fluid);
@@ -122,10 +123,10 @@ std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenari
     const auto name = [&keys](bool set, const char* key) {
       if (set) keys += (keys.empty() ? "" : ", ") + std::string(key);
     };
-    name(scenario.rft_coefficients.has_value(), "fluid.rft_coefficients");
-    name(scenario.rft_wavelength_mm.has_value(), "fluid.rft_wavelength_mm");
-    name(scenario.wall_gap_mm.has_value(), "fluid.wall_gap_mm");
-    name(scenario.fluid_model != FluidModel::kRft, "fluid.model");
+    name(scenario.fluid.rft_coefficients.has_value(), "fluid.rft_coefficients");
+    name(scenario.fluid.rft_wavelength_mm.has_value(), "fluid.rft_wavelength_mm");
+    name(scenario.fluid.wall_gap_mm.has_value(), "fluid.wall_gap_mm");
+    name(scenario.fluid.model != FluidModel::kRft, "fluid.model");
     if (!keys.empty()) {
       throw std::runtime_error(NoDragMessage(sim->source(), scenario.source, keys));
     }
@@ -136,45 +137,48 @@ std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenari
 RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mjModel* m) {
   constexpr double kMmToM = 1e-3;
   RftDragOverrides fluid;
-  if (scenario.rft_coefficients && scenario.wall_gap_mm) {
+  if (scenario.fluid.rft_coefficients && scenario.fluid.wall_gap_mm) {
     throw std::runtime_error(scenario.source +
                              ": fluid.rft_coefficients and fluid.wall_gap_mm exclude each other "
                              "(near a wall RFT takes the near-wall coefficients)");
   }
-  fluid.model = scenario.rft_coefficients;
+  fluid.model = scenario.fluid.rft_coefficients;
   fluid.wavelength_m =
-      scenario.rft_wavelength_mm.value_or(scenario.waveform.wavelength_mm) * kMmToM;
-  if (scenario.wall_gap_mm) {
-    fluid.wall_distance_m = *scenario.wall_gap_mm * kMmToM + 0.5 * StripWidth_m(m);
+      scenario.fluid.rft_wavelength_mm.value_or(scenario.waveform.wavelength_mm) * kMmToM;
+  if (scenario.fluid.wall_gap_mm) {
+    fluid.wall_distance_m = *scenario.fluid.wall_gap_mm * kMmToM + 0.5 * StripWidth_m(m);
   }
-  if (scenario.fluid_model == FluidModel::kStokeslets) {
+  if (scenario.fluid.model == FluidModel::kStokeslets) {
     StokesletSettings stokeslets;
-    if (scenario.stokeslet_blob_mm) stokeslets.blob_m = *scenario.stokeslet_blob_mm * kMmToM;
-    if (scenario.stokeslet_points_per_mm) {
-      stokeslets.spacing_m = kMmToM / *scenario.stokeslet_points_per_mm;
+    if (scenario.fluid.stokeslets.blob_mm) {
+      stokeslets.blob_m = *scenario.fluid.stokeslets.blob_mm * kMmToM;
     }
-    stokeslets.width_points = scenario.stokeslet_width_points;
+    if (scenario.fluid.stokeslets.points_per_mm) {
+      stokeslets.spacing_m = kMmToM / *scenario.fluid.stokeslets.points_per_mm;
+    }
+    stokeslets.width_points = scenario.fluid.stokeslets.width_points;
     stokeslets.wall_distance_m = fluid.wall_distance_m;
-    stokeslets.shape_tolerance_rad = scenario.stokeslet_shape_tolerance_rad;
+    stokeslets.shape_tolerance_rad = scenario.fluid.stokeslets.shape_tolerance_rad;
     fluid.stokeslets = stokeslets;
   }
   const bool free_space_only =
-      scenario.fluid_model == FluidModel::kRibbon || scenario.fluid_model == FluidModel::kPlates;
-  if (free_space_only && scenario.wall_gap_mm) {
+      scenario.fluid.model == FluidModel::kRibbon || scenario.fluid.model == FluidModel::kPlates;
+  if (free_space_only && scenario.fluid.wall_gap_mm) {
     throw std::runtime_error(scenario.source + ": fluid.wall_gap_mm needs fluid.model \"rft\" or " +
-                             "\"stokeslets\" (the " + ChoiceText(kFluidModelNames, scenario.fluid_model) +
+                             "\"stokeslets\" (the " +
+                             ChoiceText(kFluidModelNames, scenario.fluid.model) +
                              " model is free space only)");
   }
-  if (scenario.fluid_model == FluidModel::kRibbon) {
+  if (scenario.fluid.model == FluidModel::kRibbon) {
     RibbonSettings ribbon;
-    ribbon.modes = scenario.ribbon_modes;
+    ribbon.modes = scenario.fluid.ribbon.modes;
     fluid.ribbon = ribbon;
   }
-  if (scenario.fluid_model == FluidModel::kPlates) {
+  if (scenario.fluid.model == FluidModel::kPlates) {
     PlateSettings plates;
-    plates.points_across = scenario.plate_points_across;
-    plates.quadrature_refinement = scenario.plate_quadrature_refinement;
-    plates.richardson = scenario.plate_richardson;
+    plates.points_across = scenario.fluid.plates.points_across;
+    plates.quadrature_refinement = scenario.fluid.plates.quadrature_refinement;
+    plates.richardson = scenario.fluid.plates.richardson;
     fluid.plates = plates;
   }
   return fluid;
@@ -185,8 +189,8 @@ int ScenarioLinkCount(const ScenarioConfig& scenario) {
   std::string source;
   const ModelPtr model = LoadScenarioModel(scenario, &source);
   IpmcActuatorsOverrides overrides;
-  overrides.plants = scenario.plants;
-  overrides.dynamics = scenario.dynamics;
+  overrides.plants = scenario.model.plants;
+  overrides.dynamics = scenario.model.dynamics;
   std::optional<IpmcActuatorsConfig> actuators;
   try {
     actuators = IpmcActuatorsConfig::FromModel(model.get(), overrides);

@@ -23,9 +23,9 @@ Key StripKey(const char* name, const char* unit, const char* default_text, const
       .Refused("0")
       .Above(0.0)
       .Fields(field)
-      .Reads([](const KeyValue& v, ScenarioConfig& c) { c.strip.*kField = v.Number(); })
+      .Reads([](const KeyValue& v, ScenarioConfig& c) { c.model.strip.*kField = v.Number(); })
       .Writes([](const ScenarioConfig& c) {
-        const std::optional<double>& value = c.strip.*kField;
+        const std::optional<double>& value = c.model.strip.*kField;
         return value ? TomlFloat(*value) : kLeftOut;
       });
   return key;
@@ -39,9 +39,9 @@ Key PlantKey(const char* name, const char* unit, const char* allowed, const char
           "the link's assigned plant (eq. 7 scaled to its length: `plants`)", meaning);
   key.Example(example_toml)
       .Fields(field)
-      .Reads([](const KeyValue& v, ScenarioConfig& c) { c.plant.*kField = v.Number(); })
+      .Reads([](const KeyValue& v, ScenarioConfig& c) { c.model.plant.*kField = v.Number(); })
       .Writes([](const ScenarioConfig& c) {
-        const std::optional<double>& value = c.plant.*kField;
+        const std::optional<double>& value = c.model.plant.*kField;
         return value ? TomlFloat(*value) : kLeftOut;
       });
   return key;
@@ -51,8 +51,9 @@ Key PlantKey(const char* name, const char* unit, const char* allowed, const char
 template <std::vector<double> PlantConfig::*kField>
 Key LinkPlantKey(const char* name, const char* unit, const char* allowed, const char* meaning,
                  const char* example_toml, const char* field) {
-  Key key = PerLinkKey<PlantConfig, &ScenarioConfig::plant, kField>(name, unit, allowed, meaning,
-                                                                    example_toml);
+  Key key =
+      PerLinkKey<ModelScenario, PlantConfig, &ScenarioConfig::model, &ModelScenario::plant, kField>(
+          name, unit, allowed, meaning, example_toml);
   key.Fields(field);
   return key;
 }
@@ -98,12 +99,12 @@ std::vector<KeySpec> StripAndPlantKeys() {
           .Choices(kPlantModelNames)
           .Fields("ipmc_model")
           .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.plant.model = ChoiceValue(kPlantModelNames, v.Choice());
+            c.model.plant.model = ChoiceValue(kPlantModelNames, v.Choice());
           })
           .Writes([](const ScenarioConfig& c) {
-            return c.plant.model == IpmcModelKind::kG1
+            return c.model.plant.model == IpmcModelKind::kG1
                        ? kLeftOut
-                       : TomlString(ChoiceText(kPlantModelNames, c.plant.model));
+                       : TomlString(ChoiceText(kPlantModelNames, c.model.plant.model));
           }),
       PlantKey<&PlantConfig::a0_mm_per_V>(
           "plant.a0_mm_per_V", "mm/V", "> 0",
@@ -112,9 +113,9 @@ std::vector<KeySpec> StripAndPlantKeys() {
           "0.5", "a0_mm_per_V")
           .Refused("0")
           .Above(0.0),
-      LinkPlantKey<&PlantConfig::link_a0_mm_per_V>(
-          "plant.link_a0_mm_per_V", "mm/V", "each > 0", "One a0 per link, in order, over a0",
-          "[0.5, 0.4, 0.3]", "a0_mm_per_V")
+      LinkPlantKey<&PlantConfig::link_a0_mm_per_V>("plant.link_a0_mm_per_V", "mm/V", "each > 0",
+                                                   "One a0 per link, in order, over a0",
+                                                   "[0.5, 0.4, 0.3]", "a0_mm_per_V")
           .Refused("[0.5, 0]")
           .Above(0.0),
       PlantKey<&PlantConfig::b1>("plant.b1", "s (g1) or s^alpha (g2)", "> 0",
@@ -157,16 +158,16 @@ std::vector<KeySpec> StripAndPlantKeys() {
   return keys;
 }
 
-FlagellumSpec ScenarioFlagellumSpec(const ScenarioConfig& scenario) {
+FlagellumSpec ScenarioFlagellumSpec(const ModelScenario& model) {
   FlagellumSpec spec;
-  if (!scenario.link_lengths_mm.empty()) spec.link_lengths_mm = scenario.link_lengths_mm;
-  if (scenario.segments_per_link > 0) spec.segments_per_link = scenario.segments_per_link;
-  const StripConfig& strip = scenario.strip;
+  if (!model.link_lengths_mm.empty()) spec.link_lengths_mm = model.link_lengths_mm;
+  if (model.segments_per_link > 0) spec.segments_per_link = model.segments_per_link;
+  const StripConfig& strip = model.strip;
   if (strip.width_mm) spec.width_mm = *strip.width_mm;
   if (strip.thickness_um) spec.thickness_um = *strip.thickness_um;
   if (strip.youngs_modulus_Pa) spec.bending_modulus_Pa = *strip.youngs_modulus_Pa;
   if (strip.density_kg_m3) spec.density_kg_m3 = *strip.density_kg_m3;
-  const PlantConfig& plant = scenario.plant;
+  const PlantConfig& plant = model.plant;
   const int links = spec.Links();
   spec.ipmc_model = ChoiceText(kPlantModelNames, plant.model);
   spec.a0_mm_per_V = PerLink(plant.a0_mm_per_V, plant.link_a0_mm_per_V, links);

@@ -14,14 +14,14 @@
 #include <string>
 #include <vector>
 
+#include "plugin/actuators/ipmc_actuators.h"
 #include "plugin/actuators/ipmc_link_model.h"
 #include "sim/core/choice_table.h"
 #include "sim/core/scenario_keys.h"
 
 namespace ipmc {
 
-struct FlagellumSpec;   // sim/core/model_generator.h
-struct ScenarioConfig;  // sim/core/scenario.h
+struct FlagellumSpec;  // sim/core/model_generator.h
 
 struct StripConfig {
   std::optional<double> width_mm, thickness_um;  // across the beat plane; in it
@@ -48,13 +48,33 @@ struct PlantConfig {
   }
 };
 
+// The model a scenario runs: its file, or the flagellum generated in its
+// place (link_lengths_mm, segments_per_link or any [strip] or [plant] key),
+// and what overrides the model's own fields. Single keys are checked by
+// the key table; the generated flagellum as a whole (one value per link
+// in every per-link array, ...) by ScenarioFlagellumSpec(...).Validate().
+struct ModelScenario {
+  std::string path;                     // resolved against the scenario's directory
+  std::vector<double> link_lengths_mm;  // non-empty: generate the model instead
+  int segments_per_link = 0;            // > 0: generate the model instead
+  std::optional<PlantAssignment> plants;  // over the model's ipmc_plants
+  StripConfig strip;  // [strip]: any key generates the model
+  PlantConfig plant;  // [plant]: likewise
+  std::optional<Dynamics> dynamics;  // over the model's ipmc_dynamics
+  double hinge_damping_scale = 1.0;  // times every joint's damping
+
+  bool Generated() const {
+    return !link_lengths_mm.empty() || segments_per_link > 0 || strip.Any() || plant.Any();
+  }
+};
+
 // The [strip] and [plant] keys of the key table, in its order.
 std::vector<KeySpec> StripAndPlantKeys();
 
-// The flagellum a scenario that GeneratesModel() generates: the
+// The flagellum a scenario whose model is Generated() generates: the
 // generator's defaults, the scenario's link lengths, sub-segments, strip
 // and plants. Throws FieldError naming the FlagellumSpec field (the keys'
 // `fields`) when a per-link array does not hold one value per link.
-FlagellumSpec ScenarioFlagellumSpec(const ScenarioConfig& scenario);
+FlagellumSpec ScenarioFlagellumSpec(const ModelScenario& model);
 
 }  // namespace ipmc

@@ -36,6 +36,14 @@ struct WaveformConfig {
   void Validate() const;        // FieldError (std::invalid_argument) naming the field
 };
 
+// [waveform]: the wave, and the fade-in of the references: they are
+// multiplied by (1 - cos(pi t / T_r)) / 2 for t < T_r = start_ramp_cycles
+// / f, so the run starts without a jump. The wave is checked by its
+// Validate(); start_ramp_cycles against the run's cycles by its key.
+struct WaveformScenario : WaveformConfig {
+  double start_ramp_cycles = 0.25;
+};
+
 // y(x, t) [um].
 double WaveY_um(const WaveformConfig& wave, double x_mm, double t_s);
 

@@ -565,7 +565,7 @@ std::vector<IpmcLinkParams> PlantsOfKeyFile(const std::string& path) {
   const ScenarioConfig scenario =
       ParseScenario("include = " + *TomlString(file) + "\nlink_lengths_mm = [10.0, 10.0, 10.0]\n",
                     "design --plant-file");
-  const FlagellumSpec spec = ScenarioFlagellumSpec(scenario);
+  const FlagellumSpec spec = ScenarioFlagellumSpec(scenario.model);
   const IpmcModelKind kind = spec.ipmc_model == "g2" ? IpmcModelKind::kG2 : IpmcModelKind::kG1;
   std::vector<IpmcLinkParams> plants;
   for (int q = 0; q < spec.Links(); ++q) {

@@ -454,9 +454,8 @@ void OptimizeReader::ReadControllers(const toml::node& node, OptimizeConfig& con
     if (!retune->is_boolean()) Bad(retune, where + "retune", "must be true or false", "true or false");
     config.retune_controllers = retune->as_boolean()->get();
   }
-  if (config.retune_controllers &&
-      config.base.controller == ControllerKind::kFractional &&
-      config.base.fractional.realisation != FractionalRealisation::kOustaloup) {
+  if (config.retune_controllers && config.base.controller.kind == ControllerKind::kFractional &&
+      config.base.controller.fractional.realisation != FractionalRealisation::kOustaloup) {
     Bad(controllers.get("retune"), where + "retune",
         "needs the base's controller.realisation = \"oustaloup\" (eq. 15 fixes the order)",
         "false with realisation eq15");
@@ -518,11 +517,7 @@ ScenarioConfig DesignScenario(const ScenarioConfig& base, const std::vector<Desi
     }
   }
   // The Configs' own checks, as the scenario reader runs them.
-  if (config.controller == ControllerKind::kPid) {
-    config.pid.Validate();
-  } else {
-    config.fractional.Validate();
-  }
+  config.controller.Validate();
   config.waveform.Validate();
   return config;
 }

@@ -24,13 +24,14 @@ std::vector<IpmcLinkParams> ScenarioLinkPlants(const ScenarioConfig& scenario) {
 }
 
 void RetunePid(const std::vector<IpmcLinkParams>& plants, ScenarioConfig* scenario) {
-  ScenarioConfig::LinkGains& gains = scenario->link_gains;
+  ControllerScenario::LinkGains& gains = scenario->controller.link_gains;
   gains.kp.clear(), gains.ki.clear(), gains.kd.clear();
   const double reference_gain = PaperLinkParams(3, IpmcModelKind::kG1).a0_mm_per_V;
   for (const IpmcLinkParams& params : plants) {
     const double scale = reference_gain / params.a0_mm_per_V;
     PidTuningOptions options;
-    options.starts = {{scenario->pid.kp * scale, scenario->pid.ki * scale, scenario->pid.kd * scale}};
+    options.starts = {{scenario->controller.pid.kp * scale, scenario->controller.pid.ki * scale,
+                       scenario->controller.pid.kd * scale}};
     const PidGains tuned = TunePid(AccurateLinkPlant(params), options).gains;
     gains.kp.push_back(tuned.kp);
     gains.ki.push_back(tuned.ki);
@@ -39,11 +40,11 @@ void RetunePid(const std::vector<IpmcLinkParams>& plants, ScenarioConfig* scenar
 }
 
 void RetuneFractional(const std::vector<IpmcLinkParams>& plants, ScenarioConfig* scenario) {
-  if (scenario->fractional.realisation != FractionalRealisation::kOustaloup) {
+  if (scenario->controller.fractional.realisation != FractionalRealisation::kOustaloup) {
     throw std::invalid_argument("the eq. 15 realisation has the paper's fixed order; retuning "
                                 "needs controller.realisation = \"oustaloup\"");
   }
-  ScenarioConfig::LinkGains& gains = scenario->link_gains;
+  ControllerScenario::LinkGains& gains = scenario->controller.link_gains;
   gains.gain.clear(), gains.order.clear();
   for (const IpmcLinkParams& params : plants) {
     const FractionalIntegratorDesign design = DesignFractionalIntegrator(
@@ -60,7 +61,7 @@ ScenarioConfig RetunedControllers(const ScenarioConfig& scenario) {
   ScenarioConfig retuned = scenario;
   const std::vector<IpmcLinkParams> plants = ScenarioLinkPlants(scenario);
   try {
-    if (scenario.controller == ControllerKind::kPid) {
+    if (scenario.controller.kind == ControllerKind::kPid) {
       RetunePid(plants, &retuned);
     } else {
       RetuneFractional(plants, &retuned);

@@ -47,7 +47,7 @@ py::dict Run(const py::object& scenario_arg, const py::dict& overrides, const py
   const RunPlan plan = PlanRunCommand(command, std::move(argument.scenario),
                                       std::move(argument.inputs), input_files);
   const ScenarioConfig& scenario = plan.scenario;
-  const double total_s = scenario.cycles / std::abs(scenario.waveform.frequency_Hz);
+  const double total_s = scenario.run.cycles / std::abs(scenario.waveform.frequency_Hz);
   Progress progress(progress_callback, total_s);
   // Ctrl-C stops the run at its next recorded sample, as on the command line.
   const ClosedLoopResult result = Interruptible([&](const std::atomic<bool>& stop) {

@@ -43,8 +43,8 @@ class PythonSimulation {
     }
     if (scenario_) {
       geometry_ = ModelLinkGeometry(*sim_);
-      steps_per_sample_ =
-          StepsPerSample(scenario_->sample_rate_Hz, sim_->model()->opt.timestep, scenario_->source);
+      steps_per_sample_ = StepsPerSample(scenario_->controller.sample_rate_Hz,
+                                         sim_->model()->opt.timestep, scenario_->source);
     }
     meter_.Start(sim_->data());
   }
@@ -200,28 +200,28 @@ class PythonSimulation {
     return 1.0 / std::abs(RequireScenario("period_s").waveform.frequency_Hz);
   }
   long StepsPerCycle() const { return std::lround(Period_s() / Timestep()); }
-  int Cycles() const { return RequireScenario("cycles").cycles; }
+  int Cycles() const { return RequireScenario("cycles").run.cycles; }
 
   py::dict Controller() const {
     const ScenarioConfig& s = RequireScenario("controller");
     py::dict dict;
-    const bool pid = s.controller == ControllerKind::kPid;
+    const bool pid = s.controller.kind == ControllerKind::kPid;
     dict["kind"] = pid ? controller_names::kPid : controller_names::kFractional;
-    dict["sample_rate_Hz"] = s.sample_rate_Hz;
+    dict["sample_rate_Hz"] = s.controller.sample_rate_Hz;
     if (pid) {
-      dict["kp"] = s.pid.kp;
-      dict["ki"] = s.pid.ki;
-      dict["kd"] = s.pid.kd;
-      dict["derivative_filter_s"] = s.pid.derivative_filter_time_s;
-      dict["sample_period_s"] = s.pid.sample_period_s;
-      dict["clamp"] = s.pid.clamp_enabled;
-      dict["v_max_V"] = s.pid.v_max;
+      dict["kp"] = s.controller.pid.kp;
+      dict["ki"] = s.controller.pid.ki;
+      dict["kd"] = s.controller.pid.kd;
+      dict["derivative_filter_s"] = s.controller.pid.derivative_filter_time_s;
+      dict["sample_period_s"] = s.controller.pid.sample_period_s;
+      dict["clamp"] = s.controller.pid.clamp_enabled;
+      dict["v_max_V"] = s.controller.pid.v_max;
     } else {
-      dict["gain"] = s.fractional.gain;
-      dict["order"] = s.fractional.order;
-      dict["sample_period_s"] = s.fractional.sample_period_s;
-      dict["clamp"] = s.fractional.clamp_enabled;
-      dict["v_max_V"] = s.fractional.v_max;
+      dict["gain"] = s.controller.fractional.gain;
+      dict["order"] = s.controller.fractional.order;
+      dict["sample_period_s"] = s.controller.fractional.sample_period_s;
+      dict["clamp"] = s.controller.fractional.clamp_enabled;
+      dict["v_max_V"] = s.controller.fractional.v_max;
     }
     dict["actuation"] = ChoiceText(kActuationNames, s.actuation);
     return dict;

@@ -101,7 +101,7 @@ std::vector<double> LinkReferences_mm(const ScenarioConfig& scenario,
                                       const LinkGeometry& geometry, double t_s) {
   const double period_s = 1.0 / std::abs(scenario.waveform.frequency_Hz);
   const DiscreteWave wave = DiscretiseWave(scenario.waveform, geometry, t_s);
-  const double ramp = StartRamp(t_s, scenario.start_ramp_cycles * period_s);
+  const double ramp = StartRamp(t_s, scenario.waveform.start_ramp_cycles * period_s);
   std::vector<double> reference(wave.relative_deflection_mm.size());
   for (size_t q = 0; q < reference.size(); ++q) {
     reference[q] = ramp * wave.relative_deflection_mm[q];
@@ -110,7 +110,7 @@ std::vector<double> LinkReferences_mm(const ScenarioConfig& scenario,
 }
 
 void CheckLinkGains(const ScenarioConfig& scenario, int links) {
-  const ScenarioConfig::LinkGains& each = scenario.link_gains;
+  const ControllerScenario::LinkGains& each = scenario.controller.link_gains;
   const std::pair<const char*, const std::vector<double>*> arrays[] = {
       {"controller.link_kp", &each.kp},     {"controller.link_ki", &each.ki},
       {"controller.link_kd", &each.kd},     {"controller.link_gain", &each.gain},
@@ -125,9 +125,10 @@ void CheckLinkGains(const ScenarioConfig& scenario, int links) {
 }
 
 int MetricsFromCycle(const ScenarioConfig& scenario) {
-  if (scenario.metrics_from_cycle > 0) return scenario.metrics_from_cycle;
-  const double after_ramp = std::ceil(std::max(0.0, scenario.start_ramp_cycles)) + 1.0;
-  return static_cast<int>(std::min(after_ramp, static_cast<double>(std::max(1, scenario.cycles))));
+  if (scenario.metrics.from_cycle > 0) return scenario.metrics.from_cycle;
+  const double after_ramp = std::ceil(std::max(0.0, scenario.waveform.start_ramp_cycles)) + 1.0;
+  return static_cast<int>(
+      std::min(after_ramp, static_cast<double>(std::max(1, scenario.run.cycles))));
 }
 
 ClosedLoopResult SimulateScenario(const ScenarioConfig& scenario, const SampleObserver& observer,
@@ -158,9 +159,9 @@ ClosedLoopTiming PlanTiming(const ScenarioConfig& scenario, const mjModel* m, in
   const double dt = m->opt.timestep;
   timing.dt_s = dt;
   timing.period_s = 1.0 / std::abs(scenario.waveform.frequency_Hz);
-  CheckedStepCount(1.0 / scenario.sample_rate_Hz, dt, 1,
+  CheckedStepCount(1.0 / scenario.controller.sample_rate_Hz, dt, 1,
                    scenario.source + ": one controller sample (controller.sample_rate_Hz)");
-  timing.steps_per_sample = StepsPerSample(scenario.sample_rate_Hz, dt, scenario.source);
+  timing.steps_per_sample = StepsPerSample(scenario.controller.sample_rate_Hz, dt, scenario.source);
   timing.sample_period_s = timing.steps_per_sample * dt;
   RequireSamplesPerWaveCycle(scenario, timing.period_s, timing.sample_period_s);
   // At least kMinSamplesPerWaveCycle controller samples per wave cycle.
@@ -170,11 +171,11 @@ ClosedLoopTiming PlanTiming(const ScenarioConfig& scenario, const mjModel* m, in
           std::to_string(kMinSamplesPerWaveCycle) + " controller samples,");
   timing.samples_per_cycle = timing.steps_per_cycle / timing.steps_per_sample;
   timing.record_every =
-      std::max<long>(1, timing.samples_per_cycle / std::max(1, scenario.samples_per_cycle));
+      std::max<long>(1, timing.samples_per_cycle / std::max(1, scenario.output.samples_per_cycle));
   const double recorded =
-      static_cast<double>(scenario.cycles) * timing.samples_per_cycle / timing.record_every;
-  CheckRunSize(static_cast<double>(scenario.cycles) * timing.steps_per_cycle,
-               recorded * RecordedSampleBytes(m->nq, links), scenario.allow_long_run,
+      static_cast<double>(scenario.run.cycles) * timing.samples_per_cycle / timing.record_every;
+  CheckRunSize(static_cast<double>(scenario.run.cycles) * timing.steps_per_cycle,
+               recorded * RecordedSampleBytes(m->nq, links), scenario.run.allow_long,
                scenario.source + ": the run (cycles x waveform.frequency_Hz)");
   return timing;
 }
@@ -242,12 +243,13 @@ class LinkTrackingMeter {
 // The result's description of the run, before its samples and metrics.
 ClosedLoopResult StartResult(const ScenarioConfig& scenario, const mjModel* m,
                              const ClosedLoopTiming& timing, int links) {
-  const bool pid = scenario.controller == ControllerKind::kPid;
+  const bool pid = scenario.controller.kind == ControllerKind::kPid;
   ClosedLoopResult result;
   result.controller = pid ? controller_names::kPid : controller_names::kFractional;
   result.actuation = scenario.actuation;
-  result.clamp_enabled = pid ? scenario.pid.clamp_enabled : scenario.fractional.clamp_enabled;
-  result.v_max_V = pid ? scenario.pid.v_max : scenario.fractional.v_max;
+  result.clamp_enabled =
+      pid ? scenario.controller.pid.clamp_enabled : scenario.controller.fractional.clamp_enabled;
+  result.v_max_V = pid ? scenario.controller.pid.v_max : scenario.controller.fractional.v_max;
   result.period_s = timing.period_s;
   result.timestep_s = timing.dt_s;
   result.links.resize(links);
@@ -263,18 +265,18 @@ void FinishResult(const ScenarioConfig& scenario, const ClosedLoopTiming& timing
   mjModel* m = sim.model();
   mjData* d = sim.data();
   result.swim = meter.Finish(m, d, from_cycle, scenario.waveform.wavelength_mm);
-  if (scenario.samples_per_cycle > timing.samples_per_cycle) {
+  if (scenario.output.samples_per_cycle > timing.samples_per_cycle) {
     // Not silently fewer rows than asked for.
     result.swim.warnings.push_back(FormatText(
         "%s: output.samples_per_cycle %d is more than the %ld controller samples of a wave cycle "
         "(controller.sample_rate_Hz / waveform.frequency_Hz): recorded every sample, %ld a cycle",
-        scenario.source.c_str(), scenario.samples_per_cycle, timing.samples_per_cycle,
+        scenario.source.c_str(), scenario.output.samples_per_cycle, timing.samples_per_cycle,
         timing.samples_per_cycle));
   }
   RequireFiniteMetrics(result.swim, sim.source());
   result.energy = energy.Finish(result.swim, timing.period_s, from_cycle);
-  result.from_cycle_given = scenario.metrics_from_cycle > 0;
-  result.startup_included = from_cycle - 1 < scenario.start_ramp_cycles;
+  result.from_cycle_given = scenario.metrics.from_cycle > 0;
+  result.startup_included = from_cycle - 1 < scenario.waveform.start_ramp_cycles;
   result.reach_clamps = FindCoupling(d)->actuators->ClampCount();
 }
 
@@ -310,9 +312,9 @@ ClosedLoopResult StepClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
   // Each link's active moment is read at its root hinge.
   std::vector<int> root_dofs;
   for (const std::vector<int>& dofs : energy.LinkDofs()) root_dofs.push_back(dofs.front());
-  energy.MeasureElectrical(scenario.electrical, geometry.length_mm);
+  energy.MeasureElectrical(scenario.metrics.electrical, geometry.length_mm);
   HeartbeatClock beat(heartbeat);
-  for (int cycle = 0; cycle < scenario.cycles; ++cycle) {
+  for (int cycle = 0; cycle < scenario.run.cycles; ++cycle) {
     // The link metrics are taken over the cycles from MetricsFromCycle.
     const bool measuring = cycle + 1 >= from_cycle;
     for (long step = 0; step < timing.steps_per_cycle; ++step) {

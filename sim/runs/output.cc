@@ -408,7 +408,7 @@ ScenarioConfig ScenarioOfSummary(const std::string& summary_path) {
   const std::string now = ScenarioModelSha256(scenario);
   if (now != sha256) {
     const std::string model =
-        scenario.GeneratesModel() ? "the generated flagellum" : "'" + scenario.model_path + "'";
+        scenario.model.Generated() ? "the generated flagellum" : "'" + scenario.model.path + "'";
     throw InputError(InputProblem::kBadValue, {summary_path},
                      std::string(kInputs) + "." + kModelSha256,
                      "the model " + model + " has changed since the run (SHA-256 " + now +

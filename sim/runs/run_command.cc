@@ -97,7 +97,7 @@ RunPlan PlanRunCommand(const RunCommand& command, const OptionGiven& given) {
   if (cycles_given) inputs["cycles"] = command.cycles;
   // A re-run writes only where out says, never over the run it repeats.
   RunCommand planned = command;
-  if (planned.out.empty() && !rerun) planned.out = scenario.output_dir;
+  if (planned.out.empty() && !rerun) planned.out = scenario.output.dir;
   return PlanRunCommand(planned, std::move(scenario), std::move(inputs), {command.scenario});
 }
 
@@ -105,7 +105,7 @@ RunPlan PlanRunCommand(const RunCommand& command, ScenarioConfig scenario, nlohm
                        const std::vector<std::string>& input_files) {
   RunPlan plan;
   plan.scenario = std::move(scenario);
-  plan.scenario.allow_long_run = command.allow_long;
+  plan.scenario.run.allow_long = command.allow_long;
   plan.inputs = std::move(inputs);
   plan.dir = command.out;
   plan.formats = ParseRunFileFormats(command.formats);

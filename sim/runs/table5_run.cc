@@ -50,16 +50,16 @@ std::vector<TrackingIndices> IndicesOf(const ClosedLoopResult& result) {
 // transfer-function loop; the model's links must be the paper's, whose
 // projection of the wave PaperLinkGeometry() gives.
 std::vector<IpmcLinkParams> ModelLinkPlants(const ScenarioConfig& scenario) {
-  if (scenario.GeneratesModel()) {
+  if (scenario.model.Generated()) {
     throw std::runtime_error(scenario.source + ": the " + std::string(kTransferFunction) +
                              " loop needs a model file, not a generated flagellum");
   }
   IpmcActuatorsOverrides overrides;
-  overrides.plants = scenario.plants;
-  const Simulation sim(LoadModelFile(scenario.model_path), scenario.model_path, overrides);
+  overrides.plants = scenario.model.plants;
+  const Simulation sim(LoadModelFile(scenario.model.path), scenario.model.path, overrides);
   const CouplingContext* coupling = FindCoupling(sim.data());
   if (coupling == nullptr || !coupling->actuators) {
-    throw std::runtime_error(scenario.model_path + ": the model has no IPMC actuators");
+    throw std::runtime_error(scenario.model.path + ": the model has no IPMC actuators");
   }
   const LinkGeometry paper = PaperLinkGeometry();
   const std::vector<double> lengths_m = coupling->actuators->LinkLengths_m();
@@ -68,7 +68,7 @@ std::vector<IpmcLinkParams> ModelLinkPlants(const ScenarioConfig& scenario) {
     paper_links = std::abs(lengths_m[q] * 1e3 - paper.length_mm[q]) <= kLengthTolerance_mm;
   }
   if (!paper_links) {
-    throw std::runtime_error(scenario.model_path + ": the " + std::string(kTransferFunction) +
+    throw std::runtime_error(scenario.model.path + ": the " + std::string(kTransferFunction) +
                              " loop needs the paper's three 10 mm links");
   }
   return coupling->actuators->link_params();
@@ -81,10 +81,10 @@ std::vector<IpmcLinkParams> ModelLinkPlants(const ScenarioConfig& scenario) {
 std::vector<TrackingIndices> RunTransferFunctionLoop(const ScenarioConfig& scenario) {
   const std::vector<IpmcLinkParams> plants = ModelLinkPlants(scenario);
   const LinkGeometry geometry = PaperLinkGeometry();
-  const double sample_period_s = 1.0 / scenario.sample_rate_Hz;
+  const double sample_period_s = 1.0 / scenario.controller.sample_rate_Hz;
   const double period_s = 1.0 / std::abs(scenario.waveform.frequency_Hz);
-  const double ramp_s = scenario.start_ramp_cycles * period_s;
-  const long samples = std::lround(scenario.cycles * period_s / sample_period_s);
+  const double ramp_s = scenario.waveform.start_ramp_cycles * period_s;
+  const long samples = std::lround(scenario.run.cycles * period_s / sample_period_s);
 
   struct Loop {
     HeldPlant plant;
@@ -169,19 +169,19 @@ std::string PaperScenarioPath() { return ScenariosDir() + "/paper.toml"; }
 ScenarioConfig Table5Scenario(const ScenarioConfig& setting, ControllerKind controller,
                               const Table5Reading& reading) {
   ScenarioConfig scenario = setting;
-  scenario.plants = reading.plants;
-  scenario.cycles = reading.cycles;
-  scenario.start_ramp_cycles = reading.start_ramp_cycles;
-  scenario.metrics_from_cycle = 1;  // Table 5's indices: the whole run, start-up included
-  scenario.controller = controller;
-  scenario.pid.clamp_enabled = false;
+  scenario.model.plants = reading.plants;
+  scenario.run.cycles = reading.cycles;
+  scenario.waveform.start_ramp_cycles = reading.start_ramp_cycles;
+  scenario.metrics.from_cycle = 1;  // Table 5's indices: the whole run, start-up included
+  scenario.controller.kind = controller;
+  scenario.controller.pid.clamp_enabled = false;
   FractionalIntegrator::Config eq15;
   eq15.realisation = FractionalRealisation::kEq15;
-  eq15.sample_period_s = setting.pid.sample_period_s;
+  eq15.sample_period_s = setting.controller.pid.sample_period_s;
   eq15.clamp_enabled = false;
-  scenario.fractional = eq15;
-  scenario.output_dir.clear();
-  scenario.samples_per_cycle = 1;  // the indices are all this table needs
+  scenario.controller.fractional = eq15;
+  scenario.output.dir.clear();
+  scenario.output.samples_per_cycle = 1;  // the indices are all this table needs
   return scenario;
 }
 
@@ -290,10 +290,10 @@ Table5Outcome RunTable5Command(const Table5Command& command,
   }
   Table5Reading& reading = outcome.reading;
   reading.plants = *plants;
-  reading.cycles = given && given("cycles") ? command.cycles : outcome.setting.cycles;
+  reading.cycles = given && given("cycles") ? command.cycles : outcome.setting.run.cycles;
   reading.start_ramp_cycles = given && given("start_ramp_cycles")
                                   ? command.start_ramp_cycles
-                                  : outcome.setting.start_ramp_cycles;
+                                  : outcome.setting.waveform.start_ramp_cycles;
   reading.loop = command.loop == kTransferFunction ? Table5Loop::kTransferFunction
                                                    : Table5Loop::kMultibody;
   outcome.here = RunTable5(outcome.setting, reading, command.jobs);  // validates first
