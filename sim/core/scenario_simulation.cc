@@ -158,11 +158,10 @@ RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mj
     stokeslets.shape_tolerance_rad = scenario.stokeslet_shape_tolerance_rad;
     fluid.stokeslets = stokeslets;
   }
-  const bool free_space_only =
-      scenario.fluid_model == FluidModel::kRibbon || scenario.fluid_model == FluidModel::kPlates;
-  if (free_space_only && scenario.wall_gap_mm) {
-    throw std::runtime_error(scenario.source + ": fluid.wall_gap_mm needs fluid.model \"rft\" or " +
-                             "\"stokeslets\" (the " + ChoiceText(kFluidModelNames, scenario.fluid_model) +
+  if (scenario.fluid_model == FluidModel::kRibbon && scenario.wall_gap_mm) {
+    throw std::runtime_error(scenario.source + ": fluid.wall_gap_mm needs fluid.model \"rft\", " +
+                             "\"stokeslets\" or \"plates\" (the " +
+                             ChoiceText(kFluidModelNames, scenario.fluid_model) +
                              " model is free space only)");
   }
   if (scenario.fluid_model == FluidModel::kRibbon) {
@@ -175,6 +174,7 @@ RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mj
     plates.points_across = scenario.plate_points_across;
     plates.quadrature_refinement = scenario.plate_quadrature_refinement;
     plates.richardson = scenario.plate_richardson;
+    plates.wall_distance_m = fluid.wall_distance_m;
     fluid.plates = plates;
   }
   return fluid;
