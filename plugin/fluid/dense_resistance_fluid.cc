@@ -127,4 +127,16 @@ double DenseResistanceFluid::DissipatedPower_W(const mjModel* m, const mjData* d
   return v.dot(WorldResistance(d) * v);
 }
 
+std::vector<double> DenseResistanceFluid::SegmentLengths_m() const {
+  return rft_->SegmentLengths_m();
+}
+
+double DenseResistanceFluid::Viscosity_Pa_s() const { return rft_->Viscosity_Pa_s(); }
+
+double DenseResistanceFluid::FluidDensity_kg_m3() const { return rft_->FluidDensity_kg_m3(); }
+
+double DenseResistanceFluid::RotationalDragScale_N_m_s() const {
+  return rft_->RotationalDragScale_N_m_s();
+}
+
 }  // namespace ipmc

@@ -38,6 +38,12 @@ class DenseResistanceFluid : public Fluid {
   // while the shape has moved less than the tolerance.
   const Eigen::MatrixXd* InteractionResistance(const mjModel* m, const mjData* d) const override;
   const std::vector<int>& InteractingBodies() const override { return bodies_; }
+  // The segments' (rft()'s): their lengths, the model's viscosity and
+  // density, and RFT's rotational drag scale over them.
+  std::vector<double> SegmentLengths_m() const override;
+  double Viscosity_Pa_s() const override;
+  double FluidDensity_kg_m3() const override;
+  double RotationalDragScale_N_m_s() const override;
 
   // The segments' geoms, viscosity and coefficients (the model's RFT fields).
   const RftDrag& rft() const { return *rft_; }

@@ -25,8 +25,13 @@
 // ipmc_rft_* <custom> fields), and reads its own settings from its own
 // fields and the program's overrides (RftDragOverrides).
 //
-// Adding a model: a header/source pair with a class derived from Fluid and
-// its Config, and one line in FluidModels() (fluid_model.cc).
+// The meters (sim/core/swim_meter.h, sim/core/energy.h) and the gait run
+// ask the model, not the segments: Fluid's methods below are all they see.
+//
+// Adding a model: a header/source pair with a class derived from Fluid
+// (or from DenseResistanceFluid, which answers the meters' questions from
+// the segments) and its Config, and one line in FluidModels()
+// (fluid_model.cc).
 #pragma once
 
 #include <mujoco/mujoco.h>
@@ -66,6 +71,17 @@ class Fluid {
   virtual double DissipatedPower_W(const mjModel* m, const mjData* d) const = 0;
   // The drag [N] on the body laid straight along x and towed along it.
   virtual double TowingDrag_N(double speed_m_s) const = 0;
+
+  // What the meters read of the fluid, each model answering for itself:
+  // the lengths [m] of the segments it acts on (in the order of
+  // RftDrag::geom_ids()), the fluid's viscosity [Pa s] and density
+  // [kg/m^3] (the density only for the Reynolds number), and a scale of
+  // the body's rotational drag about one end [N m s] (the servo gains of
+  // a prescribed gait, sim/runs/gait_run.h).
+  virtual std::vector<double> SegmentLengths_m() const = 0;
+  virtual double Viscosity_Pa_s() const = 0;
+  virtual double FluidDensity_kg_m3() const = 0;
+  virtual double RotationalDragScale_N_m_s() const = 0;
 
   // The resistance the Stokes step solves with, from d's positions (after
   // mj_comPos), in one of two forms. A model whose segments do not

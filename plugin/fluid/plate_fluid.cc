@@ -9,6 +9,7 @@
 #include <string>
 
 #include "sim/base/numbers.h"
+#include "plugin/fluid/regularized_stokeslets.h"
 #include "plugin/fluid/rft_drag.h"
 #include "plugin/mjcf/spatial_algebra.h"
 
@@ -86,6 +87,12 @@ void PlateSettings::Validate() const {
   if (!(shape_tolerance_rad >= 0.0) || !std::isfinite(shape_tolerance_rad)) {
     throw std::invalid_argument("plate fluid: the shape tolerance must be finite and >= 0");
   }
+  if (wall_distance_m && !(*wall_distance_m > 0.5 * width_m && std::isfinite(*wall_distance_m))) {
+    std::ostringstream msg;
+    msg << "plate fluid: the wall distance must be finite and > half the plates' width "
+        << 0.5 * width_m << " m (got " << *wall_distance_m << " m)";
+    throw std::invalid_argument(msg.str());
+  }
 }
 
 SurfaceMesh RectangleMesh(double length_m, double width_m, int across, int refinement) {
@@ -162,9 +169,28 @@ Eigen::MatrixXd NearestNeighbourBlock(const PlacedSurface& target, const PlacedS
   return block;
 }
 
+Eigen::MatrixXd NearestNeighbourImageBlock(const PlacedSurface& target,
+                                           const PlacedSurface& source, double wall_z_m,
+                                           double blob_m, double viscosity_Pa_s) {
+  const std::vector<Eigen::Vector3d> x = Placed(target, target.mesh->force_points);
+  const std::vector<Eigen::Vector3d> y = Placed(source, source.mesh->quadrature_points);
+  const std::vector<int>& owner = source.mesh->owner;
+  const std::vector<double>& area = source.mesh->quadrature_area_m2;
+  const double scale = 1.0 / (8.0 * kPi * viscosity_Pa_s);
+  Eigen::MatrixXd block = Eigen::MatrixXd::Zero(3 * x.size(), 3 * source.mesh->force_points.size());
+  for (size_t i = 0; i < x.size(); ++i) {
+    for (size_t q = 0; q < y.size(); ++q) {
+      block.block<3, 3>(3 * i, 3 * owner[q]) +=
+          (scale * area[q]) * RegularizedWallImage(x[i], y[q], wall_z_m, blob_m);
+    }
+  }
+  return block;
+}
+
 Eigen::MatrixXd SurfaceResistance(const std::vector<PlacedSurface>& surfaces, int bodies,
                                   const Eigen::Vector3d& c, double blob_m, double viscosity_Pa_s,
-                                  const std::vector<Eigen::MatrixXd>& self_blocks) {
+                                  const std::vector<Eigen::MatrixXd>& self_blocks,
+                                  std::optional<double> wall_z_m) {
   std::vector<int> offset(surfaces.size() + 1, 0);
   for (size_t s = 0; s < surfaces.size(); ++s) {
     offset[s + 1] = offset[s] + 3 * static_cast<int>(surfaces[s].mesh->force_points.size());
@@ -179,6 +205,12 @@ Eigen::MatrixXd SurfaceResistance(const std::vector<PlacedSurface>& surfaces, in
           (s == t && !self_blocks.empty())
               ? RotateBlocks(self_blocks[s], surfaces[s].rotation)
               : NearestNeighbourBlock(surfaces[t], surfaces[s], blob_m, viscosity_Pa_s);
+      if (wall_z_m) {
+        velocity.block(offset[t], offset[s], offset[t + 1] - offset[t],
+                       offset[s + 1] - offset[s]) +=
+            NearestNeighbourImageBlock(surfaces[t], surfaces[s], *wall_z_m, blob_m,
+                                       viscosity_Pa_s);
+      }
     }
     // Each force point's cell area: the areas of the quadrature points it owns.
     const SurfaceMesh& mesh = *surfaces[t].mesh;
@@ -200,10 +232,12 @@ Eigen::MatrixXd SurfaceResistance(const std::vector<PlacedSurface>& surfaces, in
 
 Eigen::MatrixXd ExtrapolatedResistance(const std::vector<PlacedSurface>& surfaces, int bodies,
                                        const Eigen::Vector3d& c, double blob_m, bool richardson,
-                                       double viscosity_Pa_s) {
-  const Eigen::MatrixXd coarse = SurfaceResistance(surfaces, bodies, c, blob_m, viscosity_Pa_s);
+                                       double viscosity_Pa_s, std::optional<double> wall_z_m) {
+  const Eigen::MatrixXd coarse =
+      SurfaceResistance(surfaces, bodies, c, blob_m, viscosity_Pa_s, {}, wall_z_m);
   if (!richardson) return coarse;
-  return 2.0 * SurfaceResistance(surfaces, bodies, c, 0.5 * blob_m, viscosity_Pa_s) - coarse;
+  return 2.0 * SurfaceResistance(surfaces, bodies, c, 0.5 * blob_m, viscosity_Pa_s, {}, wall_z_m) -
+         coarse;
 }
 
 StripDragPerLength ConvergedStripDrag(double viscosity_Pa_s, double length_m, double width_m) {
@@ -252,6 +286,11 @@ PlateFluid::PlateFluid(const mjModel* m, const RftDrag& segments, const PlateSet
   }
 }
 
+std::optional<double> PlateFluid::wall_z_m() const {
+  if (!settings_.wall_distance_m) return std::nullopt;
+  return -*settings_.wall_distance_m;
+}
+
 int PlateFluid::force_points() const {
   int n = 0;
   for (const SurfaceMesh& mesh : meshes_) n += static_cast<int>(mesh.force_points.size());
@@ -262,10 +301,10 @@ Eigen::MatrixXd PlateFluid::Resistance(const std::vector<PlacedSurface>& plates,
                                        const Eigen::Vector3d& c) const {
   const double mu = rft().config().viscosity_Pa_s;
   const Eigen::MatrixXd coarse =
-      SurfaceResistance(plates, body_count(), c, blob_m_, mu, self_blocks_);
+      SurfaceResistance(plates, body_count(), c, blob_m_, mu, self_blocks_, wall_z_m());
   if (!settings_.richardson) return coarse;
   return 2.0 * SurfaceResistance(plates, body_count(), c, 0.5 * blob_m_, mu,
-                                 half_blob_self_blocks_) -
+                                 half_blob_self_blocks_, wall_z_m()) -
          coarse;
 }
 
@@ -287,7 +326,7 @@ Eigen::MatrixXd PlateFluid::ComputeResistance(const mjModel* m, const mjData* d,
 }
 
 double PlateFluid::TowingDrag_N(double speed_m_s) const {
-  // The plates end to end along x, one body.
+  // The plates end to end along x, one body (near a wall, h above it).
   std::vector<PlacedSurface> plates(meshes_.size());
   double start_m = 0.0;
   const std::vector<double> lengths_m = rft().SegmentLengths_m();

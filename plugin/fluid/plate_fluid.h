@@ -26,11 +26,24 @@
 // `richardson` the resistance is 2 R(eps / 2) - R(eps), the same force
 // and quadrature grids solved twice.
 //
-// Rigid links: a plate's block of the matrix (its force points against
-// its own quadrature points) is the same in the plate's frame for every
-// shape, so it is computed once per plate and rotated; only the blocks
-// between plates are recomputed. The resistance is kept while the shape
-// moves less than `shape_tolerance_rad` (dense_resistance_fluid.h).
+// Near a no-slip plane wall z = -h (`wall_distance_m` h, the plates'
+// centreline height; the wall is parallel to the beat plane z = 0) every
+// block adds the wall's image system at the quadrature points' mirror
+// points (Ainley, Durkin, Embid, Boindala & Cortez, J. Comput. Phys. 227,
+// 4600-4616, 2008; RegularizedWallImage, regularized_stokeslets.h), which
+// makes u = 0 on the wall. The image is regular on the plates (its
+// singularities lie below the wall, at least twice the gap away), so its
+// dependence on eps is O(eps^2), and the Richardson extrapolation, which
+// removes the free-space kernel's O(eps) error, holds unchanged
+// (plate_wall_test measures it).
+//
+// Rigid links: a plate's free-space block of the matrix (its force points
+// against its own quadrature points) is the same in the plate's frame for
+// every shape, so it is computed once per plate and rotated; the blocks
+// between plates and, near a wall, every block's image part (a plate's own
+// image depends on its height and tilt) are recomputed with the shape.
+// The resistance is kept while the shape moves less than
+// `shape_tolerance_rad` (dense_resistance_fluid.h).
 // docs/FLUIDS.md has the validation (disk, straight strip) and the
 // convergence of the paper's swimmer.
 #pragma once
@@ -40,6 +53,7 @@
 #include <Eigen/Core>
 #include <Eigen/StdVector>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "plugin/fluid/dense_resistance_fluid.h"
@@ -57,6 +71,8 @@ struct PlateSettings {
   bool richardson = true;          // 2 R(eps / 2) - R(eps)
   double width_m = 0.0;            // the plates' width; default the strip's
   double shape_tolerance_rad = 1e-3;  // recompute beyond this joint motion
+  // The centreline's height h over a no-slip wall z = -h; none: free space.
+  std::optional<double> wall_distance_m;
   // Checked: throws std::invalid_argument naming the setting and its range.
   void Validate() const;
 };
@@ -95,19 +111,28 @@ struct PlacedSurface {
 // S_eps(x_i - y) dA(y), for force points i of `target` and j of `source`.
 Eigen::MatrixXd NearestNeighbourBlock(const PlacedSurface& target, const PlacedSurface& source,
                                       double blob_m, double viscosity_Pa_s);
+// The same with the wall z = wall_z_m's image system in place of the
+// free-space kernel (RegularizedWallImage): the part a wall adds.
+Eigen::MatrixXd NearestNeighbourImageBlock(const PlacedSurface& target,
+                                           const PlacedSurface& source, double wall_z_m,
+                                           double blob_m, double viscosity_Pa_s);
 
 // The resistance of rigid bodies made of surfaces: R (6 bodies x 6 bodies)
 // maps the bodies' spatial velocities [w; v] (v that of the body point at
 // c) to minus their drag wrenches [torque about c; force]. `self_blocks`,
 // if not empty, holds each surface's own block in its frame
-// (NearestNeighbourBlock of the unrotated surface with itself).
+// (NearestNeighbourBlock of the unrotated surface with itself). With
+// `wall_z_m`, a no-slip wall z = wall_z_m below every surface: every
+// block adds its NearestNeighbourImageBlock.
 Eigen::MatrixXd SurfaceResistance(const std::vector<PlacedSurface>& surfaces, int bodies,
                                   const Eigen::Vector3d& c, double blob_m, double viscosity_Pa_s,
-                                  const std::vector<Eigen::MatrixXd>& self_blocks = {});
+                                  const std::vector<Eigen::MatrixXd>& self_blocks = {},
+                                  std::optional<double> wall_z_m = std::nullopt);
 // The same, Richardson-extrapolated in eps when asked: 2 R(eps/2) - R(eps).
 Eigen::MatrixXd ExtrapolatedResistance(const std::vector<PlacedSurface>& surfaces, int bodies,
                                        const Eigen::Vector3d& c, double blob_m, bool richardson,
-                                       double viscosity_Pa_s);
+                                       double viscosity_Pa_s,
+                                       std::optional<double> wall_z_m = std::nullopt);
 
 // The straight strip's drag per length [N s/m^2], broadside (normal to
 // its face) and axial: the plates' resistance of one rectangle, Richardson
@@ -135,13 +160,16 @@ class PlateFluid : public DenseResistanceFluid {
   double TowingDrag_N(double speed_m_s) const override;
   const PlateSettings& settings() const { return settings_; }
   double blob_m() const { return blob_m_; }
+  // The wall's plane z = wall_z, if any.
+  std::optional<double> wall_z_m() const;
   int force_points() const;
 
  private:
   Eigen::MatrixXd ComputeResistance(const mjModel* m, const mjData* d,
                                     const Eigen::Vector3d& origin_W) const override;
   double shape_tolerance_rad() const override { return settings_.shape_tolerance_rad; }
-  // R for the plates placed as given, with the cached self blocks.
+  // R for the plates placed as given, with the cached self blocks (and
+  // the wall's images).
   Eigen::MatrixXd Resistance(const std::vector<PlacedSurface>& plates,
                              const Eigen::Vector3d& c) const;
 

@@ -32,14 +32,11 @@ Eigen::Matrix3d RegularizedStokeslet(const Eigen::Vector3d& r, double blob_m) {
 //   rotlet:         -6 h eps^2 H5 (delta_i3 R_j - delta_ij R_3)
 // (i the velocity's component, j the force's; coordinates relative to the
 // wall).
-Eigen::Matrix3d RegularizedWallStokeslet(const Eigen::Vector3d& x, const Eigen::Vector3d& y,
-                                         double wall_z_m, double blob_m) {
-  const Eigen::Vector3d offset(0.0, 0.0, wall_z_m);
-  const Eigen::Vector3d xw = x - offset, yw = y - offset;
-  const double h = yw.z();
-  const Eigen::Vector3d mirror(yw.x(), yw.y(), -h);
-  const Eigen::Vector3d R = xw - mirror;
-  Eigen::Matrix3d g = RegularizedStokeslet(xw - yw, blob_m) - RegularizedStokeslet(R, blob_m);
+namespace {
+
+// The image system's terms beyond the image Stokeslet -S_eps(R) (the list
+// above), added into g, for R = x - y* and the source's height h.
+void AddWallImageTerms(const Eigen::Vector3d& R, double h, double blob_m, Eigen::Matrix3d* g) {
   const double e2 = blob_m * blob_m;
   const double R2 = R.squaredNorm();
   const double h3 = 1.0 / std::pow(R2 + e2, 1.5);
@@ -56,9 +53,33 @@ Eigen::Matrix3d RegularizedWallStokeslet(const Eigen::Vector3d& x, const Eigen::
               ((i == 2 ? R[j] * delta[j] * (R2 + 4.0 * e2) * h5 : 0.0) - dij * R[2] * h3 +
                (j == 2 ? R[i] * h3 : 0.0) + 3.0 * R[2] * rr * h5);
       term += -6.0 * h * e2 * h5 * ((i == 2 ? R[j] : 0.0) - kron * R[2]);
-      g(i, j) += term;
+      (*g)(i, j) += term;
     }
   }
+}
+
+}  // namespace
+
+Eigen::Matrix3d RegularizedWallStokeslet(const Eigen::Vector3d& x, const Eigen::Vector3d& y,
+                                         double wall_z_m, double blob_m) {
+  const Eigen::Vector3d offset(0.0, 0.0, wall_z_m);
+  const Eigen::Vector3d xw = x - offset, yw = y - offset;
+  const double h = yw.z();
+  const Eigen::Vector3d mirror(yw.x(), yw.y(), -h);
+  const Eigen::Vector3d R = xw - mirror;
+  Eigen::Matrix3d g = RegularizedStokeslet(xw - yw, blob_m) - RegularizedStokeslet(R, blob_m);
+  AddWallImageTerms(R, h, blob_m, &g);
+  return g;
+}
+
+Eigen::Matrix3d RegularizedWallImage(const Eigen::Vector3d& x, const Eigen::Vector3d& y,
+                                     double wall_z_m, double blob_m) {
+  const Eigen::Vector3d offset(0.0, 0.0, wall_z_m);
+  const Eigen::Vector3d xw = x - offset, yw = y - offset;
+  const double h = yw.z();
+  const Eigen::Vector3d R = xw - Eigen::Vector3d(yw.x(), yw.y(), -h);
+  Eigen::Matrix3d g = -RegularizedStokeslet(R, blob_m);
+  AddWallImageTerms(R, h, blob_m, &g);
   return g;
 }
 

@@ -66,6 +66,12 @@ Eigen::Matrix3d RegularizedStokeslet(const Eigen::Vector3d& r, double blob_m);
 // velocity at x per unit force at y, times 8 pi mu.
 Eigen::Matrix3d RegularizedWallStokeslet(const Eigen::Vector3d& x, const Eigen::Vector3d& y,
                                          double wall_z_m, double blob_m);
+// The wall's part of it alone, the image system at the mirror point:
+// RegularizedWallStokeslet(x, y) - RegularizedStokeslet(x - y), without
+// the free-space kernel's singular part near y (the plates' cached own
+// blocks, plugin/fluid/plate_fluid.h, add it to their free-space part).
+Eigen::Matrix3d RegularizedWallImage(const Eigen::Vector3d& x, const Eigen::Vector3d& y,
+                                     double wall_z_m, double blob_m);
 
 // The Stokeslet fluid model's settings (plugin/fluid/fluid_model.h); a
 // field left at 0 takes its default there.

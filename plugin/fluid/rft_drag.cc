@@ -344,6 +344,12 @@ std::vector<double> RftDrag::SegmentLengths_m() const {
   return lengths;
 }
 
+double RftDrag::RotationalDragScale_N_m_s() const {
+  double length = 0.0;
+  for (const SlenderGeom& geom : slender_) length += geom.length_m;
+  return coefficients_.normal_N_s_m2 * length * length * length / 3.0;
+}
+
 // The spatial resistance (or its planar block) of one slender geom at the
 // subtree centre of mass of its body's root (where MuJoCo gives cdof and
 // cvel).

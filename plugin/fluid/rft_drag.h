@@ -208,7 +208,12 @@ class RftDrag : public Fluid {
   // the sum of xi_t L, by SegmentDragExact).
   double TowingDrag_N(double speed_m_s) const override;
   // The segments' lengths, in geom_ids() order.
-  std::vector<double> SegmentLengths_m() const;
+  std::vector<double> SegmentLengths_m() const override;
+  double Viscosity_Pa_s() const override { return config_.viscosity_Pa_s; }
+  double FluidDensity_kg_m3() const override { return config_.fluid_density_kg_m3; }
+  // The straight body's drag torque about one end per angular velocity,
+  // xi_n L^3 / 3 (L the segments' total length).
+  double RotationalDragScale_N_m_s() const override;
 
   // Each segment's block (see Fluid): its resistance S about the subtree
   // centre of mass of its body's root, from d's positions (valid after

@@ -62,9 +62,9 @@ EnergyMeter::EnergyMeter(const mjModel* m, const mjData* d) {
     }
   }
   if (coupling && coupling->actuators) actuators_ = &*coupling->actuators;
-  if (coupling && coupling->drag) {
-    drag_ = coupling->fluid.get();
-    towing_drag_N_per_m_s_ = drag_->TowingDrag_N(1.0);
+  if (coupling && coupling->fluid) {
+    fluid_ = coupling->fluid.get();
+    towing_drag_N_per_m_s_ = fluid_->TowingDrag_N(1.0);
   }
   inertial_ = !coupling || coupling->dynamics == Dynamics::kInertial;
   if (!inertial_) stokes_ = coupling->stokes.get();
@@ -206,8 +206,8 @@ void EnergyMeter::ObserveFluidAndElectrical(const mjModel* m, const mjData* d) {
   const double h = m->opt.timestep;
   if (stokes_) {
     fluid_J_ += h * stokes_->fluid_power_W();
-  } else if (drag_) {
-    fluid_J_ += h * drag_->DissipatedPower_W(m, d);
+  } else if (fluid_) {
+    fluid_J_ += h * fluid_->DissipatedPower_W(m, d);
   }
   elastic_J_s_ += h * ElasticEnergy_J(m, d);
   // The voltage set before the step was held over it.

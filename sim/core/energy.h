@@ -67,7 +67,6 @@
 #include <vector>
 
 #include "plugin/fluid/fluid_model.h"
-#include "plugin/fluid/rft_drag.h"
 #include "plugin/dynamics/stokes_step.h"
 #include "sim/core/electrical.h"
 #include "sim/core/swim_meter.h"
@@ -145,7 +144,7 @@ class EnergyMeter {
   void ObserveFluidAndElectrical(const mjModel* m, const mjData* d);
 
   std::vector<std::vector<int>> link_dofs_;
-  const Fluid* drag_ = nullptr;  // the run's fluid model
+  const Fluid* fluid_ = nullptr;  // the run's fluid model
   // Stokes dynamics: the stepper, which gives its step's own fluid power.
   const StokesStepper* stokes_ = nullptr;
   bool inertial_ = true;

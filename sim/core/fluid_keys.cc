@@ -62,7 +62,8 @@ std::vector<KeySpec> RftKeys() {
           "A no-slip plane wall this far below the strip's lower edge (the centreline is the "
           "gap plus half the width above it), parallel to the plane the strip beats in: RFT takes "
           "the near-wall coefficients of Katz, Blake & Paveri-Fontana (1975) in place of "
-          "fluid.rft_coefficients, Stokeslets the wall's image system")
+          "fluid.rft_coefficients, Stokeslets and plates the wall's image system; slender-ribbon "
+          "theory is free space only")
           .Example("2.0")
           .Refused("0")
           .Above(0.0)
@@ -76,7 +77,7 @@ std::vector<KeySpec> RftKeys() {
           "(with the wall's image system when fluid.wall_gap_mm is set), or slender-ribbon "
           "theory, the strip as one flat ribbon with kinks (free space only), or flat plates, "
           "each link a rectangle of regularized Stokeslets by the nearest-neighbour method "
-          "(free space only)")
+          "(with the wall's image system when fluid.wall_gap_mm is set)")
           .Default("\"rft\"")
           .Example("\"stokeslets\"")
           .Refused("\"bem\"")

@@ -161,11 +161,9 @@ RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mj
     stokeslets.shape_tolerance_rad = scenario.fluid.stokeslets.shape_tolerance_rad;
     fluid.stokeslets = stokeslets;
   }
-  const bool free_space_only =
-      scenario.fluid.model == FluidModel::kRibbon || scenario.fluid.model == FluidModel::kPlates;
-  if (free_space_only && scenario.fluid.wall_gap_mm) {
-    throw std::runtime_error(scenario.source + ": fluid.wall_gap_mm needs fluid.model \"rft\" or " +
-                             "\"stokeslets\" (the " +
+  if (scenario.fluid.model == FluidModel::kRibbon && scenario.fluid.wall_gap_mm) {
+    throw std::runtime_error(scenario.source + ": fluid.wall_gap_mm needs fluid.model \"rft\", " +
+                             "\"stokeslets\" or \"plates\" (the " +
                              ChoiceText(kFluidModelNames, scenario.fluid.model) +
                              " model is free space only)");
   }
@@ -179,6 +177,7 @@ RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mj
     plates.points_across = scenario.fluid.plates.points_across;
     plates.quadrature_refinement = scenario.fluid.plates.quadrature_refinement;
     plates.richardson = scenario.fluid.plates.richardson;
+    plates.wall_distance_m = fluid.wall_distance_m;
     fluid.plates = plates;
   }
   return fluid;

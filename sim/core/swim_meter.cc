@@ -85,20 +85,20 @@ SwimMetrics SwimMeter::Finish(const mjModel* m, const mjData* d, int from_cycle,
     metrics.mean_speed_along_mm_s = -(end.com_x_mm - start->com_x_mm) / elapsed_s;
   }
   const CouplingContext* coupling = FindCoupling(d);
-  if (!coupling || !coupling->drag) {
+  if (!coupling || !coupling->fluid) {
     metrics.warnings = FluidWarnings(metrics, wavelength_mm);
     return metrics;
   }
+  const Fluid& fluid = *coupling->fluid;
   double body_length_m = 0.0, longest_m = 0.0;
-  for (const Segment& segment : coupling->drag->Segments(m, d)) {
-    body_length_m += segment.length_m;
-    longest_m = std::max(longest_m, segment.length_m);
+  for (double length_m : fluid.SegmentLengths_m()) {
+    body_length_m += length_m;
+    longest_m = std::max(longest_m, length_m);
   }
   metrics.body_length_mm = body_length_m * kMToMm;
   metrics.longest_segment_mm = longest_m * kMToMm;
-  const RftDragConfig& fluid = coupling->drag->config();
   const double width_m = StripWidth_m(m);
-  const double rho_over_mu = fluid.fluid_density_kg_m3 / fluid.viscosity_Pa_s;
+  const double rho_over_mu = fluid.FluidDensity_kg_m3() / fluid.Viscosity_Pa_s();
   metrics.reynolds_tip = rho_over_mu * metrics.peak_lateral_tip_speed_mm_s / kMToMm * width_m;
   metrics.reynolds_swim =
       rho_over_mu * std::abs(metrics.mean_speed_along_mm_s) / kMToMm * body_length_m;

@@ -30,12 +30,11 @@ std::vector<Servo> FindServos(const mjModel* m) {
   return servos;
 }
 
-// Rotational drag of the whole body about one end, xi_n L^3 / 3 [N m s].
-double RotationalDragScale(const CouplingContext* coupling, const mjModel* m, const mjData* d) {
-  if (!coupling || !coupling->drag) return 0.0;
-  double length = 0.0;
-  for (const Segment& s : coupling->drag->Segments(m, d)) length += s.length_m;
-  return coupling->drag->coefficients().normal_N_s_m2 * length * length * length / 3.0;
+// The fluid's scale of the body's rotational drag about one end [N m s]
+// (Fluid::RotationalDragScale_N_m_s: xi_n L^3 / 3 under RFT).
+double RotationalDragScale(const CouplingContext* coupling) {
+  if (!coupling || !coupling->fluid) return 0.0;
+  return coupling->fluid->RotationalDragScale_N_m_s();
 }
 
 void SetServoGains(mjModel* m, const std::vector<Servo>& servos, double kp, double kv) {
@@ -127,7 +126,7 @@ GaitRunResult RunGait(Simulation& sim, const Gait& gait, const GaitRunOptions& o
   const double dt = m->opt.timestep;
   const double servo_time_s = options.servo_time_constant_steps * dt;
   const double kv = std::max(
-      options.servo_damping_over_drag * RotationalDragScale(coupling, m, d),
+      options.servo_damping_over_drag * RotationalDragScale(coupling),
       4.0 * HingeInertiaMax(m, d, servos) / servo_time_s);
   const double kp = kv / servo_time_s;
   SetServoGains(m, servos, kp, kv);
