@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "plugin/fluid/near_wall_rft.h"
 #include "plugin/mjcf/custom_fields.h"
 #include "plugin/mjcf/point_velocity.h"
 #include "sim/base/numbers.h"
@@ -56,12 +57,6 @@ DragCoefficients LighthillCoefficients(double viscosity_Pa_s, double radius_m,
   const double log_term =
       std::log(2.0 * kLighthillDistanceOverWavelength * wavelength_m / radius_m);
   return {4.0 * kPi * viscosity_Pa_s / (log_term + 0.5), 2.0 * kPi * viscosity_Pa_s / log_term};
-}
-
-DragCoefficients NearWallCoefficients(double viscosity_Pa_s, double radius_m,
-                                      double wall_distance_m) {
-  const double log_term = std::log(2.0 * wall_distance_m / radius_m);
-  return {4.0 * kPi * viscosity_Pa_s / log_term, 2.0 * kPi * viscosity_Pa_s / log_term};
 }
 
 std::optional<RftDragConfig> RftDragConfig::FromModel(const mjModel* m,
@@ -120,14 +115,7 @@ void RftDragConfig::Validate() const {
   }
   RequirePositive(equivalent_radius_m, kAttrEquivalentRadius);
   if (model == CoefficientModel::kNearWall) {
-    // h > a keeps ln(2 h / a) > ln 2 > 0; the formula itself wants h >> a.
-    if (!(wall_distance_m > equivalent_radius_m) || !std::isfinite(wall_distance_m)) {
-      std::ostringstream msg;
-      msg << "rft drag: coefficients = near_wall needs " << kAttrWallDistance << " > "
-          << kAttrEquivalentRadius << " = " << equivalent_radius_m << " m (got "
-          << wall_distance_m << ")";
-      throw std::invalid_argument(msg.str());
-    }
+    ValidateNearWallDistance(wall_distance_m, equivalent_radius_m);
     return;
   }
   RequirePositive(wavelength_m, kAttrWavelength);

@@ -25,15 +25,8 @@
 //                          xi_t = 2 pi mu / (ln(2 lambda / a) - 1/2)
 //   Lighthill (1976):      xi_n = 4 pi mu / (ln(2 q / a) + 1/2),
 //                          xi_t = 2 pi mu /  ln(2 q / a),  q = 0.09 lambda
-//   near a no-slip plane wall (Katz, Blake & Paveri-Fontana, JFM 72, 529,
-//   1975), the centreline parallel to it a distance h away, a << h << lambda:
-//                          xi_n = 4 pi mu / ln(2 h / a),
-//                          xi_t = 2 pi mu / ln(2 h / a)
-//   for motion parallel to the wall (normal to it xi_n would be
-//   4 pi mu / (ln(2 h / a) - 1)); the wall screens the far field, so 2 h
-//   takes the place of the wavelength and the ratio is exactly 2. The
-//   swimmer beats in a plane parallel to the wall (docs/FLUIDS.md), so the
-//   parallel pair is the one that acts; it is used for every direction.
+//   near a no-slip plane wall (Katz, Blake & Paveri-Fontana 1975), the
+//   centreline parallel to it a distance h away: near_wall_rft.h
 // or set directly. For the flat 3 mm x 250 um strip a = (w + h) / 4
 // (Batchelor 1970, elliptical section of semi-axes w/2, h/2).
 //
@@ -95,8 +88,6 @@ DragCoefficients GrayHancockCoefficients(double viscosity_Pa_s, double radius_m,
                                          double wavelength_m);
 DragCoefficients LighthillCoefficients(double viscosity_Pa_s, double radius_m,
                                        double wavelength_m);
-DragCoefficients NearWallCoefficients(double viscosity_Pa_s, double radius_m,
-                                      double wall_distance_m);
 
 // kRibbon: the converged flat plate's drag per length (plate_fluid.h,
 // ConvergedStripDrag) for the strip's own width and total length, broadside
