@@ -82,16 +82,21 @@ inline const char* const kRftDragFields[] = {
 struct DragCoefficients {
   double normal_N_s_m2 = 0.0;
   double tangential_N_s_m2 = 0.0;
+  // The torque about a segment's centre per angular velocity normal to its
+  // axis [N m s]; 0 takes RFT's xi_n L^3 / 12.
+  double rotation_N_m_s = 0.0;
 };
+// xi.rotation_N_m_s, or xi_n L^3 / 12 when it is 0.
+double RotationalDrag_N_m_s(const DragCoefficients& xi, double length_m);
 
 DragCoefficients GrayHancockCoefficients(double viscosity_Pa_s, double radius_m,
                                          double wavelength_m);
 DragCoefficients LighthillCoefficients(double viscosity_Pa_s, double radius_m,
                                        double wavelength_m);
 
-// kRibbon: the converged flat plate's drag per length (plate_fluid.h,
-// ConvergedStripDrag) for the strip's own width and total length, broadside
-// as xi_n and axial as xi_t.
+// kRibbon: calibrated on the flat plates (ribbon_coefficients.h), one set
+// per segment: its share of the straight body's broadside and axial drag
+// per length, and its own rotational drag.
 enum class CoefficientModel { kGrayHancock, kLighthill, kNearWall, kDirect, kRibbon };
 // Throws std::invalid_argument naming the allowed set.
 CoefficientModel ParseCoefficientModel(const std::string& text);
@@ -218,6 +223,12 @@ class RftDrag : public Fluid {
 
   const RftDragConfig& config() const { return config_; }
   const DragCoefficients& coefficients() const { return coefficients_; }
+  // Each segment's coefficients, in geom_ids() order: coefficients() for
+  // every segment, but with kRibbon (whose coefficients() is the body's
+  // mean drag per length).
+  const std::vector<DragCoefficients>& segment_coefficients() const {
+    return segment_coefficients_;
+  }
   const std::vector<int>& geom_ids() const { return geom_ids_; }
 
  private:
@@ -229,9 +240,11 @@ class RftDrag : public Fluid {
   static Segment SegmentOf(const mjModel* m, const mjData* d, const SlenderGeom& geom);
   template <int Dim>
   BodyResistanceBlock<Dim> ResistanceOf(const mjModel* m, const mjData* d,
-                                        const SlenderGeom& geom) const;
+                                        const SlenderGeom& geom,
+                                        const DragCoefficients& xi) const;
   RftDragConfig config_;
   DragCoefficients coefficients_;
+  std::vector<DragCoefficients> segment_coefficients_;
   std::vector<int> geom_ids_;
   std::vector<SlenderGeom> slender_;
 };
