@@ -1,4 +1,4 @@
-// RFT near a no-slip plane wall (plugin/fluid/rft_drag.h, near_wall):
+// RFT near a no-slip plane wall (plugin/fluid/near_wall_rft.h):
 // Katz, Blake & Paveri-Fontana (JFM 72, 529, 1975) give, for a slender
 // body of radius a parallel to a wall, its centreline h from it,
 // a << h << L, moving parallel to the wall,
@@ -16,6 +16,7 @@
 
 #include "sim/base/numbers.h"
 #include "plugin/fluid/regularized_stokeslets.h"
+#include "plugin/fluid/near_wall_rft.h"
 #include "plugin/fluid/rft_drag.h"
 
 namespace ipmc::testing {

@@ -11,6 +11,7 @@
 
 #include "ipmc_swim/ipmc_swim.h"
 #include "plugin/coupling.h"
+#include "plugin/fluid/near_wall_rft.h"
 #include "plugin/fluid/rft_drag.h"
 #include "sim/core/scenario.h"
 #include "sim/core/simulation.h"

@@ -5,6 +5,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "plugin/fluid/near_wall_rft.h"
+#include "plugin/fluid/ribbon_coefficients.h"
 #include "plugin/mjcf/custom_fields.h"
 #include "plugin/mjcf/point_velocity.h"
 #include "sim/base/numbers.h"
@@ -56,12 +58,6 @@ DragCoefficients LighthillCoefficients(double viscosity_Pa_s, double radius_m,
   const double log_term =
       std::log(2.0 * kLighthillDistanceOverWavelength * wavelength_m / radius_m);
   return {4.0 * kPi * viscosity_Pa_s / (log_term + 0.5), 2.0 * kPi * viscosity_Pa_s / log_term};
-}
-
-DragCoefficients NearWallCoefficients(double viscosity_Pa_s, double radius_m,
-                                      double wall_distance_m) {
-  const double log_term = std::log(2.0 * wall_distance_m / radius_m);
-  return {4.0 * kPi * viscosity_Pa_s / log_term, 2.0 * kPi * viscosity_Pa_s / log_term};
 }
 
 std::optional<RftDragConfig> RftDragConfig::FromModel(const mjModel* m,
@@ -120,14 +116,7 @@ void RftDragConfig::Validate() const {
   }
   RequirePositive(equivalent_radius_m, kAttrEquivalentRadius);
   if (model == CoefficientModel::kNearWall) {
-    // h > a keeps ln(2 h / a) > ln 2 > 0; the formula itself wants h >> a.
-    if (!(wall_distance_m > equivalent_radius_m) || !std::isfinite(wall_distance_m)) {
-      std::ostringstream msg;
-      msg << "rft drag: coefficients = near_wall needs " << kAttrWallDistance << " > "
-          << kAttrEquivalentRadius << " = " << equivalent_radius_m << " m (got "
-          << wall_distance_m << ")";
-      throw std::invalid_argument(msg.str());
-    }
+    ValidateNearWallDistance(wall_distance_m, equivalent_radius_m);
     return;
   }
   RequirePositive(wavelength_m, kAttrWavelength);
@@ -161,6 +150,11 @@ DragCoefficients RftDragConfig::Coefficients() const {
   return direct;
 }
 
+double RotationalDrag_N_m_s(const DragCoefficients& xi, double length_m) {
+  if (xi.rotation_N_m_s > 0.0) return xi.rotation_N_m_s;
+  return xi.normal_N_s_m2 * length_m * length_m * length_m / 12.0;
+}
+
 Wrench SegmentDragExact(const Segment& segment, const DragCoefficients& xi) {
   const Eigen::Vector3d& t = segment.tangent_W;
   const double length = segment.length_m;
@@ -168,7 +162,7 @@ Wrench SegmentDragExact(const Segment& segment, const DragCoefficients& xi) {
       segment.angular_velocity_W - segment.angular_velocity_W.dot(t) * t;
   Wrench wrench;
   wrench.force_W = length * DragPerLength(segment.velocity_center_W, t, xi);
-  wrench.torque_center_W = -xi.normal_N_s_m2 * length * length * length / 12.0 * w_normal;
+  wrench.torque_center_W = -RotationalDrag_N_m_s(xi, length) * w_normal;
   return wrench;
 }
 
@@ -181,8 +175,7 @@ SpatialResistance SegmentResistance(const Eigen::Vector3d& center_W,
   const Eigen::Matrix3d rx = CrossMatrix(center_W - c_W);
   const Eigen::Matrix3d rx_lr = rx * lr;
   SpatialResistance s;
-  s.topLeftCorner<3, 3>() =
-      xi.normal_N_s_m2 * length_m * length_m * length_m / 12.0 * normal - rx_lr * rx;
+  s.topLeftCorner<3, 3>() = RotationalDrag_N_m_s(xi, length_m) * normal - rx_lr * rx;
   s.topRightCorner<3, 3>() = rx_lr;
   s.bottomLeftCorner<3, 3>() = rx_lr.transpose();
   s.bottomRightCorner<3, 3>() = lr;
@@ -209,7 +202,7 @@ Eigen::Matrix3d SegmentPlanarResistance(const Eigen::Vector3d& center_W,
   const double coupling_x = -r.y() * lr(0, 0) + r.x() * lr(1, 0);
   const double coupling_y = -r.y() * lr(0, 1) + r.x() * lr(1, 1);
   Eigen::Matrix3d s;
-  s(0, 0) = xi.normal_N_s_m2 * length_m * length_m * length_m / 12.0 * (1.0 - t.z() * t.z()) -
+  s(0, 0) = RotationalDrag_N_m_s(xi, length_m) * (1.0 - t.z() * t.z()) -
             (coupling_x * r.y() - coupling_y * r.x());
   s(0, 1) = s(1, 0) = coupling_x;
   s(0, 2) = s(2, 0) = coupling_y;
@@ -284,12 +277,23 @@ RftDrag::RftDrag(const mjModel* m, const RftDragConfig& config)
                                     "' is not a box, capsule or cylinder");
     }
   }
+  segment_coefficients_.assign(slender_.size(), coefficients_);
   if (config_.model == CoefficientModel::kRibbon) {
-    double length_m = 0.0;
-    for (const SlenderGeom& geom : slender_) length_m += geom.length_m;
-    const StripDragPerLength strip =
-        ConvergedStripDrag(config_.viscosity_Pa_s, length_m, StripWidth_m(m));
-    coefficients_ = {strip.broadside_N_s_m2, strip.axial_N_s_m2};
+    // The plates' calibration in the model's reference pose (qpos0).
+    mjData* d = mj_makeData(m);
+    mj_kinematics(m, d);
+    const std::vector<Segment> reference = Segments(m, d);
+    mj_deleteData(d);
+    segment_coefficients_ =
+        PlateCalibratedCoefficients(config_.viscosity_Pa_s, reference, StripWidth_m(m));
+    // coefficients(): the body's mean drag per length.
+    double length_m = 0.0, broadside_N_s_m = 0.0, axial_N_s_m = 0.0;
+    for (size_t i = 0; i < slender_.size(); ++i) {
+      length_m += slender_[i].length_m;
+      broadside_N_s_m += segment_coefficients_[i].normal_N_s_m2 * slender_[i].length_m;
+      axial_N_s_m += segment_coefficients_[i].tangential_N_s_m2 * slender_[i].length_m;
+    }
+    coefficients_ = {broadside_N_s_m / length_m, axial_N_s_m / length_m};
   }
 }
 
@@ -317,23 +321,23 @@ std::vector<Segment> RftDrag::Segments(const mjModel* m, const mjData* d) const 
 
 double RftDrag::DissipatedPower_W(const mjModel* m, const mjData* d) const {
   double power_W = 0.0;
-  for (const SlenderGeom& geom : slender_) {
-    const Segment segment = SegmentOf(m, d, geom);
-    power_W -= SegmentDragPower(segment, SegmentDragExact(segment, coefficients_));
+  for (size_t i = 0; i < slender_.size(); ++i) {
+    const Segment segment = SegmentOf(m, d, slender_[i]);
+    power_W -= SegmentDragPower(segment, SegmentDragExact(segment, segment_coefficients_[i]));
   }
   return power_W;
 }
 
 double RftDrag::TowingDrag_N(double speed_m_s) const {
   double drag_N = 0.0;
-  for (const SlenderGeom& geom : slender_) {
+  for (size_t i = 0; i < slender_.size(); ++i) {
     Segment segment;
     segment.center_W = Eigen::Vector3d::Zero();
     segment.tangent_W = Eigen::Vector3d::UnitX();
-    segment.length_m = geom.length_m;
+    segment.length_m = slender_[i].length_m;
     segment.velocity_center_W = Eigen::Vector3d(speed_m_s, 0.0, 0.0);
     segment.angular_velocity_W = Eigen::Vector3d::Zero();
-    drag_N -= SegmentDragExact(segment, coefficients_).force_W.x();
+    drag_N -= SegmentDragExact(segment, segment_coefficients_[i]).force_W.x();
   }
   return drag_N;
 }
@@ -355,16 +359,17 @@ double RftDrag::RotationalDragScale_N_m_s() const {
 // cvel).
 template <int Dim>
 BodyResistanceBlock<Dim> RftDrag::ResistanceOf(const mjModel* m, const mjData* d,
-                                                        const SlenderGeom& geom) const {
+                                                const SlenderGeom& geom,
+                                                const DragCoefficients& xi) const {
   const int body = m->geom_bodyid[geom.geom_id];
   const mjtNum* xmat = d->geom_xmat + 9 * geom.geom_id;  // row-major
   const Eigen::Vector3d tangent(xmat[geom.axis], xmat[3 + geom.axis], xmat[6 + geom.axis]);
   const Eigen::Vector3d center(d->geom_xpos + 3 * geom.geom_id);
   const Eigen::Vector3d c(d->subtree_com + 3 * m->body_rootid[body]);
   if constexpr (Dim == 6) {
-    return {body, SegmentResistance(center, tangent, geom.length_m, c, coefficients_)};
+    return {body, SegmentResistance(center, tangent, geom.length_m, c, xi)};
   } else {
-    return {body, SegmentPlanarResistance(center, tangent, geom.length_m, c, coefficients_)};
+    return {body, SegmentPlanarResistance(center, tangent, geom.length_m, c, xi)};
   }
 }
 
@@ -372,7 +377,9 @@ template <int Dim>
 void RftDrag::Resistances(const mjModel* m, const mjData* d,
                           BodyResistanceBlocks<Dim>* out) const {
   out->clear();
-  for (const SlenderGeom& geom : slender_) out->push_back(ResistanceOf<Dim>(m, d, geom));
+  for (size_t i = 0; i < slender_.size(); ++i) {
+    out->push_back(ResistanceOf<Dim>(m, d, slender_[i], segment_coefficients_[i]));
+  }
 }
 template void RftDrag::Resistances<6>(const mjModel*, const mjData*,
                                       BodyResistanceBlocks<6>*) const;
@@ -391,8 +398,9 @@ void RftDrag::Apply(const mjModel* m, mjData* d) const {
   mjMARKSTACK
   mjtNum* wrench_c = mj_stackAlloc(d, 6 * m->nbody);  // [torque; force] at c, per body
   mju_zero(wrench_c, 6 * m->nbody);
-  for (const SlenderGeom& geom : slender_) {
-    const BodyResistanceBlock<6> segment = ResistanceOf<6>(m, d, geom);
+  for (size_t i = 0; i < slender_.size(); ++i) {
+    const BodyResistanceBlock<6> segment =
+        ResistanceOf<6>(m, d, slender_[i], segment_coefficients_[i]);
     Eigen::Map<Vector6> target(wrench_c + 6 * segment.body);
     target.noalias() -= segment.resistance *
                         Eigen::Map<const Vector6>(d->cvel + 6 * segment.body);

@@ -25,15 +25,8 @@
 //                          xi_t = 2 pi mu / (ln(2 lambda / a) - 1/2)
 //   Lighthill (1976):      xi_n = 4 pi mu / (ln(2 q / a) + 1/2),
 //                          xi_t = 2 pi mu /  ln(2 q / a),  q = 0.09 lambda
-//   near a no-slip plane wall (Katz, Blake & Paveri-Fontana, JFM 72, 529,
-//   1975), the centreline parallel to it a distance h away, a << h << lambda:
-//                          xi_n = 4 pi mu / ln(2 h / a),
-//                          xi_t = 2 pi mu / ln(2 h / a)
-//   for motion parallel to the wall (normal to it xi_n would be
-//   4 pi mu / (ln(2 h / a) - 1)); the wall screens the far field, so 2 h
-//   takes the place of the wavelength and the ratio is exactly 2. The
-//   swimmer beats in a plane parallel to the wall (docs/FLUIDS.md), so the
-//   parallel pair is the one that acts; it is used for every direction.
+//   near a no-slip plane wall (Katz, Blake & Paveri-Fontana 1975), the
+//   centreline parallel to it a distance h away: near_wall_rft.h
 // or set directly. For the flat 3 mm x 250 um strip a = (w + h) / 4
 // (Batchelor 1970, elliptical section of semi-axes w/2, h/2).
 //
@@ -89,18 +82,21 @@ inline const char* const kRftDragFields[] = {
 struct DragCoefficients {
   double normal_N_s_m2 = 0.0;
   double tangential_N_s_m2 = 0.0;
+  // The torque about a segment's centre per angular velocity normal to its
+  // axis [N m s]; 0 takes RFT's xi_n L^3 / 12.
+  double rotation_N_m_s = 0.0;
 };
+// xi.rotation_N_m_s, or xi_n L^3 / 12 when it is 0.
+double RotationalDrag_N_m_s(const DragCoefficients& xi, double length_m);
 
 DragCoefficients GrayHancockCoefficients(double viscosity_Pa_s, double radius_m,
                                          double wavelength_m);
 DragCoefficients LighthillCoefficients(double viscosity_Pa_s, double radius_m,
                                        double wavelength_m);
-DragCoefficients NearWallCoefficients(double viscosity_Pa_s, double radius_m,
-                                      double wall_distance_m);
 
-// kRibbon: the converged flat plate's drag per length (plate_fluid.h,
-// ConvergedStripDrag) for the strip's own width and total length, broadside
-// as xi_n and axial as xi_t.
+// kRibbon: calibrated on the flat plates (ribbon_coefficients.h), one set
+// per segment: its share of the straight body's broadside and axial drag
+// per length, and its own rotational drag.
 enum class CoefficientModel { kGrayHancock, kLighthill, kNearWall, kDirect, kRibbon };
 // Throws std::invalid_argument naming the allowed set.
 CoefficientModel ParseCoefficientModel(const std::string& text);
@@ -232,6 +228,12 @@ class RftDrag : public Fluid {
 
   const RftDragConfig& config() const { return config_; }
   const DragCoefficients& coefficients() const { return coefficients_; }
+  // Each segment's coefficients, in geom_ids() order: coefficients() for
+  // every segment, but with kRibbon (whose coefficients() is the body's
+  // mean drag per length).
+  const std::vector<DragCoefficients>& segment_coefficients() const {
+    return segment_coefficients_;
+  }
   const std::vector<int>& geom_ids() const { return geom_ids_; }
 
  private:
@@ -243,9 +245,11 @@ class RftDrag : public Fluid {
   static Segment SegmentOf(const mjModel* m, const mjData* d, const SlenderGeom& geom);
   template <int Dim>
   BodyResistanceBlock<Dim> ResistanceOf(const mjModel* m, const mjData* d,
-                                        const SlenderGeom& geom) const;
+                                        const SlenderGeom& geom,
+                                        const DragCoefficients& xi) const;
   RftDragConfig config_;
   DragCoefficients coefficients_;
+  std::vector<DragCoefficients> segment_coefficients_;
   std::vector<int> geom_ids_;
   std::vector<SlenderGeom> slender_;
 };

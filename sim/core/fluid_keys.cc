@@ -33,9 +33,10 @@ std::vector<KeySpec> RftKeys() {
           }),
       Key("fluid.rft_coefficients", T::kChoice, "", "", "the model's `ipmc_rft_coefficients`",
           "RFT drag coefficients (plugin/fluid/rft_drag.h), overriding the model's; "
-          "gray_hancock and lighthill follow fluid.rft_wavelength_mm, ribbon is the converged "
-          "flat plate's broadside and axial drag per length for the strip's own width and "
-          "length (plugin/fluid/plate_fluid.h)")
+          "gray_hancock and lighthill follow fluid.rft_wavelength_mm; ribbon is calibrated at "
+          "set-up on the converged flat plates of the model's own straight strip, per segment: "
+          "its share of the broadside and axial drag per length and its own rotational drag "
+          "(plugin/fluid/ribbon_coefficients.h, docs/FLUIDS.md)")
           .Example("\"lighthill\"")
           .Refused("\"direct\"")
           .Choices(kRftCoefficientNames)
