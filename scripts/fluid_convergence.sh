@@ -8,8 +8,8 @@
 #     which their error is linear, with the line through the two finest to
 #     1 / k = 0, the converged swim);
 #   - slender-ribbon theory, fluid.ribbon_modes;
-#   - RFT with Gray & Hancock's coefficients (the paper's) and with the
-#     ribbon's (fluid.rft_coefficients = "ribbon"), which have no resolution.
+#   - RFT with Gray & Hancock's coefficients (the paper's) and calibrated on
+#     the plates (fluid.rft_coefficients = "ribbon"), which have no resolution.
 # About 20 minutes of CPU time, most of it the plates at k = 5. A run whose
 # folder in OUT already holds its summary.json is not run again (the runs
 # are deterministic); delete OUT to start afresh.
@@ -82,14 +82,14 @@ set xlabel "Stokeslets on the centreline: points per mm"
 set logscale x 2
 plot "$out/stokeslets.dat" using 1:2 with linespoints pt 7 lc rgb "#762a83" title "Stokeslets, centreline", \
      $rft with lines dt 2 lw 2 lc rgb "#1b7837" title "RFT, Gray and Hancock (the paper's)", \
-     $rft_ribbon with lines dt 4 lw 2 lc rgb "#2166ac" title "RFT, ribbon coefficients", \
+     $rft_ribbon with lines dt 4 lw 2 lc rgb "#2166ac" title "RFT calibrated on the plates", \
      limit(x) with lines dt 3 lw 2 lc rgb "#e08214" title "plates, converged"
 set xlabel "slender-ribbon theory: Legendre modes"
 unset logscale x
 set xrange [3.5:9.5]
 plot "$out/ribbon.dat" using 1:2 with linespoints pt 5 lc rgb "#762a83" title "slender-ribbon theory", \
      $rft with lines dt 2 lw 2 lc rgb "#1b7837" title "RFT, Gray and Hancock (the paper's)", \
-     $rft_ribbon with lines dt 4 lw 2 lc rgb "#2166ac" title "RFT, ribbon coefficients", \
+     $rft_ribbon with lines dt 4 lw 2 lc rgb "#2166ac" title "RFT calibrated on the plates", \
      limit(x) with lines dt 3 lw 2 lc rgb "#e08214" title "plates, converged"
 set xlabel "flat plates: 1 / k, k force points across the width"
 set xrange [0:0.55]
@@ -97,7 +97,7 @@ set xtics ("0" 0, "1/5" 0.2, "1/4" 0.25, "1/3" 1.0/3, "1/2" 0.5)
 plot "$out/plates.dat" using (1.0/\$1):2 with linespoints pt 9 lc rgb "#762a83" title "plates (k = 2 ... 5)", \
      [0:0.25] $plates_limit + $plates_slope * x with lines dt 3 lw 2 lc rgb "#e08214" title "through k = 4 and 5 to 1 / k = 0", \
      $rft with lines dt 2 lw 2 lc rgb "#1b7837" title "RFT, Gray and Hancock (the paper's)", \
-     $rft_ribbon with lines dt 4 lw 2 lc rgb "#2166ac" title "RFT, ribbon coefficients"
+     $rft_ribbon with lines dt 4 lw 2 lc rgb "#2166ac" title "RFT calibrated on the plates"
 unset multiplot
 PLOT
 # The plates extrapolated in 1 / k from two resolutions, (k2 s_k2 - k1 s_k1)
