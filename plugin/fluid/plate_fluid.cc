@@ -308,19 +308,23 @@ Eigen::MatrixXd PlateFluid::Resistance(const std::vector<PlacedSurface>& plates,
          coarse;
 }
 
+PlacedSurface PlateOnSegment(const Segment& segment, const SurfaceMesh* mesh, int body) {
+  PlacedSurface plate;
+  const Eigen::Vector3d t = segment.tangent_W.normalized();
+  const Eigen::Vector3d w = (Eigen::Vector3d::UnitZ() - t.z() * t).normalized();
+  plate.rotation << t, w.cross(t), w;
+  plate.position = segment.center_W;
+  plate.mesh = mesh;
+  plate.body = body;
+  return plate;
+}
+
 Eigen::MatrixXd PlateFluid::ComputeResistance(const mjModel* m, const mjData* d,
                                               const Eigen::Vector3d& origin_W) const {
   const std::vector<Segment> segments = rft().Segments(m, d);
   std::vector<PlacedSurface> plates(segments.size());
   for (size_t i = 0; i < segments.size(); ++i) {
-    // The plate's frame: x along the segment, z across the width (the
-    // generated models' width, normal to the beat plane).
-    const Eigen::Vector3d t = segments[i].tangent_W.normalized();
-    const Eigen::Vector3d w = (Eigen::Vector3d::UnitZ() - t.z() * t).normalized();
-    plates[i].rotation << t, w.cross(t), w;
-    plates[i].position = segments[i].center_W;
-    plates[i].mesh = &meshes_[i];
-    plates[i].body = body_of_geom(static_cast<int>(i));
+    plates[i] = PlateOnSegment(segments[i], &meshes_[i], body_of_geom(static_cast<int>(i)));
   }
   return Resistance(plates, origin_W);
 }

@@ -105,6 +105,12 @@ struct PlacedSurface {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   int body = 0;
 };
+struct Segment;  // rft_drag.h, which includes this header
+
+// The plate of `segment`, as the plate model places it: x along the
+// segment, z across the width (the generated models' width, normal to the
+// beat plane), centred on the segment's centre.
+PlacedSurface PlateOnSegment(const Segment& segment, const SurfaceMesh* mesh, int body);
 
 // The velocity matrix of the nearest-neighbour method, (1 / 8 pi mu) times
 // sum over the quadrature points y owned by force point j of

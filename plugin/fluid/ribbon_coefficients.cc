@@ -25,14 +25,7 @@ Eigen::MatrixXd SegmentPlatesResistance(double viscosity_Pa_s,
   }
   std::vector<PlacedSurface> plates(reference.size());
   for (size_t i = 0; i < reference.size(); ++i) {
-    // The plate's frame as PlateFluid places it: x along the segment, z
-    // across the width.
-    const Eigen::Vector3d t = reference[i].tangent_W.normalized();
-    const Eigen::Vector3d w = (Eigen::Vector3d::UnitZ() - t.z() * t).normalized();
-    plates[i].rotation << t, w.cross(t), w;
-    plates[i].position = reference[i].center_W;
-    plates[i].mesh = &meshes[i];
-    plates[i].body = static_cast<int>(i);
+    plates[i] = PlateOnSegment(reference[i], &meshes[i], static_cast<int>(i));
   }
   return ExtrapolatedResistance(plates, static_cast<int>(reference.size()),
                                 Eigen::Vector3d::Zero(), kBlobOverSpacing * width_m / across, true,
