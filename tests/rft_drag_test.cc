@@ -307,7 +307,7 @@ TEST(RftDragTest, MalformedFieldsAreRejectedWithTheFieldName) {
             std::string::npos);
   EXPECT_NE(attach_error(R"(<numeric name="ipmc_rft_viscosity_Pa_s" data="1e-3"/>
                             <text name="ipmc_rft_coefficients" data="stokeslet"/>)")
-                .find("gray_hancock, lighthill, near_wall, direct or ribbon"),
+                .find("gray_hancock, lighthill, near_wall, direct, ribbon or ribbon_fitted"),
             std::string::npos);
   EXPECT_NE(attach_error(R"(<numeric name="ipmc_rft_viscosity_Pa_s" data="1e-3"/>
                             <text name="ipmc_rft_geoms" data="tail"/>)")

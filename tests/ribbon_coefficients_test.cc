@@ -7,7 +7,8 @@
 // Fluid interface at 4 and 6 points across and extrapolated in 1 / k the
 // same way, must give the same drags: the sum over the segments of xi_n L
 // and xi_t L for the body translating broadside and along its axis, and a
-// link's own rotational drag.
+// link's own rotational drag. The fitted set (`"ribbon_fitted"`) against
+// the plates' swim and fluid power in the paper's default job.
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
@@ -21,9 +22,11 @@
 #include "plugin/coupling.h"
 #include "plugin/fluid/fluid_model.h"
 #include "plugin/fluid/rft_drag.h"
+#include "plugin/fluid/ribbon_coefficients.h"
 #include "sim/core/scenario.h"
 #include "sim/core/scenario_simulation.h"
 #include "sim/core/simulation.h"
+#include "sim/runs/closed_loop_run.h"
 
 namespace ipmc::testing {
 namespace {
@@ -105,6 +108,41 @@ TEST(RibbonCoefficientsTest, MatchThePlateModelOfTheStraightBody) {
   EXPECT_GT(xi[kMiddleLink].rotation_N_m_s,
             2.0 * xi[kMiddleLink].normal_N_s_m2 * length * length * length / 12.0);
   EXPECT_DOUBLE_EQ(drag.TowingDrag_N(1.0), axial);
+}
+
+TEST(RibbonCoefficientsTest, FittedSetScalesBroadsideAndRotationOnly) {
+  const std::unique_ptr<Simulation> calibrated = Paper("rft_coefficients = \"ribbon\"\n");
+  const std::unique_ptr<Simulation> fitted = Paper("rft_coefficients = \"ribbon_fitted\"\n");
+  const std::vector<DragCoefficients>& xi =
+      FindCoupling(calibrated->data())->drag->segment_coefficients();
+  const std::vector<DragCoefficients>& fit =
+      FindCoupling(fitted->data())->drag->segment_coefficients();
+  ASSERT_EQ(fit.size(), xi.size());
+  for (size_t i = 0; i < xi.size(); ++i) {
+    EXPECT_DOUBLE_EQ(fit[i].normal_N_s_m2, kFittedBroadsideScale * xi[i].normal_N_s_m2);
+    EXPECT_DOUBLE_EQ(fit[i].tangential_N_s_m2, xi[i].tangential_N_s_m2);
+    EXPECT_DOUBLE_EQ(fit[i].rotation_N_m_s, kFittedRotationScale * xi[i].rotation_N_m_s);
+  }
+}
+
+// The paper's default job (three 100 s cycles), cycle 3, against the plates
+// extrapolated in 1 / k from k = 4 and 5 (docs/FLUIDS.md, "Flat plates":
+// 0.830256 mm and 1.59466e-12 W, themselves uncertain by about 0.5 % and
+// 1.2 %, the distance to the extrapolation from k = 3 and 4). The factors
+// were fitted to these to two figures, which leaves 0.2 % in the swim and
+// -0.2 % in the power; 2 % is ten times that: a change in the calibration
+// or the dynamics that moves the swim fails it.
+TEST(RibbonCoefficientsTest, FittedSetSwimsAsThePlatesInThePaperRun) {
+  constexpr double kPlatesSwim_mm = 0.830256, kPlatesFluidPower_W = 1.59466e-12;
+  ScenarioConfig scenario = LoadScenario(kPaper);
+  scenario.fluid.rft_coefficients = CoefficientModel::kRibbonFitted;
+  const ClosedLoopResult result = SimulateScenario(scenario);
+  const double swim_mm = result.swim.per_cycle.at(2).com_along;
+  const double power_W = result.energy.per_cycle.at(2).fluid_power_W;
+  std::printf("ribbon_fitted, default job, cycle 3: %.6g mm (plates %.6g), %.6g W (plates %.6g)\n",
+              swim_mm, kPlatesSwim_mm, power_W, kPlatesFluidPower_W);
+  EXPECT_NEAR(swim_mm / kPlatesSwim_mm, 1.0, 0.02);
+  EXPECT_NEAR(power_W / kPlatesFluidPower_W, 1.0, 0.02);
 }
 
 }  // namespace

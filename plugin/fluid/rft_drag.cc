@@ -41,9 +41,11 @@ CoefficientModel ParseCoefficientModel(const std::string& text) {
   if (text == "near_wall") return CoefficientModel::kNearWall;
   if (text == "direct") return CoefficientModel::kDirect;
   if (text == "ribbon") return CoefficientModel::kRibbon;
-  throw std::invalid_argument(std::string("rft drag: ") + kAttrCoefficients +
-                              " must be gray_hancock, lighthill, near_wall, direct or ribbon (got '" +
-                              text + "')");
+  if (text == "ribbon_fitted") return CoefficientModel::kRibbonFitted;
+  throw std::invalid_argument(
+      std::string("rft drag: ") + kAttrCoefficients +
+      " must be gray_hancock, lighthill, near_wall, direct, ribbon or ribbon_fitted (got '" + text +
+      "')");
 }
 
 DragCoefficients GrayHancockCoefficients(double viscosity_Pa_s, double radius_m,
@@ -145,6 +147,7 @@ DragCoefficients RftDragConfig::Coefficients() const {
       return NearWallCoefficients(viscosity_Pa_s, equivalent_radius_m, wall_distance_m);
     case CoefficientModel::kDirect:
     case CoefficientModel::kRibbon:  // set by RftDrag, which knows the strip's length
+    case CoefficientModel::kRibbonFitted:
       return direct;
   }
   return direct;
@@ -278,7 +281,8 @@ RftDrag::RftDrag(const mjModel* m, const RftDragConfig& config)
     }
   }
   segment_coefficients_.assign(slender_.size(), coefficients_);
-  if (config_.model == CoefficientModel::kRibbon) {
+  if (config_.model == CoefficientModel::kRibbon ||
+      config_.model == CoefficientModel::kRibbonFitted) {
     // The plates' calibration in the model's reference pose (qpos0).
     mjData* d = mj_makeData(m);
     mj_kinematics(m, d);
@@ -286,6 +290,9 @@ RftDrag::RftDrag(const mjModel* m, const RftDragConfig& config)
     mj_deleteData(d);
     segment_coefficients_ =
         PlateCalibratedCoefficients(config_.viscosity_Pa_s, reference, StripWidth_m(m));
+    if (config_.model == CoefficientModel::kRibbonFitted) {
+      segment_coefficients_ = FittedToPaperSwim(segment_coefficients_);
+    }
     // coefficients(): the body's mean drag per length.
     double length_m = 0.0, broadside_N_s_m = 0.0, axial_N_s_m = 0.0;
     for (size_t i = 0; i < slender_.size(); ++i) {

@@ -34,7 +34,7 @@
 // using RFT; a model without it gets no drag):
 //   numeric ipmc_rft_viscosity_Pa_s        mu > 0
 //   text    ipmc_rft_coefficients          gray_hancock | lighthill | near_wall
-//                                          | direct
+//                                          | direct | ribbon | ribbon_fitted
 //   numeric ipmc_rft_wall_distance_m       h > a (near_wall): the centreline's
 //                                          distance to the wall, in the plane
 //                                          z = const below the body
@@ -96,8 +96,17 @@ DragCoefficients LighthillCoefficients(double viscosity_Pa_s, double radius_m,
 
 // kRibbon: calibrated on the flat plates (ribbon_coefficients.h), one set
 // per segment: its share of the straight body's broadside and axial drag
-// per length, and its own rotational drag.
-enum class CoefficientModel { kGrayHancock, kLighthill, kNearWall, kDirect, kRibbon };
+// per length, and its own rotational drag. kRibbonFitted: the same with the
+// broadside and rotational drags scaled by factors fitted to the plates'
+// swim and fluid power in the paper's default job (ribbon_coefficients.h).
+enum class CoefficientModel {
+  kGrayHancock,
+  kLighthill,
+  kNearWall,
+  kDirect,
+  kRibbon,
+  kRibbonFitted
+};
 // Throws std::invalid_argument naming the allowed set.
 CoefficientModel ParseCoefficientModel(const std::string& text);
 
@@ -229,8 +238,8 @@ class RftDrag : public Fluid {
   const RftDragConfig& config() const { return config_; }
   const DragCoefficients& coefficients() const { return coefficients_; }
   // Each segment's coefficients, in geom_ids() order: coefficients() for
-  // every segment, but with kRibbon (whose coefficients() is the body's
-  // mean drag per length).
+  // every segment, but with kRibbon and kRibbonFitted (whose coefficients()
+  // is the body's mean drag per length).
   const std::vector<DragCoefficients>& segment_coefficients() const {
     return segment_coefficients_;
   }

@@ -79,4 +79,12 @@ std::vector<DragCoefficients> PlateCalibratedCoefficients(double viscosity_Pa_s,
   return xi;
 }
 
+std::vector<DragCoefficients> FittedToPaperSwim(std::vector<DragCoefficients> calibrated) {
+  for (DragCoefficients& xi : calibrated) {
+    xi.normal_N_s_m2 *= kFittedBroadsideScale;
+    xi.rotation_N_m_s *= kFittedRotationScale;
+  }
+  return calibrated;
+}
+
 }  // namespace ipmc

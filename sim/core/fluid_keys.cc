@@ -36,7 +36,9 @@ std::vector<KeySpec> RftKeys() {
           "gray_hancock and lighthill follow fluid.rft_wavelength_mm; ribbon is calibrated at "
           "set-up on the converged flat plates of the model's own straight strip, per segment: "
           "its share of the broadside and axial drag per length and its own rotational drag "
-          "(plugin/fluid/ribbon_coefficients.h, docs/FLUIDS.md)")
+          "(plugin/fluid/ribbon_coefficients.h, docs/FLUIDS.md); ribbon_fitted is ribbon with "
+          "the broadside drag x 1.14 and the rotational drag x 0.85, fitted to the plates' swim "
+          "and fluid power in the paper's default job (for that strip and gait)")
           .Example("\"lighthill\"")
           .Refused("\"direct\"")
           .Choices(kRftCoefficientNames)

@@ -48,6 +48,7 @@ inline constexpr ChoiceName<CoefficientModel> kRftCoefficientNames[] = {
     {"gray_hancock", CoefficientModel::kGrayHancock},
     {"lighthill", CoefficientModel::kLighthill},
     {"ribbon", CoefficientModel::kRibbon},
+    {"ribbon_fitted", CoefficientModel::kRibbonFitted},
 };
 
 // How long the run is and how it steps. The time step's fit to the
