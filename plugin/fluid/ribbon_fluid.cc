@@ -82,7 +82,31 @@ Eigen::MatrixXd VelocityOfModes(const std::vector<Node>& nodes, const Eigen::Mat
   const int n_nodes = static_cast<int>(nodes.size());
   const int modes = static_cast<int>(legendre.cols());
   const Eigen::Matrix3d identity = Eigen::Matrix3d::Identity();
-  Eigen::MatrixXd velocity = Eigen::MatrixXd::Zero(3 * n_nodes, 3 * modes);
+  // The remainder's kernel at nodes i, q of different pieces,
+  //   w_q [(1 / d - 1 / |s - s'|) I - t t / |s - s'| + R R / d^3],
+  // in its 8 scalar parts (the I part, the t t part, and R R's xx, yy, zz,
+  // xy, xz, yz) as rows 8 i .. 8 i + 7, column q; times P_n at the nodes it
+  // gives the parts of every mode's velocity at once.
+  constexpr int kParts = 8;
+  Eigen::MatrixXd parts = Eigen::MatrixXd::Zero(kParts * n_nodes, n_nodes);
+  for (int i = 0; i < n_nodes; ++i) {
+    const Node& a = nodes[i];
+    for (int q = 0; q < n_nodes; ++q) {
+      const Node& c = nodes[q];
+      if (c.piece == a.piece) continue;  // the straight part, done below
+      const Eigen::Vector3d r = (a.hydro_W - c.hydro_W) / half_length_m;
+      const double inverse_distance = 1.0 / r.norm();
+      const double inverse_ds = 1.0 / std::abs(a.s - c.s);
+      const double k = c.weight * inverse_distance * inverse_distance * inverse_distance;
+      double* column = &parts(kParts * i, q);
+      column[0] = c.weight * (inverse_distance - inverse_ds);
+      column[1] = c.weight * inverse_ds;
+      column[2] = k * r.x() * r.x(), column[3] = k * r.y() * r.y(), column[4] = k * r.z() * r.z();
+      column[5] = k * r.x() * r.y(), column[6] = k * r.x() * r.z(), column[7] = k * r.y() * r.z();
+    }
+  }
+  const Eigen::MatrixXd remainder = parts * legendre;  // (8 N) x M
+  Eigen::MatrixXd velocity(3 * n_nodes, 3 * modes);
   for (int i = 0; i < n_nodes; ++i) {
     const Node& a = nodes[i];
     const Eigen::Matrix3d tt = a.tangent_W * a.tangent_W.transpose();
@@ -91,20 +115,13 @@ Eigen::MatrixXd VelocityOfModes(const std::vector<Node>& nodes, const Eigen::Mat
     double harmonic = 0.0;
     for (int n = 0; n < modes; ++n) {
       if (n > 0) harmonic += 1.0 / n;
-      velocity.block<3, 3>(3 * i, 3 * n) +=
-          (local - 2.0 * harmonic * (identity + tt)) * legendre(i, n);
-    }
-    for (int q = 0; q < n_nodes; ++q) {
-      const Node& c = nodes[q];
-      if (c.piece == a.piece) continue;  // the straight part, done above
-      const Eigen::Vector3d r = (a.hydro_W - c.hydro_W) / half_length_m;
-      const double distance = r.norm();
-      const Eigen::Matrix3d kernel =
-          c.weight * ((identity + r * r.transpose() / (distance * distance)) / distance -
-                      (identity + tt) / std::abs(a.s - c.s));
-      for (int n = 0; n < modes; ++n) {
-        velocity.block<3, 3>(3 * i, 3 * n) += kernel * legendre(q, n);
-      }
+      const auto v = remainder.block<kParts, 1>(kParts * i, n);
+      Eigen::Matrix3d rr;
+      rr << v[2], v[5], v[6], v[5], v[3], v[7], v[6], v[7], v[4];
+      // The local term and the straight part's -2 H_n (I + t t) P_n.
+      velocity.block<3, 3>(3 * i, 3 * n) =
+          (local - 2.0 * harmonic * (identity + tt)) * legendre(i, n) + v[0] * identity -
+          v[1] * tt + rr;
     }
   }
   return velocity;
