@@ -78,6 +78,12 @@ const Eigen::MatrixXd& DenseResistanceFluid::WorldResistance(const mjData* d) co
   const Eigen::Matrix3d q = BodyRotation(d, root_body_);
   const Eigen::Vector3d r =
       Eigen::Vector3d(d->xpos + 3 * root_body_) - Eigen::Vector3d(d->subtree_com + 3 * root_body_);
+  if (world_of_recomputation_ == recomputations_ && world_rotation_ == q && world_offset_ == r) {
+    return world_resistance_;
+  }
+  world_of_recomputation_ = recomputations_;
+  world_rotation_ = q;
+  world_offset_ = r;
   Matrix6 t = Matrix6::Identity();
   t.block<3, 3>(3, 0) = -CrossMatrix(r);
   Matrix6 q6 = Matrix6::Zero();

@@ -85,12 +85,15 @@ Eigen::MatrixXd VelocityOfModes(const std::vector<Node>& nodes, const Eigen::Mat
   // The remainder's kernel at nodes i, q of different pieces,
   //   w_q [(1 / d - 1 / |s - s'|) I - t t / |s - s'| + R R / d^3],
   // in its 8 scalar parts (the I part, the t t part, and R R's xx, yy, zz,
-  // xy, xz, yz) as rows 8 i .. 8 i + 7, column q; times P_n at the nodes it
-  // gives the parts of every mode's velocity at once.
+  // xy, xz, yz), summed against P_n(s_q) for every mode n at once: column
+  // 8 i .. 8 i + 7 of `remainder`, row n.
   constexpr int kParts = 8;
-  Eigen::MatrixXd parts = Eigen::MatrixXd::Zero(kParts * n_nodes, n_nodes);
+  using Parts = Eigen::Matrix<double, kParts, 1>;
+  using PartsOfModes = Eigen::Matrix<double, kParts, Eigen::Dynamic, 0, kParts, kMaxRibbonModes>;
+  Eigen::MatrixXd remainder(kParts * n_nodes, modes);
   for (int i = 0; i < n_nodes; ++i) {
     const Node& a = nodes[i];
+    PartsOfModes sum = PartsOfModes::Zero(kParts, modes);
     for (int q = 0; q < n_nodes; ++q) {
       const Node& c = nodes[q];
       if (c.piece == a.piece) continue;  // the straight part, done below
@@ -98,14 +101,14 @@ Eigen::MatrixXd VelocityOfModes(const std::vector<Node>& nodes, const Eigen::Mat
       const double inverse_distance = 1.0 / r.norm();
       const double inverse_ds = 1.0 / std::abs(a.s - c.s);
       const double k = c.weight * inverse_distance * inverse_distance * inverse_distance;
-      double* column = &parts(kParts * i, q);
-      column[0] = c.weight * (inverse_distance - inverse_ds);
-      column[1] = c.weight * inverse_ds;
-      column[2] = k * r.x() * r.x(), column[3] = k * r.y() * r.y(), column[4] = k * r.z() * r.z();
-      column[5] = k * r.x() * r.y(), column[6] = k * r.x() * r.z(), column[7] = k * r.y() * r.z();
+      Parts parts;
+      parts << c.weight * (inverse_distance - inverse_ds), c.weight * inverse_ds,
+          k * r.x() * r.x(), k * r.y() * r.y(), k * r.z() * r.z(), k * r.x() * r.y(),
+          k * r.x() * r.z(), k * r.y() * r.z();
+      sum.noalias() += parts * legendre.row(q);
     }
+    remainder.middleRows<kParts>(kParts * i) = sum;
   }
-  const Eigen::MatrixXd remainder = parts * legendre;  // (8 N) x M
   Eigen::MatrixXd velocity(3 * n_nodes, 3 * modes);
   for (int i = 0; i < n_nodes; ++i) {
     const Node& a = nodes[i];
