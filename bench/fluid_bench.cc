@@ -6,9 +6,11 @@
 // the resistance kept within 1e-3 rad of shape) in free space and near a
 // wall (1 mm gap), Stokeslets recomputed at every evaluation (tolerance 0)
 // and at twice the points per mm, and on a sheet of 2 and 4 points across
-// the width; slender-ribbon theory at its default modes; each in the
-// model's inertial dynamics
-// and in Stokes dynamics. The runs' simulated time is the same, so the
+// the width; slender-ribbon theory at its default modes; RFT with the
+// coefficients calibrated on the plates (fluid.rft_coefficients = "ribbon",
+// its set-up included); the flat plates at 2 points across the width; each
+// in the model's inertial dynamics and, the cheaper ones, in Stokes
+// dynamics. The runs' simulated time is the same, so the
 // ratios are per simulated time. docs/BENCHMARKS.md records them.
 //
 //   ./build/bench/fluid_bench --benchmark_repetitions=3
@@ -26,21 +28,27 @@ namespace {
 
 const std::string kPaperScenario = ScenariosDir() + "/paper.toml";
 
-// args: model (0 rft, 1 stokeslets, 2 ribbon), dynamics (0 inertial, 1 stokes),
-// variant (0 default, 1 wall gap 1 mm, 2 tolerance 0, 3 twice the points,
-// 4 and 5: 2 and 4 points across the width).
+// args: model (0 rft, 1 stokeslets, 2 ribbon, 3 plates), dynamics (0 inertial,
+// 1 stokes), variant (0 default, 1 wall gap 1 mm, 2 tolerance 0, 3 twice the
+// points, 4 and 5: 2 and 4 points across the width, 6 RFT calibrated on the
+// plates).
 void BM_PaperCycle(benchmark::State& state) {
   ScenarioConfig scenario = LoadScenario(kPaperScenario);
   scenario.run.cycles = 1;
   scenario.output.dir.clear();
   if (state.range(0) == 1) scenario.fluid.model = FluidModel::kStokeslets;
   if (state.range(0) == 2) scenario.fluid.model = FluidModel::kRibbon;
+  if (state.range(0) == 3) {
+    scenario.fluid.model = FluidModel::kPlates;
+    scenario.fluid.plates.points_across = 2;
+  }
   if (state.range(1) == 1) scenario.model.dynamics = Dynamics::kStokes;
   if (state.range(2) == 1) scenario.fluid.wall_gap_mm = 1.0;
   if (state.range(2) == 2) scenario.fluid.stokeslets.shape_tolerance_rad = 0.0;
   if (state.range(2) == 3) scenario.fluid.stokeslets.points_per_mm = 2.0 / 1.340;
   if (state.range(2) == 4) scenario.fluid.stokeslets.width_points = 2;
   if (state.range(2) == 5) scenario.fluid.stokeslets.width_points = 4;
+  if (state.range(2) == 6) scenario.fluid.rft_coefficients = CoefficientModel::kRibbon;
   for (auto _ : state) benchmark::DoNotOptimize(SimulateScenario(scenario));
 }
 BENCHMARK(BM_PaperCycle)
@@ -56,6 +64,9 @@ BENCHMARK(BM_PaperCycle)
     ->Args({1, 1, 1})
     ->Args({2, 0, 0})
     ->Args({2, 1, 0})
+    ->Args({0, 0, 6})
+    ->Args({0, 1, 6})
+    ->Args({3, 0, 0})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
 
@@ -66,6 +77,7 @@ int main(int argc, char** argv) {
   return ipmc::RunWithRatios(argc, argv, {"BM_PaperCycle/0/0/0"},
                              {{"BM_PaperCycle/1/1/0", "BM_PaperCycle/0/1/0"},
                               {"BM_PaperCycle/1/1/1", "BM_PaperCycle/0/1/0"},
-                              {"BM_PaperCycle/2/1/0", "BM_PaperCycle/0/1/0"}},
+                              {"BM_PaperCycle/2/1/0", "BM_PaperCycle/0/1/0"},
+                              {"BM_PaperCycle/0/1/6", "BM_PaperCycle/0/1/0"}},
                              ipmc::RatioClock::kCpu);
 }
