@@ -85,8 +85,8 @@ Eigen::MatrixXd VelocityOfModes(const std::vector<Node>& nodes, const Eigen::Mat
   // The remainder's kernel at nodes i, q of different pieces,
   //   w_q [(1 / d - 1 / |s - s'|) I - t t / |s - s'| + R R / d^3],
   // in its 8 scalar parts (the I part, the t t part, and R R's xx, yy, zz,
-  // xy, xz, yz), summed against P_n(s_q) for every mode n at once: column
-  // 8 i .. 8 i + 7 of `remainder`, row n.
+  // xy, xz, yz), summed against P_n(s_q) for every mode n at once: rows
+  // 8 i .. 8 i + 7 of `remainder`, column n.
   constexpr int kParts = 8;
   using Parts = Eigen::Matrix<double, kParts, 1>;
   using PartsOfModes = Eigen::Matrix<double, kParts, Eigen::Dynamic, 0, kParts, kMaxRibbonModes>;
