@@ -84,9 +84,9 @@ class DenseResistanceFluid : public Fluid {
   mutable Eigen::MatrixXd world_resistance_;
   mutable int recomputations_ = 0;
   // What world_resistance_ was made from: the root's rotation and offset
-  // from the subtree centre of mass, and root_resistance_'s recomputation
-  // (an evaluation of the same state, as the energy meter's after the
-  // step's, reuses it).
+  // from the subtree centre of mass, and root_resistance_'s recomputation.
+  // A further evaluation of the same state (within a step, or by a meter
+  // after it) reuses it.
   mutable Eigen::Matrix3d world_rotation_;
   mutable Eigen::Vector3d world_offset_;
   mutable int world_of_recomputation_ = -1;
