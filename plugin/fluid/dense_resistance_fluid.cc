@@ -84,18 +84,26 @@ const Eigen::MatrixXd& DenseResistanceFluid::WorldResistance(const mjData* d) co
   world_of_recomputation_ = recomputations_;
   world_rotation_ = q;
   world_offset_ = r;
-  Matrix6 t = Matrix6::Identity();
-  t.block<3, 3>(3, 0) = -CrossMatrix(r);
-  Matrix6 q6 = Matrix6::Zero();
-  q6.block<3, 3>(0, 0) = q;
-  q6.block<3, 3>(3, 3) = q;
-  const Matrix6 a = q6.transpose() * t;  // V_root-frame at p = a V_c
+  // Block (i, j) = [C00 C01; C10 C11] with C_kl = Q B_kl Q^T from the root
+  // frame's B, then T^T C T with X = -[r]x:
+  //   [C00 + C01 X + X^T (C10 + C11 X), C01 + X^T C11; C10 + C11 X, C11].
+  // R is symmetric (ComputeResistance), so block (j, i) is (i, j)^T.
+  const Eigen::Matrix3d x = -CrossMatrix(r);
   const int bodies = body_count();
   world_resistance_.resize(6 * bodies, 6 * bodies);
   for (int i = 0; i < bodies; ++i) {
-    for (int j = 0; j < bodies; ++j) {
-      world_resistance_.block<6, 6>(6 * i, 6 * j) =
-          a.transpose() * root_resistance_.block<6, 6>(6 * i, 6 * j) * a;
+    for (int j = i; j < bodies; ++j) {
+      const auto b = root_resistance_.block<6, 6>(6 * i, 6 * j);
+      const Eigen::Matrix3d c00 = q * b.block<3, 3>(0, 0) * q.transpose();
+      const Eigen::Matrix3d c01 = q * b.block<3, 3>(0, 3) * q.transpose();
+      const Eigen::Matrix3d c10 = q * b.block<3, 3>(3, 0) * q.transpose();
+      const Eigen::Matrix3d c11 = q * b.block<3, 3>(3, 3) * q.transpose();
+      const Eigen::Matrix3d lower_left = c10 + c11 * x;
+      Matrix6 block;
+      block << c00 + c01 * x + x.transpose() * lower_left, c01 + x.transpose() * c11, lower_left,
+          c11;
+      world_resistance_.block<6, 6>(6 * i, 6 * j) = block;
+      if (j != i) world_resistance_.block<6, 6>(6 * j, 6 * i) = block.transpose();
     }
   }
   return world_resistance_;

@@ -58,6 +58,7 @@ class DenseResistanceFluid : public Fluid {
 
   // R in the world frame about the root body's origin `origin_W`, for d's
   // positions; 6 rows and columns per body of InteractingBodies().
+  // Symmetric (the reciprocal theorem).
   virtual Eigen::MatrixXd ComputeResistance(const mjModel* m, const mjData* d,
                                             const Eigen::Vector3d& origin_W) const = 0;
   virtual double shape_tolerance_rad() const = 0;

@@ -1,8 +1,8 @@
 #include "plugin/fluid/ribbon_fluid.h"
 
 #include <Eigen/LU>
+#include <array>
 #include <boost/math/quadrature/gauss.hpp>
-#include <boost/math/special_functions/legendre.hpp>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -67,6 +67,38 @@ std::vector<Node> Nodes(const std::vector<RibbonPiece>& pieces, double half_leng
   return nodes;
 }
 
+std::vector<double> Weights(const std::vector<Node>& nodes) {
+  std::vector<double> weights;
+  for (const Node& node : nodes) weights.push_back(node.weight);
+  return weights;
+}
+
+// Where each piece's nodes start in `nodes` (they come piece by piece),
+// and one past the last node.
+std::vector<int> PieceStarts(const std::vector<Node>& nodes) {
+  std::vector<int> starts;
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    if (i == 0 || nodes[i].piece != nodes[i - 1].piece) starts.push_back(static_cast<int>(i));
+  }
+  starts.push_back(static_cast<int>(nodes.size()));
+  return starts;
+}
+
+// P_n(s_i) for n < modes: row i, column n. Bonnet's recurrence,
+// (n + 1) P_{n+1} = (2 n + 1) s P_n - n P_{n-1}.
+Eigen::MatrixXd LegendreAtNodes(const std::vector<Node>& nodes, int modes) {
+  Eigen::MatrixXd legendre(nodes.size(), modes);
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    const double s = nodes[i].s;
+    legendre(i, 0) = 1.0;
+    if (modes > 1) legendre(i, 1) = s;
+    for (int n = 1; n + 1 < modes; ++n) {
+      legendre(i, n + 1) = ((2 * n + 1) * s * legendre(i, n) - n * legendre(i, n - 1)) / (n + 1);
+    }
+  }
+  return legendre;
+}
+
 // Lg(s) = ln(16 (1 - s^2) / (b^2 rho^2)) for the rectangle with elliptic
 // caps beyond s_cap, where it is constant.
 double LogTerm(double s, double b, double s_cap) {
@@ -74,60 +106,118 @@ double LogTerm(double s, double b, double s_cap) {
   return std::log(16.0 * (1.0 - s * s) / (b * b));
 }
 
-// 8 pi mu U at every node (3N) for the force density P_n e_a (3M columns):
-// the local term, the straight part's -2 H_n (I + t t) P_n, and the
-// regular remainder over the other pieces.
-Eigen::MatrixXd VelocityOfModes(const std::vector<Node>& nodes, const Eigen::MatrixXd& legendre,
-                                double b, double s_cap, double half_length_m) {
-  const int n_nodes = static_cast<int>(nodes.size());
+// galerkin.block<3, 3>(3 m, 3 n) += pattern * scalars(m, n) for all m, n.
+void AddPattern(const Eigen::Matrix3d& pattern, const Eigen::MatrixXd& scalars,
+                Eigen::MatrixXd* galerkin) {
+  for (int n = 0; n < scalars.cols(); ++n) {
+    for (int m = 0; m < scalars.rows(); ++m) {
+      galerkin->block<3, 3>(3 * m, 3 * n) += scalars(m, n) * pattern;
+    }
+  }
+}
+
+// The Galerkin projection of 8 pi mu U for the force density P_n e_a,
+// int P_m(s) 8 pi mu U(s) ds (3M x 3M, block (m, n) the 3 x 3 of e_a),
+// from the quadrature `weighted` = w_i P_n(s_i). On each piece P (its own
+// t, w): the local term Lg (I + t t) - 2 t t + 2 w w and the straight
+// part's -2 H_n (I + t t) P_n, with the Gram matrices G = sum w P_m P_n and
+// G_L = sum w Lg P_m P_n. Between pieces P and Q, the regular remainder
+//   [(1 / d - 1 / |s - s'|) I - t_P t_P / |s - s'| + R R / d^3]
+// in its 8 scalar parts (the I part, the t t part, R R's xx, yy, zz, xy,
+// xz, yz), each projected as weighted_P^T K weighted_Q; the kernel is
+// symmetric, so pair (Q, P) takes the transpose.
+Eigen::MatrixXd GalerkinOperator(const std::vector<Node>& nodes, const Eigen::MatrixXd& weighted,
+                                 const Eigen::MatrixXd& legendre, double b, double s_cap,
+                                 double half_length_m) {
   const int modes = static_cast<int>(legendre.cols());
   const Eigen::Matrix3d identity = Eigen::Matrix3d::Identity();
-  // The remainder's kernel at nodes i, q of different pieces,
-  //   w_q [(1 / d - 1 / |s - s'|) I - t t / |s - s'| + R R / d^3],
-  // in its 8 scalar parts (the I part, the t t part, and R R's xx, yy, zz,
-  // xy, xz, yz), summed against P_n(s_q) for every mode n at once: rows
-  // 8 i .. 8 i + 7 of `remainder`, column n.
+  Eigen::MatrixXd galerkin = Eigen::MatrixXd::Zero(3 * modes, 3 * modes);
+  const std::vector<int> starts = PieceStarts(nodes);
+  const int pieces = static_cast<int>(starts.size()) - 1;
+  // The harmonic numbers H_n = 1 + 1/2 + ... + 1/n, H_0 = 0.
+  Eigen::RowVectorXd harmonic = Eigen::RowVectorXd::Zero(modes);
+  for (int n = 1; n < modes; ++n) harmonic[n] = harmonic[n - 1] + 1.0 / n;
+  std::vector<Eigen::Matrix3d> tangents(pieces);
+  for (int p = 0; p < pieces; ++p) {
+    const int p0 = starts[p], np = starts[p + 1] - p0;
+    const Node& node = nodes[p0];
+    tangents[p] = node.tangent_W * node.tangent_W.transpose();
+    Eigen::VectorXd log_term(np);
+    for (int i = 0; i < np; ++i) log_term[i] = LogTerm(nodes[p0 + i].s, b, s_cap);
+    const auto w = weighted.middleRows(p0, np);
+    const Eigen::MatrixXd gram = w.transpose() * legendre.middleRows(p0, np);
+    const Eigen::MatrixXd log_gram =
+        w.transpose() * log_term.asDiagonal() * legendre.middleRows(p0, np);
+    AddPattern(identity + tangents[p], log_gram - 2.0 * gram * harmonic.asDiagonal(), &galerkin);
+    AddPattern(-2.0 * tangents[p] + 2.0 * node.width_W * node.width_W.transpose(), gram,
+               &galerkin);
+  }
   constexpr int kParts = 8;
-  using Parts = Eigen::Matrix<double, kParts, 1>;
-  using PartsOfModes = Eigen::Matrix<double, kParts, Eigen::Dynamic, 0, kParts, kMaxRibbonModes>;
-  Eigen::MatrixXd remainder(kParts * n_nodes, modes);
-  for (int i = 0; i < n_nodes; ++i) {
-    const Node& a = nodes[i];
-    PartsOfModes sum = PartsOfModes::Zero(kParts, modes);
-    for (int q = 0; q < n_nodes; ++q) {
-      const Node& c = nodes[q];
-      if (c.piece == a.piece) continue;  // the straight part, done below
-      const Eigen::Vector3d r = (a.hydro_W - c.hydro_W) / half_length_m;
-      const double inverse_distance = 1.0 / r.norm();
-      const double inverse_ds = 1.0 / std::abs(a.s - c.s);
-      const double k = c.weight * inverse_distance * inverse_distance * inverse_distance;
-      Parts parts;
-      parts << c.weight * (inverse_distance - inverse_ds), c.weight * inverse_ds,
-          k * r.x() * r.x(), k * r.y() * r.y(), k * r.z() * r.z(), k * r.x() * r.y(),
-          k * r.x() * r.z(), k * r.y() * r.z();
-      sum.noalias() += parts * legendre.row(q);
+  std::array<Eigen::Matrix3d, kParts> patterns;
+  patterns[0] = identity;
+  patterns[1].setZero();  // the t t part: per piece, below
+  const auto outer = [](int a, int c) {
+    Eigen::Matrix3d e = Eigen::Matrix3d::Zero();
+    e(a, c) = e(c, a) = 1.0;
+    return e;
+  };
+  patterns[2] = outer(0, 0);
+  patterns[3] = outer(1, 1);
+  patterns[4] = outer(2, 2);
+  patterns[5] = outer(0, 1);
+  patterns[6] = outer(0, 2);
+  patterns[7] = outer(1, 2);
+  std::array<Eigen::MatrixXd, kParts> kernel;
+  const double inverse_half_length = 1.0 / half_length_m;
+  for (int p = 0; p < pieces; ++p) {
+    for (int q = p + 1; q < pieces; ++q) {
+      const int p0 = starts[p], np = starts[p + 1] - p0;
+      const int q0 = starts[q], nq = starts[q + 1] - q0;
+      for (auto& part : kernel) part.resize(np, nq);
+      for (int c = 0; c < nq; ++c) {
+        for (int a = 0; a < np; ++a) {
+          const Node& na = nodes[p0 + a];
+          const Node& nc = nodes[q0 + c];
+          const Eigen::Vector3d r = (na.hydro_W - nc.hydro_W) * inverse_half_length;
+          const double inverse_distance = 1.0 / r.norm();
+          const double inverse_ds = 1.0 / std::abs(na.s - nc.s);
+          const double k = inverse_distance * inverse_distance * inverse_distance;
+          kernel[0](a, c) = inverse_distance - inverse_ds;
+          kernel[1](a, c) = inverse_ds;
+          kernel[2](a, c) = k * r.x() * r.x();
+          kernel[3](a, c) = k * r.y() * r.y();
+          kernel[4](a, c) = k * r.z() * r.z();
+          kernel[5](a, c) = k * r.x() * r.y();
+          kernel[6](a, c) = k * r.x() * r.z();
+          kernel[7](a, c) = k * r.y() * r.z();
+        }
+      }
+      for (int part = 0; part < kParts; ++part) {
+        const Eigen::MatrixXd projected = weighted.middleRows(p0, np).transpose() * kernel[part] *
+                                          weighted.middleRows(q0, nq);
+        if (part == 1) {
+          AddPattern(-tangents[p], projected, &galerkin);
+          AddPattern(-tangents[q], projected.transpose(), &galerkin);
+        } else {
+          AddPattern(patterns[part], projected + projected.transpose(), &galerkin);
+        }
+      }
     }
-    remainder.middleRows<kParts>(kParts * i) = sum;
   }
-  Eigen::MatrixXd velocity(3 * n_nodes, 3 * modes);
-  for (int i = 0; i < n_nodes; ++i) {
-    const Node& a = nodes[i];
-    const Eigen::Matrix3d tt = a.tangent_W * a.tangent_W.transpose();
-    const Eigen::Matrix3d local = LogTerm(a.s, b, s_cap) * (identity + tt) - 2.0 * tt +
-                                  2.0 * a.width_W * a.width_W.transpose();
-    double harmonic = 0.0;
-    for (int n = 0; n < modes; ++n) {
-      if (n > 0) harmonic += 1.0 / n;
-      const auto v = remainder.block<kParts, 1>(kParts * i, n);
-      Eigen::Matrix3d rr;
-      rr << v[2], v[5], v[6], v[5], v[3], v[7], v[6], v[7], v[4];
-      // The local term and the straight part's -2 H_n (I + t t) P_n.
-      velocity.block<3, 3>(3 * i, 3 * n) =
-          (local - 2.0 * harmonic * (identity + tt)) * legendre(i, n) + v[0] * identity -
-          v[1] * tt + rr;
-    }
-  }
-  return velocity;
+  return galerkin;
+}
+
+// Rows r, r + 3, r + 6, ... of a matrix whose rows come in threes (one
+// 3-vector per node or mode).
+using ThirdRows = Eigen::Map<Eigen::MatrixXd, 0, Eigen::Stride<Eigen::Dynamic, 3>>;
+using ConstThirdRows = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::Stride<Eigen::Dynamic, 3>>;
+ThirdRows EveryThirdRow(Eigen::MatrixXd* matrix, int r) {
+  return ThirdRows(matrix->data() + r, matrix->rows() / 3, matrix->cols(),
+                   Eigen::Stride<Eigen::Dynamic, 3>(matrix->rows(), 3));
+}
+ConstThirdRows EveryThirdRow(const Eigen::MatrixXd& matrix, int r) {
+  return ConstThirdRows(matrix.data() + r, matrix.rows() / 3, matrix.cols(),
+                        Eigen::Stride<Eigen::Dynamic, 3>(matrix.rows(), 3));
 }
 
 void RequirePositive(double value, const char* what) {
@@ -168,33 +258,34 @@ Eigen::MatrixXd RibbonBodyResistance(const std::vector<RibbonPiece>& pieces, int
   const std::vector<Node> nodes = Nodes(pieces, half_m);
   const int n_nodes = static_cast<int>(nodes.size());
   const int modes = settings.modes;
-  Eigen::MatrixXd legendre(n_nodes, modes);
-  for (int i = 0; i < n_nodes; ++i) {
-    for (int n = 0; n < modes; ++n) legendre(i, n) = boost::math::legendre_p(n, nodes[i].s);
-  }
-  const Eigen::MatrixXd velocity = VelocityOfModes(nodes, legendre, b, s_cap, half_m);
+  const Eigen::MatrixXd legendre = LegendreAtNodes(nodes, modes);
   // Galerkin: int P_m (operator f - 8 pi mu U) ds = 0 for every mode m.
-  Eigen::MatrixXd galerkin = Eigen::MatrixXd::Zero(3 * modes, 3 * modes);
+  const Eigen::MatrixXd weighted =
+      Eigen::VectorXd::Map(Weights(nodes).data(), n_nodes).asDiagonal() * legendre;
+  const Eigen::MatrixXd galerkin = GalerkinOperator(nodes, weighted, legendre, b, s_cap, half_m);
   Eigen::MatrixXd rigid = Eigen::MatrixXd::Zero(3 * modes, 6 * bodies);
   for (int i = 0; i < n_nodes; ++i) {
     Eigen::Matrix<double, 3, 6> motion;  // U = -[r - c]x w + v
     motion << -CrossMatrix(nodes[i].point_W - c), Eigen::Matrix3d::Identity();
+    motion *= 8.0 * kPi * viscosity_Pa_s;
     for (int m = 0; m < modes; ++m) {
-      const double weight = nodes[i].weight * legendre(i, m);
-      galerkin.middleRows<3>(3 * m) += weight * velocity.middleRows<3>(3 * i);
-      rigid.block<3, 6>(3 * m, 6 * nodes[i].body) += (8.0 * kPi * viscosity_Pa_s * weight) * motion;
+      rigid.block<3, 6>(3 * m, 6 * nodes[i].body) += weighted(i, m) * motion;
     }
   }
   const Eigen::MatrixXd coefficients = galerkin.partialPivLu().solve(rigid);
-  // The wrench [torque about c; force] of f dl on each body.
+  // The force density at every node, f = sum_n P_n(s) f_n, component by
+  // component, and the wrench [torque about c; force] of f dl on each body.
+  Eigen::MatrixXd force(3 * n_nodes, 6 * bodies);
+  for (int r = 0; r < 3; ++r) {
+    EveryThirdRow(&force, r).noalias() = legendre * EveryThirdRow(coefficients, r);
+  }
   Eigen::MatrixXd resistance = Eigen::MatrixXd::Zero(6 * bodies, 6 * bodies);
   for (int i = 0; i < n_nodes; ++i) {
-    Eigen::MatrixXd force = Eigen::MatrixXd::Zero(3, 6 * bodies);
-    for (int n = 0; n < modes; ++n) force += legendre(i, n) * coefficients.middleRows<3>(3 * n);
-    force *= nodes[i].weight * half_m;
+    auto node_force = force.middleRows<3>(3 * i);
+    node_force *= nodes[i].weight * half_m;
     const int row = 6 * nodes[i].body;
-    resistance.middleRows<3>(row) += CrossMatrix(nodes[i].point_W - c) * force;
-    resistance.middleRows<3>(row + 3) += force;
+    resistance.middleRows<3>(row).noalias() += CrossMatrix(nodes[i].point_W - c) * node_force;
+    resistance.middleRows<3>(row + 3) += node_force;
   }
   return 0.5 * (resistance + resistance.transpose());  // reciprocal theorem
 }
