@@ -128,7 +128,8 @@ TEST(RibbonCoefficientsTest, FittedSetScalesBroadsideAndRotationOnly) {
 // The paper's default job (three 100 s cycles), cycle 3, against the plates
 // extrapolated in 1 / k from k = 4 and 5 (docs/FLUIDS.md, "Flat plates":
 // 0.830256 mm and 1.59466e-12 W, themselves uncertain by about 0.5 % and
-// 1.2 %, the distance to the extrapolation from k = 3 and 4). The factors
+// 1 %, the distance to the extrapolations from k = 3 and 4 and from k = 5
+// and 6: +0.47 % / -1.2 % and +0.42 % / -0.97 %). The factors
 // were fitted to these to two figures, which leaves 0.2 % in the swim and
 // -0.2 % in the power; 2 % is ten times that: a change in the calibration
 // or the dynamics that moves the swim fails it.
