@@ -36,18 +36,18 @@ void BM_PaperCycle(benchmark::State& state) {
   ScenarioConfig scenario = LoadScenario(kPaperScenario);
   scenario.run.cycles = 1;
   scenario.output.dir.clear();
-  if (state.range(0) == 1) scenario.fluid.model = FluidModel::kStokeslets;
-  if (state.range(0) == 2) scenario.fluid.model = FluidModel::kRibbon;
+  if (state.range(0) == 1) scenario.fluid.model = "stokeslets";
+  if (state.range(0) == 2) scenario.fluid.model = "ribbon";
   if (state.range(0) == 3) {
-    scenario.fluid.model = FluidModel::kPlates;
-    scenario.fluid.plates.points_across = 2;
+    scenario.fluid.model = "plates";
+    scenario.fluid.parameters["plate_points_across"] = 2;
   }
   if (state.range(1) == 1) scenario.model.dynamics = Dynamics::kStokes;
   if (state.range(2) == 1) scenario.fluid.wall_gap_mm = 1.0;
-  if (state.range(2) == 2) scenario.fluid.stokeslets.shape_tolerance_rad = 0.0;
-  if (state.range(2) == 3) scenario.fluid.stokeslets.points_per_mm = 2.0 / 1.340;
-  if (state.range(2) == 4) scenario.fluid.stokeslets.width_points = 2;
-  if (state.range(2) == 5) scenario.fluid.stokeslets.width_points = 4;
+  if (state.range(2) == 2) scenario.fluid.parameters["stokeslet_shape_tolerance_rad"] = 0.0;
+  if (state.range(2) == 3) scenario.fluid.parameters["stokeslet_points_per_mm"] = 2.0 / 1.340;
+  if (state.range(2) == 4) scenario.fluid.parameters["stokeslet_width_points"] = 2;
+  if (state.range(2) == 5) scenario.fluid.parameters["stokeslet_width_points"] = 4;
   if (state.range(2) == 6) scenario.fluid.rft_coefficients = CoefficientModel::kRibbon;
   for (auto _ : state) benchmark::DoNotOptimize(SimulateScenario(scenario));
 }

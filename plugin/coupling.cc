@@ -130,6 +130,7 @@ bool AttachWithOverrides(const mjModel* m, mjData* d, const IpmcActuatorsOverrid
   known.insert(known.end(), IpmcActuatorFields().begin(), IpmcActuatorFields().end());
   known.push_back(kStripWidthField);
   known.push_back(kAttrDynamics);
+  for (const std::string& field : FluidModelFields()) known.push_back(field);
   RequireKnownCustomFields(m, "ipmc_", known);
   if (const std::optional<double> width_m = FindCustomScalar(m, kStripWidthField);
       width_m && !(*width_m > 0)) {  // FindCustomScalar refuses a non-finite value

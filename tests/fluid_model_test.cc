@@ -20,9 +20,14 @@
 #include "ipmc_swim/ipmc_swim.h"
 #include "plugin/coupling.h"
 #include "plugin/fluid/fluid_model.h"
+#include "plugin/fluid/plate_fluid.h"
+#include "plugin/fluid/ribbon_fluid.h"
 #include "sim/core/scenario.h"
+#include "sim/core/scenario_keys.h"
+#include "sim/core/scenario_simulation.h"
 #include "sim/core/simulation.h"
 #include "sim/runs/closed_loop_run.h"
+#include "tests/test_util.h"
 
 namespace ipmc::testing {
 namespace {
@@ -87,7 +92,7 @@ TEST(FluidModelTest, RegistryBuildsTheChosenModel) {
   const RftDrag& segments = *FindCoupling(d)->drag;
   std::vector<std::string> names;
   for (const FluidModelEntry& entry : FluidModels()) names.push_back(entry.name);
-  EXPECT_EQ(names, (std::vector<std::string>{"stokeslets", "ribbon", "plates", "rft"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"rft", "stokeslets", "ribbon", "plates"}));
 
   const std::unique_ptr<Fluid> rft = MakeFluid(m, segments, {});
   ASSERT_NE(dynamic_cast<const RftDrag*>(rft.get()), nullptr);
@@ -97,7 +102,7 @@ TEST(FluidModelTest, RegistryBuildsTheChosenModel) {
   EXPECT_EQ(rft->InteractionResistance(m, d), nullptr);
 
   RftDragOverrides overrides;
-  overrides.stokeslets = StokesletSettings{};
+  overrides.fluid_model = "stokeslets";
   const std::unique_ptr<Fluid> stokeslets = MakeFluid(m, segments, overrides);
   ASSERT_NE(dynamic_cast<const StokesletFluid*>(stokeslets.get()), nullptr);
   stokeslets->LocalResistances(m, d, &blocks);
@@ -108,7 +113,7 @@ TEST(FluidModelTest, RegistryBuildsTheChosenModel) {
   EXPECT_FALSE(stokeslets->InteractingBodies().empty());
 
   RftDragOverrides ribbon_overrides;
-  ribbon_overrides.ribbon = RibbonSettings{};
+  ribbon_overrides.fluid_model = "ribbon";
   const std::unique_ptr<Fluid> ribbon = MakeFluid(m, segments, ribbon_overrides);
   ASSERT_NE(dynamic_cast<const RibbonFluid*>(ribbon.get()), nullptr);
   ribbon->LocalResistances(m, d, &blocks);
@@ -168,31 +173,189 @@ TEST(FluidModelTest, StokesletsAndRftSwimAlike) {
   EXPECT_NEAR(stokeslets / rft, 0.8850, 0.02);
 }
 
-// The paper's model file with another equivalent radius a (RFT's
-// coefficients and the Stokeslets' default blob sqrt(e) a follow it).
-class ThinnerStrip {
+// The paper's model file, as text.
+std::string PaperModelText() {
+  std::ifstream in(std::string(IPMC_SWIM_SOURCE_DIR) + "/models/flagellum3.xml");
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// The paper's model file with `lines` added to its <custom> block.
+std::string PaperModelWithCustom(const std::string& lines) {
+  return std::regex_replace(PaperModelText(), std::regex("<custom>"), "<custom>\n" + lines);
+}
+
+// A model file in the temporary directory, removed with the object.
+class TemporaryModelFile {
  public:
-  explicit ThinnerStrip(double radius_m) {
-    std::ifstream in(std::string(IPMC_SWIM_SOURCE_DIR) + "/models/flagellum3.xml");
-    std::stringstream text;
-    text << in.rdbuf();
-    std::ostringstream radius;
-    radius.precision(17);
-    radius << "name=\"ipmc_rft_equivalent_radius_m\" data=\"" << radius_m << "\"";
-    const std::regex field("name=\"ipmc_rft_equivalent_radius_m\" data=\"[^\"]*\"");
-    path_ = std::filesystem::temp_directory_path() /
-            ("fluid_model_test_a" + std::to_string(radius_m) + ".xml");
-    std::ofstream(path_) << std::regex_replace(text.str(), field, radius.str());
+  TemporaryModelFile(const std::string& name, const std::string& text)
+      : path_(std::filesystem::temp_directory_path() / ("fluid_model_test_" + name + ".xml")) {
+    std::ofstream(path_) << text;
   }
-  ~ThinnerStrip() { std::filesystem::remove(path_); }
-  double Swim_mm(const std::string& fluid) const {
-    return ShortRunSwim_mm(
-        ParseScenario("model = \"" + path_.string() + "\"\n" + kShortRun + fluid, kPaper));
+  ~TemporaryModelFile() { std::filesystem::remove(path_); }
+  // A scenario of the paper's settings on this model file, and `extra`.
+  ScenarioConfig Scenario(const std::string& extra) const {
+    return ParseScenario("model = \"" + path_.string() + "\"\n" + extra, kPaper);
   }
 
  private:
   std::filesystem::path path_;
 };
+
+// The paper's model file with another equivalent radius a (RFT's
+// coefficients and the Stokeslets' default blob sqrt(e) a follow it).
+class ThinnerStrip {
+ public:
+  explicit ThinnerStrip(double radius_m) : file_("a" + std::to_string(radius_m), Text(radius_m)) {}
+  double Swim_mm(const std::string& fluid) const {
+    return ShortRunSwim_mm(file_.Scenario(kShortRun + fluid));
+  }
+
+ private:
+  static std::string Text(double radius_m) {
+    std::ostringstream radius;
+    radius.precision(17);
+    radius << "name=\"ipmc_rft_equivalent_radius_m\" data=\"" << radius_m << "\"";
+    const std::regex field("name=\"ipmc_rft_equivalent_radius_m\" data=\"[^\"]*\"");
+    return std::regex_replace(PaperModelText(), field, radius.str());
+  }
+  TemporaryModelFile file_;
+};
+
+// A model file chooses its fluid model and sets its parameters by its own
+// <custom> fields (ipmc_fluid_model, ipmc_fluid_plate_points_across), as
+// the scenario's keys do: the two give the same swim to the last bit. A
+// scenario's fluid.model wins over the file's.
+TEST(FluidModelTest, ModelFileChoosesTheFluidAndItsParameters) {
+  const TemporaryModelFile file(
+      "plates2", PaperModelWithCustom("<text name=\"ipmc_fluid_model\" data=\"plates\"/>\n"
+                                      "<numeric name=\"ipmc_fluid_plate_points_across\" "
+                                      "data=\"2\"/>\n"));
+  const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(file.Scenario(""));
+  const auto* plates = dynamic_cast<const PlateFluid*>(FindCoupling(sim->data())->fluid.get());
+  ASSERT_NE(plates, nullptr);
+  EXPECT_EQ(plates->settings().points_across, 2);
+  EXPECT_EQ(plates->settings().quadrature_refinement, 4);  // the parameter's default
+  EXPECT_TRUE(plates->settings().richardson);
+
+  const double by_file = ShortRunSwim_mm(file.Scenario(kShortRun));
+  const double by_keys = ShortRunSwim_mm(
+      PaperWith(kShortRun + "[fluid]\nmodel = \"plates\"\nplate_points_across = 2\n"));
+  std::printf("plates, k = 2: %.17g mm by the model file, %.17g mm by the keys\n", by_file,
+              by_keys);
+  EXPECT_EQ(by_file, by_keys);
+
+  const std::unique_ptr<Simulation> rft =
+      LoadScenarioSimulation(file.Scenario("[fluid]\nmodel = \"rft\"\n"));
+  EXPECT_NE(dynamic_cast<const RftDrag*>(FindCoupling(rft->data())->fluid.get()), nullptr);
+}
+
+// A model file's fluid fields are checked where they are read: the
+// message names the file, the field and its range.
+TEST(FluidModelTest, ModelFileFluidFieldsAreChecked) {
+  const struct {
+    std::string custom;
+    std::string message;
+  } cases[] = {
+      {"<text name=\"ipmc_fluid_model\" data=\"plates\"/><numeric "
+       "name=\"ipmc_fluid_plate_points_across\" data=\"0\"/>",
+       "plate fluid: ipmc_fluid_plate_points_across must be a whole number in [1, 16] (got 0)"},
+      {"<text name=\"ipmc_fluid_model\" data=\"ribbon\"/><numeric "
+       "name=\"ipmc_fluid_ribbon_modes\" data=\"2.5\"/>",
+       "ribbon fluid: ipmc_fluid_ribbon_modes must be a whole number in [1, 9] (got 2.5)"},
+      {"<text name=\"ipmc_fluid_model\" data=\"stokeslets\"/><numeric "
+       "name=\"ipmc_fluid_stokeslet_blob_m\" data=\"-1e-3\"/>",
+       "stokeslet fluid: ipmc_fluid_stokeslet_blob_m must be > 0 (got -0.001)"},
+      {"<text name=\"ipmc_fluid_model\" data=\"bem\"/>",
+       "ipmc_fluid_model = 'bem': not a fluid model (rft|stokeslets|ribbon|plates)"},
+      {"<numeric name=\"ipmc_fluid_plate_point_across\" data=\"2\"/>",
+       "unknown custom field 'ipmc_fluid_plate_point_across'"},
+  };
+  for (const auto& c : cases) {
+    const std::string message = OneLineErrorOf(
+        [&] { Simulation(LoadModelString(PaperModelWithCustom(c.custom)), "edited.xml"); },
+        c.custom);
+    EXPECT_NE(message.find("edited.xml: "), std::string::npos) << message;
+    EXPECT_NE(message.find(c.message), std::string::npos) << message;
+  }
+  // Slender-ribbon theory is free space only; the model file's wall is refused.
+  const std::string walled = std::regex_replace(
+      PaperModelWithCustom("<text name=\"ipmc_fluid_model\" data=\"ribbon\"/>"
+                           "<numeric name=\"ipmc_rft_wall_distance_m\" data=\"3e-3\"/>"),
+      std::regex("data=\"gray_hancock\""), "data=\"near_wall\"");
+  const std::string message =
+      OneLineErrorOf([&] { Simulation(LoadModelString(walled), "walled.xml"); }, walled);
+  EXPECT_NE(message.find("fluid model ribbon: free space only"), std::string::npos) << message;
+  // And a scenario's wall, naming the models that take one.
+  const std::string scenario_wall = OneLineErrorOf(
+      [] { LoadScenarioSimulation(PaperWith("[fluid]\nmodel = \"ribbon\"\nwall_gap_mm = 1\n")); },
+      "ribbon with fluid.wall_gap_mm");
+  EXPECT_NE(scenario_wall.find("paper.toml: fluid.wall_gap_mm needs fluid.model \"rft\" or "
+                               "\"stokeslets\" or \"plates\" (the ribbon model is free space "
+                               "only)"),
+            std::string::npos)
+      << scenario_wall;
+}
+
+// A dense model's resolution is refused before it is built when factoring
+// its mobility would take longer than a recomputation may
+// (CheckStokesletSize): the plates at 16 points across have 2624 force
+// points (the head's 5 x 16, each link's 53 x 16), a 7872 x 7872 matrix.
+// The message names what set it: the scenario's key, or the model file's
+// field.
+TEST(FluidModelTest, DenseResolutionIsCheckedBeforeTheModelIsBuilt) {
+  ExpectThrowMentioning<std::invalid_argument>(
+      [] {
+        LoadScenarioSimulation(
+            PaperWith("[fluid]\nmodel = \"plates\"\nplate_points_across = 16\n"));
+      },
+      "paper.toml: fluid.plate_points_across 16: 2.62e+03 Stokeslet points");
+  const TemporaryModelFile file(
+      "plates16", PaperModelWithCustom("<text name=\"ipmc_fluid_model\" data=\"plates\"/>\n"
+                                       "<numeric name=\"ipmc_fluid_plate_points_across\" "
+                                       "data=\"16\"/>\n"));
+  ExpectThrowMentioning<std::invalid_argument>(
+      [&] { LoadScenarioSimulation(file.Scenario("")); },
+      "fluid_model_test_plates16.xml: ipmc_fluid_plate_points_across 16: 2.62e+03 Stokeslet");
+}
+
+// The [fluid] keys of a model's parameters come from its registry entry:
+// fluid.<key>, applying under fluid.model = its name, with the parameter's
+// range; a scenario's value reaches the model's field in SI units; the
+// fields are documented with the other <custom> fields (docs/LIBRARY.md).
+TEST(FluidModelTest, EveryParameterIsAScenarioKeyOfItsModel) {
+  std::ifstream in(std::string(IPMC_SWIM_SOURCE_DIR) + "/docs/LIBRARY.md");
+  std::stringstream library;
+  library << in.rdbuf();
+  for (const std::string& field : FluidModelFields()) {
+    EXPECT_NE(library.str().find("`" + field + "`"), std::string::npos) << field;
+  }
+  for (const FluidModelEntry& model : FluidModels()) {
+    for (const FluidParameter& parameter : model.parameters) {
+      const std::string name = std::string("fluid.") + parameter.key;
+      SCOPED_TRACE(name);
+      const KeySpec* key = FindScenarioKey(name);
+      ASSERT_NE(key, nullptr);
+      ASSERT_EQ(key->only.size(), 1u);
+      EXPECT_EQ(std::string(key->only[0].selector), "fluid.model");
+      EXPECT_EQ(std::string(key->only[0].value), model.name);
+      EXPECT_EQ(key->allowed, FluidParameterRange(parameter));
+    }
+  }
+  const ScenarioConfig scenario =
+      PaperWith("[fluid]\nmodel = \"stokeslets\"\nstokeslet_blob_mm = 1.5\n"
+                "stokeslet_points_per_mm = 2\n");
+  const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(scenario);
+  const RftDragOverrides overrides = ScenarioFluidOverrides(scenario, sim->model());
+  EXPECT_EQ(overrides.fluid_parameters.at("ipmc_fluid_stokeslet_blob_m"), 1.5e-3);
+  EXPECT_EQ(overrides.fluid_parameters.at("ipmc_fluid_stokeslet_points_per_m"), 2e3);
+  const auto* stokeslets =
+      dynamic_cast<const StokesletFluid*>(FindCoupling(sim->data())->fluid.get());
+  ASSERT_NE(stokeslets, nullptr);
+  EXPECT_EQ(stokeslets->blob_m(), 1.5e-3);
+  EXPECT_EQ(stokeslets->spacing_m(), 0.5e-3);
+}
 
 // As the strip gets slender the Stokeslets' swim approaches local RFT's
 // with Lighthill's coefficients (Lighthill, SIAM Rev. 18, 161, 1976: the

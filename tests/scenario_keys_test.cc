@@ -53,17 +53,17 @@ TEST(ScenarioKeysTest, EveryKeyTakesItsDefaultAndItsExampleAndRefusesItsRefusedV
   for (const KeySpec& key : ScenarioKeys()) {
     SCOPED_TRACE(key.name);
     ASSERT_NE(FindScenarioKey(key.name), nullptr);
-    if (*key.default_toml != '\0') {
+    if (!key.default_toml.empty()) {
       // The default is the default: stating it changes nothing.
       EXPECT_EQ(Resolved(ScenarioWith(key, key.default_toml)), Resolved(ScenarioWithout(key)));
       ++defaults;
     }
-    if (*key.example_toml != '\0') {
+    if (!key.example_toml.empty()) {
       EXPECT_NO_THROW(ParseScenario(ScenarioWith(key, key.example_toml), Source()));
     }
-    EXPECT_TRUE(*key.default_toml != '\0' || *key.example_toml != '\0')
+    EXPECT_TRUE(!key.default_toml.empty() || !key.example_toml.empty())
         << "a key needs an accepted value";
-    if (*key.refused_toml != '\0') {
+    if (!key.refused_toml.empty()) {
       try {
         ParseScenario(ScenarioWith(key, key.refused_toml), Source());
         ADD_FAILURE() << key.name << " = " << key.refused_toml << " was accepted";
@@ -83,7 +83,7 @@ TEST(ScenarioKeysTest, EveryKeyTakesItsDefaultAndItsExampleAndRefusesItsRefusedV
   }
   // Every key but those whose default is the model's (model, link_lengths_mm,
   // segments_per_link, plants, dynamics, timestep_s, fluid.viscosity_Pa_s,
-  // fluid.rft_coefficients) or the wave's (fluid.rft_wavelength_mm) and
+  // fluid.rft_coefficients, fluid.model) or the wave's (fluid.rft_wavelength_mm) and
   // fluid.wall_gap_mm (no wall), the Stokeslets' points per mm and blob
   // (from the strip's radius) and the five controller.link_* gains (every
   // link the scalar key's), include (no files), the strip's four keys
@@ -91,7 +91,7 @@ TEST(ScenarioKeysTest, EveryKeyTakesItsDefaultAndItsExampleAndRefusesItsRefusedV
   // (the assigned plant) and metrics.from_cycle (the first cycle after the
   // start ramp) has one; every key but the booleans and the unbounded ones
   // has a refused value.
-  EXPECT_EQ(defaults, static_cast<int>(ScenarioKeys().size()) - 31);
+  EXPECT_EQ(defaults, static_cast<int>(ScenarioKeys().size()) - 32);
   EXPECT_GE(refusals, 20);
 }
 
@@ -117,7 +117,7 @@ TEST(ScenarioKeysTest, EveryKeysExampleIsWrittenBackAsRead) {
   for (const KeySpec& key : ScenarioKeys()) {
     SCOPED_TRACE(key.name);
     ASSERT_NE(key.read, nullptr);
-    const std::string value = *key.example_toml != '\0' ? key.example_toml : key.default_toml;
+    const std::string value = !key.example_toml.empty() ? key.example_toml : key.default_toml;
     if (key.write == nullptr || std::string(key.name) == "model" || value.empty()) continue;
     const toml::table given = ParseToml("value = " + value, "example");
     const toml::table resolved = ParseToml(Resolved(ScenarioWith(key, value)), "resolved");

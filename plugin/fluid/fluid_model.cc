@@ -1,9 +1,15 @@
 #include "plugin/fluid/fluid_model.h"
 
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
 #include "plugin/fluid/plate_fluid.h"
 #include "plugin/fluid/ribbon_fluid.h"
 #include "plugin/fluid/rft_drag.h"
 #include "plugin/fluid/stokeslet_fluid.h"
+#include "plugin/mjcf/custom_fields.h"
+#include "sim/base/numbers.h"
 
 namespace ipmc {
 
@@ -27,22 +33,161 @@ const std::vector<int>& Fluid::InteractingBodies() const {
   return kNone;
 }
 
+namespace {
+
+constexpr double kUnbounded = std::numeric_limits<double>::infinity();
+
+FluidParameter Parameter(const char* key, const char* field, FluidParameter::Type type,
+                         const char* meaning) {
+  FluidParameter p{};
+  p.key = key;
+  p.field = field;
+  p.type = type;
+  p.unit = "";
+  p.field_per_key = 1.0;
+  p.meaning = meaning;
+  p.minimum_included = true;
+  p.maximum = kUnbounded;
+  return p;
+}
+
+// The range with its bounds times `scale` (the key's unit: 1).
+std::string RangeText(const FluidParameter& p, double scale) {
+  if (p.type == FluidParameter::Type::kBoolean) return "true or false";
+  if (std::isfinite(p.maximum)) {
+    return "[" + FormatShortest(p.minimum * scale) + ", " + FormatShortest(p.maximum * scale) +
+           "]";
+  }
+  return (p.minimum_included ? ">= " : "> ") + FormatShortest(p.minimum * scale);
+}
+
+}  // namespace
+
+FluidParameter IntegerParameter(const char* key, const char* field, int default_value,
+                                int minimum, int maximum, int example, const char* meaning) {
+  FluidParameter p = Parameter(key, field, FluidParameter::Type::kInteger, meaning);
+  p.default_value = default_value;
+  p.example = example;
+  p.minimum = minimum;
+  p.maximum = maximum;
+  return p;
+}
+
+FluidParameter NumberParameter(const char* key, const char* field, const char* unit,
+                               double field_per_key, double default_value,
+                               const char* default_text, double minimum, bool minimum_included,
+                               double example, const char* meaning) {
+  FluidParameter p = Parameter(key, field, FluidParameter::Type::kNumber, meaning);
+  p.unit = unit;
+  p.field_per_key = field_per_key;
+  p.default_value = default_value;
+  p.default_text = default_text;
+  p.example = example;
+  p.minimum = minimum;
+  p.minimum_included = minimum_included;
+  return p;
+}
+
+FluidParameter BooleanParameter(const char* key, const char* field, bool default_value,
+                                const char* meaning) {
+  FluidParameter p = Parameter(key, field, FluidParameter::Type::kBoolean, meaning);
+  p.default_value = default_value;
+  p.example = !default_value;
+  p.minimum = 0.0;
+  p.maximum = 1.0;
+  return p;
+}
+
+std::string FluidParameterRange(const FluidParameter& p) { return RangeText(p, 1.0); }
+
+std::optional<double> FluidParameterValue(const mjModel* m, const RftDragOverrides& overrides,
+                                          const char* model, const FluidParameter& p) {
+  std::optional<double> value;
+  if (const auto given = overrides.fluid_parameters.find(p.field);
+      given != overrides.fluid_parameters.end()) {
+    value = given->second;
+  } else {
+    value = FindCustomScalar(m, p.field);
+  }
+  if (!value) {
+    if (std::isnan(p.default_value)) return std::nullopt;
+    return p.default_value * p.field_per_key;
+  }
+  const double in_key_unit = *value / p.field_per_key;
+  const bool whole = p.type == FluidParameter::Type::kNumber || std::trunc(*value) == *value;
+  const bool above = p.minimum_included ? in_key_unit >= p.minimum : in_key_unit > p.minimum;
+  if (!(whole && above && in_key_unit <= p.maximum)) {
+    const char* kind = p.type == FluidParameter::Type::kInteger   ? "a whole number in "
+                       : p.type == FluidParameter::Type::kBoolean ? "0 or 1: "
+                                                                   : "";
+    throw std::invalid_argument(std::string(model) + ": " + p.field + " must be " + kind +
+                                RangeText(p, p.field_per_key) + " (got " +
+                                FormatShortest(*value) + ")");
+  }
+  return value;
+}
+
 const std::vector<FluidModelEntry>& FluidModels() {
   static const std::vector<FluidModelEntry> kModels = {
-      {"stokeslets", StokesletFluid::Chosen, StokesletFluid::Make},
-      {"ribbon", RibbonFluid::Chosen, RibbonFluid::Make},
-      {"plates", PlateFluid::Chosen, PlateFluid::Make},
-      {"rft", RftDrag::Chosen, RftDrag::Make},
+      {"rft", "local resistive-force theory", {}, true, RftDrag::Make, nullptr},
+      {"stokeslets", StokesletFluid::kSummary, StokesletFluid::Parameters(), true,
+       StokesletFluid::Make, StokesletFluid::ForcePoints},
+      {"ribbon", RibbonFluid::kSummary, RibbonFluid::Parameters(), false, RibbonFluid::Make,
+       nullptr},
+      {"plates", PlateFluid::kSummary, PlateFluid::Parameters(), true, PlateFluid::Make,
+       PlateFluid::ForcePoints},
   };
   return kModels;
 }
 
-std::unique_ptr<Fluid> MakeFluid(const mjModel* m, const RftDrag& segments,
-                                 const RftDragOverrides& overrides) {
+const FluidModelEntry* FindFluidModel(const std::string& name) {
   for (const FluidModelEntry& entry : FluidModels()) {
-    if (entry.chosen(segments, overrides)) return entry.make(m, segments, overrides);
+    if (name == entry.name) return &entry;
   }
   return nullptr;
+}
+
+std::string FluidModelChoices() {
+  std::string choices;
+  for (const FluidModelEntry& entry : FluidModels()) {
+    choices += (choices.empty() ? "" : "|") + std::string(entry.name);
+  }
+  return choices;
+}
+
+std::vector<std::string> FluidModelFields() {
+  std::vector<std::string> fields = {kAttrFluidModel};
+  for (const FluidModelEntry& entry : FluidModels()) {
+    for (const FluidParameter& parameter : entry.parameters) fields.push_back(parameter.field);
+  }
+  return fields;
+}
+
+const FluidModelEntry& ChosenFluidModel(const mjModel* m, const RftDragOverrides& overrides) {
+  const std::string name =
+      overrides.fluid_model.value_or(FindCustomText(m, kAttrFluidModel).value_or("rft"));
+  const FluidModelEntry* entry = FindFluidModel(name);
+  if (entry == nullptr) {
+    throw std::invalid_argument(std::string(kAttrFluidModel) + " = '" + name +
+                                "': not a fluid model (" + FluidModelChoices() + ")");
+  }
+  return *entry;
+}
+
+std::unique_ptr<Fluid> MakeFluid(const mjModel* m, const RftDrag& segments,
+                                 const RftDragOverrides& overrides) {
+  const FluidModelEntry& entry = ChosenFluidModel(m, overrides);
+  if (WallDistance_m(segments) && !entry.wall) {
+    throw std::invalid_argument(std::string("fluid model ") + entry.name +
+                                ": free space only, but the model has a wall (" +
+                                kAttrWallDistance + ", near-wall coefficients)");
+  }
+  return entry.make(m, segments, overrides);
+}
+
+std::optional<double> WallDistance_m(const RftDrag& segments) {
+  if (segments.config().model != CoefficientModel::kNearWall) return std::nullopt;
+  return segments.config().wall_distance_m;
 }
 
 }  // namespace ipmc

@@ -22,16 +22,21 @@
 //
 // Every model acts on the same segments, the slender geoms RftDrag finds
 // (RftDragConfig::FromModel reads them and the viscosity from the model's
-// ipmc_rft_* <custom> fields), and reads its own settings from its own
-// fields and the program's overrides (RftDragOverrides).
+// ipmc_rft_* <custom> fields), and reads its own settings, declared as
+// FluidParameter entries below, from its own fields and the program's
+// overrides (RftDragOverrides). The model's <custom> text ipmc_fluid_model
+// chooses the model; a program's override (the scenario's fluid.model)
+// wins over it.
 //
 // The meters (sim/core/swim_meter.h, sim/core/energy.h) and the gait run
 // ask the model, not the segments: Fluid's methods below are all they see.
 //
 // Adding a model: a header/source pair with a class derived from Fluid
 // (or from DenseResistanceFluid, which answers the meters' questions from
-// the segments) and its Config, and one line in FluidModels()
-// (fluid_model.cc).
+// the segments), its settings read by FluidParameterValue from its
+// parameter table, and one line in FluidModels() (fluid_model.cc). The
+// scenario keys (fluid.model's choices, one key per parameter) come from
+// the registry.
 #pragma once
 
 #include <mujoco/mujoco.h>
@@ -39,6 +44,7 @@
 #include <Eigen/Core>
 #include <Eigen/StdVector>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -99,19 +105,88 @@ class Fluid {
   virtual const std::vector<int>& InteractingBodies() const;
 };
 
-// The registry of fluid models: a name, when the settings choose it, and
-// how it is built over the segments (the first entry chosen wins).
+// A model's setting, declared as MuJoCo's plugins declare their
+// attributes: the model reads it from its own <custom> numeric `field` (SI
+// units), a program's value overrides that (RftDragOverrides::
+// fluid_parameters, by field), and a scenario offers it as the key
+// fluid.<key> (sim/core/fluid_keys.h) in the key's unit.
+struct FluidParameter {
+  enum class Type { kInteger, kNumber, kBoolean };
+  const char* key;    // under [fluid]: "stokeslet_blob_mm"
+  const char* field;  // the <custom> numeric: "ipmc_stokeslet_blob_m"
+  Type type;
+  const char* unit;        // the key's: "mm", "1/mm", "rad", ""
+  double field_per_key;    // the field's value per unit of the key's (1e-3: mm to m)
+  double default_value;    // in the key's unit; NaN: the model derives it
+  const char* default_text;  // the default as documented
+  double example;          // another allowed value, in the key's unit
+  // The range in the key's unit: above `minimum` (at least it when
+  // `minimum_included`; -inf: unbounded) and at most `maximum` (inf: unbounded).
+  double minimum;
+  bool minimum_included;
+  double maximum;
+  const char* meaning;
+  bool resolution;  // sets how many force points the model has
+};
+// An integer in [minimum, maximum].
+FluidParameter IntegerParameter(const char* key, const char* field, int default_value,
+                                int minimum, int maximum, int example, const char* meaning);
+// A number above `minimum` (at least it when `minimum_included`).
+FluidParameter NumberParameter(const char* key, const char* field, const char* unit,
+                               double field_per_key, double default_value,
+                               const char* default_text, double minimum, bool minimum_included,
+                               double example, const char* meaning);
+FluidParameter BooleanParameter(const char* key, const char* field, bool default_value,
+                                const char* meaning);
+// The allowed values as messages and the key table state them: "[1, 16]",
+// "> 0", ">= 0", "true or false".
+std::string FluidParameterRange(const FluidParameter& parameter);
+// The parameter's value in its field's SI unit: the program's override,
+// else the model's <custom> field, else the default (nullopt: the model
+// derives it). Throws std::invalid_argument naming the model, the field
+// and its range when the value is out of range.
+std::optional<double> FluidParameterValue(const mjModel* m, const RftDragOverrides& overrides,
+                                          const char* model, const FluidParameter& parameter);
+
+// The registry of fluid models: a name (the value of the <custom> text
+// ipmc_fluid_model and of the scenario key fluid.model), a phrase for the
+// key's reference, the model's parameters, whether it takes a no-slip
+// wall (RftDragOverrides::wall_distance_m, ipmc_rft_wall_distance_m with
+// the near-wall coefficients), how it is built over the segments, and for
+// a model with one dense mobility over force points their number, from
+// the settings alone (before it is built, so that a program can refuse a
+// resolution no machine factors; nullptr: none).
 struct FluidModelEntry {
   const char* name;
-  bool (*chosen)(const RftDrag& segments, const RftDragOverrides& overrides);
+  const char* summary;
+  std::vector<FluidParameter> parameters;
+  bool wall;
   std::unique_ptr<Fluid> (*make)(const mjModel* m, const RftDrag& segments,
                                  const RftDragOverrides& overrides);
+  double (*force_points)(const mjModel* m, const RftDrag& segments,
+                         const RftDragOverrides& overrides);
 };
 const std::vector<FluidModelEntry>& FluidModels();
-// The model the overrides choose, built over `segments` (the model's RFT
-// segments and coefficients). Throws std::invalid_argument on bad
-// settings, naming the model.
+// The entry called `name`, or nullptr.
+const FluidModelEntry* FindFluidModel(const std::string& name);
+// The models' names as the key table lists its choices: "rft|stokeslets|...".
+std::string FluidModelChoices();
+
+// The <custom> text naming the model's fluid model.
+constexpr char kAttrFluidModel[] = "ipmc_fluid_model";
+// It and every model's parameter fields (the coupling's known fields).
+std::vector<std::string> FluidModelFields();
+// The model the settings choose: the program's RftDragOverrides::
+// fluid_model, else the model's ipmc_fluid_model, else "rft". Throws
+// std::invalid_argument naming the field and the models when unknown.
+const FluidModelEntry& ChosenFluidModel(const mjModel* m, const RftDragOverrides& overrides);
+// That model, built over `segments` (the model's RFT segments and
+// coefficients). Throws std::invalid_argument on bad settings, naming the
+// model.
 std::unique_ptr<Fluid> MakeFluid(const mjModel* m, const RftDrag& segments,
                                  const RftDragOverrides& overrides);
+// The wall's distance from the centreline that the segments' coefficients
+// were made for [m] (near-wall RFT), or nullopt in free space.
+std::optional<double> WallDistance_m(const RftDrag& segments);
 
 }  // namespace ipmc

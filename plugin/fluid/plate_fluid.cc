@@ -95,8 +95,12 @@ void PlateSettings::Validate() const {
   }
 }
 
+int CellsAlong(double length_m, double width_m, int across) {
+  return std::max(1, static_cast<int>(std::lround(length_m / (width_m / across))));
+}
+
 SurfaceMesh RectangleMesh(double length_m, double width_m, int across, int refinement) {
-  const int along = std::max(1, static_cast<int>(std::lround(length_m / (width_m / across))));
+  const int along = CellsAlong(length_m, width_m, across);
   SurfaceMesh mesh;
   for (double x : SubCentres(0.5 * length_m, along, 1)) {
     for (double z : SubCentres(0.5 * width_m, across, 1)) mesh.force_points.emplace_back(x, 0, z);
@@ -258,13 +262,67 @@ StripDragPerLength ConvergedStripDrag(double viscosity_Pa_s, double length_m, do
   return {converged[0] / length_m, converged[1] / length_m};
 }
 
-bool PlateFluid::Chosen(const RftDrag& /*segments*/, const RftDragOverrides& overrides) {
-  return overrides.plates.has_value();
+namespace {
+
+// The parameters (FluidParameter, fluid_model.h).
+FluidParameter PointsAcross() {
+  FluidParameter p = IntegerParameter(
+      "plate_points_across", "ipmc_fluid_plate_points_across", 4, 1, kMaxPlatePointsAcross, 6,
+      "Force points across the strip's width on each plate (square cells along its length; the "
+      "blob is half their spacing): the plate model's resolution (docs/FLUIDS.md, \"Flat "
+      "plates\")");
+  p.resolution = true;
+  return p;
+}
+
+FluidParameter QuadratureRefinement() {
+  return IntegerParameter("plate_quadrature_refinement",
+                          "ipmc_fluid_plate_quadrature_refinement", 4, 1,
+                          kMaxPlateQuadratureRefinement, 6,
+                          "Quadrature points per force point along each side of its cell (the "
+                          "nearest-neighbour method's finer grid)");
+}
+
+FluidParameter Richardson() {
+  return BooleanParameter("plate_richardson", "ipmc_fluid_plate_richardson", true,
+                          "Richardson extrapolation in the blob: 2 R(eps / 2) - R(eps), which "
+                          "removes the regularization's error, linear in eps (two solves per "
+                          "resistance)");
+}
+
+PlateSettings SettingsFromParameters(const mjModel* m, const RftDrag& segments,
+                                     const RftDragOverrides& overrides) {
+  const auto value = [&](const FluidParameter& p) {
+    return *FluidParameterValue(m, overrides, "plate fluid", p);
+  };
+  PlateSettings settings;
+  settings.points_across = static_cast<int>(value(PointsAcross()));
+  settings.quadrature_refinement = static_cast<int>(value(QuadratureRefinement()));
+  settings.richardson = value(Richardson()) != 0.0;
+  settings.wall_distance_m = WallDistance_m(segments);
+  return settings;
+}
+
+}  // namespace
+
+std::vector<FluidParameter> PlateFluid::Parameters() {
+  return {PointsAcross(), QuadratureRefinement(), Richardson()};
 }
 
 std::unique_ptr<Fluid> PlateFluid::Make(const mjModel* m, const RftDrag& segments,
                                         const RftDragOverrides& overrides) {
-  return std::make_unique<PlateFluid>(m, segments, *overrides.plates);
+  return std::make_unique<PlateFluid>(m, segments, SettingsFromParameters(m, segments, overrides));
+}
+
+double PlateFluid::ForcePoints(const mjModel* m, const RftDrag& segments,
+                               const RftDragOverrides& overrides) {
+  const PlateSettings settings = SettingsFromParameters(m, segments, overrides);
+  const double width_m = settings.width_m == 0.0 ? StripWidth_m(m) : settings.width_m;
+  double points = 0.0;
+  for (double length_m : segments.SegmentLengths_m()) {
+    points += CellsAlong(length_m, width_m, settings.points_across) * settings.points_across;
+  }
+  return points;
 }
 
 PlateFluid::PlateFluid(const mjModel* m, const RftDrag& segments, const PlateSettings& plates)

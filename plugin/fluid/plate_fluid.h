@@ -86,6 +86,9 @@ struct SurfaceMesh {
   std::vector<int> owner;  // the nearest force point of each quadrature point
 };
 
+// The force cells along a rectangle with `across` of them across its width:
+// the whole number nearest length / (width / across), at least 1.
+int CellsAlong(double length_m, double width_m, int across);
 // A rectangle `length_m` along x and `width_m` along z, centred on the
 // origin: `across` force cells across the width, square-ish cells along
 // (the whole number of cells nearest w / across long), each cut into
@@ -157,11 +160,18 @@ class PlateFluid : public DenseResistanceFluid {
   // fields); a 0 width takes the model's strip width. Throws
   // std::invalid_argument on bad settings.
   PlateFluid(const mjModel* m, const RftDrag& segments, const PlateSettings& plates);
-  // The registry's entry (fluid_model.h): chosen when the overrides carry
-  // plate settings.
-  static bool Chosen(const RftDrag& segments, const RftDragOverrides& overrides);
+  // The registry's entry (fluid_model.h): the settings' parameters
+  // (ipmc_fluid_plate_* fields, fluid.plate_* keys), the model they set,
+  // with the wall of the segments' near-wall coefficients, and its force
+  // points.
+  static constexpr char kSummary[] =
+      "flat plates, each link a rectangle of regularized Stokeslets by the nearest-neighbour "
+      "method, with a wall's image system";
+  static std::vector<FluidParameter> Parameters();
   static std::unique_ptr<Fluid> Make(const mjModel* m, const RftDrag& segments,
                                      const RftDragOverrides& overrides);
+  static double ForcePoints(const mjModel* m, const RftDrag& segments,
+                            const RftDragOverrides& overrides);
 
   double TowingDrag_N(double speed_m_s) const override;
   const PlateSettings& settings() const { return settings_; }

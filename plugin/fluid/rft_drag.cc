@@ -234,10 +234,6 @@ double SegmentDragPower(const Segment& segment, const Wrench& wrench) {
          wrench.torque_center_W.dot(segment.angular_velocity_W);
 }
 
-bool RftDrag::Chosen(const RftDrag& /*segments*/, const RftDragOverrides& /*overrides*/) {
-  return true;
-}
-
 std::unique_ptr<Fluid> RftDrag::Make(const mjModel* /*m*/, const RftDrag& segments,
                                      const RftDragOverrides& /*overrides*/) {
   return std::make_unique<RftDrag>(segments);

@@ -53,15 +53,13 @@
 
 #include <Eigen/Core>
 #include <Eigen/StdVector>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "plugin/fluid/fluid_model.h"
-#include "plugin/fluid/regularized_stokeslets.h"
-#include "plugin/fluid/plate_fluid.h"
-#include "plugin/fluid/ribbon_fluid.h"
 
 namespace ipmc {
 
@@ -119,13 +117,12 @@ struct RftDragOverrides {
   std::optional<CoefficientModel> model;
   std::optional<double> wavelength_m;
   std::optional<double> wall_distance_m;
-  // Set: the fluid model is regularized Stokeslets
-  // (plugin/fluid/stokeslet_fluid.h) over these segments, RFT otherwise.
-  std::optional<StokesletSettings> stokeslets;
-  // Set: the fluid model is slender-ribbon theory (plugin/fluid/ribbon_fluid.h).
-  std::optional<RibbonSettings> ribbon;
-  // Set: the fluid model is flat plates (plugin/fluid/plate_fluid.h).
-  std::optional<PlateSettings> plates;
+  // The fluid model (FluidModels(), fluid_model.h) over the model's
+  // ipmc_fluid_model.
+  std::optional<std::string> fluid_model;
+  // Fluid models' parameters over their <custom> fields (FluidParameter):
+  // the field's name to its value in SI units.
+  std::map<std::string, double> fluid_parameters;
 };
 
 struct RftDragConfig {
@@ -193,9 +190,7 @@ class RftDrag : public Fluid {
   // Resolves geoms and coefficients; throws std::invalid_argument on a bad
   // configuration (unknown geom name, non-slender geom).
   RftDrag(const mjModel* m, const RftDragConfig& config);
-  // The registry's entry (fluid_model.h): the model unless another is
-  // chosen; a copy of `segments`.
-  static bool Chosen(const RftDrag& segments, const RftDragOverrides& overrides);
+  // The registry's entry (fluid_model.h): a copy of `segments`.
   static std::unique_ptr<Fluid> Make(const mjModel* m, const RftDrag& segments,
                                      const RftDragOverrides& overrides);
 

@@ -305,13 +305,28 @@ std::vector<RibbonPiece> StraightRibbon(const std::vector<double>& lengths_m) {
   return pieces;
 }
 
-bool RibbonFluid::Chosen(const RftDrag& /*segments*/, const RftDragOverrides& overrides) {
-  return overrides.ribbon.has_value();
+namespace {
+
+// The parameter (FluidParameter, fluid_model.h).
+FluidParameter Modes() {
+  FluidParameter p = IntegerParameter(
+      "ribbon_modes", "ipmc_fluid_ribbon_modes", kDefaultRibbonModes, 1, kMaxRibbonModes, 6,
+      "Legendre modes of each component of the ribbon's force density along the whole strip "
+      "(slender-ribbon theory; from 10 on they resolve wavelengths near the strip's width, "
+      "where the theory's resistance stops being positive: docs/FLUIDS.md)");
+  p.resolution = true;
+  return p;
 }
+
+}  // namespace
+
+std::vector<FluidParameter> RibbonFluid::Parameters() { return {Modes()}; }
 
 std::unique_ptr<Fluid> RibbonFluid::Make(const mjModel* m, const RftDrag& segments,
                                          const RftDragOverrides& overrides) {
-  return std::make_unique<RibbonFluid>(m, segments, *overrides.ribbon);
+  RibbonSettings ribbon;
+  ribbon.modes = static_cast<int>(*FluidParameterValue(m, overrides, "ribbon fluid", Modes()));
+  return std::make_unique<RibbonFluid>(m, segments, ribbon);
 }
 
 RibbonFluid::RibbonFluid(const mjModel* m, const RftDrag& segments, const RibbonSettings& ribbon)

@@ -102,9 +102,12 @@ class RibbonFluid : public DenseResistanceFluid {
   // fields); the 0 lengths of `ribbon` take the model's strip width.
   // Throws std::invalid_argument on bad settings.
   RibbonFluid(const mjModel* m, const RftDrag& segments, const RibbonSettings& ribbon);
-  // The registry's entry (fluid_model.h): chosen when the overrides carry
-  // ribbon settings.
-  static bool Chosen(const RftDrag& segments, const RftDragOverrides& overrides);
+  // The registry's entry (fluid_model.h): the settings' parameter (the
+  // modes: ipmc_fluid_ribbon_modes, fluid.ribbon_modes) and the model it
+  // sets. Free space only.
+  static constexpr char kSummary[] =
+      "slender-ribbon theory, the strip as one flat ribbon with kinks (free space only)";
+  static std::vector<FluidParameter> Parameters();
   static std::unique_ptr<Fluid> Make(const mjModel* m, const RftDrag& segments,
                                      const RftDragOverrides& overrides);
 

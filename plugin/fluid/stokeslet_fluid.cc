@@ -1,12 +1,16 @@
 #include "plugin/fluid/stokeslet_fluid.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 
 namespace ipmc {
 namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 void RequirePositive(double value, const char* what) {
   if (!(value > 0.0) || !std::isfinite(value)) {
@@ -47,13 +51,84 @@ StokesletSettings StokesletSettingsFromModel(const mjModel* m, const RftDrag& se
   return settings;
 }
 
-bool StokesletFluid::Chosen(const RftDrag& /*segments*/, const RftDragOverrides& overrides) {
-  return overrides.stokeslets.has_value();
+namespace {
+
+// The parameters (FluidParameter, fluid_model.h).
+FluidParameter WidthPoints() {
+  FluidParameter p = IntegerParameter(
+      "stokeslet_width_points", "ipmc_fluid_stokeslet_width_points", 1, 1, kMaxWidthPoints, 4,
+      "Stokeslet points across the strip's width (ipmc_strip_width_m): 1 puts them on the "
+      "centreline; k > 1 makes the strip a sheet, a square grid w / k apart with the blob "
+      "0.7 w / k (docs/FLUIDS.md, \"Ribbon calibration\")");
+  p.resolution = true;
+  return p;
+}
+
+FluidParameter PointsPerMm() {
+  FluidParameter p = NumberParameter(
+      "stokeslet_points_per_mm", "ipmc_fluid_stokeslet_points_per_m", "1/mm", 1e3, kNaN,
+      "one per blob (1 / fluid.stokeslet_blob_mm)", 0.0, false, 2.0,
+      "Stokeslet points per mm along each segment's centreline (each segment gets the "
+      "smallest whole number of equal intervals at least this dense)");
+  p.resolution = true;
+  return p;
+}
+
+FluidParameter BlobMm() {
+  FluidParameter p = NumberParameter(
+      "stokeslet_blob_mm", "ipmc_fluid_stokeslet_blob_m", "mm", 1e-3, kNaN,
+      "sqrt(e) a = 1.340 mm for the paper's strip (a the RFT equivalent radius)", 0.0, false,
+      1.0,
+      "Blob size eps of the regularized Stokeslets; sqrt(e) a makes the line of points the "
+      "slender cylinder of radius a");
+  p.resolution = true;
+  return p;
+}
+
+FluidParameter ShapeToleranceRad() {
+  return NumberParameter("stokeslet_shape_tolerance_rad",
+                         "ipmc_fluid_stokeslet_shape_tolerance_rad", "rad", 1.0, 1e-3, "1e-3",
+                         0.0, true, 1e-4,
+                         "The Stokeslet resistance is recomputed when a joint has moved more "
+                         "than this since it was last computed (0: every evaluation)");
+}
+
+// The settings the parameters give, defaults filled in and checked.
+StokesletSettings SettingsFromParameters(const mjModel* m, const RftDrag& segments,
+                                         const RftDragOverrides& overrides) {
+  const auto value = [&](const FluidParameter& p) {
+    return FluidParameterValue(m, overrides, "stokeslet fluid", p);
+  };
+  StokesletSettings settings;
+  settings.width_points = static_cast<int>(*value(WidthPoints()));
+  if (const std::optional<double> per_m = value(PointsPerMm())) settings.spacing_m = 1.0 / *per_m;
+  settings.blob_m = value(BlobMm()).value_or(0.0);
+  settings.shape_tolerance_rad = *value(ShapeToleranceRad());
+  settings.wall_distance_m = WallDistance_m(segments);
+  return StokesletSettingsFromModel(m, segments, settings);
+}
+
+}  // namespace
+
+std::vector<FluidParameter> StokesletFluid::Parameters() {
+  return {WidthPoints(), PointsPerMm(), BlobMm(), ShapeToleranceRad()};
 }
 
 std::unique_ptr<Fluid> StokesletFluid::Make(const mjModel* m, const RftDrag& segments,
                                             const RftDragOverrides& overrides) {
-  return std::make_unique<StokesletFluid>(m, segments, *overrides.stokeslets);
+  return std::make_unique<StokesletFluid>(m, segments,
+                                          SettingsFromParameters(m, segments, overrides));
+}
+
+double StokesletFluid::ForcePoints(const mjModel* m, const RftDrag& segments,
+                                   const RftDragOverrides& overrides) {
+  const StokesletSettings settings = SettingsFromParameters(m, segments, overrides);
+  double points = 0.0;  // as SegmentPoints places them, without an int to overflow
+  for (double length_m : segments.SegmentLengths_m()) {
+    points += std::max(1.0, std::ceil(length_m / settings.spacing_m - 1e-9)) *
+              settings.width_points;
+  }
+  return points;
 }
 
 StokesletFluid::StokesletFluid(const mjModel* m, const RftDrag& segments,

@@ -12,9 +12,10 @@
 // The resistance is kept while the shape moves less than
 // `shape_tolerance_rad` (plugin/fluid/dense_resistance_fluid.h).
 //
-// Settings: the program's (RftDragOverrides::stokeslets, from the scenario's
-// fluid.stokeslet_* keys); the defaults come from the model's <custom>
-// fields ipmc_strip_width_m and ipmc_rft_equivalent_radius_m.
+// Settings: the model's <custom> fields ipmc_fluid_stokeslet_* and the
+// program's overrides of them (the scenario's fluid.stokeslet_* keys); the
+// defaults come from the model's ipmc_strip_width_m and
+// ipmc_rft_equivalent_radius_m.
 #pragma once
 
 #include <mujoco/mujoco.h>
@@ -42,11 +43,18 @@ class StokesletFluid : public DenseResistanceFluid {
   // defaults, StokesletSettingsFromModel). Throws std::invalid_argument on
   // bad settings.
   StokesletFluid(const mjModel* m, const RftDrag& segments, const StokesletSettings& stokeslets);
-  // The registry's entry (fluid_model.h): chosen when the overrides carry
-  // Stokeslet settings.
-  static bool Chosen(const RftDrag& segments, const RftDragOverrides& overrides);
+  // The registry's entry (fluid_model.h): the settings' parameters
+  // (ipmc_fluid_stokeslet_* fields, fluid.stokeslet_* keys), the model they
+  // set, with the wall of the segments' near-wall coefficients, and its
+  // points.
+  static constexpr char kSummary[] =
+      "regularized Stokeslets along the segments' centrelines (or on a sheet across the "
+      "width), whose segments interact, with a wall's image system";
+  static std::vector<FluidParameter> Parameters();
   static std::unique_ptr<Fluid> Make(const mjModel* m, const RftDrag& segments,
                                      const RftDragOverrides& overrides);
+  static double ForcePoints(const mjModel* m, const RftDrag& segments,
+                            const RftDragOverrides& overrides);
 
   double TowingDrag_N(double speed_m_s) const override;
   const Eigen::MatrixXd& BodyResistance(const mjModel* m, const mjData* d) const {

@@ -1,21 +1,41 @@
 #include "sim/core/fluid_keys.h"
 
+#include <cmath>
 #include <string>
 
-#include "plugin/fluid/plate_fluid.h"
-#include "plugin/fluid/regularized_stokeslets.h"
-#include "plugin/fluid/ribbon_fluid.h"
+#include "plugin/fluid/fluid_model.h"
 #include "sim/core/key_builder.h"
 #include "sim/core/scenario.h"
 
 namespace ipmc {
 namespace {
 
-// The selector of the Stokeslets' keys and the value they apply under.
+// The selector of the models' parameter keys.
 constexpr char kFluidModel[] = "fluid.model";
-constexpr char kStokeslets[] = "stokeslets";
-constexpr char kRibbon[] = "ribbon";
-constexpr char kPlates[] = "plates";
+
+// fluid.model: its choices and their meaning from the registry.
+KeySpec ModelKey() {
+  std::string meaning =
+      "The fluid model (plugin/fluid/fluid_model.h, docs/FLUIDS.md), over the model's "
+      "`ipmc_fluid_model`:";
+  std::string separator = " ";
+  for (const FluidModelEntry& entry : FluidModels()) {
+    meaning += separator + "\"" + entry.name + "\", " + entry.summary;
+    separator = "; ";
+  }
+  std::vector<std::string> choices;
+  for (const FluidModelEntry& entry : FluidModels()) choices.push_back(entry.name);
+  return Key(kFluidModel, KeyType::kChoice, "", QuotedChoices(choices),
+             "the model's `ipmc_fluid_model`, else \"rft\"", meaning + ". Its parameters, "
+             "fluid.stokeslet_* and so on, apply only with fluid.model set")
+      .Example("\"stokeslets\"")
+      .Refused("\"bem\"")
+      .Choices(FluidModelChoices())
+      .Reads([](const KeyValue& v, ScenarioConfig& c) { c.fluid.model = v.Choice(); })
+      .Writes([](const ScenarioConfig& c) {
+        return c.fluid.model ? TomlString(*c.fluid.model) : kLeftOut;
+      });
+}
 
 // The fluid and the model that computes its drag: viscosity, RFT coefficients, wall.
 std::vector<KeySpec> RftKeys() {
@@ -74,177 +94,65 @@ std::vector<KeySpec> RftKeys() {
           .Writes([](const ScenarioConfig& c) {
             return c.fluid.wall_gap_mm ? TomlFloat(*c.fluid.wall_gap_mm) : kLeftOut;
           }),
-      Key(kFluidModel, T::kChoice, "", "", "\"rft\"",
-          "The fluid model (plugin/fluid/fluid_model.h, docs/FLUIDS.md): local RFT, "
-          "regularized Stokeslets along the segments' centrelines, whose segments interact "
-          "(with the wall's image system when fluid.wall_gap_mm is set), or slender-ribbon "
-          "theory, the strip as one flat ribbon with kinks (free space only), or flat plates, "
-          "each link a rectangle of regularized Stokeslets by the nearest-neighbour method "
-          "(with the wall's image system when fluid.wall_gap_mm is set)")
-          .Default("\"rft\"")
-          .Example("\"stokeslets\"")
-          .Refused("\"bem\"")
-          .Choices(kFluidModelNames)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.fluid.model = ChoiceValue(kFluidModelNames, v.Choice());
-          })
-          .Writes([](const ScenarioConfig& c) {
-            return TomlString(ChoiceText(kFluidModelNames, c.fluid.model));
-          }),
+      ModelKey(),
   };
 }
 
-// The regularized Stokeslets' points and blob (fluid.model = "stokeslets").
-std::vector<KeySpec> StokesletKeys() {
-  using T = KeyType;
-  return {
-      Key("fluid.stokeslet_width_points", T::kInteger, "", "[1, 16]", "1",
-          "Stokeslet points across the strip's width (ipmc_strip_width_m): 1 puts them on the "
-          "centreline; k > 1 makes the strip a sheet, a square grid w / k apart with the blob "
-          "0.7 w / k (docs/FLUIDS.md, \"Ribbon calibration\")")
-          .Default("1")
-          .Example("4")
-          .Refused("0")
-          .AtLeast(1)
-          .AtMost(kMaxWidthPoints)
-          .Only(kFluidModel, kStokeslets)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.fluid.stokeslets.width_points = static_cast<int>(v.Integer());
-          })
-          .Writes([](const ScenarioConfig& c) {
-            return c.fluid.stokeslets.width_points == 1
-                       ? kLeftOut
-                       : TomlInteger(c.fluid.stokeslets.width_points);
-          }),
-      Key("fluid.stokeslet_points_per_mm", T::kNumber, "1/mm", "> 0",
-          "one per blob (1 / fluid.stokeslet_blob_mm)",
-          "Stokeslet points per mm along each segment's centreline (each segment gets the "
-          "smallest whole number of equal intervals at least this dense)")
-          .Example("2.0")
-          .Refused("0")
-          .Above(0.0)
-          .Only(kFluidModel, kStokeslets)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.fluid.stokeslets.points_per_mm = v.Number();
-          })
-          .Writes([](const ScenarioConfig& c) {
-            return c.fluid.stokeslets.points_per_mm ? TomlFloat(*c.fluid.stokeslets.points_per_mm)
-                                                    : kLeftOut;
-          }),
-      Key("fluid.stokeslet_blob_mm", T::kNumber, "mm", "> 0",
-          "sqrt(e) a = 1.340 mm for the paper's strip (a the RFT equivalent radius)",
-          "Blob size eps of the regularized Stokeslets; sqrt(e) a makes the line of points the "
-          "slender cylinder of radius a")
-          .Example("1.0")
-          .Refused("0")
-          .Above(0.0)
-          .Only(kFluidModel, kStokeslets)
-          .Reads(
-              [](const KeyValue& v, ScenarioConfig& c) { c.fluid.stokeslets.blob_mm = v.Number(); })
-          .Writes([](const ScenarioConfig& c) {
-            return c.fluid.stokeslets.blob_mm ? TomlFloat(*c.fluid.stokeslets.blob_mm) : kLeftOut;
-          }),
-      Key("fluid.stokeslet_shape_tolerance_rad", T::kNumber, "rad", ">= 0", "1e-3",
-          "The Stokeslet resistance is recomputed when a joint has moved more than this since "
-          "it was last computed (0: every evaluation)")
-          .Default("1e-3")
-          .Example("1e-4")
-          .Refused("-1")
-          .AtLeast(0.0)
-          .Only(kFluidModel, kStokeslets)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.fluid.stokeslets.shape_tolerance_rad = v.Number();
-          })
-          .Writes([](const ScenarioConfig& c) {
-            return c.fluid.stokeslets.shape_tolerance_rad == 1e-3
-                       ? kLeftOut
-                       : TomlFloat(c.fluid.stokeslets.shape_tolerance_rad);
-          }),
-  };
+// A parameter's value as TOML, in its key's type.
+std::string ParameterToml(const FluidParameter& p, double value) {
+  switch (p.type) {
+    case FluidParameter::Type::kInteger:
+      return *TomlInteger(static_cast<int>(value));
+    case FluidParameter::Type::kBoolean:
+      return *TomlBool(value != 0.0);
+    case FluidParameter::Type::kNumber:
+      break;
+  }
+  return *TomlFloat(value);
 }
 
-// Slender-ribbon theory's resolution (fluid.model = "ribbon").
-std::vector<KeySpec> RibbonKeys() {
-  using T = KeyType;
-  return {
-      Key("fluid.ribbon_modes", T::kInteger, "", "[1, 9]", "8",
-          "Legendre modes of each component of the ribbon's force density along the whole "
-          "strip (slender-ribbon theory; from 10 on they resolve wavelengths near the strip's "
-          "width, where the theory's resistance stops being positive: docs/FLUIDS.md)")
-          .Default("8")
-          .Example("6")
-          .Refused("10")
-          .AtLeast(1)
-          .AtMost(kMaxRibbonModes)
-          .Only(kFluidModel, kRibbon)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.fluid.ribbon.modes = static_cast<int>(v.Integer());
-          })
-          .Writes([](const ScenarioConfig& c) {
-            return c.fluid.ribbon.modes == kDefaultRibbonModes ? kLeftOut
-                                                               : TomlInteger(c.fluid.ribbon.modes);
-          }),
+// The key fluid.<key> of one model's parameter: its range, default and
+// meaning from the parameter, applying only under fluid.model = the model.
+KeySpec ParameterKey(const FluidModelEntry& model, const FluidParameter& p) {
+  const KeyType type = p.type == FluidParameter::Type::kInteger   ? KeyType::kInteger
+                       : p.type == FluidParameter::Type::kBoolean ? KeyType::kBoolean
+                                                                   : KeyType::kNumber;
+  const bool derived = std::isnan(p.default_value);
+  Key key(std::string("fluid.") + p.key, type, p.unit, FluidParameterRange(p),
+          p.default_text ? p.default_text : ParameterToml(p, p.default_value), p.meaning);
+  KeySpec spec = key.Example(ParameterToml(p, p.example)).Only(kFluidModel, model.name);
+  if (!derived) spec.default_toml = ParameterToml(p, p.default_value);
+  if (type != KeyType::kBoolean) {
+    spec.refused_toml = ParameterToml(p, p.minimum_included ? p.minimum - 1 : p.minimum);
+    spec.lower = p.minimum_included ? Bound::kClosed : Bound::kOpen;
+    spec.minimum = p.minimum;
+    if (std::isfinite(p.maximum)) {
+      spec.upper = Bound::kClosed;
+      spec.maximum = p.maximum;
+    }
+  }
+  const std::string name = p.key;
+  spec.read = [name, type](const KeyValue& v, ScenarioConfig& c) {
+    c.fluid.parameters[name] = type == KeyType::kInteger   ? v.Integer()
+                               : type == KeyType::kBoolean ? v.Boolean()
+                                                           : v.Number();
   };
-}
-
-// The flat plates' resolution (fluid.model = "plates").
-std::vector<KeySpec> PlateKeys() {
-  using T = KeyType;
-  return {
-      Key("fluid.plate_points_across", T::kInteger, "", "[1, 16]", "4",
-          "Force points across the strip's width on each plate (square cells along its "
-          "length; the blob is half their spacing): the plate model's resolution "
-          "(docs/FLUIDS.md, \"Flat plates\")")
-          .Default("4")
-          .Example("6")
-          .Refused("0")
-          .AtLeast(1)
-          .AtMost(kMaxPlatePointsAcross)
-          .Only(kFluidModel, kPlates)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.fluid.plates.points_across = static_cast<int>(v.Integer());
-          })
-          .Writes([](const ScenarioConfig& c) {
-            return c.fluid.plates.points_across == 4 ? kLeftOut
-                                                     : TomlInteger(c.fluid.plates.points_across);
-          }),
-      Key("fluid.plate_quadrature_refinement", T::kInteger, "", "[1, 8]", "4",
-          "Quadrature points per force point along each side of its cell (the nearest-neighbour "
-          "method's finer grid)")
-          .Default("4")
-          .Example("6")
-          .Refused("0")
-          .AtLeast(1)
-          .AtMost(kMaxPlateQuadratureRefinement)
-          .Only(kFluidModel, kPlates)
-          .Reads([](const KeyValue& v, ScenarioConfig& c) {
-            c.fluid.plates.quadrature_refinement = static_cast<int>(v.Integer());
-          })
-          .Writes([](const ScenarioConfig& c) {
-            return c.fluid.plates.quadrature_refinement == 4
-                       ? kLeftOut
-                       : TomlInteger(c.fluid.plates.quadrature_refinement);
-          }),
-      Key("fluid.plate_richardson", T::kBoolean, "", "true or false", "true",
-          "Richardson extrapolation in the blob: 2 R(eps / 2) - R(eps), which removes the "
-          "regularization's error, linear in eps (two solves per resistance)")
-          .Default("true")
-          .Example("false")
-          .Only(kFluidModel, kPlates)
-          .Reads(
-              [](const KeyValue& v, ScenarioConfig& c) { c.fluid.plates.richardson = v.Boolean(); })
-          .Writes([](const ScenarioConfig& c) {
-            return c.fluid.plates.richardson ? kLeftOut : TomlBool(false);
-          }),
+  spec.write = [name, p](const ScenarioConfig& c) -> std::optional<std::string> {
+    const auto given = c.fluid.parameters.find(name);
+    if (given == c.fluid.parameters.end() || given->second == p.default_value) return kLeftOut;
+    return ParameterToml(p, given->second);
   };
+  return spec;
 }
 
 }  // namespace
 
 std::vector<KeySpec> FluidKeys() {
   std::vector<KeySpec> keys = RftKeys();
-  for (const std::vector<KeySpec>& part : {StokesletKeys(), RibbonKeys(), PlateKeys()}) {
-    keys.insert(keys.end(), part.begin(), part.end());
+  for (const FluidModelEntry& model : FluidModels()) {
+    for (const FluidParameter& parameter : model.parameters) {
+      keys.push_back(ParameterKey(model, parameter));
+    }
   }
   return keys;
 }

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sim/core/choice_table.h"
@@ -16,25 +17,25 @@ namespace ipmc {
 // Builds one KeySpec entry by named steps.
 class Key {
  public:
-  Key(const char* name, KeyType type, const char* unit, const char* allowed,
-      const char* default_text, const char* meaning) {
-    spec_.name = name;
+  Key(std::string name, KeyType type, const char* unit, std::string allowed,
+      std::string default_text, std::string meaning) {
+    spec_.name = std::move(name);
     spec_.type = type;
     spec_.unit = unit;
-    spec_.allowed = allowed;
-    spec_.default_text = default_text;
-    spec_.meaning = meaning;
+    spec_.allowed = std::move(allowed);
+    spec_.default_text = std::move(default_text);
+    spec_.meaning = std::move(meaning);
   }
-  Key& Default(const char* toml) {
-    spec_.default_toml = toml;
+  Key& Default(std::string toml) {
+    spec_.default_toml = std::move(toml);
     return *this;
   }
-  Key& Example(const char* toml) {
-    spec_.example_toml = toml;
+  Key& Example(std::string toml) {
+    spec_.example_toml = std::move(toml);
     return *this;
   }
-  Key& Refused(const char* toml) {
-    spec_.refused_toml = toml;
+  Key& Refused(std::string toml) {
+    spec_.refused_toml = std::move(toml);
     return *this;
   }
   Key& Only(const char* selector, const char* value) {
@@ -46,17 +47,17 @@ class Key {
     return *this;
   }
   Key& Reads(KeyReader read) {
-    spec_.read = read;
+    spec_.read = std::move(read);
     return *this;
   }
   Key& Writes(KeyWriter write) {
-    spec_.write = write;
+    spec_.write = std::move(write);
     return *this;
   }
   // A choice whose text the plugin or the controllers parse
   // (ParsePlantAssignment, ...): "uniform|table2".
-  Key& Choices(const char* choices) {
-    spec_.choices = choices;
+  Key& Choices(std::string choices) {
+    spec_.choices = std::move(choices);
     return *this;
   }
   // A choice parsed by the scenario: its values and allowed text from its

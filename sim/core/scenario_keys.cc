@@ -528,9 +528,10 @@ std::string SelectorValue(const std::string& selector, const ScenarioConfig& con
     throw std::logic_error("scenario key " + selector + " is not a selector");
   }
   // A choice is written as a TOML string of plain characters: 'pid'; a
-  // selector left out of a resolved scenario has its default.
+  // selector left out of a resolved scenario has its default ("" if it has
+  // none: the model file decides, fluid.model).
   const std::string text = key->write(config).value_or(key->default_toml);
-  return text.substr(1, text.size() - 2);
+  return text.size() < 2 ? "" : text.substr(1, text.size() - 2);
 }
 
 const KeyCondition* FailedCondition(const KeySpec& key, const ScenarioConfig& config) {

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -53,10 +54,10 @@ class KeyValue {
 };
 
 // Sets the fields of `config` the key stands for.
-using KeyReader = void (*)(const KeyValue& value, ScenarioConfig& config);
+using KeyReader = std::function<void(const KeyValue& value, ScenarioConfig& config)>;
 // The key's value in `config` as TOML; nullopt where a resolved scenario
 // leaves it out (the model file gives it).
-using KeyWriter = std::optional<std::string> (*)(const ScenarioConfig& config);
+using KeyWriter = std::function<std::optional<std::string>(const ScenarioConfig& config)>;
 
 // A key that applies only when another key of its table (its selector, a
 // kChoice key: "controller.kind") has `value`.
@@ -80,20 +81,20 @@ enum class KeyType {
 enum class Bound { kNone, kClosed, kOpen };
 
 struct KeySpec {
-  const char* name;     // dotted: "controller.kp"
+  std::string name;     // dotted: "controller.kp"
   KeyType type;
   const char* unit;     // "" for none
   std::string allowed;  // the allowed range or values, as messages state it
-  const char* default_text;  // the default as documented (a TOML value or words)
-  const char* meaning;
+  std::string default_text;  // the default as documented (a TOML value or words)
+  std::string meaning;
   // A TOML value equal to the default ("" if the default is not a value,
   // e.g. the model's own): reading it gives the scenario of no key.
-  const char* default_toml = "";
+  std::string default_toml;
   // Another accepted value ("" if default_toml serves).
-  const char* example_toml = "";
+  std::string example_toml;
   // A value of the right type that is refused naming the key ("" if
   // every value of the type is allowed).
-  const char* refused_toml = "";
+  std::string refused_toml;
   // The selectors' values the key applies under, checked in order (a
   // fractional integrator's gain: controller.kind = "fractional", then
   // controller.realisation = "oustaloup").
@@ -117,8 +118,8 @@ struct KeySpec {
   const char* fields = "";
   // Scenario keys: how the key is read and written (nullptr: the reader
   // does not read it / a resolved scenario leaves it out).
-  KeyReader read = nullptr;
-  KeyWriter write = nullptr;
+  KeyReader read;
+  KeyWriter write;
 };
 
 // Scenario keys, in the order the reader lists them.

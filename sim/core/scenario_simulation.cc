@@ -8,7 +8,8 @@
 
 #include "ipmc_swim/ipmc_swim.h"
 #include "plugin/coupling.h"
-#include "plugin/fluid/stokeslet_fluid.h"
+#include "plugin/fluid/fluid_model.h"
+#include "plugin/mjcf/custom_fields.h"
 #include "sim/base/numbers.h"
 #include "sim/core/hinge_damping.h"
 #include "sim/core/model_generator.h"
@@ -18,6 +19,8 @@
 
 namespace ipmc {
 namespace {
+
+constexpr char kFluidModelKey[] = "fluid.model";
 
 // "MODEL: has no RFT drag ...": the model, not the scenario key, lacks
 // what `keys` (of the scenario `scenario_source`) need.
@@ -37,40 +40,50 @@ void OverrideViscosity(mjModel* m, double viscosity_Pa_s, const std::string& mod
   m->numeric_data[m->numeric_adr[id]] = viscosity_Pa_s;
 }
 
-// Throws naming the key that sets the points (the one the scenario gives:
-// fluid.stokeslet_points_per_mm, else fluid.stokeslet_blob_mm, else
-// fluid.stokeslet_width_points) if they are more than the machine holds or
-// factors in reasonable time (CheckStokesletSize), before any step. Bad
-// settings are left to the simulation, which names the model.
-void CheckStokesletResolution(const ScenarioConfig& scenario, const mjModel* m,
-                              const RftDragOverrides& overrides) {
-  if (!overrides.stokeslets) return;
-  std::unique_ptr<StokesletFluid> fluid;
-  std::optional<RftDrag> drag;
+// The keys (or model file fields) that set the chosen model's force
+// points, with their values: the resolution parameters the scenario gives
+// ("in.toml: fluid.plate_points_across 16"), else those the model file
+// gives ("model.xml: ipmc_fluid_plate_points_across 16"), else the key or
+// field that chose the model.
+std::string ResolutionSource(const ScenarioConfig& scenario, const mjModel* m,
+                             const std::string& model_source, const FluidModelEntry& model) {
+  std::string keys, fields;
+  for (const FluidParameter& parameter : model.parameters) {
+    if (!parameter.resolution) continue;
+    if (const auto given = scenario.fluid.parameters.find(parameter.key);
+        given != scenario.fluid.parameters.end()) {
+      keys += (keys.empty() ? "fluid." : ", fluid.") + std::string(parameter.key) + " " +
+              FormatShortest(given->second);
+    } else if (const std::optional<double> value = FindCustomScalar(m, parameter.field)) {
+      fields += (fields.empty() ? "" : ", ") + std::string(parameter.field) + " " +
+                FormatShortest(*value);
+    }
+  }
+  if (!keys.empty()) return scenario.source + ": " + keys;
+  if (!fields.empty()) return model_source + ": " + fields;
+  return scenario.fluid.model ? scenario.source + ": " + kFluidModelKey
+                              : model_source + ": " + kAttrFluidModel;
+}
+
+// Throws naming what sets the chosen model's force points
+// (ResolutionSource) if they are more than the machine holds or factors in
+// reasonable time (CheckStokesletSize), before any step. Bad settings are
+// left to the simulation, which names the model.
+void CheckFluidResolution(const ScenarioConfig& scenario, const mjModel* m,
+                          const std::string& model_source, const RftDragOverrides& overrides) {
+  double points = 0.0;
+  const FluidModelEntry* model = nullptr;
   try {
     const std::optional<RftDragConfig> config = RftDragConfig::FromModel(m, overrides);
     if (!config) return;
-    drag.emplace(m, *config);
-    fluid = std::make_unique<StokesletFluid>(m, *drag, *overrides.stokeslets);  // builds no points
+    model = &ChosenFluidModel(m, overrides);
+    if (model->force_points == nullptr) return;
+    points = model->force_points(m, RftDrag(m, *config), overrides);
   } catch (const std::exception&) {
     return;
   }
-  const StokesletSettings& settings = fluid->settings();
-  double points = 0.0;  // as in SegmentPoints, without an int to overflow
-  for (double length_m : fluid->rft().SegmentLengths_m()) {
-    points += std::max(1.0, std::ceil(length_m / settings.spacing_m - 1e-9)) *
-              settings.width_points;
-  }
-  std::string key = "fluid.model";
-  if (scenario.fluid.stokeslets.points_per_mm) {
-    key =
-        "fluid.stokeslet_points_per_mm " + FormatShortest(*scenario.fluid.stokeslets.points_per_mm);
-  } else if (scenario.fluid.stokeslets.blob_mm && scenario.fluid.stokeslets.width_points == 1) {
-    key = "fluid.stokeslet_blob_mm " + FormatShortest(*scenario.fluid.stokeslets.blob_mm);
-  } else if (scenario.fluid.stokeslets.width_points > 1) {
-    key = "fluid.stokeslet_width_points " + std::to_string(scenario.fluid.stokeslets.width_points);
-  }
-  CheckStokesletSize(points, scenario.run.allow_long, scenario.source + ": " + key);
+  CheckStokesletSize(points, scenario.run.allow_long,
+                     ResolutionSource(scenario, m, model_source, *model));
 }
 
 // The MJCF of the flagellum a scenario generates (ModelScenario::Generated()).
@@ -113,8 +126,8 @@ std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenari
   overrides.plants = scenario.model.plants;
   overrides.dynamics = scenario.model.dynamics;
   const RftDragOverrides fluid = ScenarioFluidOverrides(scenario, model.get());
-  // Before the simulation's first evaluation factors the Stokeslet matrix.
-  CheckStokesletResolution(scenario, model.get(), fluid);
+  // Before the simulation's first evaluation factors a dense mobility.
+  CheckFluidResolution(scenario, model.get(), source, fluid);
   auto sim = std::make_unique<Simulation>(std::move(model), source, overrides, fluid);
   const CouplingContext* coupling = FindCoupling(sim->data());
   if (!(coupling && coupling->drag)) {
@@ -126,7 +139,7 @@ std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenari
     name(scenario.fluid.rft_coefficients.has_value(), "fluid.rft_coefficients");
     name(scenario.fluid.rft_wavelength_mm.has_value(), "fluid.rft_wavelength_mm");
     name(scenario.fluid.wall_gap_mm.has_value(), "fluid.wall_gap_mm");
-    name(scenario.fluid.model != FluidModel::kRft, "fluid.model");
+    name(scenario.fluid.model && *scenario.fluid.model != "rft", kFluidModelKey);
     if (!keys.empty()) {
       throw std::runtime_error(NoDragMessage(sim->source(), scenario.source, keys));
     }
@@ -148,37 +161,26 @@ RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mj
   if (scenario.fluid.wall_gap_mm) {
     fluid.wall_distance_m = *scenario.fluid.wall_gap_mm * kMmToM + 0.5 * StripWidth_m(m);
   }
-  if (scenario.fluid.model == FluidModel::kStokeslets) {
-    StokesletSettings stokeslets;
-    if (scenario.fluid.stokeslets.blob_mm) {
-      stokeslets.blob_m = *scenario.fluid.stokeslets.blob_mm * kMmToM;
-    }
-    if (scenario.fluid.stokeslets.points_per_mm) {
-      stokeslets.spacing_m = kMmToM / *scenario.fluid.stokeslets.points_per_mm;
-    }
-    stokeslets.width_points = scenario.fluid.stokeslets.width_points;
-    stokeslets.wall_distance_m = fluid.wall_distance_m;
-    stokeslets.shape_tolerance_rad = scenario.fluid.stokeslets.shape_tolerance_rad;
-    fluid.stokeslets = stokeslets;
+  fluid.fluid_model = scenario.fluid.model;
+  const FluidModelEntry* model = nullptr;
+  try {
+    model = &ChosenFluidModel(m, fluid);
+  } catch (const std::invalid_argument&) {
+    return fluid;  // the model file's error, which the simulation reports naming it
   }
-  if (scenario.fluid.model == FluidModel::kRibbon && scenario.fluid.wall_gap_mm) {
-    throw std::runtime_error(scenario.source + ": fluid.wall_gap_mm needs fluid.model \"rft\", " +
-                             "\"stokeslets\" or \"plates\" (the " +
-                             ChoiceText(kFluidModelNames, scenario.fluid.model) +
+  if (scenario.fluid.wall_gap_mm && !model->wall) {
+    std::vector<std::string> walled;
+    for (const FluidModelEntry& entry : FluidModels()) {
+      if (entry.wall) walled.push_back(entry.name);
+    }
+    throw std::runtime_error(scenario.source + ": fluid.wall_gap_mm needs fluid.model " +
+                             QuotedChoices(walled) + " (the " + model->name +
                              " model is free space only)");
   }
-  if (scenario.fluid.model == FluidModel::kRibbon) {
-    RibbonSettings ribbon;
-    ribbon.modes = scenario.fluid.ribbon.modes;
-    fluid.ribbon = ribbon;
-  }
-  if (scenario.fluid.model == FluidModel::kPlates) {
-    PlateSettings plates;
-    plates.points_across = scenario.fluid.plates.points_across;
-    plates.quadrature_refinement = scenario.fluid.plates.quadrature_refinement;
-    plates.richardson = scenario.fluid.plates.richardson;
-    plates.wall_distance_m = fluid.wall_distance_m;
-    fluid.plates = plates;
+  for (const FluidParameter& parameter : model->parameters) {
+    const auto given = scenario.fluid.parameters.find(parameter.key);
+    if (given == scenario.fluid.parameters.end()) continue;
+    fluid.fluid_parameters[parameter.field] = given->second * parameter.field_per_key;
   }
   return fluid;
 }
