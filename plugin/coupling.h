@@ -12,7 +12,6 @@
 #include "plugin/fluid/fluid_model.h"
 #include "plugin/fluid/rft_drag.h"
 #include "plugin/dynamics/stokes_step.h"
-#include "plugin/fluid/stokeslet_fluid.h"
 
 namespace ipmc {
 

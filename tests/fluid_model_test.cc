@@ -22,6 +22,7 @@
 #include "plugin/fluid/fluid_model.h"
 #include "plugin/fluid/plate_fluid.h"
 #include "plugin/fluid/ribbon_fluid.h"
+#include "plugin/fluid/stokeslet_fluid.h"
 #include "sim/core/scenario.h"
 #include "sim/core/scenario_keys.h"
 #include "sim/core/scenario_simulation.h"
