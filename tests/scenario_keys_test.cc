@@ -183,7 +183,7 @@ TEST(ScenarioKeysTest, TheReaderAllowsExactlyTheTablesKeys) {
                                       "stokeslet_points_per_mm", "stokeslet_blob_mm",
                                       "stokeslet_shape_tolerance_rad", "ribbon_modes",
                                       "plate_points_across", "plate_quadrature_refinement",
-                                      "plate_richardson"}));
+                                      "plate_richardson", "plate_shape_tolerance_rad"}));
   std::vector<std::string> tables = {""};
   for (const std::string& name : ScenarioKeysUnder("")) {
     if (!ScenarioKeysUnder(name).empty()) tables.push_back(name);

@@ -98,6 +98,11 @@ FluidParameter BooleanParameter(const char* key, const char* field, bool default
   return p;
 }
 
+FluidParameter SetsResolution(FluidParameter parameter) {
+  parameter.resolution = true;
+  return parameter;
+}
+
 std::string FluidParameterRange(const FluidParameter& p) { return RangeText(p, 1.0); }
 
 std::optional<double> FluidParameterValue(const mjModel* m, const RftDragOverrides& overrides,

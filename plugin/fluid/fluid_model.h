@@ -118,7 +118,7 @@ struct FluidParameter {
   const char* unit;        // the key's: "mm", "1/mm", "rad", ""
   double field_per_key;    // the field's value per unit of the key's (1e-3: mm to m)
   double default_value;    // in the key's unit; NaN: the model derives it
-  const char* default_text;  // the default as documented
+  const char* default_text;  // the default as documented; nullptr: default_value
   double example;          // another allowed value, in the key's unit
   // The range in the key's unit: above `minimum` (at least it when
   // `minimum_included`; -inf: unbounded) and at most `maximum` (inf: unbounded).
@@ -138,6 +138,8 @@ FluidParameter NumberParameter(const char* key, const char* field, const char* u
                                double example, const char* meaning);
 FluidParameter BooleanParameter(const char* key, const char* field, bool default_value,
                                 const char* meaning);
+// `parameter` marked as one that sets how many force points the model has.
+FluidParameter SetsResolution(FluidParameter parameter);
 // The allowed values as messages and the key table state them: "[1, 16]",
 // "> 0", ">= 0", "true or false".
 std::string FluidParameterRange(const FluidParameter& parameter);

@@ -266,13 +266,11 @@ namespace {
 
 // The parameters (FluidParameter, fluid_model.h).
 FluidParameter PointsAcross() {
-  FluidParameter p = IntegerParameter(
+  return SetsResolution(IntegerParameter(
       "plate_points_across", "ipmc_fluid_plate_points_across", 4, 1, kMaxPlatePointsAcross, 6,
       "Force points across the strip's width on each plate (square cells along its length; the "
       "blob is half their spacing): the plate model's resolution (docs/FLUIDS.md, \"Flat "
-      "plates\")");
-  p.resolution = true;
-  return p;
+      "plates\")"));
 }
 
 FluidParameter QuadratureRefinement() {
@@ -290,6 +288,14 @@ FluidParameter Richardson() {
                           "resistance)");
 }
 
+FluidParameter ShapeToleranceRad() {
+  return NumberParameter("plate_shape_tolerance_rad", "ipmc_fluid_plate_shape_tolerance_rad",
+                         "rad", 1.0, 1e-3, "1e-3", 0.0, true, 2e-3,
+                         "The blocks between plates are recomputed when a joint has moved more "
+                         "than this since they were last computed (0: every evaluation; "
+                         "docs/FLUIDS.md, \"Flat plates\")");
+}
+
 PlateSettings SettingsFromParameters(const mjModel* m, const RftDrag& segments,
                                      const RftDragOverrides& overrides) {
   const auto value = [&](const FluidParameter& p) {
@@ -299,6 +305,7 @@ PlateSettings SettingsFromParameters(const mjModel* m, const RftDrag& segments,
   settings.points_across = static_cast<int>(value(PointsAcross()));
   settings.quadrature_refinement = static_cast<int>(value(QuadratureRefinement()));
   settings.richardson = value(Richardson()) != 0.0;
+  settings.shape_tolerance_rad = value(ShapeToleranceRad());
   settings.wall_distance_m = WallDistance_m(segments);
   return settings;
 }
@@ -306,7 +313,7 @@ PlateSettings SettingsFromParameters(const mjModel* m, const RftDrag& segments,
 }  // namespace
 
 std::vector<FluidParameter> PlateFluid::Parameters() {
-  return {PointsAcross(), QuadratureRefinement(), Richardson()};
+  return {PointsAcross(), QuadratureRefinement(), Richardson(), ShapeToleranceRad()};
 }
 
 std::unique_ptr<Fluid> PlateFluid::Make(const mjModel* m, const RftDrag& segments,

@@ -108,7 +108,7 @@ struct PlacedSurface {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   int body = 0;
 };
-struct Segment;  // rft_drag.h, which includes this header
+struct Segment;  // rft_drag.h
 
 // The plate of `segment`, as the plate model places it: x along the
 // segment, z across the width (the generated models' width, normal to the

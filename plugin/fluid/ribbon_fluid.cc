@@ -309,13 +309,11 @@ namespace {
 
 // The parameter (FluidParameter, fluid_model.h).
 FluidParameter Modes() {
-  FluidParameter p = IntegerParameter(
+  return SetsResolution(IntegerParameter(
       "ribbon_modes", "ipmc_fluid_ribbon_modes", kDefaultRibbonModes, 1, kMaxRibbonModes, 6,
       "Legendre modes of each component of the ribbon's force density along the whole strip "
       "(slender-ribbon theory; from 10 on they resolve wavelengths near the strip's width, "
-      "where the theory's resistance stops being positive: docs/FLUIDS.md)");
-  p.resolution = true;
-  return p;
+      "where the theory's resistance stops being positive: docs/FLUIDS.md)"));
 }
 
 }  // namespace

@@ -55,34 +55,28 @@ namespace {
 
 // The parameters (FluidParameter, fluid_model.h).
 FluidParameter WidthPoints() {
-  FluidParameter p = IntegerParameter(
+  return SetsResolution(IntegerParameter(
       "stokeslet_width_points", "ipmc_fluid_stokeslet_width_points", 1, 1, kMaxWidthPoints, 4,
       "Stokeslet points across the strip's width (ipmc_strip_width_m): 1 puts them on the "
       "centreline; k > 1 makes the strip a sheet, a square grid w / k apart with the blob "
-      "0.7 w / k (docs/FLUIDS.md, \"Ribbon calibration\")");
-  p.resolution = true;
-  return p;
+      "0.7 w / k (docs/FLUIDS.md, \"Ribbon calibration\")"));
 }
 
 FluidParameter PointsPerMm() {
-  FluidParameter p = NumberParameter(
+  return SetsResolution(NumberParameter(
       "stokeslet_points_per_mm", "ipmc_fluid_stokeslet_points_per_m", "1/mm", 1e3, kNaN,
       "one per blob (1 / fluid.stokeslet_blob_mm)", 0.0, false, 2.0,
       "Stokeslet points per mm along each segment's centreline (each segment gets the "
-      "smallest whole number of equal intervals at least this dense)");
-  p.resolution = true;
-  return p;
+      "smallest whole number of equal intervals at least this dense)"));
 }
 
 FluidParameter BlobMm() {
-  FluidParameter p = NumberParameter(
+  return SetsResolution(NumberParameter(
       "stokeslet_blob_mm", "ipmc_fluid_stokeslet_blob_m", "mm", 1e-3, kNaN,
       "sqrt(e) a = 1.340 mm for the paper's strip (a the RFT equivalent radius)", 0.0, false,
       1.0,
       "Blob size eps of the regularized Stokeslets; sqrt(e) a makes the line of points the "
-      "slender cylinder of radius a");
-  p.resolution = true;
-  return p;
+      "slender cylinder of radius a"));
 }
 
 FluidParameter ShapeToleranceRad() {
