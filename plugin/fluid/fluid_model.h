@@ -113,7 +113,7 @@ class Fluid {
 struct FluidParameter {
   enum class Type { kInteger, kNumber, kBoolean };
   const char* key;    // under [fluid]: "stokeslet_blob_mm"
-  const char* field;  // the <custom> numeric: "ipmc_stokeslet_blob_m"
+  const char* field;  // the <custom> numeric: "ipmc_fluid_stokeslet_blob_m"
   Type type;
   const char* unit;        // the key's: "mm", "1/mm", "rad", ""
   double field_per_key;    // the field's value per unit of the key's (1e-3: mm to m)
@@ -121,7 +121,7 @@ struct FluidParameter {
   const char* default_text;  // the default as documented; nullptr: default_value
   double example;          // another allowed value, in the key's unit
   // The range in the key's unit: above `minimum` (at least it when
-  // `minimum_included`; -inf: unbounded) and at most `maximum` (inf: unbounded).
+  // `minimum_included`) and at most `maximum` (inf: unbounded).
   double minimum;
   bool minimum_included;
   double maximum;
