@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -132,13 +133,17 @@ Eigen::MatrixXd MobilitySolver::Inverse() const {
   return inverse;
 }
 
+double SegmentIntervals(double length_m, double spacing_m) {
+  return std::max(1.0, std::ceil(length_m / spacing_m - 1e-9));
+}
+
 PointList SegmentPoints(const Eigen::Vector3d& center, const Eigen::Vector3d& tangent,
                         double length_m, double spacing_m, const Eigen::Vector3d& width_axis,
                         double width_m, int width_points) {
   if (!(spacing_m > 0) || !(length_m > 0) || width_points < 1) {
     throw std::invalid_argument("regularized stokeslets: need length, spacing > 0 and >= 1 point");
   }
-  const int along = std::max(1, static_cast<int>(std::ceil(length_m / spacing_m - 1e-9)));
+  const int along = static_cast<int>(SegmentIntervals(length_m, spacing_m));
   PointList points;
   points.reserve(along * width_points);
   for (int i = 0; i < along; ++i) {

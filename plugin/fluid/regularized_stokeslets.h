@@ -108,6 +108,10 @@ class MobilitySolver {
   bool cholesky_ = true;
 };
 
+// The intervals along a segment that SegmentPoints places its points in:
+// ceil(length / spacing), at least 1 (a double, so that a count no int
+// holds is not wrapped).
+double SegmentIntervals(double length_m, double spacing_m);
 // Points along a straight segment: the midpoints of ceil(length / spacing)
 // equal intervals, each repeated `width_points` times across `width_m`
 // along width_axis (unit; ignored for one point).

@@ -1,6 +1,5 @@
 #include "plugin/fluid/stokeslet_fluid.h"
 
-#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -117,10 +116,9 @@ std::unique_ptr<Fluid> StokesletFluid::Make(const mjModel* m, const RftDrag& seg
 double StokesletFluid::ForcePoints(const mjModel* m, const RftDrag& segments,
                                    const RftDragOverrides& overrides) {
   const StokesletSettings settings = SettingsFromParameters(m, segments, overrides);
-  double points = 0.0;  // as SegmentPoints places them, without an int to overflow
+  double points = 0.0;
   for (double length_m : segments.SegmentLengths_m()) {
-    points += std::max(1.0, std::ceil(length_m / settings.spacing_m - 1e-9)) *
-              settings.width_points;
+    points += SegmentIntervals(length_m, settings.spacing_m) * settings.width_points;
   }
   return points;
 }

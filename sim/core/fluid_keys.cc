@@ -10,22 +10,18 @@
 namespace ipmc {
 namespace {
 
-// The selector of the models' parameter keys.
-constexpr char kFluidModel[] = "fluid.model";
-
 // fluid.model: its choices and their meaning from the registry.
 KeySpec ModelKey() {
   std::string meaning =
       "The fluid model (plugin/fluid/fluid_model.h, docs/FLUIDS.md), over the model's "
       "`ipmc_fluid_model`:";
-  std::string separator = " ";
-  for (const FluidModelEntry& entry : FluidModels()) {
-    meaning += separator + "\"" + entry.name + "\", " + entry.summary;
-    separator = "; ";
-  }
   std::vector<std::string> choices;
-  for (const FluidModelEntry& entry : FluidModels()) choices.push_back(entry.name);
-  return Key(kFluidModel, KeyType::kChoice, "", QuotedChoices(choices),
+  for (const FluidModelEntry& entry : FluidModels()) {
+    meaning += std::string(choices.empty() ? " " : "; ") + "\"" + entry.name + "\", " +
+               entry.summary;
+    choices.push_back(entry.name);
+  }
+  return Key(kFluidModelKey, KeyType::kChoice, "", QuotedChoices(choices),
              "the model's `ipmc_fluid_model`, else \"rft\"", meaning + ". Its parameters, "
              "fluid.stokeslet_* and so on, apply only with fluid.model set")
       .Example("\"stokeslets\"")
@@ -120,7 +116,7 @@ KeySpec ParameterKey(const FluidModelEntry& model, const FluidParameter& p) {
   const bool derived = std::isnan(p.default_value);
   Key key(std::string("fluid.") + p.key, type, p.unit, FluidParameterRange(p),
           p.default_text ? p.default_text : ParameterToml(p, p.default_value), p.meaning);
-  KeySpec spec = key.Example(ParameterToml(p, p.example)).Only(kFluidModel, model.name);
+  KeySpec spec = key.Example(ParameterToml(p, p.example)).Only(kFluidModelKey, model.name);
   if (!derived) spec.default_toml = ParameterToml(p, p.default_value);
   if (type != KeyType::kBoolean) {
     spec.refused_toml = ParameterToml(p, p.minimum_included ? p.minimum - 1 : p.minimum);

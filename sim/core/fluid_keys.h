@@ -15,6 +15,9 @@
 
 namespace ipmc {
 
+// The key that chooses the fluid model, and the selector of its parameters' keys.
+constexpr char kFluidModelKey[] = "fluid.model";
+
 // [fluid]: every key is a single-key range the key table checks; the
 // combinations a model file decides (a wall with the coefficients, a wall
 // for a free-space model) are refused where the fluid is built

@@ -20,8 +20,6 @@
 namespace ipmc {
 namespace {
 
-constexpr char kFluidModelKey[] = "fluid.model";
-
 // "MODEL: has no RFT drag ...": the model, not the scenario key, lacks
 // what `keys` (of the scenario `scenario_source`) need.
 std::string NoDragMessage(const std::string& model, const std::string& scenario_source,
