@@ -221,7 +221,9 @@ PidStepCost::PidStepCost(const StateSpace& plant, const PidTuningOptions& option
   const ReferenceModel model(options.reference);
   reference_.resize(samples_ + 1);
   weight_.resize(samples_ + 1);
+  constexpr int kStopCheckSamples = 500;  // the reference's samples take ~0.1 ms each
   for (int k = 0; k <= samples_; ++k) {
+    if (options.check_stop && k % kStopCheckSamples == 0) options.check_stop();
     const double t = k * sample_period_s_;
     reference_[k] = model.StepResponse(t);
     const double trapezoid = (k == 0 || k == samples_) ? 0.5 : 1.0;
@@ -270,8 +272,11 @@ PidTuningResult TunePid(const StateSpace& plant, const PidTuningOptions& options
                               FormatDouble(start.kd));
     }
     const NelderMeadResult search = MinimizeNelderMead(
-        [&cost](const Eigen::VectorXd& x) { return cost(GainsFromLog(x)); }, LogGains(start),
-        options.search);
+        [&](const Eigen::VectorXd& x) {
+          if (options.check_stop) options.check_stop();
+          return cost(GainsFromLog(x));
+        },
+        LogGains(start), options.search);
     run.gains = GainsFromLog(search.x);
     run.cost = search.value;
     run.evaluations = search.evaluations;

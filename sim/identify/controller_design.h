@@ -128,6 +128,10 @@ struct PidTuningOptions {
   // test met: with an f test of 1e-9 too, the five starts ended up to 2e-9
   // above the minimum J with Kd 3e-4 apart; on x alone 2e-11 and 3e-5.
   NelderMeadOptions search{600, 0.0, 1e-5, 0.3};
+  // Called before each evaluation of J and while the reference response
+  // is computed (a few ms apart); what it throws ends the tuning, e.g. a
+  // caller's stop request. Empty: never called.
+  std::function<void()> check_stop;
 
   // Throws std::invalid_argument naming the field.
   void Validate() const;

@@ -388,7 +388,8 @@ PidTuningOptions TuningOptions(const std::string& command, double crossover_rad_
   return options;
 }
 
-LinkDesign DesignLink(const DesignSpec& spec, const IpmcLinkParams* own_plant) {
+LinkDesign DesignLink(const DesignSpec& spec, const IpmcLinkParams* own_plant,
+                      const std::function<void()>& check_stop) {
   const std::string name = kDesignCommand;
   if (spec.link < 1 || spec.link > 3) {
     ThrowOption(name, "links", "1, 2 or 3", std::to_string(spec.link));
@@ -409,7 +410,9 @@ LinkDesign DesignLink(const DesignSpec& spec, const IpmcLinkParams* own_plant) {
   const FrequencyFunction plant = [params](double w) { return LinkResponseExact(params, w); };
   result.fractional = DesignFractionalLoop(plant, spec.crossover_rad_s, spec.phase_margin_deg);
   const Clock::time_point start = Clock::now();
-  const PidLoopDesign pid = DesignPidLoop(params, plant, result.tuning);
+  PidTuningOptions tuning = result.tuning;
+  tuning.check_stop = check_stop;
+  const PidLoopDesign pid = DesignPidLoop(params, plant, tuning);
   result.tuning_s = Seconds(start);
   result.paper_cost = pid.paper_cost;
   result.tuned = pid.tuned;
@@ -580,7 +583,8 @@ std::vector<IpmcLinkParams> PlantsOfKeyFile(const std::string& path) {
   return plants;
 }
 
-std::vector<LinkDesign> RunDesignCommand(const DesignCommand& command) {
+std::vector<LinkDesign> RunDesignCommand(const DesignCommand& command,
+                                         const std::function<void()>& check_stop) {
   ValidateLinkList(kDesignCommand, command.links);
   if (!command.out.empty()) {
     for (std::size_t i = 0; i < command.links.size(); ++i) {
@@ -598,7 +602,8 @@ std::vector<LinkDesign> RunDesignCommand(const DesignCommand& command) {
   for (const int link : command.links) {
     DesignSpec spec = command;
     spec.link = link;
-    designs.push_back(DesignLink(spec, plants.empty() ? nullptr : &plants.at(link - 1)));
+    designs.push_back(
+        DesignLink(spec, plants.empty() ? nullptr : &plants.at(link - 1), check_stop));
   }
   if (!command.out.empty()) WriteFileAtomically(command.out, GainsToml(command, designs));
   return designs;

@@ -15,6 +15,7 @@
 // "COMMAND: FIELD must be ..., got ..." naming the option's field.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -137,8 +138,11 @@ struct LinkDesign {
 };
 
 // Validates (std::invalid_argument naming the field) and designs for
-// `own_plant`, or Table 2's row spec.link of spec.plant if null.
-LinkDesign DesignLink(const DesignSpec& spec, const IpmcLinkParams* own_plant = nullptr);
+// `own_plant`, or Table 2's row spec.link of spec.plant if null;
+// check_stop, if given, is called before each evaluation of the PID
+// tuning's J (PidTuningOptions::check_stop) and may throw to stop it.
+LinkDesign DesignLink(const DesignSpec& spec, const IpmcLinkParams* own_plant = nullptr,
+                      const std::function<void()>& check_stop = {});
 
 // ------------------------------------------------------ the commands ---
 
@@ -178,9 +182,10 @@ const OptionTable<DesignCommand>& DesignOptions();
 // The plants of links 1..3 the [plant] keys of `path` give (the paper's
 // eq. 7 where they give none). Throws InputError naming the file.
 std::vector<IpmcLinkParams> PlantsOfKeyFile(const std::string& path);
-// Checks the links and out first, then designs each (DesignLink) and
-// writes out.
-std::vector<LinkDesign> RunDesignCommand(const DesignCommand& command);
+// Checks the links and out first, then designs each (DesignLink, with
+// check_stop) and writes out; a stop thrown by check_stop writes nothing.
+std::vector<LinkDesign> RunDesignCommand(const DesignCommand& command,
+                                         const std::function<void()>& check_stop = {});
 // gains.toml of the designs of links 1..n in order.
 std::string GainsToml(const DesignCommand& command, const std::vector<LinkDesign>& designs);
 

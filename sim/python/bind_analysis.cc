@@ -120,17 +120,19 @@ py::dict Step(const py::dict& kwargs) {
 
 // -------------------------------------------------------------- identify ---
 
-std::vector<double> Column(const py::object& data, const std::string& name,
-                           const std::string& what) {
+// Column `name` of the record (a dict, a numpy record array, a pandas
+// DataFrame), or nullopt if it has none.
+std::optional<std::vector<double>> OptionalColumn(const py::object& data, const std::string& name,
+                                                  const std::string& what) {
   py::object column;
   try {
-    column = data[py::str(name)];
+    column = data[py::str(name)];  // the item is looked up here, on assignment
   } catch (const py::error_already_set& error) {
     if (!error.matches(PyExc_KeyError) && !error.matches(PyExc_ValueError) &&
         !error.matches(PyExc_IndexError)) {
       throw;
     }
-    throw std::invalid_argument(what + ": no column '" + name + "'");
+    return std::nullopt;
   }
   const py::array_t<double, py::array::c_style | py::array::forcecast> values =
       py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(column);
@@ -140,13 +142,11 @@ std::vector<double> Column(const py::object& data, const std::string& name,
   return std::vector<double>(values.data(), values.data() + values.size());
 }
 
-bool HasColumn(const py::object& data, const std::string& name) {
-  try {
-    data[py::str(name)];
-    return true;
-  } catch (const py::error_already_set&) {
-    return false;
-  }
+std::vector<double> Column(const py::object& data, const std::string& name,
+                           const std::string& what) {
+  std::optional<std::vector<double>> column = OptionalColumn(data, name, what);
+  if (!column) throw std::invalid_argument(what + ": no column '" + name + "'");
+  return std::move(*column);
 }
 
 // A fit's P = s^-0.5 G at the frequencies.
@@ -170,8 +170,9 @@ py::dict Identify(const py::object& data, const py::dict& kwargs) {
   const IdentifySpec& spec = command;
   const std::vector<double> u = Column(data, spec.input_column, spec.data_path);
   const std::vector<double> y = Column(data, spec.output_column, spec.data_path);
-  std::optional<std::vector<double>> t;
-  if (HasColumn(data, "time_s")) t = Column(data, "time_s", spec.data_path);
+  // time_s is optional: without it the samples are sample_rate_Hz apart.
+  const std::optional<std::vector<double>> t =
+      OptionalColumn(data, columns::kTime, spec.data_path);
   const RecordIdentification result =
       WithoutGil([&] { return RunIdentifyCommand(command, u, y, t ? &*t : nullptr); });
   const nlohmann::json json = IdentificationJson(spec, result);
@@ -235,15 +236,16 @@ py::dict DesignDict(int link, const LinkDesign& design) {
 }
 
 py::list Design(const py::dict& kwargs) {
-  std::vector<int> links;
-  const std::vector<LinkDesign> designs = RunCommandWithoutGil(
-      "design", kwargs, DesignOptions(), [&](const DesignCommand& command, const auto&) {
-        links = command.links;
-        return RunDesignCommand(command);
-      });
+  Options options("design", kwargs);
+  const DesignCommand command = ReadCommandKeywords(options, DesignOptions());
+  // Ctrl-C stops the tuning at its next evaluation of J (milliseconds
+  // apart), as it stops the command line at once; nothing is written.
+  const std::vector<LinkDesign> designs = Interruptible([&](const std::atomic<bool>& stop) {
+    return RunDesignCommand(command, [&stop] { ThrowIfStopRequested(stop); });
+  });
   py::list result;
   for (std::size_t i = 0; i < designs.size(); ++i) {
-    result.append(DesignDict(links[i], designs[i]));
+    result.append(DesignDict(command.links[i], designs[i]));
   }
   return result;
 }

@@ -223,6 +223,11 @@ std::string PathText(const py::handle& path, const std::string& what) {
   if (py::isinstance<py::str>(path)) {
     const std::string text = path.cast<std::string>();
     if (text.empty()) throw std::invalid_argument(what + " must name a path (got '')");
+    // The system would end the path at a NUL and name another file.
+    if (const std::size_t nul = text.find('\0'); nul != std::string::npos) {
+      throw std::invalid_argument(what + " must name a path without NUL bytes (got '" +
+                                  text.substr(0, nul) + "\\x00...')");
+    }
     return text;
   }
   if (py::hasattr(path, "__fspath__")) {

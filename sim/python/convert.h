@@ -62,7 +62,9 @@ py::object ToPython(const nlohmann::ordered_json& json);
 py::array_t<double> Array(const std::vector<double>& values);
 py::array_t<std::complex<double>> Array(const std::vector<std::complex<double>>& values);
 
-// A path argument (str or os.PathLike) as text; TypeError naming `what`.
+// A path argument (str or os.PathLike) as text; TypeError naming `what`
+// for another type, std::invalid_argument for '' or a NUL byte (the system
+// would end the path there and name another file).
 std::string PathText(const py::handle& path, const std::string& what);
 
 // What a value of C++ type T is in Python's words, for messages: "an int
@@ -277,7 +279,8 @@ auto RunCommandWithoutGil(const std::string& function, const py::dict& kwargs,
 // main thread; Python handles signals only there). When a handler raises
 // (Ctrl-C's KeyboardInterrupt), `stop` becomes true, the work ends at its
 // next safe point (a run's recorded sample, a bench's sample, between a
-// sweep's points: it returns or throws, it does not matter which), and the
+// sweep's points, before a design's next evaluation of J: it returns or
+// throws, it does not matter which), and the
 // handler's exception is raised then, with nothing written. Otherwise the
 // work's result is returned or its exception rethrown. MuJoCo's warnings
 // are emitted after. work(const std::atomic<bool>& stop) may report

@@ -8,12 +8,15 @@ the same way where the program handles them (a Python handler that
 raises; without one Python's default ends the interpreter). Each call
 runs in a child interpreter that reports its first progress and waits
 there until the signal's handler has run; the test sends the signal then
-and waits a bounded time for the child to end."""
+and waits a bounded time for the child to end. design() has no progress
+to report: Ctrl-C stops its tuning at the next evaluation of J, within a
+second of the signal."""
 
 import os
 import signal
 import subprocess
 import sys
+import time
 
 import pytest
 
@@ -122,3 +125,44 @@ def test_a_signal_stops_the_call_at_a_safe_point(tmp_path, function, sent):
         for suffix in (".csv", ".json"):
             assert (tmp_path / f"out/table{suffix}").read_bytes() == \
                 (tmp_path / f"whole/table{suffix}").read_bytes(), suffix
+
+
+# design() tunes for about 8 s a link; the child reports when the call has
+# begun, and how long after the parent's signal it raised.
+DESIGN_PROGRAM = """
+import os, sys, time
+import ipmc_swim
+print("designing", flush=True)
+try:
+    ipmc_swim.design(out="gains.toml")
+except KeyboardInterrupt:
+    print(f"interrupted at {time.monotonic()!r}", flush=True)
+    sys.exit(130)
+print("finished", flush=True)
+"""
+# The tuning evaluates J every few ms and the call looks for signals every
+# 0.1 s: a Ctrl-C ends it within a second, as it ends the command line's.
+DESIGN_STOP_S = 1.0
+DESIGN_STARTED_S = 2.0  # the call is well into its tuning then
+
+
+def test_ctrl_c_stops_design_within_a_second(tmp_path):
+    child = subprocess.Popen([sys.executable, "-c", DESIGN_PROGRAM], cwd=tmp_path,
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                             env=os.environ)
+    try:
+        assert child.stdout.readline() == "designing\n"
+        time.sleep(DESIGN_STARTED_S)
+        assert child.poll() is None, "design ended before the signal"
+        sent = time.monotonic()
+        child.send_signal(signal.SIGINT)
+        stdout, stderr = child.communicate(timeout=STOP_TIMEOUT_S)
+    finally:
+        if child.poll() is None:
+            child.kill()
+            child.communicate()
+    assert child.returncode == 130, stdout + stderr
+    assert "finished" not in stdout
+    stopped = float(stdout.split("interrupted at ")[1])
+    assert stopped - sent < DESIGN_STOP_S, f"stopped {stopped - sent:.2f} s after Ctrl-C"
+    assert list(tmp_path.iterdir()) == [], "an interrupted design wrote gains.toml"
