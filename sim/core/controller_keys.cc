@@ -198,7 +198,8 @@ std::vector<KeySpec> FractionalKeys() {
           "[14.6, 3.7, 1.6]")
           .Refused("[1, -1, 1]")
           .AtLeast(0.0)
-          .Only(kControllerKind, kFractional),
+          .Only(kControllerKind, kFractional)
+          .Only(kRealisation, kOustaloup),
       LinkGainKey<&ControllerScenario::LinkGains::order>(
           "controller.link_order", "", "each in (0, 1]",
           "One lambda per link, in order, over controller.order (set by an optimisation that "
@@ -239,7 +240,7 @@ std::vector<KeySpec> FractionalKeys() {
           }),
       Key(kRealisation, T::kChoice, "", "\"oustaloup\" or \"eq15\"", "\"oustaloup\"",
           "Fractional: oustaloup (K / s^lambda on the band) or eq15 (the paper's printed eq. "
-          "15; no gain, order, oustaloup_n or band_rad_s)")
+          "15; no gain, order, link_gain, link_order, oustaloup_n or band_rad_s)")
           .Default("\"oustaloup\"")
           .Example("\"eq15\"")
           .Refused("\"tustin\"")

@@ -66,6 +66,7 @@ struct Entry {
   std::string key;   // the dotted key that holds it: "controller.kp", "link_lengths_mm"
   const toml::node* node = nullptr;
   std::uint32_t line = 0;
+  std::string file;  // the included file that wrote it; "" for the document's own source
 };
 
 // Reads one scenario document; every failure throws InputError
@@ -80,10 +81,16 @@ class ScenarioReader {
                          const std::string& message, const std::string& allowed = "") const {
     throw InputError(problem, {source_, line}, key, message, allowed);
   }
+  // The same placed at `entry`, in the file that wrote it.
+  [[noreturn]] void Fail(InputProblem problem, const Entry& entry, const std::string& message,
+                         const std::string& allowed = "") const {
+    throw InputError(problem, {entry.file.empty() ? source_ : entry.file, entry.line}, entry.key,
+                     message, allowed);
+  }
   // A bad value of `entry`, which must be `allowed`.
   [[noreturn]] void FailValue(const Entry& entry, const std::string& message,
                               const std::string& allowed) const {
-    Fail(InputProblem::kBadValue, entry.line, entry.key, message, allowed);
+    Fail(InputProblem::kBadValue, entry, message, allowed);
   }
 
   // The line a table starts on: its header, or for a table made by dotted
@@ -129,11 +136,13 @@ class ScenarioReader {
     entry.node = &it->second;
     entry.line = it->first.source().begin.line;
     if (entry.line == 0) entry.line = it->second.source().begin.line;
+    // An included file's key keeps its own file (MergeTable).
+    if (const auto& path = it->first.source().path; path && *path != source_) entry.file = *path;
     return entry;
   }
 
   [[noreturn]] void FailType(const Entry& entry, const std::string& expected) const {
-    Fail(InputProblem::kWrongType, entry.line, entry.key,
+    Fail(InputProblem::kWrongType, entry,
          entry.name + " must be " + expected + " (got " + TypeName(entry.node->type()) + ")",
          expected);
   }
@@ -155,7 +164,12 @@ class ScenarioReader {
 
   std::string String(const Entry& entry) const {
     if (!entry.node->is_string()) FailType(entry, "a string");
-    return entry.node->as_string()->get();
+    const std::string& value = entry.node->as_string()->get();
+    // A path with a NUL would name another file.
+    if (value.find('\0') != std::string::npos) {
+      FailValue(entry, entry.name + " must not hold a NUL byte", "a string without NUL bytes");
+    }
+    return value;
   }
 
   // One of the key's choices (a string).
@@ -209,7 +223,7 @@ class ScenarioReader {
     if (condition == nullptr) return;
     const std::string selector = condition->selector;
     const std::string word = selector.substr(selector.find('.') + 1);
-    Fail(InputProblem::kOtherKind, entry.line, entry.key,
+    Fail(InputProblem::kOtherKind, entry,
          entry.name + " applies only to " + word + " = " + Quoted(condition->value) + " (" + word +
              " is " + Quoted(SelectorValue(selector, config)) + ")");
   }
@@ -268,11 +282,12 @@ class DocumentValue : public KeyValue {
     element.node = entry_.node->as_array()->get(index);
     element.line =
         element.node->source().begin.line > 0 ? element.node->source().begin.line : entry_.line;
+    element.file = entry_.file;
     return reader_.Bounded(element);
   }
   [[noreturn]] void Fail(const std::string& message, const std::string& allowed,
                          InputProblem problem) const override {
-    reader_.Fail(problem, entry_.line, entry_.key, message, allowed);
+    reader_.Fail(problem, entry_, message, allowed);
   }
 
  private:
@@ -430,11 +445,22 @@ std::string ResolvedScenarioToml(const ScenarioConfig& config) {
 
 namespace {
 
-// Deepest chain of included files.
+// Deepest chain of included files, and most files one scenario reads in
+// all (a file included twice counts twice): a few small files that each
+// include the next many times would otherwise read a number of files
+// that grows as a power of the depth.
 constexpr int kMaxIncludeDepth = 8;
+constexpr int kMaxIncludedFiles = 64;
+
+// The files being included, outermost first, and the count read so far.
+struct IncludeChain {
+  std::vector<std::string> files;
+  int read = 0;
+};
 
 // `from`'s keys over `into`'s: tables merge key by key, any other value
-// replaces the one before.
+// replaces the one before, and keeps its key's place (file and line) for
+// the messages about it.
 void MergeTable(toml::table& into, const toml::table& from) {
   for (auto&& [key, node] : from) {
     toml::table* inner = into.get_as<toml::table>(key.str());
@@ -442,7 +468,8 @@ void MergeTable(toml::table& into, const toml::table& from) {
       MergeTable(*inner, *node.as_table());
       continue;
     }
-    node.visit([&into, &key = key](auto&& value) { into.insert_or_assign(key.str(), value); });
+    into.erase(key.str());
+    node.visit([&into, &key = key](auto&& value) { into.insert(key, value); });
   }
 }
 
@@ -472,6 +499,11 @@ std::vector<std::string> IncludedFiles(const toml::table& root, const std::strin
   }
   std::vector<std::string> files;
   for (const std::string& name : names) {
+    if (name.find('\0') != std::string::npos) {
+      throw InputError(InputProblem::kBadValue, {source, line}, kIncludeKey,
+                       std::string(kIncludeKey) + " must name files without NUL bytes",
+                       "paths without NUL bytes");
+    }
     fs::path path(name);
     if (path.is_relative()) path = fs::path(source).parent_path() / path;
     files.push_back(fs::absolute(path).lexically_normal().string());
@@ -484,12 +516,11 @@ std::vector<std::string> IncludedFiles(const toml::table& root, const std::strin
 // included file is read as a scenario by itself first (but for the model,
 // which the including file may give), so that its errors name it and its
 // lines; its model path is made absolute, as relative to it.
-toml::table WithIncludes(toml::table root, const std::string& source,
-                         std::vector<std::string>* chain) {
+toml::table WithIncludes(toml::table root, const std::string& source, IncludeChain* chain) {
   const std::vector<std::string> files = IncludedFiles(root, source);
   if (files.empty()) return root;
   const std::uint32_t line = root.get(kIncludeKey)->source().begin.line;
-  if (chain->size() >= static_cast<std::size_t>(kMaxIncludeDepth)) {
+  if (chain->files.size() >= static_cast<std::size_t>(kMaxIncludeDepth)) {
     throw InputError(InputProblem::kBadValue, {source, line}, kIncludeKey,
                      std::string(kIncludeKey) + " nests deeper than " +
                          std::to_string(kMaxIncludeDepth) + " files",
@@ -497,15 +528,21 @@ toml::table WithIncludes(toml::table root, const std::string& source,
   }
   toml::table merged;
   for (const std::string& file : files) {
-    if (std::find(chain->begin(), chain->end(), file) != chain->end()) {
+    if (std::find(chain->files.begin(), chain->files.end(), file) != chain->files.end()) {
       throw InputError(InputProblem::kBadValue, {source, line}, kIncludeKey,
                        std::string(kIncludeKey) + ": '" + file + "' includes itself",
                        "files that do not include each other");
     }
-    chain->push_back(file);
+    if (++chain->read > kMaxIncludedFiles) {
+      throw InputError(InputProblem::kBadValue, {source, line}, kIncludeKey,
+                       std::string(kIncludeKey) + " reads more than " +
+                           std::to_string(kMaxIncludedFiles) + " files in all",
+                       "at most " + std::to_string(kMaxIncludedFiles) + " included files");
+    }
+    chain->files.push_back(file);
     toml::table included =
         WithIncludes(ParseToml(ReadTextFile(file, "included scenario file"), file), file, chain);
-    chain->pop_back();
+    chain->files.pop_back();
     if (const ScenarioConfig own = ScenarioReader(file).Read(included, /*fragment=*/true);
         !own.model.path.empty()) {
       included.insert_or_assign(kModelKey, own.model.path);
@@ -521,8 +558,8 @@ toml::table WithIncludes(toml::table root, const std::string& source,
 
 ScenarioConfig ParseScenario(const std::string& toml_text, const std::string& source) {
   const ScenarioReader reader(source);
-  std::vector<std::string> chain = {
-      std::filesystem::absolute(source).lexically_normal().string()};
+  IncludeChain chain;
+  chain.files = {std::filesystem::absolute(source).lexically_normal().string()};
   return reader.Read(WithIncludes(ParseToml(toml_text, source), source, &chain));
 }
 
