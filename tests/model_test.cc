@@ -68,6 +68,7 @@ TEST(ModelsTest, GeneratorWritesAnyLinkCount) {
   FlagellumSpec spec;
   spec.link_lengths_mm = {4.0, 6.0, 8.0, 10.0, 12.0};
   spec.head_length_mm = 0.0;
+  spec.ipmc_actuators = false;  // link 1 is the free root: no hinge for its IPMC
   Simulation sim(LoadModelString(GenerateFlagellumMjcf(spec)), "five links");
   const mjModel* m = sim.model();
   EXPECT_EQ(m->nq, 3 + 4);  // free root on link 1, four hinges

@@ -54,6 +54,7 @@ TEST(NestingLimitTest, GeneratorStopsAtIt) {
   EXPECT_NO_THROW(LoadModelString(GenerateFlagellumMjcf(spec)));
   spec.link_lengths_mm = {15.0, 16.0};
   spec.clamped = false;
+  spec.ipmc_actuators = false;  // link 1 is the free root: no hinge for its IPMC
   spec.segments_per_link = 48;
   EXPECT_NO_THROW(LoadModelString(GenerateFlagellumMjcf(spec)));
 }

@@ -260,6 +260,7 @@ TEST(RftDragTest, AttachedFreeBodyDecaysAtTheRftRate) {
   FlagellumSpec spec;
   spec.link_lengths_mm = {10.0};
   spec.head_length_mm = 0.0;
+  spec.ipmc_actuators = false;  // no hinge to drive
   spec.timestep_s = 1e-5;
   spec.integrator = "RK4";
   auto sim = MakeSimulation(spec);

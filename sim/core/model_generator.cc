@@ -61,10 +61,6 @@ double LinkStartOffset_m(const FlagellumSpec& spec, int q) {
   return q == 0 ? 0.0 : spec.gap_mm * kMmToM - HingeInGap_m(spec);
 }
 
-bool HasIpmcActuators(const FlagellumSpec& spec) {
-  return spec.ipmc_actuators && (spec.head_length_mm > 0.0 || spec.clamped);
-}
-
 void WriteCustomFields(const FlagellumSpec& spec, std::ostringstream& xml) {
   // Field names as the plugin reads them.
   const auto numeric = [&xml](const char* name, const std::string& data) {
@@ -84,7 +80,7 @@ void WriteCustomFields(const FlagellumSpec& spec, std::ostringstream& xml) {
     numeric(kAttrXiTangential, Num(spec.xi_tangential_N_s_m2));
   }
   numeric(kStripWidthField, Num(spec.width_mm * kMmToM));
-  if (HasIpmcActuators(spec)) {
+  if (spec.ipmc_actuators) {  // with a head or a clamp (Validate)
     std::string links;
     for (int q = 1; q <= spec.Links(); ++q) links += (q > 1 ? " j" : "j") + std::to_string(q);
     text(kAttrLinks, links);
@@ -196,6 +192,14 @@ void FlagellumSpec::Validate() const {
     throw FieldError(
         "flagellum spec: actuation must be distributed or single (got '" + actuation + "')",
         "actuation", "distributed or single");
+  }
+  if (ipmc_actuators && head_length_mm == 0.0 && !clamped) {
+    // Link q's IPMC drives the hinge at its root; without a head or a
+    // clamp, link 1 is the free root and has none.
+    throw FieldError("flagellum spec: head_length_mm = 0 leaves link 1 no hinge for its IPMC "
+                     "actuator: give a head (head_length_mm > 0), clamp the chain (clamped), "
+                     "or set ipmc_actuators false for a passive chain",
+                     "head_length_mm", "> 0 with ipmc_actuators and not clamped");
   }
   if (clamped && head_length_mm == 0.0 && Links() < 1) {
     throw FieldError("flagellum spec: a clamped model needs at least one link", "link_lengths_mm",

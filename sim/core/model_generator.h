@@ -73,7 +73,8 @@ struct FlagellumSpec {
   double xi_tangential_N_s_m2 = 0.0;
   double fluid_density_kg_m3 = 1000.0;
   // IPMC actuators on every link (plugin/actuators/ipmc_actuators.h), Table 2
-  // parameters; needs a hinge per link (a head, or a clamped root).
+  // parameters; needs a hinge per link (a head, or a clamped root), which
+  // Validate() requires.
   bool ipmc_actuators = true;
   std::string plants = "uniform";           // uniform | table2
   std::string ipmc_model = "g1";            // g1 | g2
