@@ -190,8 +190,15 @@ std::vector<PipelineLink> IdentifyLinks(const PipelineSetup& setup, const Pipeli
                           : columns::TipLateral(q + 1) + " (link 1 driven)";
     const std::vector<double>& output =
         setup.drive_each ? record.relative_mm[q] : record.tip_lateral_mm[q];
-    result.fit = IdentifyBenchRecord(record.voltage_V[driven], output, setup.identification,
-                                     static_cast<unsigned long long>(q));
+    try {
+      result.fit = IdentifyBenchRecord(record.voltage_V[driven], output, setup.identification,
+                                       static_cast<unsigned long long>(q));
+    } catch (const std::invalid_argument& error) {
+      // E.g. noise so large that the spectra overflow: nothing is written.
+      throw std::invalid_argument(FormatText("%s: link %d's record (noise_mm %g): %s",
+                                             kPipelineCommand, q + 1,
+                                             setup.identification.noise_mm, error.what()));
+    }
     if (setup.drive_each || q == 0) result.given = bench.given[q];
     result.identify_s = Seconds(start);
     results.push_back(std::move(result));

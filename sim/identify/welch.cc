@@ -93,6 +93,32 @@ void LoadSection(const std::vector<double>& data, long start, const std::vector<
   for (int n = 0; n < length; ++n) in[n] = (data[start + n] - mean) * window[n];
 }
 
+double LargestMagnitude(const std::vector<std::vector<double>>& records) {
+  double largest = 0.0;
+  for (const std::vector<double>& record : records) {
+    for (double value : record) largest = std::max(largest, std::abs(value));
+  }
+  return largest;
+}
+
+// The sums of squares overflow for records of about 1e150 and beyond:
+// refused, not passed on as inf and nan.
+void RequireFiniteSpectra(const std::vector<double>& sxx, const std::vector<double>& syy,
+                          const std::vector<std::complex<double>>& sxy,
+                          const std::vector<std::vector<double>>& inputs,
+                          const std::vector<std::vector<double>>& outputs) {
+  for (std::size_t m = 0; m < sxx.size(); ++m) {
+    if (std::isfinite(sxx[m]) && std::isfinite(syy[m]) && std::isfinite(sxy[m].real()) &&
+        std::isfinite(sxy[m].imag())) {
+      continue;
+    }
+    Throw("the spectra are not finite (largest |input| " +
+          FormatDouble(LargestMagnitude(inputs), 6) + ", |output| " +
+          FormatDouble(LargestMagnitude(outputs), 6) +
+          "): records this large overflow their squares");
+  }
+}
+
 }  // namespace
 
 void WelchOptions::Validate() const {
@@ -215,6 +241,8 @@ FrequencyResponseEstimate EstimateFrequencyResponse(
       }
     }
   }
+
+  RequireFiniteSpectra(sxx, syy, sxy, inputs, outputs);
 
   FrequencyResponseEstimate estimate;
   estimate.section_samples = length;

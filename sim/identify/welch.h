@@ -31,7 +31,8 @@
 // Bad input throws std::invalid_argument with one line naming the field:
 // a non-finite sample, records of different lengths, input and output of
 // different lengths, too few samples for the sections (the message gives
-// the minimum), a sample rate that is not finite and > 0.
+// the minimum), a sample rate that is not finite and > 0, records so large
+// (about 1e150 and beyond) that the spectra overflow.
 #pragma once
 
 #include <complex>

@@ -93,6 +93,9 @@ class CsvReader {
 }  // namespace
 
 std::vector<CsvRecord> ParseCsvRecords(const std::string& text, const std::string& source) {
+  // A spreadsheet's UTF-8 byte order mark is no part of the first column's name.
+  constexpr char kUtf8Bom[] = "\xEF\xBB\xBF";
+  if (text.rfind(kUtf8Bom, 0) == 0) return CsvReader(text.substr(3), source).Read();
   return CsvReader(text, source).Read();
 }
 

@@ -10,7 +10,8 @@
 // any carriage return, so CRLF files read alike); a field that starts
 // with a quote is quoted, may hold commas and line breaks, and ends at the
 // next lone quote; blank lines are skipped. A number field must be a
-// number as a whole (ParseDouble). Every error is an InputError
+// number as a whole (ParseDouble). A UTF-8 byte order mark at the start
+// of the text is dropped. Every error is an InputError
 // (sim/base/error.h) naming the source and line, and the column where there
 // is one:
 //   SOURCE:LINE: unterminated quoted cell
