@@ -18,6 +18,7 @@
 #include "sim/core/waveform.h"
 #include "sim/io/files.h"
 #include "sim/runs/closed_loop_run.h"
+#include "sim/runs/output.h"
 
 namespace ipmc {
 namespace {
@@ -141,8 +142,10 @@ void FilmConfig::Validate() const {
   }
   if (start_cycle < 1) ThrowOption("start_cycle", ">= 1", start_cycle);
   if (cycles < 0) ThrowOption("cycles", ">= 1", cycles);
-  if (trail_frames > kMaxTrailFrames) {
-    ThrowOption("trail_frames", "<= " + std::to_string(kMaxTrailFrames), trail_frames);
+  if (trail_frames < -1 || trail_frames > kMaxTrailFrames) {
+    ThrowOption("trail_frames",
+                "in [0, " + std::to_string(kMaxTrailFrames) + "] (or -1: one cycle)",
+                trail_frames);
   }
   if (!(view_mm >= 0.0 && view_mm <= kMaxView_mm)) {
     ThrowOption("view_mm", "in (0, 10000] (or 0: fit)", view_mm);
@@ -414,20 +417,18 @@ RunRecording LoadRunRecording(const std::string& dir) {
   RunRecording recording;
   const nlohmann::json inputs = field(summary, "inputs", "inputs");
   if (summary.contains("controller")) {
-    // The scenario as run (with its overrides), or, in older summaries, its file.
+    // The scenario as run (with its overrides) on the model it ran, or, in
+    // older summaries, its file.
     const ScenarioConfig scenario =
         inputs.contains("resolved_scenario")
-            ? ParseScenario(field(inputs, "resolved_scenario", "inputs.resolved_scenario")
-                                .get<std::string>(),
-                            summary_path + " (inputs.resolved_scenario)")
+            ? ScenarioOfSummary(summary_path)
             : LoadScenario(field(inputs, "scenario", "inputs.scenario").get<std::string>());
     std::string source;
     recording.model = LoadScenarioModel(scenario, &source);
     recording.overlay_rows = ClosedLoopOverlayRows(scenario);
     recording.ideal_y_m = ScenarioIdealShape(scenario);
   } else {
-    const std::string model_path = field(inputs, "model", "inputs.model").get<std::string>();
-    recording.model = LoadModelFile(model_path);
+    recording.model = LoadModelFile(ModelOfGaitSummary(summary_path, inputs));
     recording.overlay_rows = {{"gait", field(summary, "gait", "gait").get<std::string>()}};
   }
   recording.period_s = field(summary, "period_s", "period_s").get<double>();

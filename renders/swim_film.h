@@ -57,7 +57,7 @@ struct FilmConfig {
   int frames_per_cycle = 100;      // >= 1
   int start_cycle = 1;             // >= 1
   int cycles = 0;                  // >= 0; 0: through the run's last cycle
-  int trail_frames = -1;           // <= 10000; < 0: one cycle; 0: none
+  int trail_frames = -1;           // [0, 10000], 0: none; -1: one cycle
   FilmCamera camera = FilmCamera::kFixed;
   double view_mm = 0.0;            // [0, 10000]; 0: fit the body (fixed) or 1 / 0.6 of its length (follow)
   std::vector<double> center_mm;   // empty or (x, y), fixed camera only
@@ -119,7 +119,9 @@ struct RunRecording {
 };
 
 // Throws InputError (a std::runtime_error) naming the directory and the
-// missing file, or summary.json and the missing field.
+// missing file, or summary.json and the missing field, or the field
+// inputs.model_sha256 when the model has changed since the run
+// (ScenarioOfSummary, ModelOfGaitSummary: sim/runs/output.h).
 RunRecording LoadRunRecording(const std::string& dir);
 
 // The overlay's playback row: "25 x real time".

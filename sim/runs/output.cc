@@ -28,6 +28,22 @@ constexpr char kProgramVersion[] = "program_version";
 constexpr char kResolvedScenario[] = "resolved_scenario";
 constexpr char kModelSha256[] = "model_sha256";
 
+// Throws InputError naming the summary and inputs.model_sha256 unless the
+// model (its description, `model`) still has the SHA-256 the run recorded.
+void RequireRecordedModel(const std::string& summary_path, const std::string& recorded,
+                          const std::string& now, const std::string& model) {
+  if (now == recorded) return;
+  throw InputError(InputProblem::kBadValue, {summary_path},
+                   std::string(kInputs) + "." + kModelSha256,
+                   "the model " + model + " has changed since the run (SHA-256 " + now +
+                       ", recorded " + recorded + ")",
+                   recorded);
+}
+
+std::string ModelFileSha256(const std::string& path) {
+  return Sha256Hex(ReadTextFile(path, "model file"));
+}
+
 // Appends a sample's pose to the body's columns (time and BodyPoseValues,
 // first in every time series) and to the tips' (last).
 void AddPose(const BodyPose& pose, size_t tips, NamedColumns& body, NamedColumns& tip_columns) {
@@ -227,7 +243,7 @@ void WriteGaitOutputs(const std::string& dir, const GaitRunResult& result,
   nlohmann::json all = inputs;
   all[kProgramVersion] = ProgramVersion();
   if (inputs.contains("model") && inputs["model"].is_string()) {
-    all[kModelSha256] = Sha256Hex(ReadTextFile(inputs["model"].get<std::string>(), "model file"));
+    all[kModelSha256] = ModelFileSha256(inputs["model"].get<std::string>());
   }
   WriteRunOutputs(dir, GaitSamplesCsv(result), RecordedStatesCsv(result.states),
                   GaitSummaryJson(result), all, formats);
@@ -405,17 +421,23 @@ ScenarioConfig ScenarioOfSummary(const std::string& summary_path) {
   const std::string sha256 = recorded(kModelSha256);
   const ScenarioConfig scenario =
       ParseScenario(toml, summary_path + " (" + kInputs + "." + kResolvedScenario + ")");
-  const std::string now = ScenarioModelSha256(scenario);
-  if (now != sha256) {
-    const std::string model =
-        scenario.model.Generated() ? "the generated flagellum" : "'" + scenario.model.path + "'";
-    throw InputError(InputProblem::kBadValue, {summary_path},
-                     std::string(kInputs) + "." + kModelSha256,
-                     "the model " + model + " has changed since the run (SHA-256 " + now +
-                         ", recorded " + sha256 + ")",
-                     sha256);
-  }
+  RequireRecordedModel(
+      summary_path, sha256, ScenarioModelSha256(scenario),
+      scenario.model.Generated() ? "the generated flagellum" : "'" + scenario.model.path + "'");
   return scenario;
+}
+
+std::string ModelOfGaitSummary(const std::string& summary_path, const nlohmann::json& inputs) {
+  if (!inputs.is_object() || !inputs.contains("model") || !inputs["model"].is_string()) {
+    throw InputError(InputProblem::kMissing, {summary_path}, std::string(kInputs) + ".model",
+                     "no field " + std::string(kInputs) + ".model");
+  }
+  const std::string path = inputs["model"].get<std::string>();
+  if (inputs.contains(kModelSha256) && inputs[kModelSha256].is_string()) {
+    RequireRecordedModel(summary_path, inputs[kModelSha256].get<std::string>(),
+                         ModelFileSha256(path), "'" + path + "'");
+  }
+  return path;
 }
 
 void WriteClosedLoopOutputs(const std::string& dir, const ClosedLoopResult& result,

@@ -114,6 +114,12 @@ nlohmann::json ClosedLoopProvenance(const ScenarioConfig& scenario);
 // bytes no longer have the recorded SHA-256.
 ScenarioConfig ScenarioOfSummary(const std::string& summary_path);
 
+// The model file of a gait run's summary.json (its "inputs", inputs.model),
+// checked as ScenarioOfSummary checks a closed-loop run's: throws
+// InputError naming the summary and the key if there is none, or if the
+// file no longer has the SHA-256 the run recorded (inputs.model_sha256).
+std::string ModelOfGaitSummary(const std::string& summary_path, const nlohmann::json& inputs);
+
 // Writes DIR/timeseries.csv, DIR/states.csv and DIR/summary.json of a
 // closed-loop run, and run.mat / run.h5 as `formats` asks, all together or
 // none; summary.json's "inputs" holds `inputs` and
