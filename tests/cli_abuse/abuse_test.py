@@ -216,6 +216,30 @@ def make_fixtures(d):
     write(f"{d}/gait_text.csv", "time_s,q1,q2,q3\n0,0,0,0\n10,a,b,c\n")
     write(f"{d}/gait_one.csv", "time_s,q1,q2,q3\n0,0,0,0\n")
     write(f"{d}/bode.csv", "w_rad_s,open_loop_dB,open_loop_deg\n1,0,-90\n10,-20,-120\n")
+    # A UTF-8 byte order mark before the header hides nothing.
+    for name, rows in (("bench_bom", bench), ("bench_bom_backward", backward),
+                       ("bench_bom_repeat", bench[:1001] + bench[1000:])):
+        write(f"{d}/{name}.csv", b"\xef\xbb\xbf" + ("\n".join(rows) + "\n").encode(), "wb")
+    # Includes: seven one-line files, each including the next 12 times
+    # (12^6 files without a bound on the total), and a plant.toml whose
+    # error belongs to its own line 2.
+    for k in range(6):
+        write(f"{d}/fan{k}.toml", "include = [" + ", ".join([f'"fan{k + 1}.toml"'] * 12) + "]\n")
+    write(f"{d}/fan6.toml", "cycles = 1\n")
+    write(f"{d}/plant.toml", "[plant]\nlink_a0_mm_per_V = [0.2, 0.3]\n")
+    write(f"{d}/uses_plant.toml", 'include = "plant.toml"\n# the bench\'s plant\n'
+          "link_lengths_mm = [10.0, 10.0, 10.0]\n")
+    write(f"{d}/include_nul.toml", 'include = "short.toml\\u0000.bak"\n' + SHORT_SCENARIO)
+    write(f"{d}/model_nul.toml", scenario(model=f'"{GOOD_MODEL}\\u0000.bak"'))
+    # Runs whose model file was edited after them: a closed-loop run and a gait.
+    shutil.copy(GOOD_MODEL, f"{d}/run_model.xml")
+    write(f"{d}/edited.toml", scenario(model='"run_model.xml"'))
+    for args in (["run", "edited.toml", "--out", "run_edited"],
+                 ["gait", "--model", "run_model.xml", "--cycles", "1", "--frequency-hz", "1",
+                  "--out", "gait_edited"]):
+        subprocess.run([PROGRAM] + args, cwd=d, check=True, capture_output=True,
+                       timeout=TIMEOUT_S)
+    write(f"{d}/run_model.xml", open(f"{d}/run_model.xml").read() + "<!-- edited -->\n")
     os.mkdir(f"{d}/readonly")
     os.chmod(f"{d}/readonly", 0o555)
     write(f"{d}/a_file", "not a folder\n")

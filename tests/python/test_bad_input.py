@@ -6,6 +6,7 @@ numpy scalars and arrays count as the numbers and lists they hold. The
 command line's table is tests/cli_abuse/cases.txt."""
 
 import os
+import pathlib
 
 import numpy as np
 import pytest
@@ -45,15 +46,21 @@ def simulation(*voltages):
     return call
 
 
-def identify(time_s, **options):
+def identify(time_s, record=False, drop=None, **options):
+    """identify on a dict of columns (or, record=True, a numpy record array
+    as numpy.genfromtxt reads a CSV), time_s=None leaving that column out
+    (drop: another column left out)."""
     def call(d):
-        n = len(time_s)
-        k = np.arange(n)
-        data = {"time_s": np.asarray(time_s, dtype=float),
-                "voltage1_V": np.sin(0.37 * k) + np.sin(1.3 * k),
+        k = np.arange(4000 if time_s is None else len(time_s))
+        data = {"voltage1_V": np.sin(0.37 * k) + np.sin(1.3 * k),
                 "relative1_mm": np.sin(0.37 * k - 0.2) + 0.5 * np.sin(1.3 * k - 0.4)}
+        if time_s is not None:
+            data = {"time_s": np.asarray(time_s, dtype=float), **data}
+        data.pop(drop, None)
+        if record:
+            data = np.rec.fromarrays(list(data.values()), names=list(data))
         return ipmc_swim.identify(data, "voltage1_V", "relative1_mm", band_rad_s=[8.0, 50.0],
-                                  **options)
+                                  **{"sample_rate_Hz": 1000.0, **options})
     return call
 
 
@@ -198,12 +205,86 @@ CASES = [
     ("identify rate np.float64", identify(EVEN, sample_rate_Hz=np.float64(1000.0)), OK, ""),
     ("identify rate str", identify(EVEN, sample_rate_Hz="1000"), TypeError,
      "sample_rate_Hz must be a number"),
+    # Paths with a NUL byte: the system would end them there and open or
+    # write another file (b.csv for "b.csv\0.txt"); one check where Python
+    # strings become paths (PathText) refuses them in every call.
+    ("bench out NUL", bench(out="b.csv\x00.txt"), ipmc_swim.Error,
+     "bench(): out must name a path without NUL bytes (got 'b.csv\\x00...')"),
+    ("bench model NUL", lambda d: ipmc_swim.bench(CLAMPED + "\x00.bak", duration_s=0.2),
+     ipmc_swim.Error, "model must name a path without NUL bytes"),
+    ("from_model NUL", lambda d: ipmc_swim.Simulation.from_model(CLAMPED + "\x00.bak"),
+     ipmc_swim.Error, "model must name a path without NUL bytes"),
+    ("Simulation scenario NUL", lambda d: ipmc_swim.Simulation(str(d / "short.toml") + "\x00x"),
+     ipmc_swim.Error, "scenario must name a path without NUL bytes"),
+    ("run scenario NUL", lambda d: ipmc_swim.run(str(d / "short.toml") + "\x00.bak"),
+     ipmc_swim.Error, "run(): scenario must name a path without NUL bytes"),
+    ("run scenario PathLike NUL",
+     lambda d: ipmc_swim.run(pathlib.Path(str(d / "short.toml") + "\x00.bak")),
+     ipmc_swim.Error, "run(): scenario must name a path without NUL bytes"),
+    ("run out NUL", run(out="o\x00ut"), ipmc_swim.Error, "out must name a path without NUL bytes"),
+    ("run model key NUL", run(model=FREE + "\x00.bak"), ipmc_swim.Error,
+     "model must not hold a NUL byte"),
+    ("sweep file NUL", lambda d: ipmc_swim.sweep(str(d / "sweep.toml") + "\x00x"),
+     ipmc_swim.Error, "sweep must name a path without NUL bytes"),
+    ("sweep out NUL", sweep(out="t\x00able"), ipmc_swim.Error,
+     "out must name a path without NUL bytes"),
+    ("merge tables NUL", lambda d: ipmc_swim.merge(["a.csv\x00", "b.csv"], out="m.csv"),
+     ipmc_swim.Error, "merge(): tables must name a path without NUL bytes"),
+    ("generate out NUL", generate(out="m.xml\x00.txt"), ipmc_swim.Error,
+     "generate_model(): out must name a path without NUL bytes"),
+    ("identify out NUL", identify(EVEN, out="id\x00x"), ipmc_swim.Error,
+     "out must name a path without NUL bytes"),
+    ("design out NUL", lambda d: ipmc_swim.design(links=[1], out="g.toml\x00x"), ipmc_swim.Error,
+     "design(): out must name a path without NUL bytes"),
+    ("plot out NUL", lambda d: ipmc_swim.plot("bode", "bode.csv", out="f.png\x00x"),
+     ipmc_swim.Error, "plot(): out must name a path without NUL bytes"),
+    # identify: time_s is optional, the samples sample_rate_Hz apart.
+    ("identify dict without time_s", identify(None), OK, ""),
+    ("identify record without time_s", identify(None, record=True), OK, ""),
+    ("identify record with time_s", identify(EVEN, record=True), OK, ""),
+    ("identify record time backward", identify(BACKWARD, record=True), ipmc_swim.Error,
+     "runs backward at data row 3001"),
+    ("identify dict without time_s or a column", identify(None, drop="relative1_mm"),
+     ipmc_swim.Error, "no column 'relative1_mm'"),
+    # generate_model: IPMC actuators need a hinge on link 1.
+    ("generate no head", generate(head_length_mm=0.0), ipmc_swim.Error,
+     "head_length_mm = 0 leaves link 1 no hinge for its IPMC actuator"),
+    ("generate no head, actuators asked", generate(head_length_mm=0, ipmc_actuators=True),
+     ipmc_swim.Error, "give a head (head_length_mm > 0), clamp the chain (clamped)"),
+    ("generate no head, clamped", generate(head_length_mm=0.0, clamped=True), OK, ""),
+    ("generate no head, passive", generate(head_length_mm=0.0, ipmc_actuators=False), OK, ""),
+    # controller.link_gain, like gain, has no place in the printed eq. 15.
+    ("link_gain under eq15", run(controller={"kind": "fractional", "realisation": "eq15",
+                                             "link_gain": [1.0, 1.0, 1.0]}),
+     ipmc_swim.Error, "controller.link_gain applies only to realisation = \"oustaloup\""),
+    ("link_order under eq15", run(controller={"kind": "fractional", "realisation": "eq15",
+                                              "link_order": [0.5, 0.5, 0.5]}),
+     ipmc_swim.Error, "controller.link_order applies only to realisation = \"oustaloup\""),
+    # Includes: a bound on the files read in all; errors placed in their file.
+    ("include fan-out", lambda d: ipmc_swim.run(d / "fan0.toml"), ipmc_swim.Error,
+     "fan5.toml:1: include reads more than 64 files in all"),
+    ("include plant of the wrong length", lambda d: ipmc_swim.run(d / "uses_plant.toml"),
+     ipmc_swim.Error, "plant.toml:2: plant.link_a0_mm_per_V: a0_mm_per_V must hold one value"),
 ]
+
+
+# Seven one-line files, each including the next 12 times: 12^6 files
+# without a bound on the files read in all.
+FAN_OUT = 7
 
 
 @pytest.fixture
 def folder(tmp_path):
     (tmp_path / "short.toml").write_text(SHORT_SCENARIO)
+    for k in range(FAN_OUT - 1):
+        (tmp_path / f"fan{k}.toml").write_text(f'include = {[f"fan{k + 1}.toml"] * 12}\n'.replace(
+            "'", '"'))
+    (tmp_path / f"fan{FAN_OUT - 1}.toml").write_text("cycles = 1\n")
+    # An included plant with one a0 for three links: placed at plant.toml's line.
+    (tmp_path / "plant.toml").write_text("[plant]\nlink_a0_mm_per_V = [0.2, 0.3]\n")
+    (tmp_path / "uses_plant.toml").write_text(
+        'include = "plant.toml"\n# the plant identified on the bench\n'
+        "link_lengths_mm = [10.0, 10.0, 10.0]\n")
     (tmp_path / "sweep.toml").write_text('base = "short.toml"\n[set]\ncycles = 1\n'
                                          '"waveform.frequency_Hz" = 0.5\n[grid]\n'
                                          'segments_per_link = [1]\n')
