@@ -139,7 +139,7 @@ std::vector<KeySpec> ModelKeys() {
       // document is its included files' keys with its own over them.
       Key(kIncludeKey, T::kString, "",
           "a TOML file of scenario keys, or an array of them; relative to this file; at most 8 "
-          "deep",
+          "deep and 64 files in all",
           "none",
           "Files of scenario keys read first, in order (each by itself, its model relative to "
           "it), under this file's own keys: e.g. the plant.toml `identify` writes")
