@@ -164,12 +164,7 @@ class ScenarioReader {
 
   std::string String(const Entry& entry) const {
     if (!entry.node->is_string()) FailType(entry, "a string");
-    const std::string& value = entry.node->as_string()->get();
-    // A path with a NUL would name another file.
-    if (value.find('\0') != std::string::npos) {
-      FailValue(entry, entry.name + " must not hold a NUL byte", "a string without NUL bytes");
-    }
-    return value;
+    return entry.node->as_string()->get();
   }
 
   // One of the key's choices (a string).
@@ -499,11 +494,6 @@ std::vector<std::string> IncludedFiles(const toml::table& root, const std::strin
   }
   std::vector<std::string> files;
   for (const std::string& name : names) {
-    if (name.find('\0') != std::string::npos) {
-      throw InputError(InputProblem::kBadValue, {source, line}, kIncludeKey,
-                       std::string(kIncludeKey) + " must name files without NUL bytes",
-                       "paths without NUL bytes");
-    }
     fs::path path(name);
     if (path.is_relative()) path = fs::path(source).parent_path() / path;
     files.push_back(fs::absolute(path).lexically_normal().string());

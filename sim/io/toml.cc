@@ -51,12 +51,39 @@ void RequireShallowKeys(const std::string& text, const std::string& source) {
   }
 }
 
+// Throws InputError (kBadValue) "SOURCE:LINE: KEY: a string with a NUL
+// byte (...)" for the first string value (at any depth) holding one: any
+// string may be a path (a scenario's model, a sweep's base), which the
+// system would end at the NUL and so name another file.
+void RequireNoNulStrings(const toml::node& node, const std::string& key,
+                         const std::string& source) {
+  if (const toml::value<std::string>* text = node.as_string()) {
+    if (text->get().find('\0') == std::string::npos) return;
+    throw InputError(InputProblem::kBadValue, {source, node.source().begin.line}, key,
+                     key + ": a string with a NUL byte (a path would end there)",
+                     "strings without NUL bytes");
+  }
+  if (const toml::table* table = node.as_table()) {
+    for (auto&& [name, value] : *table) {
+      RequireNoNulStrings(value, key.empty() ? std::string(name.str())
+                                             : key + "." + std::string(name.str()),
+                          source);
+    }
+  } else if (const toml::array* array = node.as_array()) {
+    for (std::size_t i = 0; i < array->size(); ++i) {
+      RequireNoNulStrings(*array->get(i), key + "[" + std::to_string(i) + "]", source);
+    }
+  }
+}
+
 }  // namespace
 
 toml::table ParseToml(const std::string& text, const std::string& source) {
   RequireShallowKeys(text, source);
   try {
-    return toml::parse(text, source);
+    toml::table table = toml::parse(text, source);
+    RequireNoNulStrings(table, "", source);
+    return table;
   } catch (const toml::parse_error& error) {
     const toml::source_position& where = error.source().begin;
     throw InputError(InputProblem::kSyntax, {source, where.line, where.column}, "",

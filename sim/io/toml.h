@@ -9,7 +9,9 @@
 namespace ipmc {
 
 // Parses `text`; a syntax error throws InputError (sim/base/error.h,
-// problem kSyntax) "SOURCE:LINE:COLUMN: description" on one line.
+// problem kSyntax) "SOURCE:LINE:COLUMN: description" on one line, a
+// string value with a NUL byte (which a path would end at) InputError
+// (kBadValue) "SOURCE:LINE: KEY: a string with a NUL byte (...)".
 toml::table ParseToml(const std::string& text, const std::string& source);
 
 inline std::string TomlTypeName(toml::node_type type) {

@@ -231,6 +231,7 @@ def make_fixtures(d):
           "link_lengths_mm = [10.0, 10.0, 10.0]\n")
     write(f"{d}/include_nul.toml", 'include = "short.toml\\u0000.bak"\n' + SHORT_SCENARIO)
     write(f"{d}/model_nul.toml", scenario(model=f'"{GOOD_MODEL}\\u0000.bak"'))
+    write(f"{d}/sweep_nul.toml", 'base = "short.toml\\u0000.bak"\n[grid]\ncycles = [1]\n')
     # Runs whose model file was edited after them: a closed-loop run and a gait.
     shutil.copy(GOOD_MODEL, f"{d}/run_model.xml")
     write(f"{d}/edited.toml", scenario(model='"run_model.xml"'))
