@@ -1,5 +1,6 @@
 // Analyses from Python: Bode data and margins, closed-loop steps,
-// identification of a record and the controller design of one link, each
+// identification of a record, the controller design of one link and the
+// export of a scenario's controllers as code, each
 // as its ipmc-swim command computes it (sim/identify/loop_analysis.h,
 // sim/identify/identify_run.h): the keywords are the names of the
 // command's option table, which the command line reads too, and the
@@ -12,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/identify/controller_export.h"
 #include "sim/identify/identify_run.h"
 #include "sim/identify/loop_analysis.h"
 #include "sim/io/columns.h"
@@ -248,6 +250,18 @@ py::list Design(const py::dict& kwargs) {
   return result;
 }
 
+// ---------------------------------------------------------------- export ---
+
+py::object Export(const py::object& scenario_arg, const py::dict& overrides,
+                  const py::dict& kwargs) {
+  Options options("export", kwargs);
+  const ExportCommand command = ReadCommandKeywords(options, ExportOptions());
+  const ScenarioConfig scenario = ReadScenarioArgument(scenario_arg, overrides, "export").scenario;
+  const ExportedController exported =
+      WithoutGil([&] { return RunExportCommand(command.out, scenario); });
+  return ToPython(exported.coefficients);
+}
+
 }  // namespace
 
 void BindAnalysis(py::module_& m) {
@@ -255,6 +269,7 @@ void BindAnalysis(py::module_& m) {
   m.def("step", &Step, py::arg("options"));
   m.def("identify", &Identify, py::arg("data"), py::arg("options"));
   m.def("design", &Design, py::arg("options"));
+  m.def("export", &Export, py::arg("scenario"), py::arg("overrides"), py::arg("options"));
 }
 
 }  // namespace ipmc::python

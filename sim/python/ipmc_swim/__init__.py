@@ -14,6 +14,7 @@ is the name in lower case with ``-`` for ``_``: ``sample_rate_Hz`` is
 - ``bench(...)``: a voltage experiment on the test bench (``ipmc-swim bench``);
 - ``bode(controller, ...)``, ``step(controller, ...)``: one link's loop;
 - ``identify(data, input, output)``, ``design(...)``: identification and design;
+- ``export(scenario, out=DIR)``: the scenario's controllers as C99, JSON and CSV;
 - ``generate_model(...)``: the MJCF of an N-link flagellum;
 - ``keys()``, ``options()``: the scenario-key and option references
   (``ipmc-swim keys``, ``ipmc-swim options``);
@@ -44,7 +45,7 @@ if __version__ != _PACKAGE_VERSION:
                       f"{_PACKAGE_VERSION} but its extension ipmc_swim._core is {__version__}; "
                       "rebuild and reinstall the package from one source tree")
 
-__all__ = ["Error", "Result", "Simulation", "bench", "bode", "design", "generate_model",
+__all__ = ["Error", "Result", "Simulation", "bench", "bode", "design", "export", "generate_model",
            "identify", "keys", "merge", "optimize", "options", "plot", "run", "step", "sweep",
            "MODELS_DIR", "SCENARIOS_DIR"]
 
@@ -270,6 +271,18 @@ def design(**options):
     per link (link, fractional, pid, tuning_s).
     """
     return [Result(link) for link in _core.design(options)]
+
+
+def export(scenario, *, out, **overrides):
+    """A scenario's controllers as code, as ``ipmc-swim export SCENARIO --out DIR``.
+
+    scenario: a scenario file or a dict of its keys; overrides: scenario keys
+    by their dotted names, as for run(). Writes DIR/ipmc_controller.h and
+    DIR/ipmc_controller.c (C99: the controllers as the simulator runs them),
+    DIR/coefficients.json and DIR/coefficients.csv (docs/PROTOTYPE.md).
+    Returns coefficients.json's contents as a dict.
+    """
+    return _core.export(scenario, overrides, _options({}, out=out))
 
 
 def generate_model(*, out=None, **spec):
