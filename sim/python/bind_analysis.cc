@@ -237,16 +237,13 @@ py::dict DesignDict(int link, const LinkDesign& design) {
 }
 
 py::list Design(const py::dict& kwargs) {
-  std::vector<int> links;
   const std::vector<LinkDesign> designs = RunCommandWithoutGil(
-      "design", kwargs, DesignOptions(), [&](const DesignCommand& command, const auto&) {
-        links = command.links;
-        return RunDesignCommand(command);
+      "design", kwargs, DesignOptions(),
+      [&](const DesignCommand& command, const auto& given) {
+        return RunDesignCommand(command, given);
       });
   py::list result;
-  for (std::size_t i = 0; i < designs.size(); ++i) {
-    result.append(DesignDict(links[i], designs[i]));
-  }
+  for (const LinkDesign& design : designs) result.append(DesignDict(design.link, design));
   return result;
 }
 

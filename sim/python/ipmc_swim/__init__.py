@@ -224,8 +224,10 @@ def bode(controller, *, out=None, **options):
 
     controller: pid, fractional, fractional-eq15, fractional-oustaloup or
     none. options: links, plant, kp, ki, kd, gain, order, oustaloup_pairs,
-    band_rad_s, w_min_rad_s, w_max_rad_s, points_per_decade (an option the
-    controller does not take is an error). out: a folder for bode.csv and
+    band_rad_s, w_min_rad_s, w_max_rad_s, points_per_decade, plant_file
+    (identify's plant.toml: each link's own plant), gains_file (design's
+    gains.toml: each link's own gains) (an option the controller does not
+    take is an error). out: a folder for bode.csv and
     bode.json (with one link). Returns a list, one Result per link: link,
     the descriptions, the margins, the values at 5 rad/s and the response
     (bode.csv's columns as arrays).
@@ -238,7 +240,8 @@ def step(controller, *, out=None, **options):
     """Closed-loop unit steps of the links, as ``ipmc-swim step``.
 
     controller: pid or fractional. options: links, plant, kp, ki, kd, gain,
-    order, horizon_s, max_horizon_s, sample_rate_Hz, no_clamp, v_max_V.
+    order, horizon_s, max_horizon_s, sample_rate_Hz, no_clamp, v_max_V,
+    plant_file, gains_file (each link's own plant and gains, as for bode).
     out: a folder for step.csv and step.json. Returns per link its record
     (time_s, output_mm, control_V), step metrics, whether the record
     determines them, the largest voltage and J of eq. 11; and the
@@ -267,8 +270,9 @@ def design(**options):
     """The fractional integrator and the tuned PID of each link, as ``ipmc-swim design``.
 
     options: links, plant, crossover_rad_s, phase_margin_deg,
-    reference_order, horizon_s, sample_rate_Hz. Returns a list, one Result
-    per link (link, fractional, pid, tuning_s).
+    reference_order, horizon_s, sample_rate_Hz, derivative_bandwidth_rad_s,
+    plant_file, scenario (every link of its run, at its sample rate), out.
+    Returns a list, one Result per link (link, fractional, pid, tuning_s).
     """
     return [Result(link) for link in _core.design(options)]
 
