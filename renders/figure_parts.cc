@@ -1,5 +1,6 @@
 #include "renders/figure_parts.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -142,6 +143,29 @@ double RmsError(const std::vector<double>& t_s, const std::vector<double>& refer
     ++count;
   }
   return count ? std::sqrt(sum / count) : NAN;
+}
+
+std::vector<ClampInterval> ClampIntervals(const std::vector<double>& time_s,
+                                          const std::vector<double>& voltage, bool clamp,
+                                          double v_max) {
+  std::vector<ClampInterval> intervals;
+  const std::size_t n = std::min(time_s.size(), voltage.size());
+  const auto at_clamp = [&](std::size_t i) {
+    return std::abs(voltage[i]) >= v_max * (1.0 - 1e-9);
+  };
+  const auto half_way = [&](std::size_t a, std::size_t b) { return 0.5 * (time_s[a] + time_s[b]); };
+  for (std::size_t i = 0; clamp && i < n;) {
+    if (!at_clamp(i)) {
+      ++i;
+      continue;
+    }
+    std::size_t last = i;
+    while (last + 1 < n && at_clamp(last + 1)) ++last;
+    intervals.push_back({i == 0 ? time_s[0] : half_way(i - 1, i),
+                         last + 1 == n ? time_s[last] : half_way(last, last + 1), last - i + 1});
+    i = last + 1;
+  }
+  return intervals;
 }
 
 }  // namespace ipmc::figure_parts

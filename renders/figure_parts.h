@@ -53,6 +53,19 @@ std::string StackedPanel(double height_in, double top_in, double tall_in, double
                          double right = 0.97);
 // Throws InputError naming the table unless it has `rows` data rows.
 void RequireRows(const CsvTable& table, std::size_t rows);
+// The intervals [start, end] [s] over which a recorded voltage sits at the
+// clamp (|v| >= V_max, to 1e-9): each run of consecutive samples at it,
+// from half-way to the sample before its first to half-way to the sample
+// after its last (the record's own ends at its ends). None without a
+// clamp. The tracking figure shades them, each apart, so that the shade
+// covers the clamped samples and nothing between them.
+struct ClampInterval {
+  double start_s = 0, end_s = 0;
+  std::size_t samples = 0;
+};
+std::vector<ClampInterval> ClampIntervals(const std::vector<double>& time_s,
+                                          const std::vector<double>& voltage, bool clamp,
+                                          double v_max);
 // A JSON file the same command wrote beside `input`; null if there is none
 // or it does not parse.
 nlohmann::json SideJson(const std::string& input, const std::string& name);

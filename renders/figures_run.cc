@@ -49,28 +49,6 @@ std::optional<double> LinkSummaryNumber(const nlohmann::json& summary, int q, co
   return std::nullopt;
 }
 
-// The clamp's intervals, as a band from -1.2 to 1.2 V_max where the
-// voltage is at the limit, NaN (a break) elsewhere (none without a clamp),
-// and how many samples are at it.
-struct ClampBand {
-  std::vector<double> low, high;
-  size_t samples = 0;
-};
-
-ClampBand ClampBandOf(const std::vector<double>& voltage, bool clamp, double v_max) {
-  ClampBand band;
-  band.low.assign(voltage.size(), NAN);
-  band.high.assign(voltage.size(), NAN);
-  for (size_t i = 0; clamp && i < voltage.size(); ++i) {
-    if (std::abs(voltage[i]) >= v_max * (1.0 - 1e-9)) {
-      band.low[i] = -1.2 * v_max;
-      band.high[i] = 1.2 * v_max;
-      ++band.samples;
-    }
-  }
-  return band;
-}
-
 // A link's largest |deflection| [mm], and its error panel's y axis, which
 // leaves its top fifth to the RMS, with no tic there (a tic at the top
 // would touch the panel above).
@@ -132,10 +110,24 @@ Figure LinkTrackingFigure(const CsvTable& table, const std::vector<int>& links,
     const bool has_voltage = table.Has(columns::Voltage(q));
     const std::vector<double> voltage =
         has_voltage ? table.Numbers(columns::Voltage(q)) : std::vector<double>(t.size(), NAN);
-    const ClampBand band = ClampBandOf(voltage, clamp, v_max);
-    const std::string data =
-        scratch.Data("tracking" + std::to_string(q) + ".dat",
-                     GnuplotTable({t, reference, measured, voltage, band.low, band.high}));
+    const std::vector<ClampInterval> at_clamp = ClampIntervals(t, voltage, clamp, v_max);
+    size_t clamped_samples = 0;
+    std::vector<double> clamp_start, clamp_end;
+    for (const ClampInterval& interval : at_clamp) {
+      clamped_samples += interval.samples;
+      clamp_start.push_back(interval.start_s);
+      clamp_end.push_back(interval.end_s);
+    }
+    const std::string data = scratch.Data("tracking" + std::to_string(q) + ".dat",
+                                          GnuplotTable({t, reference, measured, voltage}));
+    // One box per interval at the clamp, from -1.2 to 1.2 V_max.
+    const std::string shade =
+        at_clamp.empty()
+            ? std::string()
+            : scratch.Data("clamp" + std::to_string(q) + ".dat",
+                           GnuplotTable({clamp_start, clamp_end})) +
+                  " using (($1 + $2) / 2):(0):(($2 - $1) / 2):(" + N(1.2 * v_max) +
+                  ") with boxxyerror fs solid 1.0 noborder fc " + Rgb(kClampShade) + " notitle, ";
     const double top = kHead + k * kBlock;
     const bool last = k + 1 == n;
     std::string panel_title = "link " + std::to_string(q);
@@ -144,7 +136,7 @@ Figure LinkTrackingFigure(const CsvTable& table, const std::vector<int>& links,
       // else that of the recorded samples.
       const double fraction =
           LinkSummaryNumber(summary, q, "clamped_fraction")
-              .value_or(static_cast<double>(band.samples) / std::max<size_t>(1, t.size()));
+              .value_or(static_cast<double>(clamped_samples) / std::max<size_t>(1, t.size()));
       panel_title += Format(": voltage at the clamp %.1f %% of the time", 100.0 * fraction);
     }
     const TrackingAxes axes = TrackingAxesOf(reference, measured);
@@ -180,8 +172,7 @@ Figure LinkTrackingFigure(const CsvTable& table, const std::vector<int>& links,
                              N(v_max / 2) + "\n"
                        : std::string("set autoscale y\n")) +
                 "plot " +
-                (clamp ? data + " using 1:5:6 with filledcurves fc " + Rgb(kClampShade) +
-                             " fs solid 1.0 notitle, " +
+                (clamp ? shade +
                              (k == 0 ? "keyentry with boxes fs solid 1.0 fc " + Rgb(kClampShade) +
                                            " title 'at the clamp', "
                                      : std::string()) +

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "sim/base/error.h"
+#include "sim/base/numbers.h"
 #include "renders/offscreen_renderer.h"
 #include "renders/video.h"
 #include "sim/core/simulation.h"
@@ -445,23 +446,48 @@ std::function<double(double, double)> ScenarioIdealShape(const ScenarioConfig& s
   };
 }
 
-std::vector<std::array<std::string, 2>> ClosedLoopOverlayRows(const ScenarioConfig& scenario) {
-  const bool pid = scenario.controller.kind == ControllerKind::kPid;
-  const bool clamp =
-      pid ? scenario.controller.pid.clamp_enabled : scenario.controller.fractional.clamp_enabled;
-  const double v_max = pid ? scenario.controller.pid.v_max : scenario.controller.fractional.v_max;
-  char controller[128];
-  int n = pid ? std::snprintf(controller, sizeof(controller), "PID, Kp %g, Ki %g, Kd %g",
-                              scenario.controller.pid.kp, scenario.controller.pid.ki,
-                              scenario.controller.pid.kd)
-              : std::snprintf(controller, sizeof(controller), "fractional, %g / s^%g",
-                              scenario.controller.fractional.gain,
-                              scenario.controller.fractional.order);
-  if (clamp) {
-    std::snprintf(controller + n, sizeof(controller) - n, ", clamp +-%g V", v_max);
-  } else {
-    std::snprintf(controller + n, sizeof(controller) - n, ", no clamp");
+namespace {
+
+// The links' values of one gain, "8.12" when every link has it, else
+// "10.3/2.6/1.2" (per link, in order).
+std::string LinkValues(const std::vector<double>& values) {
+  std::string text;
+  for (double v : values) {
+    if (!text.empty()) text += "/";
+    text += FormatText("%g", v);
   }
+  const bool same = std::all_of(values.begin(), values.end(),
+                                [&](double v) { return v == values.front(); });
+  return same ? FormatText("%g", values.front()) : text;
+}
+
+}  // namespace
+
+std::vector<std::array<std::string, 2>> ClosedLoopOverlayRows(const ScenarioConfig& scenario) {
+  const ControllerScenario& c = scenario.controller;
+  const bool pid = c.kind == ControllerKind::kPid;
+  const bool clamp = pid ? c.pid.clamp_enabled : c.fractional.clamp_enabled;
+  const double v_max = pid ? c.pid.v_max : c.fractional.v_max;
+  // The gains that ran: each driven link's (its controller.link_* where
+  // given). Without per-link gains every link runs the scalar keys'.
+  size_t links = 1;
+  for (const std::vector<double>* each :
+       {&c.link_gains.kp, &c.link_gains.ki, &c.link_gains.kd, &c.link_gains.gain,
+        &c.link_gains.order}) {
+    links = std::max(links, each->size());
+  }
+  if (scenario.actuation == Actuation::kSingle) links = 1;
+  std::vector<double> kp, ki, kd, gain, order;
+  for (size_t q = 0; q < links; ++q) {
+    const PidController::Config p = c.LinkPid(static_cast<int>(q));
+    const FractionalIntegrator::Config f = c.LinkFractional(static_cast<int>(q));
+    kp.push_back(p.kp), ki.push_back(p.ki), kd.push_back(p.kd);
+    gain.push_back(f.gain), order.push_back(f.order);
+  }
+  std::string controller =
+      pid ? "PID, Kp " + LinkValues(kp) + ", Ki " + LinkValues(ki) + ", Kd " + LinkValues(kd)
+          : "fractional, " + LinkValues(gain) + " / s^" + LinkValues(order);
+  controller += clamp ? FormatText(", clamp +-%g V", v_max) : std::string(", no clamp");
   return {{"controller", controller}, {"actuation", ChoiceText(kActuationNames, scenario.actuation)}};
 }
 

@@ -21,6 +21,7 @@
 
 #include "tests/test_util.h"
 #include "tests/controller_test_util.h"
+#include "controllers/first_order_sections.h"
 #include "controllers/fractional_integrator.h"
 #include "sim/linear/oustaloup.h"
 #include "sim/linear/state_space.h"
@@ -279,4 +280,92 @@ TEST(FractionalIntegratorTest, RejectsBadConfiguration) {
 }
 
 }  // namespace
+// ------------------------------------------- first-order sections ---
+
+// The sections' difference equations (controllers/first_order_sections.h),
+// as the exported C runs them, in double or float.
+template <typename Real>
+std::vector<double> RunSections(const ParallelSections& sections,
+                                const std::vector<double>& error) {
+  std::vector<Real> x(sections.sections.size(), Real(0));
+  std::vector<double> output;
+  for (double e_double : error) {
+    const Real e = static_cast<Real>(e_double);
+    Real u = static_cast<Real>(sections.d) * e;
+    for (size_t i = 0; i < x.size(); ++i) u += static_cast<Real>(sections.sections[i].c) * x[i];
+    for (size_t i = 0; i < x.size(); ++i) {
+      x[i] += static_cast<Real>(sections.sections[i].b) * e -
+              static_cast<Real>(sections.sections[i].alpha) * x[i];
+    }
+    output.push_back(u);
+  }
+  return output;
+}
+
+// A deterministic error over 20 s at 1 kHz: a ramp-in, two sines and a step.
+std::vector<double> TestError() {
+  std::vector<double> error;
+  for (int k = 0; k < 20000; ++k) {
+    const double t = 1e-3 * k;
+    error.push_back(0.3 * std::sin(2.0 * t) + 0.1 * std::sin(31.0 * t) + (t > 7.0 ? 0.2 : 0.0));
+  }
+  return error;
+}
+
+// The sections are the integrator's own discrete block: the same outputs
+// as FractionalIntegrator::Update (no clamp) to rounding, for eq. 14's
+// Oustaloup realisation, eq. 15, an order-1 integrator (a pole at z = 1)
+// and s^-0.5 with N = 5 down to 0.01 rad/s.
+TEST(FirstOrderSections, RunTheIntegratorsDiscreteBlock) {
+  std::vector<FractionalIntegrator::Config> configs(4);
+  configs[1].realisation = FractionalRealisation::kEq15;
+  configs[2].order = 1.0;
+  configs[3].order = 0.5, configs[3].oustaloup_n = 5, configs[3].w_low_rad_s = 0.01;
+  const std::vector<double> error = TestError();
+  for (FractionalIntegrator::Config config : configs) {
+    config.clamp_enabled = false;
+    FractionalIntegrator integrator(config);
+    const ParallelSections sections = ParallelFirstOrderSections(integrator.discrete());
+    EXPECT_EQ(sections.sections.size(), static_cast<size_t>(integrator.discrete().a.rows()));
+    const std::vector<double> ours = RunSections<double>(sections, error);
+    double worst = 0, largest = 0;
+    for (size_t k = 0; k < error.size(); ++k) {
+      const double u = integrator.Update(error[k]);
+      worst = std::max(worst, std::abs(ours[k] - u));
+      largest = std::max(largest, std::abs(u));
+    }
+    // Measured: up to 3e-14 of the largest output.
+    EXPECT_LT(worst, 1e-12 * largest) << config.order << " " << config.oustaloup_n;
+  }
+}
+
+// Each section keeps 1 - p: float32 rounds alpha to 6e-8 of itself, so a
+// corner moves by 1e-7 at most; the pole itself in float moves the slowest
+// corner of s^-0.5 with N = 5 on [0.01, 100] rad/s (p = 0.99998415, 0.01585
+// rad/s) by 3.8e-4 (measured; float's spacing below 1 is 6e-8, 1 - p is
+// 1.6e-5). And the float sections follow the double ones to 1e-5 of the
+// largest output over 20 s.
+TEST(FirstOrderSections, KeepTheirCornersInFloat) {
+  FractionalIntegrator::Config config;
+  config.order = 0.5, config.oustaloup_n = 5, config.w_low_rad_s = 0.01;
+  config.clamp_enabled = false;
+  const FractionalIntegrator integrator(config);
+  const ParallelSections sections = ParallelFirstOrderSections(integrator.discrete());
+  const FirstOrderSection& slowest = sections.sections.front();
+  EXPECT_NEAR(slowest.pole(), 0.99998415, 1e-8);
+  const double alpha_float = static_cast<float>(slowest.alpha);
+  const double alpha_of_pole_float = 1.0 - static_cast<double>(static_cast<float>(slowest.pole()));
+  EXPECT_LT(std::abs(alpha_float / slowest.alpha - 1), 1e-7);
+  EXPECT_GT(std::abs(alpha_of_pole_float / slowest.alpha - 1), 1e-4);
+  const std::vector<double> error = TestError();
+  const std::vector<double> exact = RunSections<double>(sections, error);
+  const std::vector<double> single = RunSections<float>(sections, error);
+  double worst = 0, largest = 0;
+  for (size_t k = 0; k < error.size(); ++k) {
+    worst = std::max(worst, std::abs(single[k] - exact[k]));
+    largest = std::max(largest, std::abs(exact[k]));
+  }
+  EXPECT_LT(worst, 1e-5 * largest);
+}
+
 }  // namespace ipmc

@@ -23,6 +23,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "renders/figure_parts.h"
 #include "renders/figures.h"
 #include "sim/io/csv.h"
 #include "tests/cli_util.h"
@@ -350,6 +351,52 @@ TEST_F(PlotCommandTest, Tracking) {
     const std::string note = "link " + std::to_string(q) + ": tracking error RMS over cycle 2: ";
     EXPECT_NEAR(NumberAfter(printed, note), rms, 5e-4 * rms) << printed;
   }
+}
+
+// The clamp's shade covers the clamped samples and nothing between them:
+// one box per run of samples at +-V_max, half a sample beyond its ends
+// (ClampIntervals), each drawn apart in the SVG. A record of 100 samples
+// over 99 s with the voltage at the clamp at samples 10-19, 50 and 90-99
+// gives boxes over [9.5, 19.5], [49.5, 50.5] and [89.5, 99] s.
+TEST(ClampShadeTest, CoversOnlyTheClampedSamples) {
+  std::vector<double> t, v;
+  for (int i = 0; i < 100; ++i) {
+    t.push_back(i);
+    const bool at_clamp = (i >= 10 && i < 20) || i == 50 || i >= 90;
+    v.push_back(at_clamp ? (i == 50 ? -6.0 : 6.0) : 3.0 * std::sin(0.1 * i));
+  }
+  const auto intervals = ipmc::figure_parts::ClampIntervals(t, v, true, 6.0);
+  ASSERT_EQ(intervals.size(), 3u);
+  const double expected[3][3] = {{9.5, 19.5, 10}, {49.5, 50.5, 1}, {89.5, 99.0, 10}};
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(intervals[i].start_s, expected[i][0]);
+    EXPECT_EQ(intervals[i].end_s, expected[i][1]);
+    EXPECT_EQ(intervals[i].samples, static_cast<size_t>(expected[i][2]));
+  }
+  EXPECT_TRUE(ipmc::figure_parts::ClampIntervals(t, v, false, 6.0).empty());
+
+  // The figure: the shade's polygons (the key's swatch besides) span the
+  // boxes' widths in proportion 10 : 1 : 9.5.
+  const fs::path dir = FreshDir("clamp_shade");
+  std::string csv = "time_s,reference1_mm,measured1_mm,voltage1_V\n";
+  for (int i = 0; i < 100; ++i) {
+    csv += std::to_string(t[i]) + ",0.1,0.09," + std::to_string(v[i]) + "\n";
+  }
+  WriteText(dir / "timeseries.csv", csv);
+  WriteText(dir / "summary.json",
+            R"({"clamp_enabled": true, "v_max_V": 6.0, "period_s": 50.0})");
+  ExpectFigure("tracking " + Quoted(dir / "timeseries.csv"), dir / "tracking.svg");
+  const std::string svg = ReadText(dir / "tracking.svg");
+  const std::string shade = "<polygon fill = 'rgb(246, 213, 209)' points = '";
+  std::vector<double> widths;
+  for (size_t at = svg.find(shade); at != std::string::npos; at = svg.find(shade, at + 1)) {
+    double x0 = 0, y0 = 0, x1 = 0;
+    ASSERT_EQ(std::sscanf(svg.c_str() + at + shade.size(), "%lf,%lf %lf", &x0, &y0, &x1), 3);
+    widths.push_back(x1 - x0);
+  }
+  ASSERT_EQ(widths.size(), 4u) << "three boxes and the key's swatch";
+  EXPECT_NEAR(widths[1] / widths[0], 0.1, 0.02);
+  EXPECT_NEAR(widths[2] / widths[0], 0.95, 0.02);
 }
 
 // Default instants (the last period from summary.json) and chosen ones;

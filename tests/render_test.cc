@@ -271,6 +271,24 @@ int RunRenderInProcess(std::vector<std::string> args) {
   return RunRenderCommandLine(app, render);
 }
 
+// The overlay names the gains that ran: the scalar keys', or each link's
+// where controller.link_* gives them (in link order).
+TEST(OverlayTest, ShowsTheGainsThatRan) {
+  ipmc::ScenarioConfig scenario;
+  EXPECT_EQ(ipmc::ClosedLoopOverlayRows(scenario)[0][1],
+            "PID, Kp 8.12, Ki 53.36, Kd 0.61, clamp +-6 V");
+  scenario.controller.link_gains.kp = {10.3, 2.6, 1.2};
+  scenario.controller.link_gains.ki = {36, 9, 4};
+  EXPECT_EQ(ipmc::ClosedLoopOverlayRows(scenario)[0][1],
+            "PID, Kp 10.3/2.6/1.2, Ki 36/9/4, Kd 0.61, clamp +-6 V");
+  scenario.controller.kind = ipmc::ControllerKind::kFractional;
+  scenario.controller.fractional.clamp_enabled = false;
+  scenario.controller.link_gains.gain = {14.6, 3.7, 1.6};
+  EXPECT_EQ(ipmc::ClosedLoopOverlayRows(scenario)[0][1], "fractional, 14.6/3.7/1.6 / s^0.62, no clamp");
+  scenario.actuation = ipmc::Actuation::kSingle;
+  EXPECT_EQ(ipmc::ClosedLoopOverlayRows(scenario)[0][1], "fractional, 14.6 / s^0.62, no clamp");
+}
+
 TEST(RenderCommandTest, FilmsAShortScenario) {
   const fs::path dir = RenderDir("command");
   const fs::path scenario = ShortScenario(dir);

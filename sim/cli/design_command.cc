@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "controllers/fractional_integrator.h"
+#include "sim/base/numbers.h"
 #include "sim/identify/report_text.h"
 
 namespace ipmc {
@@ -33,8 +34,12 @@ void PrintDesign(const DesignSpec& args, const std::string& plant_file, const Li
 
   const PidTuningResult& tuned = result.tuned;
   std::printf("PID tuned by Nelder-Mead against 1/((s/%g)^%g + 1), J of eq. 11 over %g s, loop "
-              "sampled at %g Hz (linear, no clamp):\n",
-              args.crossover_rad_s, args.reference_order, args.horizon_s, args.sample_rate_Hz);
+              "sampled at %g Hz (linear, no clamp%s):\n",
+              args.crossover_rad_s, args.reference_order, args.horizon_s, args.sample_rate_Hz,
+              args.derivative_filter_s > 0
+                  ? (", derivative filter Tf = " + FormatShortest(args.derivative_filter_s) + " s")
+                        .c_str()
+                  : "");
   std::printf("  %-34s %-34s %10s %10s %6s\n", "start", "result", "J_start", "J", "evals");
   for (const PidTuningRun& run : tuned.runs) {
     std::printf("  %-34s %-34s %10.6f %10.6f %6d%s\n", PidText(run.start).c_str(),
@@ -57,13 +62,17 @@ void AddDesignCommand(CLI::App& app, DesignArgs& args) {
 
 int RunDesignCommandLine(const DesignArgs& args) {
   if (!args.Chosen()) return -1;
-  const std::vector<LinkDesign> designs =
-      TranslatingFieldErrors(DesignOptions(), [&] { return RunDesignCommand(args.spec); });
+  const std::vector<LinkDesign> designs = TranslatingFieldErrors(
+      DesignOptions(), [&] { return RunDesignCommand(args.spec, args.Given()); });
+  const std::string& plants =
+      args.spec.scenario.empty() ? args.spec.plant_file : args.spec.scenario;
   for (std::size_t i = 0; i < designs.size(); ++i) {
     if (i > 0) std::printf("\n");
     DesignSpec spec = args.spec;
-    spec.link = args.spec.links[i];
-    PrintDesign(spec, args.spec.plant_file, designs[i]);
+    spec.link = designs[i].link;
+    spec.sample_rate_Hz = 1.0 / designs[i].tuning.sample_period_s;
+    spec.derivative_filter_s = designs[i].tuning.derivative_filter_s;
+    PrintDesign(spec, plants, designs[i]);
   }
   if (!args.spec.out.empty()) std::printf("\nwrote %s\n", args.spec.out.c_str());
   return 0;

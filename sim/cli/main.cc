@@ -10,6 +10,7 @@
 #include "sim/cli/bench_command.h"
 #include "sim/cli/bode_command.h"
 #include "sim/cli/design_command.h"
+#include "sim/cli/export_command.h"
 #include "sim/cli/gait_command.h"
 #include "sim/cli/generate_command.h"
 #include "sim/cli/optimize_command.h"
@@ -71,6 +72,7 @@ int main(int argc, char** argv) {
       ipmc::Registration(ipmc::AddPlotCommand, ipmc::RunPlotCommandLine),
       ipmc::Registration(ipmc::AddIdentifyCommand, ipmc::RunIdentifyCommandLine),
       ipmc::Registration(ipmc::AddDesignCommand, ipmc::RunDesignCommandLine),
+      ipmc::Registration(ipmc::AddExportCommand, ipmc::RunExportCommandLine),
       ipmc::Registration(ipmc::AddPipelineCommand, ipmc::RunPipelineCommandLine),
       ipmc::Registration(ipmc::AddSweepCommands, ipmc::RunSweepCommandLine),  // sweep and merge
       ipmc::Registration(ipmc::AddOptimizeCommand, ipmc::RunOptimizeCommandLine),

@@ -47,7 +47,11 @@ void PrintStep(const StepCommand& args, const StepAnalysis& analysis) {
   std::printf("  sampled at %g Hz, %s; horizon %g s (step.csv, J_eq11)\n", args.sample_rate_Hz,
               args.no_clamp ? "no clamp" : ("clamp +-" + Short(args.v_max_V) + " V").c_str(),
               args.horizon_s);
-  std::printf("  plant s^-0.5 %s (Table 2)", args.plant == "g2" ? "G2" : "G1");
+  if (args.plant_file.empty()) {
+    std::printf("  plant s^-0.5 %s (Table 2)", args.plant == "g2" ? "G2" : "G1");
+  } else {
+    std::printf("  each link's plant from %s", args.plant_file.c_str());
+  }
   std::printf("; s^-0.5%s by %d Oustaloup pairs on [%g, %g] rad/s\n",
               args.controller == controller_names::kFractional ? " and s^-lambda" : "", analysis.oustaloup_pairs,
               analysis.band_low_rad_s, analysis.band_high_rad_s);

@@ -262,6 +262,21 @@ void ControllerScenario::SetSamplePeriod() {
   fractional.sample_period_s = 1.0 / sample_rate_Hz;
 }
 
+PidController::Config ControllerScenario::LinkPid(int q) const {
+  PidController::Config config = pid;
+  if (!link_gains.kp.empty()) config.kp = link_gains.kp.at(q);
+  if (!link_gains.ki.empty()) config.ki = link_gains.ki.at(q);
+  if (!link_gains.kd.empty()) config.kd = link_gains.kd.at(q);
+  return config;
+}
+
+FractionalIntegrator::Config ControllerScenario::LinkFractional(int q) const {
+  FractionalIntegrator::Config config = fractional;
+  if (!link_gains.gain.empty()) config.gain = link_gains.gain.at(q);
+  if (!link_gains.order.empty()) config.order = link_gains.order.at(q);
+  return config;
+}
+
 void ControllerScenario::Validate() const {
   if (kind == ControllerKind::kPid) {
     pid.Validate();

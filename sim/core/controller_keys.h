@@ -40,6 +40,12 @@ struct ControllerScenario {
 
   // Both kinds' sample period, 1 / sample_rate_Hz.
   void SetSamplePeriod();
+  // Link q's (0-based) Config: the scalar keys' with that link's gains
+  // where link_gains gives them (one per link: CheckLinkGains,
+  // sim/runs/closed_loop_run.h). What the run's controllers and the
+  // exported code (sim/identify/controller_export.h) are made from.
+  PidController::Config LinkPid(int q) const;
+  FractionalIntegrator::Config LinkFractional(int q) const;
   // The chosen kind's Config: FieldError naming the field, or
   // std::invalid_argument.
   void Validate() const;

@@ -202,4 +202,13 @@ int ScenarioLinkCount(const ScenarioConfig& scenario) {
   return static_cast<int>(actuators->chains.size());
 }
 
+std::vector<IpmcLinkParams> ScenarioLinkPlants(const ScenarioConfig& scenario) {
+  const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(scenario);
+  const CouplingContext* coupling = FindCoupling(sim->data());
+  if (coupling == nullptr || !coupling->actuators) {
+    throw std::runtime_error(scenario.source + ": the links' plants need IPMC actuators");
+  }
+  return coupling->actuators->link_params();
+}
+
 }  // namespace ipmc

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "plugin/actuators/ipmc_link_model.h"
 #include "plugin/fluid/rft_drag.h"
 #include "sim/core/scenario.h"
 #include "sim/core/simulation.h"
@@ -45,5 +46,11 @@ RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mj
 // without building the simulation. Throws std::runtime_error naming the
 // model if it has no IPMC actuators.
 int ScenarioLinkCount(const ScenarioConfig& scenario);
+
+// The links' plants as the run gives them (the model's or the generated
+// flagellum's, with the scenario's plant keys): the simulation's own.
+// Throws std::runtime_error naming the scenario if it has no IPMC
+// actuators.
+std::vector<IpmcLinkParams> ScenarioLinkPlants(const ScenarioConfig& scenario);
 
 }  // namespace ipmc

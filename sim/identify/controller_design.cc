@@ -217,6 +217,7 @@ PidStepCost::PidStepCost(const StateSpace& plant, const PidTuningOptions& option
   plant.Validate("pid tuning: plant");
   hold_ = DiscretizeZeroOrderHold(plant, options.sample_period_s);
   sample_period_s_ = options.sample_period_s;
+  derivative_filter_s_ = options.derivative_filter_s;
   samples_ = static_cast<int>(std::lround(options.horizon_s / options.sample_period_s));
   const ReferenceModel model(options.reference);
   reference_.resize(samples_ + 1);
@@ -238,6 +239,7 @@ double PidStepCost::operator()(const PidGains& gains) const {
   config.ki = gains.ki;
   config.kd = gains.kd;
   config.sample_period_s = sample_period_s_;
+  config.derivative_filter_time_s = derivative_filter_s_;
   config.clamp_enabled = false;
   PidController pid(config);
 

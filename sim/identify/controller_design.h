@@ -124,6 +124,9 @@ struct PidTuningOptions {
   double horizon_s = 2.0;            // H, a whole number of sample periods
   double sample_period_s = 1e-4;     // finite, > 0
   std::vector<PidGains> starts;      // empty: DefaultPidStarts(); gains > 0
+  // The PID's derivative filter Tf [s] in the tuning loop (0: the ideal
+  // derivative of eq. 10).
+  double derivative_filter_s = 0.0;
   // On log gains; stops on the simplex size alone. NLopt ends at the first
   // test met: with an f test of 1e-9 too, the five starts ended up to 2e-9
   // above the minimum J with Kd 3e-4 apart; on x alone 2e-11 and 3e-5.
@@ -151,6 +154,7 @@ class PidStepCost {
  private:
   DiscreteStateSpace hold_;  // the plant's zero-order-hold discretisation
   double sample_period_s_ = 0;
+  double derivative_filter_s_ = 0;  // Tf [s]
   int samples_ = 0;                // N, the horizon is N T
   std::vector<double> reference_;  // y_r(k T), k = 0..N
   std::vector<double> weight_;     // trapezoid weight times (1/2 + t/2)

@@ -15,11 +15,13 @@
 #include "sim/io/csv.h"
 #include "sim/base/error.h"
 #include "sim/base/numbers.h"
+#include "sim/identify/key_files.h"
 #include "sim/identify/loop_analysis.h"
 #include "sim/io/files.h"
 #include "sim/core/key_builder.h"
 #include "sim/core/model_generator.h"
 #include "sim/core/scenario.h"
+#include "sim/core/scenario_simulation.h"
 
 namespace ipmc {
 namespace {
@@ -400,8 +402,10 @@ LinkDesign DesignLink(const DesignSpec& spec, const IpmcLinkParams* own_plant,
   RequireFinitePositive(name, "crossover_rad_s", spec.crossover_rad_s);
   RequirePhaseMargin(name, spec.phase_margin_deg);
   LinkDesign result;
+  result.link = spec.link;
   result.tuning = TuningOptions(name, spec.crossover_rad_s, spec.reference_order,
                                 spec.horizon_s, spec.sample_rate_Hz);
+  result.tuning.derivative_filter_s = spec.derivative_filter_s;
   result.params =
       own_plant != nullptr
           ? *own_plant
@@ -469,12 +473,15 @@ OptionTable<IdentifyCommand> MakeIdentifyOptions() {
 OptionTable<DesignCommand> MakeDesignOptions() {
   OptionTable<DesignCommand> table(
       kDesignCommand, "Fractional integrator (analytic) and PID (Nelder-Mead) for each link");
-  table.Add<std::vector<int>>({"links", "", "distinct links 1..3", "Links to design for (Table 2)"},
+  table.Add<std::vector<int>>({"links", "", "distinct links 1..3, or 1..n of scenario or plant_file",
+                               "Links to design for (default: every link)"},
                               [](DesignCommand& c) -> std::vector<int>& { return c.links; });
   OptionInfo plant{"plant", "", "", "Link model: g1 (eq. 5) or g2 (eq. 6)"};
   plant.choices = {"g1", "g2"};
   table.Add<std::string>(plant, [](DesignCommand& c) -> std::string& { return c.plant; });
-  table.Add<double>({"crossover_rad_s", "rad/s", "finite and > 0", "Gain crossover w_c"},
+  table.Add<double>({"crossover_rad_s", "rad/s", "finite and > 0",
+                     "Gain crossover w_c of the fractional integrator, and the crossover of the "
+                     "reference model 1/((s/w_c)^gamma + 1) (eq. 9) the PID is tuned against"},
                     [](DesignCommand& c) -> double& { return c.crossover_rad_s; });
   table.Add<double>({"phase_margin_deg", "deg", "in (0, 180)", "Phase margin"},
                     [](DesignCommand& c) -> double& { return c.phase_margin_deg; });
@@ -482,8 +489,18 @@ OptionTable<DesignCommand> MakeDesignOptions() {
                     [](DesignCommand& c) -> double& { return c.reference_order; });
   table.Add<double>({"horizon_s", "s", "finite and > 0", "Horizon of J (eq. 11)"},
                     [](DesignCommand& c) -> double& { return c.horizon_s; });
-  table.Add<double>({"sample_rate_Hz", "Hz", "finite and > 0", "PID rate in the tuning loop"},
+  table.Add<double>({"sample_rate_Hz", "Hz", "finite and > 0",
+                     "PID rate in the tuning loop (with scenario: its controller's, unless given)"},
                     [](DesignCommand& c) -> double& { return c.sample_rate_Hz; });
+  table.Add<double>({"derivative_bandwidth_rad_s", "rad/s", "finite and >= 0; 0: none",
+                     "PID derivative filter bandwidth w_f: Tf = 1 / w_f in the tuning loop and in "
+                     "out (controller.derivative_filter_s)"},
+                    [](DesignCommand& c) -> double& { return c.derivative_bandwidth_rad_s; });
+  OptionInfo scenario{"scenario", "", "a scenario file (TOML)",
+                      "Design for each link of this scenario's run: its plants, its link count and "
+                      "its controller's sample rate"};
+  scenario.default_text = "none: Table 2";
+  table.AddPath(scenario, [](DesignCommand& c) -> std::string& { return c.scenario; });
   OptionInfo plant_file{"plant_file", "", "a TOML file of [plant] scenario keys",
                         "Design for the plants these keys give (identify's plant.toml) instead "
                         "of Table 2's"};
@@ -560,53 +577,57 @@ RecordIdentification RunIdentifyCommandOnFile(const IdentifyCommand& command) {
                             record.time_s ? &*record.time_s : nullptr);
 }
 
-std::vector<IpmcLinkParams> PlantsOfKeyFile(const std::string& path) {
-  // The keys as a scenario that includes the file and generates the
-  // paper's three links: the scenario reader checks them and the
-  // generator's spec holds one value per link.
-  const std::string file = std::filesystem::absolute(path).lexically_normal().string();
-  const ScenarioConfig scenario =
-      ParseScenario("include = " + *TomlString(file) + "\nlink_lengths_mm = [10.0, 10.0, 10.0]\n",
-                    "design --plant-file");
-  const FlagellumSpec spec = ScenarioFlagellumSpec(scenario.model);
-  const IpmcModelKind kind = spec.ipmc_model == "g2" ? IpmcModelKind::kG2 : IpmcModelKind::kG1;
-  std::vector<IpmcLinkParams> plants;
-  for (int q = 0; q < spec.Links(); ++q) {
-    IpmcLinkParams p = AssignedLinkParams(PlantAssignment::kUniform, q + 1, kind,
-                                          spec.link_lengths_mm[q] * 1e-3);
-    if (!spec.a0_mm_per_V.empty()) p.a0_mm_per_V = spec.a0_mm_per_V[q];
-    if (!spec.b1.empty()) p.b1 = spec.b1[q];
-    if (!spec.b2_s2.empty()) p.b2_s2 = spec.b2_s2[q];
-    if (!spec.alpha.empty()) p.alpha = spec.alpha[q];
-    plants.push_back(p);
-  }
-  return plants;
-}
-
-std::vector<LinkDesign> RunDesignCommand(const DesignCommand& command,
+std::vector<LinkDesign> RunDesignCommand(const DesignCommand& command, const OptionGiven& given,
                                          const std::function<void()>& check_stop) {
-  ValidateLinkList(kDesignCommand, command.links);
+  const auto is_given = [&given](const char* option) { return given && given(option); };
+  DesignCommand design = command;
+  std::vector<IpmcLinkParams> plants;
+  if (!command.scenario.empty()) {
+    if (!command.plant_file.empty()) {
+      throw FieldError(std::string(kDesignCommand) + ": plant_file does not apply with scenario",
+                       "plant_file", "");
+    }
+    const ScenarioConfig scenario = LoadScenario(command.scenario);
+    plants = ScenarioLinkPlants(scenario);
+    if (!is_given("sample_rate_Hz")) design.sample_rate_Hz = scenario.controller.sample_rate_Hz;
+  } else if (!command.plant_file.empty()) {
+    plants = PlantsOfKeyFile(command.plant_file);
+  }
+  if (!plants.empty() && !is_given("links")) {
+    design.links.clear();
+    for (std::size_t q = 1; q <= plants.size(); ++q) design.links.push_back(static_cast<int>(q));
+  }
+  ValidateLinkList(kDesignCommand, design.links,
+                   plants.empty() ? 3 : static_cast<int>(plants.size()));
+  const double bandwidth = command.derivative_bandwidth_rad_s;
+  if (!std::isfinite(bandwidth) || bandwidth < 0) {
+    ThrowOption(kDesignCommand, "derivative_bandwidth_rad_s", "finite and >= 0 (0: none)",
+                FormatDouble(bandwidth));
+  }
   if (!command.out.empty()) {
-    for (std::size_t i = 0; i < command.links.size(); ++i) {
-      if (command.links[i] != static_cast<int>(i) + 1) {
+    for (std::size_t i = 0; i < design.links.size(); ++i) {
+      if (design.links[i] != static_cast<int>(i) + 1) {
         ThrowOption(kDesignCommand, "out", "links 1..n in order (one gain per link of the run)",
-                    "links " + std::to_string(command.links[i]) + " at place " +
+                    "links " + std::to_string(design.links[i]) + " at place " +
                         std::to_string(i + 1));
       }
     }
     RequireWritableParent(command.out);
   }
-  std::vector<IpmcLinkParams> plants;
-  if (!command.plant_file.empty()) plants = PlantsOfKeyFile(command.plant_file);
+  design.derivative_filter_s = DerivativeFilterOf(design);
   std::vector<LinkDesign> designs;
-  for (const int link : command.links) {
-    DesignSpec spec = command;
+  for (const int link : design.links) {
+    DesignSpec spec = design;
     spec.link = link;
     designs.push_back(
         DesignLink(spec, plants.empty() ? nullptr : &plants.at(link - 1), check_stop));
   }
-  if (!command.out.empty()) WriteFileAtomically(command.out, GainsToml(command, designs));
+  if (!command.out.empty()) WriteFileAtomically(command.out, GainsToml(design, designs));
   return designs;
+}
+
+double DerivativeFilterOf(const DesignCommand& command) {
+  return command.derivative_bandwidth_rad_s > 0 ? 1.0 / command.derivative_bandwidth_rad_s : 0.0;
 }
 
 std::string GainsToml(const DesignCommand& command, const std::vector<LinkDesign>& designs) {
@@ -616,13 +637,19 @@ std::string GainsToml(const DesignCommand& command, const std::vector<LinkDesign
     ki.push_back(design.tuned.gains.ki);
     kd.push_back(design.tuned.gains.kd);
   }
+  const std::string plants = !command.scenario.empty()    ? command.scenario
+                             : !command.plant_file.empty() ? command.plant_file
+                                                           : std::string("Table 2");
+  const double filter_s = DerivativeFilterOf(command);
   return FormatText("# PIDs ipmc-swim design tuned per link for the plants of %s by J of eq. 11\n"
-                    "# over %g s against 1/((s/%g)^%g + 1); a scenario takes them with\n"
-                    "# include = [\"gains.toml\"].\n",
-                    command.plant_file.empty() ? "Table 2" : command.plant_file.c_str(),
-                    command.horizon_s, command.crossover_rad_s, command.reference_order) +
+                    "# over %g s against 1/((s/%g)^%g + 1) in a %g Hz loop; a scenario takes\n"
+                    "# them with include = [\"gains.toml\"].\n",
+                    plants.c_str(), command.horizon_s, command.crossover_rad_s,
+                    command.reference_order, command.sample_rate_Hz) +
          "[controller]\nlink_kp = " + *TomlFloats(kp) + "\nlink_ki = " + *TomlFloats(ki) +
-         "\nlink_kd = " + *TomlFloats(kd) + "\n";
+         "\nlink_kd = " + *TomlFloats(kd) + "\n" +
+         (filter_s > 0 ? "derivative_filter_s = " + FormatShortest(filter_s) + "\n"
+                       : std::string());
 }
 
 }  // namespace ipmc

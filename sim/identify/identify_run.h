@@ -124,10 +124,12 @@ struct DesignSpec {
   double phase_margin_deg = 75.0;
   double reference_order = 1.16;
   double horizon_s = 2.0;
-  double sample_rate_Hz = 10000.0;
+  double sample_rate_Hz = 10000.0;  // the tuning loop's (a scenario's with design --scenario)
+  double derivative_filter_s = 0.0;  // the PID's Tf in the tuning loop [s]
 };
 
 struct LinkDesign {
+  int link = 0;                  // 1-based
   IpmcLinkParams params;         // the plant designed for
   PidTuningOptions tuning;
   FractionalLoopDesign fractional;
@@ -174,18 +176,27 @@ struct DesignCommand : DesignSpec {
   // A TOML file of [plant] scenario keys (the plant.toml identify writes):
   // each link is designed for the plant those keys give it.
   std::string plant_file;
+  // A scenario: each of its links is designed for the plant its run gives
+  // the link, at its controller's sample rate.
+  std::string scenario;
+  // The PID's derivative filter as a bandwidth w_f: Tf = 1 / w_f, in the
+  // tuning loop and in gains.toml (0: the ideal derivative).
+  double derivative_bandwidth_rad_s = 0.0;
   // gains.toml: the tuned PIDs as controller.link_kp, link_ki and link_kd
   // (links 1..n in order), which a scenario includes.
   std::string out;
 };
 const OptionTable<DesignCommand>& DesignOptions();
-// The plants of links 1..3 the [plant] keys of `path` give (the paper's
-// eq. 7 where they give none). Throws InputError naming the file.
-std::vector<IpmcLinkParams> PlantsOfKeyFile(const std::string& path);
 // Checks the links and out first, then designs each (DesignLink, with
-// check_stop) and writes out; a stop thrown by check_stop writes nothing.
+// check_stop; a stop it throws writes nothing) and writes out. `given`
+// tells which options the caller set: with a scenario or a plant file the
+// links are every link of it unless `links` is given, and with a scenario
+// the sample rate is its controller's unless `sample_rate_Hz` is given.
 std::vector<LinkDesign> RunDesignCommand(const DesignCommand& command,
+                                         const OptionGiven& given = {},
                                          const std::function<void()>& check_stop = {});
+// Tf = 1 / derivative_bandwidth_rad_s, or 0 without a bandwidth.
+double DerivativeFilterOf(const DesignCommand& command);
 // gains.toml of the designs of links 1..n in order.
 std::string GainsToml(const DesignCommand& command, const std::vector<LinkDesign>& designs);
 

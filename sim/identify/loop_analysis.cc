@@ -23,6 +23,7 @@
 #include "sim/base/error.h"
 #include "sim/base/numbers.h"
 #include "sim/identify/controller_design.h"
+#include "sim/identify/key_files.h"
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
 #include "sim/io/files.h"
@@ -61,16 +62,23 @@ constexpr double kMaxStepSamples = 1e6;
 // Gains and bands in descriptions: printf's %g.
 std::string Short(double value) { return FormatDouble(value, 6); }
 
-void RequireLink(const std::string& command, const std::string& option, int link) {
-  if (link < 1 || link > 3) ThrowOption(command, option, "1, 2 or 3", std::to_string(link));
+void RequireLink(const std::string& command, const std::string& option, int link,
+                 int max_links = 3) {
+  if (link < 1 || link > max_links) {
+    ThrowOption(command, option,
+                max_links == 3 ? "1, 2 or 3" : "in 1.." + std::to_string(max_links),
+                std::to_string(link));
+  }
 }
 
 }  // namespace
 
-void ValidateLinkList(const std::string& command, const std::vector<int>& links) {
-  if (links.empty()) ThrowOption(command, "links", "a list of links 1..3", "none");
+void ValidateLinkList(const std::string& command, const std::vector<int>& links, int max_links) {
+  if (links.empty()) {
+    ThrowOption(command, "links", "a list of links 1.." + std::to_string(max_links), "none");
+  }
   for (std::size_t i = 0; i < links.size(); ++i) {
-    RequireLink(command, "links", links[i]);
+    RequireLink(command, "links", links[i], max_links);
     if (std::count(links.begin(), links.begin() + i, links[i]) > 0) {
       ThrowOption(command, "links", "distinct", "link " + std::to_string(links[i]) + " twice");
     }
@@ -117,20 +125,26 @@ IpmcModelKind PlantKind(const std::string& plant) {
   return plant == "g2" ? IpmcModelKind::kG2 : IpmcModelKind::kG1;
 }
 
-std::string PlantDescription(const std::string& plant, int link) {
-  const IpmcLinkParams p = PaperLinkParams(link, PlantKind(plant));
+std::string PlantDescription(const IpmcLinkParams& p, int link, const std::string& source) {
   std::ostringstream text;
   text << "P(s) = s^-0.5 ";
   if (p.kind == IpmcModelKind::kG1) {
     text << "G1(s), G1 = " << Short(p.a0_mm_per_V) << " / (" << Short(p.b2_s2) << " s^2 + "
          << Short(p.b1) << " s + 1)";
-    if (link == 3) text << " (eq. 7)";
+    if (link == 3 && source.empty()) text << " (eq. 7)";
   } else {
     text << "G2(s), G2 = " << Short(p.a0_mm_per_V) << " / (" << Short(p.b1) << " s^"
          << Short(p.alpha) << " + 1)";
   }
   text << " [mm/V], link " << link;
+  if (!source.empty()) text << " (" << source << ")";
   return text.str();
+}
+
+// The link's plant: its own, else Table 2's.
+IpmcLinkParams LinkPlant(const std::optional<IpmcLinkParams>& own, const std::string& plant,
+                         int link) {
+  return own ? *own : PaperLinkParams(link, PlantKind(plant));
 }
 
 PidController::Config PidConfig(const ControllerGains& gains) {
@@ -138,11 +152,15 @@ PidController::Config PidConfig(const ControllerGains& gains) {
   config.kp = gains.kp;
   config.ki = gains.ki;
   config.kd = gains.kd;
+  config.derivative_filter_time_s = gains.derivative_filter_s;
   return config;
 }
 
 std::string PidDescription(const ControllerGains& gains) {
-  return "C(s) = " + Short(gains.kp) + " + " + Short(gains.ki) + "/s + " + Short(gains.kd) + " s";
+  return "C(s) = " + Short(gains.kp) + " + " + Short(gains.ki) + "/s + " + Short(gains.kd) +
+         (gains.derivative_filter_s > 0
+              ? " s / (" + Short(gains.derivative_filter_s) + " s + 1)"
+              : std::string(" s"));
 }
 
 std::string FractionalDescription(const ControllerGains& gains) {
@@ -159,7 +177,10 @@ ControllerResponse BodeController(const BodeSpec& spec) {
   if (c == kPid) {
     const PidController pid(PidConfig(spec.gains));
     return {[pid](double w) { return pid.Evaluate({0.0, w}); },
-            PidDescription(spec.gains) + " (eq. 10, ideal derivative)"};
+            PidDescription(spec.gains) +
+                (spec.gains.derivative_filter_s > 0 ? " (eq. 10, filtered derivative)"
+                                                    : " (eq. 10, ideal derivative)") +
+                (spec.gains_source.empty() ? "" : " (" + spec.gains_source + ")")};
   }
   if (c == kFractional || c == kFractionalOustaloup) {
     FractionalIntegrator::Config config;
@@ -171,7 +192,8 @@ ControllerResponse BodeController(const BodeSpec& spec) {
     const FractionalIntegrator integrator(config);
     if (c == kFractional) {
       return {[integrator](double w) { return integrator.EvaluateExact({0.0, w}); },
-              FractionalDescription(spec.gains) + " (eq. 13, exact)"};
+              FractionalDescription(spec.gains) + " (eq. 13, exact)" +
+                  (spec.gains_source.empty() ? "" : " (" + spec.gains_source + ")")};
     }
     return {[integrator](double w) { return integrator.Evaluate({0.0, w}); },
             FractionalDescription(spec.gains) + " by Oustaloup, " +
@@ -191,15 +213,23 @@ double MetricsHorizon_s(const StepSpec& spec) {
   return std::max(spec.horizon_s, std::min(spec.max_horizon_s, budget_s));
 }
 
+// The gains of link `link`: its own (a gains file's), else the spec's.
+const ControllerGains& StepGains(const StepSpec& spec, int link) {
+  return spec.link_gains.empty() ? spec.gains : spec.link_gains.at(link - 1);
+}
+
 ClosedLoopResponse SimulateLink(const StepSpec& spec, int link) {
-  const StateSpace plant = AccurateLinkPlant(PaperLinkParams(link, PlantKind(spec.plant)));
+  const StateSpace plant = AccurateLinkPlant(
+      spec.own_plants.empty() ? PaperLinkParams(link, PlantKind(spec.plant))
+                              : spec.own_plants.at(link - 1));
+  const ControllerGains& gains = StepGains(spec, link);
   StepSimulation simulation;
   simulation.horizon_s = spec.horizon_s;
   simulation.max_horizon_s = MetricsHorizon_s(spec);
   simulation.settling_band = kSettlingBand;
   const double sample_period_s = 1.0 / spec.sample_rate_Hz;
   if (spec.controller == kPid) {
-    PidController::Config config = PidConfig(spec.gains);
+    PidController::Config config = PidConfig(gains);
     config.sample_period_s = sample_period_s;
     config.clamp_enabled = !spec.no_clamp;
     config.v_max = spec.v_max_V;
@@ -207,8 +237,8 @@ ClosedLoopResponse SimulateLink(const StepSpec& spec, int link) {
     return SimulateClosedLoopStep(plant, pid, simulation);
   }
   FractionalIntegrator::Config config;
-  config.gain = spec.gains.gain;
-  config.order = spec.gains.order;
+  config.gain = gains.gain;
+  config.order = gains.order;
   config.oustaloup_n = kAccurateOustaloupPairs;
   config.w_low_rad_s = kAccurateBandLow_rad_s;
   config.w_high_rad_s = kAccurateBandHigh_rad_s;
@@ -242,7 +272,6 @@ void ValidateBodeSpec(const std::string& command, const BodeSpec& spec, const Op
     ThrowOption(name, "controller",
                 "pid, fractional, fractional-eq15, fractional-oustaloup or none", "'" + c + "'");
   }
-  RequireLink(name, "links", spec.link);
   RequirePlant(name, spec.plant);
   RejectIfGiven(name, given, "kp", c == kPid, c);
   RejectIfGiven(name, given, "ki", c == kPid, c);
@@ -285,12 +314,12 @@ void ValidateBodeSpec(const std::string& command, const BodeSpec& spec, const Op
 
 BodeAnalysis AnalyseBode(const BodeSpec& spec) {
   BodeAnalysis analysis;
-  const IpmcLinkParams params = PaperLinkParams(spec.link, PlantKind(spec.plant));
+  const IpmcLinkParams params = LinkPlant(spec.own_plant, spec.plant, spec.link);
   analysis.plant = [params](double w) { return LinkResponseExact(params, w); };
   ControllerResponse controller = BodeController(spec);
   analysis.controller = controller.response;
   analysis.controller_description = std::move(controller.description);
-  analysis.plant_description = PlantDescription(spec.plant, spec.link);
+  analysis.plant_description = PlantDescription(params, spec.link, spec.plant_source);
   analysis.loop = [plant = analysis.plant, c = analysis.controller](double w) {
     return c(w) * plant(w);
   };
@@ -372,9 +401,14 @@ void ValidateStepSpec(const std::string& command, const StepSpec& spec, const Op
   if (spec.no_clamp && given && given("v_max_V")) {
     throw FieldError(name + ": v_max_V does not apply with no_clamp", "v_max_V", "");
   }
-  if (c == kPid) ValidatePidGains(name, spec.gains);
-  if (c == kFractional) ValidateFractionalGains(name, spec.gains);
-  ValidateLinkList(name, spec.links);
+  const std::vector<ControllerGains> each =
+      spec.link_gains.empty() ? std::vector<ControllerGains>{spec.gains} : spec.link_gains;
+  for (const ControllerGains& gains : each) {
+    if (c == kPid) ValidatePidGains(name, gains);
+    if (c == kFractional) ValidateFractionalGains(name, gains);
+  }
+  const std::size_t links = std::max(spec.own_plants.size(), spec.link_gains.size());
+  ValidateLinkList(name, spec.links, links > 0 ? static_cast<int>(links) : 3);
   RequireFinitePositive(name, "horizon_s", spec.horizon_s);
   RequireFinitePositive(name, "sample_rate_Hz", spec.sample_rate_Hz);
   if (spec.horizon_s * spec.sample_rate_Hz > kMaxStepSamples) {
@@ -394,9 +428,20 @@ StepAnalysis AnalyseStep(const StepSpec& spec) {
   analysis.band_low_rad_s = kAccurateBandLow_rad_s;
   analysis.band_high_rad_s = kAccurateBandHigh_rad_s;
   analysis.metrics_horizon_s = MetricsHorizon_s(spec);
-  analysis.controller_description = spec.controller == kPid
-                                        ? PidDescription(spec.gains) + " (eq. 10)"
-                                        : FractionalDescription(spec.gains) + " (eq. 13)";
+  const auto describe = [&spec](const ControllerGains& gains) {
+    return spec.controller == kPid ? PidDescription(gains) + " (eq. 10)"
+                                   : FractionalDescription(gains) + " (eq. 13)";
+  };
+  if (spec.link_gains.empty()) {
+    analysis.controller_description = describe(spec.gains);
+  } else {
+    analysis.controller_description = "per link (" + spec.gains_source + ")";
+    for (int link : spec.links) {
+      analysis.controller_description +=
+          "; link " + std::to_string(link) + ": " + describe(StepGains(spec, link));
+    }
+  }
+
   for (int link : spec.links) {
     LinkStep step;
     step.link = link;
@@ -472,13 +517,84 @@ void AddGainOptions(OptionTable<Spec>& table) {
                              [](Spec& s) -> double& { return s.gains.order; });
 }
 
+// --plant-file and --gains-file of bode and step.
+template <typename Command>
+void AddKeyFileOptions(OptionTable<Command>& table) {
+  OptionInfo plant_file{"plant_file", "", "a TOML file of [plant] scenario keys",
+                        "Each link's own plant from these keys (identify's plant.toml) instead "
+                        "of Table 2's; links 1..n of its per-link keys"};
+  plant_file.default_text = "none: Table 2";
+  table.AddPath(plant_file, [](Command& c) -> std::string& { return c.plant_file; });
+  OptionInfo gains_file{"gains_file", "", "a TOML file of [controller] scenario keys",
+                        "Each link's own gains from these keys (design's gains.toml: "
+                        "controller.link_kp, ...; derivative_filter_s) instead of kp, ki, kd, "
+                        "gain, order"};
+  gains_file.default_text = "none";
+  table.AddPath(gains_file, [](Command& c) -> std::string& { return c.gains_file; });
+}
+
+// A gains file's controllers as each link's gains (1..n).
+std::vector<ControllerGains> GainsOfKeyFile(const std::string& path) {
+  const KeyFileControllers controllers = ControllersOfKeyFile(path);
+  std::vector<ControllerGains> gains(controllers.pid.size());
+  for (std::size_t q = 0; q < gains.size(); ++q) {
+    gains[q].kp = controllers.pid[q].kp;
+    gains[q].ki = controllers.pid[q].ki;
+    gains[q].kd = controllers.pid[q].kd;
+    gains[q].derivative_filter_s = controllers.pid[q].derivative_filter_time_s;
+    gains[q].gain = controllers.fractional[q].gain;
+    gains[q].order = controllers.fractional[q].order;
+  }
+  return gains;
+}
+
+// The key files of a command: each link's plant and gains, checked for
+// one link count, and kp ... order refused beside a gains file.
+struct KeyFileLinksOf {
+  std::vector<IpmcLinkParams> plants;
+  std::vector<ControllerGains> gains;
+  int links = 3;
+  // The links to analyse: those given, else every link of the files.
+  std::vector<int> Chosen(const std::vector<int>& links_option, const OptionGiven& given) const {
+    if ((given && given("links")) || (plants.empty() && gains.empty())) return links_option;
+    std::vector<int> all;
+    for (int q = 1; q <= links; ++q) all.push_back(q);
+    return all;
+  }
+};
+template <typename Command>
+KeyFileLinksOf ReadKeyFiles(const std::string& name, const Command& command,
+                            const OptionGiven& given) {
+  KeyFileLinksOf files;
+  if (!command.gains_file.empty()) {
+    for (const char* option : {"kp", "ki", "kd", "gain", "order"}) {
+      if (given && given(option)) {
+        throw FieldError(name + ": " + option + " does not apply with gains_file", option, "");
+      }
+    }
+    files.gains = GainsOfKeyFile(command.gains_file);
+    files.links = static_cast<int>(files.gains.size());
+  }
+  if (!command.plant_file.empty()) {
+    files.plants = PlantsOfKeyFile(command.plant_file);
+    if (!files.gains.empty() && files.gains.size() != files.plants.size()) {
+      ThrowOption(name, "gains_file",
+                  "the links of plant_file (" + std::to_string(files.plants.size()) + ")",
+                  std::to_string(files.gains.size()) + " links");
+    }
+    files.links = static_cast<int>(files.plants.size());
+  }
+  return files;
+}
+
 OptionTable<BodeCommand> MakeBodeOptions() {
   OptionTable<BodeCommand> table("bode", "Frequency response and margins of one link's open loop");
   OptionInfo controller{"controller", "", "", "The controller C of L = C P"};
   controller.choices = {kPid, kFractional, kFractionalEq15, kFractionalOustaloup, kNone};
   controller.required = true;
   table.Add<std::string>(controller, [](BodeCommand& c) -> std::string& { return c.controller; });
-  table.Add<std::vector<int>>({"links", "", "distinct links 1..3", "Links to analyse (Table 2)"},
+  table.Add<std::vector<int>>({"links", "", "distinct links 1..3, or 1..n of plant_file",
+                               "Links to analyse (default: every link)"},
                               [](BodeCommand& c) -> std::vector<int>& { return c.links; });
   OptionInfo plant{"plant", "", "", "Link model: g1 (eq. 5) or g2 (eq. 6)"};
   plant.choices = kPlants;
@@ -499,6 +615,7 @@ OptionTable<BodeCommand> MakeBodeOptions() {
   table.Add<double>(w_max, [](BodeCommand& c) -> double& { return c.w_max_rad_s; });
   table.Add<int>({"points_per_decade", "", "in [1, 100000]", "bode.csv: grid density"},
                  [](BodeCommand& c) -> int& { return c.points_per_decade; });
+  AddKeyFileOptions(table);
   OptionInfo out{"out", "", "a folder", "Folder for bode.csv and bode.json (one link)"};
   out.aliases = {"o"};
   table.AddPath(out, [](BodeCommand& c) -> std::string& { return c.out; });
@@ -512,7 +629,8 @@ OptionTable<StepCommand> MakeStepOptions() {
   controller.choices = {kPid, kFractional};
   controller.required = true;
   table.Add<std::string>(controller, [](StepCommand& c) -> std::string& { return c.controller; });
-  table.Add<std::vector<int>>({"links", "", "distinct links 1..3", "Links to simulate"},
+  table.Add<std::vector<int>>({"links", "", "distinct links 1..3, or 1..n of plant_file",
+                               "Links to simulate (default: every link)"},
                               [](StepCommand& c) -> std::vector<int>& { return c.links; });
   OptionInfo plant{"plant", "", "", "Link model: g1 (eq. 5) or g2 (eq. 6)"};
   plant.choices = kPlants;
@@ -531,6 +649,7 @@ OptionTable<StepCommand> MakeStepOptions() {
   OptionInfo v_max{"v_max_V", "V", "finite and > 0", "Output clamp"};
   v_max.aliases = {"v_max"};
   table.Add<double>(v_max, [](StepCommand& c) -> double& { return c.v_max_V; });
+  AddKeyFileOptions(table);
   OptionInfo out{"out", "", "a folder", "Folder for step.csv and step.json"};
   out.aliases = {"o"};
   table.AddPath(out, [](StepCommand& c) -> std::string& { return c.out; });
@@ -555,15 +674,25 @@ const OptionTable<StepCommand>& StepOptions() {
 
 std::vector<BodeLink> RunBodeCommand(const BodeCommand& command, const OptionGiven& given) {
   const std::string name = BodeOptions().command();
-  ValidateLinkList(name, command.links);
-  if (!command.out.empty() && command.links.size() != 1) {
+  const KeyFileLinksOf files = ReadKeyFiles(name, command, given);
+  const std::vector<int> chosen = files.Chosen(command.links, given);
+  ValidateLinkList(name, chosen, files.links);
+  if (!command.out.empty() && chosen.size() != 1) {
     ThrowOption(name, "links", "one link with out (bode.csv is one link's)",
-                std::to_string(command.links.size()) + " links");
+                std::to_string(chosen.size()) + " links");
   }
   std::vector<BodeLink> links;
-  for (const int link : command.links) {
+  for (const int link : chosen) {
     BodeSpec spec = command;
     spec.link = link;
+    if (!files.plants.empty()) {
+      spec.own_plant = files.plants.at(link - 1);
+      spec.plant_source = command.plant_file;
+    }
+    if (!files.gains.empty()) {
+      spec.gains = files.gains.at(link - 1);
+      spec.gains_source = command.gains_file;
+    }
     ValidateBodeSpec(name, spec, given);
     links.push_back({spec, {}, {}});
   }
@@ -589,8 +718,16 @@ std::vector<BodeLink> RunBodeCommand(const BodeCommand& command, const OptionGiv
 }
 
 StepAnalysis RunStepCommand(const StepCommand& command, const OptionGiven& given) {
-  ValidateStepSpec(StepOptions().command(), command, given);
-  StepAnalysis analysis = AnalyseStep(command);
+  const std::string name = StepOptions().command();
+  const KeyFileLinksOf files = ReadKeyFiles(name, command, given);
+  StepSpec spec = command;
+  spec.links = files.Chosen(command.links, given);
+  spec.own_plants = files.plants;
+  spec.plant_source = command.plant_file;
+  spec.link_gains = files.gains;
+  spec.gains_source = command.gains_file;
+  ValidateStepSpec(name, spec, given);
+  StepAnalysis analysis = AnalyseStep(spec);
   if (!command.out.empty()) {
     const nlohmann::json about = {{"controller", command.controller},
                                   {"controller_description", analysis.controller_description},

@@ -23,6 +23,7 @@
 #include <complex>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,7 @@
 #include "controllers/fractional_integrator.h"
 #include "sim/linear/frequency_response.h"
 #include "controllers/pid.h"
+#include "plugin/actuators/ipmc_link_model.h"
 #include "sim/io/option_table.h"
 
 namespace ipmc {
@@ -42,6 +44,7 @@ struct ControllerGains {
   double kd = PidController::Config{}.kd;               // [V s/mm]
   double gain = FractionalIntegrator::Config{}.gain;    // K [V/(mm s^lambda)]
   double order = FractionalIntegrator::Config{}.order;  // lambda
+  double derivative_filter_s = 0.0;                     // PID's Tf [s] (0: ideal)
 };
 
 // Whether the caller gave an option explicitly, by field ("kp"; OptionGiven,
@@ -49,14 +52,16 @@ struct ControllerGains {
 // an error rather than ignored.
 
 // Throws FieldError "COMMAND: links must be ..." unless
-// `links` is a non-empty list of distinct links 1..3 (every command that
+// `links` is a non-empty list of distinct links 1..max_links (Table 2's
+// three, or the links of a plant or gains file; every command that
 // chooses links takes them as links).
-void ValidateLinkList(const std::string& command, const std::vector<int>& links);
+void ValidateLinkList(const std::string& command, const std::vector<int>& links,
+                      int max_links = 3);
 
 // ------------------------------------------------------------------ bode ---
 
 struct BodeSpec {
-  int link = 3;                                  // 1..3 (Table 2)
+  int link = 3;                                  // 1..3 (Table 2), or 1..n of a plant file
   std::string plant = "g1";                      // g1 | g2
   // pid | fractional | fractional-eq15 | fractional-oustaloup | none
   std::string controller;
@@ -66,6 +71,10 @@ struct BodeSpec {
   double w_min_rad_s = 1e-2;                     // bode.csv grid
   double w_max_rad_s = 1e3;
   int points_per_decade = 100;
+  // The link's own plant and where it came from (a plant file), in place
+  // of Table 2's; its own gains from a gains file replace `gains`.
+  std::optional<IpmcLinkParams> own_plant;
+  std::string plant_source, gains_source;
 };
 
 // Throws FieldError naming `command` and the field.
@@ -109,6 +118,12 @@ struct StepSpec {
   double sample_rate_Hz = 1000.0;
   bool no_clamp = false;
   double v_max_V = 6.0;
+  // Each link's own plant (a plant file's, link q at q - 1) in place of
+  // Table 2's, and own gains (a gains file's) in place of `gains`; empty:
+  // none. The sources name them in the descriptions.
+  std::vector<IpmcLinkParams> own_plants;
+  std::vector<ControllerGains> link_gains;
+  std::string plant_source, gains_source;
 };
 
 // Throws FieldError naming `command` and the field.
@@ -146,6 +161,8 @@ std::string StepCsv(const StepAnalysis& analysis);
 // output folder (one link's bode.csv and bode.json).
 struct BodeCommand : BodeSpec {
   std::vector<int> links = {1, 2, 3};
+  std::string plant_file;  // identify's plant.toml: each link's own plant
+  std::string gains_file;  // design's gains.toml: each link's own gains
   std::string out;  // "": no files
 };
 struct BodeLink {
@@ -161,6 +178,8 @@ std::vector<BodeLink> RunBodeCommand(const BodeCommand& command, const OptionGiv
 
 // `step` as both front ends run it, with OUT/step.csv and OUT/step.json.
 struct StepCommand : StepSpec {
+  std::string plant_file;  // identify's plant.toml: each link's own plant
+  std::string gains_file;  // design's gains.toml: each link's own gains
   std::string out;  // "": no files
 };
 const OptionTable<StepCommand>& StepOptions();

@@ -3,6 +3,7 @@
 #include "sim/batch/sweep_command.h"
 #include "sim/core/generate_command.h"
 #include "sim/core/keys_command.h"
+#include "sim/identify/controller_export.h"
 #include "sim/identify/identify_run.h"
 #include "sim/identify/loop_analysis.h"
 #include "sim/identify/pipeline_run.h"
@@ -19,7 +20,7 @@ std::vector<OptionTableInfo> EveryOptionTable() {
           InfoOf(OptimizeOptionTable()),
           InfoOf(GenerateOptions()), InfoOf(GaitOptions()),      InfoOf(BenchOptions()),
           InfoOf(BodeOptions()),     InfoOf(StepOptions()),      InfoOf(IdentifyOptions()),
-          InfoOf(DesignOptions()),   InfoOf(PipelineOptions()),  InfoOf(Table5Options()),
+          InfoOf(DesignOptions()),   InfoOf(ExportOptions()),     InfoOf(PipelineOptions()),  InfoOf(Table5Options()),
           InfoOf(KeysOptions()),     InfoOf(OptionsOptions())};
 }
 

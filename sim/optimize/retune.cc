@@ -12,17 +12,6 @@
 namespace ipmc {
 namespace {
 
-// The links' plants as the run gives them (the model's or the generated
-// flagellum's, with the scenario's plants key).
-std::vector<IpmcLinkParams> ScenarioLinkPlants(const ScenarioConfig& scenario) {
-  const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(scenario);
-  const CouplingContext* coupling = FindCoupling(sim->data());
-  if (coupling == nullptr || !coupling->actuators) {
-    throw std::runtime_error(scenario.source + ": retuned controllers need IPMC actuators");
-  }
-  return coupling->actuators->link_params();
-}
-
 void RetunePid(const std::vector<IpmcLinkParams>& plants, ScenarioConfig* scenario) {
   ControllerScenario::LinkGains& gains = scenario->controller.link_gains;
   gains.kp.clear(), gains.ki.clear(), gains.kd.clear();

@@ -1,5 +1,6 @@
 // Analyses from Python: Bode data and margins, closed-loop steps,
-// identification of a record and the controller design of one link, each
+// identification of a record, the controller design of one link and the
+// export of a scenario's controllers as code, each
 // as its ipmc-swim command computes it (sim/identify/loop_analysis.h,
 // sim/identify/identify_run.h): the keywords are the names of the
 // command's option table, which the command line reads too, and the
@@ -12,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/identify/controller_export.h"
 #include "sim/identify/identify_run.h"
 #include "sim/identify/loop_analysis.h"
 #include "sim/io/columns.h"
@@ -238,16 +240,27 @@ py::dict DesignDict(int link, const LinkDesign& design) {
 py::list Design(const py::dict& kwargs) {
   Options options("design", kwargs);
   const DesignCommand command = ReadCommandKeywords(options, DesignOptions());
+  const OptionGiven given = GivenKeywords(options, DesignOptions());
   // Ctrl-C stops the tuning at its next evaluation of J (milliseconds
   // apart), as it stops the command line at once; nothing is written.
   const std::vector<LinkDesign> designs = Interruptible([&](const std::atomic<bool>& stop) {
-    return RunDesignCommand(command, [&stop] { ThrowIfStopRequested(stop); });
+    return RunDesignCommand(command, given, [&stop] { ThrowIfStopRequested(stop); });
   });
   py::list result;
-  for (std::size_t i = 0; i < designs.size(); ++i) {
-    result.append(DesignDict(command.links[i], designs[i]));
-  }
+  for (const LinkDesign& design : designs) result.append(DesignDict(design.link, design));
   return result;
+}
+
+// ---------------------------------------------------------------- export ---
+
+py::object Export(const py::object& scenario_arg, const py::dict& overrides,
+                  const py::dict& kwargs) {
+  Options options("export", kwargs);
+  const ExportCommand command = ReadCommandKeywords(options, ExportOptions());
+  const ScenarioConfig scenario = ReadScenarioArgument(scenario_arg, overrides, "export").scenario;
+  const ExportedController exported =
+      WithoutGil([&] { return RunExportCommand(command.out, scenario); });
+  return ToPython(exported.coefficients);
 }
 
 }  // namespace
@@ -257,6 +270,7 @@ void BindAnalysis(py::module_& m) {
   m.def("step", &Step, py::arg("options"));
   m.def("identify", &Identify, py::arg("data"), py::arg("options"));
   m.def("design", &Design, py::arg("options"));
+  m.def("export", &Export, py::arg("scenario"), py::arg("overrides"), py::arg("options"));
 }
 
 }  // namespace ipmc::python

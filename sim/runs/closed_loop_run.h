@@ -88,18 +88,10 @@ constexpr double kHeartbeatInterval_s = 0.1;
 class LinkController {
  public:
   LinkController(const ScenarioConfig& scenario, int q) {
-    const ControllerScenario::LinkGains& each = scenario.controller.link_gains;
     if (scenario.controller.kind == ControllerKind::kPid) {
-      PidController::Config pid = scenario.controller.pid;
-      if (!each.kp.empty()) pid.kp = each.kp.at(q);
-      if (!each.ki.empty()) pid.ki = each.ki.at(q);
-      if (!each.kd.empty()) pid.kd = each.kd.at(q);
-      pid_ = std::make_unique<PidController>(pid);
+      pid_ = std::make_unique<PidController>(scenario.controller.LinkPid(q));
     } else {
-      FractionalIntegrator::Config fractional = scenario.controller.fractional;
-      if (!each.gain.empty()) fractional.gain = each.gain.at(q);
-      if (!each.order.empty()) fractional.order = each.order.at(q);
-      fractional_ = std::make_unique<FractionalIntegrator>(fractional);
+      fractional_ = std::make_unique<FractionalIntegrator>(scenario.controller.LinkFractional(q));
     }
   }
   double Update(double error_mm) {

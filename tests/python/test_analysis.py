@@ -99,3 +99,65 @@ def test_design_equals_the_command_line():
             f"J = {pid['cost']:.6f}") in stdout
     assert f"J = {pid['paper_cost']:.6f}" in stdout
     assert len(pid["runs"]) == 5 and pid["cost"] == min(run["cost"] for run in pid["runs"])
+
+
+# The user's two-link strip: identify's plant.toml with one plant per link
+# and design's gains.toml with one PID per link and a derivative filter.
+PLANTS = """[plant]
+model = "g1"
+link_a0_mm_per_V = [0.52, 0.47]
+link_b1 = [0.029, 0.033]
+link_b2_s2 = [0.0042, 0.0039]
+"""
+GAINS = """[controller]
+link_kp = [7.758, 6.9]
+link_ki = [28.14, 33.0]
+link_kd = [0.7181, 0.64]
+derivative_filter_s = 0.002
+"""
+
+
+def test_bode_and_step_on_the_users_plants_and_gains(tmp_path):
+    (tmp_path / "plant.toml").write_text(PLANTS)
+    (tmp_path / "gains.toml").write_text(GAINS)
+    files = {"plant_file": tmp_path / "plant.toml", "gains_file": tmp_path / "gains.toml"}
+    links = ipmc_swim.bode("pid", **files)
+    assert [link["link"] for link in links] == [1, 2]  # every link of the files
+    assert "0.52 / (0.0042 s^2 + 0.029 s + 1)" in links[0]["plant"]
+    assert "6.9 + 33/s + 0.64 s / (0.002 s + 1)" in links[1]["controller"]
+    # The loop gain at 5 rad/s is the product of the link's own C and P,
+    # evaluated here from the keys: C = Kp + Ki/s + Kd s/(Tf s + 1),
+    # P = s^-0.5 a0 / (b2 s^2 + b1 s + 1).
+    s = 5j
+    c = 6.9 + 33.0 / s + 0.64 * s / (0.002 * s + 1)
+    p = s ** -0.5 * 0.47 / (0.0039 * s * s + 0.033 * s + 1)
+    assert links[1]["at_design"]["open_loop"] == pytest.approx(c * p, rel=1e-12)
+    step = ipmc_swim.step("pid", **files)
+    assert [link["link"] for link in step["links"]] == [1, 2]
+    # Table 2's link 1 under the same gains rises far slower than the
+    # strip's own link (a0 0.52 against 0.06 mm/V).
+    table2 = ipmc_swim.step("pid", links=[1], kp=7.758, ki=28.14, kd=0.7181)
+    assert step["links"][0]["metrics"]["rise_time_s"] < 0.1 * table2["links"][0]["metrics"]["rise_time_s"]
+    with pytest.raises(ipmc_swim.Error, match="kp does not apply with gains_file"):
+        ipmc_swim.step("pid", kp=3.0, **files)
+    with pytest.raises(ipmc_swim.Error, match="links must be in 1..2, got 3"):
+        ipmc_swim.bode("pid", links=[3], **files)
+
+
+def test_design_takes_links_and_rate_from_a_scenario(tmp_path):
+    (tmp_path / "plant.toml").write_text(PLANTS)
+    scenario = tmp_path / "strip.toml"
+    scenario.write_text('include = ["plant.toml"]\nlink_lengths_mm = [12.0, 12.0]\n'
+                        '[strip]\nwidth_mm = 5.0\nthickness_um = 200.0\n'
+                        '[controller]\nsample_rate_Hz = 500.0\n')
+    designs = ipmc_swim.design(scenario=scenario, derivative_bandwidth_rad_s=500.0,
+                               horizon_s=1.0)
+    assert [d["link"] for d in designs] == [1, 2]
+    status, printed, _ = run_cli("design", "--scenario", scenario, "--derivative-bandwidth-rad-s",
+                                 "500", "--horizon-s", "1", "--out", tmp_path / "gains.toml")
+    assert printed.count("loop sampled at 500 Hz (linear, no clamp, derivative filter "
+                         "Tf = 0.002 s)") == 2
+    gains = (tmp_path / "gains.toml").read_text()
+    assert "derivative_filter_s = 0.002" in gains and "in a 500 Hz loop" in gains
+    # The plants are the scenario's own (its plant keys).
+    assert "a0 = 0.47 mm/V" in printed

@@ -7,7 +7,9 @@ import numpy as np
 import pytest
 
 import ipmc_swim
-from conftest import run_cli
+from conftest import SOURCE_DIR, run_cli
+
+SCENARIOS = SOURCE_DIR / "scenarios"
 
 
 def flag(name):
@@ -78,6 +80,13 @@ def test_generate(tmp_path):
     (tmp_path / "python").mkdir()
     run_cli("generate", *cli_arguments(GENERATE), "--out", tmp_path / "cli" / "model.xml")
     ipmc_swim.generate_model(out=tmp_path / "python" / "model.xml", **GENERATE)
+    assert_same_files(tmp_path / "cli", tmp_path / "python")
+
+
+def test_export(tmp_path):
+    scenario = SCENARIOS / "paper_fractional.toml"
+    run_cli("export", scenario, "--set", "controller.gain=14.6", "--out", tmp_path / "cli")
+    ipmc_swim.export(scenario, out=tmp_path / "python", **{"controller.gain": 14.6})
     assert_same_files(tmp_path / "cli", tmp_path / "python")
 
 

@@ -14,6 +14,7 @@ is the name in lower case with ``-`` for ``_``: ``sample_rate_Hz`` is
 - ``bench(...)``: a voltage experiment on the test bench (``ipmc-swim bench``);
 - ``bode(controller, ...)``, ``step(controller, ...)``: one link's loop;
 - ``identify(data, input, output)``, ``design(...)``: identification and design;
+- ``export(scenario, out=DIR)``: the scenario's controllers as C99, JSON and CSV;
 - ``generate_model(...)``: the MJCF of an N-link flagellum;
 - ``keys()``, ``options()``: the scenario-key and option references
   (``ipmc-swim keys``, ``ipmc-swim options``);
@@ -44,7 +45,7 @@ if __version__ != _PACKAGE_VERSION:
                       f"{_PACKAGE_VERSION} but its extension ipmc_swim._core is {__version__}; "
                       "rebuild and reinstall the package from one source tree")
 
-__all__ = ["Error", "Result", "Simulation", "bench", "bode", "design", "generate_model",
+__all__ = ["Error", "Result", "Simulation", "bench", "bode", "design", "export", "generate_model",
            "identify", "keys", "merge", "optimize", "options", "plot", "run", "step", "sweep",
            "MODELS_DIR", "SCENARIOS_DIR"]
 
@@ -223,8 +224,10 @@ def bode(controller, *, out=None, **options):
 
     controller: pid, fractional, fractional-eq15, fractional-oustaloup or
     none. options: links, plant, kp, ki, kd, gain, order, oustaloup_pairs,
-    band_rad_s, w_min_rad_s, w_max_rad_s, points_per_decade (an option the
-    controller does not take is an error). out: a folder for bode.csv and
+    band_rad_s, w_min_rad_s, w_max_rad_s, points_per_decade, plant_file
+    (identify's plant.toml: each link's own plant), gains_file (design's
+    gains.toml: each link's own gains) (an option the controller does not
+    take is an error). out: a folder for bode.csv and
     bode.json (with one link). Returns a list, one Result per link: link,
     the descriptions, the margins, the values at 5 rad/s and the response
     (bode.csv's columns as arrays).
@@ -237,7 +240,8 @@ def step(controller, *, out=None, **options):
     """Closed-loop unit steps of the links, as ``ipmc-swim step``.
 
     controller: pid or fractional. options: links, plant, kp, ki, kd, gain,
-    order, horizon_s, max_horizon_s, sample_rate_Hz, no_clamp, v_max_V.
+    order, horizon_s, max_horizon_s, sample_rate_Hz, no_clamp, v_max_V,
+    plant_file, gains_file (each link's own plant and gains, as for bode).
     out: a folder for step.csv and step.json. Returns per link its record
     (time_s, output_mm, control_V), step metrics, whether the record
     determines them, the largest voltage and J of eq. 11; and the
@@ -266,10 +270,23 @@ def design(**options):
     """The fractional integrator and the tuned PID of each link, as ``ipmc-swim design``.
 
     options: links, plant, crossover_rad_s, phase_margin_deg,
-    reference_order, horizon_s, sample_rate_Hz. Returns a list, one Result
-    per link (link, fractional, pid, tuning_s).
+    reference_order, horizon_s, sample_rate_Hz, derivative_bandwidth_rad_s,
+    plant_file, scenario (every link of its run, at its sample rate), out.
+    Returns a list, one Result per link (link, fractional, pid, tuning_s).
     """
     return [Result(link) for link in _core.design(options)]
+
+
+def export(scenario, *, out, **overrides):
+    """A scenario's controllers as code, as ``ipmc-swim export SCENARIO --out DIR``.
+
+    scenario: a scenario file or a dict of its keys; overrides: scenario keys
+    by their dotted names, as for run(). Writes DIR/ipmc_controller.h and
+    DIR/ipmc_controller.c (C99: the controllers as the simulator runs them),
+    DIR/coefficients.json and DIR/coefficients.csv (docs/PROTOTYPE.md).
+    Returns coefficients.json's contents as a dict.
+    """
+    return _core.export(scenario, overrides, _options({}, out=out))
 
 
 def generate_model(*, out=None, **spec):
