@@ -1,6 +1,8 @@
 #include "plugin/coupling.h"
 
 #include <atomic>
+#include <cmath>
+#include <cstdio>
 #include <iterator>
 #include <mutex>
 #include <shared_mutex>
@@ -222,6 +224,120 @@ void WarnIfCallbackReplaced(CouplingContext* context, unsigned long passive_befo
 
 }  // namespace
 
+namespace {
+
+// MuJoCo's checks of the state in mj_step (mj_checkPos and mj_checkVel
+// before the forward pass, mj_checkAcc after it) and of the controls in
+// mj_fwdActuation: each counts a warning with the offending index in
+// lastinfo; all but the controls' then reset d to the model's initial
+// state (mj_resetData), which leaves the count at 1 and d->time at 0.
+struct BadStateCheck {
+  mjtWarning warning;
+  const char* what;
+  mjtObj indexed;  // what lastinfo indexes: a qpos address, a dof, an actuator
+};
+constexpr BadStateCheck kBadStateChecks[] = {
+    {mjWARN_BADQPOS, "position (qpos)", mjOBJ_UNKNOWN},
+    {mjWARN_BADQVEL, "velocity (qvel)", mjOBJ_DOF},
+    {mjWARN_BADQACC, "acceleration (qacc)", mjOBJ_DOF},
+    {mjWARN_BADCTRL, "control (ctrl)", mjOBJ_ACTUATOR}};
+constexpr int kBadStateCheckCount = sizeof(kBadStateChecks) / sizeof(kBadStateChecks[0]);
+
+// The joint of qpos address `address`.
+int JointOfQpos(const mjModel* m, int address) {
+  int joint = -1;
+  for (int j = 0; j < m->njnt && m->jnt_qposadr[j] <= address; ++j) joint = j;
+  return joint;
+}
+
+// "dof 3 (joint 'j2')", "qpos[4] (joint 'j3')", "actuator 2 ('ipmc_j2')".
+std::string Located(const mjModel* m, mjtObj indexed, int index) {
+  const auto named = [&](mjtObj type, int id) {
+    const char* name = id >= 0 ? mj_id2name(m, type, id) : nullptr;
+    return name ? std::string("'") + name + "'" : "#" + std::to_string(id);
+  };
+  switch (indexed) {
+    case mjOBJ_DOF:
+      if (index < 0 || index >= m->nv) return "dof " + std::to_string(index);
+      return "dof " + std::to_string(index) + " (joint " +
+             named(mjOBJ_JOINT, m->dof_jntid[index]) + ")";
+    case mjOBJ_ACTUATOR:
+      return "actuator " + std::to_string(index) + " (" + named(mjOBJ_ACTUATOR, index) + ")";
+    default:
+      if (index < 0 || index >= m->nq) return "qpos[" + std::to_string(index) + "]";
+      return "qpos[" + std::to_string(index) + "] (joint " +
+             named(mjOBJ_JOINT, JointOfQpos(m, index)) + ")";
+  }
+}
+
+std::string DivergedAt(const mjModel* m, double start_s, const std::string& what) {
+  char head[80], tail[120];
+  std::snprintf(head, sizeof(head), "%s%.9g s: ", kDivergedPrefix, start_s);
+  std::snprintf(tail, sizeof(tail), " (reduce option timestep, now %.9g s, or the inputs' size)",
+                m->opt.timestep);
+  return head + what + tail;
+}
+
+// What of d is not finite or beyond MuJoCo's limit mjMAXVAL after a step
+// (mju_isBad), or a link's free deflection that is not finite; "" if
+// nothing. O(nq + nv + links): cheap beside the step.
+std::string BadState(const mjModel* m, const mjData* d, const IpmcActuators* actuators) {
+  for (int i = 0; i < m->nq; ++i) {
+    if (mju_isBad(d->qpos[i])) {
+      return "the position " + Located(m, mjOBJ_UNKNOWN, i) +
+             " is not finite or beyond MuJoCo's limit";
+    }
+  }
+  for (int i = 0; i < m->nv; ++i) {
+    if (mju_isBad(d->qvel[i])) {
+      return "the velocity of " + Located(m, mjOBJ_DOF, i) +
+             " is not finite or beyond MuJoCo's limit";
+    }
+  }
+  if (actuators) {
+    for (int q = 0; q < actuators->Links(); ++q) {
+      if (!std::isfinite(actuators->FreeTipDeflection_mm(q))) {
+        return "the free tip deflection of IPMC link " + std::to_string(q + 1) + " (joint '" +
+               actuators->joints()[q] + "') is not finite";
+      }
+    }
+  }
+  return "";
+}
+
+// The counts of MuJoCo's bad-state warnings before a step.
+struct BadStateCounts {
+  int number[kBadStateCheckCount];
+};
+
+BadStateCounts CountBadStates(const mjData* d) {
+  BadStateCounts counts;
+  for (int k = 0; k < kBadStateCheckCount; ++k) {
+    counts.number[k] = d->warning[kBadStateChecks[k].warning].number;
+  }
+  return counts;
+}
+
+// The divergence an inertial step from start_s met, "" if none: a
+// bad-state warning counted during it (or counted at all when the step did
+// not end at start_s + h: MuJoCo reset d, clearing the counts).
+std::string InertialStepDiverged(const mjModel* m, const mjData* d, double start_s,
+                                 const BadStateCounts& before) {
+  const bool reset = d->time != start_s + m->opt.timestep;
+  for (int k = 0; k < kBadStateCheckCount; ++k) {
+    const mjWarningStat& stat = d->warning[kBadStateChecks[k].warning];
+    if (stat.number > before.number[k] || (reset && stat.number > 0)) {
+      return std::string("MuJoCo found a bad ") + kBadStateChecks[k].what + " at " +
+             Located(m, kBadStateChecks[k].indexed, stat.lastinfo) +
+             (kBadStateChecks[k].warning == mjWARN_BADCTRL ? " and zeroed it"
+                                                           : " and reset the data");
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
 bool Step(const mjModel* m, mjData* d) {
   CouplingContext* context = FindMutableCoupling(d);
   if (!context || context->model != m) {
@@ -229,19 +345,43 @@ bool Step(const mjModel* m, mjData* d) {
     return true;
   }
   context->error.clear();
+  if (!std::isfinite(d->time)) {
+    context->error = "d->time is " + std::string(std::isnan(d->time) ? "NaN" : "infinite") +
+                     " (it must be finite)";
+    return false;
+  }
+  const double start_s = d->time;
   const unsigned long passive_before = context->passive_calls;
   const unsigned long control_before = context->control_calls;
+  std::string diverged;
   if (context->stokes) {
-    if (!context->stokes->Step(m, d, context->fluid.get()) &&
-        context->error.empty()) {
+    // Checked before the step as mj_step's mj_checkPos and mj_checkVel
+    // do (the step replaces the velocity, but a bad one is a mistake).
+    if (std::string bad = BadState(m, d, nullptr); !bad.empty()) {
+      context->error = DivergedAt(m, start_s, bad);
+      return false;
+    }
+    if (!context->stokes->Step(m, d, context->fluid.get()) && context->error.empty()) {
       context->error =
           "dynamics = stokes: the force balance is singular (a dof has neither drag nor "
           "joint damping or stiffness)";
     }
   } else {
+    const BadStateCounts before = CountBadStates(d);
     if (context->actuators) context->actuators->BeginInertialStep(m);
     mj_step(m, d);
     if (context->actuators) context->actuators->EndInertialStep();
+    diverged = InertialStepDiverged(m, d, start_s, before);
+  }
+  if (diverged.empty() && context->error.empty()) {
+    diverged = BadState(m, d, context->actuators.get());
+  }
+  if (!context->error.empty()) {
+    char head[80];
+    std::snprintf(head, sizeof(head), "step at t = %.9g s failed: ", start_s);
+    context->error.insert(0, head);
+  } else if (!diverged.empty()) {
+    context->error = DivergedAt(m, start_s, diverged);
   }
   WarnIfCallbackReplaced(context, passive_before, control_before);
   return context->error.empty();

@@ -217,6 +217,8 @@ TEST_F(CouplingStateTest, RestoreRejectsAMalformedStateNamingTheFieldAndLeavesTh
                   "actuator_state[4] must be finite");
   expect_rejected([&](CouplingState& s) { s.voltage_V[1] = nan; }, "voltage_V[1] must be finite");
   expect_rejected([](CouplingState& s) { s.clamp_count = -1; }, "clamp_count must be >= 0");
+  expect_rejected([](CouplingState& s) { s.voltage_V[2] = 150.0; },
+                  "voltage_V[2] = 150 V is outside the model's range [-100, 100] V");
   expect_rejected([&](CouplingState& s) { s.time_s = data.get()->time + 1e-3; },
                   "time_s must be finite and <= d->time");
 }

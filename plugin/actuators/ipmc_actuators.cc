@@ -343,6 +343,10 @@ IpmcActuators::IpmcActuators(IpmcActuatorsConfig config) : config_(std::move(con
 }
 
 void IpmcActuators::AdvanceTo(const mjData* d) {
+  if (!std::isfinite(d->time)) {
+    Fail(std::string("d->time is ") + (std::isnan(d->time) ? "NaN" : "infinite") +
+         " (it must be finite)");
+  }
   if (d->time < bank_->Time_s()) {
     // mj_resetData, an earlier d->time or an older mjData copied into d,
     // without RestoreState or ResetState: the link models cannot go back,
@@ -393,6 +397,14 @@ void IpmcActuators::RestoreState(const mjData* d, const CouplingState& state) {
   require_finite("actuator_state", state.actuator_state);
   require_finite("voltage_V", state.voltage_V);
   require_finite("curvature_1_m", state.curvature_1_m);
+  for (size_t q = 0; q < state.voltage_V.size(); ++q) {
+    if (std::abs(state.voltage_V[q]) > config_.voltage_limit_V) {
+      Fail("RestoreState: voltage_V[" + std::to_string(q) + "] = " +
+           FormatShortest(state.voltage_V[q]) + " V is outside the model's range [-" +
+           FormatShortest(config_.voltage_limit_V) + ", " +
+           FormatShortest(config_.voltage_limit_V) + "] V (" + kAttrVoltageLimit + ")");
+    }
+  }
   if (state.clamp_count < 0) {
     Fail("RestoreState: clamp_count must be >= 0 (got " + std::to_string(state.clamp_count) + ")");
   }

@@ -73,7 +73,9 @@ bool Detach(const mjData* d);
 // Sets the IPMC links' voltages [V] from d->time on (held until changed).
 // `count` must equal the number of links in the model's ipmc_links field.
 // Returns that number, or 0 if d has no IPMC actuators. Throws
-// std::invalid_argument on a wrong count or a non-finite voltage.
+// std::invalid_argument on a wrong count, a non-finite voltage, one
+// beyond the model's limit (ipmc_voltage_limit_V, 100 V by default) or a
+// non-finite d->time.
 int SetVoltages(const mjData* d, const double* voltage_V, int count);
 
 // Everything the coupling's next step depends on besides mjData. Empty
@@ -99,7 +101,8 @@ CouplingState SaveState(const mjData* d);
 // model, after the mjData saved with it was copied into d (time_s <=
 // d->time). Throws std::invalid_argument with a one-line message naming
 // the field if d is not attached, a vector has the wrong size, a value is
-// not finite, clamp_count < 0 or time_s > d->time; d is unchanged then.
+// not finite, a voltage is beyond the limit SetVoltages enforces,
+// clamp_count < 0 or time_s > d->time; d is unchanged then.
 void RestoreState(const mjData* d, const CouplingState& state);
 
 // The state Attach gives, at d->time: the link models at rest, 0 V on
@@ -109,10 +112,18 @@ void ResetState(const mjData* d);
 
 // One time step of d: the Stokes-flow step for a model attached with
 // ipmc_dynamics = stokes, mj_step otherwise (also for a d not attached).
-// Returns false if a callback failed during the step or the Stokes force
-// balance was singular; LastError(d) says why (the state may be partly
-// advanced: stop or restore).
+// Returns false if d->time is not finite, a callback failed during the
+// step, the Stokes force balance was singular, or the step diverged;
+// LastError(d) says why (the state may be partly advanced: stop or
+// restore). A divergence is: MuJoCo's bad-state checks in mj_step firing
+// (a position, velocity or acceleration not finite or beyond mjMAXVAL,
+// after which MuJoCo has reset d; a bad control, which it zeroed), or a
+// position, velocity or IPMC link deflection bad after the step. Its
+// LastError begins with kDivergedPrefix and names the step's start time
+// and the degree of freedom, joint or link; that of any other failure
+// during the step begins with "step at t = T s failed: ".
 bool Step(const mjModel* m, mjData* d);
+constexpr char kDivergedPrefix[] = "simulation diverged at t = ";
 
 // The failure of d's last Step (or of a callback run since, e.g. by
 // mj_forward), one line; "" if none or d is not attached. Valid until the
