@@ -31,10 +31,6 @@ std::string FlagellumXml(const std::string& custom = "") {
   return xml.insert(end, custom);
 }
 
-// MuJoCo's reset rewinds d->time to 0 within the step, and the actuators
-// then restart from rest.
-constexpr char kResetRewind[] = "to 0 s without ipmc::RestoreState or ipmc::ResetState";
-
 // An mjData attached for its lifetime.
 struct AttachedData {
   explicit AttachedData(const mjModel* m) : d(mj_makeData(m)) { EXPECT_TRUE(Attach(m, d.get())); }
@@ -104,7 +100,6 @@ TEST_F(LibraryRefusalsTest, RestoreStateRefusesAVoltageBeyondTheLimitOfSetVoltag
 // reset state.
 TEST_F(LibraryRefusalsTest, HugeVelocityFailsTheInertialStepNamingTheDof) {
   ExpectWarning("Nan, Inf or huge value in QVEL");
-  ExpectWarning(kResetRewind);
   const ModelPtr m = LoadModelString(FlagellumXml());
   AttachedData data(m.get());
   for (int i = 0; i < 10; ++i) ASSERT_TRUE(Step(m.get(), data.get())) << LastError(data.get());
@@ -140,7 +135,6 @@ TEST_F(LibraryRefusalsTest, HugePositionFailsTheStokesStepNamingTheJoint) {
 // reset.
 TEST_F(LibraryRefusalsTest, DivergingInertialRunFailsItsStep) {
   ExpectWarning("Nan, Inf or huge value");
-  ExpectWarning(kResetRewind);
   FlagellumSpec spec;
   spec.integrator = "Euler";
   spec.timestep_s = 5e-2;

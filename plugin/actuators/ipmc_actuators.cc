@@ -428,6 +428,29 @@ void IpmcActuators::RestoreState(const mjData* d, const CouplingState& state) {
   clamp_count_ = state.clamp_count;
 }
 
+void IpmcActuators::StoreState(const mjData* d, int offset) const {
+  // d->userdata is the program's buffer, not part of const mjData.
+  double* block = d->userdata + offset;
+  *block++ = bank_->Time_s();
+  const Eigen::VectorXd& x = bank_->State();
+  block = std::copy(x.data(), x.data() + x.size(), block);
+  block = std::copy(voltage_V_.begin(), voltage_V_.end(), block);
+  block = std::copy(curvature_1_m_.begin(), curvature_1_m_.end(), block);
+  *block = static_cast<double>(clamp_count_);
+}
+
+void IpmcActuators::LoadState(const mjData* d, int offset) {
+  const double* block = d->userdata + offset;
+  const size_t states = static_cast<size_t>(bank_->States()), links = voltage_V_.size();
+  CouplingState state;
+  state.time_s = block[0];
+  state.actuator_state.assign(block + 1, block + 1 + states);
+  state.voltage_V.assign(block + 1 + states, block + 1 + states + links);
+  state.curvature_1_m.assign(block + 1 + states + links, block + 1 + states + 2 * links);
+  state.clamp_count = static_cast<long>(block[1 + states + 2 * links]);
+  RestoreState(d, state);
+}
+
 void IpmcActuators::ResetState(const mjData* d) {
   voltage_V_.assign(voltage_V_.size(), 0.0);
   bank_->SetVoltages(voltage_V_);

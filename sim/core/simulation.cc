@@ -33,6 +33,21 @@ std::string LoadError(const char* text) {
   return line.empty() ? "MuJoCo could not load it (no reason given)" : line;
 }
 
+// Reserves the userdata the coupling of m keeps its state in (after any
+// the model declares for the program), so that every mjData made from m
+// can be attached. A malformed ipmc_* field is left for Attach to report,
+// naming the file.
+void ReserveCouplingUserdata(mjModel* m, const IpmcActuatorsOverrides& overrides = {},
+                             const RftDragOverrides& fluid = {}) {
+  int needed = 0;
+  try {
+    needed = UserdataSizeWithOverrides(m, overrides, fluid);
+  } catch (const std::invalid_argument&) {
+    return;
+  }
+  if (m->nuserdata < needed) m->nuserdata += needed;
+}
+
 }  // namespace
 
 bool UseEulerWhereImplicitAddsNothing(mjModel* m) {
@@ -69,6 +84,7 @@ ModelPtr LoadModelFile(const std::string& path) {
   char error[1024] = "";
   mjModel* m = mj_loadXML(path.c_str(), nullptr, error, sizeof(error));
   if (!m) throw std::runtime_error(path + ": " + LoadError(error));
+  ReserveCouplingUserdata(m);
   return ModelPtr(m);
 }
 
@@ -96,12 +112,15 @@ ModelPtr LoadModelString(const std::string& xml) {
   mjModel* m = mj_loadXML(name, nullptr, error, sizeof(error));
   std::remove(name);
   if (!m) throw std::runtime_error(std::string("inline model: ") + LoadError(error));
+  ReserveCouplingUserdata(m);
   return ModelPtr(m);
 }
 
 Simulation::Simulation(ModelPtr m, const std::string& source,
                        const IpmcActuatorsOverrides& overrides, const RftDragOverrides& fluid)
-    : model_(std::move(m)), data_(mj_makeData(model_.get())), source_(source) {
+    : model_(std::move(m)), source_(source) {
+  ReserveCouplingUserdata(model_.get(), overrides, fluid);
+  data_.reset(mj_makeData(model_.get()));
   try {
     AttachWithOverrides(model_.get(), data_.get(), overrides, fluid);
   } catch (const std::exception& e) {
