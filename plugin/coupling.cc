@@ -1,6 +1,8 @@
 #include "plugin/coupling.h"
 
 #include <atomic>
+#include <cmath>
+#include <cstdio>
 #include <iterator>
 #include <mutex>
 #include <shared_mutex>
@@ -23,6 +25,7 @@ struct Registry {
   std::shared_mutex mutex;
   std::unordered_map<const mjData*, std::unique_ptr<CouplingContext>> contexts;
   std::atomic<unsigned long> generation{0};
+  std::atomic<unsigned long> couplings{0};  // made so far: each one's owner id
   bool callbacks_installed = false;
   mjfGeneric previous_passive = nullptr;
   mjfGeneric previous_control = nullptr;
@@ -40,6 +43,72 @@ void RecordFailure(CouplingContext* context, const char* what) {
   if (!context->error.empty()) return;
   context->error = what;
   mju_warning((std::string("ipmc_swim: ") + what).c_str());
+}
+
+// The state block's header, its last values: owner, writes, size, tag.
+// The tag is last, so that d->userdata[m->nuserdata - 1] tells a copy of
+// an attached mjData from one never attached.
+constexpr int kHeaderSize = 4;
+constexpr double kStateTag = 0x1.49b0c3d2e1f4p-700;  // an unlikely value
+
+int ActuatorStateSize(const CouplingContext& context) {
+  return context.actuators ? context.actuators->StateSize() : 0;
+}
+
+// Writes the context's state into d's block (after every change of it).
+void WriteState(CouplingContext* context, const mjData* d) {
+  const mjModel* m = context->model;
+  int offset = context->state_offset;
+  if (context->actuators) context->actuators->StoreState(d, offset);
+  offset += ActuatorStateSize(*context);
+  // A history taken from another coupling stays in the block until the
+  // next Stokes step has loaded it.
+  if (context->stokes && !context->load_history) context->stokes->StoreHistory(m, d, offset);
+  offset += StokesStepper::HistorySize(m);
+  // d->userdata is the program's buffer, not part of const mjData.
+  double* header = d->userdata + offset;
+  header[0] = context->owner;
+  header[1] = ++context->writes;
+  header[2] = context->state_size;
+  header[3] = kStateTag;
+}
+
+// Makes the context's state the one d's block holds, before anything
+// reads or advances it: nothing to do if the context wrote it last; a
+// block of another coupling (mj_copyData) or an older one of this one is
+// taken; a zeroed block (mj_resetData) is the state at rest at d->time.
+// Throws std::invalid_argument if the block holds something else or a
+// state that cannot be taken.
+void ClaimState(CouplingContext* context, const mjData* d) {
+  const double* block = d->userdata + context->state_offset;
+  const double* header = block + context->state_size - kHeaderSize;
+  if (header[3] == kStateTag && header[2] == context->state_size) {
+    if (header[0] == context->owner && header[1] == context->writes) return;
+    if (context->actuators) {
+      try {
+        context->actuators->LoadState(d, context->state_offset);
+      } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(std::string("d->userdata holds a coupling state that cannot "
+                                                "be taken: ") + e.what());
+      }
+    }
+    context->load_history = context->stokes != nullptr;
+    WriteState(context, d);
+    return;
+  }
+  bool zero = true;
+  for (int k = 0; zero && k < context->state_size; ++k) zero = block[k] == 0.0;
+  if (!zero) {
+    throw std::invalid_argument(
+        "d->userdata[" + std::to_string(context->state_offset) + ", " +
+        std::to_string(context->state_offset + context->state_size) +
+        ") does not hold the coupling's state (the program wrote there, or copied the data of "
+        "another model)");
+  }
+  if (context->actuators) context->actuators->ResetState(d);
+  if (context->stokes) context->stokes->ForgetHistory();
+  context->load_history = false;
+  WriteState(context, d);
 }
 
 void PassiveCallback(const mjModel* m, mjData* d) {
@@ -66,7 +135,9 @@ void ControlCallback(const mjModel* m, mjData* d) {
   ++context->control_calls;
   if (!context->actuators) return;
   try {
+    ClaimState(context, d);
     context->actuators->Update(m, d);
+    WriteState(context, d);
   } catch (const std::exception& e) {
     RecordFailure(context, e.what());
   }
@@ -81,13 +152,64 @@ void InstallCallbacksOnce(Registry& registry) {
   registry.callbacks_installed = true;
 }
 
+// The context of d with its state claimed (ClaimState).
 CouplingContext& RequireCoupling(const mjData* d, const char* function) {
   CouplingContext* context = FindMutableCoupling(d);
   if (!context) {
     throw std::invalid_argument(std::string("ipmc::") + function +
                                 ": d is not attached (call ipmc::Attach first)");
   }
+  ClaimState(context, d);
   return *context;
+}
+
+// The context Attach couples to a data of m, not yet registered; nullptr
+// for a model without ipmc_* fields.
+std::unique_ptr<CouplingContext> MakeContext(const mjModel* m,
+                                             const IpmcActuatorsOverrides& overrides,
+                                             const RftDragOverrides& fluid) {
+  if (!HasCustomFieldWithPrefix(m, "ipmc_")) return nullptr;
+  std::vector<std::string> known(std::begin(kRftDragFields), std::end(kRftDragFields));
+  known.insert(known.end(), IpmcActuatorFields().begin(), IpmcActuatorFields().end());
+  known.push_back(kStripWidthField);
+  known.push_back(kAttrDynamics);
+  for (const std::string& field : FluidModelFields()) known.push_back(field);
+  RequireKnownCustomFields(m, "ipmc_", known);
+  if (const std::optional<double> width_m = FindCustomScalar(m, kStripWidthField);
+      width_m && !(*width_m > 0)) {  // FindCustomScalar refuses a non-finite value
+    throw std::invalid_argument(std::string(kStripWidthField) + " must be finite and > 0 m (got " +
+                                std::to_string(*width_m) + ")");
+  }
+  auto context = std::make_unique<CouplingContext>();
+  context->model = m;
+  if (std::optional<RftDragConfig> drag = RftDragConfig::FromModel(m, fluid)) {
+    context->drag.emplace(m, *drag);
+    context->fluid = MakeFluid(m, *context->drag, fluid);
+  }
+  if (std::optional<IpmcActuatorsConfig> actuators = IpmcActuatorsConfig::FromModel(m, overrides)) {
+    context->actuators = std::make_unique<IpmcActuators>(std::move(*actuators));
+  }
+  if (std::optional<std::string> text = FindCustomText(m, kAttrDynamics)) {
+    context->dynamics = ParseDynamics(*text);
+  }
+  if (overrides.dynamics) context->dynamics = *overrides.dynamics;
+  if (context->dynamics == Dynamics::kStokes) context->stokes = std::make_unique<StokesStepper>(m);
+  // The history's room is kept in either dynamics, so that the size does
+  // not depend on a program's override of it.
+  context->state_size =
+      ActuatorStateSize(*context) + StokesStepper::HistorySize(m) + kHeaderSize;
+  return context;
+}
+
+// The failure of a Step of a d that has no context (LastError), kept for
+// the thread that stepped it.
+struct UnattachedFailure {
+  const mjData* d = nullptr;
+  std::string error;
+};
+UnattachedFailure& LastUnattachedFailure() {
+  thread_local UnattachedFailure failure;
+  return failure;
 }
 
 }  // namespace
@@ -125,40 +247,37 @@ bool Attach(const mjModel* m, mjData* d) { return AttachWithOverrides(m, d, {});
 
 bool AttachWithOverrides(const mjModel* m, mjData* d, const IpmcActuatorsOverrides& overrides,
                          const RftDragOverrides& fluid) {
-  if (!HasCustomFieldWithPrefix(m, "ipmc_")) return false;
-  std::vector<std::string> known(std::begin(kRftDragFields), std::end(kRftDragFields));
-  known.insert(known.end(), IpmcActuatorFields().begin(), IpmcActuatorFields().end());
-  known.push_back(kStripWidthField);
-  known.push_back(kAttrDynamics);
-  for (const std::string& field : FluidModelFields()) known.push_back(field);
-  RequireKnownCustomFields(m, "ipmc_", known);
-  if (const std::optional<double> width_m = FindCustomScalar(m, kStripWidthField);
-      width_m && !(*width_m > 0)) {  // FindCustomScalar refuses a non-finite value
-    throw std::invalid_argument(std::string(kStripWidthField) + " must be finite and > 0 m (got " +
-                                std::to_string(*width_m) + ")");
+  std::unique_ptr<CouplingContext> context = MakeContext(m, overrides, fluid);
+  if (!context) return false;
+  if (m->nuserdata < context->state_size) {
+    throw std::invalid_argument(
+        "the model has nuserdata = " + std::to_string(m->nuserdata) +
+        "; the coupling keeps its state in the last " + std::to_string(context->state_size) +
+        " values of mjData.userdata: declare <size nuserdata=\"" +
+        std::to_string(context->state_size) +
+        "\"/> (more if the program uses userdata too) in the MJCF, or set m->nuserdata = "
+        "ipmc::UserdataSize(m) before mj_makeData");
   }
-  auto context = std::make_unique<CouplingContext>();
-  context->model = m;
-  if (std::optional<RftDragConfig> drag = RftDragConfig::FromModel(m, fluid)) {
-    context->drag.emplace(m, *drag);
-    context->fluid = MakeFluid(m, *context->drag, fluid);
-  }
-  if (std::optional<IpmcActuatorsConfig> actuators = IpmcActuatorsConfig::FromModel(m, overrides)) {
-    context->actuators = std::make_unique<IpmcActuators>(std::move(*actuators));
-    context->actuators->ResetState(d);  // at rest at d->time
-  }
-  if (std::optional<std::string> text = FindCustomText(m, kAttrDynamics)) {
-    context->dynamics = ParseDynamics(*text);
-  }
-  if (overrides.dynamics) context->dynamics = *overrides.dynamics;
-  if (context->dynamics == Dynamics::kStokes) context->stokes = std::make_unique<StokesStepper>(m);
+  context->state_offset = m->nuserdata - context->state_size;
   Registry& registry = GetRegistry();
+  context->owner = static_cast<double>(++registry.couplings);
+  // The state d holds (a copy of an attached mjData, or d's own under its
+  // last coupling), or rest for a d never attached.
+  ClaimState(context.get(), d);
   std::unique_lock<std::shared_mutex> lock(registry.mutex);
   InstallCallbacksOnce(registry);
   registry.contexts[d] = std::move(context);
   registry.generation.fetch_add(1, std::memory_order_release);
   return true;
 }
+
+int UserdataSizeWithOverrides(const mjModel* m, const IpmcActuatorsOverrides& overrides,
+                              const RftDragOverrides& fluid) {
+  const std::unique_ptr<CouplingContext> context = MakeContext(m, overrides, fluid);
+  return context ? context->state_size : 0;
+}
+
+int UserdataSize(const mjModel* m) { return UserdataSizeWithOverrides(m, {}); }
 
 bool Detach(const mjData* d) {
   Registry& registry = GetRegistry();
@@ -171,20 +290,25 @@ bool Detach(const mjData* d) {
 int SetVoltages(const mjData* d, const double* voltage_V, int count) {
   CouplingContext* context = FindMutableCoupling(d);
   if (!context || !context->actuators) return 0;
+  ClaimState(context, d);
   context->actuators->SetVoltages(d, std::vector<double>(voltage_V, voltage_V + count));
+  WriteState(context, d);
   return context->actuators->Links();
 }
 
 CouplingState SaveState(const mjData* d) {
   CouplingContext& context = RequireCoupling(d, "SaveState");
   if (!context.actuators) return {};
-  return context.actuators->SaveState();
+  CouplingState state = context.actuators->SaveState();
+  WriteState(&context, d);
+  return state;
 }
 
 void RestoreState(const mjData* d, const CouplingState& state) {
   CouplingContext& context = RequireCoupling(d, "RestoreState");
   if (context.actuators) {
     context.actuators->RestoreState(d, state);
+    WriteState(&context, d);
     return;
   }
   if (!state.actuator_state.empty() || !state.voltage_V.empty() || !state.curvature_1_m.empty()) {
@@ -197,6 +321,7 @@ void RestoreState(const mjData* d, const CouplingState& state) {
 void ResetState(const mjData* d) {
   CouplingContext& context = RequireCoupling(d, "ResetState");
   if (context.actuators) context.actuators->ResetState(d);
+  WriteState(&context, d);
 }
 
 // The CMake project version (plugin/CMakeLists.txt), the one source of
@@ -222,34 +347,196 @@ void WarnIfCallbackReplaced(CouplingContext* context, unsigned long passive_befo
 
 }  // namespace
 
+namespace {
+
+// MuJoCo's checks of the state in mj_step (mj_checkPos and mj_checkVel
+// before the forward pass, mj_checkAcc after it) and of the controls in
+// mj_fwdActuation: each counts a warning with the offending index in
+// lastinfo; all but the controls' then reset d to the model's initial
+// state (mj_resetData), which leaves the count at 1 and d->time at 0.
+struct BadStateCheck {
+  mjtWarning warning;
+  const char* what;
+  mjtObj indexed;  // what lastinfo indexes: a qpos address, a dof, an actuator
+};
+constexpr BadStateCheck kBadStateChecks[] = {
+    {mjWARN_BADQPOS, "position (qpos)", mjOBJ_UNKNOWN},
+    {mjWARN_BADQVEL, "velocity (qvel)", mjOBJ_DOF},
+    {mjWARN_BADQACC, "acceleration (qacc)", mjOBJ_DOF},
+    {mjWARN_BADCTRL, "control (ctrl)", mjOBJ_ACTUATOR}};
+constexpr int kBadStateCheckCount = sizeof(kBadStateChecks) / sizeof(kBadStateChecks[0]);
+
+// The joint of qpos address `address`.
+int JointOfQpos(const mjModel* m, int address) {
+  int joint = -1;
+  for (int j = 0; j < m->njnt && m->jnt_qposadr[j] <= address; ++j) joint = j;
+  return joint;
+}
+
+// "dof 3 (joint 'j2')", "qpos[4] (joint 'j3')", "actuator 2 ('ipmc_j2')".
+std::string Located(const mjModel* m, mjtObj indexed, int index) {
+  const auto named = [&](mjtObj type, int id) {
+    const char* name = id >= 0 ? mj_id2name(m, type, id) : nullptr;
+    return name ? std::string("'") + name + "'" : "#" + std::to_string(id);
+  };
+  switch (indexed) {
+    case mjOBJ_DOF:
+      if (index < 0 || index >= m->nv) return "dof " + std::to_string(index);
+      return "dof " + std::to_string(index) + " (joint " +
+             named(mjOBJ_JOINT, m->dof_jntid[index]) + ")";
+    case mjOBJ_ACTUATOR:
+      return "actuator " + std::to_string(index) + " (" + named(mjOBJ_ACTUATOR, index) + ")";
+    default:
+      if (index < 0 || index >= m->nq) return "qpos[" + std::to_string(index) + "]";
+      return "qpos[" + std::to_string(index) + "] (joint " +
+             named(mjOBJ_JOINT, JointOfQpos(m, index)) + ")";
+  }
+}
+
+std::string DivergedAt(const mjModel* m, double start_s, const std::string& what) {
+  char head[80], tail[120];
+  std::snprintf(head, sizeof(head), "%s%.9g s: ", kDivergedPrefix, start_s);
+  std::snprintf(tail, sizeof(tail), " (reduce option timestep, now %.9g s, or the inputs' size)",
+                m->opt.timestep);
+  return head + what + tail;
+}
+
+// What of d is not finite or beyond MuJoCo's limit mjMAXVAL after a step
+// (mju_isBad), or a link's free deflection that is not finite; "" if
+// nothing. O(nq + nv + links): cheap beside the step.
+std::string BadState(const mjModel* m, const mjData* d, const IpmcActuators* actuators) {
+  for (int i = 0; i < m->nq; ++i) {
+    if (mju_isBad(d->qpos[i])) {
+      return "the position " + Located(m, mjOBJ_UNKNOWN, i) +
+             " is not finite or beyond MuJoCo's limit";
+    }
+  }
+  for (int i = 0; i < m->nv; ++i) {
+    if (mju_isBad(d->qvel[i])) {
+      return "the velocity of " + Located(m, mjOBJ_DOF, i) +
+             " is not finite or beyond MuJoCo's limit";
+    }
+  }
+  if (actuators) {
+    for (int q = 0; q < actuators->Links(); ++q) {
+      if (!std::isfinite(actuators->FreeTipDeflection_mm(q))) {
+        return "the free tip deflection of IPMC link " + std::to_string(q + 1) + " (joint '" +
+               actuators->joints()[q] + "') is not finite";
+      }
+    }
+  }
+  return "";
+}
+
+// The counts of MuJoCo's bad-state warnings before a step.
+struct BadStateCounts {
+  int number[kBadStateCheckCount];
+};
+
+BadStateCounts CountBadStates(const mjData* d) {
+  BadStateCounts counts;
+  for (int k = 0; k < kBadStateCheckCount; ++k) {
+    counts.number[k] = d->warning[kBadStateChecks[k].warning].number;
+  }
+  return counts;
+}
+
+// The divergence an inertial step from start_s met, "" if none: a
+// bad-state warning counted during it (or counted at all when the step did
+// not end at start_s + h: MuJoCo reset d, clearing the counts).
+std::string InertialStepDiverged(const mjModel* m, const mjData* d, double start_s,
+                                 const BadStateCounts& before) {
+  const bool reset = d->time != start_s + m->opt.timestep;
+  for (int k = 0; k < kBadStateCheckCount; ++k) {
+    const mjWarningStat& stat = d->warning[kBadStateChecks[k].warning];
+    if (stat.number > before.number[k] || (reset && stat.number > 0)) {
+      return std::string("MuJoCo found a bad ") + kBadStateChecks[k].what + " at " +
+             Located(m, kBadStateChecks[k].indexed, stat.lastinfo) +
+             (kBadStateChecks[k].warning == mjWARN_BADCTRL ? " and zeroed it"
+                                                           : " and reset the data");
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
 bool Step(const mjModel* m, mjData* d) {
   CouplingContext* context = FindMutableCoupling(d);
   if (!context || context->model != m) {
-    mj_step(m, d);
-    return true;
+    const bool coupled_model = HasCustomFieldWithPrefix(m, "ipmc_") ||
+                               (m->nuserdata > 0 && d->userdata[m->nuserdata - 1] == kStateTag);
+    if (!coupled_model) {
+      mj_step(m, d);
+      return true;
+    }
+    // Stepped by mj_step, d would run without drag and actuators.
+    UnattachedFailure& failure = LastUnattachedFailure();
+    failure.d = d;
+    failure.error = context ? "d is attached with another mjModel than m"
+                            : "d is not attached (mj_copyData and mj_makeData do not attach: "
+                              "call ipmc::Attach(m, d), which takes the state d holds)";
+    return false;
   }
   context->error.clear();
+  if (!std::isfinite(d->time)) {
+    context->error = "d->time is " + std::string(std::isnan(d->time) ? "NaN" : "infinite") +
+                     " (it must be finite)";
+    return false;
+  }
+  try {
+    ClaimState(context, d);
+  } catch (const std::invalid_argument& e) {
+    context->error = e.what();
+    return false;
+  }
+  if (context->load_history) {
+    context->stokes->LoadHistory(m, d, context->fluid.get(),
+                                 context->state_offset + ActuatorStateSize(*context));
+    context->load_history = false;
+  }
+  const double start_s = d->time;
   const unsigned long passive_before = context->passive_calls;
   const unsigned long control_before = context->control_calls;
+  std::string diverged;
   if (context->stokes) {
-    if (!context->stokes->Step(m, d, context->fluid.get()) &&
-        context->error.empty()) {
+    // Checked before the step as mj_step's mj_checkPos and mj_checkVel
+    // do (the step replaces the velocity, but a bad one is a mistake).
+    if (std::string bad = BadState(m, d, nullptr); !bad.empty()) {
+      context->error = DivergedAt(m, start_s, bad);
+      return false;
+    }
+    if (!context->stokes->Step(m, d, context->fluid.get()) && context->error.empty()) {
       context->error =
           "dynamics = stokes: the force balance is singular (a dof has neither drag nor "
           "joint damping or stiffness)";
     }
   } else {
+    const BadStateCounts before = CountBadStates(d);
     if (context->actuators) context->actuators->BeginInertialStep(m);
     mj_step(m, d);
     if (context->actuators) context->actuators->EndInertialStep();
+    diverged = InertialStepDiverged(m, d, start_s, before);
   }
+  if (diverged.empty() && context->error.empty()) {
+    diverged = BadState(m, d, context->actuators.get());
+  }
+  if (!context->error.empty()) {
+    char head[80];
+    std::snprintf(head, sizeof(head), "step at t = %.9g s failed: ", start_s);
+    context->error.insert(0, head);
+  } else if (!diverged.empty()) {
+    context->error = DivergedAt(m, start_s, diverged);
+  }
+  if (context->error.empty()) WriteState(context, d);
   WarnIfCallbackReplaced(context, passive_before, control_before);
   return context->error.empty();
 }
 
 const char* LastError(const mjData* d) {
-  const CouplingContext* context = FindCoupling(d);
-  return context ? context->error.c_str() : "";
+  if (const CouplingContext* context = FindCoupling(d)) return context->error.c_str();
+  const UnattachedFailure& failure = LastUnattachedFailure();
+  return failure.d == d ? failure.error.c_str() : "";
 }
 
 

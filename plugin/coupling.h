@@ -25,6 +25,16 @@ struct CouplingContext {
   std::unique_ptr<IpmcActuators> actuators;
   Dynamics dynamics = Dynamics::kInertial;
   std::unique_ptr<StokesStepper> stokes;  // with Dynamics::kStokes
+  // The state's block in d->userdata (ipmc_swim.h, "State"): its last
+  // state_size values, from state_offset: the actuators' state, the Stokes
+  // stepper's history, and a header saying whose state it is (owner, the
+  // count of its writes, state_size, a tag).
+  int state_offset = 0, state_size = 0;
+  double owner = 0;   // this coupling's id, unique in the process
+  double writes = 0;  // how often it wrote the block
+  // The block held another coupling's history (or an older one of this):
+  // the next Stokes step takes it first.
+  bool load_history = false;
   // The first failure of a callback since the last Step (LastError), and
   // how often each callback ran for d (Step detects a replaced callback).
   std::string error;
@@ -35,6 +45,11 @@ struct CouplingContext {
 // Attach (ipmc_swim.h) with settings imposed over the model's fields.
 bool AttachWithOverrides(const mjModel* m, mjData* d, const IpmcActuatorsOverrides& overrides,
                          const RftDragOverrides& fluid = {});
+
+// The userdata values a coupling of m with these settings needs (0 for a
+// model without ipmc_* fields); UserdataSize with overrides.
+int UserdataSizeWithOverrides(const mjModel* m, const IpmcActuatorsOverrides& overrides,
+                              const RftDragOverrides& fluid = {});
 
 // The context attached to d, or nullptr. The pointer stays valid until d
 // is detached or re-attached.

@@ -18,8 +18,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%s: %s\n", argv[1], error);
     return 1;
   }
-  mjData* d = mj_makeData(m);
+  mjData* d = nullptr;
   try {
+    // The coupling keeps its state in the last values of mjData.userdata.
+    m->nuserdata += ipmc::UserdataSize(m);
+    d = mj_makeData(m);
     if (!ipmc::Attach(m, d)) std::printf("model has no ipmc_* fields: plain MuJoCo\n");
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s: %s\n", argv[1], e.what());

@@ -343,6 +343,10 @@ IpmcActuators::IpmcActuators(IpmcActuatorsConfig config) : config_(std::move(con
 }
 
 void IpmcActuators::AdvanceTo(const mjData* d) {
+  if (!std::isfinite(d->time)) {
+    Fail(std::string("d->time is ") + (std::isnan(d->time) ? "NaN" : "infinite") +
+         " (it must be finite)");
+  }
   if (d->time < bank_->Time_s()) {
     // mj_resetData, an earlier d->time or an older mjData copied into d,
     // without RestoreState or ResetState: the link models cannot go back,
@@ -393,6 +397,14 @@ void IpmcActuators::RestoreState(const mjData* d, const CouplingState& state) {
   require_finite("actuator_state", state.actuator_state);
   require_finite("voltage_V", state.voltage_V);
   require_finite("curvature_1_m", state.curvature_1_m);
+  for (size_t q = 0; q < state.voltage_V.size(); ++q) {
+    if (std::abs(state.voltage_V[q]) > config_.voltage_limit_V) {
+      Fail("RestoreState: voltage_V[" + std::to_string(q) + "] = " +
+           FormatShortest(state.voltage_V[q]) + " V is outside the model's range [-" +
+           FormatShortest(config_.voltage_limit_V) + ", " +
+           FormatShortest(config_.voltage_limit_V) + "] V (" + kAttrVoltageLimit + ")");
+    }
+  }
   if (state.clamp_count < 0) {
     Fail("RestoreState: clamp_count must be >= 0 (got " + std::to_string(state.clamp_count) + ")");
   }
@@ -414,6 +426,29 @@ void IpmcActuators::RestoreState(const mjData* d, const CouplingState& state) {
                                     static_cast<Eigen::Index>(state.actuator_state.size())));
   curvature_1_m_ = state.curvature_1_m;
   clamp_count_ = state.clamp_count;
+}
+
+void IpmcActuators::StoreState(const mjData* d, int offset) const {
+  // d->userdata is the program's buffer, not part of const mjData.
+  double* block = d->userdata + offset;
+  *block++ = bank_->Time_s();
+  const Eigen::VectorXd& x = bank_->State();
+  block = std::copy(x.data(), x.data() + x.size(), block);
+  block = std::copy(voltage_V_.begin(), voltage_V_.end(), block);
+  block = std::copy(curvature_1_m_.begin(), curvature_1_m_.end(), block);
+  *block = static_cast<double>(clamp_count_);
+}
+
+void IpmcActuators::LoadState(const mjData* d, int offset) {
+  const double* block = d->userdata + offset;
+  const size_t states = static_cast<size_t>(bank_->States()), links = voltage_V_.size();
+  CouplingState state;
+  state.time_s = block[0];
+  state.actuator_state.assign(block + 1, block + 1 + states);
+  state.voltage_V.assign(block + 1 + states, block + 1 + states + links);
+  state.curvature_1_m.assign(block + 1 + states + links, block + 1 + states + 2 * links);
+  state.clamp_count = static_cast<long>(block[1 + states + 2 * links]);
+  RestoreState(d, state);
 }
 
 void IpmcActuators::ResetState(const mjData* d) {

@@ -259,6 +259,16 @@ class IpmcActuators {
   // voltages, zero curvatures, no clamps counted.
   void ResetState(const mjData* d);
 
+  // The state's home in mjData (ipmc_swim.h, "State"): StateSize() values
+  // of d->userdata from `offset`: t_x, the bank's x, the held voltages,
+  // the curvatures and the clamp count.
+  int StateSize() const { return 2 + bank_->States() + 2 * Links(); }
+  // Writes the state there.
+  void StoreState(const mjData* d, int offset) const;
+  // Takes the state StoreState wrote there (for d or for another mjData of
+  // the same model, copied into d), with RestoreState's checks.
+  void LoadState(const mjData* d, int offset);
+
   // The links' free tip deflections at the last update [mm].
   std::vector<double> FreeTipDeflection_mm() const { return bank_->FreeTipDeflection_mm(); }
   double FreeTipDeflection_mm(int link) const { return bank_->FreeTipDeflection_mm(link); }

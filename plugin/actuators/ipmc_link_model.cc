@@ -81,8 +81,8 @@ void IpmcLinkParams::Validate() const {
   if (kind != IpmcModelKind::kG1 && kind != IpmcModelKind::kG2) {
     ThrowField("kind", "kG1 or kG2", static_cast<int>(kind));
   }
-  if (!std::isfinite(a0_mm_per_V) || a0_mm_per_V == 0) {
-    ThrowField("a0_mm_per_V", "finite and nonzero", a0_mm_per_V);
+  if (!(std::abs(a0_mm_per_V) <= kMaxStaticGain_mm_per_V) || a0_mm_per_V == 0) {
+    ThrowField("a0_mm_per_V", "nonzero and in [-1000, 1000] mm/V", a0_mm_per_V);
   }
   if (!std::isfinite(b1) || b1 <= 0) {
     ThrowField("b1", "finite and > 0", b1);

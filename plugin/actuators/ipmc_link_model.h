@@ -45,9 +45,14 @@ namespace ipmc {
 
 enum class IpmcModelKind { kG1, kG2 };
 
+// The largest |a0| a link accepts [mm/V]: over 2500 times Table 2's
+// largest (0.376 mm/V), so any strip fits; a gain beyond it is a mistake
+// that would carry the link models' states past the double range.
+constexpr double kMaxStaticGain_mm_per_V = 1e3;
+
 struct IpmcLinkParams {  // one link; SI except the paper's mm/V interface
   IpmcModelKind kind = IpmcModelKind::kG1;
-  double a0_mm_per_V = 0;  // static gain of G, finite and nonzero
+  double a0_mm_per_V = 0;  // static gain of G, 0 < |a0| <= kMaxStaticGain_mm_per_V
   double b1 = 0;           // [s] for G1, [s^alpha] for G2; > 0
   double b2_s2 = 0;        // [s^2], G1 only; >= 0 (0 gives a first-order lag)
   double alpha = 1.8;      // G2's order, in (0, 2)

@@ -185,6 +185,8 @@ StokesStepper::StokesStepper(const mjModel* m) : topology_(m) {
   last_cdof_.resize(6 * m->nv);
   midpoint_cdof_.resize(6 * m->nv);
   last_end_qpos_.resize(m->nq);
+  last_start_qpos_.resize(m->nq);
+  scratch_qpos_.resize(m->nq);
 }
 
 // The fluid's resistance D = sum_s J_s^T S_s J_s enters the step here, and
@@ -314,6 +316,7 @@ bool StokesStepper::Step(const mjModel* m, mjData* d, const Fluid* fluid) {
   const bool sensors = !(m->opt.disableflags & mjDSBL_SENSOR);
   // Position stage without the mass matrix (mj_fwdPosition less mj_crb,
   // mj_factorM and the constraints).
+  mju_copy(last_start_qpos_.data(), d->qpos, m->nq);
   mj_kinematics(m, d);
   ComPos(m, d);
   mj_camlight(m, d);
@@ -360,6 +363,31 @@ bool StokesStepper::Step(const mjModel* m, mjData* d, const Fluid* fluid) {
   mju_copy(last_end_qpos_.data(), d->qpos, m->nq);
   last_end_time_ = d->time;
   return true;
+}
+
+void StokesStepper::StoreHistory(const mjModel* m, const mjData* d, int offset) const {
+  // d->userdata is the program's buffer, not part of const mjData.
+  double* block = d->userdata + offset;
+  block[0] = has_last_step_ ? 1.0 : 0.0;
+  block[1] = last_end_time_;
+  mju_copy(block + 2, last_start_qpos_.data(), m->nq);
+  mju_copy(block + 2 + m->nq, last_end_qpos_.data(), m->nq);
+}
+
+void StokesStepper::LoadHistory(const mjModel* m, mjData* d, const Fluid* fluid, int offset) {
+  const double* block = d->userdata + offset;
+  has_last_step_ = false;
+  if (block[0] == 0.0) return;
+  // The last step's position stage and resistances, as it computed them.
+  mju_copy(scratch_qpos_.data(), d->qpos, m->nq);
+  mju_copy(d->qpos, block + 2, m->nq);
+  mj_kinematics(m, d);
+  ComPos(m, d);
+  ExtrapolateToMidpoint(m, d, fluid);
+  mju_copy(d->qpos, scratch_qpos_.data(), m->nq);
+  mju_copy(last_start_qpos_.data(), block + 2, m->nq);
+  mju_copy(last_end_qpos_.data(), block + 2 + m->nq, m->nq);
+  last_end_time_ = block[1];
 }
 
 void StokesStepper::ComPos(const mjModel* m, mjData* d) {

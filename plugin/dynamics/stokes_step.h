@@ -129,6 +129,23 @@ class StokesStepper {
   // formed (nv x nv) and factored (LDL^T) in place of the recursion,
   // O(nv^3), with R extrapolated to the step's midpoint as the local S are.
   bool Step(const mjModel* m, mjData* d, const Fluid* fluid);
+  // The history's home in mjData (ipmc_swim.h, "State"): HistorySize(m)
+  // values of d->userdata: whether a step was made, its end time, and its
+  // start and end positions.
+  static int HistorySize(const mjModel* m) { return 2 + 2 * m->nq; }
+  // Writes the history to d->userdata from `offset`.
+  void StoreHistory(const mjModel* m, const mjData* d, int offset) const;
+  // Takes the history StoreHistory wrote there, for d or for another
+  // mjData of the same model copied into d: the last step's motions and
+  // resistances are computed again at its start position (on d, whose
+  // position stage the next Step computes afresh), so that the next Step
+  // is the one the writer would have made, bit for bit, with a fluid
+  // whose resistance depends on the position alone (a dense fluid's
+  // cache, kept within its shape tolerance, is this stepper's own).
+  void LoadHistory(const mjModel* m, mjData* d, const Fluid* fluid, int offset);
+  // Forgets the last step: the next starts afresh.
+  void ForgetHistory() { has_last_step_ = false; }
+
   // The power [W] the last step gave the fluid: v^T D v with the step's
   // velocity v and the resistance D at its midpoint that it solved with,
   // so that over a step the generalised forces' work f . v h is this, the
@@ -195,7 +212,8 @@ class StokesStepper {
   // What carries from step to step: this step's, the last step's and the
   // midpoint's cdof, where the last step ended (a step that starts
   // elsewhere does not extrapolate), and the step's form.
-  std::vector<double> cdof_, last_cdof_, midpoint_cdof_, last_end_qpos_;
+  std::vector<double> cdof_, last_cdof_, midpoint_cdof_, last_start_qpos_, last_end_qpos_;
+  std::vector<double> scratch_qpos_;  // d's position while LoadHistory computes
   double last_end_time_ = 0;
   bool has_last_step_ = false;
   // Every dof moves in the x-y plane (no w_x, w_y, v_z) at the step's

@@ -19,6 +19,17 @@ void RequirePositive(double value, const char* what) {
   }
 }
 
+// A blob or point spacing longer than the body resolves nothing of it
+// (and a huge blob overflows the kernel's eps^2).
+void RequireWithinBody(double value_m, const char* what, const char* field, double body_m) {
+  if (value_m > body_m) {
+    std::ostringstream msg;
+    msg << "stokeslet fluid: " << what << " (" << field << ") must be at most the body's length "
+        << body_m << " m (got " << value_m << " m)";
+    throw std::invalid_argument(msg.str());
+  }
+}
+
 }  // namespace
 
 StokesletSettings StokesletSettingsFromModel(const mjModel* m, const RftDrag& segments,
@@ -43,6 +54,11 @@ StokesletSettings StokesletSettingsFromModel(const mjModel* m, const RftDrag& se
   }
   RequirePositive(settings.blob_m, "the blob");
   RequirePositive(settings.spacing_m, "the point spacing");
+  double body_m = 0.0;
+  for (double length_m : segments.SegmentLengths_m()) body_m += length_m;
+  RequireWithinBody(settings.blob_m, "the blob", "ipmc_fluid_stokeslet_blob_m", body_m);
+  RequireWithinBody(settings.spacing_m, "the point spacing", "ipmc_fluid_stokeslet_points_per_m",
+                    body_m);
   if (!(settings.shape_tolerance_rad >= 0.0) || !std::isfinite(settings.shape_tolerance_rad)) {
     throw std::invalid_argument("stokeslet fluid: the shape tolerance must be finite and >= 0");
   }

@@ -33,30 +33,19 @@ std::string LoadError(const char* text) {
   return line.empty() ? "MuJoCo could not load it (no reason given)" : line;
 }
 
-// MuJoCo's bad-state warnings: when one fires, mj_step has already reset
-// the data to the model's initial state, so the state alone no longer
-// shows the divergence.
-constexpr std::pair<mjtWarning, const char*> kBadStateWarnings[] = {
-    {mjWARN_BADQPOS, "joint positions (qpos)"},
-    {mjWARN_BADQVEL, "joint velocities (qvel)"},
-    {mjWARN_BADQACC, "accelerations (qacc)"},
-    {mjWARN_BADCTRL, "controls (ctrl)"}};
-
-// What diverged in `d`, or "" if nothing did: a bad-state warning, or a
-// non-finite position or velocity after the step's integration (a
-// non-finite drag or actuator torque already makes qacc bad, which MuJoCo
-// checks within the step).
-std::string Diverged(const mjModel* m, const mjData* d) {
-  for (const auto& [warning, what] : kBadStateWarnings) {
-    if (d->warning[warning].number > 0) return what;
+// Reserves the userdata the coupling of m keeps its state in (after any
+// the model declares for the program), so that every mjData made from m
+// can be attached. A malformed ipmc_* field is left for Attach to report,
+// naming the file.
+void ReserveCouplingUserdata(mjModel* m, const IpmcActuatorsOverrides& overrides = {},
+                             const RftDragOverrides& fluid = {}) {
+  int needed = 0;
+  try {
+    needed = UserdataSizeWithOverrides(m, overrides, fluid);
+  } catch (const std::invalid_argument&) {
+    return;
   }
-  for (int i = 0; i < m->nq; ++i) {
-    if (!std::isfinite(d->qpos[i])) return "joint positions (qpos)";
-  }
-  for (int i = 0; i < m->nv; ++i) {
-    if (!std::isfinite(d->qvel[i])) return "joint velocities (qvel)";
-  }
-  return "";
+  if (m->nuserdata < needed) m->nuserdata += needed;
 }
 
 }  // namespace
@@ -95,6 +84,7 @@ ModelPtr LoadModelFile(const std::string& path) {
   char error[1024] = "";
   mjModel* m = mj_loadXML(path.c_str(), nullptr, error, sizeof(error));
   if (!m) throw std::runtime_error(path + ": " + LoadError(error));
+  ReserveCouplingUserdata(m);
   return ModelPtr(m);
 }
 
@@ -122,12 +112,15 @@ ModelPtr LoadModelString(const std::string& xml) {
   mjModel* m = mj_loadXML(name, nullptr, error, sizeof(error));
   std::remove(name);
   if (!m) throw std::runtime_error(std::string("inline model: ") + LoadError(error));
+  ReserveCouplingUserdata(m);
   return ModelPtr(m);
 }
 
 Simulation::Simulation(ModelPtr m, const std::string& source,
                        const IpmcActuatorsOverrides& overrides, const RftDragOverrides& fluid)
-    : model_(std::move(m)), data_(mj_makeData(model_.get())), source_(source) {
+    : model_(std::move(m)), source_(source) {
+  ReserveCouplingUserdata(model_.get(), overrides, fluid);
+  data_.reset(mj_makeData(model_.get()));
   try {
     AttachWithOverrides(model_.get(), data_.get(), overrides, fluid);
   } catch (const std::exception& e) {
@@ -140,27 +133,14 @@ Simulation::~Simulation() { Detach(data_.get()); }
 
 void Simulation::Step(bool compute_sensors) {
   mjModel* m = model_.get();
-  const double time_s = data_->time;
   const int flags = m->opt.disableflags;
   if (!compute_sensors) m->opt.disableflags = flags | mjDSBL_SENSOR;
   const bool stepped = ipmc::Step(m, data_.get());
   m->opt.disableflags = flags;
   if (!stepped) {
-    std::ostringstream msg;
-    msg << source_ << ": step at t = " << time_s << " s failed: " << LastError(data_.get());
-    throw std::runtime_error(msg.str());
+    // ipmc::Step's error names the step's time.
+    throw std::runtime_error(source_ + ": " + LastError(data_.get()));
   }
-  CheckState(time_s);
-}
-
-void Simulation::CheckState(double step_start_s) const {
-  const std::string what = Diverged(model_.get(), data_.get());
-  if (what.empty()) return;
-  std::ostringstream msg;
-  msg << source_ << ": simulation diverged at t = " << step_start_s << " s: " << what
-      << " not finite or beyond MuJoCo's limit (reduce option timestep, now "
-      << model_->opt.timestep << " s, or the inputs' size)";
-  throw std::runtime_error(msg.str());
 }
 
 int RequireId(const mjModel* m, mjtObj type, const std::string& name, const std::string& source) {

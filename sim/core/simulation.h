@@ -57,10 +57,11 @@ class Simulation {
 
   // One step (ipmc::Step: mj_step, or the Stokes-flow step for a model
   // with ipmc_dynamics = stokes or the override); throws
-  // std::runtime_error naming the time and the failure if a callback
-  // failed (ipmc::LastError), and naming what
-  // diverged if MuJoCo reports a bad state (and resets it) or a position,
-  // velocity or force stops being finite. With compute_sensors = false
+  // std::runtime_error "SOURCE: " and ipmc::LastError's line if the step
+  // failed: a divergence (MuJoCo reported a bad state and reset it, or a
+  // position, velocity or link deflection stopped being finite) names its
+  // time and degree of freedom; any other failure is prefixed with the
+  // step's time. With compute_sensors = false
   // MuJoCo skips its sensor stages in this step and sensordata keeps the
   // values of the last step that computed them, for a caller that reads the
   // sensors only every few steps (MuJoCo fills sensordata during the step,
@@ -68,10 +69,6 @@ class Simulation {
   void Step(bool compute_sensors = true);
 
  private:
-  // Throws std::runtime_error naming the step's start time and what
-  // diverged, if the state did (sim/core/simulation.cc, Diverged).
-  void CheckState(double step_start_s) const;
-
   ModelPtr model_;
   DataPtr data_;
   std::string source_;

@@ -9,25 +9,33 @@
 // (model, data) pairs; stepping different pairs from different threads is
 // safe. Call Attach before starting threads that step.
 //
-// State. The drag has none. The IPMC actuators' state lives in the
-// coupling, outside mjData: the link models' integrated state x and its
-// time t_x, the held voltages, each link's last curvature (where the next
-// step's root-finding starts) and the count of clamped deflections. Each
-// step advances x from t_x to d->time. MuJoCo's own functions do not see
-// this state:
-//  - mj_resetData, mj_resetDataKeyframe, or assigning an earlier d->time:
-//    the next step (or SetVoltages) finds d->time < t_x. Call ResetState
-//    (start from rest) or RestoreState (go back to a saved state) after
-//    rewinding. Without either, the coupling does what ResetState does and
-//    reports the rewind through mju_warning: a rewind the program did not
-//    declare may be a copy of an older mjData whose actuator state is lost.
-//  - mj_copyData(dst, m, src): dst has no coupling until attached, and an
-//    attached dst keeps its own coupling state. To continue src in dst:
-//    Attach(m, dst), mj_copyData(dst, m, src), RestoreState(dst,
-//    SaveState(src)).
-//  - mj_deleteData: Detach first.
-// Attach (also on an attached d) gives the state of ResetState at
-// d->time.
+// State. The coupling's state lives in mjData, in the last UserdataSize(m)
+// values of d->userdata (the model reserves them: <size nuserdata="N"/>
+// in the MJCF, or m->nuserdata = ipmc::UserdataSize(m) before mj_makeData;
+// Attach refuses a model with fewer and names N): the IPMC link models'
+// integrated state x and its time t_x, the held voltages, each link's last
+// curvature (where the next step's root-finding starts), the count of
+// clamped deflections, the Stokes stepper's last step (its start and end
+// positions) and a header saying whose state it is. So MuJoCo's own
+// functions act on it as on the rest of mjData:
+//  - mj_copyData(dst, m, src): dst holds src's state. Attach(m, dst) (or
+//    a dst attached before the copy) continues it: dst steps bit for bit
+//    as src does, in either dynamics, with the rft fluid model (and any
+//    whose resistance is a function of the position alone); the dense
+//    fluids' resistance cache (stokeslets, ribbon, plates: recomputed when
+//    the shape has moved beyond its tolerance) is the coupling's own, so a
+//    copy follows within that tolerance; with
+//    ipmc_actuator_integration = cvode, within its tolerance. Step refuses a dst that holds a coupling's state and is
+//    not attached (mj_step would step it without drag or actuators).
+//  - mj_resetData, mj_resetDataKeyframe: they zero userdata; the next
+//    step starts the link models from rest (0 V) at d->time.
+//  - assigning an earlier d->time without the state that belongs to it:
+//    the link models cannot go back, so they restart from rest at d->time
+//    and the coupling reports it through mju_warning.
+// SaveState and RestoreState copy the actuators' part out and back in
+// (for a program that keeps states outside mjData); ResetState sets rest.
+// Attach takes the state d holds (a copy of an attached mjData, or d's
+// own under an earlier Attach), or rest for a d whose block is zero.
 //
 // Dynamics. A model with the text field ipmc_dynamics = stokes (or a
 // program's override) is stepped without inertia, its velocity taken from
@@ -66,6 +74,11 @@ namespace ipmc {
 // replaces its coupling.
 bool Attach(const mjModel* m, mjData* d);
 
+// The number of d->userdata values the coupling of m keeps its state in
+// (the last ones), 0 for a model without ipmc_* fields. Throws as Attach
+// does for malformed fields.
+int UserdataSize(const mjModel* m);
+
 // Removes the coupling of d (before mj_deleteData). Returns false if d was
 // not attached.
 bool Detach(const mjData* d);
@@ -73,7 +86,9 @@ bool Detach(const mjData* d);
 // Sets the IPMC links' voltages [V] from d->time on (held until changed).
 // `count` must equal the number of links in the model's ipmc_links field.
 // Returns that number, or 0 if d has no IPMC actuators. Throws
-// std::invalid_argument on a wrong count or a non-finite voltage.
+// std::invalid_argument on a wrong count, a non-finite voltage, one
+// beyond the model's limit (ipmc_voltage_limit_V, 100 V by default) or a
+// non-finite d->time.
 int SetVoltages(const mjData* d, const double* voltage_V, int count);
 
 // Everything the coupling's next step depends on besides mjData. Empty
@@ -99,24 +114,36 @@ CouplingState SaveState(const mjData* d);
 // model, after the mjData saved with it was copied into d (time_s <=
 // d->time). Throws std::invalid_argument with a one-line message naming
 // the field if d is not attached, a vector has the wrong size, a value is
-// not finite, clamp_count < 0 or time_s > d->time; d is unchanged then.
+// not finite, a voltage is beyond the limit SetVoltages enforces,
+// clamp_count < 0 or time_s > d->time; d is unchanged then.
 void RestoreState(const mjData* d, const CouplingState& state);
 
-// The state Attach gives, at d->time: the link models at rest, 0 V on
-// every link, no clamps counted. Call after mj_resetData. Throws
+// The state of a d never attached, at d->time: the link models at rest,
+// 0 V on every link, no clamps counted (what mj_resetData gives). Throws
 // std::invalid_argument if d is not attached.
 void ResetState(const mjData* d);
 
 // One time step of d: the Stokes-flow step for a model attached with
-// ipmc_dynamics = stokes, mj_step otherwise (also for a d not attached).
-// Returns false if a callback failed during the step or the Stokes force
-// balance was singular; LastError(d) says why (the state may be partly
-// advanced: stop or restore).
+// ipmc_dynamics = stokes, mj_step otherwise (also for a d not attached of
+// a model without ipmc_* fields). Returns false if d is not attached (or
+// attached with another model) but m has ipmc_* fields or d holds a
+// coupling's state, if d's userdata block holds something else, if
+// d->time is not finite, a callback failed during the
+// step, the Stokes force balance was singular, or the step diverged;
+// LastError(d) says why (the state may be partly advanced: stop or
+// restore). A divergence is: MuJoCo's bad-state checks in mj_step firing
+// (a position, velocity or acceleration not finite or beyond mjMAXVAL,
+// after which MuJoCo has reset d; a bad control, which it zeroed), or a
+// position, velocity or IPMC link deflection bad after the step. Its
+// LastError begins with kDivergedPrefix and names the step's start time
+// and the degree of freedom, joint or link; that of any other failure
+// during the step begins with "step at t = T s failed: ".
 bool Step(const mjModel* m, mjData* d);
+constexpr char kDivergedPrefix[] = "simulation diverged at t = ";
 
 // The failure of d's last Step (or of a callback run since, e.g. by
-// mj_forward), one line; "" if none or d is not attached. Valid until the
-// next Step of d.
+// mj_forward), one line; "" if none. For a d not attached, the failure of
+// its last Step in this thread. Valid until the next Step of d.
 const char* LastError(const mjData* d);
 
 // Library version, "MAJOR.MINOR.PATCH".
