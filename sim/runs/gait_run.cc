@@ -148,7 +148,7 @@ GaitRunResult RunGait(Simulation& sim, const Gait& gait, const GaitRunOptions& o
                options.allow_long, "gait: the run (--cycles x the gait's period)");
   const long settle_steps = steps_per_cycle / 20;
 
-  meter.Start(d);
+  meter.Start(m, d, 1.0 / gait.Period_s());
   result.states = RecordedStates::For(m);
   result.samples.push_back(Sample(meter, d, servos, start));
   result.states.Record(d);
@@ -177,7 +177,7 @@ GaitRunResult RunGait(Simulation& sim, const Gait& gait, const GaitRunOptions& o
     }
     meter.EndCycle(d);
   }
-  result.swim = meter.Finish(m, d);
+  result.swim = meter.Finish(m, d, 1, 0.0, 1.0 / gait.Period_s());
   RequireFiniteMetrics(result.swim, sim.source());
   return result;
 }
