@@ -71,9 +71,9 @@ Figure RegimeFigure(const std::string& input, const FigureOptions& options,
   std::string liquids;
   for (const Liquid& liquid : kLiquids) {
     liquids += "set arrow from " + N(f_min) + "," + N(liquid.viscosity_Pa_s) + " to " + N(f_max) +
-               "," + N(liquid.viscosity_Pa_s) + " nohead dt 2 lw 1 lc " + Rgb(kGrey) + "\n" +
+               "," + N(liquid.viscosity_Pa_s) + " nohead front dt 2 lw 1 lc " + Rgb(kGrey) + "\n" +
                "set label " + Q(liquid.name) + " at " + N(f_min * 1.3) + "," +
-               N(liquid.viscosity_Pa_s * 1.25) + " left font ',9' tc " + Rgb(kGrey) + "\n";
+               N(liquid.viscosity_Pa_s * 1.25) + " left front font ',10' tc rgb 'black'\n";
   }
   const std::string point = scratch.Data("run.dat", N(f0_Hz) + " " + N(mu0_Pa_s) + "\n");
   SetTitle(report, options, "Flow regime: the largest Reynolds number against frequency and viscosity",
@@ -81,22 +81,22 @@ Figure RegimeFigure(const std::string& input, const FigureOptions& options,
                " Hz, " + Format("%.3g", mu0_Pa_s) + " Pa s");
   const auto mu_at = [&](double re) { return "(" + N(slope / re) + " * $1)"; };
   Figure figure;
-  figure.width_in = 7.5;
+  figure.width_in = 9.5;
   figure.height_in = 5.5;
   figure.commands =
       "set title " + Heading(report) + "\n" +
-      "set logscale xy\nset format x '10^{%L}'\nset format y '10^{%L}'\n"
+      "set logscale xy\nset format x '%g'\nset format y '%g'\n"
       "set xrange [" + N(f_min) + ":" + N(f_max) + "]\nset yrange [" + N(mu_min) + ":" +
       N(mu_max) + "]\n"
       "set xlabel 'wave frequency [Hz]'\nset ylabel 'viscosity [Pa s]'\n"
-      "set samples 200\nset key right bottom box opaque\n" + liquids +
+      "set samples 200\nset key outside right top box\n" + liquids +
       "plot '+' using 1:" + mu_at(0.1) + ":(" + N(mu_max) +
       ") with filledcurves lc rgb '#cfe3c8' title 'Stokes flow, Re < 0.1', "
       "'+' using 1:" + mu_at(1.0) + ":" + mu_at(0.1) +
       " with filledcurves lc rgb '#f3ecc2' title '0.1 < Re < 1', "
       "'+' using 1:" + mu_at(1.0) + " with lines lw 1.5 lc " + Rgb(kRed) +
       " title 'Re = 1', '+' using 1:" + mu_at(10.0) + " with lines lw 1 dt 3 lc " + Rgb(kRed) +
-      " title 'Re = 10', " + point + " using 1:2 with points pt 7 ps 1.6 lc " + Rgb(kBlue) +
+      " title 'Re = 10', " + point + " using 1:2 with points pt 7 ps 2 lc " + Rgb(kBlue) +
       " title 'this run'\n";
   return figure;
 }

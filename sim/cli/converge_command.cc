@@ -66,11 +66,11 @@ int RunConvergeCommandLine(const ConvergeArgs& args) {
   }
   if (outcome.table_path.empty()) return 0;
   FigureOptions figure;
-  figure.x_column = "cost_s_per_simulated_s";
+  figure.x_column = "resolution";
   figure.y_column = "swim_abs_error_percent";
   figure.group_column = "study";
   figure.log_x = figure.log_y = true;
-  figure.title = "Swim error against the converged reference, by cost";
+  figure.title = "Swim error against each study's converged reference";
   const std::string png =
       (std::filesystem::path(args.spec.out) / "converge.png").string();
   DrawFigureOf(FigureKind::kSweep, outcome.table_path, figure, png);

@@ -4,12 +4,12 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "plugin/coupling.h"
 #include "sim/base/error.h"
+#include "sim/base/numbers.h"
 #include "sim/core/fan_out.h"
 #include "sim/core/scenario_overrides.h"
 #include "sim/core/scenario_simulation.h"
@@ -83,13 +83,6 @@ struct PlannedRun {
   std::vector<std::string> settings;  // KEY=VALUE
 };
 
-std::string Shortest(double value) {
-  std::ostringstream text;
-  text.precision(17);
-  text << value;
-  return text.str();
-}
-
 // Richardson's extrapolation of values at resolutions x (coarse to fine)
 // whose error goes as x^-order: from the two finest, its uncertainty the
 // distance to the extrapolation from the two before (three runs or more),
@@ -147,7 +140,7 @@ ConvergeOutcome RunConvergeCommand(const ConvergeCommand& command) {
   }
   for (int k = 0; k <= command.halvings; ++k) {
     const double h = step_s / std::pow(2.0, k);
-    const std::string setting = "timestep_s=" + Shortest(h);
+    const std::string setting = "timestep_s=" + FormatShortest(h);
     planned.push_back({{"timestep", setting, 1.0 / h}, {setting}});
   }
   for (int k = 1; k <= command.max_plates_k; ++k) {
