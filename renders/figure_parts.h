@@ -110,6 +110,10 @@ IPMC_FIGURE_BUILDER(TrajectoryFigure);      // renders/figures_run.cc
 IPMC_FIGURE_BUILDER(IdentificationFigure);  // renders/figures_identification.cc
 IPMC_FIGURE_BUILDER(SweepFigure);           // renders/figures_sweep.cc
 #undef IPMC_FIGURE_BUILDER
+// A run's summary.json: its Reynolds number against frequency and
+// viscosity (renders/figures_regime.cc).
+Figure RegimeFigure(const std::string& summary_path, const FigureOptions& options,
+                    const FigureScratch& scratch, FigureReport& report);
 // Several run directories (renders/figures_compare.cc).
 Figure CompareFigure(const std::vector<std::string>& run_dirs, const FigureOptions& options,
                      const FigureScratch& scratch, FigureReport& report);

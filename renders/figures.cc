@@ -22,7 +22,7 @@ using figure_parts::kMinMapRows;
 const std::vector<std::string>& FigureKindNames() {
   static const std::vector<std::string> names = {
       "bode",       "step",           "tracking", "waveform", "surface",
-      "trajectory", "identification", "sweep",    "compare"};
+      "trajectory", "identification", "sweep",    "compare", "regime"};
   return names;
 }
 
@@ -176,9 +176,14 @@ FigureReport DrawFigureOf(FigureKind kind, const std::string& input, const Figur
   }
   options.Validate(kind);
   FigureFormatOf(out_path);  // an unknown format stops before anything is read
-  const CsvTable table = CsvTable::Read(input);
   FigureScratch scratch;
   FigureReport report;
+  if (kind == FigureKind::kRegime) {
+    const Figure figure = figure_parts::RegimeFigure(input, options, scratch, report);
+    DrawFigure(figure, scratch, out_path, input, options.size);
+    return report;
+  }
+  const CsvTable table = CsvTable::Read(input);
   using Builder = Figure (*)(const CsvTable&, const std::string&, const FigureOptions&,
                              const FigureScratch&, FigureReport&);
   using namespace figure_parts;

@@ -67,7 +67,8 @@ enum class FigureKind {
   kTrajectory,
   kIdentification,
   kSweep,
-  kCompare
+  kCompare,
+  kRegime
 };
 
 // At most this many runs in a compare figure.

@@ -86,10 +86,22 @@ TEST(RftScenarioTest, WarnsOnReynoldsNumberAndShortWaves) {
   swim.reynolds_tip = 0.789;                        // the paper run's: inside Re < 1
   EXPECT_TRUE(FluidWarnings(swim, 32.0).empty());  // 3.2 segments per wavelength
   swim.reynolds_tip = 1.18;                         // 0.015 Hz (docs/RUNS.md, Sweeps)
+  swim.frequency_Hz = 0.015;
+  swim.viscosity_Pa_s = 1e-3;
   const std::vector<std::string> reynolds = FluidWarnings(swim, 32.0);
   ASSERT_EQ(reynolds.size(), 1u);
-  EXPECT_NE(reynolds[0].find("Reynolds number 1.18 is above 1"), std::string::npos)
+  EXPECT_NE(reynolds[0].find("Reynolds numbers 1.18 (tip)"), std::string::npos) << reynolds[0];
+  // Every Reynolds number goes as rho f / mu: Re = 0.1 at 11.8 times the
+  // viscosity, or at 1 / 11.8 of the frequency.
+  EXPECT_NE(reynolds[0].find("a viscosity of 0.0118 Pa s at 0.015 Hz, or 0.00127 Hz in this "
+                             "liquid"),
+            std::string::npos)
       << reynolds[0];
+  EXPECT_EQ(reynolds[0].find("sphere"), std::string::npos) << reynolds[0];  // no Oseen past 1
+  swim.reynolds_tip = 0.1;
+  swim.reynolds_oscillatory = 14.1;  // a 3 mm strip at 1 Hz in water (Sader 1998)
+  EXPECT_EQ(FluidWarnings(swim, 32.0).size(), 1u);
+  swim.reynolds_oscillatory = 0.0;
   swim.reynolds_tip = 0.1;
   const std::vector<std::string> short_wave = FluidWarnings(swim, 16.0);
   ASSERT_EQ(short_wave.size(), 1u);

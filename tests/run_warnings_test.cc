@@ -74,6 +74,18 @@ TEST(RunWarningsTest, EachCheckFailsJustAboveItsLimitOnly) {
   result = Clean();
   result.energy.stepping_power_W = -0.26 * result.energy.actuator_power_W_total;
   EXPECT_EQ(Failed(result), only(4));
+
+  result = Clean();
+  result.swim.step.explicit_drag = true;
+  result.swim.step.timestep_s = 5e-4;
+  result.swim.step.drag_relaxation_s = 5e-4 / kMaxStepPerDragRelaxation;
+  result.swim.step.response_error = kMaxResponseError;
+  EXPECT_EQ(Failed(result), none);
+  result.swim.step.response_error = 1.01 * kMaxResponseError;
+  EXPECT_EQ(Failed(result), only(5));
+  result.swim.step.response_error = 0.0;
+  result.swim.step.drag_relaxation_s *= 0.99;
+  EXPECT_EQ(Failed(result), only(5));
 }
 
 TEST(RunWarningsTest, TableCellsAreReadBackAndCounted) {
@@ -84,7 +96,7 @@ TEST(RunWarningsTest, TableCellsAreReadBackAndCounted) {
   hot.swim.reynolds_tip = 4.9;
   hot.links[1].clamped_fraction = 0.85;
   const std::vector<std::string> hot_row = RunWarningCells(ClosedLoopWarnings(hot));
-  EXPECT_EQ(hot_row, (std::vector<std::string>{"2", "1", "1", "0", "0", "0"}));
+  EXPECT_EQ(hot_row, (std::vector<std::string>{"2", "1", "1", "0", "0", "0", "0"}));
   ClosedLoopResult fast = Clean();
   fast.swim.reynolds_tip = 1.2;
   const std::vector<std::string> fast_row = RunWarningCells(ClosedLoopWarnings(fast));

@@ -187,6 +187,49 @@ TEST(StripKeysTest, IncludedKeysGiveTheSameScenarioAsTheKeysThemselves) {
   EXPECT_THROW(LoadScenario((dir / "loop.toml").string()), InputError);
 }
 
+// A model file and keys that generate the flagellum never compete in
+// silence: generating keys given with the model or over it win, with a
+// note; a model given over them (the including file's over an included
+// strip or plant) is refused, naming both.
+TEST(StripKeysTest, AModelAndGeneratingKeysNeverCompeteSilently) {
+  const fs::path dir = testing::FreshDir("strip_keys_model_competition");
+  const std::string model =
+      (fs::path(IPMC_SWIM_SOURCE_DIR) / "models" / "flagellum3.xml").string();
+  testing::WriteFile(dir / "strip.toml",
+                     "link_lengths_mm = [12.0, 12.0]\n[strip]\nwidth_mm = 5.0\n");
+  testing::WriteFile(dir / "plant.toml", "[plant]\na0_mm_per_V = 0.45\n");
+  // The includer's model over an included strip or plant.
+  for (const char* included : {"strip.toml", "plant.toml"}) {
+    testing::WriteFile(dir / "run.toml", "include = [\"" + std::string(included) +
+                                             "\"]\nmodel = \"" + model + "\"\n");
+    try {
+      LoadScenario((dir / "run.toml").string());
+      ADD_FAILURE() << "the model over " << included << " was taken";
+    } catch (const InputError& error) {
+      const std::string message = error.what();
+      EXPECT_NE(message.find("run.toml:2: model = "), std::string::npos) << message;
+      EXPECT_NE(message.find(included), std::string::npos) << message;
+      EXPECT_NE(message.find("give one or the other"), std::string::npos) << message;
+    }
+  }
+  // Generating keys over an included model: the generated flagellum, said.
+  testing::WriteFile(dir / "over.toml", "include = [\"" + Paper() + "\", \"plant.toml\"]\n");
+  const ScenarioConfig over = LoadScenario((dir / "over.toml").string());
+  EXPECT_TRUE(over.model.Generated());
+  ASSERT_EQ(over.notes.size(), 1u);
+  EXPECT_NE(over.notes[0].find("generated from plant.a0_mm_per_V"), std::string::npos)
+      << over.notes[0];
+  EXPECT_NE(over.notes[0].find("flagellum3.xml"), std::string::npos) << over.notes[0];
+  // Both in one file: the generated one wins (docs/SCENARIO_KEYS.md), said.
+  const ScenarioConfig same = ParseScenario(
+      "model = \"" + model + "\"\nsegments_per_link = 2\n", (dir / "same.toml").string());
+  ASSERT_EQ(same.notes.size(), 1u);
+  EXPECT_NE(same.notes[0].find("generated from segments_per_link"), std::string::npos)
+      << same.notes[0];
+  // Without competition, no note.
+  EXPECT_TRUE(LoadScenario(Paper()).notes.empty());
+}
+
 // optimize over the strip's thickness and a plant's gain: two starts of
 // two short evaluations of the generated flagellum at 0.5 Hz.
 TEST(StripKeysTest, OptimizeTakesThicknessAndA0) {

@@ -217,7 +217,7 @@ TEST_F(SweepTest, TableDoesNotDependOnJobsAndHoldsTheRunsNumbersExactly) {
 
   ASSERT_EQ(one.rows.size(), 8u);
   const std::vector<std::string>& columns = one.columns;
-  EXPECT_EQ(columns.size(), 1 + 3 + 2 + 3 * 5 + 12u + 6u);  // ..., the warnings and 5 checks
+  EXPECT_EQ(columns.size(), 1 + 3 + 2 + 3 * 5 + 12u + 7u);  // ..., the warnings and 6 checks
   auto column = [&](const std::string& name) {
     const auto it = std::find(columns.begin(), columns.end(), name);
     EXPECT_NE(it, columns.end()) << name;
@@ -242,7 +242,7 @@ TEST_F(SweepTest, TableDoesNotDependOnJobsAndHoldsTheRunsNumbersExactly) {
   EXPECT_GT(alone.swim.mean_speed_along_mm_s, 0.0);
   // Its warnings as the library decides them (sim/runs/run_warnings.h).
   const std::vector<std::string> warnings = RunWarningCells(ClosedLoopWarnings(alone));
-  EXPECT_EQ(std::vector<std::string>(row.end() - 6, row.end()), warnings);
+  EXPECT_EQ(std::vector<std::string>(row.end() - 7, row.end()), warnings);
 
   const nlohmann::ordered_json json = SweepTableJson(one);
   EXPECT_EQ(json["points"][6]["point"], 6);

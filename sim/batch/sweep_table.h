@@ -10,7 +10,7 @@
 //   lighthill_efficiency, cost_of_transport_J_m, electrical_power_W,
 //   electromechanical_efficiency (0 without the electrical model),
 //   warnings (the count), warn_reynolds, warn_clamp, warn_tracking,
-//   warn_reach, warn_stepping (1 where the run failed the check:
+//   warn_reach, warn_stepping, warn_timestep (1 where the run failed the check:
 //   sim/runs/run_warnings.h)
 // (sim/runs/closed_loop_run.h, sim/core/swim_meter.h, sim/core/energy.h). Swept values are printed as
 // the shortest text that reads back exactly ("" where a list's point keeps

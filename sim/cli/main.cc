@@ -35,6 +35,7 @@
 #include "sim/cli/keys_command.h"
 #include "sim/cli/sweep_command.h"
 #include "sim/cli/table5_command.h"
+#include "sim/cli/converge_command.h"
 #include "sim/cli/render_command.h"
 #include "sim/cli/view_command.h"
 #include "sim/core/data_paths.h"
@@ -77,6 +78,7 @@ int main(int argc, char** argv) {
       ipmc::Registration(ipmc::AddSweepCommands, ipmc::RunSweepCommandLine),  // sweep and merge
       ipmc::Registration(ipmc::AddOptimizeCommand, ipmc::RunOptimizeCommandLine),
       ipmc::Registration(ipmc::AddTable5Command, ipmc::RunTable5CommandLine),
+      ipmc::Registration(ipmc::AddConvergeCommand, ipmc::RunConvergeCommandLine),
       ipmc::Registration(ipmc::AddKeysCommand, ipmc::RunKeysCommandLine),
       ipmc::Registration(ipmc::AddOptionsCommand, ipmc::RunOptionsCommandLine),
   };

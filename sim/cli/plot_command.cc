@@ -41,13 +41,13 @@ void AddPlotCommand(CLI::App& app, PlotArgs& args) {
       app, kPlotCommand, "Draw a figure with gnuplot (PDF, SVG or PNG by the extension of --out)");
   cmd->add_option("kind", args.kind,
                   "bode (Fig. 9/10) | step (Fig. 11) | tracking (Fig. 12a) | waveform (Fig. 12b) "
-                  "| surface (Fig. 13) | trajectory | identification (Fig. 7) | sweep | compare")
+                  "| surface (Fig. 13) | trajectory | identification (Fig. 7) | sweep | compare | regime")
       ->required()
       ->check(CLI::IsMember(FigureKindNames()));
   cmd->add_option("input", args.input_paths,
                   "bode.csv, step.csv, timeseries.csv (tracking, waveform, surface, trajectory), "
-                  "response.csv (identification), a sweep table, or (compare) two or more run "
-                  "directories")
+                  "response.csv (identification), a sweep table, (compare) two or more run "
+                  "directories, or (regime) a run's summary.json")
       ->required();
   cmd->add_option("-o,--out", args.out_path, "Figure to write: FILE.pdf, FILE.svg or FILE.png")
       ->required();

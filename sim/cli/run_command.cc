@@ -11,6 +11,7 @@ namespace ipmc {
 namespace {
 
 void PrintClosedLoopResult(const ClosedLoopResult& r) {
+  for (const std::string& note : r.notes) std::fprintf(stderr, "note: %s\n", note.c_str());
   std::printf("%s controller, %s actuation, wave period %.6g s, time step %.3g s\n",
               r.controller.c_str(), ChoiceText(kActuationNames, r.actuation), r.period_s, r.timestep_s);
   PrintMetricCycles(r);

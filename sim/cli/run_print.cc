@@ -19,8 +19,12 @@ void PrintSwimMetrics(const SwimMetrics& swim, const std::vector<std::string>& w
                 c.head_along, c.head_across);
   }
   std::printf("mean speed along the swimming axis: %.6g mm/s\n", swim.mean_speed_along_mm_s);
-  std::printf("Reynolds number: %.3g (peak lateral tip speed x width), %.3g (mean speed x length)\n",
+  std::printf("Reynolds number: %.3g (peak lateral tip speed x width), %.3g (mean speed x length)",
               swim.reynolds_tip, swim.reynolds_swim);
+  if (swim.reynolds_oscillatory > 0.0) {
+    std::printf(", %.3g (oscillatory, omega w^2 / (4 nu))", swim.reynolds_oscillatory);
+  }
+  std::printf("\n");
   for (const std::string& warning : warnings) {
     std::fprintf(stderr, "warning: %s\n", warning.c_str());
   }

@@ -501,14 +501,79 @@ std::vector<std::string> IncludedFiles(const toml::table& root, const std::strin
   return files;
 }
 
+// The keys of `table` that generate the flagellum in place of a model
+// file (ModelScenario::Generated): link_lengths_mm, segments_per_link and
+// the [strip] and [plant] keys.
+std::vector<std::string> GeneratingKeys(const toml::table& table) {
+  std::vector<std::string> names = {kLinkLengthsKey, "segments_per_link"};
+  for (const KeySpec& key : StripAndPlantKeys()) names.push_back(key.name);
+  std::vector<std::string> found;
+  for (const std::string& name : names) {
+    if (table.at_path(name)) found.push_back(name);
+  }
+  return found;
+}
+
+// One file's keys as they reach a scenario: an included file's (with its
+// own includes) or the scenario file's own.
+struct KeySource {
+  std::string file;
+  const toml::table* table;
+};
+
+// The model and the keys that generate one both reach a scenario: the
+// generated flagellum wins when its keys come from the same file as the
+// model or from one over it (later in the include list, or the including
+// file), which `notes` says in one line; a model given over generating
+// keys (the including file's model over an included file's strip or
+// plant) is refused, as the generator would ignore it.
+void CompareModelWithGeneratingKeys(const std::vector<KeySource>& sources,
+                                    const std::string& source, std::uint32_t include_line,
+                                    std::vector<std::string>* notes) {
+  int model_at = -1, generating_at = -1;
+  for (int i = 0; i < static_cast<int>(sources.size()); ++i) {
+    if (sources[i].table->contains(kModelKey)) model_at = i;
+    if (!GeneratingKeys(*sources[i].table).empty()) generating_at = i;
+  }
+  if (model_at < 0 || generating_at < 0) return;
+  const int own = static_cast<int>(sources.size()) - 1;  // the including file
+  // An included file that holds both has said so when it was read.
+  if (model_at == generating_at && model_at != own) return;
+  const KeySource& model = sources[model_at];
+  const KeySource& generating = sources[generating_at];
+  std::string keys;
+  for (const std::string& key : GeneratingKeys(*generating.table)) {
+    keys += (keys.empty() ? "" : ", ") + key;
+  }
+  const std::string model_file = Quoted(model.table->get(kModelKey)->value_or(std::string()));
+  if (model_at > generating_at) {
+    const toml::node* node = model.table->get(kModelKey);
+    const std::uint32_t line = model_at == own ? node->source().begin.line : include_line;
+    throw InputError(InputProblem::kBadValue, {source, line}, kModelKey,
+                     std::string(kModelKey) + " = " + model_file + " comes over " + keys +
+                         " (in " + Quoted(generating.file) +
+                         "), which generate a flagellum of their own with the generator's "
+                         "defaults, not the model's: give one or the other",
+                     "a model file, or keys that generate the flagellum, not both");
+  }
+  notes->push_back("the flagellum is generated from " + keys + " (" + Quoted(generating.file) +
+                   ") in place of " + std::string(kModelKey) + " = " + model_file + " (" +
+                   Quoted(model.file) + "): keys that generate a flagellum win over a model given "
+                   "in the same file or before them");
+}
+
 // `root` with the keys of the files it includes under its own (each
 // included file's own includes first), and its include key gone. Each
 // included file is read as a scenario by itself first (but for the model,
 // which the including file may give), so that its errors name it and its
 // lines; its model path is made absolute, as relative to it.
-toml::table WithIncludes(toml::table root, const std::string& source, IncludeChain* chain) {
+toml::table WithIncludes(toml::table root, const std::string& source, IncludeChain* chain,
+                         std::vector<std::string>* notes) {
   const std::vector<std::string> files = IncludedFiles(root, source);
-  if (files.empty()) return root;
+  if (files.empty()) {
+    CompareModelWithGeneratingKeys({{source, &root}}, source, 0, notes);
+    return root;
+  }
   const std::uint32_t line = root.get(kIncludeKey)->source().begin.line;
   if (chain->files.size() >= static_cast<std::size_t>(kMaxIncludeDepth)) {
     throw InputError(InputProblem::kBadValue, {source, line}, kIncludeKey,
@@ -517,6 +582,8 @@ toml::table WithIncludes(toml::table root, const std::string& source, IncludeCha
                      "at most " + std::to_string(kMaxIncludeDepth) + " nested files");
   }
   toml::table merged;
+  std::vector<toml::table> tables;  // each included file's, in order
+  tables.reserve(files.size());
   for (const std::string& file : files) {
     if (std::find(chain->files.begin(), chain->files.end(), file) != chain->files.end()) {
       throw InputError(InputProblem::kBadValue, {source, line}, kIncludeKey,
@@ -531,15 +598,21 @@ toml::table WithIncludes(toml::table root, const std::string& source, IncludeCha
     }
     chain->files.push_back(file);
     toml::table included =
-        WithIncludes(ParseToml(ReadTextFile(file, "included scenario file"), file), file, chain);
+        WithIncludes(ParseToml(ReadTextFile(file, "included scenario file"), file), file, chain,
+                     notes);
     chain->files.pop_back();
     if (const ScenarioConfig own = ScenarioReader(file).Read(included, /*fragment=*/true);
         !own.model.path.empty()) {
       included.insert_or_assign(kModelKey, own.model.path);
     }
     MergeTable(merged, included);
+    tables.push_back(std::move(included));
   }
   root.erase(kIncludeKey);
+  std::vector<KeySource> sources;
+  for (std::size_t i = 0; i < files.size(); ++i) sources.push_back({files[i], &tables[i]});
+  sources.push_back({source, &root});
+  CompareModelWithGeneratingKeys(sources, source, line, notes);
   MergeTable(merged, root);
   return merged;
 }
@@ -550,7 +623,11 @@ ScenarioConfig ParseScenario(const std::string& toml_text, const std::string& so
   const ScenarioReader reader(source);
   IncludeChain chain;
   chain.files = {std::filesystem::absolute(source).lexically_normal().string()};
-  return reader.Read(WithIncludes(ParseToml(toml_text, source), source, &chain));
+  std::vector<std::string> notes;
+  ScenarioConfig config =
+      reader.Read(WithIncludes(ParseToml(toml_text, source), source, &chain, &notes));
+  config.notes = std::move(notes);
+  return config;
 }
 
 ScenarioConfig LoadScenario(const std::string& path) {

@@ -91,6 +91,9 @@ struct ScenarioConfig {
   FluidScenario fluid;            // sim/core/fluid_keys.h
   MetricsScenario metrics;
   OutputScenario output;
+  // What the reader decided where keys competed, one line each: a model
+  // file and keys that generate the flagellum (the generated one runs).
+  std::vector<std::string> notes;
 };
 
 // Parses and validates; throws InputError (sim/base/error.h, a

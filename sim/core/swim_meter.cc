@@ -49,6 +49,17 @@ void SwimMeter::Start(const mjData* d) {
   metrics_ = SwimMetrics();
 }
 
+void SwimMeter::Start(const mjModel* m, const mjData* d, double frequency_Hz,
+                      double controller_rate_Hz) {
+  Start(d);
+  metrics_.step = MeasureStepResolution(m, d, std::abs(frequency_Hz));
+  metrics_.controller_rate_Hz = controller_rate_Hz;
+}
+
+double SwimMetrics::LargestReynolds() const {
+  return std::max({reynolds_tip, reynolds_swim, reynolds_oscillatory});
+}
+
 void SwimMeter::Observe(const mjModel* m, const mjData* d) {
   if (tip_sites_.empty()) return;
   const int site = tip_sites_.back();
@@ -70,8 +81,9 @@ void SwimMeter::EndCycle(const mjData* d) {
 }
 
 SwimMetrics SwimMeter::Finish(const mjModel* m, const mjData* d, int from_cycle,
-                              double wavelength_mm) const {
+                              double wavelength_mm, double frequency_Hz) const {
   SwimMetrics metrics = metrics_;
+  metrics.frequency_Hz = std::abs(frequency_Hz);
   const BodyPose end = Pose(d);
   // Cycle `from_cycle` began at the start of the run (cycle 1), at the
   // start recorded when it ended, or at the start of the cycle running.
@@ -96,24 +108,41 @@ SwimMetrics SwimMeter::Finish(const mjModel* m, const mjData* d, int from_cycle,
     longest_m = std::max(longest_m, length_m);
   }
   metrics.body_length_mm = body_length_m * kMToMm;
+  metrics.viscosity_Pa_s = fluid.Viscosity_Pa_s();
   metrics.longest_segment_mm = longest_m * kMToMm;
   const double width_m = StripWidth_m(m);
   const double rho_over_mu = fluid.FluidDensity_kg_m3() / fluid.Viscosity_Pa_s();
   metrics.reynolds_tip = rho_over_mu * metrics.peak_lateral_tip_speed_mm_s / kMToMm * width_m;
   metrics.reynolds_swim =
       rho_over_mu * std::abs(metrics.mean_speed_along_mm_s) / kMToMm * body_length_m;
+  constexpr double kTwoPi = 6.283185307179586;
+  metrics.reynolds_oscillatory =
+      rho_over_mu * kTwoPi * metrics.frequency_Hz * width_m * width_m / 4.0;
   metrics.warnings = FluidWarnings(metrics, wavelength_mm);
   return metrics;
 }
 
 std::vector<std::string> FluidWarnings(const SwimMetrics& swim, double wavelength_mm) {
-  std::vector<std::string> warnings;
-  const double reynolds = std::max(swim.reynolds_tip, swim.reynolds_swim);
+  std::vector<std::string> warnings =
+      StepResolutionWarnings(swim.step, swim.controller_rate_Hz);
+  const double reynolds = swim.LargestReynolds();
   if (reynolds > kReynoldsWarning) {
+    // Every Reynolds number here goes as rho f / mu at a given wave shape.
     std::ostringstream msg;
-    msg << "Reynolds number " << std::setprecision(3) << reynolds << " is above "
-        << kReynoldsWarning << "; the drag models assume Stokes flow, Re << 1 (inertia adds about "
-        << std::setprecision(2) << 100.0 * 3.0 / 16.0 * reynolds << " % to a sphere's drag)";
+    msg << std::setprecision(3) << "Reynolds numbers " << swim.reynolds_tip << " (tip), "
+        << swim.reynolds_swim << " (swim)";
+    if (swim.reynolds_oscillatory > 0.0) msg << ", " << swim.reynolds_oscillatory << " (oscillatory)";
+    msg << ": above " << kReynoldsWarning
+        << ", where the liquid's inertia matters and every fluid model here (Stokes flow, Re << "
+           "1) does not hold, so the swim and the powers are not predictions; Re = "
+        << kReynoldsStokes << " needs";
+    const double viscosity_Pa_s = swim.viscosity_Pa_s * reynolds / kReynoldsStokes;
+    msg << " a viscosity of " << viscosity_Pa_s << " Pa s";
+    if (swim.frequency_Hz > 0.0) {
+      msg << " at " << swim.frequency_Hz << " Hz, or " << swim.frequency_Hz * kReynoldsStokes / reynolds
+          << " Hz in this liquid";
+    }
+    msg << " (docs/REGIME.md)";
     warnings.push_back(msg.str());
   }
   if (wavelength_mm > 0.0 && swim.longest_segment_mm > 0.0 &&

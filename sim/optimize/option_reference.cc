@@ -9,6 +9,7 @@
 #include "sim/identify/pipeline_run.h"
 #include "sim/optimize/optimize_run.h"
 #include "sim/runs/bench_command.h"
+#include "sim/runs/converge_study.h"
 #include "sim/runs/gait_command.h"
 #include "sim/runs/run_command.h"
 #include "sim/runs/table5_run.h"
@@ -20,8 +21,9 @@ std::vector<OptionTableInfo> EveryOptionTable() {
           InfoOf(OptimizeOptionTable()),
           InfoOf(GenerateOptions()), InfoOf(GaitOptions()),      InfoOf(BenchOptions()),
           InfoOf(BodeOptions()),     InfoOf(StepOptions()),      InfoOf(IdentifyOptions()),
-          InfoOf(DesignOptions()),   InfoOf(ExportOptions()),     InfoOf(PipelineOptions()),  InfoOf(Table5Options()),
-          InfoOf(KeysOptions()),     InfoOf(OptionsOptions())};
+          InfoOf(DesignOptions()),   InfoOf(ExportOptions()),    InfoOf(PipelineOptions()),
+          InfoOf(Table5Options()),   InfoOf(ConvergeOptions()),  InfoOf(KeysOptions()),
+          InfoOf(OptionsOptions())};
 }
 
 std::string OptionsReference(const ReferenceCommand& command) {

@@ -254,6 +254,7 @@ ClosedLoopResult StartResult(const ScenarioConfig& scenario, const mjModel* m,
   result.timestep_s = timing.dt_s;
   result.links.resize(links);
   result.states = RecordedStates::For(m);
+  result.notes = scenario.notes;
   return result;
 }
 
@@ -264,7 +265,8 @@ void FinishResult(const ScenarioConfig& scenario, const ClosedLoopTiming& timing
                   ClosedLoopResult& result) {
   mjModel* m = sim.model();
   mjData* d = sim.data();
-  result.swim = meter.Finish(m, d, from_cycle, scenario.waveform.wavelength_mm);
+  result.swim = meter.Finish(m, d, from_cycle, scenario.waveform.wavelength_mm,
+                             scenario.waveform.frequency_Hz);
   if (scenario.output.samples_per_cycle > timing.samples_per_cycle) {
     // Not silently fewer rows than asked for.
     result.swim.warnings.push_back(FormatText(
@@ -307,7 +309,7 @@ ClosedLoopResult StepClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
   std::vector<double> volts(links, 0.0), reference(links, 0.0), measured(links, 0.0);
   long samples = 0;
   SwimMeter meter(m);
-  meter.Start(d);
+  meter.Start(m, d, scenario.waveform.frequency_Hz, scenario.controller.sample_rate_Hz);
   EnergyMeter energy(m, d);
   // Each link's active moment is read at its root hinge.
   std::vector<int> root_dofs;

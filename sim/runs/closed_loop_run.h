@@ -68,6 +68,8 @@ struct ClosedLoopResult {
   // How often a link's free deflection went beyond the link's reach and
   // was clamped (IpmcActuators::ClampCount).
   long reach_clamps = 0;
+  // The scenario reader's notes (ScenarioConfig::notes).
+  std::vector<std::string> notes;
   std::vector<ClosedLoopSample> samples;
   RecordedStates states;  // the model's qpos at every recorded sample
 };

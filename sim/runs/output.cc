@@ -209,6 +209,17 @@ std::vector<std::pair<const char*, double>> BodyPoseValues(const BodyPose& pose)
           {columns::kYaw, pose.yaw_rad}};
 }
 
+// Whether the step resolves the explicit relaxations (sim/core/step_resolution.h).
+nlohmann::json StepResolutionJson(const StepResolution& step) {
+  return {{"explicit_drag", step.explicit_drag},
+          {"timestep_s", step.timestep_s},
+          {"drag_relaxation_s", step.drag_relaxation_s},
+          {"hinge_rate_rad_s", step.hinge_rate_rad_s},
+          {"response_error", step.response_error},
+          {"resolving_timestep_s", step.resolving_timestep_s},
+          {"resolved", step.Resolved()}};
+}
+
 nlohmann::json SwimMetricsJson(const SwimMetrics& swim) {
   nlohmann::json cycles = nlohmann::json::array();
   for (size_t k = 0; k < swim.per_cycle.size(); ++k) {
@@ -225,6 +236,10 @@ nlohmann::json SwimMetricsJson(const SwimMetrics& swim) {
           {"peak_lateral_tip_speed_mm_s", swim.peak_lateral_tip_speed_mm_s},
           {"reynolds_tip", swim.reynolds_tip},
           {"reynolds_swim", swim.reynolds_swim},
+          {"reynolds_oscillatory", swim.reynolds_oscillatory},
+          {"frequency_Hz", swim.frequency_Hz},
+          {"viscosity_Pa_s", swim.viscosity_Pa_s},
+          {"step_resolution", StepResolutionJson(swim.step)},
           {"warnings", swim.warnings}};
 }
 
@@ -357,6 +372,7 @@ nlohmann::json ClosedLoopSummaryJson(const ClosedLoopResult& result) {
   summary["metrics_cycles"] = MetricCyclesText(result);
   if (result.swim.from_cycle > 1) summary["startup"] = StartupJson(result);
   summary["warnings"] = ClosedLoopWarningLines(result);
+  summary["notes"] = result.notes;
   summary["warning_checks"] = WarningChecksJson(ClosedLoopWarnings(result));
   summary[columns::kActuatorPower] = energy.actuator_power_W_total;
   summary[columns::kFluidPower] = energy.fluid_power_W;

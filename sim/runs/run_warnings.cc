@@ -7,7 +7,7 @@
 namespace ipmc {
 namespace {
 
-enum Check { kReynolds, kClamp, kTracking, kReach, kStepping };
+enum Check { kReynolds, kClamp, kTracking, kReach, kStepping, kTimestep };
 
 std::string Percent(double share) {
   std::ostringstream text;
@@ -26,7 +26,9 @@ RunWarnings ClosedLoopWarnings(const ClosedLoopResult& result) {
   RunWarnings warnings;
   const SwimMetrics& swim = result.swim;
   // Its message is the swim's own (FluidWarnings, sim/core/swim_meter.h).
-  warnings.failed[kReynolds] = std::max(swim.reynolds_tip, swim.reynolds_swim) > kReynoldsWarning;
+  warnings.failed[kReynolds] = swim.LargestReynolds() > kReynoldsWarning;
+  // Its message too (StepResolutionWarnings, sim/core/step_resolution.h).
+  warnings.failed[kTimestep] = !swim.step.Resolved();
   const int driven = result.actuation == Actuation::kSingle ? 1 : static_cast<int>(result.links.size());
   for (int q = 0; q < driven && q < static_cast<int>(result.links.size()); ++q) {
     const LinkTracking& link = result.links[q];

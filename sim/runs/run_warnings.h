@@ -2,8 +2,9 @@
 // can fail, decided here once for every front end (the run's printout and
 // summary.json, sweep and optimisation tables, sweep figures).
 //
-//   reynolds  the peak tip or the swimming Reynolds number above
-//             kReynoldsWarning (1): every drag model here is Stokes flow
+//   reynolds  the peak tip, the swimming or the oscillatory Reynolds
+//             number above kReynoldsWarning (1): every drag model here is
+//             Stokes flow
 //   clamp     a driven link at the +-v_max clamp in more than 25 % of the
 //             controller samples of the metric cycles
 //   tracking  a driven link's peak tracking error above the amplitude of
@@ -13,6 +14,9 @@
 //   stepping  the time step's own power (sim/core/energy.h) above 25 % of
 //             the actuators' mean power: the energy figures measure the
 //             integrator, not the swimmer
+//   timestep  an inertial run's step above what resolves the relaxations
+//             it integrates explicitly (sim/core/step_resolution.h): the
+//             swim itself may be off by more than 1 %
 #pragma once
 
 #include <iterator>
@@ -40,6 +44,7 @@ inline constexpr RunWarningCheck kRunWarningChecks[] = {
     {"warn_tracking", "tracking error > reference"},
     {"warn_reach", "link reach clamped"},
     {"warn_stepping", "time step > 25 % of actuator power"},
+    {"warn_timestep", "time step > explicit relaxation"},
 };
 constexpr int kRunWarningCheckCount = static_cast<int>(std::size(kRunWarningChecks));
 // The table column counting a run's failed checks.

@@ -113,6 +113,11 @@ def make_fixtures(d):
     write(f"{d}/syntax.toml", "cycles = = 3\n")
     write(f"{d}/unknown_key.toml", scenario(colour='"blue"'))
     write(f"{d}/unknown_table.toml", SHORT_SCENARIO + "[nonsense]\nx = 1\n")
+    # A model given over included keys that generate a flagellum: refused.
+    write(f"{d}/strip_keys.toml", "link_lengths_mm = [12.0, 12.0]\n[strip]\nwidth_mm = 5.0\n")
+    write(f"{d}/plant_keys.toml", "[plant]\na0_mm_per_V = 0.45\n")
+    write(f"{d}/model_over_strip.toml", 'include = ["strip_keys.toml"]\n' + SHORT_SCENARIO)
+    write(f"{d}/model_over_plant.toml", 'include = ["plant_keys.toml"]\n' + SHORT_SCENARIO)
     write(f"{d}/cycles_zero.toml", scenario(cycles="0"))
     write(f"{d}/cycles_negative.toml", scenario(cycles="-2"))
     write(f"{d}/cycles_float.toml", scenario(cycles="2.5"))
