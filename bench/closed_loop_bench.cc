@@ -45,6 +45,7 @@
 #include "bench/ratio_reporter.h"
 #include "sim/core/data_paths.h"
 #include "ipmc_swim/ipmc_swim.h"
+#include "plugin/dynamics/step_model.h"
 #include "sim/core/model_generator.h"
 #include "sim/core/scenario.h"
 #include "sim/core/simulation.h"
@@ -157,7 +158,6 @@ void CoupledSteps(benchmark::State& state, const std::string& xml, double timest
   for (auto _ : state) {
     ModelPtr m = LoadModelString(xml);
     m->opt.timestep = timestep_s;
-    UseEulerWhereImplicitAddsNothing(m.get());
     Simulation sim(std::move(m), "benchmark model");
     const mjModel* model = sim.model();
     mjData* d = sim.data();

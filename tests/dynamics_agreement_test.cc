@@ -77,7 +77,6 @@ Complex BenchResponse(Dynamics dynamics, double timestep_s, double mass_scale,
                       double frequency_Hz) {
   ModelPtr model = LoadModelFile(kSource + "/models/flagellum3_clamped.xml");
   model->opt.timestep = timestep_s;
-  UseEulerWhereImplicitAddsNothing(model.get());
   IpmcActuatorsOverrides overrides;
   overrides.dynamics = dynamics;
   Simulation sim(std::move(model), "clamped flagellum", overrides);

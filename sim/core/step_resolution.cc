@@ -33,8 +33,8 @@ double LargestRate(const Eigen::MatrixXd& a, const Eigen::MatrixXd& mass) {
 
 // The linearised body at its rest shape.
 struct LinearBody {
-  // damping: the step's (dof_damping, c_eff where SetHingeDamping set it,
-  // sim/core/hinge_damping.h); physical_damping: the hinges' own c.
+  // damping: the step's (dof_damping, c_eff where the coupling gave it,
+  // plugin/dynamics/step_model.h); physical_damping: the hinges' own c.
   Eigen::MatrixXd mass, drag, stiffness, damping, physical_damping;
   std::vector<int> hinges;  // the dofs of hinge joints
 };
@@ -115,7 +115,7 @@ StepResolution MeasureStepResolution(const mjModel* m, const mjData* d, double f
     mju_zero(c->qfrc_passive, nv);
     coupling->fluid->Apply(m, c);
     for (int i = 0; i < nv; ++i) body.drag(i, j) = -c->qfrc_passive[i];
-    body.damping(j, j) = m->dof_damping[j];
+    body.damping(j, j) = coupling->step.model->dof_damping[j];
     body.physical_damping(j, j) = physical != nullptr ? (*physical)[j] : m->dof_damping[j];
     const int joint = m->dof_jntid[j];
     if (m->jnt_type[joint] == mjJNT_HINGE) {

@@ -288,7 +288,6 @@ ClosedLoopResult StepClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
                                 const SampleObserver& observer, const RunHeartbeat& heartbeat) {
   scenario.waveform.Validate();
   mjModel* m = sim.model();
-  UseEulerWhereImplicitAddsNothing(m);  // no servo: Euler suffices
   mjData* d = sim.data();
   const LinkSensors sensors(m, d, sim.source());
   const int links = sensors.Links();
