@@ -5,6 +5,7 @@
 // sim/core/swim_meter.h). Stepping releases the GIL, so simulations in
 // different Python threads run in parallel; one simulation is used by one
 // thread at a time (a mutex serialises the calls).
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <mutex>
@@ -172,6 +173,50 @@ class PythonSimulation {
     std::lock_guard<std::mutex> lock(mutex_);
     return std::vector<double>(sim_->data()->qvel, sim_->data()->qvel + sim_->model()->nv);
   }
+  // Sets qpos or qvel (`what`), `size` values.
+  void SetState(const char* what, double* target, int size, const std::vector<double>& values) {
+    if (static_cast<int>(values.size()) != size) {
+      throw std::invalid_argument(std::string("set_") + what + ": needs " + std::to_string(size) +
+                                  " values (got " + std::to_string(values.size()) + ")");
+    }
+    for (double value : values) {
+      if (!std::isfinite(value)) {
+        throw std::invalid_argument(std::string("set_") + what + ": values must be finite");
+      }
+    }
+    std::copy(values.begin(), values.end(), target);
+  }
+  void SetQpos(const std::vector<double>& values) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    SetState("qpos", sim_->data()->qpos, sim_->model()->nq, values);
+  }
+  void SetQvel(const std::vector<double>& values) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    SetState("qvel", sim_->data()->qvel, sim_->model()->nv, values);
+  }
+  // ipmc::FluidForces as (bodies, force [N], torque [N m]) arrays.
+  py::tuple FluidForces() {
+    std::vector<BodyFluidForce> forces;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      forces = ipmc::FluidForces(sim_->model(), sim_->data());
+    }
+    const py::ssize_t n = static_cast<py::ssize_t>(forces.size());
+    py::array_t<int> bodies(n);
+    py::array_t<double> force({n, py::ssize_t{3}}), torque({n, py::ssize_t{3}});
+    for (py::ssize_t i = 0; i < n; ++i) {
+      bodies.mutable_at(i) = forces[i].body;
+      for (int k = 0; k < 3; ++k) {
+        force.mutable_at(i, k) = forces[i].force_N[k];
+        torque.mutable_at(i, k) = forces[i].torque_N_m[k];
+      }
+    }
+    return py::make_tuple(bodies, force, torque);
+  }
+  double FluidPower_W() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return ipmc::FluidPower_W(sim_->model(), sim_->data());
+  }
 
   std::vector<double> References_mm(std::optional<double> t_s) {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -323,6 +368,14 @@ parallel.)")
            "Time, centre of mass, head, yaw and tips [mm, rad] (the swim meter's).")
       .def("qpos", [](PythonSimulation& s) { return Array(s.Qpos()); }, "MuJoCo's qpos.")
       .def("qvel", [](PythonSimulation& s) { return Array(s.Qvel()); }, "MuJoCo's qvel.")
+      .def("set_qpos", &PythonSimulation::SetQpos, py::arg("qpos"), "Sets MuJoCo's qpos.")
+      .def("set_qvel", &PythonSimulation::SetQvel, py::arg("qvel"), "Sets MuJoCo's qvel.")
+      .def("fluid_forces", &PythonSimulation::FluidForces,
+           "The fluid's force on each body it acts on (ipmc::FluidForces): (bodies, "
+           "force_N (n, 3), torque_N_m (n, 3)), world frame, the torque about each body's "
+           "origin, from the current qpos and qvel.")
+      .def("fluid_power_W", &PythonSimulation::FluidPower_W,
+           "The power the body loses to the fluid [W] (ipmc::FluidPower_W).")
       .def("references_mm",
            [](PythonSimulation& s, std::optional<double> t) { return Array(s.References_mm(t)); },
            py::arg("t_s") = py::none(),

@@ -31,3 +31,18 @@ def test_from_model_replays_the_default_job(tmp_path):
     print(f"{len(coordinates)} coordinates, largest {largest:.6g}, largest difference {worst:.3g}")
     # Measured 0: the run's doubles replayed bit for bit.
     assert worst <= 1e-9 * largest
+
+
+def test_fluid_forces_of_a_towed_body_as_arrays():
+    # The paper's model towed along x at 1 mm/s, straight: the fluid's
+    # forces sum to -U times the towing drag's slope along x, and the
+    # power to U^2 times it (the head and three links, RFT).
+    sim = ipmc_swim.Simulation.from_model(SOURCE_DIR / "models" / "flagellum3.xml")
+    qvel = np.zeros(len(sim.qvel()))
+    qvel[0] = 1e-3
+    sim.set_qvel(qvel.tolist())
+    bodies, force, torque = sim.fluid_forces()
+    assert force.shape == (len(bodies), 3) and torque.shape == (len(bodies), 3)
+    drag = force[:, 0].sum()
+    assert drag < 0 and abs(force[:, 1].sum()) < 1e-12 * abs(drag)
+    assert abs(sim.fluid_power_W() + drag * 1e-3) < 1e-12 * abs(drag) * 1e-3
