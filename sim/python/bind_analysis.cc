@@ -228,6 +228,9 @@ py::dict DesignDict(int link, const LinkDesign& design) {
   pid["paper_cost"] = design.paper_cost;
   pid["margins"] = MarginsDict(design.pid_margins);
   pid["runs"] = runs;
+  pid["sample_rate_Hz"] = 1.0 / design.tuning.sample_period_s;
+  pid["derivative_filter_s"] = design.tuning.derivative_filter_s;
+  pid["derivative_noise_V"] = design.derivative_noise_V;
 
   py::dict result;
   result["link"] = link;

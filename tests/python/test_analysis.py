@@ -161,3 +161,40 @@ def test_design_takes_links_and_rate_from_a_scenario(tmp_path):
     assert "derivative_filter_s = 0.002" in gains and "in a 500 Hz loop" in gains
     # The plants are the scenario's own (its plant keys).
     assert "a0 = 0.47 mm/V" in printed
+
+
+def test_design_defaults_to_the_controllers_1_kHz_loop():
+    [result] = ipmc_swim.design(links=[3], horizon_s=0.5)
+    assert result["pid"]["sample_rate_Hz"] == 1000.0
+    assert "loop sampled at 1000 Hz (linear, no clamp):" in run_cli(
+        "design", "--links", "3", "--horizon-s", "0.5")[1]
+
+
+def test_design_filters_the_derivative_for_the_sensor_noise(tmp_path):
+    (tmp_path / "plant.toml").write_text(PLANTS)
+    options = {"plant_file": tmp_path / "plant.toml", "horizon_s": 1.0, "sensor_noise_mm": 0.002,
+               "derivative_noise_V": 0.1}
+    designs = ipmc_swim.design(out=tmp_path / "python.toml", **options)
+    run_cli("design", "--plant-file", tmp_path / "plant.toml", "--horizon-s", "1",
+            "--sensor-noise-mm", "0.002", "--derivative-noise-v", "0.1",
+            "--out", tmp_path / "cli.toml")
+    assert (tmp_path / "python.toml").read_bytes() == (tmp_path / "cli.toml").read_bytes()
+    # One Tf for every link, the smallest (to 1 %) that keeps each link's
+    # derivative noise Kd sigma sqrt(2 / ((Tf + T) (2 Tf + T))) within the
+    # bound at the Kd tuned with it (docs/IDENTIFICATION.md).
+    T = 1e-3
+    [tf] = {d["pid"]["derivative_filter_s"] for d in designs}
+    assert tf > 0
+    for d in designs:
+        kd = d["pid"]["kd"]
+        noise = kd * 0.002 * (2 / ((tf + T) * (2 * tf + T))) ** 0.5
+        assert d["pid"]["derivative_noise_V"] == pytest.approx(noise, rel=1e-12)
+        assert noise <= 0.1
+    assert max(d["pid"]["derivative_noise_V"] for d in designs) > 0.1 / 1.02 ** 2
+    assert f"derivative_filter_s = {tf!r}" in (tmp_path / "cli.toml").read_text()
+    with pytest.raises(ipmc_swim.Error, match="derivative_bandwidth_rad_s does not apply with "
+                                              "sensor_noise_mm"):
+        ipmc_swim.design(derivative_bandwidth_rad_s=100.0, **options)
+    with pytest.raises(ipmc_swim.Error, match="derivative_noise_V applies only with "
+                                              "sensor_noise_mm"):
+        ipmc_swim.design(links=[3], derivative_noise_V=0.1)

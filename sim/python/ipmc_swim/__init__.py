@@ -270,9 +270,12 @@ def design(**options):
     """The fractional integrator and the tuned PID of each link, as ``ipmc-swim design``.
 
     options: links, plant, crossover_rad_s, phase_margin_deg,
-    reference_order, horizon_s, sample_rate_Hz, derivative_bandwidth_rad_s,
-    plant_file, scenario (every link of its run, at its sample rate), out.
-    Returns a list, one Result per link (link, fractional, pid, tuning_s).
+    reference_order, horizon_s, sample_rate_Hz (1 kHz), derivative_bandwidth_rad_s,
+    sensor_noise_mm and derivative_noise_V (the derivative filter from the
+    sensor's noise), plant_file, scenario (every link of its run, at its
+    sample rate), out. Returns a list, one Result per link (link,
+    fractional, pid with its sample_rate_Hz, derivative_filter_s and
+    derivative_noise_V, tuning_s).
     """
     return [Result(link) for link in _core.design(options)]
 
