@@ -259,6 +259,19 @@ std::size_t HorizonPoints(const std::vector<double>& time_s, double horizon_s,
   return points;
 }
 
+// Table 5's IAE and ITAE of a unit step's error over the samples before
+// the horizon (the record holds one point per sample from t = 0).
+TrackingIndices StepIndices(const ClosedLoopResponse& response, double horizon_s) {
+  const double period_s = response.sample_period_s;
+  const std::size_t samples =
+      HorizonPoints(response.time_s, horizon_s, period_s) - 1;  // t_k < the horizon's end
+  TrackingIndices indices;
+  for (std::size_t k = 0; k < samples; ++k) {
+    indices.Add(response.time_s[k], 1.0 - response.output[k], period_s);
+  }
+  return indices;
+}
+
 }  // namespace
 
 // ------------------------------------------------------------------ bode ---
@@ -452,6 +465,7 @@ StepAnalysis AnalyseStep(const StepSpec& spec) {
       step.max_abs_control_V = std::max(step.max_abs_control_V, std::abs(u));
     }
     step.cost = ReferenceModelCost(step.response, model, spec.horizon_s);
+    step.indices = StepIndices(step.response, spec.horizon_s);
     analysis.links.push_back(std::move(step));
   }
 

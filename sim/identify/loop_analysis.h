@@ -136,6 +136,10 @@ struct LinkStep {
   StepRecordStatus status = StepRecordStatus::kDetermined;
   double max_abs_control_V = 0;
   double cost = 0;              // J of eq. 11 over the horizon
+  // Table 5's indices (TrackingIndices, the rectangle rule at the sample
+  // rate, as `run` and `table5` compute them) of the step's error
+  // e = 1 mm - y over the horizon's samples t_k = k T < horizon_s.
+  TrackingIndices indices;
 };
 
 struct StepAnalysis {

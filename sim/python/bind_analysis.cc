@@ -104,6 +104,8 @@ py::dict Step(const py::dict& kwargs) {
     link["determined"] = step.status == StepRecordStatus::kDetermined;
     link["max_abs_control_V"] = step.max_abs_control_V;
     link["cost"] = step.cost;
+    link["iae_mm_s"] = step.indices.iae_mm_s;
+    link["itae_mm_s2"] = step.indices.itae_mm_s2;
     links.append(link);
   }
   py::dict reference;

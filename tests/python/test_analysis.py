@@ -198,3 +198,25 @@ def test_design_filters_the_derivative_for_the_sensor_noise(tmp_path):
     with pytest.raises(ipmc_swim.Error, match="derivative_noise_V applies only with "
                                               "sensor_noise_mm"):
         ipmc_swim.design(links=[3], derivative_noise_V=0.1)
+
+
+def test_step_reports_table5s_indices_alike_on_table2_and_a_plant_file(tmp_path):
+    # Eq. 7's plant (Table 2's link 3) written as plant keys: the same
+    # computation on the user's plant gives the same numbers.
+    (tmp_path / "plant.toml").write_text(
+        '[plant]\nmodel = "g1"\na0_mm_per_V = 0.37609\nb1 = 0.02331\nb2_s2 = 0.00213\n')
+    table2 = ipmc_swim.step("pid", links=[3], horizon_s=2.0)["links"][0]
+    own = ipmc_swim.step("pid", links=[3], horizon_s=2.0,
+                         plant_file=tmp_path / "plant.toml")["links"][0]
+    assert own["iae_mm_s"] == table2["iae_mm_s"] and own["itae_mm_s2"] == table2["itae_mm_s2"]
+    # Table 5's rectangle rule over the samples t_k = k T < 2 s of the record.
+    t, y = own["time_s"], own["output_mm"]
+    before = t < 2.0 - 1e-9
+    assert before.sum() == 2000
+    error = np.abs(1.0 - y[before])
+    assert own["iae_mm_s"] == pytest.approx(np.sum(error) * 1e-3, rel=1e-12)
+    assert own["itae_mm_s2"] == pytest.approx(np.sum(t[before] * error) * 1e-3, rel=1e-12)
+    _, printed, _ = run_cli("step", "--controller", "pid", "--links", "3", "--horizon-s", "2",
+                            "--plant-file", tmp_path / "plant.toml")
+    row = next(line.split() for line in printed.splitlines() if line.startswith("   3 "))
+    assert row[-2:] == [f"{own['iae_mm_s']:.6f}", f"{own['itae_mm_s2']:.6f}"]
