@@ -41,6 +41,38 @@ void PrintStepRow(const std::string& label, const StepMetrics& m, StepRecordStat
               max_abs_u.c_str(), cost.c_str(), record.c_str(), indices.c_str());
 }
 
+void PrintStepHeader() {
+  std::printf("%4s %11s %11s %9s %11s %12s %11s %9s %9s %10s %11s\n", "link", "overshoot_%",
+              "rise_time_s", "peak_mm", "peak_time_s", "settling_s", "max_abs_u_V", "J_eq11",
+              "record_s", "iae_mm_s", "itae_mm_s2");
+}
+
+// The links' rows; returns what their records leave open, one item a link.
+std::vector<std::string> PrintLinkRows(const std::vector<LinkStep>& steps) {
+  std::vector<std::string> open_metrics;
+  for (const LinkStep& step : steps) {
+    char u_text[32], cost_text[32], record_text[32], indices_text[64];
+    std::snprintf(u_text, sizeof(u_text), "%.3f", step.max_abs_control_V);
+    std::snprintf(cost_text, sizeof(cost_text), "%.4f", step.cost);
+    std::snprintf(record_text, sizeof(record_text), "%g", step.response.time_s.back());
+    std::snprintf(indices_text, sizeof(indices_text), "%10.6f %11.6f", step.indices.iae_mm_s,
+                  step.indices.itae_mm_s2);
+    PrintStepRow(std::to_string(step.link), step.metrics, step.status, u_text, cost_text,
+                 record_text, indices_text);
+    if (step.status != StepRecordStatus::kDetermined) {
+      open_metrics.push_back("link " + std::to_string(step.link) + ": " +
+                             StepRecordStatusText(step.status) + " at " + record_text + " s");
+    }
+  }
+  return open_metrics;
+}
+
+std::string JoinedItems(const std::vector<std::string>& items) {
+  std::string list;
+  for (const std::string& item : items) list += (list.empty() ? "" : "; ") + item;
+  return list;
+}
+
 void PrintStep(const StepCommand& args, const StepAnalysis& analysis) {
   std::printf("unit step (1 mm), controller %s: %s\n", args.controller.c_str(),
               analysis.controller_description.c_str());
@@ -55,25 +87,8 @@ void PrintStep(const StepCommand& args, const StepAnalysis& analysis) {
   std::printf("; s^-0.5%s by %d Oustaloup pairs on [%g, %g] rad/s\n",
               args.controller == controller_names::kFractional ? " and s^-lambda" : "", analysis.oustaloup_pairs,
               analysis.band_low_rad_s, analysis.band_high_rad_s);
-  std::printf("%4s %11s %11s %9s %11s %12s %11s %9s %9s %10s %11s\n", "link", "overshoot_%",
-              "rise_time_s", "peak_mm", "peak_time_s", "settling_s", "max_abs_u_V", "J_eq11",
-              "record_s", "iae_mm_s", "itae_mm_s2");
-  std::vector<std::string> open_metrics;
-  for (const LinkStep& step : analysis.links) {
-    char u_text[32], cost_text[32], record_text[32];
-    std::snprintf(u_text, sizeof(u_text), "%.3f", step.max_abs_control_V);
-    std::snprintf(cost_text, sizeof(cost_text), "%.4f", step.cost);
-    std::snprintf(record_text, sizeof(record_text), "%g", step.response.time_s.back());
-    char indices_text[64];
-    std::snprintf(indices_text, sizeof(indices_text), "%10.6f %11.6f", step.indices.iae_mm_s,
-                  step.indices.itae_mm_s2);
-    PrintStepRow(std::to_string(step.link), step.metrics, step.status, u_text, cost_text,
-                 record_text, indices_text);
-    if (step.status != StepRecordStatus::kDetermined) {
-      open_metrics.push_back("link " + std::to_string(step.link) + ": " +
-                             StepRecordStatusText(step.status) + " at " + record_text + " s");
-    }
-  }
+  PrintStepHeader();
+  std::vector<std::string> open_metrics = PrintLinkRows(analysis.links);
   char reference_record[32];
   std::snprintf(reference_record, sizeof(reference_record), "%g", analysis.time_s.back());
   PrintStepRow("ref", analysis.reference_metrics, StepRecordStatus::kDetermined, "-", "-",
@@ -87,9 +102,19 @@ void PrintStep(const StepCommand& args, const StepAnalysis& analysis) {
               "they are determined, at most %g s\n",
               analysis.metrics_horizon_s);
   if (!open_metrics.empty()) {
-    std::string list;
-    for (const std::string& item : open_metrics) list += (list.empty() ? "" : "; ") + item;
-    std::printf("*: not determined by the record (%s); raise --max-horizon-s\n", list.c_str());
+    std::printf("*: not determined by the record (%s); raise --max-horizon-s\n",
+                JoinedItems(open_metrics).c_str());
+  }
+  if (analysis.bench.empty()) return;
+  std::printf("\non the multibody bench %s (its model, plants, time step and fluid; the "
+              "stepped link's reference 1 mm from t = 0, the other links' 0, every link under "
+              "the controllers above), over the %g s horizon:\n",
+              args.bench_scenario.c_str(), args.horizon_s);
+  PrintStepHeader();
+  const std::vector<std::string> open_bench = PrintLinkRows(analysis.bench);
+  if (!open_bench.empty()) {
+    std::printf("*: not determined by the bench's record (%s); raise --horizon-s\n",
+                JoinedItems(open_bench).c_str());
   }
 }
 

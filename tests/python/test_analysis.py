@@ -220,3 +220,32 @@ def test_step_reports_table5s_indices_alike_on_table2_and_a_plant_file(tmp_path)
                             "--plant-file", tmp_path / "plant.toml")
     row = next(line.split() for line in printed.splitlines() if line.startswith("   3 "))
     assert row[-2:] == [f"{own['iae_mm_s']:.6f}", f"{own['itae_mm_s2']:.6f}"]
+
+
+def test_step_on_the_bench_beside_the_linear_loop(tmp_path):
+    (tmp_path / "plant.toml").write_text(PLANTS)
+    (tmp_path / "gains.toml").write_text(GAINS)
+    bench = tmp_path / "strip.toml"
+    bench.write_text('include = ["plant.toml"]\nlink_lengths_mm = [12.0, 12.0]\n'
+                     'dynamics = "stokes"\ntimestep_s = 1e-3\n'
+                     '[strip]\nwidth_mm = 5.0\nthickness_um = 200.0\n')
+    args = ["step", "--controller", "pid", "--plant-file", tmp_path / "plant.toml",
+            "--gains-file", tmp_path / "gains.toml", "--horizon-s", "2"]
+    _, linear, _ = run_cli(*args)
+    _, both, _ = run_cli(*args, "--bench", bench)
+    # The linear loop's lines are the plain step's, the bench's table follows.
+    assert both.startswith(linear)
+    bench_part = both[len(linear):]
+    assert f"on the multibody bench {bench} " in bench_part
+    rows = [line.split() for line in bench_part.splitlines() if line.startswith("   ")]
+    assert [row[0] for row in rows] == ["1", "2"]
+    result = ipmc_swim.step("pid", plant_file=tmp_path / "plant.toml",
+                            gains_file=tmp_path / "gains.toml", horizon_s=2.0, bench=bench)
+    for row, link in zip(rows, result["bench"]):
+        assert row[1].rstrip("*") == f"{link['metrics']['overshoot_percent']:.3f}"
+        # One record point per controller sample, 0 to the horizon, the
+        # stepped link's measured deflection starting at rest.
+        assert link["time_s"].shape == (2001,) and link["time_s"][-1] == pytest.approx(2.0)
+        assert link["output_mm"][0] == 0.0
+    with pytest.raises(ipmc_swim.Error, match="links must be in 1..2, got 3"):
+        ipmc_swim.step("pid", links=[3], bench=bench)

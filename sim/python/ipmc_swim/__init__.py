@@ -241,11 +241,13 @@ def step(controller, *, out=None, **options):
 
     controller: pid or fractional. options: links, plant, kp, ki, kd, gain,
     order, horizon_s, max_horizon_s, sample_rate_Hz, no_clamp, v_max_V,
-    plant_file, gains_file (each link's own plant and gains, as for bode).
+    plant_file, gains_file (each link's own plant and gains, as for bode),
+    bench (a scenario: each link's step also on its multibody simulation).
     out: a folder for step.csv and step.json. Returns per link its record
     (time_s, output_mm, control_V), step metrics, whether the record
-    determines them, the largest voltage and J of eq. 11; and the
-    reference model's step.
+    determines them, the largest voltage, J of eq. 11 and Table 5's IAE
+    and ITAE (iae_mm_s, itae_mm_s2); the same per link on the bench
+    (bench, empty without one); and the reference model's step.
     """
     return _core.step(_options(options, controller=controller, out=out))
 
