@@ -624,9 +624,10 @@ void AddKeyFileOptions(OptionTable<Command>& table) {
   table.AddPath(gains_file, [](Command& c) -> std::string& { return c.gains_file; });
 }
 
-// A gains file's controllers as each link's gains (1..n).
-std::vector<ControllerGains> GainsOfKeyFile(const std::string& path) {
-  const KeyFileControllers controllers = ControllersOfKeyFile(path);
+// A gains file's controllers as each link's gains (1..n; `links` if it
+// has no per-link arrays).
+std::vector<ControllerGains> GainsOfKeyFile(const std::string& path, int links) {
+  const KeyFileControllers controllers = ControllersOfKeyFile(path, links);
   std::vector<ControllerGains> gains(controllers.pid.size());
   for (std::size_t q = 0; q < gains.size(); ++q) {
     gains[q].kp = controllers.pid[q].kp;
@@ -657,17 +658,22 @@ template <typename Command>
 KeyFileLinksOf ReadKeyFiles(const std::string& name, const Command& command,
                             const OptionGiven& given) {
   KeyFileLinksOf files;
+  // A file without per-link arrays holds for any number of links: the
+  // other file's, else 3.
+  const bool plant_arrays = !command.plant_file.empty() && KeyFileHasLinkArrays(command.plant_file);
+  const bool gains_arrays = !command.gains_file.empty() && KeyFileHasLinkArrays(command.gains_file);
+  if (plant_arrays) files.links = KeyFileLinks(command.plant_file);
+  if (gains_arrays && !plant_arrays) files.links = KeyFileLinks(command.gains_file);
   if (!command.gains_file.empty()) {
     for (const char* option : {"kp", "ki", "kd", "gain", "order"}) {
       if (given && given(option)) {
         throw FieldError(name + ": " + option + " does not apply with gains_file", option, "");
       }
     }
-    files.gains = GainsOfKeyFile(command.gains_file);
-    files.links = static_cast<int>(files.gains.size());
+    files.gains = GainsOfKeyFile(command.gains_file, files.links);
   }
   if (!command.plant_file.empty()) {
-    files.plants = PlantsOfKeyFile(command.plant_file);
+    files.plants = PlantsOfKeyFile(command.plant_file, files.links);
     if (!files.gains.empty() && files.gains.size() != files.plants.size()) {
       ThrowOption(name, "gains_file",
                   "the links of plant_file (" + std::to_string(files.plants.size()) + ")",

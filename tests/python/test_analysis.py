@@ -249,3 +249,17 @@ def test_step_on_the_bench_beside_the_linear_loop(tmp_path):
         assert link["output_mm"][0] == 0.0
     with pytest.raises(ipmc_swim.Error, match="links must be in 1..2, got 3"):
         ipmc_swim.step("pid", links=[3], bench=bench)
+
+
+def test_a_plant_file_without_link_arrays_takes_the_gains_files_links(tmp_path):
+    # identify's plant.toml of one record: the same plant for every link.
+    (tmp_path / "plant.toml").write_text(
+        '[plant]\nmodel = "g1"\na0_mm_per_V = 0.52\nb1 = 0.029\nb2_s2 = 0.0042\n')
+    (tmp_path / "gains.toml").write_text(GAINS)
+    files = {"plant_file": tmp_path / "plant.toml", "gains_file": tmp_path / "gains.toml"}
+    assert [link["link"] for link in ipmc_swim.bode("pid", **files)] == [1, 2]
+    step = ipmc_swim.step("pid", horizon_s=1.0, **files)
+    assert [link["link"] for link in step["links"]] == [1, 2]
+    # Alone it holds for the paper's three links.
+    alone = ipmc_swim.step("pid", horizon_s=1.0, plant_file=tmp_path / "plant.toml")
+    assert [link["link"] for link in alone["links"]] == [1, 2, 3]
