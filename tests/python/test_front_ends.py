@@ -51,6 +51,7 @@ STEP = {"links": [3, 1], "horizon_s": 1.0, "max_horizon_s": 3.0, "v_max_V": 5.0,
         "sample_rate_Hz": 2000.0}
 RUN = {"formats": ["mat"], "allow_long": True}
 SWEEP = {"jobs": 2, "shard": "1/1", "formats": ["mat", "h5"]}
+CONVERGE = {"max_segments": 2, "halvings": 1, "max_plates_k": 0, "cycles": 1, "jobs": 2}
 GENERATE = {"link_lengths_mm": [5.0, 10.0, 15.0], "head_length_mm": 0.5, "clamped": True}
 
 
@@ -128,6 +129,20 @@ def test_sweep(short_scenario, tmp_path):
     assert journals[0] == journals[1] and len(journals[0]) == 3
     for side in ("cli", "python"):
         (tmp_path / side / "table.journal").unlink()
+    assert_same_files(tmp_path / "cli", tmp_path / "python")
+
+
+def test_converge(tmp_path):
+    scenario = SCENARIOS / "own_two_link.toml"
+    run_cli("converge", scenario, *cli_arguments(CONVERGE), "--out", tmp_path / "cli")
+    studies = ipmc_swim.converge(scenario, out=tmp_path / "python", **CONVERGE)
+    assert [study.study for study in studies] == ["segments", "timestep"]
+    # The cost column is wall time: the same bytes without it.
+    for side in ("cli", "python"):
+        table = tmp_path / side / "converge.csv"
+        rows = [line.split(",") for line in table.read_text().splitlines()]
+        cost = rows[0].index("cost_s_per_simulated_s")
+        table.write_text("".join(",".join(r[:cost] + r[cost + 1:]) + "\n" for r in rows))
     assert_same_files(tmp_path / "cli", tmp_path / "python")
 
 

@@ -45,7 +45,8 @@ if __version__ != _PACKAGE_VERSION:
                       f"{_PACKAGE_VERSION} but its extension ipmc_swim._core is {__version__}; "
                       "rebuild and reinstall the package from one source tree")
 
-__all__ = ["Error", "Result", "Simulation", "bench", "bode", "design", "export", "generate_model",
+__all__ = ["Error", "Result", "Simulation", "bench", "bode", "converge", "design", "export",
+           "generate_model",
            "identify", "keys", "merge", "optimize", "options", "plot", "run", "step", "sweep",
            "MODELS_DIR", "SCENARIOS_DIR"]
 
@@ -115,6 +116,23 @@ def run(scenario, *, out=None, formats=(), allow_long=False, progress=None, **ov
     summary = raw["summary"]
     return Result(timeseries=raw["timeseries"], cycles=_columns(summary["per_cycle"]),
                   links=_columns(summary["links"]), summary=summary)
+
+
+def converge(scenario, *, out=None, **options):
+    """Is a scenario's swim converged in its settings, as ``ipmc-swim converge SCENARIO``.
+
+    scenario: a scenario file. options: max_segments, halvings,
+    max_plates_k, cycles, jobs (docs/OPTIONS.md, converge). out: a folder
+    for converge.csv and converge.png. Returns a list, one Result per study
+    (segments, timestep, plates): study, the converged swim_mm and
+    fluid_power_W with swim_uncertainty_mm and fluid_power_uncertainty_W,
+    scenario (the scenario as given) and runs, each a Result of setting,
+    resolution, swim_mm, swim_error, fluid_power_W, fluid_power_error (both
+    relative to the study's reference), cost_s_per_simulated_s, warnings.
+    """
+    studies = _core.converge(scenario, _options(options, out=out))
+    return [Result(study, scenario=Result(study["scenario"]),
+                   runs=[Result(run) for run in study["runs"]]) for study in studies]
 
 
 def sweep(sweep_file, *, jobs=None, shard="1/1", out=None, formats=(), keep_runs=None,
