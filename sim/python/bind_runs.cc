@@ -16,6 +16,7 @@
 #include "sim/batch/sweep_command.h"
 #include "sim/core/keys_command.h"
 #include "sim/core/generate_command.h"
+#include "sim/core/resistance_command.h"
 #include "sim/core/simulation.h"
 #include "sim/io/files.h"
 #include "sim/python/convert.h"
@@ -194,6 +195,27 @@ std::string GenerateModel(const py::dict& kwargs) {
   return RunGenerateCommand(ReadCommandKeywords(options, GenerateOptions()));
 }
 
+// ------------------------------------------------------------ resistance ---
+
+py::dict Resistance(const std::string& model, const py::dict& kwargs) {
+  Options options("resistance", kwargs);
+  ResistanceCommand command = ReadCommandKeywords(options, ResistanceOptions());
+  command.model = model;
+  const ResistanceOutcome outcome = RunResistanceCommand(command);
+  py::list rows;
+  for (int i = 0; i < 6; ++i) {
+    py::list row;
+    for (int j = 0; j < 6; ++j) row.append(outcome.resistance[6 * i + j]);
+    rows.append(row);
+  }
+  py::dict result;
+  result["R"] = rows;
+  result["A_N_s_m"] = outcome.propulsion.a_N_s_m;
+  result["B_N_s"] = outcome.propulsion.b_N_s;
+  result["D_N_m_s"] = outcome.propulsion.d_N_m_s;
+  return result;
+}
+
 }  // namespace
 
 void BindRuns(py::module_& m) {
@@ -206,6 +228,7 @@ void BindRuns(py::module_& m) {
   m.def("options", &OptionsText, py::arg("options"));
   m.def("bench", &Bench, py::arg("options"), py::arg("progress"));
   m.def("generate_model", &GenerateModel, py::arg("options"));
+  m.def("resistance", &Resistance, py::arg("model"), py::arg("options"));
 }
 
 }  // namespace ipmc::python

@@ -84,6 +84,19 @@ def test_generate(tmp_path):
     assert_same_files(tmp_path / "cli", tmp_path / "python")
 
 
+def test_resistance(tmp_path):
+    (tmp_path / "cli").mkdir()
+    (tmp_path / "python").mkdir()
+    model = SOURCE_DIR / "models" / "helices" / "rodenborn_9.811.xml"
+    options = {"fluid": "stokeslets", "stokeslet_points_per_mm": 2.0, "axis": "x"}
+    run_cli("resistance", model, *cli_arguments(options), "--out", tmp_path / "cli" / "R.json")
+    result = ipmc_swim.resistance(model, out=tmp_path / "python" / "R.json", **options)
+    assert_same_files(tmp_path / "cli", tmp_path / "python")
+    assert result.R.shape == (6, 6)
+    assert np.allclose(result.R, result.R.T, rtol=0, atol=1e-12 * abs(result.R).max())
+    assert result.A_N_s_m == -result.R[0, 0]
+
+
 def test_export(tmp_path):
     scenario = SCENARIOS / "paper_fractional.toml"
     run_cli("export", scenario, "--set", "controller.gain=14.6", "--out", tmp_path / "cli")

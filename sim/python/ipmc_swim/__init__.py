@@ -46,8 +46,8 @@ if __version__ != _PACKAGE_VERSION:
                       "rebuild and reinstall the package from one source tree")
 
 __all__ = ["Error", "Result", "Simulation", "bench", "bode", "converge", "design", "export",
-           "generate_model",
-           "identify", "keys", "merge", "optimize", "options", "plot", "run", "step", "sweep",
+           "generate_model", "identify", "keys", "merge", "optimize", "options", "plot",
+           "resistance", "run", "step", "sweep",
            "MODELS_DIR", "SCENARIOS_DIR"]
 
 
@@ -324,6 +324,21 @@ def generate_model(*, out=None, **spec):
     write. Returns the XML text (``Simulation.from_xml`` loads it).
     """
     return _core.generate_model(_options(spec, out=out))
+
+
+def resistance(model, *, out=None, **options):
+    """The resistance of a model held rigid, as ``ipmc-swim resistance MODEL``.
+
+    model: an MJCF file with ipmc_rft_ fields (held at qpos0). options:
+    fluid, coefficients, stokeslet_points_per_mm, stokeslet_blob_mm, axis
+    (docs/OPTIONS.md, resistance). out: a JSON file (key "R"). Returns a
+    Result with ``R`` (6 x 6 numpy array: rows Fx Fy Fz [N], Tx Ty Tz
+    [N m] about the world origin; columns vx vy vz [m/s], wx wy wz
+    [rad/s]) and Purcell's A_N_s_m, B_N_s, D_N_m_s for the axis.
+    """
+    result = _core.resistance(os.fspath(model), _options(options, out=out))
+    result["R"] = np.array(result["R"])
+    return Result(result)
 
 
 def plot(kind, input, *, out, **options):
