@@ -11,7 +11,7 @@ namespace ipmc {
 namespace {
 
 // The secant's tolerance for the joints' motion off it, as a share of its
-// reach (docs/FLUIDS.md, "Cost on flexible links": 0.05 at the reach 2e-3
+// reach (docs/FLUIDS.md, "Cost on flexible links": 0.05 at the reach 1e-3
 // rad keeps the swim within 0.1 % of the exact evaluation's). The secant
 // is used only if it is at most kLongestSecant reaches long (an older
 // evaluation left by another branch of the run would make a chord across

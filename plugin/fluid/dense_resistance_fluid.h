@@ -20,7 +20,7 @@
 // secant, |q - q_b - alpha (q_b - q_a)| (max over the joints), is within
 // 0.05 r; otherwise the shape tolerance decides as above. The error is
 // second order in r (the cached R's is first order in the tolerance): at
-// r = 2e-3 rad the swim of the paper's strip with flexible links is within
+// r = 1e-3 rad the swim of the paper's strip with flexible links is within
 // 0.1 % of the exact evaluation's (docs/FLUIDS.md, "Cost on flexible
 // links"). A shape tolerance of 0 computes every evaluation exactly,
 // whatever the reach.

@@ -173,7 +173,7 @@ Eigen::MatrixXd GalerkinOperator(const std::vector<Node>& nodes, const Eigen::Ma
   // parts with z (zz, xz, yz) vanish and are left out.
   bool planar = true;
   for (const Node& node : nodes) planar = planar && node.hydro_W.z() == nodes[0].hydro_W.z();
-  const int parts = planar ? 6 : kParts;
+  const int parts = planar ? 5 : kParts;
   for (int p = 0; p < pieces; ++p) {
     for (int q = p + 1; q < pieces; ++q) {
       const int p0 = starts[p], np = starts[p + 1] - p0;
