@@ -118,7 +118,8 @@ const Eigen::MatrixXd* DenseResistanceFluid::InteractionResistance(const mjModel
     return &WorldResistance(d);  // the same shape again: the same R
   }
   const std::vector<double>& newest = exact_.front().shape;
-  const bool cached = newest.size() == shape_.size();
+  // A body without joints below its root has an empty shape: computed once.
+  const bool cached = recomputations_ > 0 && newest.size() == shape_.size();
   double farthest = 0.0;
   for (size_t k = 0; cached && k < shape_.size(); ++k) {
     farthest = std::max(farthest, std::abs(shape_[k] - newest[k]));
