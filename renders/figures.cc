@@ -195,4 +195,14 @@ FigureReport DrawFigureOf(FigureKind kind, const std::string& input, const Figur
 }
 
 
+FigureReport DrawConvergeFigure(const std::string& table_path, const std::string& out_path) {
+  FigureOptions figure;
+  figure.x_column = "resolution";
+  figure.y_column = "swim_abs_error_percent";
+  figure.group_column = "study";
+  figure.log_x = figure.log_y = true;
+  figure.title = "Swim error against each study's converged reference";
+  return DrawFigureOf(FigureKind::kSweep, table_path, figure, out_path);
+}
+
 }  // namespace ipmc

@@ -132,5 +132,9 @@ FigureReport DrawFigureOf(FigureKind kind, const std::string& input, const Figur
 FigureReport DrawFigureOf(FigureKind kind, const std::vector<std::string>& inputs,
                           const FigureOptions& options, const std::string& out_path);
 
+// The converge command's figure (sim/runs/converge_study.h): each study's
+// |swim error| [%] against its resolution, log-log, from its converge.csv.
+FigureReport DrawConvergeFigure(const std::string& table_path, const std::string& out_path);
+
 
 }  // namespace ipmc

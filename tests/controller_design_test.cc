@@ -147,5 +147,51 @@ TEST(ControllerDesignTest, TunedPidLowersTheCostBelowThePaperGains) {
   EXPECT_LT(PidStepCost(plant, longer)(tuned.gains), 2 * tuned.cost);
 }
 
+// The derivative's noise voltage against the PID as it runs: white noise of
+// unit variance per sample gives the output variance sum_k h_k^2, the sum
+// of the squared impulse response, here the PID's (Kp = Ki = 0, no clamp)
+// response to a unit error at k = 0 over 100 000 samples (a^100000 is
+// below 1e-40 for these Tf).
+TEST(ControllerDesignTest, DerivativeNoiseIsThePidImpulseResponsesEnergy) {
+  constexpr double kKd = 0.7345, kPeriod_s = 1e-3, kNoise_mm = 0.002;
+  for (const double filter_s : {0.0, 1e-4, 1e-3, 0.0156}) {
+    PidController::Config config;
+    config.kp = 0;
+    config.ki = 0;
+    config.kd = kKd;
+    config.derivative_filter_time_s = filter_s;
+    config.sample_period_s = kPeriod_s;
+    config.clamp_enabled = false;
+    PidController pid(config);
+    double energy = 0;
+    for (int k = 0; k < 100000; ++k) {
+      const double u = pid.Update(k == 0 ? 1.0 : 0.0);
+      energy += u * u;
+    }
+    // Rounding of 1e5 terms only.
+    EXPECT_NEAR(DerivativeNoiseRms_V(kKd, filter_s, kPeriod_s, kNoise_mm),
+                kNoise_mm * std::sqrt(energy),
+                1e-12 * kNoise_mm * std::sqrt(energy))
+        << "Tf " << filter_s;
+  }
+  // The ideal derivative: the difference of two independent samples.
+  EXPECT_DOUBLE_EQ(DerivativeNoiseRms_V(kKd, 0.0, kPeriod_s, kNoise_mm),
+                   kKd * kNoise_mm * std::sqrt(2.0) / kPeriod_s);
+}
+
+TEST(ControllerDesignTest, DerivativeFilterForNoiseMeetsTheBoundExactly) {
+  constexpr double kKd = 0.7345, kPeriod_s = 1e-3, kNoise_mm = 0.001;
+  for (const double bound_V : {0.01, 0.06, 0.5}) {
+    const double filter_s = DerivativeFilterForNoise_s(kKd, kPeriod_s, kNoise_mm, bound_V);
+    EXPECT_GT(filter_s, 0);
+    EXPECT_NEAR(DerivativeNoiseRms_V(kKd, filter_s, kPeriod_s, kNoise_mm), bound_V,
+                1e-12 * bound_V);
+  }
+  // Within the bound unfiltered: Kd sigma sqrt(2) / T = 1.04 V < 2 V.
+  EXPECT_EQ(DerivativeFilterForNoise_s(kKd, kPeriod_s, kNoise_mm, 2.0), 0.0);
+  EXPECT_THROW(DerivativeFilterForNoise_s(kKd, kPeriod_s, kNoise_mm, 0.0), std::invalid_argument);
+  EXPECT_THROW(DerivativeNoiseRms_V(kKd, -1e-3, kPeriod_s, kNoise_mm), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace ipmc::testing

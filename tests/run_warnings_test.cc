@@ -79,11 +79,11 @@ TEST(RunWarningsTest, EachCheckFailsJustAboveItsLimitOnly) {
   result.swim.step.explicit_drag = true;
   result.swim.step.timestep_s = 5e-4;
   result.swim.step.drag_relaxation_s = 5e-4 / kMaxStepPerDragRelaxation;
-  result.swim.step.response_error = kMaxResponseError;
+  result.swim.step.swim_error = kMaxSwimStepError;
   EXPECT_EQ(Failed(result), none);
-  result.swim.step.response_error = 1.01 * kMaxResponseError;
+  result.swim.step.swim_error = 1.01 * kMaxSwimStepError;
   EXPECT_EQ(Failed(result), only(5));
-  result.swim.step.response_error = 0.0;
+  result.swim.step.swim_error = 0.0;
   result.swim.step.drag_relaxation_s *= 0.99;
   EXPECT_EQ(Failed(result), only(5));
 }

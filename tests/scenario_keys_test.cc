@@ -181,9 +181,12 @@ TEST(ScenarioKeysTest, TheReaderAllowsExactlyTheTablesKeys) {
             (std::vector<std::string>{"viscosity_Pa_s", "rft_coefficients", "rft_wavelength_mm",
                                       "wall_gap_mm", "model", "stokeslet_width_points",
                                       "stokeslet_points_per_mm", "stokeslet_blob_mm",
-                                      "stokeslet_shape_tolerance_rad", "ribbon_modes",
+                                      "stokeslet_shape_tolerance_rad",
+                                      "stokeslet_secant_reach_rad", "ribbon_modes",
+                                      "ribbon_shape_tolerance_rad", "ribbon_secant_reach_rad",
                                       "plate_points_across", "plate_quadrature_refinement",
-                                      "plate_richardson", "plate_shape_tolerance_rad"}));
+                                      "plate_richardson", "plate_shape_tolerance_rad",
+                                      "plate_secant_reach_rad"}));
   std::vector<std::string> tables = {""};
   for (const std::string& name : ScenarioKeysUnder("")) {
     if (!ScenarioKeysUnder(name).empty()) tables.push_back(name);

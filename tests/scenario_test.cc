@@ -197,9 +197,10 @@ TEST_F(ScenarioErrorTest, UnknownKeysNameTheKeyAndTheAllowedOnes) {
   ExpectError(std::string(kModelLine) + "[fluid]\ndensity = 1000\n",
               ":3: unknown key 'fluid.density' (allowed: viscosity_Pa_s, rft_coefficients, "
               "rft_wavelength_mm, wall_gap_mm, model, stokeslet_width_points, "
-              "stokeslet_points_per_mm, stokeslet_blob_mm, stokeslet_shape_tolerance_rad, ribbon_modes, "
-              "plate_points_across, plate_quadrature_refinement, plate_richardson, "
-              "plate_shape_tolerance_rad)");
+              "stokeslet_points_per_mm, stokeslet_blob_mm, stokeslet_shape_tolerance_rad, "
+              "stokeslet_secant_reach_rad, ribbon_modes, ribbon_shape_tolerance_rad, "
+              "ribbon_secant_reach_rad, plate_points_across, plate_quadrature_refinement, "
+              "plate_richardson, plate_shape_tolerance_rad, plate_secant_reach_rad)");
   ExpectError(std::string(kModelLine) + "[output]\ndir = \"x\"\nformat = \"csv\"\n",
               ":4: unknown key 'output.format' (allowed: dir, samples_per_cycle)");
   // The earliest of several.

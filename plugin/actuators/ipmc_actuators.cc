@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "plugin/mjcf/custom_fields.h"
+#include "plugin/mjcf/geom_axes.h"
 #include "sim/base/numbers.h"
 
 namespace ipmc {
@@ -62,12 +63,14 @@ int OnlyChild(const mjModel* m, int body) {
   return child;
 }
 
-// Length of the sub-segment carried by `body`: its first box geom's
-// 2 size[0] (the RFT segment convention).
+// Length of the sub-segment carried by `body`: its first box geom's side
+// along its axis (SlenderAxis: the RFT segment convention).
 double SegmentLength_m(const mjModel* m, int body, const std::string& joint_name) {
   for (int g = m->body_geomadr[body]; g >= 0 && g < m->body_geomadr[body] + m->body_geomnum[body];
        ++g) {
-    if (m->geom_type[g] == mjGEOM_BOX) return 2.0 * m->geom_size[3 * g];
+    if (m->geom_type[g] != mjGEOM_BOX) continue;
+    const int axis = SlenderAxis(m, g);
+    if (axis >= 0) return SlenderLength_m(m, g, axis);
   }
   Fail("the body of hinge '" + joint_name + "' has no box geom giving the segment length");
 }

@@ -10,6 +10,17 @@
 namespace ipmc {
 namespace {
 
+// The secant's tolerance for the joints' motion off it, as a share of its
+// reach (docs/FLUIDS.md, "Cost on flexible links": 0.05 at the reach 1e-3
+// rad keeps the swim within 0.1 % of the exact evaluation's). The secant
+// is used only if it is at most kLongestSecant reaches long (an older
+// evaluation left by another branch of the run would make a chord across
+// a curve) and at least kShortestSecant of one (a shorter one tells its
+// direction, and R's change along it, with too few digits).
+constexpr double kOffSecant = 0.05;
+constexpr double kLongestSecant = 4.0;
+constexpr double kShortestSecant = 0.1;
+
 // The last dof of body b's chain (its own or its nearest moving
 // ancestor's), -1 if it is fixed to the world.
 int LastDof(const mjModel* m, int body) {
@@ -47,27 +58,86 @@ DenseResistanceFluid::DenseResistanceFluid(const mjModel* m, const RftDrag& segm
   }
 }
 
+void DenseResistanceFluid::Shape(const mjData* d, std::vector<double>* shape) const {
+  shape->resize(shape_joints_.size());
+  for (size_t k = 0; k < shape_joints_.size(); ++k) (*shape)[k] = d->qpos[shape_joints_[k]];
+}
+
 void DenseResistanceFluid::Recompute(const mjModel* m, const mjData* d) const {
   const Eigen::Vector3d origin(d->xpos + 3 * root_body_);
   const Eigen::MatrixXd world = ComputeResistance(m, d, origin);
-  // Into the root's frame: R_root = Q6^T R Q6, Q6 = diag(Q, Q, ...).
-  const int n = static_cast<int>(world.rows());
-  Eigen::MatrixXd q6 = Eigen::MatrixXd::Zero(n, n);
+  // Into the root's frame: R_root = Q6^T R Q6, Q6 = diag(Q, Q, ...),
+  // block by block.
+  const int n = static_cast<int>(world.rows()) / 3;
   const Eigen::Matrix3d q = BodyRotation(d, root_body_);
-  for (int k = 0; k < n / 3; ++k) q6.block<3, 3>(3 * k, 3 * k) = q;
-  root_resistance_ = q6.transpose() * world * q6;
-  cached_shape_.resize(shape_joints_.size());
-  for (size_t k = 0; k < shape_joints_.size(); ++k) cached_shape_[k] = d->qpos[shape_joints_[k]];
+  // The oldest exact evaluation's storage takes the new one, in front.
+  std::rotate(exact_.begin(), exact_.end() - 1, exact_.end());
+  Exact& newest = exact_.front();
+  newest.root_resistance.resize(3 * n, 3 * n);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      newest.root_resistance.block<3, 3>(3 * i, 3 * j).noalias() =
+          q.transpose() * world.block<3, 3>(3 * i, 3 * j) * q;
+    }
+  }
+  Shape(d, &newest.shape);
+  root_resistance_ = newest.root_resistance;
+  extrapolated_ = false;
+  ++root_version_;
   ++recomputations_;
+}
+
+bool DenseResistanceFluid::Extrapolate(const std::vector<double>& shape) const {
+  const Exact& newest = exact_[0];
+  const Exact& older = exact_[1];
+  if (older.shape.size() != shape.size()) return false;
+  const int n = static_cast<int>(shape.size());
+  const Eigen::Map<const Eigen::VectorXd> q(shape.data(), n), q_b(newest.shape.data(), n),
+      q_a(older.shape.data(), n);
+  const Eigen::VectorXd step = q - q_b, secant = q_b - q_a;
+  const double reach = secant_reach_rad();
+  const double secant_length = secant.lpNorm<Eigen::Infinity>();
+  if (step.lpNorm<Eigen::Infinity>() > reach || secant_length > kLongestSecant * reach ||
+      secant_length < kShortestSecant * reach) {
+    return false;
+  }
+  const double alpha = step.dot(secant) / secant.squaredNorm();
+  if ((step - alpha * secant).lpNorm<Eigen::Infinity>() > kOffSecant * reach) return false;
+  root_resistance_ = newest.root_resistance;
+  root_resistance_ += alpha * (newest.root_resistance - older.root_resistance);
+  extrapolated_ = true;
+  ++root_version_;
+  ++extrapolations_;
+  return true;
 }
 
 const Eigen::MatrixXd* DenseResistanceFluid::InteractionResistance(const mjModel* m,
                                                                    const mjData* d) const {
-  bool stale = cached_shape_.size() != shape_joints_.size() || root_resistance_.size() == 0;
-  for (size_t k = 0; !stale && k < shape_joints_.size(); ++k) {
-    stale = std::abs(d->qpos[shape_joints_[k]] - cached_shape_[k]) > shape_tolerance_rad();
+  Shape(d, &shape_);
+  if (shape_ == used_shape_ && used_of_recomputation_ == recomputations_) {
+    return &WorldResistance(d);  // the same shape again: the same R
   }
-  if (stale) Recompute(m, d);
+  const std::vector<double>& newest = exact_.front().shape;
+  // A body without joints below its root has an empty shape: computed once.
+  const bool cached = recomputations_ > 0 && newest.size() == shape_.size();
+  double farthest = 0.0;
+  for (size_t k = 0; cached && k < shape_.size(); ++k) {
+    farthest = std::max(farthest, std::abs(shape_[k] - newest[k]));
+  }
+  const bool secant = shape_tolerance_rad() > 0.0 && secant_reach_rad() > 0.0;
+  if (!cached) {
+    Recompute(m, d);
+  } else if (secant && Extrapolate(shape_)) {
+    // the exact evaluations' fit
+  } else if (farthest > shape_tolerance_rad()) {
+    Recompute(m, d);
+  } else if (extrapolated_) {
+    root_resistance_ = exact_.front().root_resistance;  // instead of the fit's last
+    extrapolated_ = false;
+    ++root_version_;
+  }
+  used_shape_ = shape_;
+  used_of_recomputation_ = recomputations_;
   return &WorldResistance(d);
 }
 
@@ -78,10 +148,10 @@ const Eigen::MatrixXd& DenseResistanceFluid::WorldResistance(const mjData* d) co
   const Eigen::Matrix3d q = BodyRotation(d, root_body_);
   const Eigen::Vector3d r =
       Eigen::Vector3d(d->xpos + 3 * root_body_) - Eigen::Vector3d(d->subtree_com + 3 * root_body_);
-  if (world_of_recomputation_ == recomputations_ && world_rotation_ == q && world_offset_ == r) {
+  if (world_of_version_ == root_version_ && world_rotation_ == q && world_offset_ == r) {
     return world_resistance_;
   }
-  world_of_recomputation_ = recomputations_;
+  world_of_version_ = root_version_;
   world_rotation_ = q;
   world_offset_ = r;
   // Block (i, j) = [C00 C01; C10 C11] with C_kl = Q B_kl Q^T from the root
@@ -136,7 +206,7 @@ double DenseResistanceFluid::DissipatedPower_W(const mjModel* m, const mjData* d
   // The resistance the drag was last applied with: measuring the power
   // must not refresh the cache (after a step d's positions are the next
   // step's while its kinematics are still this one's).
-  if (root_resistance_.size() == 0) Recompute(m, d);
+  if (exact_.front().root_resistance.size() == 0) Recompute(m, d);
   const Eigen::VectorXd v = BodyVelocities(d);
   return v.dot(WorldResistance(d) * v);
 }

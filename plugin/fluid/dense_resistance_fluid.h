@@ -11,11 +11,31 @@
 // when a joint below the root has moved more than the shape tolerance
 // since it was last computed. docs/FLUIDS.md measures the tolerance's
 // effect on the swim.
+//
+// With a secant reach r > 0, beyond the last exact evaluation the
+// resistance is extrapolated along the secant of the last two, at the
+// shapes q_a and q_b (the joints' angles and slides):
+//   R(q) = R_b + alpha (R_b - R_a),  alpha = (q - q_b).(q_b - q_a) / |q_b - q_a|^2,
+// as long as no joint is more than r from q_b and the motion off the
+// secant, |q - q_b - alpha (q_b - q_a)| (max over the joints), is within
+// 0.05 r; otherwise the shape tolerance decides as above. The error is
+// second order in r (the cached R's is first order in the tolerance): at
+// r = 1e-3 rad the swim of the paper's strip with flexible links is within
+// 0.1 % of the exact evaluation's (docs/FLUIDS.md, "Cost on flexible
+// links"). A shape tolerance of 0 computes every evaluation exactly,
+// whatever the reach.
+//
+// The cache belongs to the fluid, not to an mjData: a copy of the data
+// (mj_copyData) that goes its own way gets a resistance within the
+// tolerances of the exact one at its own shape, made from whichever exact
+// evaluations came before, so not bit for bit the one the original would
+// have had; with the shape tolerance 0 it is.
 #pragma once
 
 #include <mujoco/mujoco.h>
 
 #include <Eigen/Core>
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -23,6 +43,10 @@
 #include "plugin/fluid/fluid_model.h"
 
 namespace ipmc {
+
+// The secant's reach by default [rad]: none, the cached resistance as it
+// is (docs/FLUIDS.md, "Cost on flexible links", measures the secant).
+constexpr double kDefaultSecantReachRad = 0.0;
 
 class RftDrag;
 
@@ -49,6 +73,8 @@ class DenseResistanceFluid : public Fluid {
   const RftDrag& rft() const { return *rft_; }
   // Resistances computed so far (the cache's misses).
   int recomputations() const { return recomputations_; }
+  // Evaluations served by the secant between exact ones.
+  int extrapolations() const { return extrapolations_; }
 
  protected:
   // `name` starts the error messages ("stokeslet fluid"). Throws
@@ -62,12 +88,20 @@ class DenseResistanceFluid : public Fluid {
   virtual Eigen::MatrixXd ComputeResistance(const mjModel* m, const mjData* d,
                                             const Eigen::Vector3d& origin_W) const = 0;
   virtual double shape_tolerance_rad() const = 0;
+  // 0: the cached resistance is used as it is (no secant).
+  virtual double secant_reach_rad() const = 0;
   // Index into InteractingBodies() of rft()'s geom g (in geom_ids() order).
   int body_of_geom(int g) const { return body_of_geom_[g]; }
   int body_count() const { return static_cast<int>(bodies_.size()); }
 
  private:
   void Recompute(const mjModel* m, const mjData* d) const;
+  // The shape (non-root joint positions) of d.
+  void Shape(const mjData* d, std::vector<double>* shape) const;
+  // Sets root_resistance_ to the secant's extrapolation to `shape` and
+  // returns true, or returns false if the shape is beyond its reach or off
+  // it (or there is no secant).
+  bool Extrapolate(const std::vector<double>& shape) const;
   // The cached R, in the world frame about the subtree centre of mass.
   const Eigen::MatrixXd& WorldResistance(const mjData* d) const;
   // The generalised force of body wrenches W (6 per body of bodies_).
@@ -80,17 +114,31 @@ class DenseResistanceFluid : public Fluid {
   std::vector<int> body_of_geom_;  // index into bodies_, per rft_ geom
   std::vector<int> shape_joints_;  // qpos addresses of the non-root hinges and slides
   int root_body_ = -1;
-  mutable std::vector<double> cached_shape_;
-  mutable Eigen::MatrixXd root_resistance_;  // about the root's origin, root frame
+  // The last two exact evaluations (shape, R about the root's origin in
+  // the root's frame), newest first; an empty shape: none yet.
+  struct Exact {
+    std::vector<double> shape;
+    Eigen::MatrixXd root_resistance;
+  };
+  mutable std::array<Exact, 2> exact_;
+  mutable Eigen::MatrixXd root_resistance_;  // in use: exact or extrapolated
+  mutable bool extrapolated_ = false;
+  mutable std::vector<double> shape_;  // scratch
+  // The shape root_resistance_ was made for, and the exact evaluations then.
+  mutable std::vector<double> used_shape_;
+  mutable int used_of_recomputation_ = -1;
   mutable Eigen::MatrixXd world_resistance_;
   mutable int recomputations_ = 0;
+  mutable int extrapolations_ = 0;
+  // root_resistance_'s version: bumped whenever it changes.
+  mutable long root_version_ = 0;
   // What world_resistance_ was made from: the root's rotation and offset
-  // from the subtree centre of mass, and root_resistance_'s recomputation.
-  // A further evaluation of the same state (within a step, or by a meter
+  // from the subtree centre of mass, and root_resistance_'s version. A
+  // further evaluation of the same state (within a step, or by a meter
   // after it) reuses it.
   mutable Eigen::Matrix3d world_rotation_;
   mutable Eigen::Vector3d world_offset_;
-  mutable int world_of_recomputation_ = -1;
+  mutable long world_of_version_ = -1;
 };
 
 }  // namespace ipmc

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 
 #include "plugin/fluid/plate_fluid.h"
@@ -179,9 +180,32 @@ const FluidModelEntry& ChosenFluidModel(const mjModel* m, const RftDragOverrides
   return *entry;
 }
 
+void RequireNoMujocoFluid(const mjModel* m) {
+  if (m->opt.viscosity == 0.0 && m->opt.density == 0.0) return;
+  bool fluidshape = false;
+  for (int g = 0; g < m->ngeom; ++g) fluidshape = fluidshape || m->geom_fluid[mjNFLUID * g] != 0;
+  std::ostringstream msg;
+  msg << "the model's <option viscosity=\"" << m->opt.viscosity << "\" density=\""
+      << m->opt.density << "\">" << (fluidshape ? " (with a geom's fluidshape)" : "")
+      << " turns on MuJoCo's own fluid forces, which would add to the ipmc_rft_ fluid's drag: "
+         "set both to 0 (the drag's fluid is " << kAttrViscosity << " and "
+      << kAttrFluidDensity << ")";
+  throw std::invalid_argument(msg.str());
+}
+
 std::unique_ptr<Fluid> MakeFluid(const mjModel* m, const RftDrag& segments,
                                  const RftDragOverrides& overrides) {
+  RequireNoMujocoFluid(m);
   const FluidModelEntry& entry = ChosenFluidModel(m, overrides);
+  if (std::string(entry.name) != "rft" && !segments.head_geom_ids().empty()) {
+    const int g = segments.head_geom_ids().front();
+    const char* name = mj_id2name(m, mjOBJ_GEOM, g);
+    throw std::invalid_argument(std::string("fluid model ") + entry.name + ": geom '" +
+                                (name ? std::string(name) : std::to_string(g)) + "' is a " +
+                                (m->geom_type[g] == mjGEOM_SPHERE ? "sphere" : "ellipsoid") +
+                                ", which only the rft model represents (its exact Stokes drag); "
+                                "use fluid model rft, or leave it out of " + kAttrGeoms);
+  }
   if (WallDistance_m(segments) && !entry.wall) {
     throw std::invalid_argument(std::string("fluid model ") + entry.name +
                                 ": free space only, but the model has a wall (" +

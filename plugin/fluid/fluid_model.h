@@ -182,9 +182,15 @@ std::vector<std::string> FluidModelFields();
 // fluid_model, else the model's ipmc_fluid_model, else "rft". Throws
 // std::invalid_argument naming the field and the models when unknown.
 const FluidModelEntry& ChosenFluidModel(const mjModel* m, const RftDragOverrides& overrides);
+// Throws std::invalid_argument, naming the options, if the model turns on
+// MuJoCo's own fluid forces (<option viscosity> or <option density> not
+// 0, with or without a geom's fluidshape), which would add to this
+// library's drag.
+void RequireNoMujocoFluid(const mjModel* m);
 // That model, built over `segments` (the model's RFT segments and
 // coefficients). Throws std::invalid_argument on bad settings, naming the
-// model.
+// model, on MuJoCo's own fluid (RequireNoMujocoFluid), and for a dense
+// model given a sphere or ellipsoid (only rft represents them).
 std::unique_ptr<Fluid> MakeFluid(const mjModel* m, const RftDrag& segments,
                                  const RftDragOverrides& overrides);
 // The wall's distance from the centreline that the segments' coefficients

@@ -87,6 +87,9 @@ void PlateSettings::Validate() const {
   if (!(shape_tolerance_rad >= 0.0) || !std::isfinite(shape_tolerance_rad)) {
     throw std::invalid_argument("plate fluid: the shape tolerance must be finite and >= 0");
   }
+  if (!(secant_reach_rad >= 0.0) || !std::isfinite(secant_reach_rad)) {
+    throw std::invalid_argument("plate fluid: the secant's reach must be finite and >= 0");
+  }
   if (wall_distance_m && !(*wall_distance_m > 0.5 * width_m && std::isfinite(*wall_distance_m))) {
     std::ostringstream msg;
     msg << "plate fluid: the wall distance must be finite and > half the plates' width "
@@ -292,8 +295,17 @@ FluidParameter ShapeToleranceRad() {
   return NumberParameter("plate_shape_tolerance_rad", "ipmc_fluid_plate_shape_tolerance_rad",
                          "rad", 1.0, 1e-3, "1e-3", 0.0, true, 2e-3,
                          "The blocks between plates are recomputed when a joint has moved more "
-                         "than this since they were last computed (0: every evaluation; "
-                         "docs/FLUIDS.md, \"Flat plates\")");
+                         "than this since they were last computed, or off the secant of the last "
+                         "two (0: every evaluation; docs/FLUIDS.md, \"Flat plates\")");
+}
+
+FluidParameter SecantReachRad() {
+  return NumberParameter("plate_secant_reach_rad", "ipmc_fluid_plate_secant_reach_rad", "rad",
+                         1.0, kDefaultSecantReachRad, "0", 0.0, true, 2e-3,
+                         "Between exact evaluations the plates' resistance is extrapolated along "
+                         "the secant of the last two while no joint has moved more than this "
+                         "(0: the last one as it is; docs/FLUIDS.md, \"Cost on flexible "
+                         "links\")");
 }
 
 PlateSettings SettingsFromParameters(const mjModel* m, const RftDrag& segments,
@@ -306,6 +318,7 @@ PlateSettings SettingsFromParameters(const mjModel* m, const RftDrag& segments,
   settings.quadrature_refinement = static_cast<int>(value(QuadratureRefinement()));
   settings.richardson = value(Richardson()) != 0.0;
   settings.shape_tolerance_rad = value(ShapeToleranceRad());
+  settings.secant_reach_rad = value(SecantReachRad());
   settings.wall_distance_m = WallDistance_m(segments);
   return settings;
 }
@@ -313,7 +326,8 @@ PlateSettings SettingsFromParameters(const mjModel* m, const RftDrag& segments,
 }  // namespace
 
 std::vector<FluidParameter> PlateFluid::Parameters() {
-  return {PointsAcross(), QuadratureRefinement(), Richardson(), ShapeToleranceRad()};
+  return {PointsAcross(), QuadratureRefinement(), Richardson(), ShapeToleranceRad(),
+          SecantReachRad()};
 }
 
 std::unique_ptr<Fluid> PlateFluid::Make(const mjModel* m, const RftDrag& segments,

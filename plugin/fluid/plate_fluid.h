@@ -43,7 +43,8 @@
 // between plates and, near a wall, every block's image part (a plate's own
 // image depends on its height and tilt) are recomputed with the shape.
 // The resistance is kept while the shape moves less than
-// `shape_tolerance_rad` (dense_resistance_fluid.h).
+// `shape_tolerance_rad`, and extrapolated along the secant of the last two
+// within `secant_reach_rad` (dense_resistance_fluid.h).
 // docs/FLUIDS.md has the validation (disk, straight strip) and the
 // convergence of the paper's swimmer.
 #pragma once
@@ -71,6 +72,7 @@ struct PlateSettings {
   bool richardson = true;          // 2 R(eps / 2) - R(eps)
   double width_m = 0.0;            // the plates' width; default the strip's
   double shape_tolerance_rad = 1e-3;  // recompute beyond this joint motion
+  double secant_reach_rad = kDefaultSecantReachRad;  // extrapolate within this
   // The centreline's height h over a no-slip wall z = -h; none: free space.
   std::optional<double> wall_distance_m;
   // Checked: throws std::invalid_argument naming the setting and its range.
@@ -184,6 +186,7 @@ class PlateFluid : public DenseResistanceFluid {
   Eigen::MatrixXd ComputeResistance(const mjModel* m, const mjData* d,
                                     const Eigen::Vector3d& origin_W) const override;
   double shape_tolerance_rad() const override { return settings_.shape_tolerance_rad; }
+  double secant_reach_rad() const override { return settings_.secant_reach_rad; }
   // R for the plates placed as given, with the cached self blocks (and
   // the wall's images).
   Eigen::MatrixXd Resistance(const std::vector<PlacedSurface>& plates,

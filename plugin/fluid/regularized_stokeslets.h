@@ -82,6 +82,7 @@ struct StokesletSettings {
   double spacing_m = 0.0;     // between points along a segment; default eps (k = 1), w / k
   std::optional<double> wall_distance_m;  // the centreline's height over a wall
   double shape_tolerance_rad = 1e-3;      // recompute beyond this joint motion
+  double secant_reach_rad = 0.0;          // extrapolate within this (0: none)
 };
 
 struct StokesletGeometry {

@@ -8,6 +8,7 @@
 #include "plugin/fluid/near_wall_rft.h"
 #include "plugin/fluid/ribbon_coefficients.h"
 #include "plugin/mjcf/custom_fields.h"
+#include "plugin/mjcf/geom_axes.h"
 #include "plugin/mjcf/point_velocity.h"
 #include "sim/base/numbers.h"
 #include "plugin/mjcf/spatial_algebra.h"
@@ -18,7 +19,7 @@ namespace {
 // Lighthill's (1976) effective distance q = 0.09 lambda.
 constexpr double kLighthillDistanceOverWavelength = 0.09;
 
-void RequirePositive(double value, const char* field) {
+void RequirePositive(double value, const std::string& field) {
   if (!(value > 0.0) || !std::isfinite(value)) {
     std::ostringstream msg;
     msg << "rft drag: " << field << " must be finite and > 0 (got " << value << ")";
@@ -91,7 +92,11 @@ std::optional<RftDragConfig> RftDragConfig::FromModel(const mjModel* m,
   config.viscosity_Pa_s = *viscosity;
   if (auto text = FindCustomText(m, kAttrCoefficients)) config.model = ParseCoefficientModel(*text);
   if (overrides.model) config.model = *overrides.model;
-  if (auto radius = FindCustomScalar(m, kAttrEquivalentRadius)) config.equivalent_radius_m = *radius;
+  if (auto radius = FindCustomScalar(m, kAttrEquivalentRadius)) {
+    config.equivalent_radius_m = *radius;
+  } else {
+    config.radius_from_geoms = true;
+  }
   if (auto wavelength = FindCustomScalar(m, kAttrWavelength)) config.wavelength_m = *wavelength;
   if (overrides.wavelength_m) config.wavelength_m = *overrides.wavelength_m;
   if (auto wall = FindCustomScalar(m, kAttrWallDistance)) config.wall_distance_m = *wall;
@@ -131,9 +136,19 @@ void RftDragConfig::Validate() const {
     RequirePositive(direct.tangential_N_s_m2, kAttrXiTangential);
     return;
   }
-  RequirePositive(equivalent_radius_m, kAttrEquivalentRadius);
+  if (radius_from_geoms) {
+    // Each segment's own radius is checked as RftDrag reads it.
+    if (model != CoefficientModel::kNearWall) RequirePositive(wavelength_m, kAttrWavelength);
+    return;
+  }
+  ValidateRadius(equivalent_radius_m, kAttrEquivalentRadius);
+}
+
+void RftDragConfig::ValidateRadius(double radius_m, const std::string& what) const {
+  if (model == CoefficientModel::kDirect) return;
+  RequirePositive(radius_m, what);
   if (model == CoefficientModel::kNearWall) {
-    ValidateNearWallDistance(wall_distance_m, equivalent_radius_m);
+    ValidateNearWallDistance(wall_distance_m, radius_m);
     return;
   }
   RequirePositive(wavelength_m, kAttrWavelength);
@@ -141,15 +156,21 @@ void RftDragConfig::Validate() const {
   const double distance_m = model == CoefficientModel::kLighthill
                                 ? kLighthillDistanceOverWavelength * wavelength_m
                                 : wavelength_m;
-  const double log_term = std::log(2.0 * distance_m / equivalent_radius_m);
+  const double log_term = std::log(2.0 * distance_m / radius_m);
   const double min_log = model == CoefficientModel::kLighthill ? 0.0 : 0.5;
   if (!(log_term > min_log)) {
     std::ostringstream msg;
-    msg << "rft drag: " << kAttrWavelength << " too short for " << kAttrEquivalentRadius << " = "
-        << equivalent_radius_m << " m (need ln(2 " << (min_log > 0 ? "lambda" : "0.09 lambda")
-        << " / a) > " << min_log << ")";
+    msg << "rft drag: " << kAttrWavelength << " too short for " << what << " = " << radius_m
+        << " m (need ln(2 " << (min_log > 0 ? "lambda" : "0.09 lambda") << " / a) > " << min_log
+        << ")";
     throw std::invalid_argument(msg.str());
   }
+}
+
+DragCoefficients RftDragConfig::CoefficientsForRadius(double radius_m) const {
+  RftDragConfig own = *this;
+  own.equivalent_radius_m = radius_m;
+  return own.Coefficients();
 }
 
 DragCoefficients RftDragConfig::Coefficients() const {
@@ -259,11 +280,7 @@ RftDrag::RftDrag(const mjModel* m, const RftDragConfig& config)
   config_.Validate();
   if (config_.geom_names.empty()) {
     for (int g = 0; g < m->ngeom; ++g) {
-      const int type = m->geom_type[g];
-      if (m->geom_bodyid[g] == 0) continue;
-      if (type == mjGEOM_BOX || type == mjGEOM_CAPSULE || type == mjGEOM_CYLINDER) {
-        geom_ids_.push_back(g);
-      }
+      if (m->geom_bodyid[g] != 0) AddGeom(m, g);
     }
   } else {
     for (const std::string& name : config_.geom_names) {
@@ -272,26 +289,32 @@ RftDrag::RftDrag(const mjModel* m, const RftDragConfig& config)
         throw std::invalid_argument(std::string("rft drag: ") + kAttrGeoms + " names geom '" +
                                     name + "', which the model does not have");
       }
-      geom_ids_.push_back(g);
+      AddGeom(m, g);
     }
   }
-  for (int g : geom_ids_) {
-    const mjtNum* size = m->geom_size + 3 * g;
-    switch (m->geom_type[g]) {
-      case mjGEOM_BOX:
-        slender_.push_back({g, 0, 2.0 * size[0]});
-        break;
-      case mjGEOM_CAPSULE:
-      case mjGEOM_CYLINDER:
-        slender_.push_back({g, 2, 2.0 * size[1]});
-        break;
-      default:
-        throw std::invalid_argument(std::string("rft drag: geom '") +
-                                    mj_id2name(m, mjOBJ_GEOM, g) +
-                                    "' is not a box, capsule or cylinder");
+  if (config_.radius_from_geoms && !slender_.empty()) {
+    double length_m = 0.0, radius_length_m2 = 0.0;
+    for (const SlenderGeom& geom : slender_) {
+      length_m += geom.length_m;
+      radius_length_m2 += geom.radius_m * geom.length_m;
     }
+    config_.equivalent_radius_m = radius_length_m2 / length_m;
+    coefficients_ = config_.Coefficients();
   }
-  segment_coefficients_.assign(slender_.size(), coefficients_);
+  for (const SlenderGeom& geom : slender_) {
+    segment_coefficients_.push_back(SegmentCoefficients(geom));
+  }
+  if (!heads_.empty()) {
+    mjData* d = mj_makeData(m);
+    mj_kinematics(m, d);
+    for (const HeadGeom& head : heads_) {
+      const mjtNum* xmat = d->geom_xmat + 9 * head.geom_id;  // row-major: row 0 is x's
+      for (int i = 0; i < 3; ++i) {
+        heads_tow_N_s_m_ += head.principal.translation_N_s_m[i] * xmat[i] * xmat[i];
+      }
+    }
+    mj_deleteData(d);
+  }
   if (config_.model == CoefficientModel::kRibbon ||
       config_.model == CoefficientModel::kRibbonFitted) {
     // The plates' calibration in the model's reference pose (qpos0).
@@ -313,6 +336,70 @@ RftDrag::RftDrag(const mjModel* m, const RftDragConfig& config)
     }
     coefficients_ = {broadside_N_s_m / length_m, axial_N_s_m / length_m};
   }
+}
+
+namespace {
+
+std::string GeomName(const mjModel* m, int g) {
+  const char* name = mj_id2name(m, mjOBJ_GEOM, g);
+  return name ? "'" + std::string(name) + "'" : "#" + std::to_string(g);
+}
+
+const char* GeomKind(int type) {
+  switch (type) {
+    case mjGEOM_PLANE: return "plane";
+    case mjGEOM_HFIELD: return "height field";
+    case mjGEOM_SPHERE: return "sphere";
+    case mjGEOM_CAPSULE: return "capsule";
+    case mjGEOM_ELLIPSOID: return "ellipsoid";
+    case mjGEOM_CYLINDER: return "cylinder";
+    case mjGEOM_BOX: return "box";
+    case mjGEOM_MESH: return "mesh";
+    default: return "geom of another kind";
+  }
+}
+
+}  // namespace
+
+void RftDrag::AddGeom(const mjModel* m, int g) {
+  const int type = m->geom_type[g];
+  const mjtNum* size = m->geom_size + 3 * g;
+  if (type == mjGEOM_SPHERE || type == mjGEOM_ELLIPSOID) {
+    if (config_.model == CoefficientModel::kNearWall) {
+      throw std::invalid_argument("rft drag: geom " + GeomName(m, g) + " is a " + GeomKind(type) +
+                                  ", whose drag is known in free space only, not with " +
+                                  kAttrCoefficients + " = near_wall");
+    }
+    const Eigen::Vector3d semi_axes_m = type == mjGEOM_SPHERE
+                                            ? Eigen::Vector3d::Constant(size[0])
+                                            : Eigen::Vector3d(size[0], size[1], size[2]);
+    heads_.push_back({g, EllipsoidResistance(semi_axes_m, config_.viscosity_Pa_s)});
+    return;
+  }
+  const int axis = SlenderAxis(m, g);
+  if (axis < 0) {
+    const std::string reason =
+        type == mjGEOM_BOX
+            ? "a box centred on its body with two equal longest sides, so no axis to lie along"
+            : std::string("a ") + GeomKind(type) +
+                  "; the fluid represents boxes, capsules, cylinders, spheres and ellipsoids "
+                  "(list the geoms it acts on in " + kAttrGeoms + ")";
+    throw std::invalid_argument("rft drag: geom " + GeomName(m, g) + " is " + reason);
+  }
+  const double radius_m = SlenderRadius_m(m, g, axis);
+  if (config_.radius_from_geoms) config_.ValidateRadius(radius_m, "geom " + GeomName(m, g) + "'s radius");
+  slender_.push_back({g, axis, SlenderLength_m(m, g, axis), radius_m});
+  geom_ids_.push_back(g);
+}
+
+DragCoefficients RftDrag::SegmentCoefficients(const SlenderGeom& geom) const {
+  return config_.radius_from_geoms ? config_.CoefficientsForRadius(geom.radius_m) : coefficients_;
+}
+
+std::vector<int> RftDrag::head_geom_ids() const {
+  std::vector<int> ids;
+  for (const HeadGeom& head : heads_) ids.push_back(head.geom_id);
+  return ids;
 }
 
 Segment RftDrag::SegmentOf(const mjModel* m, const mjData* d, const SlenderGeom& geom) {
@@ -343,6 +430,11 @@ double RftDrag::DissipatedPower_W(const mjModel* m, const mjData* d) const {
     const Segment segment = SegmentOf(m, d, slender_[i]);
     power_W -= SegmentDragPower(segment, SegmentDragExact(segment, segment_coefficients_[i]));
   }
+  for (const HeadGeom& head : heads_) {
+    const BodyResistanceBlock<6> block = HeadResistanceOf(m, d, head);
+    const Eigen::Map<const Vector6> velocity(d->cvel + 6 * block.body);
+    power_W += velocity.dot(block.resistance * velocity);
+  }
   return power_W;
 }
 
@@ -357,7 +449,7 @@ double RftDrag::TowingDrag_N(double speed_m_s) const {
     segment.angular_velocity_W = Eigen::Vector3d::Zero();
     drag_N -= SegmentDragExact(segment, segment_coefficients_[i]).force_W.x();
   }
-  return drag_N;
+  return drag_N + heads_tow_N_s_m_ * speed_m_s;
 }
 
 std::vector<double> RftDrag::SegmentLengths_m() const {
@@ -391,12 +483,32 @@ BodyResistanceBlock<Dim> RftDrag::ResistanceOf(const mjModel* m, const mjData* d
   }
 }
 
+BodyResistanceBlock<6> RftDrag::HeadResistanceOf(const mjModel* m, const mjData* d,
+                                                 const HeadGeom& head) {
+  const int body = m->geom_bodyid[head.geom_id];
+  const mjtNum* x = d->geom_xmat + 9 * head.geom_id;  // row-major; columns: the local axes
+  Eigen::Matrix3d axes;
+  axes << x[0], x[1], x[2], x[3], x[4], x[5], x[6], x[7], x[8];
+  const Eigen::Vector3d center(d->geom_xpos + 3 * head.geom_id);
+  const Eigen::Vector3d c(d->subtree_com + 3 * m->body_rootid[body]);
+  return {body, PrincipalResistanceAbout(head.principal, center, axes, c)};
+}
+
 template <int Dim>
 void RftDrag::Resistances(const mjModel* m, const mjData* d,
                           BodyResistanceBlocks<Dim>* out) const {
   out->clear();
   for (size_t i = 0; i < slender_.size(); ++i) {
     out->push_back(ResistanceOf<Dim>(m, d, slender_[i], segment_coefficients_[i]));
+  }
+  for (const HeadGeom& head : heads_) {
+    const BodyResistanceBlock<6> block = HeadResistanceOf(m, d, head);
+    if constexpr (Dim == 6) {
+      out->push_back(block);
+    } else {
+      // [w_z; v_x; v_y]: rows and columns 2 to 4.
+      out->push_back({block.body, block.resistance.template block<3, 3>(2, 2)});
+    }
   }
 }
 template void RftDrag::Resistances<6>(const mjModel*, const mjData*,
@@ -422,6 +534,11 @@ void RftDrag::Apply(const mjModel* m, mjData* d) const {
     Eigen::Map<Vector6> target(wrench_c + 6 * segment.body);
     target.noalias() -= segment.resistance *
                         Eigen::Map<const Vector6>(d->cvel + 6 * segment.body);
+  }
+  for (const HeadGeom& head : heads_) {
+    const BodyResistanceBlock<6> block = HeadResistanceOf(m, d, head);
+    Eigen::Map<Vector6> target(wrench_c + 6 * block.body);
+    target.noalias() -= block.resistance * Eigen::Map<const Vector6>(d->cvel + 6 * block.body);
   }
   // Bodies are numbered parents first; a tree's wrenches stop at its root.
   for (int body = m->nbody - 1; body > 0; --body) {

@@ -42,11 +42,23 @@
 //   numeric ipmc_rft_wavelength_m          lambda > 2a (> 0.5 a / 0.09 for Lighthill)
 //   numeric ipmc_rft_xi_normal_N_s_m2, ipmc_rft_xi_tangential_N_s_m2 (direct)
 //   numeric ipmc_rft_fluid_density_kg_m3   rho_f >= 0 (Reynolds number only)
-//   text    ipmc_rft_geoms                 geom names; default all box,
-//                                          capsule and cylinder geoms not
-//                                          on the world body
-// A segment's axis is its geom's local x axis for a box (length 2 size[0])
-// and local z for a capsule or cylinder (length 2 size[1]).
+//   text    ipmc_rft_geoms                 geom names; default every geom
+//                                          not on the world body
+// Every geom the drag acts on is one of:
+//   box, capsule, cylinder   a slender segment (SlenderAxis, plugin/mjcf/
+//                            geom_axes.h: a capsule's or cylinder's local z,
+//                            length 2 size[1]; a box's axis along its chain,
+//                            length its side there), with the coefficients
+//                            above from its own radius (SlenderRadius_m: a
+//                            capsule's or cylinder's, a box's (w + h) / 4 from
+//                            its width and thickness), or from
+//                            ipmc_rft_equivalent_radius_m for every segment
+//                            where the model sets it (the paper's strip);
+//   sphere, ellipsoid        a whole body with its exact Stokes resistance
+//                            (geom_resistance.h: Stokes, Oberbeck, Edwardes),
+//                            in free space only (not with near_wall).
+// Any other geom (plane, mesh, height field) is refused by name, as is a
+// box with no axis (centred on its body, two longest sides equal).
 #pragma once
 
 #include <mujoco/mujoco.h>
@@ -60,6 +72,7 @@
 #include <vector>
 
 #include "plugin/fluid/fluid_model.h"
+#include "plugin/fluid/geom_resistance.h"
 
 namespace ipmc {
 
@@ -135,14 +148,25 @@ struct RftDragConfig {
   DragCoefficients direct;  // used with CoefficientModel::kDirect
   double wall_distance_m = 0.0;  // used with CoefficientModel::kNearWall
   double fluid_density_kg_m3 = 1000.0;
-  std::vector<std::string> geom_names;  // empty: all slender geoms
+  std::vector<std::string> geom_names;  // empty: every geom not on the world body
+  // Each segment's coefficients from its geom's own radius (FromModel: the
+  // model sets no ipmc_rft_equivalent_radius_m); equivalent_radius_m is
+  // then the segments' length-weighted mean radius (RftDrag sets it), the
+  // radius of the dense models' centrelines.
+  bool radius_from_geoms = false;
 
   // nullopt if the model has no ipmc_rft_viscosity_Pa_s field. Throws
   // std::invalid_argument naming the field if a field is malformed.
   static std::optional<RftDragConfig> FromModel(const mjModel* m,
                                                 const RftDragOverrides& overrides = {});
   void Validate() const;  // throws std::invalid_argument naming the field
+  // Throws std::invalid_argument naming `what` (the field, or a geom) if the
+  // coefficient set cannot take a segment of this radius.
+  void ValidateRadius(double radius_m, const std::string& what) const;
   DragCoefficients Coefficients() const;
+  // The coefficients of a segment of radius radius_m (Coefficients() for
+  // the radius-free sets: direct, ribbon, ribbon_fitted).
+  DragCoefficients CoefficientsForRadius(double radius_m) const;
 };
 
 // The strip's width w [m]: the model's ipmc_strip_width_m, else twice its
@@ -190,7 +214,8 @@ double SegmentDragPower(const Segment& segment, const Wrench& wrench);
 class RftDrag : public Fluid {
  public:
   // Resolves geoms and coefficients; throws std::invalid_argument on a bad
-  // configuration (unknown geom name, non-slender geom).
+  // configuration (unknown geom name, a geom it cannot represent, named
+  // with the reason).
   RftDrag(const mjModel* m, const RftDragConfig& config);
   // The registry's entry (fluid_model.h): a copy of `segments`.
   static std::unique_ptr<Fluid> Make(const mjModel* m, const RftDrag& segments,
@@ -207,7 +232,9 @@ class RftDrag : public Fluid {
   double DissipatedPower_W(const mjModel* m, const mjData* d) const override;
   // The drag [N] on the segments laid straight along one axis and towed
   // along it at `speed_m_s` (the resistance of the straightened body:
-  // the sum of xi_t L, by SegmentDragExact).
+  // the sum of xi_t L, by SegmentDragExact), and on the spheres and
+  // ellipsoids towed along world x as the model's reference pose (qpos0)
+  // holds them.
   double TowingDrag_N(double speed_m_s) const override;
   // The segments' lengths, in geom_ids() order.
   std::vector<double> SegmentLengths_m() const override;
@@ -240,14 +267,30 @@ class RftDrag : public Fluid {
   const std::vector<DragCoefficients>& segment_coefficients() const {
     return segment_coefficients_;
   }
+  // The segments' geoms (boxes, capsules, cylinders): the geoms every
+  // fluid model acts on.
   const std::vector<int>& geom_ids() const { return geom_ids_; }
+  // The spheres' and ellipsoids' geoms, which only RFT represents (the
+  // dense models refuse them, fluid_model.cc).
+  std::vector<int> head_geom_ids() const;
 
  private:
   struct SlenderGeom {
     int geom_id;
-    int axis;          // segment axis in the geom frame: 0 (x) or 2 (z)
+    int axis;          // segment axis in the geom frame (SlenderAxis)
     double length_m;
+    double radius_m;   // SlenderRadius_m
   };
+  struct HeadGeom {
+    int geom_id;
+    PrincipalResistance principal;  // along the geom's local axes
+  };
+  void AddGeom(const mjModel* m, int g);
+  DragCoefficients SegmentCoefficients(const SlenderGeom& geom) const;
+  // A head's 6 x 6 resistance about the subtree centre of mass of its
+  // body's root.
+  static BodyResistanceBlock<6> HeadResistanceOf(const mjModel* m, const mjData* d,
+                                                 const HeadGeom& head);
   static Segment SegmentOf(const mjModel* m, const mjData* d, const SlenderGeom& geom);
   template <int Dim>
   BodyResistanceBlock<Dim> ResistanceOf(const mjModel* m, const mjData* d,
@@ -258,6 +301,8 @@ class RftDrag : public Fluid {
   std::vector<DragCoefficients> segment_coefficients_;
   std::vector<int> geom_ids_;
   std::vector<SlenderGeom> slender_;
+  std::vector<HeadGeom> heads_;
+  double heads_tow_N_s_m_ = 0.0;  // the heads' drag along x per speed, at qpos0
 };
 
 }  // namespace ipmc

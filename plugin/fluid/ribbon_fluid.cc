@@ -123,7 +123,7 @@ void AddPattern(const Eigen::Matrix3d& pattern, const Eigen::MatrixXd& scalars,
 // part's -2 H_n (I + t t) P_n, with the Gram matrices G = sum w P_m P_n and
 // G_L = sum w Lg P_m P_n. Between pieces P and Q, the regular remainder
 //   [(1 / d - 1 / |s - s'|) I - t_P t_P / |s - s'| + R R / d^3]
-// in its 8 scalar parts (the I part, the t t part, R R's xx, yy, zz, xy,
+// in its 8 scalar parts (the I part, the t t part, R R's xx, yy, xy, zz,
 // xz, yz), each projected as weighted_P^T K weighted_Q; the kernel is
 // symmetric, so pair (Q, P) takes the transpose.
 Eigen::MatrixXd GalerkinOperator(const std::vector<Node>& nodes, const Eigen::MatrixXd& weighted,
@@ -163,12 +163,17 @@ Eigen::MatrixXd GalerkinOperator(const std::vector<Node>& nodes, const Eigen::Ma
   };
   patterns[2] = outer(0, 0);
   patterns[3] = outer(1, 1);
-  patterns[4] = outer(2, 2);
-  patterns[5] = outer(0, 1);
+  patterns[4] = outer(0, 1);
+  patterns[5] = outer(2, 2);
   patterns[6] = outer(0, 2);
   patterns[7] = outer(1, 2);
   std::array<Eigen::MatrixXd, kParts> kernel;
   const double inverse_half_length = 1.0 / half_length_m;
+  // A ribbon whose centreline lies in a plane z = const has R_z = 0: the
+  // parts with z (zz, xz, yz) vanish and are left out.
+  bool planar = true;
+  for (const Node& node : nodes) planar = planar && node.hydro_W.z() == nodes[0].hydro_W.z();
+  const int parts = planar ? 5 : kParts;
   for (int p = 0; p < pieces; ++p) {
     for (int q = p + 1; q < pieces; ++q) {
       const int p0 = starts[p], np = starts[p + 1] - p0;
@@ -186,13 +191,14 @@ Eigen::MatrixXd GalerkinOperator(const std::vector<Node>& nodes, const Eigen::Ma
           kernel[1](a, c) = inverse_ds;
           kernel[2](a, c) = k * r.x() * r.x();
           kernel[3](a, c) = k * r.y() * r.y();
-          kernel[4](a, c) = k * r.z() * r.z();
-          kernel[5](a, c) = k * r.x() * r.y();
+          kernel[4](a, c) = k * r.x() * r.y();
+          if (planar) continue;
+          kernel[5](a, c) = k * r.z() * r.z();
           kernel[6](a, c) = k * r.x() * r.z();
           kernel[7](a, c) = k * r.y() * r.z();
         }
       }
-      for (int part = 0; part < kParts; ++part) {
+      for (int part = 0; part < parts; ++part) {
         const Eigen::MatrixXd projected = weighted.middleRows(p0, np).transpose() * kernel[part] *
                                           weighted.middleRows(q0, nq);
         if (part == 1) {
@@ -205,19 +211,6 @@ Eigen::MatrixXd GalerkinOperator(const std::vector<Node>& nodes, const Eigen::Ma
     }
   }
   return galerkin;
-}
-
-// Rows r, r + 3, r + 6, ... of a matrix whose rows come in threes (one
-// 3-vector per node or mode).
-using ThirdRows = Eigen::Map<Eigen::MatrixXd, 0, Eigen::Stride<Eigen::Dynamic, 3>>;
-using ConstThirdRows = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::Stride<Eigen::Dynamic, 3>>;
-ThirdRows EveryThirdRow(Eigen::MatrixXd* matrix, int r) {
-  return ThirdRows(matrix->data() + r, matrix->rows() / 3, matrix->cols(),
-                   Eigen::Stride<Eigen::Dynamic, 3>(matrix->rows(), 3));
-}
-ConstThirdRows EveryThirdRow(const Eigen::MatrixXd& matrix, int r) {
-  return ConstThirdRows(matrix.data() + r, matrix.rows() / 3, matrix.cols(),
-                        Eigen::Stride<Eigen::Dynamic, 3>(matrix.rows(), 3));
 }
 
 void RequirePositive(double value, const char* what) {
@@ -241,6 +234,9 @@ void RibbonSettings::Validate() const {
   if (!(shape_tolerance_rad >= 0.0) || !std::isfinite(shape_tolerance_rad)) {
     throw std::invalid_argument("ribbon fluid: the shape tolerance must be finite and >= 0");
   }
+  if (!(secant_reach_rad >= 0.0) || !std::isfinite(secant_reach_rad)) {
+    throw std::invalid_argument("ribbon fluid: the secant's reach must be finite and >= 0");
+  }
 }
 
 Eigen::MatrixXd RibbonBodyResistance(const std::vector<RibbonPiece>& pieces, int bodies,
@@ -263,30 +259,31 @@ Eigen::MatrixXd RibbonBodyResistance(const std::vector<RibbonPiece>& pieces, int
   const Eigen::MatrixXd weighted =
       Eigen::VectorXd::Map(Weights(nodes).data(), n_nodes).asDiagonal() * legendre;
   const Eigen::MatrixXd galerkin = GalerkinOperator(nodes, weighted, legendre, b, s_cap, half_m);
-  Eigen::MatrixXd rigid = Eigen::MatrixXd::Zero(3 * modes, 6 * bodies);
+  // The projected rigid motions, int P_m 8 pi mu U ds with U = -[r - c]x w
+  // + v on each body: 8 pi mu [-[M1_m - M0_m c]x, M0_m I] from the body's
+  // moments M0_m = sum w_i P_m(s_i), M1_m = sum w_i P_m(s_i) r_i.
+  Eigen::MatrixXd moment0 = Eigen::MatrixXd::Zero(modes, bodies);
+  Eigen::MatrixXd moment1 = Eigen::MatrixXd::Zero(3 * modes, bodies);
   for (int i = 0; i < n_nodes; ++i) {
-    Eigen::Matrix<double, 3, 6> motion;  // U = -[r - c]x w + v
-    motion << -CrossMatrix(nodes[i].point_W - c), Eigen::Matrix3d::Identity();
-    motion *= 8.0 * kPi * viscosity_Pa_s;
     for (int m = 0; m < modes; ++m) {
-      rigid.block<3, 6>(3 * m, 6 * nodes[i].body) += weighted(i, m) * motion;
+      moment0(m, nodes[i].body) += weighted(i, m);
+      moment1.block<3, 1>(3 * m, nodes[i].body) += weighted(i, m) * nodes[i].point_W;
+    }
+  }
+  const double scale = 8.0 * kPi * viscosity_Pa_s;
+  Eigen::MatrixXd rigid = Eigen::MatrixXd::Zero(3 * modes, 6 * bodies);
+  for (int body = 0; body < bodies; ++body) {
+    for (int m = 0; m < modes; ++m) {
+      const Eigen::Vector3d arm = moment1.block<3, 1>(3 * m, body) - moment0(m, body) * c;
+      rigid.block<3, 3>(3 * m, 6 * body) = -scale * CrossMatrix(arm);
+      rigid.block<3, 3>(3 * m, 6 * body + 3) = scale * moment0(m, body) * Eigen::Matrix3d::Identity();
     }
   }
   const Eigen::MatrixXd coefficients = galerkin.partialPivLu().solve(rigid);
-  // The force density at every node, f = sum_n P_n(s) f_n, component by
-  // component, and the wrench [torque about c; force] of f dl on each body.
-  Eigen::MatrixXd force(3 * n_nodes, 6 * bodies);
-  for (int r = 0; r < 3; ++r) {
-    EveryThirdRow(&force, r).noalias() = legendre * EveryThirdRow(coefficients, r);
-  }
-  Eigen::MatrixXd resistance = Eigen::MatrixXd::Zero(6 * bodies, 6 * bodies);
-  for (int i = 0; i < n_nodes; ++i) {
-    auto node_force = force.middleRows<3>(3 * i);
-    node_force *= nodes[i].weight * half_m;
-    const int row = 6 * nodes[i].body;
-    resistance.middleRows<3>(row).noalias() += CrossMatrix(nodes[i].point_W - c) * node_force;
-    resistance.middleRows<3>(row + 3) += node_force;
-  }
+  // The wrench [torque about c; force] of f dl on each body, f = sum_n P_n
+  // f_n: sum over its nodes of [[r - c]x; I] w_i L P_n(s_i) f_n, which is
+  // rigid^T f_n L / (8 pi mu) (the same moments).
+  const Eigen::MatrixXd resistance = (half_m / scale) * (rigid.transpose() * coefficients);
   return 0.5 * (resistance + resistance.transpose());  // reciprocal theorem
 }
 
@@ -316,14 +313,38 @@ FluidParameter Modes() {
       "where the theory's resistance stops being positive: docs/FLUIDS.md)"));
 }
 
+FluidParameter ShapeToleranceRad() {
+  return NumberParameter("ribbon_shape_tolerance_rad", "ipmc_fluid_ribbon_shape_tolerance_rad",
+                         "rad", 1.0, 1e-3, "1e-3", 0.0, true, 2e-3,
+                         "The ribbon's resistance is recomputed when a joint has moved more than "
+                         "this since it was last computed, or off the secant of the last two "
+                         "(0: every evaluation; docs/FLUIDS.md, \"Cost on flexible links\")");
+}
+
+FluidParameter SecantReachRad() {
+  return NumberParameter("ribbon_secant_reach_rad", "ipmc_fluid_ribbon_secant_reach_rad", "rad",
+                         1.0, kDefaultSecantReachRad, "0", 0.0, true, 2e-3,
+                         "Between exact evaluations the ribbon's resistance is extrapolated "
+                         "along the secant of the last two while no joint has moved more than "
+                         "this (0: the last one as it is; docs/FLUIDS.md, \"Cost on flexible "
+                         "links\")");
+}
+
 }  // namespace
 
-std::vector<FluidParameter> RibbonFluid::Parameters() { return {Modes()}; }
+std::vector<FluidParameter> RibbonFluid::Parameters() {
+  return {Modes(), ShapeToleranceRad(), SecantReachRad()};
+}
 
 std::unique_ptr<Fluid> RibbonFluid::Make(const mjModel* m, const RftDrag& segments,
                                          const RftDragOverrides& overrides) {
+  const auto value = [&](const FluidParameter& p) {
+    return *FluidParameterValue(m, overrides, "ribbon fluid", p);
+  };
   RibbonSettings ribbon;
-  ribbon.modes = static_cast<int>(*FluidParameterValue(m, overrides, "ribbon fluid", Modes()));
+  ribbon.modes = static_cast<int>(value(Modes()));
+  ribbon.shape_tolerance_rad = value(ShapeToleranceRad());
+  ribbon.secant_reach_rad = value(SecantReachRad());
   return std::make_unique<RibbonFluid>(m, segments, ribbon);
 }
 

@@ -43,7 +43,9 @@
 // smooth force density across the kinks; the velocities and wrenches use
 // the segments' own points. The resistance is symmetrised (reciprocal
 // theorem) and, as the Stokeslets', kept in the root body's frame until a
-// joint has moved more than `shape_tolerance_rad`. docs/FLUIDS.md has the
+// joint has moved more than `shape_tolerance_rad`, and extrapolated along
+// the secant of the last two within `secant_reach_rad`
+// (dense_resistance_fluid.h). docs/FLUIDS.md has the
 // validation and the error on the paper's strip.
 #pragma once
 
@@ -67,6 +69,7 @@ struct RibbonSettings {
   double width_m = 0.0;              // the ribbon's full width; default the strip's
   double end_cap_m = 0.0;            // length of each elliptic end; default half the width
   double shape_tolerance_rad = 1e-3; // recompute beyond this joint motion
+  double secant_reach_rad = kDefaultSecantReachRad;  // extrapolate within this
   // Checked: throws std::invalid_argument naming the setting and its range.
   void Validate() const;
 };
@@ -119,6 +122,7 @@ class RibbonFluid : public DenseResistanceFluid {
   Eigen::MatrixXd ComputeResistance(const mjModel* m, const mjData* d,
                                     const Eigen::Vector3d& origin_W) const override;
   double shape_tolerance_rad() const override { return settings_.shape_tolerance_rad; }
+  double secant_reach_rad() const override { return settings_.secant_reach_rad; }
 
   RibbonSettings settings_;
 };

@@ -62,6 +62,9 @@ StokesletSettings StokesletSettingsFromModel(const mjModel* m, const RftDrag& se
   if (!(settings.shape_tolerance_rad >= 0.0) || !std::isfinite(settings.shape_tolerance_rad)) {
     throw std::invalid_argument("stokeslet fluid: the shape tolerance must be finite and >= 0");
   }
+  if (!(settings.secant_reach_rad >= 0.0) || !std::isfinite(settings.secant_reach_rad)) {
+    throw std::invalid_argument("stokeslet fluid: the secant's reach must be finite and >= 0");
+  }
   if (settings.wall_distance_m) RequirePositive(*settings.wall_distance_m, "the wall distance");
   return settings;
 }
@@ -99,7 +102,17 @@ FluidParameter ShapeToleranceRad() {
                          "ipmc_fluid_stokeslet_shape_tolerance_rad", "rad", 1.0, 1e-3, "1e-3",
                          0.0, true, 1e-4,
                          "The Stokeslet resistance is recomputed when a joint has moved more "
-                         "than this since it was last computed (0: every evaluation)");
+                         "than this since it was last computed, or off the secant of the last "
+                         "two (0: every evaluation)");
+}
+
+FluidParameter SecantReachRad() {
+  return NumberParameter("stokeslet_secant_reach_rad", "ipmc_fluid_stokeslet_secant_reach_rad",
+                         "rad", 1.0, kDefaultSecantReachRad, "0", 0.0, true, 2e-3,
+                         "Between exact evaluations the Stokeslet resistance is extrapolated "
+                         "along the secant of the last two while no joint has moved more than "
+                         "this (0: the last one as it is; docs/FLUIDS.md, \"Cost on flexible "
+                         "links\")");
 }
 
 // The settings the parameters give, defaults filled in and checked.
@@ -113,6 +126,7 @@ StokesletSettings SettingsFromParameters(const mjModel* m, const RftDrag& segmen
   if (const std::optional<double> per_m = value(PointsPerMm())) settings.spacing_m = 1.0 / *per_m;
   settings.blob_m = value(BlobMm()).value_or(0.0);
   settings.shape_tolerance_rad = *value(ShapeToleranceRad());
+  settings.secant_reach_rad = *value(SecantReachRad());
   settings.wall_distance_m = WallDistance_m(segments);
   return StokesletSettingsFromModel(m, segments, settings);
 }
@@ -120,7 +134,7 @@ StokesletSettings SettingsFromParameters(const mjModel* m, const RftDrag& segmen
 }  // namespace
 
 std::vector<FluidParameter> StokesletFluid::Parameters() {
-  return {WidthPoints(), PointsPerMm(), BlobMm(), ShapeToleranceRad()};
+  return {WidthPoints(), PointsPerMm(), BlobMm(), ShapeToleranceRad(), SecantReachRad()};
 }
 
 std::unique_ptr<Fluid> StokesletFluid::Make(const mjModel* m, const RftDrag& segments,

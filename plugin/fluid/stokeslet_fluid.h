@@ -10,7 +10,8 @@
 // one dense 6B x 6B matrix over the segments' B bodies.
 //
 // The resistance is kept while the shape moves less than
-// `shape_tolerance_rad` (plugin/fluid/dense_resistance_fluid.h).
+// `shape_tolerance_rad`, and extrapolated along the secant of the last two
+// within `secant_reach_rad` (plugin/fluid/dense_resistance_fluid.h).
 //
 // Settings: the model's <custom> fields ipmc_fluid_stokeslet_* and the
 // program's overrides of them (the scenario's fluid.stokeslet_* keys); the
@@ -76,6 +77,7 @@ class StokesletFluid : public DenseResistanceFluid {
   Eigen::MatrixXd ComputeResistance(const mjModel* m, const mjData* d,
                                     const Eigen::Vector3d& origin_W) const override;
   double shape_tolerance_rad() const override { return settings_.shape_tolerance_rad; }
+  double secant_reach_rad() const override { return settings_.secant_reach_rad; }
 
   StokesletSettings settings_;
   mutable int points_ = 0;

@@ -65,15 +65,9 @@ int RunConvergeCommandLine(const ConvergeArgs& args) {
                 cheapest.empty() ? "none of these runs (refine further)" : cheapest.c_str());
   }
   if (outcome.table_path.empty()) return 0;
-  FigureOptions figure;
-  figure.x_column = "resolution";
-  figure.y_column = "swim_abs_error_percent";
-  figure.group_column = "study";
-  figure.log_x = figure.log_y = true;
-  figure.title = "Swim error against each study's converged reference";
   const std::string png =
       (std::filesystem::path(args.spec.out) / "converge.png").string();
-  DrawFigureOf(FigureKind::kSweep, outcome.table_path, figure, png);
+  DrawConvergeFigure(outcome.table_path, png);
   std::printf("wrote %s and %s\n", outcome.table_path.c_str(), png.c_str());
   return 0;
 }

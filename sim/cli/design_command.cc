@@ -10,7 +10,27 @@ namespace ipmc {
 namespace {
 
 
-void PrintDesign(const DesignSpec& args, const std::string& plant_file, const LinkDesign& result) {
+// The derivative filter against the usual N = Td / Tf = Kd / (Kp Tf) of 2
+// to 20 (Astrom & Murray, Feedback Systems, sec. 10.5), and against the
+// sensor's noise where it was designed from it.
+void PrintDerivativeFilter(const DesignCommand& command, const LinkDesign& result) {
+  const double filter_s = result.tuning.derivative_filter_s;
+  const PidGains& g = result.tuned.gains;
+  if (command.sensor_noise_mm > 0) {
+    std::printf("  derivative filter from the sensor's %g mm RMS noise: Tf = %.4g s, derivative "
+                "noise %.4g V RMS (bound %g V)\n",
+                command.sensor_noise_mm, filter_s, result.derivative_noise_V,
+                command.derivative_noise_V);
+  }
+  if (filter_s > 0 && g.kp > 0) {
+    const double n = g.kd / (g.kp * filter_s);
+    std::printf("  N = Td / Tf = %.3g%s\n", n,
+                n < 2 || n > 20 ? " (outside the usual 2 to 20)" : " (within the usual 2 to 20)");
+  }
+}
+
+void PrintDesign(const DesignSpec& args, const DesignCommand& command,
+                 const std::string& plant_file, const LinkDesign& result) {
   const IpmcLinkParams& p = result.params;
   if (!plant_file.empty()) {
     const bool g2 = p.kind == IpmcModelKind::kG2;
@@ -37,7 +57,7 @@ void PrintDesign(const DesignSpec& args, const std::string& plant_file, const Li
               "sampled at %g Hz (linear, no clamp%s):\n",
               args.crossover_rad_s, args.reference_order, args.horizon_s, args.sample_rate_Hz,
               args.derivative_filter_s > 0
-                  ? (", derivative filter Tf = " + FormatShortest(args.derivative_filter_s) + " s")
+                  ? (", derivative filter Tf = " + FormatDouble(args.derivative_filter_s, 4) + " s")
                         .c_str()
                   : "");
   std::printf("  %-34s %-34s %10s %10s %6s\n", "start", "result", "J_start", "J", "evals");
@@ -49,8 +69,10 @@ void PrintDesign(const DesignSpec& args, const std::string& plant_file, const Li
   std::printf("  paper (eq. 12): %s, J = %.6f\n", PidText(kPaperPid).c_str(), result.paper_cost);
   std::printf("  tuned:          %s, J = %.6f (%.1f %% of the paper's)\n",
               PidText(tuned.gains).c_str(), tuned.cost, 100 * tuned.cost / result.paper_cost);
-  std::printf("  tuned open loop (exact plant, continuous PID): %s\n",
+  std::printf("  tuned open loop (exact plant, continuous PID%s): %s\n",
+              args.derivative_filter_s > 0 ? " with its filter" : "",
               MarginsText(result.pid_margins).c_str());
+  PrintDerivativeFilter(command, result);
   std::printf("  tuning time %.2f s\n", result.tuning_s);
 }
 
@@ -72,7 +94,7 @@ int RunDesignCommandLine(const DesignArgs& args) {
     spec.link = designs[i].link;
     spec.sample_rate_Hz = 1.0 / designs[i].tuning.sample_period_s;
     spec.derivative_filter_s = designs[i].tuning.derivative_filter_s;
-    PrintDesign(spec, plants, designs[i]);
+    PrintDesign(spec, args.spec, plants, designs[i]);
   }
   if (!args.spec.out.empty()) std::printf("\nwrote %s\n", args.spec.out.c_str());
   return 0;

@@ -13,6 +13,7 @@
 #include "sim/cli/export_command.h"
 #include "sim/cli/gait_command.h"
 #include "sim/cli/generate_command.h"
+#include "sim/cli/resistance_command.h"
 #include "sim/cli/optimize_command.h"
 #include "sim/cli/options_command.h"
 #include "sim/cli/pipeline_command.h"
@@ -63,6 +64,7 @@ int main(int argc, char** argv) {
   // Every command, in the order --help lists them.
   const ipmc::CommandRegistration commands[] = {
       ipmc::Registration(ipmc::AddGenerateCommand, ipmc::RunGenerateCommandLine),
+      ipmc::Registration(ipmc::AddResistanceCommand, ipmc::RunResistanceCommandLine),
       ipmc::Registration(ipmc::AddGaitCommand, ipmc::RunGaitCommandLine),
       ipmc::Registration(ipmc::AddBenchCommand, ipmc::RunBenchCommandLine),
       ipmc::Registration(ipmc::AddRunCommand, ipmc::RunRunCommandLine),

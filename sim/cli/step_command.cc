@@ -27,7 +27,7 @@ std::string Optional(const std::optional<double>& value, const char* format) {
 // after half the record (the response may leave the band again).
 void PrintStepRow(const std::string& label, const StepMetrics& m, StepRecordStatus status,
                   const std::string& max_abs_u, const std::string& cost,
-                  const std::string& record) {
+                  const std::string& record, const std::string& indices) {
   const bool still_rising = status == StepRecordStatus::kPeakAtEnd;
   const bool settled_late = status == StepRecordStatus::kSettledLate;
   char overshoot[32], peak_time[32];
@@ -36,9 +36,41 @@ void PrintStepRow(const std::string& label, const StepMetrics& m, StepRecordStat
   std::snprintf(peak_time, sizeof(peak_time), "%.4f%s", m.peak_time_s, still_rising ? "*" : "");
   std::string settling = Optional(m.settling_time_s, "%.4f");
   if (settled_late && m.settling_time_s) settling += "*";
-  std::printf("%4s %11s %11s %9.5f %11s %12s %11s %9s %9s\n", label.c_str(), overshoot,
+  std::printf("%4s %11s %11s %9.5f %11s %12s %11s %9s %9s %s\n", label.c_str(), overshoot,
               Optional(m.rise_time_s, "%.4f").c_str(), m.peak_value, peak_time, settling.c_str(),
-              max_abs_u.c_str(), cost.c_str(), record.c_str());
+              max_abs_u.c_str(), cost.c_str(), record.c_str(), indices.c_str());
+}
+
+void PrintStepHeader() {
+  std::printf("%4s %11s %11s %9s %11s %12s %11s %9s %9s %10s %11s\n", "link", "overshoot_%",
+              "rise_time_s", "peak_mm", "peak_time_s", "settling_s", "max_abs_u_V", "J_eq11",
+              "record_s", "iae_mm_s", "itae_mm_s2");
+}
+
+// The links' rows; returns what their records leave open, one item a link.
+std::vector<std::string> PrintLinkRows(const std::vector<LinkStep>& steps) {
+  std::vector<std::string> open_metrics;
+  for (const LinkStep& step : steps) {
+    char u_text[32], cost_text[32], record_text[32], indices_text[64];
+    std::snprintf(u_text, sizeof(u_text), "%.3f", step.max_abs_control_V);
+    std::snprintf(cost_text, sizeof(cost_text), "%.4f", step.cost);
+    std::snprintf(record_text, sizeof(record_text), "%g", step.response.time_s.back());
+    std::snprintf(indices_text, sizeof(indices_text), "%10.6f %11.6f", step.indices.iae_mm_s,
+                  step.indices.itae_mm_s2);
+    PrintStepRow(std::to_string(step.link), step.metrics, step.status, u_text, cost_text,
+                 record_text, indices_text);
+    if (step.status != StepRecordStatus::kDetermined) {
+      open_metrics.push_back("link " + std::to_string(step.link) + ": " +
+                             StepRecordStatusText(step.status) + " at " + record_text + " s");
+    }
+  }
+  return open_metrics;
+}
+
+std::string JoinedItems(const std::vector<std::string>& items) {
+  std::string list;
+  for (const std::string& item : items) list += (list.empty() ? "" : "; ") + item;
+  return list;
 }
 
 void PrintStep(const StepCommand& args, const StepAnalysis& analysis) {
@@ -55,36 +87,34 @@ void PrintStep(const StepCommand& args, const StepAnalysis& analysis) {
   std::printf("; s^-0.5%s by %d Oustaloup pairs on [%g, %g] rad/s\n",
               args.controller == controller_names::kFractional ? " and s^-lambda" : "", analysis.oustaloup_pairs,
               analysis.band_low_rad_s, analysis.band_high_rad_s);
-  std::printf("%4s %11s %11s %9s %11s %12s %11s %9s %9s\n", "link", "overshoot_%",
-              "rise_time_s", "peak_mm", "peak_time_s", "settling_s", "max_abs_u_V", "J_eq11",
-              "record_s");
-  std::vector<std::string> open_metrics;
-  for (const LinkStep& step : analysis.links) {
-    char u_text[32], cost_text[32], record_text[32];
-    std::snprintf(u_text, sizeof(u_text), "%.3f", step.max_abs_control_V);
-    std::snprintf(cost_text, sizeof(cost_text), "%.4f", step.cost);
-    std::snprintf(record_text, sizeof(record_text), "%g", step.response.time_s.back());
-    PrintStepRow(std::to_string(step.link), step.metrics, step.status, u_text, cost_text,
-                 record_text);
-    if (step.status != StepRecordStatus::kDetermined) {
-      open_metrics.push_back("link " + std::to_string(step.link) + ": " +
-                             StepRecordStatusText(step.status) + " at " + record_text + " s");
-    }
-  }
+  PrintStepHeader();
+  std::vector<std::string> open_metrics = PrintLinkRows(analysis.links);
   char reference_record[32];
   std::snprintf(reference_record, sizeof(reference_record), "%g", analysis.time_s.back());
   PrintStepRow("ref", analysis.reference_metrics, StepRecordStatus::kDetermined, "-", "-",
-               reference_record);
+               reference_record, "         -           -");
   std::printf("ref: reference model 1 / ((s/5)^1.16 + 1) (eq. 9); J_eq11: eq. 11 over the "
               "%g s horizon; settling: %g %% band\n",
               args.horizon_s, 100 * analysis.settling_band);
+  std::printf("iae_mm_s, itae_mm_s2: Table 5's indices of the error 1 mm - y over the horizon "
+              "(rectangle rule at the sample rate)\n");
   std::printf("metrics from each link's record (record_s), simulated past the horizon until "
               "they are determined, at most %g s\n",
               analysis.metrics_horizon_s);
   if (!open_metrics.empty()) {
-    std::string list;
-    for (const std::string& item : open_metrics) list += (list.empty() ? "" : "; ") + item;
-    std::printf("*: not determined by the record (%s); raise --max-horizon-s\n", list.c_str());
+    std::printf("*: not determined by the record (%s); raise --max-horizon-s\n",
+                JoinedItems(open_metrics).c_str());
+  }
+  if (analysis.bench.empty()) return;
+  std::printf("\non the multibody bench %s (its model, plants, time step and fluid; the "
+              "stepped link's reference 1 mm from t = 0, the other links' 0, every link under "
+              "the controllers above), over the %g s horizon:\n",
+              args.bench_scenario.c_str(), args.horizon_s);
+  PrintStepHeader();
+  const std::vector<std::string> open_bench = PrintLinkRows(analysis.bench);
+  if (!open_bench.empty()) {
+    std::printf("*: not determined by the bench's record (%s); raise --horizon-s\n",
+                JoinedItems(open_bench).c_str());
   }
 }
 

@@ -118,6 +118,8 @@ SwimMetrics SwimMeter::Finish(const mjModel* m, const mjData* d, int from_cycle,
   constexpr double kTwoPi = 6.283185307179586;
   metrics.reynolds_oscillatory =
       rho_over_mu * kTwoPi * metrics.frequency_Hz * width_m * width_m / 4.0;
+  metrics.step = WithSwimStepError(metrics.step, metrics.peak_lateral_tip_speed_mm_s,
+                                   metrics.body_length_mm, metrics.mean_speed_along_mm_s);
   metrics.warnings = FluidWarnings(metrics, wavelength_mm);
   return metrics;
 }

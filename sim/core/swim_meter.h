@@ -42,8 +42,8 @@ struct SwimMetrics {
   double viscosity_Pa_s = 0.0;               // the fluid's
   double body_length_mm = 0.0;               // sum of the drag segments
   double longest_segment_mm = 0.0;           // the longest drag segment
-  // Whether the time step resolves the explicit relaxations (measured at
-  // the start, Start(m, d, ...)).
+  // Whether the time step resolves the swim: the drag relaxation measured
+  // at the start (Start(m, d, ...)), the swim's error at the end (Finish).
   StepResolution step;
   double controller_rate_Hz = 0.0;  // rounds the step the warning names
   double LargestReynolds() const;
@@ -64,8 +64,8 @@ constexpr double kReynoldsStokes = 0.1;
 // (three straight chords of a sine are the fewest that bend both ways).
 constexpr double kMinSegmentsPerWavelength = 3.0;
 
-// The warnings for a swim: a time step that does not resolve the explicit
-// relaxations (StepResolutionWarnings), a Reynolds number above
+// The warnings for a swim: a time step that does not resolve the swim
+// (StepResolutionWarnings), a Reynolds number above
 // kReynoldsWarning (with the viscosity or frequency that makes it
 // kReynoldsStokes) and, for a wave of `wavelength_mm` (0: none), fewer
 // than kMinSegmentsPerWavelength drag segments per wavelength.
@@ -83,9 +83,8 @@ class SwimMeter {
   BodyPose Pose(const mjData* d) const;
   // Marks the start of the run and of its first cycle.
   void Start(const mjData* d);
-  // The same, and measures whether m's time step resolves the explicit
-  // relaxations at d's state for a wave of `frequency_Hz`
-  // (MeasureStepResolution); the warning rounds the step it names to
+  // The same, and measures m's drag relaxation at d's state for the step
+  // check of a wave of `frequency_Hz` (MeasureStepResolution); the warning rounds the step it names to
   // `controller_rate_Hz` (0: none).
   void Start(const mjModel* m, const mjData* d, double frequency_Hz,
              double controller_rate_Hz = 0.0);

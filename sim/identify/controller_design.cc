@@ -9,6 +9,7 @@
 
 #include <nlopt.hpp>
 
+#include "sim/base/error.h"
 #include "sim/base/numbers.h"
 #include "controllers/fractional_integrator.h"
 #include "controllers/pid.h"
@@ -311,6 +312,36 @@ FractionalLoopDesign DesignFractionalLoop(const FrequencyFunction& plant, double
   return result;
 }
 
+namespace {
+constexpr char kDerivativeNoise[] = "derivative noise";
+void RequireFiniteNonNegative(const char* field, double value) {
+  if (!std::isfinite(value) || value < 0) {
+    ThrowOption(kDerivativeNoise, field, "finite and >= 0", FormatDouble(value));
+  }
+}
+}  // namespace
+
+double DerivativeNoiseRms_V(double kd, double filter_s, double sample_period_s, double noise_mm) {
+  RequireFiniteNonNegative("kd", kd);
+  RequireFiniteNonNegative("derivative_filter_s", filter_s);
+  RequireFinitePositive(kDerivativeNoise, "sample_period_s", sample_period_s);
+  RequireFiniteNonNegative("noise_mm", noise_mm);
+  const double t = sample_period_s;
+  return kd * noise_mm * std::sqrt(2.0 / ((filter_s + t) * (2.0 * filter_s + t)));
+}
+
+double DerivativeFilterForNoise_s(double kd, double sample_period_s, double noise_mm,
+                                  double bound_V) {
+  RequireFiniteNonNegative("kd", kd);
+  RequireFinitePositive(kDerivativeNoise, "sample_period_s", sample_period_s);
+  RequireFiniteNonNegative("noise_mm", noise_mm);
+  RequireFinitePositive(kDerivativeNoise, "bound_V", bound_V);
+  const double t = sample_period_s;
+  const double r = kd * noise_mm / bound_V;
+  if (r <= t / std::sqrt(2.0)) return 0.0;
+  return (std::sqrt(t * t + 16.0 * r * r) - 3.0 * t) / 4.0;
+}
+
 PidLoopDesign DesignPidLoop(const IpmcLinkParams& params, const FrequencyFunction& plant,
                             const PidTuningOptions& tuning) {
   using Complex = std::complex<double>;
@@ -320,7 +351,8 @@ PidLoopDesign DesignPidLoop(const IpmcLinkParams& params, const FrequencyFunctio
   result.tuned = TunePid(accurate, tuning);
   const PidGains g = result.tuned.gains;
   result.margins = ComputeMargins([&](double w) {
-    return (g.kp + g.ki / Complex(0, w) + g.kd * Complex(0, w)) * plant(w);
+    const Complex s(0, w);
+    return (g.kp + g.ki / s + g.kd * s / (tuning.derivative_filter_s * s + 1.0)) * plant(w);
   });
   return result;
 }

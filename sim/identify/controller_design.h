@@ -192,10 +192,35 @@ constexpr double kAccurateBandHigh_rad_s = 1e5;
 // kAccurateBandHigh_rad_s].
 StateSpace AccurateLinkPlant(IpmcLinkParams params);
 
+// ---------------------------------------------------- derivative filter ---
+
+// The PID's filtered derivative as it runs (controllers/pid.h),
+//   D_k = (Tf D_(k-1) + Kd (y_k - y_(k-1))) / (Tf + T),
+// driven by white measurement noise of RMS sigma [mm] per sample is
+// D = H(z) n with H(z) = g (1 - z^-1) / (1 - a z^-1), a = Tf / (Tf + T),
+// g = Kd / (Tf + T). Its impulse response h_0 = g, h_k = -g (1 - a) a^(k-1)
+// has sum h_k^2 = 2 g^2 / (1 + a), so the derivative's noise voltage is
+//   sigma_D = Kd sigma sqrt(2 / ((Tf + T) (2 Tf + T)))  [V RMS]:
+// Kd sigma sqrt(2) / T for the ideal derivative (Tf = 0, a difference of
+// two samples), Kd sigma / Tf for Tf >> T, the derivative's high-frequency
+// gain Kd / Tf = Kd N / Td that the filter Tf = Td / N limits (Astrom &
+// Murray, Feedback Systems, 2008, sec. 10.5; Astrom & Hagglund, Advanced
+// PID Control, 2006, sec. 3.3: N typically 2 to 20). Throws
+// std::invalid_argument for a negative or non-finite argument or T <= 0.
+double DerivativeNoiseRms_V(double kd, double filter_s, double sample_period_s, double noise_mm);
+
+// The smallest Tf with sigma_D <= bound_V: solving (Tf + T) (2 Tf + T) =
+// 2 R^2, R = Kd sigma / bound, gives Tf = (sqrt(T^2 + 16 R^2) - 3 T) / 4,
+// and Tf = 0 where the ideal derivative is within the bound (R <= T /
+// sqrt 2). Throws std::invalid_argument as above or for bound_V <= 0.
+double DerivativeFilterForNoise_s(double kd, double sample_period_s, double noise_mm,
+                                  double bound_V);
+
 // The PID tuned for the link `params` (on its AccurateLinkPlant), J at the
 // paper's gains (eq. 12, PidGains{}) for comparison, and the margins of
-// the tuned continuous PID's open loop (Kp + Ki/s + Kd s) P with P =
-// `plant` (the link's exact or fitted response).
+// the tuned continuous PID's open loop (Kp + Ki/s + Kd s / (Tf s + 1)) P
+// with the tuning's Tf and P = `plant` (the link's exact or fitted
+// response).
 struct PidLoopDesign {
   PidTuningResult tuned;
   double paper_cost = 0;

@@ -490,12 +490,21 @@ OptionTable<DesignCommand> MakeDesignOptions() {
   table.Add<double>({"horizon_s", "s", "finite and > 0", "Horizon of J (eq. 11)"},
                     [](DesignCommand& c) -> double& { return c.horizon_s; });
   table.Add<double>({"sample_rate_Hz", "Hz", "finite and > 0",
-                     "PID rate in the tuning loop (with scenario: its controller's, unless given)"},
+                     "PID rate in the tuning loop: the controllers' 1 kHz (with scenario: its "
+                     "controller's, unless given)"},
                     [](DesignCommand& c) -> double& { return c.sample_rate_Hz; });
   table.Add<double>({"derivative_bandwidth_rad_s", "rad/s", "finite and >= 0; 0: none",
                      "PID derivative filter bandwidth w_f: Tf = 1 / w_f in the tuning loop and in "
                      "out (controller.derivative_filter_s)"},
                     [](DesignCommand& c) -> double& { return c.derivative_bandwidth_rad_s; });
+  table.Add<double>({"sensor_noise_mm", "mm", "finite and >= 0; 0: none",
+                     "RMS noise of the measured deflection, white per sample: the PID derivative "
+                     "filter Tf is the smallest that keeps the derivative's noise within "
+                     "derivative_noise_V (docs/IDENTIFICATION.md)"},
+                    [](DesignCommand& c) -> double& { return c.sensor_noise_mm; });
+  table.Add<double>({"derivative_noise_V", "V", "finite and > 0; with sensor_noise_mm",
+                     "Bound on the PID derivative's RMS noise voltage"},
+                    [](DesignCommand& c) -> double& { return c.derivative_noise_V; });
   OptionInfo scenario{"scenario", "", "a scenario file (TOML)",
                       "Design for each link of this scenario's run: its plants, its link count and "
                       "its controller's sample rate"};
@@ -577,6 +586,72 @@ RecordIdentification RunIdentifyCommandOnFile(const IdentifyCommand& command) {
                             record.time_s ? &*record.time_s : nullptr);
 }
 
+namespace {
+
+// The designs with the smallest Tf (to 1 %) whose retuned PIDs keep every
+// link's derivative noise (DerivativeNoiseRms_V) within the bound. Tf and
+// the tuned Kd move together (a filtered derivative is tuned to a larger
+// Kd), so Tf is not the bound's Tf at the ideal derivative's Kd; the noise
+// of the retuned loop falls as Tf grows (measured on Table 2's and the
+// own strip's plants), and Tf is bracketed by doubling, then bisected in
+// log Tf. `ideal` are the designs with the ideal derivative.
+std::vector<LinkDesign> DesignForSensorNoise(
+    const DesignCommand& command, double sample_rate_Hz,
+    const std::function<std::vector<LinkDesign>(double)>& design_links,
+    std::vector<LinkDesign> ideal) {
+  const double period_s = 1.0 / sample_rate_Hz;
+  const auto noise_V = [&](const std::vector<LinkDesign>& designs, double filter_s) {
+    double largest = 0;
+    for (const LinkDesign& link : designs) {
+      largest = std::max(largest, DerivativeNoiseRms_V(link.tuned.gains.kd, filter_s, period_s,
+                                                       command.sensor_noise_mm));
+    }
+    return largest;
+  };
+  const auto with_noise = [&](std::vector<LinkDesign> designs, double filter_s) {
+    for (LinkDesign& link : designs) {
+      link.derivative_noise_V = DerivativeNoiseRms_V(link.tuned.gains.kd, filter_s, period_s,
+                                                     command.sensor_noise_mm);
+    }
+    return designs;
+  };
+  const double bound_V = command.derivative_noise_V;
+  if (noise_V(ideal, 0.0) <= bound_V) return with_noise(std::move(ideal), 0.0);
+  // A first guess: the bound's Tf at the ideal derivative's Kd.
+  double guess_s = 0;
+  for (const LinkDesign& link : ideal) {
+    guess_s = std::max(guess_s, DerivativeFilterForNoise_s(link.tuned.gains.kd, period_s,
+                                                           command.sensor_noise_mm, bound_V));
+  }
+  double low_s = 0, high_s = guess_s;
+  std::vector<LinkDesign> high = design_links(high_s);
+  constexpr int kMaxDoublings = 30;
+  for (int doubling = 0; noise_V(high, high_s) > bound_V; ++doubling) {
+    if (doubling == kMaxDoublings) {
+      ThrowOption(kDesignCommand, "derivative_noise_V",
+                  "a bound some derivative filter meets (Tf up to " + FormatDouble(high_s) +
+                      " s was tried)",
+                  FormatDouble(bound_V));
+    }
+    low_s = high_s;
+    high_s *= 2;
+    high = design_links(high_s);
+  }
+  while (high_s - low_s > 1e-2 * high_s) {
+    const double mid_s = low_s > 0 ? std::sqrt(low_s * high_s) : high_s / 2;
+    std::vector<LinkDesign> mid = design_links(mid_s);
+    if (noise_V(mid, mid_s) > bound_V) {
+      low_s = mid_s;
+    } else {
+      high_s = mid_s;
+      high = std::move(mid);
+    }
+  }
+  return with_noise(std::move(high), high_s);
+}
+
+}  // namespace
+
 std::vector<LinkDesign> RunDesignCommand(const DesignCommand& command, const OptionGiven& given,
                                          const std::function<void()>& check_stop) {
   const auto is_given = [&given](const char* option) { return given && given(option); };
@@ -604,6 +679,22 @@ std::vector<LinkDesign> RunDesignCommand(const DesignCommand& command, const Opt
     ThrowOption(kDesignCommand, "derivative_bandwidth_rad_s", "finite and >= 0 (0: none)",
                 FormatDouble(bandwidth));
   }
+  const double noise_mm = command.sensor_noise_mm;
+  if (!std::isfinite(noise_mm) || noise_mm < 0) {
+    ThrowOption(kDesignCommand, "sensor_noise_mm", "finite and >= 0 (0: none)",
+                FormatDouble(noise_mm));
+  }
+  RequireFinitePositive(kDesignCommand, "derivative_noise_V", command.derivative_noise_V);
+  if (noise_mm > 0 && bandwidth > 0) {
+    throw FieldError(std::string(kDesignCommand) +
+                         ": derivative_bandwidth_rad_s does not apply with sensor_noise_mm",
+                     "derivative_bandwidth_rad_s", "");
+  }
+  if (noise_mm == 0 && is_given("derivative_noise_V")) {
+    throw FieldError(std::string(kDesignCommand) +
+                         ": derivative_noise_V applies only with sensor_noise_mm",
+                     "derivative_noise_V", "");
+  }
   if (!command.out.empty()) {
     for (std::size_t i = 0; i < design.links.size(); ++i) {
       if (design.links[i] != static_cast<int>(i) + 1) {
@@ -614,20 +705,22 @@ std::vector<LinkDesign> RunDesignCommand(const DesignCommand& command, const Opt
     }
     RequireWritableParent(command.out);
   }
-  design.derivative_filter_s = DerivativeFilterOf(design);
-  std::vector<LinkDesign> designs;
-  for (const int link : design.links) {
-    DesignSpec spec = design;
-    spec.link = link;
-    designs.push_back(
-        DesignLink(spec, plants.empty() ? nullptr : &plants.at(link - 1), check_stop));
-  }
+  const std::function<std::vector<LinkDesign>(double)> design_links = [&](double filter_s) {
+    std::vector<LinkDesign> designs;
+    for (const int link : design.links) {
+      DesignSpec spec = design;
+      spec.link = link;
+      spec.derivative_filter_s = filter_s;
+      designs.push_back(
+          DesignLink(spec, plants.empty() ? nullptr : &plants.at(link - 1), check_stop));
+    }
+    return designs;
+  };
+  std::vector<LinkDesign> designs = design_links(bandwidth > 0 ? 1.0 / bandwidth : 0.0);
+  if (noise_mm > 0) designs = DesignForSensorNoise(command, design.sample_rate_Hz, design_links,
+                                                    std::move(designs));
   if (!command.out.empty()) WriteFileAtomically(command.out, GainsToml(design, designs));
   return designs;
-}
-
-double DerivativeFilterOf(const DesignCommand& command) {
-  return command.derivative_bandwidth_rad_s > 0 ? 1.0 / command.derivative_bandwidth_rad_s : 0.0;
 }
 
 std::string GainsToml(const DesignCommand& command, const std::vector<LinkDesign>& designs) {
@@ -640,7 +733,7 @@ std::string GainsToml(const DesignCommand& command, const std::vector<LinkDesign
   const std::string plants = !command.scenario.empty()    ? command.scenario
                              : !command.plant_file.empty() ? command.plant_file
                                                            : std::string("Table 2");
-  const double filter_s = DerivativeFilterOf(command);
+  const double filter_s = designs.empty() ? 0.0 : designs.front().tuning.derivative_filter_s;
   return FormatText("# PIDs ipmc-swim design tuned per link for the plants of %s by J of eq. 11\n"
                     "# over %g s against 1/((s/%g)^%g + 1) in a %g Hz loop; a scenario takes\n"
                     "# them with include = [\"gains.toml\"].\n",
@@ -649,7 +742,12 @@ std::string GainsToml(const DesignCommand& command, const std::vector<LinkDesign
          "[controller]\nlink_kp = " + *TomlFloats(kp) + "\nlink_ki = " + *TomlFloats(ki) +
          "\nlink_kd = " + *TomlFloats(kd) + "\n" +
          (filter_s > 0 ? "derivative_filter_s = " + FormatShortest(filter_s) + "\n"
-                       : std::string());
+                       : std::string()) +
+         (command.sensor_noise_mm > 0
+              ? FormatText("# derivative_filter_s: the derivative's noise within %g V RMS for a\n"
+                           "# sensor noise of %g mm RMS.\n",
+                           command.derivative_noise_V, command.sensor_noise_mm)
+              : std::string());
 }
 
 }  // namespace ipmc

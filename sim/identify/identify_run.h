@@ -124,7 +124,9 @@ struct DesignSpec {
   double phase_margin_deg = 75.0;
   double reference_order = 1.16;
   double horizon_s = 2.0;
-  double sample_rate_Hz = 10000.0;  // the tuning loop's (a scenario's with design --scenario)
+  // The tuning loop's PID rate: the 1 kHz the controllers run at (a
+  // scenario's controller.sample_rate_Hz with design --scenario).
+  double sample_rate_Hz = 1000.0;
   double derivative_filter_s = 0.0;  // the PID's Tf in the tuning loop [s]
 };
 
@@ -137,6 +139,9 @@ struct LinkDesign {
   PidTuningResult tuned;
   StabilityMargins pid_margins;  // tuned PID, continuous, on the exact plant
   double tuning_s = 0;           // wall time of the PID tuning
+  // The derivative's RMS noise voltage at the tuned Kd and the tuning's Tf
+  // for DesignCommand::sensor_noise_mm (DerivativeNoiseRms_V); 0 without.
+  double derivative_noise_V = 0;
 };
 
 // Validates (std::invalid_argument naming the field) and designs for
@@ -182,6 +187,13 @@ struct DesignCommand : DesignSpec {
   // The PID's derivative filter as a bandwidth w_f: Tf = 1 / w_f, in the
   // tuning loop and in gains.toml (0: the ideal derivative).
   double derivative_bandwidth_rad_s = 0.0;
+  // Or from the sensor's noise: the RMS noise of the measured deflection
+  // [mm], white per sample (0: none), and the bound on the derivative's
+  // noise voltage [V RMS]; Tf is the smallest (to 1 %) that keeps every
+  // link's derivative within the bound (DerivativeNoiseRms_V) at the Kd
+  // tuned with it.
+  double sensor_noise_mm = 0.0;
+  double derivative_noise_V = 0.06;  // 1 % of the paper's 6 V clamp
   // gains.toml: the tuned PIDs as controller.link_kp, link_ki and link_kd
   // (links 1..n in order), which a scenario includes.
   std::string out;
@@ -195,9 +207,7 @@ const OptionTable<DesignCommand>& DesignOptions();
 std::vector<LinkDesign> RunDesignCommand(const DesignCommand& command,
                                          const OptionGiven& given = {},
                                          const std::function<void()>& check_stop = {});
-// Tf = 1 / derivative_bandwidth_rad_s, or 0 without a bandwidth.
-double DerivativeFilterOf(const DesignCommand& command);
-// gains.toml of the designs of links 1..n in order.
+// gains.toml of the designs of links 1..n in order, with their Tf.
 std::string GainsToml(const DesignCommand& command, const std::vector<LinkDesign>& designs);
 
 }  // namespace ipmc

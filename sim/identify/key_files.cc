@@ -25,7 +25,7 @@ ScenarioConfig KeyFileScenario(const std::string& path, int links) {
 
 }  // namespace
 
-int KeyFileLinks(const std::string& path) {
+int KeyFileLinks(const std::string& path, int links) {
   const toml::table table = ParseToml(ReadTextFile(path, "key file"), path);
   for (const char* section : {"plant", "controller"}) {
     const toml::table* keys = table[section].as_table();
@@ -36,11 +36,15 @@ int KeyFileLinks(const std::string& path) {
       }
     }
   }
-  return 3;
+  return links;
 }
 
-std::vector<IpmcLinkParams> PlantsOfKeyFile(const std::string& path) {
-  const ScenarioConfig scenario = KeyFileScenario(path, KeyFileLinks(path));
+bool KeyFileHasLinkArrays(const std::string& path) {
+  return KeyFileLinks(path, 0) > 0;
+}
+
+std::vector<IpmcLinkParams> PlantsOfKeyFile(const std::string& path, int links) {
+  const ScenarioConfig scenario = KeyFileScenario(path, KeyFileLinks(path, links));
   const FlagellumSpec spec = ScenarioFlagellumSpec(scenario.model);
   const IpmcModelKind kind = spec.ipmc_model == "g2" ? IpmcModelKind::kG2 : IpmcModelKind::kG1;
   std::vector<IpmcLinkParams> plants;
@@ -56,8 +60,8 @@ std::vector<IpmcLinkParams> PlantsOfKeyFile(const std::string& path) {
   return plants;
 }
 
-KeyFileControllers ControllersOfKeyFile(const std::string& path) {
-  const int links = KeyFileLinks(path);
+KeyFileControllers ControllersOfKeyFile(const std::string& path, int links) {
+  links = KeyFileLinks(path, links);
   const ScenarioConfig scenario = KeyFileScenario(path, links);
   KeyFileControllers controllers;
   for (int q = 0; q < links; ++q) {

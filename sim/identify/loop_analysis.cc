@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iomanip>
+#include <memory>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -22,11 +23,14 @@
 #include "plugin/actuators/ipmc_link_model.h"
 #include "sim/base/error.h"
 #include "sim/base/numbers.h"
+#include "sim/core/scenario_simulation.h"
+#include "sim/core/simulation.h"
 #include "sim/identify/controller_design.h"
 #include "sim/identify/key_files.h"
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
 #include "sim/io/files.h"
+#include "sim/runs/closed_loop_run.h"
 
 namespace ipmc {
 namespace {
@@ -218,35 +222,93 @@ const ControllerGains& StepGains(const StepSpec& spec, int link) {
   return spec.link_gains.empty() ? spec.gains : spec.link_gains.at(link - 1);
 }
 
-ClosedLoopResponse SimulateLink(const StepSpec& spec, int link) {
-  const StateSpace plant = AccurateLinkPlant(
-      spec.own_plants.empty() ? PaperLinkParams(link, PlantKind(spec.plant))
-                              : spec.own_plants.at(link - 1));
+// Link `link`'s controllers as the step runs them: its gains, the spec's
+// rate and clamp; s^-lambda as the accurate Oustaloup realisation.
+PidController::Config StepPidConfig(const StepSpec& spec, int link) {
+  PidController::Config config = PidConfig(StepGains(spec, link));
+  config.sample_period_s = 1.0 / spec.sample_rate_Hz;
+  config.clamp_enabled = !spec.no_clamp;
+  config.v_max = spec.v_max_V;
+  return config;
+}
+FractionalIntegrator::Config StepFractionalConfig(const StepSpec& spec, int link) {
   const ControllerGains& gains = StepGains(spec, link);
-  StepSimulation simulation;
-  simulation.horizon_s = spec.horizon_s;
-  simulation.max_horizon_s = MetricsHorizon_s(spec);
-  simulation.settling_band = kSettlingBand;
-  const double sample_period_s = 1.0 / spec.sample_rate_Hz;
-  if (spec.controller == kPid) {
-    PidController::Config config = PidConfig(gains);
-    config.sample_period_s = sample_period_s;
-    config.clamp_enabled = !spec.no_clamp;
-    config.v_max = spec.v_max_V;
-    PidController pid(config);
-    return SimulateClosedLoopStep(plant, pid, simulation);
-  }
   FractionalIntegrator::Config config;
   config.gain = gains.gain;
   config.order = gains.order;
   config.oustaloup_n = kAccurateOustaloupPairs;
   config.w_low_rad_s = kAccurateBandLow_rad_s;
   config.w_high_rad_s = kAccurateBandHigh_rad_s;
-  config.sample_period_s = sample_period_s;
+  config.sample_period_s = 1.0 / spec.sample_rate_Hz;
   config.clamp_enabled = !spec.no_clamp;
   config.v_max = spec.v_max_V;
-  FractionalIntegrator integrator(config);
+  return config;
+}
+
+ClosedLoopResponse SimulateLink(const StepSpec& spec, int link) {
+  const StateSpace plant = AccurateLinkPlant(
+      spec.own_plants.empty() ? PaperLinkParams(link, PlantKind(spec.plant))
+                              : spec.own_plants.at(link - 1));
+  StepSimulation simulation;
+  simulation.horizon_s = spec.horizon_s;
+  simulation.max_horizon_s = MetricsHorizon_s(spec);
+  simulation.settling_band = kSettlingBand;
+  if (spec.controller == kPid) {
+    PidController pid(StepPidConfig(spec, link));
+    return SimulateClosedLoopStep(plant, pid, simulation);
+  }
+  FractionalIntegrator integrator(StepFractionalConfig(spec, link));
   return SimulateClosedLoopStep(plant, integrator, simulation);
+}
+
+// The bench scenario with the step's controllers on every link (its kind,
+// gains, rate and clamp; the per-link gains of a gains file), one wave
+// period of horizon_s and a sample (the run's length, samples t_k = k T up
+// to the horizon's; the wave itself is not used), every controller sample
+// recorded and no files.
+ScenarioConfig BenchScenario(const StepSpec& spec, const ScenarioConfig& bench) {
+  ScenarioConfig scenario = bench;
+  ControllerScenario& controller = scenario.controller;
+  controller.kind = spec.controller == kPid ? ControllerKind::kPid : ControllerKind::kFractional;
+  controller.sample_rate_Hz = spec.sample_rate_Hz;
+  const int first = spec.links.front();
+  controller.pid = StepPidConfig(spec, first);
+  controller.fractional = StepFractionalConfig(spec, first);
+  controller.link_gains = {};
+  for (const ControllerGains& gains : spec.link_gains) {
+    controller.link_gains.kp.push_back(gains.kp);
+    controller.link_gains.ki.push_back(gains.ki);
+    controller.link_gains.kd.push_back(gains.kd);
+    controller.link_gains.gain.push_back(gains.gain);
+    controller.link_gains.order.push_back(gains.order);
+  }
+  controller.SetSamplePeriod();
+  scenario.actuation = Actuation::kDistributed;
+  scenario.run.cycles = 1;
+  const long samples = std::lround(std::ceil(spec.horizon_s * spec.sample_rate_Hz - 1e-9)) + 1;
+  scenario.waveform.frequency_Hz = spec.sample_rate_Hz / static_cast<double>(samples);
+  scenario.metrics.from_cycle = 1;
+  scenario.output.dir.clear();
+  scenario.output.samples_per_cycle = static_cast<int>(samples);
+  return scenario;
+}
+
+// Link `link`'s unit step on the bench's multibody simulation, the other
+// links' references held at 0, as a step record (one point per sample).
+ClosedLoopResponse SimulateBenchLink(const ScenarioConfig& scenario, int link) {
+  const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(scenario);
+  std::vector<double> references(static_cast<std::size_t>(ScenarioLinkCount(scenario)), 0.0);
+  references.at(static_cast<std::size_t>(link - 1)) = 1.0;
+  const LinkReferenceSource step = [&references](double) { return references; };
+  const ClosedLoopResult run = StepClosedLoop(*sim, scenario, {}, {}, step);
+  ClosedLoopResponse response;
+  response.sample_period_s = 1.0 / scenario.controller.sample_rate_Hz;
+  for (std::size_t k = 0; k < run.samples.size(); ++k) {
+    response.time_s.push_back(static_cast<double>(k) * response.sample_period_s);
+    response.output.push_back(run.samples[k].measured_mm.at(link - 1));
+    response.control.push_back(run.samples[k].voltage_V.at(link - 1));
+  }
+  return response;
 }
 
 // The first `points` of a link's record (the horizon's, shared by all).
@@ -257,6 +319,37 @@ std::size_t HorizonPoints(const std::vector<double>& time_s, double horizon_s,
   const double end_s = std::ceil(horizon_s / sample_period_s - 1e-9) * sample_period_s;
   while (points < time_s.size() && time_s[points] <= end_s * (1 + 1e-12)) ++points;
   return points;
+}
+
+TrackingIndices StepIndices(const ClosedLoopResponse& response, double horizon_s);
+
+// A link's step record with its metrics, J of eq. 11 and Table 5's indices.
+LinkStep EvaluateStep(int link, ClosedLoopResponse response, double horizon_s,
+                      const ReferenceModel& model) {
+  LinkStep step;
+  step.link = link;
+  step.response = std::move(response);
+  step.metrics = ComputeStepMetrics(step.response, kSettlingBand);
+  step.status = CheckStepRecord(step.response, kSettlingBand);
+  for (double u : step.response.control) {
+    step.max_abs_control_V = std::max(step.max_abs_control_V, std::abs(u));
+  }
+  step.cost = ReferenceModelCost(step.response, model, horizon_s);
+  step.indices = StepIndices(step.response, horizon_s);
+  return step;
+}
+
+// Table 5's IAE and ITAE of a unit step's error over the samples before
+// the horizon (the record holds one point per sample from t = 0).
+TrackingIndices StepIndices(const ClosedLoopResponse& response, double horizon_s) {
+  const double period_s = response.sample_period_s;
+  const std::size_t samples =
+      HorizonPoints(response.time_s, horizon_s, period_s) - 1;  // t_k < the horizon's end
+  TrackingIndices indices;
+  for (std::size_t k = 0; k < samples; ++k) {
+    indices.Add(response.time_s[k], 1.0 - response.output[k], period_s);
+  }
+  return indices;
 }
 
 }  // namespace
@@ -443,16 +536,14 @@ StepAnalysis AnalyseStep(const StepSpec& spec) {
   }
 
   for (int link : spec.links) {
-    LinkStep step;
-    step.link = link;
-    step.response = SimulateLink(spec, link);
-    step.metrics = ComputeStepMetrics(step.response, kSettlingBand);
-    step.status = CheckStepRecord(step.response, kSettlingBand);
-    for (double u : step.response.control) {
-      step.max_abs_control_V = std::max(step.max_abs_control_V, std::abs(u));
+    analysis.links.push_back(EvaluateStep(link, SimulateLink(spec, link), spec.horizon_s, model));
+  }
+  if (spec.bench) {
+    const ScenarioConfig bench = BenchScenario(spec, *spec.bench);
+    for (int link : spec.links) {
+      analysis.bench.push_back(
+          EvaluateStep(link, SimulateBenchLink(bench, link), spec.horizon_s, model));
     }
-    step.cost = ReferenceModelCost(step.response, model, spec.horizon_s);
-    analysis.links.push_back(std::move(step));
   }
 
   // The reference model on the horizon's time grid (the links share it;
@@ -533,9 +624,10 @@ void AddKeyFileOptions(OptionTable<Command>& table) {
   table.AddPath(gains_file, [](Command& c) -> std::string& { return c.gains_file; });
 }
 
-// A gains file's controllers as each link's gains (1..n).
-std::vector<ControllerGains> GainsOfKeyFile(const std::string& path) {
-  const KeyFileControllers controllers = ControllersOfKeyFile(path);
+// A gains file's controllers as each link's gains (1..n; `links` if it
+// has no per-link arrays).
+std::vector<ControllerGains> GainsOfKeyFile(const std::string& path, int links) {
+  const KeyFileControllers controllers = ControllersOfKeyFile(path, links);
   std::vector<ControllerGains> gains(controllers.pid.size());
   for (std::size_t q = 0; q < gains.size(); ++q) {
     gains[q].kp = controllers.pid[q].kp;
@@ -566,17 +658,22 @@ template <typename Command>
 KeyFileLinksOf ReadKeyFiles(const std::string& name, const Command& command,
                             const OptionGiven& given) {
   KeyFileLinksOf files;
+  // A file without per-link arrays holds for any number of links: the
+  // other file's, else 3.
+  const bool plant_arrays = !command.plant_file.empty() && KeyFileHasLinkArrays(command.plant_file);
+  const bool gains_arrays = !command.gains_file.empty() && KeyFileHasLinkArrays(command.gains_file);
+  if (plant_arrays) files.links = KeyFileLinks(command.plant_file);
+  if (gains_arrays && !plant_arrays) files.links = KeyFileLinks(command.gains_file);
   if (!command.gains_file.empty()) {
     for (const char* option : {"kp", "ki", "kd", "gain", "order"}) {
       if (given && given(option)) {
         throw FieldError(name + ": " + option + " does not apply with gains_file", option, "");
       }
     }
-    files.gains = GainsOfKeyFile(command.gains_file);
-    files.links = static_cast<int>(files.gains.size());
+    files.gains = GainsOfKeyFile(command.gains_file, files.links);
   }
   if (!command.plant_file.empty()) {
-    files.plants = PlantsOfKeyFile(command.plant_file);
+    files.plants = PlantsOfKeyFile(command.plant_file, files.links);
     if (!files.gains.empty() && files.gains.size() != files.plants.size()) {
       ThrowOption(name, "gains_file",
                   "the links of plant_file (" + std::to_string(files.plants.size()) + ")",
@@ -650,6 +747,12 @@ OptionTable<StepCommand> MakeStepOptions() {
   v_max.aliases = {"v_max"};
   table.Add<double>(v_max, [](StepCommand& c) -> double& { return c.v_max_V; });
   AddKeyFileOptions(table);
+  OptionInfo bench{"bench", "", "a scenario file (TOML) with the links chosen",
+                   "Each link's step also on this scenario's simulated multibody strip (its model, "
+                   "plants, time step and fluid; the other links held at 0 by their controllers), "
+                   "beside the linear loop's, with the same controllers"};
+  bench.default_text = "none";
+  table.AddPath(bench, [](StepCommand& c) -> std::string& { return c.bench_scenario; });
   OptionInfo out{"out", "", "a folder", "Folder for step.csv and step.json"};
   out.aliases = {"o"};
   table.AddPath(out, [](StepCommand& c) -> std::string& { return c.out; });
@@ -727,6 +830,16 @@ StepAnalysis RunStepCommand(const StepCommand& command, const OptionGiven& given
   spec.link_gains = files.gains;
   spec.gains_source = command.gains_file;
   ValidateStepSpec(name, spec, given);
+  if (!command.bench_scenario.empty()) {
+    spec.bench = LoadScenario(command.bench_scenario);
+    const int bench_links = ScenarioLinkCount(*spec.bench);
+    ValidateLinkList(name, spec.links, bench_links);
+    if (!spec.link_gains.empty() && static_cast<int>(spec.link_gains.size()) != bench_links) {
+      ThrowOption(name, "gains_file",
+                  "the links of bench (" + std::to_string(bench_links) + ")",
+                  std::to_string(spec.link_gains.size()) + " links");
+    }
+  }
   StepAnalysis analysis = AnalyseStep(spec);
   if (!command.out.empty()) {
     const nlohmann::json about = {{"controller", command.controller},

@@ -32,6 +32,7 @@
 #include "sim/linear/frequency_response.h"
 #include "controllers/pid.h"
 #include "plugin/actuators/ipmc_link_model.h"
+#include "sim/core/scenario.h"
 #include "sim/io/option_table.h"
 
 namespace ipmc {
@@ -124,6 +125,11 @@ struct StepSpec {
   std::vector<IpmcLinkParams> own_plants;
   std::vector<ControllerGains> link_gains;
   std::string plant_source, gains_source;
+  // A bench: each link's step also on this scenario's multibody simulation
+  // (its model, plants, time step and fluid), with the spec's controllers
+  // on every link, the stepped link's reference 1 mm from t = 0 and the
+  // others' 0 (StepClosedLoop with these references), over the horizon.
+  std::optional<ScenarioConfig> bench;
 };
 
 // Throws FieldError naming `command` and the field.
@@ -136,10 +142,17 @@ struct LinkStep {
   StepRecordStatus status = StepRecordStatus::kDetermined;
   double max_abs_control_V = 0;
   double cost = 0;              // J of eq. 11 over the horizon
+  // Table 5's indices (TrackingIndices, the rectangle rule at the sample
+  // rate, as `run` and `table5` compute them) of the step's error
+  // e = 1 mm - y over the horizon's samples t_k = k T < horizon_s.
+  TrackingIndices indices;
 };
 
 struct StepAnalysis {
   std::vector<LinkStep> links;           // in the spec's order
+  // With a bench: each link's step on it, in the same order (record_s the
+  // horizon: the metrics are those the horizon determines).
+  std::vector<LinkStep> bench;
   std::vector<double> time_s;            // the horizon's grid (step.csv's rows)
   std::vector<double> reference;         // the reference model on it
   StepMetrics reference_metrics;         // with its exact first peak
@@ -178,6 +191,7 @@ std::vector<BodeLink> RunBodeCommand(const BodeCommand& command, const OptionGiv
 
 // `step` as both front ends run it, with OUT/step.csv and OUT/step.json.
 struct StepCommand : StepSpec {
+  std::string bench_scenario;  // StepSpec::bench's file ("": no bench)
   std::string plant_file;  // identify's plant.toml: each link's own plant
   std::string gains_file;  // design's gains.toml: each link's own gains
   std::string out;  // "": no files

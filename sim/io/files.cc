@@ -365,6 +365,9 @@ std::optional<std::string> ReadJournalText(const std::string& path, const std::s
 }
 
 JournalFile::JournalFile(const std::string& path, const std::string& in_use) : path_(path) {
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  std::error_code error;
+  if (!parent.empty() && !std::filesystem::exists(parent, error)) created_folder_ = parent.string();
   EnsureParentDirectory(path);
   fd_ = OpenLockedJournal(path, in_use);
 }
@@ -414,6 +417,12 @@ void JournalFile::Remove() {
   std::remove(path_.c_str());
   if (fd_ >= 0) close(fd_);
   fd_ = -1;
+}
+
+void JournalFile::Discard() {
+  Remove();
+  std::error_code error;  // a folder that is not empty stays
+  if (!created_folder_.empty()) std::filesystem::remove(created_folder_, error);
 }
 
 void RefuseOverwritingInputs(const std::string& who, const std::string& option,

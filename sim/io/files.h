@@ -119,9 +119,14 @@ class JournalFile {
   // Unlinks the file, then lets go of the lock: no other writer can take
   // the lock on it while its name still leads to it.
   void Remove();
+  // Remove(), and the folder the constructor created for it if it is
+  // empty: for a new journal whose header could not be written, so that a
+  // failed start leaves nothing behind.
+  void Discard();
 
  private:
   std::string path_;
+  std::string created_folder_;  // the parent folder the constructor made, or ""
   int fd_ = -1;
 };
 

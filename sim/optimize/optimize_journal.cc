@@ -126,7 +126,12 @@ OptimizeJournal::OptimizeJournal(const std::string& path, const std::string& fin
   const std::string text = file_.Read();
   if (text.find('\n') == std::string::npos) {
     // New, or created by a run killed before its header was whole.
-    file_.Reset(JournalHeader(fingerprint, columns).dump() + "\n");
+    try {
+      file_.Reset(JournalHeader(fingerprint, columns).dump() + "\n");
+    } catch (...) {
+      if (text.empty()) file_.Discard();  // a failed start leaves nothing behind
+      throw;
+    }
     return;
   }
   records_ = ParseJournal(path, text, fingerprint, columns);

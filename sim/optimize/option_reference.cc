@@ -3,6 +3,7 @@
 #include "sim/batch/sweep_command.h"
 #include "sim/core/generate_command.h"
 #include "sim/core/keys_command.h"
+#include "sim/core/resistance_command.h"
 #include "sim/identify/controller_export.h"
 #include "sim/identify/identify_run.h"
 #include "sim/identify/loop_analysis.h"
@@ -19,7 +20,8 @@ namespace ipmc {
 std::vector<OptionTableInfo> EveryOptionTable() {
   return {InfoOf(RunOptions()),      InfoOf(SweepOptionTable()), InfoOf(MergeOptionTable()),
           InfoOf(OptimizeOptionTable()),
-          InfoOf(GenerateOptions()), InfoOf(GaitOptions()),      InfoOf(BenchOptions()),
+          InfoOf(GenerateOptions()), InfoOf(ResistanceOptions()), InfoOf(GaitOptions()),
+          InfoOf(BenchOptions()),
           InfoOf(BodeOptions()),     InfoOf(StepOptions()),      InfoOf(IdentifyOptions()),
           InfoOf(DesignOptions()),   InfoOf(ExportOptions()),    InfoOf(PipelineOptions()),
           InfoOf(Table5Options()),   InfoOf(ConvergeOptions()),  InfoOf(KeysOptions()),

@@ -92,20 +92,25 @@ py::list Bode(const py::dict& kwargs) {
 py::dict Step(const py::dict& kwargs) {
   const StepAnalysis analysis = RunCommandWithoutGil("step", kwargs, StepOptions(), RunStepCommand);
 
-  py::list links;
-  for (const LinkStep& step : analysis.links) {
-    py::dict link;
-    link["link"] = step.link;
-    link["time_s"] = Array(step.response.time_s);
-    link["output_mm"] = Array(step.response.output);
-    link["control_V"] = Array(step.response.control);
-    link["metrics"] = StepMetricsDict(step.metrics);
-    link["record_status"] = std::string(StepRecordStatusText(step.status));
-    link["determined"] = step.status == StepRecordStatus::kDetermined;
-    link["max_abs_control_V"] = step.max_abs_control_V;
-    link["cost"] = step.cost;
-    links.append(link);
-  }
+  const auto link_dicts = [](const std::vector<LinkStep>& steps) {
+    py::list links;
+    for (const LinkStep& step : steps) {
+      py::dict link;
+      link["link"] = step.link;
+      link["time_s"] = Array(step.response.time_s);
+      link["output_mm"] = Array(step.response.output);
+      link["control_V"] = Array(step.response.control);
+      link["metrics"] = StepMetricsDict(step.metrics);
+      link["record_status"] = std::string(StepRecordStatusText(step.status));
+      link["determined"] = step.status == StepRecordStatus::kDetermined;
+      link["max_abs_control_V"] = step.max_abs_control_V;
+      link["cost"] = step.cost;
+      link["iae_mm_s"] = step.indices.iae_mm_s;
+      link["itae_mm_s2"] = step.indices.itae_mm_s2;
+      links.append(link);
+    }
+    return links;
+  };
   py::dict reference;
   reference["time_s"] = Array(analysis.time_s);
   reference["output_mm"] = Array(analysis.reference);
@@ -113,7 +118,8 @@ py::dict Step(const py::dict& kwargs) {
 
   py::dict result;
   result["controller"] = analysis.controller_description;
-  result["links"] = links;
+  result["links"] = link_dicts(analysis.links);
+  result["bench"] = link_dicts(analysis.bench);
   result["reference"] = reference;
   result["metrics_horizon_s"] = analysis.metrics_horizon_s;
   result["settling_band"] = analysis.settling_band;
@@ -228,6 +234,9 @@ py::dict DesignDict(int link, const LinkDesign& design) {
   pid["paper_cost"] = design.paper_cost;
   pid["margins"] = MarginsDict(design.pid_margins);
   pid["runs"] = runs;
+  pid["sample_rate_Hz"] = 1.0 / design.tuning.sample_period_s;
+  pid["derivative_filter_s"] = design.tuning.derivative_filter_s;
+  pid["derivative_noise_V"] = design.derivative_noise_V;
 
   py::dict result;
   result["link"] = link;

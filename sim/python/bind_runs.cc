@@ -1,24 +1,28 @@
 // Runs from Python: a closed-loop scenario with overrides, a sweep, the
-// merge of a sweep's shards, a bench experiment, the MJCF generator and
-// the key and option references, each the computation its ipmc-swim
+// merge of a sweep's shards, the convergence study, a bench experiment,
+// the MJCF generator and the key and option references, each the computation its ipmc-swim
 // command makes, returning numbers or text instead of printing them and
 // writing the command's files only when asked to.
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "renders/figures.h"
 #include "sim/optimize/option_reference.h"
 #include "sim/batch/sweep.h"
 #include "sim/batch/sweep_command.h"
 #include "sim/core/keys_command.h"
 #include "sim/core/generate_command.h"
+#include "sim/core/resistance_command.h"
 #include "sim/core/simulation.h"
 #include "sim/io/files.h"
 #include "sim/python/convert.h"
 #include "sim/runs/bench_command.h"
 #include "sim/runs/closed_loop_run.h"
+#include "sim/runs/converge_study.h"
 #include "sim/runs/output.h"
 #include "sim/runs/run_command.h"
 
@@ -108,6 +112,54 @@ py::object Merge(const py::object& tables_arg, const py::dict& kwargs) {
   return ToPython(SweepTableJson(merged));
 }
 
+// -------------------------------------------------------------- converge ---
+
+py::dict ConvergeRunDict(const ConvergeRun& run, const ConvergeStudy& study) {
+  py::dict dict;
+  dict["setting"] = run.setting;
+  dict["resolution"] = run.resolution;
+  dict["swim_mm"] = run.swim_mm;
+  dict["swim_error"] = ConvergeError(run.swim_mm, study.swim);
+  dict["fluid_power_W"] = run.fluid_power_W;
+  dict["fluid_power_error"] = ConvergeError(run.fluid_power_W, study.fluid_power);
+  dict["cost_s_per_simulated_s"] = run.cost_s_per_s;
+  dict["warnings"] = run.warnings;
+  return dict;
+}
+
+py::list Converge(const py::object& scenario_arg, const py::dict& kwargs) {
+  Options options("converge", kwargs);
+  ConvergeCommand scenario;
+  scenario.scenario = PathText(scenario_arg, "converge");
+  const ConvergeCommand command = ReadCommandKeywords(options, ConvergeOptions(), scenario);
+  // As the command line: OUT/converge.csv and its figure.
+  const ConvergeOutcome outcome = WithoutGil([&] {
+    ConvergeOutcome done = RunConvergeCommand(command);
+    if (!done.table_path.empty()) {
+      DrawConvergeFigure(done.table_path,
+                         (std::filesystem::path(command.out) / "converge.png").string());
+    }
+    return done;
+  });
+  py::list studies;
+  for (const ConvergeStudy& study : outcome.studies) {
+    py::dict dict;
+    dict["study"] = study.name;
+    dict["swim_mm"] = study.swim.value;
+    dict["swim_uncertainty_mm"] = study.swim.uncertainty;
+    dict["fluid_power_W"] = study.fluid_power.value;
+    dict["fluid_power_uncertainty_W"] = study.fluid_power.uncertainty;
+    ConvergeRun as_given = outcome.scenario;
+    as_given.setting = "the scenario's";
+    dict["scenario"] = ConvergeRunDict(as_given, study);
+    py::list runs;
+    for (const ConvergeRun& run : study.runs) runs.append(ConvergeRunDict(run, study));
+    dict["runs"] = runs;
+    studies.append(dict);
+  }
+  return studies;
+}
+
 // -------------------------------------------------------------- references ---
 
 std::string Keys(const py::dict& kwargs) {
@@ -143,6 +195,27 @@ std::string GenerateModel(const py::dict& kwargs) {
   return RunGenerateCommand(ReadCommandKeywords(options, GenerateOptions()));
 }
 
+// ------------------------------------------------------------ resistance ---
+
+py::dict Resistance(const std::string& model, const py::dict& kwargs) {
+  Options options("resistance", kwargs);
+  ResistanceCommand command = ReadCommandKeywords(options, ResistanceOptions());
+  command.model = model;
+  const ResistanceOutcome outcome = RunResistanceCommand(command);
+  py::list rows;
+  for (int i = 0; i < 6; ++i) {
+    py::list row;
+    for (int j = 0; j < 6; ++j) row.append(outcome.resistance[6 * i + j]);
+    rows.append(row);
+  }
+  py::dict result;
+  result["R"] = rows;
+  result["A_N_s_m"] = outcome.propulsion.a_N_s_m;
+  result["B_N_s"] = outcome.propulsion.b_N_s;
+  result["D_N_m_s"] = outcome.propulsion.d_N_m_s;
+  return result;
+}
+
 }  // namespace
 
 void BindRuns(py::module_& m) {
@@ -150,10 +223,12 @@ void BindRuns(py::module_& m) {
         py::arg("progress"));
   m.def("sweep", &Sweep, py::arg("sweep"), py::arg("options"), py::arg("progress"));
   m.def("merge", &Merge, py::arg("tables"), py::arg("options"));
+  m.def("converge", &Converge, py::arg("scenario"), py::arg("options"));
   m.def("keys", &Keys, py::arg("options"));
   m.def("options", &OptionsText, py::arg("options"));
   m.def("bench", &Bench, py::arg("options"), py::arg("progress"));
   m.def("generate_model", &GenerateModel, py::arg("options"));
+  m.def("resistance", &Resistance, py::arg("model"), py::arg("options"));
 }
 
 }  // namespace ipmc::python

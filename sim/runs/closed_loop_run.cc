@@ -285,7 +285,8 @@ void FinishResult(const ScenarioConfig& scenario, const ClosedLoopTiming& timing
 }  // namespace
 
 ClosedLoopResult StepClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
-                                const SampleObserver& observer, const RunHeartbeat& heartbeat) {
+                                const SampleObserver& observer, const RunHeartbeat& heartbeat,
+                                const LinkReferenceSource& references) {
   scenario.waveform.Validate();
   mjModel* m = sim.model();
   mjData* d = sim.data();
@@ -321,7 +322,11 @@ ClosedLoopResult StepClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
     for (long step = 0; step < timing.steps_per_cycle; ++step) {
       if (step % timing.steps_per_sample == 0) {
         const double t = d->time;
-        reference = LinkReferences_mm(scenario, geometry, t);
+        reference = references ? references(t) : LinkReferences_mm(scenario, geometry, t);
+        if (static_cast<int>(reference.size()) != links) {
+          throw std::invalid_argument(sim.source() + ": " + std::to_string(reference.size()) +
+                                      " references for " + std::to_string(links) + " links");
+        }
         for (int q = 0; q < links; ++q) {
           measured[q] = sensors.RelativeDeflection_mm(d, q);
           volts[q] = q < driven ? controllers[q].Update(reference[q] - measured[q]) : 0.0;

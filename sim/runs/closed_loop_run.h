@@ -132,11 +132,18 @@ ClosedLoopResult SimulateScenario(const ScenarioConfig& scenario,
                                   const SampleObserver& observer = {},
                                   const RunHeartbeat& heartbeat = {});
 
+// Every link's reference [mm] at the sample time t [s], in place of the
+// scenario's wave (LinkReferences_mm): e.g. a step on one link with the
+// others held at rest (`step --bench`). One value per link.
+using LinkReferenceSource = std::function<std::vector<double>(double t_s)>;
+
 // The closed-loop stepping loop on an existing simulation (its time step
-// and fluid as they are): controllers, references, metrics.
+// and fluid as they are): controllers, references (the scenario's wave,
+// or `references` if given), metrics.
 ClosedLoopResult StepClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
                                 const SampleObserver& observer = {},
-                                const RunHeartbeat& heartbeat = {});
+                                const RunHeartbeat& heartbeat = {},
+                                const LinkReferenceSource& references = {});
 
 // The segment pitches of a model at rest (hinges j1..jN and the last tip)
 // and its IPMC links' lengths, which the references are projected on.

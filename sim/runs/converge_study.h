@@ -6,8 +6,9 @@
 //             in 1 / n, docs/DYNAMICS.md), extrapolated by Richardson from
 //             the two finest: s_N + (s_N - s_(N/2)) / 3;
 //   timestep  the scenario's step h and h / 2, h / 4, ... (halvings
-//             times); first order in h with the inertial dynamics, second
-//             with the Stokes step: s_h + (s_h - s_(2h)) / (2^p - 1);
+//             times); first order in h with the inertial dynamics, with
+//             the Stokes step the order p the three finest runs show,
+//             within [1, 2] (1 with two runs): s_h + (s_h - s_(2h)) / (2^p - 1);
 //   plates    the flat-plate fluid at k = 1 .. max_plates_k force points
 //             across the width, whose error is linear in 1 / k
 //             (docs/FLUIDS.md, "Flat plates"): the line through the two

@@ -217,13 +217,12 @@ std::vector<std::pair<const char*, double>> BodyPoseValues(const BodyPose& pose)
           {columns::kYaw, pose.yaw_rad}};
 }
 
-// Whether the step resolves the explicit relaxations (sim/core/step_resolution.h).
+// Whether the step resolves the swim (sim/core/step_resolution.h).
 nlohmann::json StepResolutionJson(const StepResolution& step) {
   return {{"explicit_drag", step.explicit_drag},
           {"timestep_s", step.timestep_s},
           {"drag_relaxation_s", step.drag_relaxation_s},
-          {"hinge_rate_rad_s", step.hinge_rate_rad_s},
-          {"response_error", step.response_error},
+          {"swim_error", step.swim_error},
           {"resolving_timestep_s", step.resolving_timestep_s},
           {"resolved", step.Resolved()}};
 }

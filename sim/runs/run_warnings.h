@@ -14,9 +14,9 @@
 //   stepping  the time step's own power (sim/core/energy.h) above 25 % of
 //             the actuators' mean power: the energy figures measure the
 //             integrator, not the swimmer
-//   timestep  an inertial run's step above what resolves the relaxations
-//             it integrates explicitly (sim/core/step_resolution.h): the
-//             swim itself may be off by more than 1 %
+//   timestep  an inertial run's step whose estimated swim error is above
+//             1 % or that steps over a drag relaxation
+//             (sim/core/step_resolution.h)
 #pragma once
 
 #include <iterator>
@@ -44,7 +44,7 @@ inline constexpr RunWarningCheck kRunWarningChecks[] = {
     {"warn_tracking", "tracking error > reference"},
     {"warn_reach", "link reach clamped"},
     {"warn_stepping", "time step > 25 % of actuator power"},
-    {"warn_timestep", "time step > explicit relaxation"},
+    {"warn_timestep", "time step too coarse for the swim"},
 };
 constexpr int kRunWarningCheckCount = static_cast<int>(std::size(kRunWarningChecks));
 // The table column counting a run's failed checks.

@@ -14,11 +14,14 @@ function(run)
 endfunction()
 
 run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
-# The one installed header is the public one; the internal headers
-# (plugin/, sim/base, sim/linear) are used from the build tree only.
+# The installed headers are the public ones (the coupling and a body's
+# resistance); the internal headers (plugin/, sim/base, sim/linear) are
+# used from the build tree only.
 file(GLOB_RECURSE installed_headers RELATIVE ${prefix}/include ${prefix}/include/*)
-if(NOT installed_headers STREQUAL "ipmc_swim/ipmc_swim.h")
-  message(FATAL_ERROR "installed headers: ${installed_headers} (expected ipmc_swim/ipmc_swim.h alone)")
+list(SORT installed_headers)
+if(NOT installed_headers STREQUAL "ipmc_swim/ipmc_swim.h;ipmc_swim/resistance.h")
+  message(FATAL_ERROR "installed headers: ${installed_headers} (expected ipmc_swim/ipmc_swim.h "
+                      "and ipmc_swim/resistance.h)")
 endif()
 # A sanitized package needs its runtime in the consumer too.
 set(consumer_flags "")

@@ -161,3 +161,105 @@ def test_design_takes_links_and_rate_from_a_scenario(tmp_path):
     assert "derivative_filter_s = 0.002" in gains and "in a 500 Hz loop" in gains
     # The plants are the scenario's own (its plant keys).
     assert "a0 = 0.47 mm/V" in printed
+
+
+def test_design_defaults_to_the_controllers_1_kHz_loop():
+    [result] = ipmc_swim.design(links=[3], horizon_s=0.5)
+    assert result["pid"]["sample_rate_Hz"] == 1000.0
+    assert "loop sampled at 1000 Hz (linear, no clamp):" in run_cli(
+        "design", "--links", "3", "--horizon-s", "0.5")[1]
+
+
+def test_design_filters_the_derivative_for_the_sensor_noise(tmp_path):
+    (tmp_path / "plant.toml").write_text(PLANTS)
+    options = {"plant_file": tmp_path / "plant.toml", "horizon_s": 1.0, "sensor_noise_mm": 0.002,
+               "derivative_noise_V": 0.1}
+    designs = ipmc_swim.design(out=tmp_path / "python.toml", **options)
+    run_cli("design", "--plant-file", tmp_path / "plant.toml", "--horizon-s", "1",
+            "--sensor-noise-mm", "0.002", "--derivative-noise-v", "0.1",
+            "--out", tmp_path / "cli.toml")
+    assert (tmp_path / "python.toml").read_bytes() == (tmp_path / "cli.toml").read_bytes()
+    # One Tf for every link, the smallest (to 1 %) that keeps each link's
+    # derivative noise Kd sigma sqrt(2 / ((Tf + T) (2 Tf + T))) within the
+    # bound at the Kd tuned with it (docs/IDENTIFICATION.md).
+    T = 1e-3
+    [tf] = {d["pid"]["derivative_filter_s"] for d in designs}
+    assert tf > 0
+    for d in designs:
+        kd = d["pid"]["kd"]
+        noise = kd * 0.002 * (2 / ((tf + T) * (2 * tf + T))) ** 0.5
+        assert d["pid"]["derivative_noise_V"] == pytest.approx(noise, rel=1e-12)
+        assert noise <= 0.1
+    assert max(d["pid"]["derivative_noise_V"] for d in designs) > 0.1 / 1.02 ** 2
+    assert f"derivative_filter_s = {tf!r}" in (tmp_path / "cli.toml").read_text()
+    with pytest.raises(ipmc_swim.Error, match="derivative_bandwidth_rad_s does not apply with "
+                                              "sensor_noise_mm"):
+        ipmc_swim.design(derivative_bandwidth_rad_s=100.0, **options)
+    with pytest.raises(ipmc_swim.Error, match="derivative_noise_V applies only with "
+                                              "sensor_noise_mm"):
+        ipmc_swim.design(links=[3], derivative_noise_V=0.1)
+
+
+def test_step_reports_table5s_indices_alike_on_table2_and_a_plant_file(tmp_path):
+    # Eq. 7's plant (Table 2's link 3) written as plant keys: the same
+    # computation on the user's plant gives the same numbers.
+    (tmp_path / "plant.toml").write_text(
+        '[plant]\nmodel = "g1"\na0_mm_per_V = 0.37609\nb1 = 0.02331\nb2_s2 = 0.00213\n')
+    table2 = ipmc_swim.step("pid", links=[3], horizon_s=2.0)["links"][0]
+    own = ipmc_swim.step("pid", links=[3], horizon_s=2.0,
+                         plant_file=tmp_path / "plant.toml")["links"][0]
+    assert own["iae_mm_s"] == table2["iae_mm_s"] and own["itae_mm_s2"] == table2["itae_mm_s2"]
+    # Table 5's rectangle rule over the samples t_k = k T < 2 s of the record.
+    t, y = own["time_s"], own["output_mm"]
+    before = t < 2.0 - 1e-9
+    assert before.sum() == 2000
+    error = np.abs(1.0 - y[before])
+    assert own["iae_mm_s"] == pytest.approx(np.sum(error) * 1e-3, rel=1e-12)
+    assert own["itae_mm_s2"] == pytest.approx(np.sum(t[before] * error) * 1e-3, rel=1e-12)
+    _, printed, _ = run_cli("step", "--controller", "pid", "--links", "3", "--horizon-s", "2",
+                            "--plant-file", tmp_path / "plant.toml")
+    row = next(line.split() for line in printed.splitlines() if line.startswith("   3 "))
+    assert row[-2:] == [f"{own['iae_mm_s']:.6f}", f"{own['itae_mm_s2']:.6f}"]
+
+
+def test_step_on_the_bench_beside_the_linear_loop(tmp_path):
+    (tmp_path / "plant.toml").write_text(PLANTS)
+    (tmp_path / "gains.toml").write_text(GAINS)
+    bench = tmp_path / "strip.toml"
+    bench.write_text('include = ["plant.toml"]\nlink_lengths_mm = [12.0, 12.0]\n'
+                     'dynamics = "stokes"\ntimestep_s = 1e-3\n'
+                     '[strip]\nwidth_mm = 5.0\nthickness_um = 200.0\n')
+    args = ["step", "--controller", "pid", "--plant-file", tmp_path / "plant.toml",
+            "--gains-file", tmp_path / "gains.toml", "--horizon-s", "2"]
+    _, linear, _ = run_cli(*args)
+    _, both, _ = run_cli(*args, "--bench", bench)
+    # The linear loop's lines are the plain step's, the bench's table follows.
+    assert both.startswith(linear)
+    bench_part = both[len(linear):]
+    assert f"on the multibody bench {bench} " in bench_part
+    rows = [line.split() for line in bench_part.splitlines() if line.startswith("   ")]
+    assert [row[0] for row in rows] == ["1", "2"]
+    result = ipmc_swim.step("pid", plant_file=tmp_path / "plant.toml",
+                            gains_file=tmp_path / "gains.toml", horizon_s=2.0, bench=bench)
+    for row, link in zip(rows, result["bench"]):
+        assert row[1].rstrip("*") == f"{link['metrics']['overshoot_percent']:.3f}"
+        # One record point per controller sample, 0 to the horizon, the
+        # stepped link's measured deflection starting at rest.
+        assert link["time_s"].shape == (2001,) and link["time_s"][-1] == pytest.approx(2.0)
+        assert link["output_mm"][0] == 0.0
+    with pytest.raises(ipmc_swim.Error, match="links must be in 1..2, got 3"):
+        ipmc_swim.step("pid", links=[3], bench=bench)
+
+
+def test_a_plant_file_without_link_arrays_takes_the_gains_files_links(tmp_path):
+    # identify's plant.toml of one record: the same plant for every link.
+    (tmp_path / "plant.toml").write_text(
+        '[plant]\nmodel = "g1"\na0_mm_per_V = 0.52\nb1 = 0.029\nb2_s2 = 0.0042\n')
+    (tmp_path / "gains.toml").write_text(GAINS)
+    files = {"plant_file": tmp_path / "plant.toml", "gains_file": tmp_path / "gains.toml"}
+    assert [link["link"] for link in ipmc_swim.bode("pid", **files)] == [1, 2]
+    step = ipmc_swim.step("pid", horizon_s=1.0, **files)
+    assert [link["link"] for link in step["links"]] == [1, 2]
+    # Alone it holds for the paper's three links.
+    alone = ipmc_swim.step("pid", horizon_s=1.0, plant_file=tmp_path / "plant.toml")
+    assert [link["link"] for link in alone["links"]] == [1, 2, 3]

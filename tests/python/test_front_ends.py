@@ -51,6 +51,7 @@ STEP = {"links": [3, 1], "horizon_s": 1.0, "max_horizon_s": 3.0, "v_max_V": 5.0,
         "sample_rate_Hz": 2000.0}
 RUN = {"formats": ["mat"], "allow_long": True}
 SWEEP = {"jobs": 2, "shard": "1/1", "formats": ["mat", "h5"]}
+CONVERGE = {"max_segments": 2, "halvings": 1, "max_plates_k": 0, "cycles": 1, "jobs": 2}
 GENERATE = {"link_lengths_mm": [5.0, 10.0, 15.0], "head_length_mm": 0.5, "clamped": True}
 
 
@@ -81,6 +82,19 @@ def test_generate(tmp_path):
     run_cli("generate", *cli_arguments(GENERATE), "--out", tmp_path / "cli" / "model.xml")
     ipmc_swim.generate_model(out=tmp_path / "python" / "model.xml", **GENERATE)
     assert_same_files(tmp_path / "cli", tmp_path / "python")
+
+
+def test_resistance(tmp_path):
+    (tmp_path / "cli").mkdir()
+    (tmp_path / "python").mkdir()
+    model = SOURCE_DIR / "models" / "helices" / "rodenborn_9.811.xml"
+    options = {"fluid": "stokeslets", "stokeslet_points_per_mm": 2.0, "axis": "x"}
+    run_cli("resistance", model, *cli_arguments(options), "--out", tmp_path / "cli" / "R.json")
+    result = ipmc_swim.resistance(model, out=tmp_path / "python" / "R.json", **options)
+    assert_same_files(tmp_path / "cli", tmp_path / "python")
+    assert result.R.shape == (6, 6)
+    assert np.allclose(result.R, result.R.T, rtol=0, atol=1e-12 * abs(result.R).max())
+    assert result.A_N_s_m == -result.R[0, 0]
 
 
 def test_export(tmp_path):
@@ -128,6 +142,20 @@ def test_sweep(short_scenario, tmp_path):
     assert journals[0] == journals[1] and len(journals[0]) == 3
     for side in ("cli", "python"):
         (tmp_path / side / "table.journal").unlink()
+    assert_same_files(tmp_path / "cli", tmp_path / "python")
+
+
+def test_converge(tmp_path):
+    scenario = SCENARIOS / "own_two_link.toml"
+    run_cli("converge", scenario, *cli_arguments(CONVERGE), "--out", tmp_path / "cli")
+    studies = ipmc_swim.converge(scenario, out=tmp_path / "python", **CONVERGE)
+    assert [study.study for study in studies] == ["segments", "timestep"]
+    # The cost column is wall time: the same bytes without it.
+    for side in ("cli", "python"):
+        table = tmp_path / side / "converge.csv"
+        rows = [line.split(",") for line in table.read_text().splitlines()]
+        cost = rows[0].index("cost_s_per_simulated_s")
+        table.write_text("".join(",".join(r[:cost] + r[cost + 1:]) + "\n" for r in rows))
     assert_same_files(tmp_path / "cli", tmp_path / "python")
 
 

@@ -17,6 +17,7 @@ import signal
 import subprocess
 import sys
 import time
+from contextlib import contextmanager
 
 import pytest
 
@@ -84,6 +85,20 @@ print("finished", flush=True)
 STOP_TIMEOUT_S = 60
 
 
+@contextmanager
+def child_interpreter(program, cwd):
+    """A child Python running `program` in cwd (text pipes), killed if it
+    still runs when the block ends."""
+    child = subprocess.Popen([sys.executable, "-c", program], cwd=cwd, stdout=subprocess.PIPE,
+                             stderr=subprocess.PIPE, text=True, env=os.environ)
+    try:
+        yield child
+    finally:
+        if child.poll() is None:
+            child.kill()
+            child.communicate()
+
+
 @pytest.mark.parametrize("sent", ["SIGINT", "SIGTERM", "SIGHUP"])
 @pytest.mark.parametrize("function", sorted(CALLS))
 def test_a_signal_stops_the_call_at_a_safe_point(tmp_path, function, sent):
@@ -91,20 +106,13 @@ def test_a_signal_stops_the_call_at_a_safe_point(tmp_path, function, sent):
     (tmp_path / "point.toml").write_text(SHORT_POINT)
     (tmp_path / "sweep.toml").write_text(SWEEP)
     program = PROGRAM.format(call=CALLS[function], wait_s=STOP_TIMEOUT_S)
-    child = subprocess.Popen([sys.executable, "-c", program], cwd=tmp_path,
-                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                             env=os.environ)
-    try:
+    with child_interpreter(program, tmp_path) as child:
         first = child.stdout.readline()
         assert first.startswith("progress "), first + child.stderr.read()
         if function == "sweep":  # the first report comes after the first point
             total = int(float(first.split()[2]))
         child.send_signal(getattr(signal, sent))
         stdout, stderr = child.communicate(timeout=STOP_TIMEOUT_S)
-    finally:
-        if child.poll() is None:
-            child.kill()
-            child.communicate()
     assert child.returncode == 130, stdout + stderr
     assert "interrupted after" in stdout, stdout + stderr
     assert "finished" not in stdout
@@ -127,14 +135,15 @@ def test_a_signal_stops_the_call_at_a_safe_point(tmp_path, function, sent):
                 (tmp_path / f"whole/table{suffix}").read_bytes(), suffix
 
 
-# design() tunes for about 8 s a link; the child reports when the call has
-# begun, and how long after the parent's signal it raised.
+# design() in a 10 kHz loop tunes for about 8 s a link (its 1 kHz default
+# less than one); the child reports when the call has begun, and how long
+# after the parent's signal it raised.
 DESIGN_PROGRAM = """
 import os, sys, time
 import ipmc_swim
 print("designing", flush=True)
 try:
-    ipmc_swim.design(out="gains.toml")
+    ipmc_swim.design(out="gains.toml", sample_rate_Hz=10000.0)
 except KeyboardInterrupt:
     print(f"interrupted at {time.monotonic()!r}", flush=True)
     sys.exit(130)
@@ -147,20 +156,13 @@ DESIGN_STARTED_S = 2.0  # the call is well into its tuning then
 
 
 def test_ctrl_c_stops_design_within_a_second(tmp_path):
-    child = subprocess.Popen([sys.executable, "-c", DESIGN_PROGRAM], cwd=tmp_path,
-                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                             env=os.environ)
-    try:
+    with child_interpreter(DESIGN_PROGRAM, tmp_path) as child:
         assert child.stdout.readline() == "designing\n"
         time.sleep(DESIGN_STARTED_S)
         assert child.poll() is None, "design ended before the signal"
         sent = time.monotonic()
         child.send_signal(signal.SIGINT)
         stdout, stderr = child.communicate(timeout=STOP_TIMEOUT_S)
-    finally:
-        if child.poll() is None:
-            child.kill()
-            child.communicate()
     assert child.returncode == 130, stdout + stderr
     assert "finished" not in stdout
     stopped = float(stdout.split("interrupted at ")[1])

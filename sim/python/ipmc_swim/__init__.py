@@ -45,8 +45,9 @@ if __version__ != _PACKAGE_VERSION:
                       f"{_PACKAGE_VERSION} but its extension ipmc_swim._core is {__version__}; "
                       "rebuild and reinstall the package from one source tree")
 
-__all__ = ["Error", "Result", "Simulation", "bench", "bode", "design", "export", "generate_model",
-           "identify", "keys", "merge", "optimize", "options", "plot", "run", "step", "sweep",
+__all__ = ["Error", "Result", "Simulation", "bench", "bode", "converge", "design", "export",
+           "generate_model", "identify", "keys", "merge", "optimize", "options", "plot",
+           "resistance", "run", "step", "sweep",
            "MODELS_DIR", "SCENARIOS_DIR"]
 
 
@@ -115,6 +116,23 @@ def run(scenario, *, out=None, formats=(), allow_long=False, progress=None, **ov
     summary = raw["summary"]
     return Result(timeseries=raw["timeseries"], cycles=_columns(summary["per_cycle"]),
                   links=_columns(summary["links"]), summary=summary)
+
+
+def converge(scenario, *, out=None, **options):
+    """Is a scenario's swim converged in its settings, as ``ipmc-swim converge SCENARIO``.
+
+    scenario: a scenario file. options: max_segments, halvings,
+    max_plates_k, cycles, jobs (docs/OPTIONS.md, converge). out: a folder
+    for converge.csv and converge.png. Returns a list, one Result per study
+    (segments, timestep, plates): study, the converged swim_mm and
+    fluid_power_W with swim_uncertainty_mm and fluid_power_uncertainty_W,
+    scenario (the scenario as given) and runs, each a Result of setting,
+    resolution, swim_mm, swim_error, fluid_power_W, fluid_power_error (both
+    relative to the study's reference), cost_s_per_simulated_s, warnings.
+    """
+    studies = _core.converge(scenario, _options(options, out=out))
+    return [Result(study, scenario=Result(study["scenario"]),
+                   runs=[Result(run) for run in study["runs"]]) for study in studies]
 
 
 def sweep(sweep_file, *, jobs=None, shard="1/1", out=None, formats=(), keep_runs=None,
@@ -241,11 +259,13 @@ def step(controller, *, out=None, **options):
 
     controller: pid or fractional. options: links, plant, kp, ki, kd, gain,
     order, horizon_s, max_horizon_s, sample_rate_Hz, no_clamp, v_max_V,
-    plant_file, gains_file (each link's own plant and gains, as for bode).
+    plant_file, gains_file (each link's own plant and gains, as for bode),
+    bench (a scenario: each link's step also on its multibody simulation).
     out: a folder for step.csv and step.json. Returns per link its record
     (time_s, output_mm, control_V), step metrics, whether the record
-    determines them, the largest voltage and J of eq. 11; and the
-    reference model's step.
+    determines them, the largest voltage, J of eq. 11 and Table 5's IAE
+    and ITAE (iae_mm_s, itae_mm_s2); the same per link on the bench
+    (bench, empty without one); and the reference model's step.
     """
     return _core.step(_options(options, controller=controller, out=out))
 
@@ -270,9 +290,12 @@ def design(**options):
     """The fractional integrator and the tuned PID of each link, as ``ipmc-swim design``.
 
     options: links, plant, crossover_rad_s, phase_margin_deg,
-    reference_order, horizon_s, sample_rate_Hz, derivative_bandwidth_rad_s,
-    plant_file, scenario (every link of its run, at its sample rate), out.
-    Returns a list, one Result per link (link, fractional, pid, tuning_s).
+    reference_order, horizon_s, sample_rate_Hz (1 kHz), derivative_bandwidth_rad_s,
+    sensor_noise_mm and derivative_noise_V (the derivative filter from the
+    sensor's noise), plant_file, scenario (every link of its run, at its
+    sample rate), out. Returns a list, one Result per link (link,
+    fractional, pid with its sample_rate_Hz, derivative_filter_s and
+    derivative_noise_V, tuning_s).
     """
     return [Result(link) for link in _core.design(options)]
 
@@ -301,6 +324,21 @@ def generate_model(*, out=None, **spec):
     write. Returns the XML text (``Simulation.from_xml`` loads it).
     """
     return _core.generate_model(_options(spec, out=out))
+
+
+def resistance(model, *, out=None, **options):
+    """The resistance of a model held rigid, as ``ipmc-swim resistance MODEL``.
+
+    model: an MJCF file with ipmc_rft_ fields (held at qpos0). options:
+    fluid, coefficients, stokeslet_points_per_mm, stokeslet_blob_mm, axis
+    (docs/OPTIONS.md, resistance). out: a JSON file (key "R"). Returns a
+    Result with ``R`` (6 x 6 numpy array: rows Fx Fy Fz [N], Tx Ty Tz
+    [N m] about the world origin; columns vx vy vz [m/s], wx wy wz
+    [rad/s]) and Purcell's A_N_s_m, B_N_s, D_N_m_s for the axis.
+    """
+    result = _core.resistance(os.fspath(model), _options(options, out=out))
+    result["R"] = np.array(result["R"])
+    return Result(result)
 
 
 def plot(kind, input, *, out, **options):
