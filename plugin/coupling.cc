@@ -506,7 +506,9 @@ bool Step(const mjModel* m, mjData* d, const StepSettings& options) {
     context->error = e.what();
     return false;
   }
-  // The model the coupling steps d with; m's fields were read at Attach.
+  // The model the coupling steps d with: m as it is now, with the
+  // coupling's numerical choices (plugin/dynamics/step_model.h).
+  RefreshStepModel(&context->step, m, context->dynamics);
   mjModel* step_model = context->step.model.get();
   if (context->load_history) {
     context->stokes->LoadHistory(step_model, d, context->fluid.get(),

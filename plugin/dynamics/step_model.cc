@@ -39,12 +39,12 @@ bool UseEulerWhereImplicitAddsNothing(mjModel* m) {
   return true;
 }
 
-StepModel MakeStepModel(const mjModel* m, Dynamics dynamics) {
-  StepModel step;
-  step.model.reset(mj_copyModel(nullptr, m));
-  mjModel* copy = step.model.get();
+void RefreshStepModel(StepModel* step, const mjModel* m, Dynamics dynamics) {
+  mj_copyModel(step->model.get(), m);
+  mjModel* copy = step->model.get();
+  step->physical_damping.clear();
   if (dynamics == Dynamics::kInertial && StepDampsImplicitly(copy)) {
-    step.physical_damping.assign(m->dof_damping, m->dof_damping + m->nv);
+    step->physical_damping.assign(m->dof_damping, m->dof_damping + m->nv);
     for (int j = 0; j < copy->njnt; ++j) {
       if (copy->jnt_type[j] != mjJNT_HINGE && copy->jnt_type[j] != mjJNT_SLIDE) continue;
       mjtNum& damping = copy->dof_damping[copy->jnt_dofadr[j]];
@@ -52,6 +52,12 @@ StepModel MakeStepModel(const mjModel* m, Dynamics dynamics) {
     }
   }
   UseEulerWhereImplicitAddsNothing(copy);
+}
+
+StepModel MakeStepModel(const mjModel* m, Dynamics dynamics) {
+  StepModel step;
+  step.model.reset(mj_copyModel(nullptr, m));
+  RefreshStepModel(&step, m, dynamics);
   return step;
 }
 

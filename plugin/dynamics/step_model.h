@@ -87,4 +87,10 @@ struct StepModel {
 // only), then uses Euler where implicit adds nothing.
 StepModel MakeStepModel(const mjModel* m, Dynamics dynamics);
 
+// Makes step's model that copy of m again, from m's fields as they are
+// now (Step calls it before every step, so a host that changes m between
+// steps, e.g. its actuators' gains or its timestep, steps with the change,
+// as under mj_step). m must be the model step was made from (same sizes).
+void RefreshStepModel(StepModel* step, const mjModel* m, Dynamics dynamics);
+
 }  // namespace ipmc

@@ -37,9 +37,10 @@
 // Attach takes the state d holds (a copy of an attached mjData, or d's
 // own under an earlier Attach), or rest for a d whose block is zero.
 //
-// Stepping. Attach reads m once and Step steps d with the coupling's own
-// copy of it, in which the coupling makes the numerical choices the
-// ipmc-swim program makes (docs/LIBRARY.md, "How Step steps"): in
+// Stepping. Step steps d with the coupling's own copy of m, taken afresh
+// from m before every step (so a change to m between steps, e.g. an
+// actuator's gain or the timestep, takes effect as under mj_step), in
+// which the coupling makes the numerical choices the ipmc-swim program makes (docs/LIBRARY.md, "How Step steps"): in
 // inertial dynamics each spring hinge's damping c becomes
 // c_eff = k h / (1 - exp(-k h / c)) for MuJoCo's Euler or implicit step
 // (the exact relaxation of a massless hinge over a step; stable for every
@@ -47,8 +48,8 @@
 // step, and MuJoCo's Euler integrator replaces the implicit one where the
 // two treat the same forces implicitly. A model file, Attach,
 // SetVoltages and Step so give what `ipmc-swim run` gives (a run writes
-// the model it stepped as model.xml). Change m (e.g. its timestep) before
-// Attach, or Attach again after.
+// the model it stepped as model.xml). The ipmc_* fields are read at Attach:
+// change them with SetFluidField, or Attach again.
 //
 // Dynamics. A model with the text field ipmc_dynamics = stokes (or a
 // program's override) is stepped without inertia, its velocity taken from
