@@ -95,5 +95,43 @@ INSTANTIATE_TEST_SUITE_P(
                     ReplayCase{"stokes", Short({"dynamics=\"stokes\""})}),
     [](const testing::TestParamInfo<ReplayCase>& info) { return info.param.name; });
 
+// A host may change m between steps, as under mj_step: the coupling takes
+// its step model afresh from m before every step, so a timestep and a hinge
+// damping changed after Attach step exactly as the same changes made before.
+TEST(ModelChangeTest, ChangesToTheModelAfterAttachStepAsChangesBefore) {
+  const std::string path = (fs::path(IPMC_SWIM_SOURCE_DIR) / "models" / "flagellum3.xml").string();
+  char error[1000] = "";
+  mjModel* before = mj_loadXML(path.c_str(), nullptr, error, sizeof(error));
+  mjModel* after = mj_loadXML(path.c_str(), nullptr, error, sizeof(error));
+  ASSERT_NE(before, nullptr) << error;
+  ASSERT_NE(after, nullptr) << error;
+  auto change = [](mjModel* m) {
+    m->opt.timestep = 2.5e-4;
+    m->dof_damping[m->jnt_dofadr[mj_name2id(m, mjOBJ_JOINT, "j2")]] *= 2.0;
+  };
+  before->nuserdata = after->nuserdata = UserdataSize(before);
+  change(before);
+  mjData* d_before = mj_makeData(before);
+  mjData* d_after = mj_makeData(after);
+  ASSERT_TRUE(Attach(before, d_before));
+  ASSERT_TRUE(Attach(after, d_after));
+  change(after);
+  const double volts[3] = {2.0, -1.0, 1.5};
+  for (mjData* d : {d_before, d_after}) ASSERT_EQ(SetVoltages(d, volts, 3), 3);
+  for (int s = 0; s < 2000; ++s) {
+    ASSERT_TRUE(Step(before, d_before)) << LastError(d_before);
+    ASSERT_TRUE(Step(after, d_after)) << LastError(d_after);
+  }
+  EXPECT_NEAR(d_after->time, 0.5, 1e-12);  // 2000 steps of the changed 0.25 ms
+  for (int i = 0; i < before->nq; ++i) EXPECT_EQ(d_after->qpos[i], d_before->qpos[i]) << i;
+  EXPECT_NE(d_after->qpos[before->jnt_qposadr[1]], 0.0);  // the links moved
+  for (mjData* d : {d_before, d_after}) {
+    Detach(d);
+    mj_deleteData(d);
+  }
+  mj_deleteModel(before);
+  mj_deleteModel(after);
+}
+
 }  // namespace
 }  // namespace ipmc
