@@ -3,8 +3,8 @@
 //  - the paper's closed-loop run (scenarios/paper.toml: 300 s, 600 000
 //    steps of 0.5 ms with controllers, references, swim meter and
 //    recording) against bare mj_step of the same model for the same steps
-//    (no callbacks) with the integrator the run uses (MuJoCo's Euler, see
-//    UseEulerWhereImplicitAddsNothing) and with the model file's implicit,
+//    (no callbacks) with the integrator the run uses (MuJoCo's Euler, as
+//    the coupling's step chooses it) and with the model file's implicit,
 //    and against the same model coupled with the drag alone,
 //    with the IPMC actuators alone and with both (a 3 V sine per link, new
 //    voltages every 1 ms as from the controllers);
@@ -38,6 +38,7 @@
 #include <cstring>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -124,16 +125,13 @@ void DriveMotors(const mjModel* m, mjData* d) {
 }
 
 // `steps` steps of `xml` at `timestep_s`, no callbacks, with `integrator`
-// (-1: the one the closed-loop and bench runs use).
+// (MuJoCo's Euler is what the coupling steps these models with: they have
+// no velocity gains, tendon damping or MuJoCo fluid, docs/LIBRARY.md).
 void BareSteps(benchmark::State& state, const std::string& xml, double timestep_s, long steps,
                int integrator, int per) {
   ModelPtr m = LoadModelString(xml);
   m->opt.timestep = timestep_s;
-  if (integrator >= 0) {
-    m->opt.integrator = integrator;
-  } else {
-    UseEulerWhereImplicitAddsNothing(m.get());
-  }
+  m->opt.integrator = integrator;
   DataPtr d(mj_makeData(m.get()));
   const CallbacksOff off;
   for (auto _ : state) {
@@ -157,7 +155,6 @@ void CoupledSteps(benchmark::State& state, const std::string& xml, double timest
   for (auto _ : state) {
     ModelPtr m = LoadModelString(xml);
     m->opt.timestep = timestep_s;
-    UseEulerWhereImplicitAddsNothing(m.get());
     Simulation sim(std::move(m), "benchmark model");
     const mjModel* model = sim.model();
     mjData* d = sim.data();
@@ -168,7 +165,7 @@ void CoupledSteps(benchmark::State& state, const std::string& xml, double timest
         for (int q = 0; q < links; ++q) volts[q] = 3.0 * std::sin(kTwoPi * d->time - 0.785 * q);
         SetVoltages(d, volts.data(), links);
       }
-      mj_step(model, d);
+      if (!Step(model, d)) throw std::runtime_error(LastError(d));
     }
   }
   CountSteps(state, steps, per);
@@ -222,7 +219,7 @@ void BM_LinksCoupled(benchmark::State& state) {
 }
 void BM_LinksBare(benchmark::State& state) {
   const int links = static_cast<int>(state.range(0));
-  BareSteps(state, LinksXml(links), 5e-4, kScalingSteps, -1, links);
+  BareSteps(state, LinksXml(links), 5e-4, kScalingSteps, mjINT_EULER, links);
 }
 
 // Three links of n sub-segments each, 20 000 steps of 5e-4 s / 8^2 (the
@@ -241,7 +238,7 @@ void BM_SegmentsCoupled(benchmark::State& state) {
 }
 void BM_SegmentsBare(benchmark::State& state) {
   const int segments = static_cast<int>(state.range(0));
-  BareSteps(state, SegmentsXml(segments), kSegmentsStep_s, kScalingSteps, -1, 3 * segments);
+  BareSteps(state, SegmentsXml(segments), kSegmentsStep_s, kScalingSteps, mjINT_EULER, 3 * segments);
 }
 
 void Long(benchmark::internal::Benchmark* b) {

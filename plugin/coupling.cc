@@ -14,6 +14,8 @@
 #include "ipmc_swim/ipmc_swim.h"
 #include "plugin/mjcf/custom_fields.h"
 
+#include <Eigen/Core>
+
 namespace ipmc {
 namespace {
 
@@ -115,7 +117,7 @@ void PassiveCallback(const mjModel* m, mjData* d) {
   Registry& registry = GetRegistry();
   if (registry.previous_passive) registry.previous_passive(m, d);
   CouplingContext* context = FindMutableCoupling(d);
-  if (!context || context->model != m) return;
+  if (!context || !context->Serves(m)) return;
   ++context->passive_calls;
   // The Stokes step asks for the passive forces at zero velocity, where
   // the drag vanishes; it solves for the drag itself.
@@ -131,7 +133,7 @@ void ControlCallback(const mjModel* m, mjData* d) {
   Registry& registry = GetRegistry();
   if (registry.previous_control) registry.previous_control(m, d);
   CouplingContext* context = FindMutableCoupling(d);
-  if (!context || context->model != m) return;
+  if (!context || !context->Serves(m)) return;
   ++context->control_calls;
   if (!context->actuators) return;
   try {
@@ -166,8 +168,8 @@ CouplingContext& RequireCoupling(const mjData* d, const char* function) {
 // The context Attach couples to a data of m, not yet registered; nullptr
 // for a model without ipmc_* fields.
 std::unique_ptr<CouplingContext> MakeContext(const mjModel* m,
-                                             const IpmcActuatorsOverrides& overrides,
-                                             const RftDragOverrides& fluid) {
+                                             IpmcActuatorsOverrides overrides,
+                                             const RftDragOverrides& fluid, bool for_stepping) {
   if (!HasCustomFieldWithPrefix(m, "ipmc_")) return nullptr;
   std::vector<std::string> known(std::begin(kRftDragFields), std::end(kRftDragFields));
   known.insert(known.end(), IpmcActuatorFields().begin(), IpmcActuatorFields().end());
@@ -182,17 +184,24 @@ std::unique_ptr<CouplingContext> MakeContext(const mjModel* m,
   }
   auto context = std::make_unique<CouplingContext>();
   context->model = m;
+  context->fluid_overrides = fluid;
   if (std::optional<RftDragConfig> drag = RftDragConfig::FromModel(m, fluid)) {
     context->drag.emplace(m, *drag);
     context->fluid = MakeFluid(m, *context->drag, fluid);
-  }
-  if (std::optional<IpmcActuatorsConfig> actuators = IpmcActuatorsConfig::FromModel(m, overrides)) {
-    context->actuators = std::make_unique<IpmcActuators>(std::move(*actuators));
   }
   if (std::optional<std::string> text = FindCustomText(m, kAttrDynamics)) {
     context->dynamics = ParseDynamics(*text);
   }
   if (overrides.dynamics) context->dynamics = *overrides.dynamics;
+  if (for_stepping) {
+    context->step = MakeStepModel(m, context->dynamics);
+    // The first-order hold of flexible links needs the physical c where
+    // the step takes c_eff.
+    overrides.physical_damping = context->step.physical_damping;
+  }
+  if (std::optional<IpmcActuatorsConfig> actuators = IpmcActuatorsConfig::FromModel(m, overrides)) {
+    context->actuators = std::make_unique<IpmcActuators>(std::move(*actuators));
+  }
   if (context->dynamics == Dynamics::kStokes) context->stokes = std::make_unique<StokesStepper>(m);
   // The history's room is kept in either dynamics, so that the size does
   // not depend on a program's override of it.
@@ -247,7 +256,7 @@ bool Attach(const mjModel* m, mjData* d) { return AttachWithOverrides(m, d, {});
 
 bool AttachWithOverrides(const mjModel* m, mjData* d, const IpmcActuatorsOverrides& overrides,
                          const RftDragOverrides& fluid) {
-  std::unique_ptr<CouplingContext> context = MakeContext(m, overrides, fluid);
+  std::unique_ptr<CouplingContext> context = MakeContext(m, overrides, fluid, true);
   if (!context) return false;
   if (m->nuserdata < context->state_size) {
     throw std::invalid_argument(
@@ -273,7 +282,7 @@ bool AttachWithOverrides(const mjModel* m, mjData* d, const IpmcActuatorsOverrid
 
 int UserdataSizeWithOverrides(const mjModel* m, const IpmcActuatorsOverrides& overrides,
                               const RftDragOverrides& fluid) {
-  const std::unique_ptr<CouplingContext> context = MakeContext(m, overrides, fluid);
+  const std::unique_ptr<CouplingContext> context = MakeContext(m, overrides, fluid, false);
   return context ? context->state_size : 0;
 }
 
@@ -461,7 +470,14 @@ std::string InertialStepDiverged(const mjModel* m, const mjData* d, double start
 
 }  // namespace
 
-bool Step(const mjModel* m, mjData* d) {
+namespace {
+// One step of an attached d with the coupling's step model m.
+bool StepAttached(const mjModel* m, mjData* d, CouplingContext* context);
+}  // namespace
+
+bool Step(const mjModel* m, mjData* d) { return Step(m, d, StepSettings{}); }
+
+bool Step(const mjModel* m, mjData* d, const StepSettings& options) {
   CouplingContext* context = FindMutableCoupling(d);
   if (!context || context->model != m) {
     const bool coupled_model = HasCustomFieldWithPrefix(m, "ipmc_") ||
@@ -490,15 +506,35 @@ bool Step(const mjModel* m, mjData* d) {
     context->error = e.what();
     return false;
   }
+  // The model the coupling steps d with: m as it is now, with the
+  // coupling's numerical choices (plugin/dynamics/step_model.h).
+  RefreshStepModel(&context->step, m, context->dynamics);
+  mjModel* step_model = context->step.model.get();
   if (context->load_history) {
-    context->stokes->LoadHistory(m, d, context->fluid.get(),
+    context->stokes->LoadHistory(step_model, d, context->fluid.get(),
                                  context->state_offset + ActuatorStateSize(*context));
     context->load_history = false;
   }
+  const int flags = step_model->opt.disableflags;
+  if (!options.compute_sensors) step_model->opt.disableflags = flags | mjDSBL_SENSOR;
+  const bool stepped = StepAttached(step_model, d, context);
+  step_model->opt.disableflags = flags;
+  return stepped;
+}
+
+namespace {
+
+bool StepAttached(const mjModel* m, mjData* d, CouplingContext* context) {
   const double start_s = d->time;
   const unsigned long passive_before = context->passive_calls;
   const unsigned long control_before = context->control_calls;
   std::string diverged;
+  if (context->stokes && (mjcb_passive != PassiveCallback || GetRegistry().previous_passive)) {
+    context->error =
+        "dynamics = stokes: a host mjcb_passive is set, whose forces the Stokes force balance "
+        "does not take (refused; apply them as actuator forces, or use inertial dynamics)";
+    return false;
+  }
   if (context->stokes) {
     // Checked before the step as mj_step's mj_checkPos and mj_checkVel
     // do (the step replaces the velocity, but a bad one is a mistake).
@@ -531,6 +567,174 @@ bool Step(const mjModel* m, mjData* d) {
   if (context->error.empty()) WriteState(context, d);
   WarnIfCallbackReplaced(context, passive_before, control_before);
   return context->error.empty();
+}
+
+}  // namespace
+
+namespace {
+
+void RequireLink(const CouplingContext& context, int link, const char* function) {
+  const int links = context.actuators ? context.actuators->Links() : 0;
+  if (link < 0 || link >= links) {
+    throw std::invalid_argument(std::string("ipmc::") + function + ": link " +
+                                std::to_string(link) + " is outside [0, " +
+                                std::to_string(links - 1) + "] (the model's ipmc_links)");
+  }
+}
+
+// The fluid's wrenches [torque; force] on each body (world frame, about
+// the subtree centre of mass of its root: MuJoCo's cvel convention), and
+// the velocities V they act on, from d's qpos and qvel.
+struct FluidWrenches {
+  std::vector<Eigen::Matrix<double, 6, 1>> wrench, velocity;
+  std::vector<bool> acted;
+  mjData* c = nullptr;  // the scratch data they were computed on
+};
+
+FluidWrenches ComputeFluidWrenches(CouplingContext& context, const mjData* d) {
+  const mjModel* m = context.step.model.get();
+  if (!context.scratch) context.scratch.reset(mj_makeData(m));
+  FluidWrenches out;
+  mjData* c = out.c = context.scratch.get();
+  mju_copy(c->qpos, d->qpos, m->nq);
+  mju_copy(c->qvel, d->qvel, m->nv);
+  c->time = d->time;
+  mj_kinematics(m, c);
+  mj_comPos(m, c);
+  mj_comVel(m, c);
+  out.wrench.assign(m->nbody, Eigen::Matrix<double, 6, 1>::Zero());
+  out.velocity.resize(m->nbody);
+  out.acted.assign(m->nbody, false);
+  for (int b = 0; b < m->nbody; ++b) {
+    out.velocity[b] = Eigen::Map<const Eigen::Matrix<double, 6, 1>>(c->cvel + 6 * b);
+  }
+  BodyResistanceBlocks<6> spatial;
+  context.fluid->LocalResistances(m, c, &spatial);
+  for (const BodyResistanceBlock<6>& block : spatial) {
+    out.wrench[block.body] -= block.resistance * out.velocity[block.body];
+    out.acted[block.body] = true;
+  }
+  if (spatial.empty()) {
+    // A planar fluid's blocks: [w_z; v_x; v_y], components 2..4.
+    BodyResistanceBlocks<3> planar;
+    context.fluid->LocalResistances(m, c, &planar);
+    for (const BodyResistanceBlock<3>& block : planar) {
+      out.wrench[block.body].segment<3>(2) -=
+          block.resistance * out.velocity[block.body].segment<3>(2);
+      out.acted[block.body] = true;
+    }
+  }
+  if (const Eigen::MatrixXd* resistance = context.fluid->InteractionResistance(m, c)) {
+    const std::vector<int>& bodies = context.fluid->InteractingBodies();
+    Eigen::VectorXd velocity(6 * bodies.size());
+    for (size_t i = 0; i < bodies.size(); ++i) velocity.segment<6>(6 * i) = out.velocity[bodies[i]];
+    const Eigen::VectorXd wrench = -(*resistance) * velocity;
+    for (size_t i = 0; i < bodies.size(); ++i) {
+      out.wrench[bodies[i]] += wrench.segment<6>(6 * i);
+      out.acted[bodies[i]] = true;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+int LinkCount(const mjData* d) {
+  const CouplingContext& context = RequireCoupling(d, "LinkCount");
+  return context.actuators ? context.actuators->Links() : 0;
+}
+
+std::vector<int> LinkJoints(const mjData* d, int link) {
+  const CouplingContext& context = RequireCoupling(d, "LinkJoints");
+  RequireLink(context, link, "LinkJoints");
+  return context.actuators->chains()[link].joints;
+}
+
+double LinkVoltage_V(const mjData* d, int link) {
+  const CouplingContext& context = RequireCoupling(d, "LinkVoltage_V");
+  RequireLink(context, link, "LinkVoltage_V");
+  return context.actuators->Voltages_V()[link];
+}
+
+std::vector<double> LinkActiveMoments_N_m(const mjData* d, int link) {
+  const CouplingContext& context = RequireCoupling(d, "LinkActiveMoments_N_m");
+  RequireLink(context, link, "LinkActiveMoments_N_m");
+  std::vector<double> moments_N_m;
+  for (int motor : context.actuators->chains()[link].motors) moments_N_m.push_back(d->ctrl[motor]);
+  return moments_N_m;
+}
+
+std::vector<BodyFluidForce> FluidForces(const mjModel* m, const mjData* d) {
+  CouplingContext& context = RequireCoupling(d, "FluidForces");
+  if (!context.Serves(m)) {
+    throw std::invalid_argument("ipmc::FluidForces: d is attached with another mjModel than m");
+  }
+  if (!context.fluid) return {};
+  const FluidWrenches wrenches = ComputeFluidWrenches(context, d);
+  const mjModel* sm = context.step.model.get();
+  std::vector<BodyFluidForce> forces;
+  for (int b = 0; b < sm->nbody; ++b) {
+    if (!wrenches.acted[b]) continue;
+    // The torque about the body's origin x: T_x = T_p + (p - x) x F.
+    const Eigen::Vector3d p(wrenches.c->subtree_com + 3 * sm->body_rootid[b]);
+    const Eigen::Vector3d x(wrenches.c->xpos + 3 * b);
+    const Eigen::Vector3d force = wrenches.wrench[b].tail<3>();
+    const Eigen::Vector3d torque = wrenches.wrench[b].head<3>() + (p - x).cross(force);
+    BodyFluidForce entry;
+    entry.body = b;
+    for (int k = 0; k < 3; ++k) {
+      entry.force_N[k] = force[k];
+      entry.torque_N_m[k] = torque[k];
+    }
+    forces.push_back(entry);
+  }
+  return forces;
+}
+
+double FluidPower_W(const mjModel* m, const mjData* d) {
+  CouplingContext& context = RequireCoupling(d, "FluidPower_W");
+  if (!context.Serves(m)) {
+    throw std::invalid_argument("ipmc::FluidPower_W: d is attached with another mjModel than m");
+  }
+  if (!context.fluid) return 0.0;
+  const FluidWrenches wrenches = ComputeFluidWrenches(context, d);
+  double power_W = 0.0;
+  for (size_t b = 0; b < wrenches.wrench.size(); ++b) {
+    power_W -= wrenches.wrench[b].dot(wrenches.velocity[b]);
+  }
+  return power_W;
+}
+
+void SetFluidField(const mjData* d, const char* field, double value) {
+  CouplingContext& context = RequireCoupling(d, "SetFluidField");
+  const std::string name = field ? field : "";
+  mjModel* m = context.step.model.get();
+  const int id = mj_name2id(m, mjOBJ_NUMERIC, name.c_str());
+  const bool fluid_field = name.rfind("ipmc_rft_", 0) == 0 || name.rfind("ipmc_fluid_", 0) == 0;
+  if (!fluid_field || id < 0 || m->numeric_size[id] != 1) {
+    throw std::invalid_argument("ipmc::SetFluidField: '" + name +
+                                "' is not a one-value ipmc_rft_* or ipmc_fluid_* numeric of "
+                                "the model (declare it in the model's <custom>)");
+  }
+  mjtNum& slot = m->numeric_data[m->numeric_adr[id]];
+  const mjtNum old = slot;
+  slot = value;
+  // Checked on a trial drag first (a fluid may refer to its segments), so
+  // that a refused value leaves d's coupling as it was.
+  std::optional<RftDragConfig> config;
+  try {
+    config = RftDragConfig::FromModel(m, context.fluid_overrides);
+    if (!config) throw std::invalid_argument("the model has no drag");
+    const RftDrag trial(m, *config);
+    MakeFluid(m, trial, context.fluid_overrides);
+  } catch (const std::exception& e) {
+    slot = old;
+    throw std::invalid_argument(std::string("ipmc::SetFluidField: ") + e.what());
+  }
+  context.fluid.reset();
+  context.drag.emplace(m, *config);
+  context.fluid = MakeFluid(m, *context.drag, context.fluid_overrides);
+  if (context.stokes) context.stokes->ForgetHistory();
 }
 
 const char* LastError(const mjData* d) {

@@ -11,6 +11,7 @@
 #include "plugin/actuators/ipmc_actuators.h"
 #include "plugin/fluid/fluid_model.h"
 #include "plugin/fluid/rft_drag.h"
+#include "plugin/dynamics/step_model.h"
 #include "plugin/dynamics/stokes_step.h"
 
 namespace ipmc {
@@ -22,9 +23,20 @@ struct CouplingContext {
   std::optional<RftDrag> drag;
   // The fluid model over drag's segments (MakeFluid), with drag.
   std::unique_ptr<Fluid> fluid;
+  // The settings the drag was made with over the model's fields
+  // (SetFluidField rebuilds it with them).
+  RftDragOverrides fluid_overrides;
+  // Scratch data of the step model for FluidForces (made at first use).
+  std::unique_ptr<mjData, void (*)(mjData*)> scratch{nullptr, mj_deleteData};
   std::unique_ptr<IpmcActuators> actuators;
   Dynamics dynamics = Dynamics::kInertial;
   std::unique_ptr<StokesStepper> stokes;  // with Dynamics::kStokes
+  // The model Step steps d with (MakeStepModel): model with the
+  // integrator and hinge damping the coupling chose; the callbacks act
+  // for either.
+  StepModel step;
+  // Whether the callbacks act for a step of m.
+  bool Serves(const mjModel* m) const { return m == model || m == step.model.get(); }
   // The state's block in d->userdata (ipmc_swim.h, "State"): its last
   // state_size values, from state_offset: the actuators' state, the Stokes
   // stepper's history, and a header saying whose state it is (owner, the

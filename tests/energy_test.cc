@@ -69,7 +69,7 @@ TEST_P(EnergyTest, ActuatorWorkGoesIntoFluidAndHingesOverASteadyCycle) {
   EXPECT_GT(c.fluid_power_W, 0.0);
   EXPECT_LT(c.fluid_power_W, 1e-3 * c.hinge_damping_power_W);
   if (std::string(GetParam()) == "inertial") {
-    // MuJoCo's Euler step with the damping c_eff of sim/core/hinge_damping.h
+    // MuJoCo's Euler step with the damping c_eff of plugin/dynamics/step_model.h
     // relaxes each hinge exactly, and the meter books its
     // (c_eff - k h / 2) qdot^2: what is left is the kinetic energy's step
     // error dv^T M dv / 2, measured 4.6e-10 of the actuators' work.

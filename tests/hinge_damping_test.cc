@@ -1,7 +1,7 @@
-// The hinges' damping of the inertial step (sim/core/hinge_damping.h):
+// The hinges' damping of the inertial step (plugin/dynamics/step_model.h):
 // c_eff = k h / (1 - exp(-k h / c)) against its two limits and against the
 // exact relaxation c de/dt = -k e of a massless hinge.
-#include "sim/core/hinge_damping.h"
+#include "plugin/dynamics/step_model.h"
 
 #include <gtest/gtest.h>
 
@@ -94,14 +94,15 @@ TEST(HingeDampingTest, MujocoEulerStepRelaxesAMasslessHinge) {
     damping="6.25e-7" armature="0"/><geom type="sphere" size="1e-2" mass="1e-9"/></body>
     </worldbody></mujoco>)";
   for (double h_s : {5e-4, 5e-2}) {
-    ModelPtr model = LoadModelString(xml);
-    model->opt.timestep = h_s;
-    SetHingeDamping(model.get(), 1.0, Dynamics::kInertial);
-    const DataPtr data(mj_makeData(model.get()));
+    ModelPtr file = LoadModelString(xml);
+    file->opt.timestep = h_s;
+    const StepModel step = MakeStepModel(file.get(), Dynamics::kInertial);
+    mjModel* model = step.model.get();
+    const DataPtr data(mj_makeData(model));
     data->qpos[0] = 0.1;
     const int steps = 20;
     for (int i = 0; i < steps; ++i) {
-      mj_step(model.get(), data.get());
+      mj_step(model, data.get());
       if (h_s > 1e-2 && i == 0) EXPECT_LT(std::abs(data->qpos[0]), 1e-4);
     }
     if (h_s > 1e-2) EXPECT_LT(std::abs(data->qpos[0]), 1e-60);
@@ -111,8 +112,7 @@ TEST(HingeDampingTest, MujocoEulerStepRelaxesAMasslessHinge) {
   }
   // The Stokes mode keeps c.
   ModelPtr model = LoadModelString(xml);
-  SetHingeDamping(model.get(), 2.0, Dynamics::kStokes);
-  EXPECT_DOUBLE_EQ(model->dof_damping[0], 2 * kDamping);
+  EXPECT_DOUBLE_EQ(MakeStepModel(model.get(), Dynamics::kStokes).model->dof_damping[0], kDamping);
 }
 
 }  // namespace

@@ -84,7 +84,8 @@ TEST_F(IpmcActuatorsTest, ClampedLinksFollowTheirTransferFunctions) {
 // half of it, at the top of the identification band (50 rad/s) and below,
 // each link driven alone: the recorded relative deflection's amplitude and
 // phase (the bench records the state at the sample time, so the step
-// enters only through the integration).
+// enters only through the integration): first order, the held moment's
+// delay of h / 2.
 TEST_F(IpmcActuatorsTest, BenchRecordConvergesOnHalvingTheStep) {
   FlagellumSpec spec;
   spec.clamped = true;
@@ -101,11 +102,17 @@ TEST_F(IpmcActuatorsTest, BenchRecordConvergesOnHalvingTheStep) {
       const double phase_change_deg = (at[0].phase_rad - at[1].phase_rad) * 180 / kPi;
       std::printf("w %4.1f rad/s link %d: 0.5 ms against 0.25 ms: gain %+.2e, phase %+.2e deg\n", w,
                   q + 1, gain_change, phase_change_deg);
-      // Measured: 4e-5 / 7e-5 deg at 10 rad/s, 1.2e-3 / 0.013 deg at
-      // 50 rad/s (first order in the step). Gain: the 0.5 % asked of
-      // halving; phase: 10x the measured.
+      // The step damps the rigid links' hinges with c_eff and holds the
+      // active moment over the step (plugin/dynamics/step_model.h), whose
+      // exact relaxation of the massless hinge lags the moment by h / 2:
+      // halving the step takes w (h - h / 2) / 2 off the phase lag (0.072
+      // deg at 10 rad/s, 0.358 deg at 50 rad/s). Measured: 1.04-1.05 of it
+      // at 10 rad/s, 1.05-1.29 at 50 rad/s (the drag and the inertia add
+      // the rest); the gain moves by at most 5e-4. Gain: the 0.5 % asked
+      // of halving; phase: the delay's share within 0.35.
+      const double delay_deg = w * (5e-4 - 2.5e-4) / 2 * 180 / kPi;
       EXPECT_LT(std::abs(gain_change), 0.005);
-      EXPECT_LT(std::abs(phase_change_deg), 0.15);
+      EXPECT_NEAR(-phase_change_deg / delay_deg, 1.0, 0.35);
     }
   }
 }

@@ -350,7 +350,11 @@ void IpmcActuators::AdvanceTo(const mjData* d) {
     Fail(std::string("d->time is ") + (std::isnan(d->time) ? "NaN" : "infinite") +
          " (it must be finite)");
   }
-  if (d->time < bank_->Time_s()) {
+  // A host that sets d->time = n h after each step (against the drift of
+  // summing h) can land a rounding below the time the first-order hold
+  // advanced the links to (t + h): the same time, not a step back.
+  const double rounding_s = 1e-12 * std::max(1.0, std::abs(bank_->Time_s()));
+  if (d->time < bank_->Time_s() - rounding_s) {
     // mj_resetData, an earlier d->time or an older mjData copied into d,
     // without RestoreState or ResetState: the link models cannot go back,
     // so they restart from rest, and the program hears of it.

@@ -157,9 +157,10 @@ struct IpmcActuatorsOverrides {
   // Over the model's ipmc_dynamics (plugin/mjcf/dynamics.h); also
   // applies to a model with drag and no actuators.
   std::optional<Dynamics> dynamics;
-  // The joints' physical damping c per dof [N m s/rad] when the model's
-  // dof_damping holds the inertial step's c_eff instead (the program's
-  // SetHingeDamping); empty: no first-order hold (IpmcActuators::Update).
+  // The joints' physical damping c per dof [N m s/rad] when the step
+  // model's dof_damping holds the inertial step's c_eff instead (the
+  // coupling sets it: MakeStepModel); empty: no first-order hold
+  // (IpmcActuators::Update).
   std::vector<double> physical_damping;
 };
 

@@ -36,13 +36,28 @@ Eigen::Vector3d DragPerLength(const Eigen::Vector3d& u, const Eigen::Vector3d& t
 
 }  // namespace
 
+namespace {
+constexpr CoefficientModel kCoefficientModels[] = {
+    CoefficientModel::kGrayHancock, CoefficientModel::kLighthill, CoefficientModel::kNearWall,
+    CoefficientModel::kDirect,      CoefficientModel::kRibbon,    CoefficientModel::kRibbonFitted};
+}  // namespace
+
+const char* CoefficientModelName(CoefficientModel model) {
+  switch (model) {
+    case CoefficientModel::kGrayHancock: return "gray_hancock";
+    case CoefficientModel::kLighthill: return "lighthill";
+    case CoefficientModel::kNearWall: return "near_wall";
+    case CoefficientModel::kDirect: return "direct";
+    case CoefficientModel::kRibbon: return "ribbon";
+    case CoefficientModel::kRibbonFitted: return "ribbon_fitted";
+  }
+  return "";
+}
+
 CoefficientModel ParseCoefficientModel(const std::string& text) {
-  if (text == "gray_hancock") return CoefficientModel::kGrayHancock;
-  if (text == "lighthill") return CoefficientModel::kLighthill;
-  if (text == "near_wall") return CoefficientModel::kNearWall;
-  if (text == "direct") return CoefficientModel::kDirect;
-  if (text == "ribbon") return CoefficientModel::kRibbon;
-  if (text == "ribbon_fitted") return CoefficientModel::kRibbonFitted;
+  for (CoefficientModel model : kCoefficientModels) {
+    if (text == CoefficientModelName(model)) return model;
+  }
   throw std::invalid_argument(
       std::string("rft drag: ") + kAttrCoefficients +
       " must be gray_hancock, lighthill, near_wall, direct, ribbon or ribbon_fitted (got '" + text +

@@ -120,6 +120,8 @@ enum class CoefficientModel {
 };
 // Throws std::invalid_argument naming the allowed set.
 CoefficientModel ParseCoefficientModel(const std::string& text);
+// The word ParseCoefficientModel reads ("gray_hancock", ...).
+const char* CoefficientModelName(CoefficientModel model);
 
 // Settings that a program may impose over the model's fields (a scenario:
 // the coefficient set, and the wavelength of the wave it drives, so that the

@@ -100,7 +100,7 @@ void PrintWritten(const std::string& dir, const RunFileFormats& formats) {
   std::string format_files;
   if (formats.mat) format_files += std::string(", ") + kRunMatFile;
   if (formats.hdf5) format_files += std::string(", ") + kRunHdf5File;
-  std::printf("wrote %s/timeseries.csv, states.csv%s and summary.json\n", dir.c_str(),
+  std::printf("wrote %s/timeseries.csv, states.csv, model.xml%s and summary.json\n", dir.c_str(),
               format_files.c_str());
 }
 

@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "plugin/coupling.h"
-#include "sim/core/hinge_damping.h"
+#include "plugin/dynamics/step_model.h"
 
 namespace ipmc {
 namespace {
@@ -70,6 +70,9 @@ EnergyMeter::EnergyMeter(const mjModel* m, const mjData* d) {
   if (!inertial_) stokes_ = coupling->stokes.get();
   implicit_damping_ = inertial_ && StepDampsImplicitly(m);
   first_order_hold_ = implicit_damping_ && actuators_ && actuators_->FirstOrderHold();
+  // The damping the step takes (c_eff where the coupling gave it).
+  const mjModel* step = coupling ? coupling->step.model.get() : m;
+  step_damping_.assign(step->dof_damping, step->dof_damping + m->nv);
   if (first_order_hold_) physical_damping_ = actuators_->PhysicalDamping();
   step_start_velocity_.assign(d->qvel, d->qvel + m->nv);
   actuator_J_.assign(link_dofs_.size(), 0.0);
@@ -144,7 +147,7 @@ double EnergyMeter::FirstOrderHoldStep(const mjModel* m, const mjData* d) {
   for (int dof = 0; dof < m->nv; ++dof) {
     const double rate2 = d->qvel[dof] * d->qvel[dof];
     damping_W += physical_damping_[dof] * rate2;
-    excess_damping_W += (m->dof_damping[dof] - physical_damping_[dof]) * rate2;
+    excess_damping_W += (step_damping_[dof] - physical_damping_[dof]) * rate2;
   }
   for (int j = 0; j < m->njnt; ++j) {
     const int type = m->jnt_type[j];
@@ -180,7 +183,7 @@ void EnergyMeter::Observe(const mjModel* m, const mjData* d) {
     actuator_J_[q] += h * power_W;
   }
   double damping_W = 0.0;
-  for (int dof = 0; dof < m->nv; ++dof) damping_W += m->dof_damping[dof] * d->qvel[dof] * d->qvel[dof];
+  for (int dof = 0; dof < m->nv; ++dof) damping_W += step_damping_[dof] * d->qvel[dof] * d->qvel[dof];
   double spring_h_W = 0.0;  // sum of k h qdot^2 / 2 over the joints
   for (int j = 0; j < m->njnt; ++j) {
     const int type = m->jnt_type[j];
@@ -192,7 +195,7 @@ void EnergyMeter::Observe(const mjModel* m, const mjData* d) {
     damping_J_ += h * damping_W;
     stepping_J_ += h * (spring_h_W - moment_change_W);
   } else if (implicit_damping_) {
-    // (c_eff - k h / 2) qdot^2 per joint (sim/core/hinge_damping.h).
+    // (c_eff - k h / 2) qdot^2 per joint (plugin/dynamics/step_model.h).
     damping_J_ += h * (damping_W - spring_h_W);
     stepping_J_ += KineticStepError_J(m, d);
   } else {

@@ -17,7 +17,7 @@
 //                   `damping`, not the paper's plant: docs/ENERGY.md); in
 //                   the inertial mode (MuJoCo's Euler or implicit step,
 //                   spring at the step's start, damping c_eff at its end,
-//                   sim/core/hinge_damping.h) (c_eff - k h / 2) qdot^2 per
+//                   plugin/dynamics/step_model.h) (c_eff - k h / 2) qdot^2 per
 //                   joint, what the step dissipates: the explicit spring
 //                   puts in k dq^2 / 2 per step
 //   time stepping   what the step leaves of the balance. Inertial: the
@@ -149,12 +149,13 @@ class EnergyMeter {
   const StokesStepper* stokes_ = nullptr;
   bool inertial_ = true;
   // Inertial with MuJoCo's Euler or implicit integrator: the damping the
-  // step dissipates is c_eff - k h / 2 (sim/core/hinge_damping.h).
+  // step dissipates is c_eff - k h / 2 (plugin/dynamics/step_model.h).
   bool implicit_damping_ = true;
   // Inertial with the IPMC actuators' first-order hold (flexible links,
   // IpmcActuators::Update): the physical c per dof.
   bool first_order_hold_ = false;
   std::vector<double> physical_damping_;
+  std::vector<double> step_damping_;  // per dof, as the step takes it [N m s/rad]
   std::vector<double> step_start_velocity_;  // qvel at the step's start
   double towing_drag_N_per_m_s_ = 0.0;  // the drag is linear in the speed
   // The running cycle's energies [J] and time [s].

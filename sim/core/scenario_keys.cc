@@ -409,7 +409,7 @@ std::vector<KeySpec> OutputKeys() {
   using T = KeyType;
   return {
       Key("output.dir", T::kString, "", "a directory; relative to the working directory",
-          "\"\": no files", "Where timeseries.csv, states.csv and summary.json go")
+          "\"\": no files", "Where timeseries.csv, states.csv, model.xml and summary.json go")
           .Default("\"\"")
           .Reads([](const KeyValue& v, ScenarioConfig& c) { c.output.dir = v.String(); }),
       Key("output.samples_per_cycle", T::kInteger, "", ">= 1", "200",

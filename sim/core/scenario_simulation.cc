@@ -1,6 +1,7 @@
 #include "sim/core/scenario_simulation.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -11,11 +12,11 @@
 #include "plugin/fluid/fluid_model.h"
 #include "plugin/mjcf/custom_fields.h"
 #include "sim/base/numbers.h"
-#include "sim/core/hinge_damping.h"
 #include "sim/core/model_generator.h"
 #include "sim/core/sha256.h"
 #include "sim/core/step_count.h"
 #include "sim/io/files.h"
+#include "sim/io/mjcf_edit.h"
 
 namespace ipmc {
 namespace {
@@ -27,15 +28,6 @@ std::string NoDragMessage(const std::string& model, const std::string& scenario_
   return model + ": has no RFT drag (no <custom> numeric ipmc_rft_viscosity_Pa_s), which " +
          keys + " in " + scenario_source +
          " needs; add the model's drag fields (docs/LIBRARY.md) or leave " + keys + " out";
-}
-
-void OverrideViscosity(mjModel* m, double viscosity_Pa_s, const std::string& model,
-                       const std::string& scenario_source) {
-  const int id = mj_name2id(m, mjOBJ_NUMERIC, "ipmc_rft_viscosity_Pa_s");
-  if (id < 0) {
-    throw std::runtime_error(NoDragMessage(model, scenario_source, "fluid.viscosity_Pa_s"));
-  }
-  m->numeric_data[m->numeric_adr[id]] = viscosity_Pa_s;
 }
 
 // The keys (or model file fields) that set the chosen model's force
@@ -96,37 +88,93 @@ std::string ScenarioModelSha256(const ScenarioConfig& scenario) {
                                               : ReadTextFile(scenario.model.path, "model file"));
 }
 
-ModelPtr LoadScenarioModel(const ScenarioConfig& scenario, std::string* source,
-                           std::vector<double>* physical_damping) {
+namespace {
+
+// The scenario's fluid settings written into the model's fields (m: the
+// model before them, xml its text).
+std::string WithFluidFields(std::string xml, const ScenarioConfig& scenario, const mjModel* m) {
+  const RftDragOverrides fluid = ScenarioFluidOverrides(scenario, m);
+  if (fluid.model) {
+    xml = SetMjcfCustomField(xml, "text", kAttrCoefficients, CoefficientModelName(*fluid.model));
+    if (*fluid.model != CoefficientModel::kDirect) {
+      // Only a direct coefficient set may keep its coefficients.
+      xml = RemoveMjcfCustomField(xml, kAttrXiNormal);
+      xml = RemoveMjcfCustomField(xml, kAttrXiTangential);
+    }
+  }
+  if (fluid.wavelength_m) {
+    xml = SetMjcfCustomField(xml, "numeric", kAttrWavelength, FormatShortest(*fluid.wavelength_m));
+  }
+  if (fluid.wall_distance_m) {
+    xml = SetMjcfCustomField(xml, "numeric", kAttrWallDistance,
+                             FormatShortest(*fluid.wall_distance_m));
+    xml = SetMjcfCustomField(xml, "text", kAttrCoefficients,
+                             CoefficientModelName(CoefficientModel::kNearWall));
+  }
+  if (fluid.fluid_model) xml = SetMjcfCustomField(xml, "text", kAttrFluidModel, *fluid.fluid_model);
+  for (const auto& [field, value] : fluid.fluid_parameters) {
+    xml = SetMjcfCustomField(xml, "numeric", field, FormatShortest(value));
+  }
+  return xml;
+}
+
+}  // namespace
+
+std::string ScenarioModelXml(const ScenarioConfig& scenario, std::string* source) {
   *source = scenario.model.path;
   ModelPtr model;
+  std::string xml;
   if (!scenario.model.Generated()) {
-    model = LoadModelFile(scenario.model.path);
+    model = LoadModelFile(scenario.model.path);  // names what is wrong with the file
+    xml = ReadTextFile(scenario.model.path, "model file");
   } else {
     *source = scenario.source + " (generated flagellum)";
-    model = LoadModelString(GeneratedScenarioMjcf(scenario));
+    xml = GeneratedScenarioMjcf(scenario);
+    model = LoadModelString(xml);
   }
-  if (scenario.run.timestep_s) model->opt.timestep = *scenario.run.timestep_s;
+  const mjModel* m = model.get();
+  if (scenario.run.timestep_s) {
+    xml = SetMjcfOption(xml, "timestep", FormatShortest(*scenario.run.timestep_s));
+  }
+  const bool drag = FindCustomScalar(m, kAttrViscosity).has_value();
   if (scenario.fluid.viscosity_Pa_s) {
-    OverrideViscosity(model.get(), *scenario.fluid.viscosity_Pa_s, *source, scenario.source);
+    if (!drag) {
+      throw std::runtime_error(NoDragMessage(*source, scenario.source, "fluid.viscosity_Pa_s"));
+    }
+    xml = SetMjcfCustomField(xml, "numeric", kAttrViscosity,
+                             FormatShortest(*scenario.fluid.viscosity_Pa_s));
   }
-  std::vector<double> damping =
-      SetHingeDamping(model.get(), scenario.model.hinge_damping_scale, scenario.model.dynamics);
-  if (physical_damping) *physical_damping = std::move(damping);
-  return model;
+  if (scenario.model.hinge_damping_scale != 1.0) {
+    xml = ScaleMjcfJointDamping(xml, scenario.model.hinge_damping_scale);
+  }
+  if (scenario.model.plants) {
+    xml = SetMjcfCustomField(xml, "text", kAttrPlants, PlantAssignmentName(*scenario.model.plants));
+  }
+  if (scenario.model.dynamics) {
+    xml = SetMjcfCustomField(xml, "text", kAttrDynamics, DynamicsName(*scenario.model.dynamics));
+  }
+  // Without drag the fluid keys are refused (LoadScenarioSimulation).
+  if (drag) xml = WithFluidFields(std::move(xml), scenario, m);
+  return xml;
+}
+
+ModelPtr LoadScenarioModel(const ScenarioConfig& scenario, std::string* source) {
+  const std::string xml = ScenarioModelXml(scenario, source);
+  const std::string directory =
+      scenario.model.Generated() ? "" : std::filesystem::path(scenario.model.path).parent_path().string();
+  try {
+    return LoadModelString(xml, directory);
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(*source + " with " + scenario.source + "'s settings: " + e.what());
+  }
 }
 
 std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenario) {
   std::string source;
-  IpmcActuatorsOverrides overrides;
-  ModelPtr model = LoadScenarioModel(scenario, &source, &overrides.physical_damping);
-  UseEulerWhereImplicitAddsNothing(model.get());  // as StepClosedLoop steps it
-  overrides.plants = scenario.model.plants;
-  overrides.dynamics = scenario.model.dynamics;
-  const RftDragOverrides fluid = ScenarioFluidOverrides(scenario, model.get());
+  ModelPtr model = LoadScenarioModel(scenario, &source);
   // Before the simulation's first evaluation factors a dense mobility.
-  CheckFluidResolution(scenario, model.get(), source, fluid);
-  auto sim = std::make_unique<Simulation>(std::move(model), source, overrides, fluid);
+  CheckFluidResolution(scenario, model.get(), source, {});
+  auto sim = std::make_unique<Simulation>(std::move(model), source);
   const CouplingContext* coupling = FindCoupling(sim->data());
   if (!(coupling && coupling->drag)) {
     // Only the keys the scenario sets.
@@ -187,12 +235,9 @@ RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mj
 int ScenarioLinkCount(const ScenarioConfig& scenario) {
   std::string source;
   const ModelPtr model = LoadScenarioModel(scenario, &source);
-  IpmcActuatorsOverrides overrides;
-  overrides.plants = scenario.model.plants;
-  overrides.dynamics = scenario.model.dynamics;
   std::optional<IpmcActuatorsConfig> actuators;
   try {
-    actuators = IpmcActuatorsConfig::FromModel(model.get(), overrides);
+    actuators = IpmcActuatorsConfig::FromModel(model.get());
   } catch (const std::invalid_argument& e) {
     throw std::runtime_error(source + ": " + e.what());
   }

@@ -15,23 +15,26 @@
 
 namespace ipmc {
 
-// The scenario's model (its file, or the generated flagellum it names) with
-// its overrides applied (time step, viscosity, hinge damping); *source is
-// set to the name used in messages; *physical_damping (if given) to the
-// joints' damping per dof when the inertial step's c_eff replaced it
-// (SetHingeDamping). Throws std::runtime_error naming the file on bad input.
-ModelPtr LoadScenarioModel(const ScenarioConfig& scenario, std::string* source,
-                           std::vector<double>* physical_damping = nullptr);
+// The MJCF text of the model the scenario's runs step: its file's, or the
+// generated flagellum's, with the scenario's settings written into it (the
+// time step, viscosity, hinge damping scale, plants, dynamics and the
+// fluid's fields: sim/io/mjcf_edit.h). A run writes it as model.xml;
+// attached as it is (ipmc::Attach) it steps as the run does, and
+// `ipmc-swim run model.xml` is the same run. *source is set to the name
+// used in messages. Throws std::runtime_error naming the file on bad input.
+std::string ScenarioModelXml(const ScenarioConfig& scenario, std::string* source);
+
+// ScenarioModelXml loaded (a model file's relative paths resolved from its
+// folder).
+ModelPtr LoadScenarioModel(const ScenarioConfig& scenario, std::string* source);
 
 // The SHA-256 (sim/core/sha256.h) of the bytes of the scenario's model: its
 // file, or the MJCF text of the generated flagellum it names. Throws
 // InputError if the file cannot be read.
 std::string ScenarioModelSha256(const ScenarioConfig& scenario);
 
-// The scenario's model (LoadScenarioModel) with the scenario's plants
-// imposed, attached, on the integrator StepClosedLoop steps it with
-// (UseEulerWhereImplicitAddsNothing), so that a caller stepping it itself
-// gets the run's numbers.
+// The scenario's model (LoadScenarioModel), attached: a caller stepping it
+// with ipmc::Step gets the run's numbers.
 std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenario);
 // The fluid settings the scenario imposes: fluid.rft_coefficients, and the
 // wavelength in the RFT coefficients, fluid.rft_wavelength_mm or else the

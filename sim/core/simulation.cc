@@ -1,11 +1,11 @@
 #include "sim/core/simulation.h"
 
-#include <unistd.h>
-
 #include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <limits>
+#include <memory>
 #include <utility>
 #include <cstdio>
 #include <fstream>
@@ -50,25 +50,6 @@ void ReserveCouplingUserdata(mjModel* m, const IpmcActuatorsOverrides& overrides
 
 }  // namespace
 
-bool UseEulerWhereImplicitAddsNothing(mjModel* m) {
-  if (m->opt.integrator != mjINT_IMPLICIT) return false;
-  if (m->opt.density > 0 || m->opt.viscosity > 0) return false;
-  for (int t = 0; t < m->ntendon; ++t) {
-    if (m->tendon_damping[t] != 0) return false;
-  }
-  for (int a = 0; a < m->nu; ++a) {
-    // gain = gainprm[0] + gainprm[1] length + gainprm[2] velocity (affine),
-    // bias = biasprm[0] + biasprm[1] length + biasprm[2] velocity.
-    const bool gain_velocity =
-        m->actuator_gaintype[a] == mjGAIN_AFFINE && m->actuator_gainprm[mjNGAIN * a + 2] != 0;
-    const bool bias_velocity =
-        m->actuator_biastype[a] == mjBIAS_AFFINE && m->actuator_biasprm[mjNBIAS * a + 2] != 0;
-    if (gain_velocity || bias_velocity) return false;
-  }
-  m->opt.integrator = mjINT_EULER;
-  return true;
-}
-
 ModelPtr LoadModelFile(const std::string& path) {
   std::error_code status;
   if (std::filesystem::is_directory(path, status)) {
@@ -88,29 +69,28 @@ ModelPtr LoadModelFile(const std::string& path) {
   return ModelPtr(m);
 }
 
-ModelPtr LoadModelString(const std::string& xml) {
-  char name[] = "/tmp/ipmc_swim_model_XXXXXX.xml";
-  const int fd = mkstemps(name, 4);
-  if (fd < 0) throw std::runtime_error("cannot create a temporary model file");
-  // A full disk or a file size limit fails here, naming the reason, not
-  // later as an XML error about a torn file.
-  size_t written = 0;
-  while (written < xml.size()) {
-    const ssize_t n = write(fd, xml.data() + written, xml.size() - written);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;
-    written += static_cast<size_t>(n);
+ModelPtr LoadModelString(const std::string& xml, const std::string& directory) {
+  // MuJoCo reads the text from a virtual file (mjVFS) named as if it were
+  // in `directory`, where it looks for the files the text names.
+  struct VfsDeleter {
+    void operator()(mjVFS* vfs) const {
+      mj_deleteVFS(vfs);
+      delete vfs;
+    }
+  };
+  std::unique_ptr<mjVFS, VfsDeleter> vfs(new mjVFS);
+  mj_defaultVFS(vfs.get());
+  if (xml.size() > static_cast<size_t>(std::numeric_limits<int>::max()) ||
+      mj_makeEmptyFileVFS(vfs.get(), "ipmc_swim_model.xml", static_cast<int>(xml.size())) != 0) {
+    throw std::runtime_error("inline model: too large for MuJoCo's virtual file (" +
+                             std::to_string(xml.size()) + " bytes)");
   }
-  const int write_errno = errno;
-  close(fd);
-  if (written < xml.size()) {
-    std::remove(name);
-    throw std::runtime_error(std::string("cannot write the temporary model file ") + name +
-                             " (" + std::strerror(write_errno) + ")");
-  }
+  std::memcpy(vfs->filedata[0], xml.data(), xml.size());
+  const std::string name =
+      directory.empty() ? "ipmc_swim_model.xml"
+                        : (std::filesystem::path(directory) / "ipmc_swim_model.xml").string();
   char error[1024] = "";
-  mjModel* m = mj_loadXML(name, nullptr, error, sizeof(error));
-  std::remove(name);
+  mjModel* m = mj_loadXML(name.c_str(), vfs.get(), error, sizeof(error));
   if (!m) throw std::runtime_error(std::string("inline model: ") + LoadError(error));
   ReserveCouplingUserdata(m);
   return ModelPtr(m);
@@ -132,12 +112,9 @@ Simulation::Simulation(ModelPtr m, const std::string& source,
 Simulation::~Simulation() { Detach(data_.get()); }
 
 void Simulation::Step(bool compute_sensors) {
-  mjModel* m = model_.get();
-  const int flags = m->opt.disableflags;
-  if (!compute_sensors) m->opt.disableflags = flags | mjDSBL_SENSOR;
-  const bool stepped = ipmc::Step(m, data_.get());
-  m->opt.disableflags = flags;
-  if (!stepped) {
+  StepSettings options;
+  options.compute_sensors = compute_sensors;
+  if (!ipmc::Step(model_.get(), data_.get(), options)) {
     // ipmc::Step's error names the step's time.
     throw std::runtime_error(source_ + ": " + LastError(data_.get()));
   }

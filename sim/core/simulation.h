@@ -23,20 +23,10 @@ using DataPtr = std::unique_ptr<mjData, DataDeleter>;
 // Loads an MJCF file. Throws std::runtime_error "PATH: reason" if the
 // file is missing or MuJoCo rejects it.
 ModelPtr LoadModelFile(const std::string& path);
-// Loads MJCF text (written to a private temporary file for MuJoCo's parser).
-ModelPtr LoadModelString(const std::string& xml);
-
-// Switches m from MuJoCo's implicit integrator to its Euler integrator
-// where the two treat the same forces implicitly: MuJoCo 2.2's implicit
-// step differs from Euler only in the velocity derivatives of the
-// actuator forces (velocity gains and biases), of tendon damping and of
-// its own fluid model, while Euler too integrates the joints' damping
-// implicitly; the callback forces are explicit in both. So with none of
-// those three in the model Euler gives the same stability at 0.4 of the
-// cost of a step (docs/RUNS.md, "Time step and integrator"). The closed-loop and
-// bench runs call it; a gait's servos have velocity gains and keep
-// implicit. Returns true if it switched.
-bool UseEulerWhereImplicitAddsNothing(mjModel* m);
+// Loads MJCF text; the files it names (includes, meshes) are looked up in
+// `directory` (the working directory if empty). Throws std::runtime_error
+// "inline model: reason".
+ModelPtr LoadModelString(const std::string& xml, const std::string& directory = "");
 
 class Simulation {
  public:
@@ -55,8 +45,9 @@ class Simulation {
   const mjData* data() const { return data_.get(); }
   const std::string& source() const { return source_; }
 
-  // One step (ipmc::Step: mj_step, or the Stokes-flow step for a model
-  // with ipmc_dynamics = stokes or the override); throws
+  // One step (ipmc::Step: the coupling's step of the model, or the
+  // Stokes-flow step for a model with ipmc_dynamics = stokes or the
+  // override); throws
   // std::runtime_error "SOURCE: " and ipmc::LastError's line if the step
   // failed: a divergence (MuJoCo reported a bad state and reset it, or a
   // position, velocity or link deflection stopped being finite) names its

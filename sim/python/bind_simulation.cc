@@ -5,6 +5,7 @@
 // sim/core/swim_meter.h). Stepping releases the GIL, so simulations in
 // different Python threads run in parallel; one simulation is used by one
 // thread at a time (a mutex serialises the calls).
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <mutex>
@@ -42,11 +43,38 @@ class PythonSimulation {
       }
     }
     if (scenario_) {
+      CheckLinkGains(*scenario_, Links());
       geometry_ = ModelLinkGeometry(*sim_);
       steps_per_sample_ = StepsPerSample(scenario_->controller.sample_rate_Hz,
                                          sim_->model()->opt.timestep, scenario_->source);
     }
     meter_.Start(sim_->data());
+  }
+
+  // mj_resetData: the model's initial state, the coupling's state (in
+  // mjData.userdata) at rest, time 0, the swim meter started again; then
+  // mj_forward, as a new simulation starts.
+  void Reset() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    mj_resetData(sim_->model(), sim_->data());
+    mj_forward(sim_->model(), sim_->data());
+    meter_ = SwimMeter(sim_->model());
+    meter_.Start(sim_->data());
+    diverged_.clear();
+  }
+
+  // A branch: a copy of the model with its own attached mjData, into which
+  // mj_copyData copies this one's (the coupling's state included), and the
+  // swim meter so far; stepped as this one, it continues bit for bit.
+  std::unique_ptr<PythonSimulation> Copy() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ModelPtr model(mj_copyModel(nullptr, sim_->model()));
+    auto sim = std::make_unique<Simulation>(std::move(model), sim_->source());
+    mj_copyData(sim->data(), sim->model(), sim_->data());
+    auto copy = std::make_unique<PythonSimulation>(std::move(sim), scenario_);
+    copy->meter_ = meter_;
+    copy->diverged_ = diverged_;
+    return copy;
   }
 
   // Called without the GIL. Ctrl-C (a pending Python signal) stops it at a
@@ -172,6 +200,50 @@ class PythonSimulation {
     std::lock_guard<std::mutex> lock(mutex_);
     return std::vector<double>(sim_->data()->qvel, sim_->data()->qvel + sim_->model()->nv);
   }
+  // Sets qpos or qvel (`what`), `size` values.
+  void SetState(const char* what, double* target, int size, const std::vector<double>& values) {
+    if (static_cast<int>(values.size()) != size) {
+      throw std::invalid_argument(std::string("set_") + what + ": needs " + std::to_string(size) +
+                                  " values (got " + std::to_string(values.size()) + ")");
+    }
+    for (double value : values) {
+      if (!std::isfinite(value)) {
+        throw std::invalid_argument(std::string("set_") + what + ": values must be finite");
+      }
+    }
+    std::copy(values.begin(), values.end(), target);
+  }
+  void SetQpos(const std::vector<double>& values) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    SetState("qpos", sim_->data()->qpos, sim_->model()->nq, values);
+  }
+  void SetQvel(const std::vector<double>& values) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    SetState("qvel", sim_->data()->qvel, sim_->model()->nv, values);
+  }
+  // ipmc::FluidForces as (bodies, force [N], torque [N m]) arrays.
+  py::tuple FluidForces() {
+    std::vector<BodyFluidForce> forces;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      forces = ipmc::FluidForces(sim_->model(), sim_->data());
+    }
+    const py::ssize_t n = static_cast<py::ssize_t>(forces.size());
+    py::array_t<int> bodies(n);
+    py::array_t<double> force({n, py::ssize_t{3}}), torque({n, py::ssize_t{3}});
+    for (py::ssize_t i = 0; i < n; ++i) {
+      bodies.mutable_at(i) = forces[i].body;
+      for (int k = 0; k < 3; ++k) {
+        force.mutable_at(i, k) = forces[i].force_N[k];
+        torque.mutable_at(i, k) = forces[i].torque_N_m[k];
+      }
+    }
+    return py::make_tuple(bodies, force, torque);
+  }
+  double FluidPower_W() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return ipmc::FluidPower_W(sim_->model(), sim_->data());
+  }
 
   std::vector<double> References_mm(std::optional<double> t_s) {
     std::lock_guard<std::mutex> lock(mutex_);
@@ -212,6 +284,16 @@ class PythonSimulation {
       dict["kp"] = s.controller.pid.kp;
       dict["ki"] = s.controller.pid.ki;
       dict["kd"] = s.controller.pid.kd;
+      std::vector<double> kp, ki, kd;
+      for (int q = 0; q < Links(); ++q) {
+        const PidController::Config link = s.controller.LinkPid(q);
+        kp.push_back(link.kp);
+        ki.push_back(link.ki);
+        kd.push_back(link.kd);
+      }
+      dict["link_kp"] = Array(kp);
+      dict["link_ki"] = Array(ki);
+      dict["link_kd"] = Array(kd);
       dict["derivative_filter_s"] = s.controller.pid.derivative_filter_time_s;
       dict["sample_period_s"] = s.controller.pid.sample_period_s;
       dict["clamp"] = s.controller.pid.clamp_enabled;
@@ -219,6 +301,14 @@ class PythonSimulation {
     } else {
       dict["gain"] = s.controller.fractional.gain;
       dict["order"] = s.controller.fractional.order;
+      std::vector<double> gain, order;
+      for (int q = 0; q < Links(); ++q) {
+        const FractionalIntegrator::Config link = s.controller.LinkFractional(q);
+        gain.push_back(link.gain);
+        order.push_back(link.order);
+      }
+      dict["link_gain"] = Array(gain);
+      dict["link_order"] = Array(order);
       dict["sample_period_s"] = s.controller.fractional.sample_period_s;
       dict["clamp"] = s.controller.fractional.clamp_enabled;
       dict["v_max_V"] = s.controller.fractional.v_max;
@@ -295,6 +385,12 @@ parallel.)")
            py::arg("scenario"))
       .def_static("from_model", &FromModel, py::arg("path"), "A simulation of an MJCF file.")
       .def_static("from_xml", &FromXml, py::arg("xml"), "A simulation of MJCF text.")
+      .def("reset", &PythonSimulation::Reset,
+           "Starts again from the model's initial state (mj_resetData): time 0, the link "
+           "models at rest, voltages 0, the swim meter restarted.")
+      .def("copy", &PythonSimulation::Copy,
+           "A branch: a new Simulation holding this one's state (mj_copyData into a new "
+           "attached mjData) and swim meter; stepped alike, the two agree bit for bit.")
       .def("step", [](PythonSimulation& s, long n) { WithoutGil([&] { s.Step(n); }); },
            py::arg("n") = 1, "Advances n physics steps (the GIL released).")
       .def("set_voltages", &PythonSimulation::SetVoltages, py::arg("voltages_V"),
@@ -323,6 +419,14 @@ parallel.)")
            "Time, centre of mass, head, yaw and tips [mm, rad] (the swim meter's).")
       .def("qpos", [](PythonSimulation& s) { return Array(s.Qpos()); }, "MuJoCo's qpos.")
       .def("qvel", [](PythonSimulation& s) { return Array(s.Qvel()); }, "MuJoCo's qvel.")
+      .def("set_qpos", &PythonSimulation::SetQpos, py::arg("qpos"), "Sets MuJoCo's qpos.")
+      .def("set_qvel", &PythonSimulation::SetQvel, py::arg("qvel"), "Sets MuJoCo's qvel.")
+      .def("fluid_forces", &PythonSimulation::FluidForces,
+           "The fluid's force on each body it acts on (ipmc::FluidForces): (bodies, "
+           "force_N (n, 3), torque_N_m (n, 3)), world frame, the torque about each body's "
+           "origin, from the current qpos and qvel.")
+      .def("fluid_power_W", &PythonSimulation::FluidPower_W,
+           "The power the body loses to the fluid [W] (ipmc::FluidPower_W).")
       .def("references_mm",
            [](PythonSimulation& s, std::optional<double> t) { return Array(s.References_mm(t)); },
            py::arg("t_s") = py::none(),
@@ -342,7 +446,10 @@ parallel.)")
                              "Physics steps per wave cycle.")
       .def_property_readonly("cycles", &PythonSimulation::Cycles, "The scenario's cycles.")
       .def_property_readonly("controller", &PythonSimulation::Controller,
-                             "The scenario's controller settings (kind, gains, clamp).");
+                             "The scenario's controller settings (kind, gains, clamp) and the gains each "
+                             "link's controller runs with, link by link: link_kp, link_ki, "
+                             "link_kd (PID) or link_gain, link_order (fractional), the "
+                             "scalar key's where the scenario gives no per-link value.");
 }
 
 }  // namespace ipmc::python

@@ -72,7 +72,6 @@ BenchRecord RunBench(Simulation& sim, const BenchSignal& signal, double record_f
                      const BenchProgress& progress) {
   signal.Validate();
   mjModel* m = sim.model();
-  UseEulerWhereImplicitAddsNothing(m);  // no servo: Euler suffices
   mjData* d = sim.data();
   const LinkSensors sensors(m, d, sim.source());
   const IpmcActuators& actuators = *FindCoupling(d)->actuators;

@@ -289,7 +289,6 @@ ClosedLoopResult StepClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
                                 const LinkReferenceSource& references) {
   scenario.waveform.Validate();
   mjModel* m = sim.model();
-  UseEulerWhereImplicitAddsNothing(m);  // no servo: Euler suffices
   mjData* d = sim.data();
   const LinkSensors sensors(m, d, sim.source());
   const int links = sensors.Links();

@@ -52,10 +52,13 @@ void SetServoGains(mjModel* m, const std::vector<Servo>& servos, double kp, doub
 // + k q_ref + c qd_ref.
 void SetServoTargets(const mjModel* m, mjData* d, const std::vector<Servo>& servos,
                      const JointReference& ref, double kp, double kv) {
+  // The damping the step takes (c_eff where the coupling gave it).
+  const CouplingContext* coupling = FindCoupling(d);
+  const mjModel* step = coupling ? coupling->step.model.get() : m;
   for (size_t j = 0; j < servos.size(); ++j) {
     const Servo& servo = servos[j];
     const double k = m->jnt_stiffness[servo.joint];
-    const double c = m->dof_damping[servo.dof_adr];
+    const double c = step->dof_damping[servo.dof_adr];
     const double q = ref.angle_rad[j], qd = ref.velocity_rad_s[j];
     d->ctrl[servo.actuator] = q + ((kv + c) * qd + k * q) / kp;
   }

@@ -8,6 +8,7 @@
 
 #include "sim/core/data_paths.h"
 #include "sim/core/scenario.h"
+#include "sim/core/scenario_simulation.h"
 #include "sim/core/sha256.h"
 #include "sim/io/columns.h"
 #include "sim/io/csv.h"
@@ -100,9 +101,10 @@ bool EndsWith(const std::string& text, const std::string& end) {
 
 // kRunOutputFiles (the summary with the inputs) and the files `formats`
 // asks for, together or not at all.
+// model_xml: the model as stepped (kRunModelFile), "" for none.
 void WriteRunOutputs(const std::string& dir, const std::string& csv, const std::string& states_csv,
                      nlohmann::json summary, const nlohmann::json& inputs,
-                     const RunFileFormats& formats) {
+                     const RunFileFormats& formats, const std::string& model_xml = "") {
   EnsureDirectory(dir);
   summary[kInputs] = inputs;
   // Renamed into place in this order: the summary, which marks a complete
@@ -123,6 +125,12 @@ void WriteRunOutputs(const std::string& dir, const std::string& csv, const std::
   if (!formats.hdf5) stale.push_back(hdf5_path);
   files.emplace_back(RunOutputPath(dir, 0), csv);
   files.emplace_back(RunOutputPath(dir, 1), states_csv);
+  const std::string model_path = (folder / kRunModelFile).string();
+  if (model_xml.empty()) {
+    stale.push_back(model_path);
+  } else {
+    files.emplace_back(model_path, model_xml);
+  }
   files.emplace_back(RunOutputPath(dir, 2), summary.dump(2) + "\n");
   WriteFilesTogether(files, stale);
 }
@@ -134,7 +142,7 @@ void CheckRunOutputDirectory(const std::string& who, const std::string& option,
   for (int file = 0; file < static_cast<int>(std::size(kRunOutputFiles)); ++file) {
     RefuseOverwritingInputs(who, option, RunOutputPath(dir, file), inputs);
   }
-  for (const char* file : {kRunMatFile, kRunHdf5File}) {
+  for (const char* file : {kRunMatFile, kRunHdf5File, kRunModelFile}) {
     RefuseOverwritingInputs(who, option, (std::filesystem::path(dir) / file).string(), inputs);
   }
   RequireWritableDirectory(dir);
@@ -460,8 +468,9 @@ void WriteClosedLoopOutputs(const std::string& dir, const ClosedLoopResult& resu
                             const RunFileFormats& formats) {
   nlohmann::json all = inputs;
   all.update(ClosedLoopProvenance(scenario));
+  std::string source;
   WriteRunOutputs(dir, ClosedLoopSamplesCsv(result), RecordedStatesCsv(result.states),
-                  ClosedLoopSummaryJson(result), all, formats);
+                  ClosedLoopSummaryJson(result), all, formats, ScenarioModelXml(scenario, &source));
 }
 
 }  // namespace ipmc

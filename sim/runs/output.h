@@ -18,6 +18,9 @@ namespace ipmc {
 // summary last: a run folder with a summary is complete.
 inline constexpr const char* kRunOutputFiles[] = {"timeseries.csv", "states.csv",
                                                   "summary.json"};
+// A closed-loop run also writes the model exactly as it stepped it
+// (ScenarioModelXml): attached with ipmc::Attach it steps as the run did.
+inline constexpr char kRunModelFile[] = "model.xml";
 // Written besides them on request (RunFileFormats): the whole run in one
 // file, for MATLAB/Octave and for HDF5 readers (RunResultTree).
 inline constexpr char kRunMatFile[] = "run.mat";
@@ -120,8 +123,8 @@ ScenarioConfig ScenarioOfSummary(const std::string& summary_path);
 // file no longer has the SHA-256 the run recorded (inputs.model_sha256).
 std::string ModelOfGaitSummary(const std::string& summary_path, const nlohmann::json& inputs);
 
-// Writes DIR/timeseries.csv, DIR/states.csv and DIR/summary.json of a
-// closed-loop run, and run.mat / run.h5 as `formats` asks, all together or
+// Writes DIR/timeseries.csv, DIR/states.csv, DIR/model.xml and
+// DIR/summary.json of a closed-loop run, and run.mat / run.h5 as `formats` asks, all together or
 // none; summary.json's "inputs" holds `inputs` and
 // ClosedLoopProvenance(scenario).
 void WriteClosedLoopOutputs(const std::string& dir, const ClosedLoopResult& result,

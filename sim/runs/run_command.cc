@@ -30,7 +30,7 @@ OptionTable<RunCommand> MakeRunOptions() {
   cycles.default_text = "the scenario's";
   table.Add<int>(cycles, [](RunCommand& c) -> int& { return c.cycles; });
   OptionInfo out{"out", "", "a folder",
-                 "Output folder for timeseries.csv, states.csv and summary.json (the command "
+                 "Output folder for timeseries.csv, states.csv, model.xml and summary.json (the command "
                  "line's default: the scenario's output.dir)"};
   out.aliases = {"o"};
   table.AddPath(out, [](RunCommand& c) -> std::string& { return c.out; });

@@ -39,6 +39,10 @@ message(STATUS "${last_output}")
 if(NOT last_output MATCHES "qvel\\[0\\] = ")
   message(FATAL_ERROR "example_attach printed no result: ${last_output}")
 endif()
+# An attached mj_copyData branch goes on bit for bit (the state is in mjData).
+if(NOT last_output MATCHES "branch after [0-9]+ more steps: identical")
+  message(FATAL_ERROR "example_attach's branch did not continue as the original: ${last_output}")
+endif()
 
 # The installed program runs without LD_LIBRARY_PATH (its RUNPATH finds the
 # libraries) and finds the installed models by default: a 0.2 s bench sine.

@@ -11,7 +11,7 @@ import pytest
 
 from conftest import run_cli
 
-FILES = ["timeseries.csv", "states.csv", "summary.json"]
+FILES = ["timeseries.csv", "states.csv", "summary.json", "model.xml"]
 
 # Two runs of the short scenario that differ in every file.
 RUN_A = ["--cycles", "1", "--set", "waveform.frequency_Hz=0.5"]

@@ -96,7 +96,7 @@ wait_done "$work/cluster_runs"
 kept=$(cd "$work/cluster_runs/table_runs" && find . -type f | sort | tr '\n' ' ')
 expected=""
 for n in 0 1 2 3 4 5 6 7; do
-  expected+="./point_$n/states.csv ./point_$n/summary.json ./point_$n/timeseries.csv "
+  expected+="./point_$n/model.xml ./point_$n/states.csv ./point_$n/summary.json ./point_$n/timeseries.csv "
 done
 [ "$kept" = "$expected" ] || fail "the cluster kept: $kept; expected: $expected"
 diff -r "$work/local_runs/table_runs" "$work/cluster_runs/table_runs" ||

@@ -37,6 +37,20 @@
 // Attach takes the state d holds (a copy of an attached mjData, or d's
 // own under an earlier Attach), or rest for a d whose block is zero.
 //
+// Stepping. Step steps d with the coupling's own copy of m, taken afresh
+// from m before every step (so a change to m between steps, e.g. an
+// actuator's gain or the timestep, takes effect as under mj_step), in
+// which the coupling makes the numerical choices the ipmc-swim program makes (docs/LIBRARY.md, "How Step steps"): in
+// inertial dynamics each spring hinge's damping c becomes
+// c_eff = k h / (1 - exp(-k h / c)) for MuJoCo's Euler or implicit step
+// (the exact relaxation of a massless hinge over a step; stable for every
+// h), flexible links' active moments follow a first-order hold over the
+// step, and MuJoCo's Euler integrator replaces the implicit one where the
+// two treat the same forces implicitly. A model file, Attach,
+// SetVoltages and Step so give what `ipmc-swim run` gives (a run writes
+// the model it stepped as model.xml). The ipmc_* fields are read at Attach:
+// change them with SetFluidField, or Attach again.
+//
 // Dynamics. A model with the text field ipmc_dynamics = stokes (or a
 // program's override) is stepped without inertia, its velocity taken from
 // the balance of drag, hinge and active forces at every step; call Step
@@ -141,10 +155,63 @@ void ResetState(const mjData* d);
 bool Step(const mjModel* m, mjData* d);
 constexpr char kDivergedPrefix[] = "simulation diverged at t = ";
 
+// What a step computes besides the state.
+struct StepSettings {
+  // false: MuJoCo skips its sensor stages in this step and d->sensordata
+  // keeps the values of the last step that computed them (for a program
+  // that reads the sensors only every few steps; MuJoCo fills sensordata
+  // during the step, from the state at its start). The state is the same.
+  bool compute_sensors = true;
+};
+// Step with options.
+bool Step(const mjModel* m, mjData* d, const StepSettings& options);
+
 // The failure of d's last Step (or of a callback run since, e.g. by
 // mj_forward), one line; "" if none. For a d not attached, the failure of
 // its last Step in this thread. Valid until the next Step of d.
 const char* LastError(const mjData* d);
+
+// ---- Facts and forces of an attached d. Each throws std::invalid_argument
+// (one line) if d is not attached or an index is out of range.
+
+// The number of IPMC links (the model's ipmc_links), 0 without actuators.
+int LinkCount(const mjData* d);
+// The joints (ids) of link `link` (0-based), its root hinge first, then
+// the hinges of its sub-segments (ipmc_segments_per_link).
+std::vector<int> LinkJoints(const mjData* d, int link);
+// The voltage link `link` holds [V] (SetVoltages).
+double LinkVoltage_V(const mjData* d, int link);
+// The active moment the link's model applies at each of its joints
+// (LinkJoints' order) [N m], as the last step applied it (d->ctrl of the
+// ipmc_<joint> motors).
+std::vector<double> LinkActiveMoments_N_m(const mjData* d, int link);
+
+// The fluid's force and torque on one body, world frame, SI units, the
+// torque about the body's origin (d->xpos).
+struct BodyFluidForce {
+  int body = -1;
+  double force_N[3] = {0, 0, 0};
+  double torque_N_m[3] = {0, 0, 0};
+};
+// The fluid's force and torque on every body it acts on, from d's
+// positions and velocities (qpos, qvel: recomputed, so also right after a
+// step): the drag the callback applies in inertial dynamics; in Stokes
+// dynamics the drag that balances the velocities the step solved for (the
+// step takes its resistance at the step's midpoint: the two differ by
+// O(h) in a shape that moves). Empty without drag. Uses the coupling's
+// scratch data: call from the thread that steps d.
+std::vector<BodyFluidForce> FluidForces(const mjModel* m, const mjData* d);
+// The power the body loses to the fluid [W], -sum(F . v + T . w) over
+// FluidForces (>= 0).
+double FluidPower_W(const mjModel* m, const mjData* d);
+
+// Sets a numeric fluid field of d's coupling (ipmc_rft_viscosity_Pa_s, or
+// any ipmc_rft_* / ipmc_fluid_* numeric the model declares), as if the
+// model file held `value`; the drag is rebuilt from the fields (the Stokes
+// step starts afresh). m itself is unchanged. Throws std::invalid_argument
+// naming the field and its range (d unchanged then), or if the model does
+// not declare it.
+void SetFluidField(const mjData* d, const char* field, double value);
 
 // Library version, "MAJOR.MINOR.PATCH".
 const char* Version();

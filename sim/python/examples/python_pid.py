@@ -65,8 +65,10 @@ def run_python_pid(scenario, **overrides):
     c = sim.controller
     if c["kind"] != "pid" or c["actuation"] != "distributed":
         raise ValueError("this example closes the loop of a PID scenario with distributed actuation")
-    pids = [PythonPid(c["kp"], c["ki"], c["kd"], c["derivative_filter_s"], c["sample_period_s"],
-                      c["clamp"], c["v_max_V"]) for _ in range(sim.links)]
+    # Each link's own gains (the scalar keys' unless the scenario sets them per link).
+    pids = [PythonPid(kp, ki, kd, c["derivative_filter_s"], c["sample_period_s"],
+                      c["clamp"], c["v_max_V"])
+            for kp, ki, kd in zip(c["link_kp"], c["link_ki"], c["link_kd"])]
     steps_per_sample = sim.steps_per_sample
     start = time.perf_counter()
     for _ in range(sim.cycles):

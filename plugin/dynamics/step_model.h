@@ -1,4 +1,5 @@
-// The hinges' damping as MuJoCo's inertial step takes it (docs/ENERGY.md).
+// The model Step steps: the user's model with the integrator and the
+// hinges' damping the coupling chooses for it (docs/ENERGY.md, RUNS.md).
 //
 // MuJoCo's Euler step (and its implicit one) takes a joint's spring at the
 // step's start and its damping at the step's end:
@@ -30,13 +31,13 @@
 // that jump's dissipation, first order in h. For flexible links the IPMC
 // actuators therefore apply the moment of a rest angle moving linearly
 // over the step (IpmcActuators::Update, with the physical c that
-// SetHingeDamping returns), with which the same c_eff relaxes the massless
+// MakeStepModel returns), with which the same c_eff relaxes the massless
 // hinge exactly, and EnergyMeter books c v^2.
 #pragma once
 
 #include <mujoco/mujoco.h>
 
-#include <optional>
+#include <memory>
 #include <vector>
 
 #include "plugin/mjcf/dynamics.h"
@@ -52,18 +53,44 @@ double EulerHingeDamping(double damping, double stiffness, double timestep_s);
 // `step_damping` (c_eff): step_damping - k h / 2.
 double EulerDissipatedDamping(double step_damping, double stiffness, double timestep_s);
 
-// Scales every dof's damping by `scale` (the scenario's
-// hinge_damping_scale: the physical c), then, when the model is stepped by
-// mj_step (dynamics, or else the model's ipmc_dynamics, inertial) with the
-// Euler or implicit integrator at m->opt.timestep, gives every hinge and
-// slide joint with a spring c_eff. Call after the time step is set.
-// Returns the physical c per dof when it set c_eff (the IPMC actuators'
-// first-order hold, IpmcActuatorsOverrides::physical_damping, needs it),
-// else nothing.
-std::vector<double> SetHingeDamping(mjModel* m, double scale, std::optional<Dynamics> dynamics);
-
-// Whether m's step takes its joints' damping as c_eff (SetHingeDamping):
-// Euler or implicit integrator.
+// Whether m's step takes its joints' damping as c_eff: Euler or implicit
+// integrator.
 bool StepDampsImplicitly(const mjModel* m);
+
+// Switches m from MuJoCo's implicit integrator to its Euler integrator
+// where the two treat the same forces implicitly: MuJoCo 2.2's implicit
+// step differs from Euler only in the velocity derivatives of the
+// actuator forces (velocity gains and biases), of tendon damping and of
+// its own fluid model, while Euler too integrates the joints' damping
+// implicitly; the callback forces are explicit in both. So with none of
+// those three in the model Euler gives the same stability at 0.4 of the
+// cost of a step (docs/RUNS.md, "Time step and integrator"); a gait's
+// servos have velocity gains and keep implicit. Returns true if it
+// switched.
+bool UseEulerWhereImplicitAddsNothing(mjModel* m);
+
+struct ModelCopyDeleter {
+  void operator()(mjModel* m) const { mj_deleteModel(m); }
+};
+
+// The model Step steps d with.
+struct StepModel {
+  std::unique_ptr<mjModel, ModelCopyDeleter> model;
+  // The joints' physical damping c per dof (the user's model's) when the
+  // step's dof_damping holds c_eff, else empty.
+  std::vector<double> physical_damping;
+};
+
+// A copy of m that, stepped in `dynamics` by mj_step (inertial) or the
+// Stokes stepper, gives each spring hinge and slide joint c_eff for the
+// Euler or implicit integrator at m->opt.timestep (inertial dynamics
+// only), then uses Euler where implicit adds nothing.
+StepModel MakeStepModel(const mjModel* m, Dynamics dynamics);
+
+// Makes step's model that copy of m again, from m's fields as they are
+// now (Step calls it before every step, so a host that changes m between
+// steps, e.g. its actuators' gains or its timestep, steps with the change,
+// as under mj_step). m must be the model step was made from (same sizes).
+void RefreshStepModel(StepModel* step, const mjModel* m, Dynamics dynamics);
 
 }  // namespace ipmc
