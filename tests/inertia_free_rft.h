@@ -11,7 +11,12 @@
 // with
 //   u(r) = U + Omega e_z x r + sum_{j ancestor hinges of b} qdot_j a_j x (r - p_j)
 // and feels the drag per unit length (Gray & Hancock 1955)
-//   f = -xi_t (u.t) t - xi_n (u - (u.t) t).
+//   f = -xi_t (u.t) t - xi_n (u - (u.t) t),
+// with each segment's coefficients from its own radius (or the model's
+// global one where it sets ipmc_rft_equivalent_radius_m). A sphere of
+// radius a (a head) whose centre moves with u_c and whose body turns with
+// omega feels Stokes' (1851) force and torque about its centre
+//   F = -6 pi mu a u_c,   T = -8 pi mu a^3 omega.
 // Without inertia the total drag force and torque about B's origin vanish:
 //   F = sum_seg int f ds = 0,   M_z = e_z . sum_seg int r x f ds = 0.
 // Both are linear in (xi, qdot): R xi + b(q, qdot) = 0 with the 3x3
@@ -76,10 +81,14 @@ struct RftCoefficients {
 // lighthill:    xi_n = 4 pi mu / (ln(2 q / a) + 1/2), xi_t = 2 pi mu / ln(2 q / a),
 //               q = 0.09 lambda
 // direct:       the two given values.
-inline RftCoefficients CoefficientsFromModel(const mjModel* m) {
+// a is the model's ipmc_rft_equivalent_radius_m where it sets one, else
+// `own_radius_m` (a segment's own), else the paper's strip's 0.8125 mm.
+inline RftCoefficients CoefficientsFromModel(const mjModel* m,
+                                             std::optional<double> own_radius_m = {}) {
   const double mu_Pa_s = RequireCustomNumber(m, "ipmc_rft_viscosity_Pa_s");
   const std::string law = CustomText(m, "ipmc_rft_coefficients").value_or("gray_hancock");
-  const double radius_m = CustomNumber(m, "ipmc_rft_equivalent_radius_m").value_or(0.8125e-3);
+  const double radius_m =
+      CustomNumber(m, "ipmc_rft_equivalent_radius_m").value_or(own_radius_m.value_or(0.8125e-3));
   const double wavelength_m = CustomNumber(m, "ipmc_rft_wavelength_m").value_or(0.032);
   if (law == "direct") {
     return {RequireCustomNumber(m, "ipmc_rft_xi_normal_N_s_m2"),
@@ -124,12 +133,27 @@ struct DragSegment {
   Eigen::Vector3d centre_body_m;
   Eigen::Vector3d tangent_body;  // box: local x; capsule, cylinder: local z
   double length_m = 0.0;
+  // A box's (w + h) / 4 from its sides across x (Batchelor 1970), a
+  // capsule's or cylinder's radius.
+  double radius_m = 0.0;
+  RftCoefficients xi;  // CoefficientsFromModel(m, radius_m)
+};
+
+struct DragSphere {
+  int geom_id = -1;
+  int body = -1;  // index in Chain::bodies
+  Eigen::Vector3d centre_body_m;
+  double radius_m = 0.0;
 };
 
 struct Chain {
   std::vector<ChainBody> bodies;
   std::vector<Hinge> hinges;
   std::vector<DragSegment> segments;
+  std::vector<DragSphere> spheres;
+  double viscosity_Pa_s = 0.0;
+  // The coefficients of the model's global radius (the paper's strip's
+  // where the model sets none); each segment drags with its own.
   RftCoefficients xi;
   double mass_kg = 0.0;
   double length_m = 0.0;  // sum of the segment lengths
@@ -184,8 +208,8 @@ inline Chain ChainFromModel(const mjModel* m) {
     chain.bodies.push_back(body);
     chain.mass_kg += body.mass_kg;
   }
-  // Drag geoms: those named in ipmc_rft_geoms, else every box, capsule and
-  // cylinder of the subtree.
+  // Drag geoms: those named in ipmc_rft_geoms, else every box, capsule,
+  // cylinder and sphere of the subtree.
   std::vector<int> geoms;
   if (const std::optional<std::string> names = CustomText(m, "ipmc_rft_geoms")) {
     std::istringstream words(*names);
@@ -196,12 +220,21 @@ inline Chain ChainFromModel(const mjModel* m) {
     }
   } else {
     for (int g = 0; g < m->ngeom; ++g) {
-      if (IsSlenderGeomType(m->geom_type[g]) && index_of_body[m->geom_bodyid[g]] >= 0) {
-        geoms.push_back(g);
-      }
+      const bool dragged = IsSlenderGeomType(m->geom_type[g]) || m->geom_type[g] == mjGEOM_SPHERE;
+      if (dragged && index_of_body[m->geom_bodyid[g]] >= 0) geoms.push_back(g);
     }
   }
+  chain.viscosity_Pa_s = RequireCustomNumber(m, "ipmc_rft_viscosity_Pa_s");
   for (int g : geoms) {
+    if (index_of_body[m->geom_bodyid[g]] >= 0 && m->geom_type[g] == mjGEOM_SPHERE) {
+      DragSphere sphere;
+      sphere.geom_id = g;
+      sphere.body = index_of_body[m->geom_bodyid[g]];
+      sphere.centre_body_m = Eigen::Vector3d(m->geom_pos + 3 * g);
+      sphere.radius_m = m->geom_size[3 * g];
+      chain.spheres.push_back(sphere);
+      continue;
+    }
     if (index_of_body[m->geom_bodyid[g]] < 0 || !IsSlenderGeomType(m->geom_type[g])) {
       throw std::runtime_error("a drag geom is outside the swimmer or not slender");
     }
@@ -212,6 +245,9 @@ inline Chain ChainFromModel(const mjModel* m) {
     segment.centre_body_m = Eigen::Vector3d(m->geom_pos + 3 * g);
     segment.tangent_body = RotationOfQuat(m->geom_quat + 4 * g).col(box ? 0 : 2);
     segment.length_m = 2.0 * m->geom_size[3 * g + (box ? 0 : 1)];
+    segment.radius_m =
+        box ? 0.5 * (m->geom_size[3 * g + 1] + m->geom_size[3 * g + 2]) : m->geom_size[3 * g];
+    segment.xi = CoefficientsFromModel(m, segment.radius_m);
     chain.segments.push_back(segment);
     chain.length_m += segment.length_m;
   }
@@ -252,6 +288,7 @@ struct ChainShape {
   std::vector<Eigen::Vector3d> body_pos_m;
   std::vector<Eigen::Vector3d> hinge_anchor_m, hinge_axis;
   std::vector<Eigen::Vector3d> segment_centre_m, segment_tangent;
+  std::vector<Eigen::Vector3d> sphere_centre_m;
 };
 
 inline ChainShape ShapeOf(const Chain& chain, const Eigen::VectorXd& angle_rad) {
@@ -286,6 +323,10 @@ inline ChainShape ShapeOf(const Chain& chain, const Eigen::VectorXd& angle_rad) 
     shape.segment_centre_m.push_back(shape.body_pos_m[segment.body] +
                                      shape.body_rot[segment.body] * segment.centre_body_m);
     shape.segment_tangent.push_back(shape.body_rot[segment.body] * segment.tangent_body);
+  }
+  for (const DragSphere& sphere : chain.spheres) {
+    shape.sphere_centre_m.push_back(shape.body_pos_m[sphere.body] +
+                                    shape.body_rot[sphere.body] * sphere.centre_body_m);
   }
   return shape;
 }
@@ -329,12 +370,26 @@ inline Eigen::Vector3d DragWrench(const Chain& chain, const ChainShape& shape,
         u += rate_rad_s[j] * shape.hinge_axis[j].cross(r - shape.hinge_anchor_m[j]);
       }
       const Eigen::Vector3d u_tangential = u.dot(t) * t;
-      const Eigen::Vector3d f =
-          -chain.xi.tangential_N_s_m2 * u_tangential - chain.xi.normal_N_s_m2 * (u - u_tangential);
+      const Eigen::Vector3d f = -segment.xi.tangential_N_s_m2 * u_tangential -
+                                segment.xi.normal_N_s_m2 * (u - u_tangential);
       const double weight_m = half_m * kGaussW[k];
       force += weight_m * f;
       torque += weight_m * r.cross(f);
     }
+  }
+  for (size_t i = 0; i < chain.spheres.size(); ++i) {
+    const DragSphere& sphere = chain.spheres[i];
+    const Eigen::Vector3d& c = shape.sphere_centre_m[i];
+    Eigen::Vector3d u = frame_velocity + frame_spin.cross(c);
+    Eigen::Vector3d spin = frame_spin;
+    for (int j : chain.bodies[sphere.body].ancestor_hinges) {
+      u += rate_rad_s[j] * shape.hinge_axis[j].cross(c - shape.hinge_anchor_m[j]);
+      spin += rate_rad_s[j] * shape.hinge_axis[j];
+    }
+    const double a = sphere.radius_m, mu = chain.viscosity_Pa_s;
+    const Eigen::Vector3d f = -6.0 * kPi * mu * a * u;
+    force += f;
+    torque += c.cross(f) - 8.0 * kPi * mu * a * a * a * spin;
   }
   return {force.x(), force.y(), torque.z()};
 }
@@ -465,6 +520,106 @@ inline Stroke SineStroke(const Eigen::VectorXd& amplitude_rad, const Eigen::Vect
     }
     return s;
   };
+}
+
+// ---------------------------------------------------------------------------
+// Natural cubic spline through recorded angles (all hinges share the
+// knots). On [t_i, t_i+1], h = t_i+1 - t_i, A = (t_i+1 - t) / h, B = 1 - A:
+//   y  = A y_i + B y_i+1 + ((A^3 - A) M_i + (B^3 - B) M_i+1) h^2 / 6
+//   y' = (y_i+1 - y_i) / h - (3 A^2 - 1) h M_i / 6 + (3 B^2 - 1) h M_i+1 / 6
+// with the second derivatives M from
+//   h_i-1 M_i-1 + 2 (h_i-1 + h_i) M_i + h_i M_i+1
+//     = 6 ((y_i+1 - y_i) / h_i - (y_i - y_i-1) / h_i-1),  M_0 = M_n = 0.
+class AngleSpline {
+ public:
+  AngleSpline(std::vector<double> t_s, std::vector<Eigen::VectorXd> angle_rad)
+      : t_(std::move(t_s)), y_(std::move(angle_rad)) {
+    const size_t n = t_.size();
+    if (n < 3) throw std::runtime_error("a spline needs at least 3 samples");
+    const Eigen::VectorXd zero = Eigen::VectorXd::Zero(y_[0].size());
+    m_.assign(n, zero);
+    // Thomas algorithm on the interior equations.
+    std::vector<double> diag(n, 1.0), upper(n, 0.0);
+    std::vector<Eigen::VectorXd> rhs(n, zero);
+    for (size_t i = 1; i + 1 < n; ++i) {
+      const double h0 = t_[i] - t_[i - 1], h1 = t_[i + 1] - t_[i];
+      rhs[i] = 6.0 * ((y_[i + 1] - y_[i]) / h1 - (y_[i] - y_[i - 1]) / h0);
+      diag[i] = 2.0 * (h0 + h1);
+      upper[i] = h1;
+      if (i > 1) {
+        const double factor = h0 / diag[i - 1];
+        diag[i] -= factor * upper[i - 1];
+        rhs[i] -= factor * rhs[i - 1];
+      }
+    }
+    for (size_t i = n - 2; i >= 1; --i) {
+      m_[i] = (rhs[i] - upper[i] * m_[i + 1]) / diag[i];
+    }
+  }
+
+  ShapeSample operator()(double t_s) const {
+    const size_t i = std::min<size_t>(
+        t_.size() - 2,
+        std::max<std::ptrdiff_t>(0, std::upper_bound(t_.begin(), t_.end(), t_s) - t_.begin() - 1));
+    const double h = t_[i + 1] - t_[i];
+    const double a = (t_[i + 1] - t_s) / h, b = 1.0 - a;
+    ShapeSample sample;
+    sample.angle_rad = a * y_[i] + b * y_[i + 1] +
+                       ((a * a * a - a) * m_[i] + (b * b * b - b) * m_[i + 1]) * (h * h / 6.0);
+    sample.rate_rad_s = (y_[i + 1] - y_[i]) / h - ((3.0 * a * a - 1.0) * h / 6.0) * m_[i] +
+                        ((3.0 * b * b - 1.0) * h / 6.0) * m_[i + 1];
+    return sample;
+  }
+
+ private:
+  std::vector<double> t_;
+  std::vector<Eigen::VectorXd> y_, m_;
+};
+
+// Hinge angles recorded at the run's samples.
+struct Recording {
+  std::vector<double> t_s;
+  std::vector<Eigen::VectorXd> angle_rad;
+  std::vector<double> root_yaw_rad;
+
+  // Every `stride`-th sample.
+  Recording Thinned(int stride) const {
+    Recording thin;
+    for (size_t i = 0; i < t_s.size(); i += stride) {
+      thin.t_s.push_back(t_s[i]);
+      thin.angle_rad.push_back(angle_rad[i]);
+      thin.root_yaw_rad.push_back(root_yaw_rad[i]);
+    }
+    return thin;
+  }
+  // Played backwards: sample i at t_first + t_last - t_i.
+  Recording Reversed() const {
+    Recording reversed;
+    for (size_t i = t_s.size(); i-- > 0;) {
+      reversed.t_s.push_back(t_s.front() + t_s.back() - t_s[i]);
+      reversed.angle_rad.push_back(angle_rad[i]);
+      reversed.root_yaw_rad.push_back(root_yaw_rad[i]);
+    }
+    return reversed;
+  }
+  size_t IndexNear(double t) const {
+    return std::min_element(t_s.begin(), t_s.end(),
+                            [t](double a, double b) { return std::abs(a - t) < std::abs(b - t); }) -
+           t_s.begin();
+  }
+};
+
+// The solver over [t0, t1] of a recording, one Magnus step per sample
+// interval, B starting at the origin with yaw `yaw0`.
+inline Swim SwimRecorded(const Chain& chain, const Recording& rec, double t0_s, double t1_s,
+                  double yaw0_rad) {
+  const AngleSpline spline(rec.t_s, rec.angle_rad);
+  const size_t i0 = rec.IndexNear(t0_s), i1 = rec.IndexNear(t1_s);
+  PlanarPose start;
+  start.yaw_rad = yaw0_rad;
+  return SwimOver(
+      chain, [&spline](double t) { return spline(t); }, rec.t_s[i0], rec.t_s[i1],
+      static_cast<int>(i1 - i0), start);
 }
 
 inline ModelPtr PaperModel() {

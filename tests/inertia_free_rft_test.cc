@@ -20,11 +20,13 @@ namespace {
 TEST(PropulsionCrossCheckTest, ChainKinematicsMatchMujoco) {
   const ModelPtr paper = PaperModel();
   const ModelPtr many = LoadModelString(GenerateFlagellumMjcf(StokesChain(12, 30.0)));
+  const ModelPtr head_and_tail =
+      LoadModelFile(std::string(IPMC_SWIM_SOURCE_DIR) + "/models/head_and_tail.xml");
   std::mt19937 random(7);
   std::uniform_real_distribution<double> angle(-1.0, 1.0);
-  for (const mjModel* m : {paper.get(), many.get()}) {
+  for (const mjModel* m : {paper.get(), many.get(), head_and_tail.get()}) {
     const Chain chain = ChainFromModel(m);
-    ASSERT_EQ(chain.segments.size(), static_cast<size_t>(m->ngeom));
+    ASSERT_EQ(chain.segments.size() + chain.spheres.size(), static_cast<size_t>(m->ngeom));
     ASSERT_EQ(chain.Hinges(), m->njnt - 3);  // all but the planar root
     mjData* d = mj_makeData(m);
     for (int trial = 0; trial < 20; ++trial) {
@@ -48,6 +50,11 @@ TEST(PropulsionCrossCheckTest, ChainKinematicsMatchMujoco) {
                                              d->geom_xmat[9 * g + 3 + axis],
                                              d->geom_xmat[9 * g + 6 + axis]);
         EXPECT_LT((tangent - mujoco_tangent).norm(), 1e-12);
+      }
+      for (size_t i = 0; i < chain.spheres.size(); ++i) {
+        const Eigen::Vector3d centre = root_pos + root_rot * shape.sphere_centre_m[i];
+        const int g = chain.spheres[i].geom_id;
+        EXPECT_LT((centre - Eigen::Vector3d(d->geom_xpos + 3 * g)).norm(), 1e-13);
       }
       const Eigen::Vector3d com = root_pos + root_rot * CentreOfMass_m(chain, shape);
       EXPECT_LT((com - Eigen::Vector3d(d->subtree_com + 3 * kRootBody)).norm(), 1e-13);
