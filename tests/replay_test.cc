@@ -95,6 +95,25 @@ INSTANTIATE_TEST_SUITE_P(
                     ReplayCase{"stokes", Short({"dynamics=\"stokes\""})}),
     [](const testing::TestParamInfo<ReplayCase>& info) { return info.param.name; });
 
+// A run's model.xml named as the same scenario's model is the same model:
+// the scenario's settings, the damping scale among them, are not applied
+// twice.
+TEST(ModelXmlTest, TheSameScenarioOverARunsModelXmlIsTheSameModel) {
+  const ReplayCase scaled{"scaled", Short({"hinge_damping_scale=2.5", "fluid.viscosity_Pa_s=0.002",
+                                           "timestep_s=2.5e-4"})};
+  const ScenarioConfig scenario = CaseScenario(scaled);
+  std::string source;
+  const std::string xml = ScenarioModelXml(scenario, &source);
+  const fs::path path = fs::path(testing::TempDir()) / "scaled_model.xml";
+  WriteFileAtomically(path.string(), xml);
+  ReplayCase again = scaled;
+  again.settings.push_back("model=\"" + path.string() + "\"");
+  const std::string rerun_xml = ScenarioModelXml(CaseScenario(again), &source);
+  fs::remove(path);
+  EXPECT_EQ(rerun_xml, xml);
+  EXPECT_NE(xml.find("scenario_hinge_damping_scale"), std::string::npos);
+}
+
 // A host may change m between steps, as under mj_step: the coupling takes
 // its step model afresh from m before every step, so a timestep and a hinge
 // damping changed after Attach step exactly as the same changes made before.

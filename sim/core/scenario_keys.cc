@@ -245,7 +245,9 @@ std::vector<KeySpec> RunKeys() {
       Key("hinge_damping_scale", T::kNumber, "", ">= 0", "1",
           "Multiplies the damping of every joint of the model (the hinges' `damping`, not the "
           "paper's plant: docs/ENERGY.md); the inertial step takes each hinge's c as "
-          "c_eff = k h / (1 - exp(-k h / c)), stable for every scale")
+          "c_eff = k h / (1 - exp(-k h / c)), stable for every scale; a run's model.xml "
+          "says the scale it holds (scenario_hinge_damping_scale), against which the "
+          "scale is taken")
           .Default("1.0")
           .Example("0.5")
           .Refused("-1")

@@ -120,6 +120,10 @@ std::string WithFluidFields(std::string xml, const ScenarioConfig& scenario, con
 
 }  // namespace
 
+// The hinge_damping_scale a run wrote into its model.xml (a field of the
+// program's, which the library does not read).
+constexpr char kAppliedDampingScaleField[] = "scenario_hinge_damping_scale";
+
 std::string ScenarioModelXml(const ScenarioConfig& scenario, std::string* source) {
   *source = scenario.model.path;
   ModelPtr model;
@@ -144,8 +148,14 @@ std::string ScenarioModelXml(const ScenarioConfig& scenario, std::string* source
     xml = SetMjcfCustomField(xml, "numeric", kAttrViscosity,
                              FormatShortest(*scenario.fluid.viscosity_Pa_s));
   }
-  if (scenario.model.hinge_damping_scale != 1.0) {
-    xml = ScaleMjcfJointDamping(xml, scenario.model.hinge_damping_scale);
+  // A run's model.xml holds its joints' damping already scaled, and says by
+  // how much: the scale is taken against the model as first written, so the
+  // same scenario over a run's model.xml is the same run.
+  const double scaled = FindCustomScalar(m, kAppliedDampingScaleField).value_or(1.0);
+  if (scenario.model.hinge_damping_scale != scaled) {
+    xml = ScaleMjcfJointDamping(xml, scenario.model.hinge_damping_scale / scaled);
+    xml = SetMjcfCustomField(xml, "numeric", kAppliedDampingScaleField,
+                             FormatShortest(scenario.model.hinge_damping_scale));
   }
   if (scenario.model.plants) {
     xml = SetMjcfCustomField(xml, "text", kAttrPlants, PlantAssignmentName(*scenario.model.plants));
