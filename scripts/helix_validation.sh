@@ -41,8 +41,9 @@ run() {
 }
 
 for ratio in 2.226 3.677 6.509 9.811 15.241; do
-  run "$ratio" rft_gray_hancock - --fluid rft --coefficients gray_hancock
-  run "$ratio" rft_lighthill - --fluid rft --coefficients lighthill
+  for coefficients in gray_hancock lighthill; do
+    run "$ratio" "rft_$coefficients" - --fluid rft --coefficients "$coefficients"
+  done
   for points in 1.5 3 6; do
     run "$ratio" stokeslets "$points" --fluid stokeslets --stokeslet-points-per-mm "$points"
   done
@@ -64,24 +65,17 @@ set logscale x
 set xrange [2:17]
 set xtics (2.226, 3.677, 6.509, 9.811, 15.241)
 set key top right
-set ylabel "thrust / (mu omega R^2)"
-set yrange [0:40]
-plot "$out/measured.dat" using 1:2 with points pt 7 ps 1.5 lc rgb "black" title "measured", \
-     "$out/stokeslets.dat" using 1:2 with linespoints pt 5 lc rgb "#762a83" title "regularized Stokeslets", \
-     "$out/rft_gray_hancock.dat" using 1:2 with linespoints dt 2 pt 4 lc rgb "#1b7837" title "RFT, Gray and Hancock", \
-     "$out/rft_lighthill.dat" using 1:2 with linespoints dt 4 pt 6 lc rgb "#2166ac" title "RFT, Lighthill"
-set ylabel "torque / (mu omega R^3)"
-set yrange [0:240]
-plot "$out/measured.dat" using 1:3 with points pt 7 ps 1.5 lc rgb "black" title "measured", \
-     "$out/stokeslets.dat" using 1:3 with linespoints pt 5 lc rgb "#762a83" title "regularized Stokeslets", \
-     "$out/rft_gray_hancock.dat" using 1:3 with linespoints dt 2 pt 4 lc rgb "#1b7837" title "RFT, Gray and Hancock", \
-     "$out/rft_lighthill.dat" using 1:3 with linespoints dt 4 pt 6 lc rgb "#2166ac" title "RFT, Lighthill"
-set ylabel "drag / (mu U R)"
-set yrange [0:330]
-plot "$out/measured.dat" using 1:4 with points pt 7 ps 1.5 lc rgb "black" title "measured", \
-     "$out/stokeslets.dat" using 1:4 with linespoints pt 5 lc rgb "#762a83" title "regularized Stokeslets", \
-     "$out/rft_gray_hancock.dat" using 1:4 with linespoints dt 2 pt 4 lc rgb "#1b7837" title "RFT, Gray and Hancock", \
-     "$out/rft_lighthill.dat" using 1:4 with linespoints dt 4 pt 6 lc rgb "#2166ac" title "RFT, Lighthill"
+# One panel per quantity: column 2 thrust, 3 torque, 4 drag of every .dat.
+array ylabels[3] = ["thrust / (mu omega R^2)", "torque / (mu omega R^3)", "drag / (mu U R)"]
+array ymax[3] = [40, 240, 330]
+do for [panel = 1:3] {
+  set ylabel ylabels[panel]
+  set yrange [0:ymax[panel]]
+  plot "$out/measured.dat" using 1:(column(panel + 1)) with points pt 7 ps 1.5 lc rgb "black" title "measured", \
+       "$out/stokeslets.dat" using 1:(column(panel + 1)) with linespoints pt 5 lc rgb "#762a83" title "regularized Stokeslets", \
+       "$out/rft_gray_hancock.dat" using 1:(column(panel + 1)) with linespoints dt 2 pt 4 lc rgb "#1b7837" title "RFT, Gray and Hancock", \
+       "$out/rft_lighthill.dat" using 1:(column(panel + 1)) with linespoints dt 4 pt 6 lc rgb "#2166ac" title "RFT, Lighthill"
+}
 unset multiplot
 PLOT
 cat "$table"
