@@ -289,25 +289,78 @@ bool StokesStepper::Solve(const mjModel* m, const double* cdof, const double* st
                         : SolveBlock<0, 6>(m, cdof, stiffness_damping, f, v);
 }
 
-// D = J^T R J + diag(stiffness_damping), J (6 bodies x nv) the bodies' dof
-// motions (their chains' cdof at the midpoint), solved densely.
-bool StokesStepper::SolveDense(const mjModel* m, const Fluid& fluid,
-                               const double* stiffness_damping, const double* f, double* v) {
+// J (6 bodies x nv) has in body b's rows the motions s_j of the dofs on
+// b's chain, so J = B S with S the dofs' motions (one column each) and B
+// the bodies' chains (B_bj = I if dof j moves body b), and
+//   D = J^T R J = S^T (B^T R B) S,  (B^T R B)_jk = sum R_bc over b moved by
+// j and c moved by k,
+// summed up the tree, leaf to root, first over the rows and then over the
+// columns: O(bodies x nv) blocks where J^T R J costs O(bodies^2 x nv) dense
+// 6 x 6 products. Planar motions (every s in [w_z; v_x; v_y], First = 2,
+// Dim = 3) read only that block of each R_bc: the others multiply exact
+// zeros of s. The same sums as J^T R J in another order (StokesDenseTest:
+// within 1e-12).
+template <int First, int Dim>
+void StokesStepper::ChainBlocks(const mjModel* m, const Fluid& fluid,
+                                const Eigen::MatrixXd& resistance) {
   const int nv = m->nv;
   const std::vector<int>& bodies = fluid.InteractingBodies();
-  Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(6 * bodies.size(), nv);
-  for (size_t i = 0; i < bodies.size(); ++i) {
-    for (int j = topology_.body_last_dof[bodies[i]]; j >= 0; j = m->dof_parentid[j]) {
-      jacobian.block(6 * i, j, 6, 1) = Eigen::Map<const Vector6>(midpoint_cdof_.data() + 6 * j);
+  const int count = static_cast<int>(bodies.size());
+  // Rows: body_blocks_ (Dim nv x Dim bodies), block (j, c) = sum R_bc over
+  // the bodies b that dof j moves.
+  body_blocks_.setZero(Dim * nv, Dim * count);
+  for (int b = 0; b < count; ++b) {
+    const int dof = topology_.body_last_dof[bodies[b]];
+    if (dof < 0) continue;
+    for (int c = 0; c < count; ++c) {
+      body_blocks_.block<Dim, Dim>(Dim * dof, Dim * c) +=
+          resistance.block<Dim, Dim>(6 * b + First, 6 * c + First);
     }
   }
-  Eigen::MatrixXd system = jacobian.transpose() * midpoint_interaction_ * jacobian;
-  for (int j = 0; j < nv; ++j) system(j, j) += stiffness_damping[j];
-  const Eigen::LDLT<Eigen::MatrixXd> ldlt(system);
-  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0)) return false;
-  Eigen::Map<Eigen::VectorXd>(v, nv) = ldlt.solve(Eigen::Map<const Eigen::VectorXd>(f, nv));
-  const Eigen::VectorXd body_velocity = jacobian * Eigen::Map<const Eigen::VectorXd>(v, nv);
-  fluid_power_W_ = body_velocity.dot(midpoint_interaction_ * body_velocity);
+  for (int j = nv - 1; j >= 0; --j) {
+    const int parent = m->dof_parentid[j];
+    if (parent >= 0) body_blocks_.middleRows<Dim>(Dim * parent) += body_blocks_.middleRows<Dim>(Dim * j);
+  }
+  // Columns: dense_blocks_ (Dim nv x Dim nv).
+  dense_blocks_.setZero(Dim * nv, Dim * nv);
+  for (int c = 0; c < count; ++c) {
+    const int dof = topology_.body_last_dof[bodies[c]];
+    if (dof >= 0) dense_blocks_.middleCols<Dim>(Dim * dof) += body_blocks_.middleCols<Dim>(Dim * c);
+  }
+  for (int k = nv - 1; k >= 0; --k) {
+    const int parent = m->dof_parentid[k];
+    if (parent >= 0) dense_blocks_.middleCols<Dim>(Dim * parent) += dense_blocks_.middleCols<Dim>(Dim * k);
+  }
+}
+
+// (D + diag(stiffness_damping)) v = f with D_jk = s_j^T midpoint block_jk
+// s_k (ChainBlocks, the midpoint's s), symmetric positive definite when
+// solvable: Cholesky.
+template <int First, int Dim>
+bool StokesStepper::SolveDense(const mjModel* m, const double* stiffness_damping,
+                               const double* f, double* v) {
+  using Vector = Eigen::Matrix<double, Dim, 1>;
+  const int nv = m->nv;
+  dense_system_.resize(nv, nv);
+  for (int k = 0; k < nv; ++k) {
+    const Eigen::Map<const Vector> s_k(midpoint_cdof_.data() + 6 * k + First);
+    for (int j = k; j < nv; ++j) {
+      const Eigen::Map<const Vector> s_j(midpoint_cdof_.data() + 6 * j + First);
+      dense_system_(j, k) = s_j.dot(midpoint_dense_blocks_.block<Dim, Dim>(Dim * j, Dim * k) * s_k);
+    }
+  }
+  Eigen::Map<Eigen::VectorXd> velocity(v, nv);
+  const Eigen::Map<const Eigen::VectorXd> force(f, nv);
+  Eigen::LLT<Eigen::MatrixXd, Eigen::Lower> llt(nv);
+  {
+    Eigen::MatrixXd system = dense_system_;
+    for (int j = 0; j < nv; ++j) system(j, j) += stiffness_damping[j];
+    llt.compute(system);
+  }
+  if (llt.info() != Eigen::Success) return false;
+  velocity = llt.solve(force);
+  // v^T J^T R J v: the power the step gives the fluid.
+  fluid_power_W_ = velocity.dot(dense_system_.selfadjointView<Eigen::Lower>() * velocity);
   return true;
 }
 
@@ -346,7 +399,9 @@ bool StokesStepper::Step(const mjModel* m, mjData* d, const Fluid* fluid) {
   StiffnessAndDamping(m, d, h, stiffness_damping_.data());
   const bool solved =
       dense_fluid_
-          ? SolveDense(m, *fluid, stiffness_damping_.data(), force_at_rest_.data(), d->qvel)
+          ? (planar_motion_
+                 ? SolveDense<2, 3>(m, stiffness_damping_.data(), force_at_rest_.data(), d->qvel)
+                 : SolveDense<0, 6>(m, stiffness_damping_.data(), force_at_rest_.data(), d->qvel))
           : Solve(m, midpoint_cdof_.data(), stiffness_damping_.data(), force_at_rest_.data(),
                   d->qvel);
   if (!solved) return false;
@@ -489,12 +544,19 @@ void StokesStepper::ExtrapolateToMidpoint(const mjModel* m, const mjData* d,
   const Eigen::MatrixXd* interaction = fluid ? fluid->InteractionResistance(m, d) : nullptr;
   dense_fluid_ = interaction != nullptr;
   if (dense_fluid_) {
-    last_interaction_.swap(interaction_);
-    interaction_ = *interaction;
-    midpoint_interaction_ =
-        continues_last_step && last_interaction_.rows() == interaction_.rows()
-            ? (1.5 * interaction_ - 0.5 * last_interaction_).eval()
-            : interaction_;
+    // The midpoint's B^T R B from this step's and the last one's: the same
+    // 3/2 and -1/2 of R's, as B is constant.
+    last_dense_blocks_.swap(dense_blocks_);
+    if (planar) {
+      ChainBlocks<2, 3>(m, *fluid, *interaction);
+    } else {
+      ChainBlocks<0, 6>(m, *fluid, *interaction);
+    }
+    if (continues_last_step && last_dense_blocks_.rows() == dense_blocks_.rows()) {
+      midpoint_dense_blocks_ = 1.5 * dense_blocks_ - 0.5 * last_dense_blocks_;
+    } else {
+      midpoint_dense_blocks_ = dense_blocks_;
+    }
   }
   if (planar) {
     AssembleResistances<3>(m, d, fluid, continues_last_step);
