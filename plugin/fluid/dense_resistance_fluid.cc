@@ -1,6 +1,7 @@
 #include "plugin/fluid/dense_resistance_fluid.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <stdexcept>
 
@@ -29,6 +30,33 @@ int LastDof(const mjModel* m, int body) {
 }
 
 }  // namespace
+
+CacheParameters::CacheParameters(const std::string& model, const std::string& resistance,
+                                 const std::string& section)
+    : tolerance_key_(model + "_shape_tolerance_rad"),
+      tolerance_field_("ipmc_fluid_" + tolerance_key_),
+      tolerance_meaning_(static_cast<char>(std::toupper(resistance.front())) +
+                         resistance.substr(1) +
+                         " is recomputed when a joint has moved more than this since it was "
+                         "last computed, or off the secant of the last two (0: every "
+                         "evaluation; docs/FLUIDS.md, \"" +
+                         section + "\")"),
+      reach_key_(model + "_secant_reach_rad"),
+      reach_field_("ipmc_fluid_" + reach_key_),
+      reach_meaning_("Between exact evaluations " + resistance +
+                     " is extrapolated along the secant of the last two while no joint has "
+                     "moved more than this (0: the last one as it is; docs/FLUIDS.md, \"Cost "
+                     "on flexible links\")") {}
+
+FluidParameter CacheParameters::ShapeToleranceRad() const {
+  return NumberParameter(tolerance_key_.c_str(), tolerance_field_.c_str(), "rad", 1.0, 1e-3,
+                         "1e-3", 0.0, true, 2e-3, tolerance_meaning_.c_str());
+}
+
+FluidParameter CacheParameters::SecantReachRad() const {
+  return NumberParameter(reach_key_.c_str(), reach_field_.c_str(), "rad", 1.0,
+                         kDefaultSecantReachRad, "0", 0.0, true, 2e-3, reach_meaning_.c_str());
+}
 
 DenseResistanceFluid::~DenseResistanceFluid() = default;
 

@@ -50,6 +50,25 @@ constexpr double kDefaultSecantReachRad = 0.0;
 
 class RftDrag;
 
+// The two parameters of a dense model's cached resistance (FluidParameter,
+// fluid_model.h), under the model's name: `<model>_shape_tolerance_rad`
+// and `<model>_secant_reach_rad` (fields ipmc_fluid_<model>_...), their
+// help naming the model's `resistance` ("the ribbon's resistance") and
+// docs/FLUIDS.md's `section` on the tolerance. Owns the texts the
+// parameters point to: keep it for as long as they are used (a static
+// const of the model's registry entry).
+class CacheParameters {
+ public:
+  CacheParameters(const std::string& model, const std::string& resistance,
+                  const std::string& section);
+  FluidParameter ShapeToleranceRad() const;
+  FluidParameter SecantReachRad() const;
+
+ private:
+  std::string tolerance_key_, tolerance_field_, tolerance_meaning_;
+  std::string reach_key_, reach_field_, reach_meaning_;
+};
+
 class DenseResistanceFluid : public Fluid {
  public:
   ~DenseResistanceFluid() override;

@@ -313,27 +313,15 @@ FluidParameter Modes() {
       "where the theory's resistance stops being positive: docs/FLUIDS.md)"));
 }
 
-FluidParameter ShapeToleranceRad() {
-  return NumberParameter("ribbon_shape_tolerance_rad", "ipmc_fluid_ribbon_shape_tolerance_rad",
-                         "rad", 1.0, 1e-3, "1e-3", 0.0, true, 2e-3,
-                         "The ribbon's resistance is recomputed when a joint has moved more than "
-                         "this since it was last computed, or off the secant of the last two "
-                         "(0: every evaluation; docs/FLUIDS.md, \"Cost on flexible links\")");
-}
-
-FluidParameter SecantReachRad() {
-  return NumberParameter("ribbon_secant_reach_rad", "ipmc_fluid_ribbon_secant_reach_rad", "rad",
-                         1.0, kDefaultSecantReachRad, "0", 0.0, true, 2e-3,
-                         "Between exact evaluations the ribbon's resistance is extrapolated "
-                         "along the secant of the last two while no joint has moved more than "
-                         "this (0: the last one as it is; docs/FLUIDS.md, \"Cost on flexible "
-                         "links\")");
+const CacheParameters& Cache() {
+  static const CacheParameters cache("ribbon", "the ribbon's resistance", "Cost on flexible links");
+  return cache;
 }
 
 }  // namespace
 
 std::vector<FluidParameter> RibbonFluid::Parameters() {
-  return {Modes(), ShapeToleranceRad(), SecantReachRad()};
+  return {Modes(), Cache().ShapeToleranceRad(), Cache().SecantReachRad()};
 }
 
 std::unique_ptr<Fluid> RibbonFluid::Make(const mjModel* m, const RftDrag& segments,
@@ -343,8 +331,8 @@ std::unique_ptr<Fluid> RibbonFluid::Make(const mjModel* m, const RftDrag& segmen
   };
   RibbonSettings ribbon;
   ribbon.modes = static_cast<int>(value(Modes()));
-  ribbon.shape_tolerance_rad = value(ShapeToleranceRad());
-  ribbon.secant_reach_rad = value(SecantReachRad());
+  ribbon.shape_tolerance_rad = value(Cache().ShapeToleranceRad());
+  ribbon.secant_reach_rad = value(Cache().SecantReachRad());
   return std::make_unique<RibbonFluid>(m, segments, ribbon);
 }
 
