@@ -333,30 +333,77 @@ void StokesStepper::ChainBlocks(const mjModel* m, const Fluid& fluid,
   }
 }
 
-// (D + diag(stiffness_damping)) v = f with D_jk = s_j^T midpoint block_jk
-// s_k (ChainBlocks, the midpoint's s), symmetric positive definite when
-// solvable: Cholesky.
+// What R's change of frame does to the dof motions: with R = F^T R_F F
+// and F = diag(G, ...) the same for every body, F commutes with B, so
+// B^T R B = G^T (B^T R_F B) G block by block and D_jk = (G s_j)^T block_jk
+// (G s_k): the frame changes nv motions rather than the whole R. The
+// blocks are summed again only when R_F has changed (its version; a body
+// swimming with a cached resistance changes only G). Planar motions stay
+// planar in the frame if G keeps [w_z; v_x; v_y] apart from the rest.
+bool StokesStepper::DenseBlocks(const mjModel* m, const mjData* d, const Fluid& fluid,
+                                bool planar) {
+  Eigen::Matrix<double, 6, 6> frame;
+  long version = -1;
+  const Eigen::MatrixXd* frame_resistance = fluid.FrameResistance(m, d, &frame, &version);
+  if (!frame_resistance) return false;
+  const Eigen::MatrixXd& resistance = *frame_resistance;
+  const bool frame_planar = planar && frame.block<2, 3>(0, 2).isZero(0.0) &&
+                            frame.block<1, 3>(5, 2).isZero(0.0);
+  last_dense_blocks_.swap(dense_blocks_);
+  last_dense_frame_ = dense_frame_;
+  last_dense_version_ = dense_version_;
+  last_dense_dim_ = dense_dim_;
+  dense_frame_ = frame;
+  dense_dim_ = frame_planar ? 3 : 6;
+  const bool same = version >= 0 && version == last_dense_version_ && &fluid == dense_fluid_of_ &&
+                    dense_dim_ == last_dense_dim_;
+  dense_version_ = version;
+  dense_fluid_of_ = &fluid;
+  if (same) {
+    dense_blocks_ = last_dense_blocks_;
+  } else if (frame_planar) {
+    ChainBlocks<2, 3>(m, fluid, resistance);
+  } else {
+    ChainBlocks<0, 6>(m, fluid, resistance);
+  }
+  return true;
+}
+
+// (D + diag(stiffness_damping)) v = f with D at the step's midpoint,
+// 3/2 of this step's B^T R B and -1/2 of the last one's, both on the
+// midpoint's s: D_jk = 3/2 u_j^T block_jk u_k - 1/2 w_j^T last block_jk
+// w_k, u = G s and w = G_last s (DenseBlocks). Symmetric positive definite
+// when solvable: Cholesky.
 template <int First, int Dim>
 bool StokesStepper::SolveDense(const mjModel* m, const double* stiffness_damping,
                                const double* f, double* v) {
   using Vector = Eigen::Matrix<double, Dim, 1>;
   const int nv = m->nv;
+  const Eigen::Map<const Eigen::Matrix<double, 6, Eigen::Dynamic>> motion(midpoint_cdof_.data(), 6,
+                                                                           nv);
+  frame_motion_.noalias() = dense_frame_ * motion;
+  if (extrapolate_dense_) last_frame_motion_.noalias() = last_dense_frame_ * motion;
   dense_system_.resize(nv, nv);
   for (int k = 0; k < nv; ++k) {
-    const Eigen::Map<const Vector> s_k(midpoint_cdof_.data() + 6 * k + First);
+    const Vector u_k = frame_motion_.col(k).template segment<Dim>(First);
     for (int j = k; j < nv; ++j) {
-      const Eigen::Map<const Vector> s_j(midpoint_cdof_.data() + 6 * j + First);
-      dense_system_(j, k) = s_j.dot(midpoint_dense_blocks_.block<Dim, Dim>(Dim * j, Dim * k) * s_k);
+      const Vector u_j = frame_motion_.col(j).template segment<Dim>(First);
+      const double now = u_j.dot(dense_blocks_.block<Dim, Dim>(Dim * j, Dim * k) * u_k);
+      if (!extrapolate_dense_) {
+        dense_system_(j, k) = now;
+        continue;
+      }
+      const Vector w_k = last_frame_motion_.col(k).template segment<Dim>(First);
+      const Vector w_j = last_frame_motion_.col(j).template segment<Dim>(First);
+      dense_system_(j, k) =
+          1.5 * now - 0.5 * w_j.dot(last_dense_blocks_.block<Dim, Dim>(Dim * j, Dim * k) * w_k);
     }
   }
   Eigen::Map<Eigen::VectorXd> velocity(v, nv);
   const Eigen::Map<const Eigen::VectorXd> force(f, nv);
-  Eigen::LLT<Eigen::MatrixXd, Eigen::Lower> llt(nv);
-  {
-    Eigen::MatrixXd system = dense_system_;
-    for (int j = 0; j < nv; ++j) system(j, j) += stiffness_damping[j];
-    llt.compute(system);
-  }
+  Eigen::MatrixXd system = dense_system_;
+  for (int j = 0; j < nv; ++j) system(j, j) += stiffness_damping[j];
+  const Eigen::LLT<Eigen::MatrixXd, Eigen::Lower> llt(system);
   if (llt.info() != Eigen::Success) return false;
   velocity = llt.solve(force);
   // v^T J^T R J v: the power the step gives the fluid.
@@ -399,7 +446,7 @@ bool StokesStepper::Step(const mjModel* m, mjData* d, const Fluid* fluid) {
   StiffnessAndDamping(m, d, h, stiffness_damping_.data());
   const bool solved =
       dense_fluid_
-          ? (planar_motion_
+          ? (dense_dim_ == 3
                  ? SolveDense<2, 3>(m, stiffness_damping_.data(), force_at_rest_.data(), d->qvel)
                  : SolveDense<0, 6>(m, stiffness_damping_.data(), force_at_rest_.data(), d->qvel))
           : Solve(m, midpoint_cdof_.data(), stiffness_damping_.data(), force_at_rest_.data(),
@@ -541,23 +588,10 @@ void StokesStepper::ExtrapolateToMidpoint(const mjModel* m, const mjData* d,
       planar == planar_motion_;
   planar_motion_ = planar;
   has_last_step_ = true;
-  const Eigen::MatrixXd* interaction = fluid ? fluid->InteractionResistance(m, d) : nullptr;
-  dense_fluid_ = interaction != nullptr;
-  if (dense_fluid_) {
-    // The midpoint's B^T R B from this step's and the last one's: the same
-    // 3/2 and -1/2 of R's, as B is constant.
-    last_dense_blocks_.swap(dense_blocks_);
-    if (planar) {
-      ChainBlocks<2, 3>(m, *fluid, *interaction);
-    } else {
-      ChainBlocks<0, 6>(m, *fluid, *interaction);
-    }
-    if (continues_last_step && last_dense_blocks_.rows() == dense_blocks_.rows()) {
-      midpoint_dense_blocks_ = 1.5 * dense_blocks_ - 0.5 * last_dense_blocks_;
-    } else {
-      midpoint_dense_blocks_ = dense_blocks_;
-    }
-  }
+  // The midpoint's B^T R B from this step's and the last one's: the same
+  // 3/2 and -1/2 of R's, as B is constant.
+  dense_fluid_ = fluid && DenseBlocks(m, d, *fluid, planar);
+  extrapolate_dense_ = dense_fluid_ && continues_last_step && last_dense_dim_ == dense_dim_;
   if (planar) {
     AssembleResistances<3>(m, d, fluid, continues_last_step);
   } else {

@@ -141,9 +141,39 @@ bool DenseResistanceFluid::Extrapolate(const std::vector<double>& shape) const {
 
 const Eigen::MatrixXd* DenseResistanceFluid::InteractionResistance(const mjModel* m,
                                                                    const mjData* d) const {
+  UpdateRootResistance(m, d);
+  return &WorldResistance(d);
+}
+
+// R_c = T^T Q6 R_root Q6^T T (WorldResistance), so G = Q^T T:
+// [Q^T 0; Q^T X Q^T] with X = -[r]x.
+const Eigen::MatrixXd* DenseResistanceFluid::FrameResistance(const mjModel* m, const mjData* d,
+                                                             Eigen::Matrix<double, 6, 6>* frame,
+                                                             long* version) const {
+  UpdateRootResistance(m, d);
+  const Eigen::Matrix3d q = RootRotation(d);
+  const Eigen::Matrix3d x = -CrossMatrix(RootOffset(d));
+  frame->topLeftCorner<3, 3>() = q.transpose();
+  frame->topRightCorner<3, 3>().setZero();
+  frame->bottomLeftCorner<3, 3>() = q.transpose() * x;
+  frame->bottomRightCorner<3, 3>() = q.transpose();
+  *version = root_version_;
+  return &root_resistance_;
+}
+
+Eigen::Matrix3d DenseResistanceFluid::RootRotation(const mjData* d) const {
+  return BodyRotation(d, root_body_);
+}
+
+Eigen::Vector3d DenseResistanceFluid::RootOffset(const mjData* d) const {
+  return Eigen::Vector3d(d->xpos + 3 * root_body_) -
+         Eigen::Vector3d(d->subtree_com + 3 * root_body_);
+}
+
+void DenseResistanceFluid::UpdateRootResistance(const mjModel* m, const mjData* d) const {
   Shape(d, &shape_);
   if (shape_ == used_shape_ && used_of_recomputation_ == recomputations_) {
-    return &WorldResistance(d);  // the same shape again: the same R
+    return;  // the same shape again: the same R
   }
   const std::vector<double>& newest = exact_.front().shape;
   // A body without joints below its root has an empty shape: computed once.
@@ -166,16 +196,14 @@ const Eigen::MatrixXd* DenseResistanceFluid::InteractionResistance(const mjModel
   }
   used_shape_ = shape_;
   used_of_recomputation_ = recomputations_;
-  return &WorldResistance(d);
 }
 
 const Eigen::MatrixXd& DenseResistanceFluid::WorldResistance(const mjData* d) const {
   // Back into the world and from the root's origin p to the subtree centre
   // of mass c: V_p = T V_c with T = [I 0; -[p - c]x I], so R_c = T^T R_p T
   // block by block.
-  const Eigen::Matrix3d q = BodyRotation(d, root_body_);
-  const Eigen::Vector3d r =
-      Eigen::Vector3d(d->xpos + 3 * root_body_) - Eigen::Vector3d(d->subtree_com + 3 * root_body_);
+  const Eigen::Matrix3d q = RootRotation(d);
+  const Eigen::Vector3d r = RootOffset(d);
   if (world_of_version_ == root_version_ && world_rotation_ == q && world_offset_ == r) {
     return world_resistance_;
   }

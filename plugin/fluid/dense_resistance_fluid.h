@@ -80,6 +80,12 @@ class DenseResistanceFluid : public Fluid {
   // The resistance R over InteractingBodies() (see Fluid), the cached one
   // while the shape has moved less than the tolerance.
   const Eigen::MatrixXd* InteractionResistance(const mjModel* m, const mjData* d) const override;
+  // The same, in the root body's frame about its origin (the cache's own;
+  // no change of frame on the whole matrix), its version bumped whenever
+  // the cached resistance changes.
+  const Eigen::MatrixXd* FrameResistance(const mjModel* m, const mjData* d,
+                                         Eigen::Matrix<double, 6, 6>* frame,
+                                         long* version) const override;
   const std::vector<int>& InteractingBodies() const override { return bodies_; }
   // The segments' (rft()'s): their lengths, the model's viscosity and
   // density, and RFT's rotational drag scale over them.
@@ -115,6 +121,13 @@ class DenseResistanceFluid : public Fluid {
 
  private:
   void Recompute(const mjModel* m, const mjData* d) const;
+  // Brings root_resistance_ to d's shape: the same shape's, the secant's,
+  // the cached or a new exact one (the tolerances).
+  void UpdateRootResistance(const mjModel* m, const mjData* d) const;
+  // The root's rotation Q and its origin's offset from the root's subtree
+  // centre of mass r = p - c in d.
+  Eigen::Matrix3d RootRotation(const mjData* d) const;
+  Eigen::Vector3d RootOffset(const mjData* d) const;
   // The shape (non-root joint positions) of d.
   void Shape(const mjData* d, std::vector<double>* shape) const;
   // Sets root_resistance_ to the secant's extrapolation to `shape` and
