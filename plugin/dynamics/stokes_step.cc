@@ -289,25 +289,125 @@ bool StokesStepper::Solve(const mjModel* m, const double* cdof, const double* st
                         : SolveBlock<0, 6>(m, cdof, stiffness_damping, f, v);
 }
 
-// D = J^T R J + diag(stiffness_damping), J (6 bodies x nv) the bodies' dof
-// motions (their chains' cdof at the midpoint), solved densely.
-bool StokesStepper::SolveDense(const mjModel* m, const Fluid& fluid,
-                               const double* stiffness_damping, const double* f, double* v) {
+// J (6 bodies x nv) has in body b's rows the motions s_j of the dofs on
+// b's chain, so J = B S with S the dofs' motions (one column each) and B
+// the bodies' chains (B_bj = I if dof j moves body b), and
+//   D = J^T R J = S^T (B^T R B) S,  (B^T R B)_jk = sum R_bc over b moved by
+// j and c moved by k,
+// summed up the tree, leaf to root, first over the rows and then over the
+// columns: O(bodies x nv) blocks where J^T R J costs O(bodies^2 x nv) dense
+// 6 x 6 products. Planar motions (every s in [w_z; v_x; v_y], First = 2,
+// Dim = 3) read only that block of each R_bc: the others multiply exact
+// zeros of s. The same sums as J^T R J in another order (StokesDenseTest:
+// within 1e-12).
+template <int First, int Dim>
+void StokesStepper::ChainBlocks(const mjModel* m, const Fluid& fluid,
+                                const Eigen::MatrixXd& resistance) {
   const int nv = m->nv;
   const std::vector<int>& bodies = fluid.InteractingBodies();
-  Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(6 * bodies.size(), nv);
-  for (size_t i = 0; i < bodies.size(); ++i) {
-    for (int j = topology_.body_last_dof[bodies[i]]; j >= 0; j = m->dof_parentid[j]) {
-      jacobian.block(6 * i, j, 6, 1) = Eigen::Map<const Vector6>(midpoint_cdof_.data() + 6 * j);
+  const int count = static_cast<int>(bodies.size());
+  // Rows: body_blocks_ (Dim nv x Dim bodies), block (j, c) = sum R_bc over
+  // the bodies b that dof j moves.
+  body_blocks_.setZero(Dim * nv, Dim * count);
+  for (int b = 0; b < count; ++b) {
+    const int dof = topology_.body_last_dof[bodies[b]];
+    if (dof < 0) continue;
+    for (int c = 0; c < count; ++c) {
+      body_blocks_.block<Dim, Dim>(Dim * dof, Dim * c) +=
+          resistance.block<Dim, Dim>(6 * b + First, 6 * c + First);
     }
   }
-  Eigen::MatrixXd system = jacobian.transpose() * midpoint_interaction_ * jacobian;
+  for (int j = nv - 1; j >= 0; --j) {
+    const int parent = m->dof_parentid[j];
+    if (parent >= 0) body_blocks_.middleRows<Dim>(Dim * parent) += body_blocks_.middleRows<Dim>(Dim * j);
+  }
+  // Columns: dense_blocks_ (Dim nv x Dim nv).
+  dense_blocks_.setZero(Dim * nv, Dim * nv);
+  for (int c = 0; c < count; ++c) {
+    const int dof = topology_.body_last_dof[bodies[c]];
+    if (dof >= 0) dense_blocks_.middleCols<Dim>(Dim * dof) += body_blocks_.middleCols<Dim>(Dim * c);
+  }
+  for (int k = nv - 1; k >= 0; --k) {
+    const int parent = m->dof_parentid[k];
+    if (parent >= 0) dense_blocks_.middleCols<Dim>(Dim * parent) += dense_blocks_.middleCols<Dim>(Dim * k);
+  }
+}
+
+// What R's change of frame does to the dof motions: with R = F^T R_F F
+// and F = diag(G, ...) the same for every body, F commutes with B, so
+// B^T R B = G^T (B^T R_F B) G block by block and D_jk = (G s_j)^T block_jk
+// (G s_k): the frame changes nv motions rather than the whole R. The
+// blocks are summed again only when R_F has changed (its version; a body
+// swimming with a cached resistance changes only G). Planar motions stay
+// planar in the frame if G keeps [w_z; v_x; v_y] apart from the rest.
+bool StokesStepper::DenseBlocks(const mjModel* m, const mjData* d, const Fluid& fluid,
+                                bool planar) {
+  Eigen::Matrix<double, 6, 6> frame;
+  long version = -1;
+  const Eigen::MatrixXd* frame_resistance = fluid.FrameResistance(m, d, &frame, &version);
+  if (!frame_resistance) return false;
+  const Eigen::MatrixXd& resistance = *frame_resistance;
+  const bool frame_planar = planar && frame.block<2, 3>(0, 2).isZero(0.0) &&
+                            frame.block<1, 3>(5, 2).isZero(0.0);
+  last_dense_blocks_.swap(dense_blocks_);
+  last_dense_frame_ = dense_frame_;
+  last_dense_version_ = dense_version_;
+  last_dense_dim_ = dense_dim_;
+  dense_frame_ = frame;
+  dense_dim_ = frame_planar ? 3 : 6;
+  const bool same = version >= 0 && version == last_dense_version_ && &fluid == dense_fluid_of_ &&
+                    dense_dim_ == last_dense_dim_;
+  dense_version_ = version;
+  dense_fluid_of_ = &fluid;
+  if (same) {
+    dense_blocks_ = last_dense_blocks_;
+  } else if (frame_planar) {
+    ChainBlocks<2, 3>(m, fluid, resistance);
+  } else {
+    ChainBlocks<0, 6>(m, fluid, resistance);
+  }
+  return true;
+}
+
+// (D + diag(stiffness_damping)) v = f with D at the step's midpoint,
+// 3/2 of this step's B^T R B and -1/2 of the last one's, both on the
+// midpoint's s: D_jk = 3/2 u_j^T block_jk u_k - 1/2 w_j^T last block_jk
+// w_k, u = G s and w = G_last s (DenseBlocks). Symmetric positive definite
+// when solvable: Cholesky.
+template <int First, int Dim>
+bool StokesStepper::SolveDense(const mjModel* m, const double* stiffness_damping,
+                               const double* f, double* v) {
+  using Vector = Eigen::Matrix<double, Dim, 1>;
+  const int nv = m->nv;
+  const Eigen::Map<const Eigen::Matrix<double, 6, Eigen::Dynamic>> motion(midpoint_cdof_.data(), 6,
+                                                                           nv);
+  frame_motion_.noalias() = dense_frame_ * motion;
+  if (extrapolate_dense_) last_frame_motion_.noalias() = last_dense_frame_ * motion;
+  dense_system_.resize(nv, nv);
+  for (int k = 0; k < nv; ++k) {
+    const Vector u_k = frame_motion_.col(k).template segment<Dim>(First);
+    for (int j = k; j < nv; ++j) {
+      const Vector u_j = frame_motion_.col(j).template segment<Dim>(First);
+      const double now = u_j.dot(dense_blocks_.block<Dim, Dim>(Dim * j, Dim * k) * u_k);
+      if (!extrapolate_dense_) {
+        dense_system_(j, k) = now;
+        continue;
+      }
+      const Vector w_k = last_frame_motion_.col(k).template segment<Dim>(First);
+      const Vector w_j = last_frame_motion_.col(j).template segment<Dim>(First);
+      dense_system_(j, k) =
+          1.5 * now - 0.5 * w_j.dot(last_dense_blocks_.block<Dim, Dim>(Dim * j, Dim * k) * w_k);
+    }
+  }
+  Eigen::Map<Eigen::VectorXd> velocity(v, nv);
+  const Eigen::Map<const Eigen::VectorXd> force(f, nv);
+  Eigen::MatrixXd system = dense_system_;
   for (int j = 0; j < nv; ++j) system(j, j) += stiffness_damping[j];
-  const Eigen::LDLT<Eigen::MatrixXd> ldlt(system);
-  if (ldlt.info() != Eigen::Success || !(ldlt.vectorD().minCoeff() > 0)) return false;
-  Eigen::Map<Eigen::VectorXd>(v, nv) = ldlt.solve(Eigen::Map<const Eigen::VectorXd>(f, nv));
-  const Eigen::VectorXd body_velocity = jacobian * Eigen::Map<const Eigen::VectorXd>(v, nv);
-  fluid_power_W_ = body_velocity.dot(midpoint_interaction_ * body_velocity);
+  const Eigen::LLT<Eigen::MatrixXd, Eigen::Lower> llt(system);
+  if (llt.info() != Eigen::Success) return false;
+  velocity = llt.solve(force);
+  // v^T J^T R J v: the power the step gives the fluid.
+  fluid_power_W_ = velocity.dot(dense_system_.selfadjointView<Eigen::Lower>() * velocity);
   return true;
 }
 
@@ -346,7 +446,9 @@ bool StokesStepper::Step(const mjModel* m, mjData* d, const Fluid* fluid) {
   StiffnessAndDamping(m, d, h, stiffness_damping_.data());
   const bool solved =
       dense_fluid_
-          ? SolveDense(m, *fluid, stiffness_damping_.data(), force_at_rest_.data(), d->qvel)
+          ? (dense_dim_ == 3
+                 ? SolveDense<2, 3>(m, stiffness_damping_.data(), force_at_rest_.data(), d->qvel)
+                 : SolveDense<0, 6>(m, stiffness_damping_.data(), force_at_rest_.data(), d->qvel))
           : Solve(m, midpoint_cdof_.data(), stiffness_damping_.data(), force_at_rest_.data(),
                   d->qvel);
   if (!solved) return false;
@@ -486,16 +588,10 @@ void StokesStepper::ExtrapolateToMidpoint(const mjModel* m, const mjData* d,
       planar == planar_motion_;
   planar_motion_ = planar;
   has_last_step_ = true;
-  const Eigen::MatrixXd* interaction = fluid ? fluid->InteractionResistance(m, d) : nullptr;
-  dense_fluid_ = interaction != nullptr;
-  if (dense_fluid_) {
-    last_interaction_.swap(interaction_);
-    interaction_ = *interaction;
-    midpoint_interaction_ =
-        continues_last_step && last_interaction_.rows() == interaction_.rows()
-            ? (1.5 * interaction_ - 0.5 * last_interaction_).eval()
-            : interaction_;
-  }
+  // The midpoint's B^T R B from this step's and the last one's: the same
+  // 3/2 and -1/2 of R's, as B is constant.
+  dense_fluid_ = fluid && DenseBlocks(m, d, *fluid, planar);
+  extrapolate_dense_ = dense_fluid_ && continues_last_step && last_dense_dim_ == dense_dim_;
   if (planar) {
     AssembleResistances<3>(m, d, fluid, continues_last_step);
   } else {

@@ -126,8 +126,9 @@ class StokesStepper {
   // all (the force balance is singular); the caller reports that. A
   // fluid whose segments interact (Fluid::InteractionResistance, the
   // Stokeslets) gives a dense resistance R over its bodies: D = J^T R J is
-  // formed (nv x nv) and factored (LDL^T) in place of the recursion,
-  // O(nv^3), with R extrapolated to the step's midpoint as the local S are.
+  // formed (nv x nv) and factored (Cholesky) in place of the recursion,
+  // O(nv^3), with R extrapolated to the step's midpoint as the local S are
+  // (ChainBlocks has how J's chains enter).
   bool Step(const mjModel* m, mjData* d, const Fluid* fluid);
   // The history's home in mjData (ipmc_swim.h, "State"): HistorySize(m)
   // values of d->userdata: whether a step was made, its end time, and its
@@ -173,9 +174,18 @@ class StokesStepper {
   template <int First, int Dim>
   bool SolveBlock(const mjModel* m, const double* cdof, const double* stiffness_damping,
                   const double* f, double* v);
-  // The dense solve with a fluid whose segments interact (Step).
-  bool SolveDense(const mjModel* m, const Fluid& fluid, const double* stiffness_damping,
-                  const double* f, double* v);
+  // The dense solve with a fluid whose segments interact (Step), from
+  // this step's and the last one's dense_blocks_ and frames.
+  template <int First, int Dim>
+  bool SolveDense(const mjModel* m, const double* stiffness_damping, const double* f, double* v);
+  // dense_blocks_ of the resistance R_F over the fluid's InteractingBodies()
+  // (ExtrapolateToMidpoint).
+  template <int First, int Dim>
+  void ChainBlocks(const mjModel* m, const Fluid& fluid, const Eigen::MatrixXd& resistance);
+  // This step's dense_blocks_ and frame from the fluid's FrameResistance,
+  // the last step's kept (ExtrapolateToMidpoint); false if the fluid has
+  // no dense resistance.
+  bool DenseBlocks(const mjModel* m, const mjData* d, const Fluid& fluid, bool planar);
   // Extrapolates S and cdof to the step's midpoint and assembles the
   // local resistances (Step).
   void ExtrapolateToMidpoint(const mjModel* m, const mjData* d, const Fluid* fluid);
@@ -205,9 +215,23 @@ class StokesStepper {
   // Per dof: f_j - s_j . p_j, 1 / D_j, h K + C, and the forces at zero
   // velocity.
   std::vector<double> force_less_bias_, inverse_pivot_, stiffness_damping_, force_at_rest_;
-  // The dense resistance of a fluid whose segments interact: this step's,
-  // the last step's and the midpoint's.
-  Eigen::MatrixXd interaction_, last_interaction_, midpoint_interaction_;
+  // The dense resistance of a fluid whose segments interact, in its frame
+  // (Fluid::FrameResistance: R = F^T R_F F), summed over the dofs' chains
+  // (ChainBlocks): block (j, k), Dim x Dim (the planar motion's or all of
+  // [w; v]), is sum R_F,bc over the bodies b moved by dof j and c moved by
+  // dof k, so that D_jk = (G s_j)^T block (G s_k). This step's and the
+  // last step's, with their frames G, R_F's versions and dense_dim_ (3:
+  // planar, 6); body_blocks_ is scratch.
+  Eigen::MatrixXd dense_blocks_, last_dense_blocks_, body_blocks_;
+  Eigen::Matrix<double, 6, 6> dense_frame_, last_dense_frame_;
+  long dense_version_ = -1, last_dense_version_ = -1;
+  int dense_dim_ = 0, last_dense_dim_ = 0;
+  const Fluid* dense_fluid_of_ = nullptr;  // whose version dense_version_ is
+  bool extrapolate_dense_ = false;  // the step continues the last with the same form
+  // The midpoint's dof motions in this step's frame and the last one's,
+  // and D = J^T R J; scratch.
+  Eigen::Matrix<double, 6, Eigen::Dynamic> frame_motion_, last_frame_motion_;
+  Eigen::MatrixXd dense_system_;
 
   // What carries from step to step: this step's, the last step's and the
   // midpoint's cdof, where the last step ended (a step that starts

@@ -1,6 +1,7 @@
 #include "plugin/fluid/dense_resistance_fluid.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <stdexcept>
 
@@ -29,6 +30,33 @@ int LastDof(const mjModel* m, int body) {
 }
 
 }  // namespace
+
+CacheParameters::CacheParameters(const std::string& model, const std::string& resistance,
+                                 const std::string& section)
+    : tolerance_key_(model + "_shape_tolerance_rad"),
+      tolerance_field_("ipmc_fluid_" + tolerance_key_),
+      tolerance_meaning_(static_cast<char>(std::toupper(resistance.front())) +
+                         resistance.substr(1) +
+                         " is recomputed when a joint has moved more than this since it was "
+                         "last computed, or off the secant of the last two (0: every "
+                         "evaluation; docs/FLUIDS.md, \"" +
+                         section + "\")"),
+      reach_key_(model + "_secant_reach_rad"),
+      reach_field_("ipmc_fluid_" + reach_key_),
+      reach_meaning_("Between exact evaluations " + resistance +
+                     " is extrapolated along the secant of the last two while no joint has "
+                     "moved more than this (0: the last one as it is; docs/FLUIDS.md, \"Cost "
+                     "on flexible links\")") {}
+
+FluidParameter CacheParameters::ShapeToleranceRad() const {
+  return NumberParameter(tolerance_key_.c_str(), tolerance_field_.c_str(), "rad", 1.0, 1e-3,
+                         "1e-3", 0.0, true, 2e-3, tolerance_meaning_.c_str());
+}
+
+FluidParameter CacheParameters::SecantReachRad() const {
+  return NumberParameter(reach_key_.c_str(), reach_field_.c_str(), "rad", 1.0,
+                         kDefaultSecantReachRad, "0", 0.0, true, 2e-3, reach_meaning_.c_str());
+}
 
 DenseResistanceFluid::~DenseResistanceFluid() = default;
 
@@ -113,9 +141,39 @@ bool DenseResistanceFluid::Extrapolate(const std::vector<double>& shape) const {
 
 const Eigen::MatrixXd* DenseResistanceFluid::InteractionResistance(const mjModel* m,
                                                                    const mjData* d) const {
+  UpdateRootResistance(m, d);
+  return &WorldResistance(d);
+}
+
+// R_c = T^T Q6 R_root Q6^T T (WorldResistance), so G = Q^T T:
+// [Q^T 0; Q^T X Q^T] with X = -[r]x.
+const Eigen::MatrixXd* DenseResistanceFluid::FrameResistance(const mjModel* m, const mjData* d,
+                                                             Eigen::Matrix<double, 6, 6>* frame,
+                                                             long* version) const {
+  UpdateRootResistance(m, d);
+  const Eigen::Matrix3d q = RootRotation(d);
+  const Eigen::Matrix3d x = -CrossMatrix(RootOffset(d));
+  frame->topLeftCorner<3, 3>() = q.transpose();
+  frame->topRightCorner<3, 3>().setZero();
+  frame->bottomLeftCorner<3, 3>() = q.transpose() * x;
+  frame->bottomRightCorner<3, 3>() = q.transpose();
+  *version = root_version_;
+  return &root_resistance_;
+}
+
+Eigen::Matrix3d DenseResistanceFluid::RootRotation(const mjData* d) const {
+  return BodyRotation(d, root_body_);
+}
+
+Eigen::Vector3d DenseResistanceFluid::RootOffset(const mjData* d) const {
+  return Eigen::Vector3d(d->xpos + 3 * root_body_) -
+         Eigen::Vector3d(d->subtree_com + 3 * root_body_);
+}
+
+void DenseResistanceFluid::UpdateRootResistance(const mjModel* m, const mjData* d) const {
   Shape(d, &shape_);
   if (shape_ == used_shape_ && used_of_recomputation_ == recomputations_) {
-    return &WorldResistance(d);  // the same shape again: the same R
+    return;  // the same shape again: the same R
   }
   const std::vector<double>& newest = exact_.front().shape;
   // A body without joints below its root has an empty shape: computed once.
@@ -138,16 +196,14 @@ const Eigen::MatrixXd* DenseResistanceFluid::InteractionResistance(const mjModel
   }
   used_shape_ = shape_;
   used_of_recomputation_ = recomputations_;
-  return &WorldResistance(d);
 }
 
 const Eigen::MatrixXd& DenseResistanceFluid::WorldResistance(const mjData* d) const {
   // Back into the world and from the root's origin p to the subtree centre
   // of mass c: V_p = T V_c with T = [I 0; -[p - c]x I], so R_c = T^T R_p T
   // block by block.
-  const Eigen::Matrix3d q = BodyRotation(d, root_body_);
-  const Eigen::Vector3d r =
-      Eigen::Vector3d(d->xpos + 3 * root_body_) - Eigen::Vector3d(d->subtree_com + 3 * root_body_);
+  const Eigen::Matrix3d q = RootRotation(d);
+  const Eigen::Vector3d r = RootOffset(d);
   if (world_of_version_ == root_version_ && world_rotation_ == q && world_offset_ == r) {
     return world_resistance_;
   }

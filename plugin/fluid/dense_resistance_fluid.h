@@ -50,6 +50,25 @@ constexpr double kDefaultSecantReachRad = 0.0;
 
 class RftDrag;
 
+// The two parameters of a dense model's cached resistance (FluidParameter,
+// fluid_model.h), under the model's name: `<model>_shape_tolerance_rad`
+// and `<model>_secant_reach_rad` (fields ipmc_fluid_<model>_...), their
+// help naming the model's `resistance` ("the ribbon's resistance") and
+// docs/FLUIDS.md's `section` on the tolerance. Owns the texts the
+// parameters point to: keep it for as long as they are used (a static
+// const of the model's registry entry).
+class CacheParameters {
+ public:
+  CacheParameters(const std::string& model, const std::string& resistance,
+                  const std::string& section);
+  FluidParameter ShapeToleranceRad() const;
+  FluidParameter SecantReachRad() const;
+
+ private:
+  std::string tolerance_key_, tolerance_field_, tolerance_meaning_;
+  std::string reach_key_, reach_field_, reach_meaning_;
+};
+
 class DenseResistanceFluid : public Fluid {
  public:
   ~DenseResistanceFluid() override;
@@ -61,6 +80,12 @@ class DenseResistanceFluid : public Fluid {
   // The resistance R over InteractingBodies() (see Fluid), the cached one
   // while the shape has moved less than the tolerance.
   const Eigen::MatrixXd* InteractionResistance(const mjModel* m, const mjData* d) const override;
+  // The same, in the root body's frame about its origin (the cache's own;
+  // no change of frame on the whole matrix), its version bumped whenever
+  // the cached resistance changes.
+  const Eigen::MatrixXd* FrameResistance(const mjModel* m, const mjData* d,
+                                         Eigen::Matrix<double, 6, 6>* frame,
+                                         long* version) const override;
   const std::vector<int>& InteractingBodies() const override { return bodies_; }
   // The segments' (rft()'s): their lengths, the model's viscosity and
   // density, and RFT's rotational drag scale over them.
@@ -96,6 +121,13 @@ class DenseResistanceFluid : public Fluid {
 
  private:
   void Recompute(const mjModel* m, const mjData* d) const;
+  // Brings root_resistance_ to d's shape: the same shape's, the secant's,
+  // the cached or a new exact one (the tolerances).
+  void UpdateRootResistance(const mjModel* m, const mjData* d) const;
+  // The root's rotation Q and its origin's offset from the root's subtree
+  // centre of mass r = p - c in d.
+  Eigen::Matrix3d RootRotation(const mjData* d) const;
+  Eigen::Vector3d RootOffset(const mjData* d) const;
   // The shape (non-root joint positions) of d.
   void Shape(const mjData* d, std::vector<double>* shape) const;
   // Sets root_resistance_ to the secant's extrapolation to `shape` and

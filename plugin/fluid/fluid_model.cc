@@ -29,6 +29,14 @@ const Eigen::MatrixXd* Fluid::InteractionResistance(const mjModel* /*m*/,
   return nullptr;
 }
 
+const Eigen::MatrixXd* Fluid::FrameResistance(const mjModel* m, const mjData* d,
+                                              Eigen::Matrix<double, 6, 6>* frame,
+                                              long* version) const {
+  frame->setIdentity();
+  *version = -1;
+  return InteractionResistance(m, d);
+}
+
 const std::vector<int>& Fluid::InteractingBodies() const {
   static const std::vector<int> kNone;
   return kNone;

@@ -103,6 +103,15 @@ class Fluid {
                                 BodyResistanceBlocks<3>* out) const;
   virtual const Eigen::MatrixXd* InteractionResistance(const mjModel* m, const mjData* d) const;
   virtual const std::vector<int>& InteractingBodies() const;
+  // The same R as R = F^T R_F F, F = diag(G, G, ...) with one 6 x 6 G for
+  // every body: R_F in a frame the model keeps it in, G the map from
+  // [w; v] about the root's subtree centre of mass in the world to that
+  // frame, and `version`, which changes whenever R_F does (so a caller
+  // may reuse what it made of R_F; -1: none, nothing to reuse). By
+  // default R_F = R, G = I and version -1; null as InteractionResistance.
+  virtual const Eigen::MatrixXd* FrameResistance(const mjModel* m, const mjData* d,
+                                                 Eigen::Matrix<double, 6, 6>* frame,
+                                                 long* version) const;
 };
 
 // A model's setting, declared as MuJoCo's plugins declare their

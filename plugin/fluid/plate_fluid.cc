@@ -291,21 +291,9 @@ FluidParameter Richardson() {
                           "resistance)");
 }
 
-FluidParameter ShapeToleranceRad() {
-  return NumberParameter("plate_shape_tolerance_rad", "ipmc_fluid_plate_shape_tolerance_rad",
-                         "rad", 1.0, 1e-3, "1e-3", 0.0, true, 2e-3,
-                         "The blocks between plates are recomputed when a joint has moved more "
-                         "than this since they were last computed, or off the secant of the last "
-                         "two (0: every evaluation; docs/FLUIDS.md, \"Flat plates\")");
-}
-
-FluidParameter SecantReachRad() {
-  return NumberParameter("plate_secant_reach_rad", "ipmc_fluid_plate_secant_reach_rad", "rad",
-                         1.0, kDefaultSecantReachRad, "0", 0.0, true, 2e-3,
-                         "Between exact evaluations the plates' resistance is extrapolated along "
-                         "the secant of the last two while no joint has moved more than this "
-                         "(0: the last one as it is; docs/FLUIDS.md, \"Cost on flexible "
-                         "links\")");
+const CacheParameters& Cache() {
+  static const CacheParameters cache("plate", "the plates' resistance", "Flat plates");
+  return cache;
 }
 
 PlateSettings SettingsFromParameters(const mjModel* m, const RftDrag& segments,
@@ -317,8 +305,8 @@ PlateSettings SettingsFromParameters(const mjModel* m, const RftDrag& segments,
   settings.points_across = static_cast<int>(value(PointsAcross()));
   settings.quadrature_refinement = static_cast<int>(value(QuadratureRefinement()));
   settings.richardson = value(Richardson()) != 0.0;
-  settings.shape_tolerance_rad = value(ShapeToleranceRad());
-  settings.secant_reach_rad = value(SecantReachRad());
+  settings.shape_tolerance_rad = value(Cache().ShapeToleranceRad());
+  settings.secant_reach_rad = value(Cache().SecantReachRad());
   settings.wall_distance_m = WallDistance_m(segments);
   return settings;
 }
@@ -326,8 +314,8 @@ PlateSettings SettingsFromParameters(const mjModel* m, const RftDrag& segments,
 }  // namespace
 
 std::vector<FluidParameter> PlateFluid::Parameters() {
-  return {PointsAcross(), QuadratureRefinement(), Richardson(), ShapeToleranceRad(),
-          SecantReachRad()};
+  return {PointsAcross(), QuadratureRefinement(), Richardson(), Cache().ShapeToleranceRad(),
+          Cache().SecantReachRad()};
 }
 
 std::unique_ptr<Fluid> PlateFluid::Make(const mjModel* m, const RftDrag& segments,

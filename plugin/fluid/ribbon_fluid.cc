@@ -167,7 +167,9 @@ Eigen::MatrixXd GalerkinOperator(const std::vector<Node>& nodes, const Eigen::Ma
   patterns[5] = outer(2, 2);
   patterns[6] = outer(0, 2);
   patterns[7] = outer(1, 2);
-  std::array<Eigen::MatrixXd, kParts> kernel;
+  // The parts side by side, np x (parts nq): one product W_P^T [K_0 K_1
+  // ...] for all of them, then each part's block times W_Q.
+  Eigen::MatrixXd kernel, left;
   const double inverse_half_length = 1.0 / half_length_m;
   // A ribbon whose centreline lies in a plane z = const has R_z = 0: the
   // parts with z (zz, xz, yz) vanish and are left out.
@@ -178,7 +180,7 @@ Eigen::MatrixXd GalerkinOperator(const std::vector<Node>& nodes, const Eigen::Ma
     for (int q = p + 1; q < pieces; ++q) {
       const int p0 = starts[p], np = starts[p + 1] - p0;
       const int q0 = starts[q], nq = starts[q + 1] - q0;
-      for (auto& part : kernel) part.resize(np, nq);
+      kernel.resize(np, parts * nq);
       for (int c = 0; c < nq; ++c) {
         for (int a = 0; a < np; ++a) {
           const Node& na = nodes[p0 + a];
@@ -187,20 +189,21 @@ Eigen::MatrixXd GalerkinOperator(const std::vector<Node>& nodes, const Eigen::Ma
           const double inverse_distance = 1.0 / r.norm();
           const double inverse_ds = 1.0 / std::abs(na.s - nc.s);
           const double k = inverse_distance * inverse_distance * inverse_distance;
-          kernel[0](a, c) = inverse_distance - inverse_ds;
-          kernel[1](a, c) = inverse_ds;
-          kernel[2](a, c) = k * r.x() * r.x();
-          kernel[3](a, c) = k * r.y() * r.y();
-          kernel[4](a, c) = k * r.x() * r.y();
+          kernel(a, c) = inverse_distance - inverse_ds;
+          kernel(a, nq + c) = inverse_ds;
+          kernel(a, 2 * nq + c) = k * r.x() * r.x();
+          kernel(a, 3 * nq + c) = k * r.y() * r.y();
+          kernel(a, 4 * nq + c) = k * r.x() * r.y();
           if (planar) continue;
-          kernel[5](a, c) = k * r.z() * r.z();
-          kernel[6](a, c) = k * r.x() * r.z();
-          kernel[7](a, c) = k * r.y() * r.z();
+          kernel(a, 5 * nq + c) = k * r.z() * r.z();
+          kernel(a, 6 * nq + c) = k * r.x() * r.z();
+          kernel(a, 7 * nq + c) = k * r.y() * r.z();
         }
       }
+      left.noalias() = weighted.middleRows(p0, np).transpose() * kernel;
       for (int part = 0; part < parts; ++part) {
-        const Eigen::MatrixXd projected = weighted.middleRows(p0, np).transpose() * kernel[part] *
-                                          weighted.middleRows(q0, nq);
+        const Eigen::MatrixXd projected =
+            left.middleCols(part * nq, nq) * weighted.middleRows(q0, nq);
         if (part == 1) {
           AddPattern(-tangents[p], projected, &galerkin);
           AddPattern(-tangents[q], projected.transpose(), &galerkin);
@@ -313,27 +316,15 @@ FluidParameter Modes() {
       "where the theory's resistance stops being positive: docs/FLUIDS.md)"));
 }
 
-FluidParameter ShapeToleranceRad() {
-  return NumberParameter("ribbon_shape_tolerance_rad", "ipmc_fluid_ribbon_shape_tolerance_rad",
-                         "rad", 1.0, 1e-3, "1e-3", 0.0, true, 2e-3,
-                         "The ribbon's resistance is recomputed when a joint has moved more than "
-                         "this since it was last computed, or off the secant of the last two "
-                         "(0: every evaluation; docs/FLUIDS.md, \"Cost on flexible links\")");
-}
-
-FluidParameter SecantReachRad() {
-  return NumberParameter("ribbon_secant_reach_rad", "ipmc_fluid_ribbon_secant_reach_rad", "rad",
-                         1.0, kDefaultSecantReachRad, "0", 0.0, true, 2e-3,
-                         "Between exact evaluations the ribbon's resistance is extrapolated "
-                         "along the secant of the last two while no joint has moved more than "
-                         "this (0: the last one as it is; docs/FLUIDS.md, \"Cost on flexible "
-                         "links\")");
+const CacheParameters& Cache() {
+  static const CacheParameters cache("ribbon", "the ribbon's resistance", "Cost on flexible links");
+  return cache;
 }
 
 }  // namespace
 
 std::vector<FluidParameter> RibbonFluid::Parameters() {
-  return {Modes(), ShapeToleranceRad(), SecantReachRad()};
+  return {Modes(), Cache().ShapeToleranceRad(), Cache().SecantReachRad()};
 }
 
 std::unique_ptr<Fluid> RibbonFluid::Make(const mjModel* m, const RftDrag& segments,
@@ -343,8 +334,8 @@ std::unique_ptr<Fluid> RibbonFluid::Make(const mjModel* m, const RftDrag& segmen
   };
   RibbonSettings ribbon;
   ribbon.modes = static_cast<int>(value(Modes()));
-  ribbon.shape_tolerance_rad = value(ShapeToleranceRad());
-  ribbon.secant_reach_rad = value(SecantReachRad());
+  ribbon.shape_tolerance_rad = value(Cache().ShapeToleranceRad());
+  ribbon.secant_reach_rad = value(Cache().SecantReachRad());
   return std::make_unique<RibbonFluid>(m, segments, ribbon);
 }
 
