@@ -92,11 +92,6 @@ void RequireSamplesPerWaveCycle(const ScenarioConfig& scenario, double period_s,
       kMinSamplesPerWaveCycle, 1.0 / (kMinSamplesPerWaveCycle * sample_period_s)));
 }
 
-double StartRamp(double t_s, double ramp_s) {
-  if (t_s >= ramp_s) return 1.0;
-  return 0.5 * (1.0 - std::cos(kPi * t_s / ramp_s));
-}
-
 std::vector<double> LinkReferences_mm(const ScenarioConfig& scenario,
                                       const LinkGeometry& geometry, double t_s) {
   const double period_s = 1.0 / std::abs(scenario.waveform.frequency_Hz);
@@ -250,6 +245,13 @@ ClosedLoopResult StartResult(const ScenarioConfig& scenario, const mjModel* m,
   result.clamp_enabled =
       pid ? scenario.controller.pid.clamp_enabled : scenario.controller.fractional.clamp_enabled;
   result.v_max_V = pid ? scenario.controller.pid.v_max : scenario.controller.fractional.v_max;
+  if (scenario.drive.OpenLoop()) {
+    // The open-loop drive in the controller's place ("sine", "csv"), unclamped.
+    result.controller = ChoiceText(kDriveModeNames, scenario.drive.mode);
+    result.open_loop = true;
+    result.clamp_enabled = false;
+    result.v_max_V = 0.0;
+  }
   result.period_s = timing.period_s;
   result.timestep_s = timing.dt_s;
   result.links.resize(links);
@@ -297,10 +299,16 @@ ClosedLoopResult StepClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
     throw std::runtime_error(sim.source() + ": ipmc_links must drive hinges j1..jN in order");
   }
   const int driven = scenario.actuation == Actuation::kSingle ? 1 : links;
+  const bool open_loop = scenario.drive.OpenLoop();
   std::vector<LinkController> controllers;
   CheckLinkGains(scenario, links);
-  for (int q = 0; q < driven; ++q) controllers.emplace_back(scenario, q);
+  if (!open_loop) {
+    for (int q = 0; q < driven; ++q) controllers.emplace_back(scenario, q);
+  }
   const ClosedLoopTiming timing = PlanTiming(scenario, m, links);
+  const OpenLoopVoltages drive(scenario.drive, scenario.waveform.frequency_Hz,
+                               scenario.waveform.start_ramp_cycles * timing.period_s, links,
+                               scenario.source);
 
   const int from_cycle = MetricsFromCycle(scenario);
   ClosedLoopResult result = StartResult(scenario, m, timing, links);
@@ -322,14 +330,23 @@ ClosedLoopResult StepClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
     for (long step = 0; step < timing.steps_per_cycle; ++step) {
       if (step % timing.steps_per_sample == 0) {
         const double t = d->time;
-        reference = references ? references(t) : LinkReferences_mm(scenario, geometry, t);
-        if (static_cast<int>(reference.size()) != links) {
-          throw std::invalid_argument(sim.source() + ": " + std::to_string(reference.size()) +
-                                      " references for " + std::to_string(links) + " links");
-        }
-        for (int q = 0; q < links; ++q) {
-          measured[q] = sensors.RelativeDeflection_mm(d, q);
-          volts[q] = q < driven ? controllers[q].Update(reference[q] - measured[q]) : 0.0;
+        if (open_loop) {
+          // No references: the link metrics measure the deflections themselves.
+          const std::vector<double> given = drive.At(t);
+          for (int q = 0; q < links; ++q) {
+            measured[q] = sensors.RelativeDeflection_mm(d, q);
+            volts[q] = q < driven ? given[q] : 0.0;
+          }
+        } else {
+          reference = references ? references(t) : LinkReferences_mm(scenario, geometry, t);
+          if (static_cast<int>(reference.size()) != links) {
+            throw std::invalid_argument(sim.source() + ": " + std::to_string(reference.size()) +
+                                        " references for " + std::to_string(links) + " links");
+          }
+          for (int q = 0; q < links; ++q) {
+            measured[q] = sensors.RelativeDeflection_mm(d, q);
+            volts[q] = q < driven ? controllers[q].Update(reference[q] - measured[q]) : 0.0;
+          }
         }
         if (measuring) tracking.AddSample(t, reference, measured, volts);
         SetVoltages(d, volts.data(), links);
