@@ -20,22 +20,23 @@ LinkGeometry ModelLinkGeometry(const Simulation& sim) {
   const mjData* d = sim.data();
   const std::string& source = sim.source();
   LinkGeometry geometry;
+  const CouplingContext* coupling = FindCoupling(d);
+  if (!coupling || !coupling->actuators) {
+    throw std::runtime_error(source + ": model has no IPMC actuators (custom text ipmc_links)");
+  }
+  // Each link's root hinge, then the last link's tip (LinkTips).
   std::vector<double> hinge_x_mm;
-  for (int q = 1;; ++q) {
-    const int joint = mj_name2id(m, mjOBJ_JOINT, ("j" + std::to_string(q)).c_str());
-    if (joint < 0) break;
-    hinge_x_mm.push_back(d->xanchor[3 * joint] * 1e3);
+  for (const LinkChain& chain : coupling->actuators->chains()) {
+    hinge_x_mm.push_back(d->xanchor[3 * chain.joints.front()] * 1e3);
   }
-  const int last_tip =
-      mj_name2id(m, mjOBJ_SITE, ("tip" + std::to_string(hinge_x_mm.size())).c_str());
-  if (hinge_x_mm.empty() || last_tip < 0) {
-    throw std::runtime_error(source + ": closed-loop runs need hinges j1..jN and sites tip1..tipN");
-  }
-  hinge_x_mm.push_back(d->site_xpos[3 * last_tip] * 1e3);
+  const std::vector<LinkTip> tips = LinkTips(m, d, source);
+  double tip_m[3];
+  tips.back().Position_W(d, tip_m);
+  hinge_x_mm.push_back(tip_m[0] * 1e3);
   for (size_t q = 0; q + 1 < hinge_x_mm.size(); ++q) {
     geometry.pitch_mm.push_back(hinge_x_mm[q + 1] - hinge_x_mm[q]);
   }
-  for (double length_m : FindCoupling(d)->actuators->LinkLengths_m()) {
+  for (double length_m : coupling->actuators->LinkLengths_m()) {
     geometry.length_mm.push_back(length_m * 1e3);
   }
   return geometry;
@@ -295,9 +296,6 @@ ClosedLoopResult StepClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
   const LinkSensors sensors(m, d, sim.source());
   const int links = sensors.Links();
   const LinkGeometry geometry = ModelLinkGeometry(sim);
-  if (static_cast<int>(geometry.pitch_mm.size()) != links) {
-    throw std::runtime_error(sim.source() + ": ipmc_links must drive hinges j1..jN in order");
-  }
   const int driven = scenario.actuation == Actuation::kSingle ? 1 : links;
   const bool open_loop = scenario.drive.OpenLoop();
   std::vector<LinkController> controllers;
@@ -316,7 +314,7 @@ ClosedLoopResult StepClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
                              timing.sample_period_s);
   std::vector<double> volts(links, 0.0), reference(links, 0.0), measured(links, 0.0);
   long samples = 0;
-  SwimMeter meter(m);
+  SwimMeter meter(m, d);
   meter.Start(m, d, scenario.waveform.frequency_Hz, scenario.controller.sample_rate_Hz);
   EnergyMeter energy(m, d);
   // Each link's active moment is read at its root hinge.

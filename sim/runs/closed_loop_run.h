@@ -147,9 +147,10 @@ ClosedLoopResult StepClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
                                 const RunHeartbeat& heartbeat = {},
                                 const LinkReferenceSource& references = {});
 
-// The segment pitches of a model at rest (hinges j1..jN and the last tip)
-// and its IPMC links' lengths, which the references are projected on.
-// Throws std::runtime_error naming the model if it lacks them.
+// The segment pitches of a model at rest (each IPMC link's root hinge, and
+// the last link's tip: LinkTips, sim/core/link_sensors.h) and its links'
+// lengths, which the references are projected on. Throws
+// std::runtime_error naming the model if it has no IPMC links.
 LinkGeometry ModelLinkGeometry(const Simulation& sim);
 
 // Every link's reference at t [mm]: the discretised wave faded in by the
