@@ -3,7 +3,9 @@
 // run's model.xml, ipmc::Attach, ipmc::SetVoltages, ipmc::Step), give the
 // run's states. Cases: the default job (scenarios/paper.toml), a flexible
 // strip (8 rigid sub-segments per link, c1 = 150 um/mm: the stiff hinges
-// need the coupling's c_eff and first-order hold) and Stokes dynamics.
+// need the coupling's c_eff and first-order hold), Stokes dynamics and the
+// head-and-tail swimmer (models/head_and_tail.xml: a sphere head, four
+// links; c1 = 150 um/mm as scenarios/head_and_tail.toml).
 #include <gtest/gtest.h>
 #include <mujoco/mujoco.h>
 
@@ -92,7 +94,11 @@ INSTANTIATE_TEST_SUITE_P(
     testing::Values(ReplayCase{"default_job", Short({})},
                     ReplayCase{"flexible", Short({"segments_per_link=8",
                                                   "waveform.c1_um_per_mm=150.0"})},
-                    ReplayCase{"stokes", Short({"dynamics=\"stokes\""})}),
+                    ReplayCase{"stokes", Short({"dynamics=\"stokes\""})},
+                    ReplayCase{"head_and_tail",
+                               Short({"model=\"" + std::string(IPMC_SWIM_SOURCE_DIR) +
+                                          "/models/head_and_tail.xml\"",
+                                      "waveform.c1_um_per_mm=150.0"})}),
     [](const testing::TestParamInfo<ReplayCase>& info) { return info.param.name; });
 
 // A run's model.xml named as the same scenario's model is the same model:

@@ -89,9 +89,9 @@ TEST(ScenarioKeysTest, EveryKeyTakesItsDefaultAndItsExampleAndRefusesItsRefusedV
   // link the scalar key's), include (no files), the strip's four keys
   // (stating one generates the flagellum), the plant's eight number keys
   // (the assigned plant) and metrics.from_cycle (the first cycle after the
-  // start ramp) has one; every key but the booleans and the unbounded ones
-  // has a refused value.
-  EXPECT_EQ(defaults, static_cast<int>(ScenarioKeys().size()) - 32);
+  // start ramp) and drive.csv (no file) has one; every key but the booleans
+  // and the unbounded ones has a refused value.
+  EXPECT_EQ(defaults, static_cast<int>(ScenarioKeys().size()) - 33);
   EXPECT_GE(refusals, 20);
 }
 
@@ -110,7 +110,7 @@ std::string Canonical(const toml::node& node) {
 
 // Each key's reader and writer are one entry of the table: a key's example
 // value read into a scenario comes back from ResolvedScenarioToml as it was
-// given (the model's path comes back resolved, output.dir and include,
+// given (the model's and drive.csv's paths come back resolved, output.dir and include,
 // which is read before the keys, not at all).
 TEST(ScenarioKeysTest, EveryKeysExampleIsWrittenBackAsRead) {
   int compared = 0;
@@ -118,7 +118,8 @@ TEST(ScenarioKeysTest, EveryKeysExampleIsWrittenBackAsRead) {
     SCOPED_TRACE(key.name);
     ASSERT_NE(key.read, nullptr);
     const std::string value = !key.example_toml.empty() ? key.example_toml : key.default_toml;
-    if (key.write == nullptr || std::string(key.name) == "model" || value.empty()) continue;
+    const bool file = std::string(key.name) == "model" || std::string(key.name) == "drive.csv";
+    if (key.write == nullptr || file || value.empty()) continue;
     const toml::table given = ParseToml("value = " + value, "example");
     const toml::table resolved = ParseToml(Resolved(ScenarioWith(key, value)), "resolved");
     const toml::node_view<const toml::node> written = resolved.at_path(key.name);
@@ -126,7 +127,7 @@ TEST(ScenarioKeysTest, EveryKeysExampleIsWrittenBackAsRead) {
     EXPECT_EQ(Canonical(*written.node()), Canonical(*given.get("value")));
     ++compared;
   }
-  EXPECT_EQ(compared, static_cast<int>(ScenarioKeys().size()) - 3);
+  EXPECT_EQ(compared, static_cast<int>(ScenarioKeys().size()) - 4);
 }
 
 TEST(ScenarioKeysTest, BoundsInTheTableAreTheReadersBounds) {
@@ -191,9 +192,9 @@ TEST(ScenarioKeysTest, TheReaderAllowsExactlyTheTablesKeys) {
   for (const std::string& name : ScenarioKeysUnder("")) {
     if (!ScenarioKeysUnder(name).empty()) tables.push_back(name);
   }
-  // The top level, strip, plant, controller, waveform, fluid, metrics,
-  // electrical, output.
-  EXPECT_EQ(tables.size(), 9u);
+  // The top level, strip, plant, controller, waveform, drive, fluid,
+  // metrics, electrical, output.
+  EXPECT_EQ(tables.size(), 10u);
   for (const std::string& table : tables) {
     SCOPED_TRACE(table);
     const std::string unknown = table.empty() ? "speed" : table + ".speed";

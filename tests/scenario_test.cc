@@ -184,7 +184,7 @@ TEST_F(ScenarioErrorTest, SyntaxErrorsGiveLineAndColumn) {
 TEST_F(ScenarioErrorTest, UnknownKeysNameTheKeyAndTheAllowedOnes) {
   ExpectError(std::string(kModelLine) + "cycles = 3\n\n\n\n\ncontroler = 1\n",
               ":7: unknown key 'controler' (allowed: include, model, link_lengths_mm, segments_per_link, plants, actuation, dynamics, hinge_damping_scale, cycles, timestep_s, "
-              "strip, plant, controller, waveform, fluid, metrics, electrical, output)");
+              "strip, plant, controller, waveform, drive, fluid, metrics, electrical, output)");
   ExpectError(
       std::string(kModelLine) + "[controller]\nkp = 1.0\nkpp = 2.0\n",
       ":4: unknown key 'controller.kpp' (allowed: kind, sample_rate_Hz, v_max_V, clamp, kp, "
@@ -206,7 +206,7 @@ TEST_F(ScenarioErrorTest, UnknownKeysNameTheKeyAndTheAllowedOnes) {
   // The earliest of several.
   ExpectError(std::string(kModelLine) + "zz = 1\naa = 2\n",
               ":2: unknown key 'zz' (allowed: include, model, link_lengths_mm, segments_per_link, plants, actuation, dynamics, hinge_damping_scale, cycles, timestep_s, strip, plant, controller, "
-              "waveform, fluid, metrics, electrical, output)");
+              "waveform, drive, fluid, metrics, electrical, output)");
   // Dotted keys are walked like tables.
   ExpectError(
       std::string(kModelLine) + "controller.kq = 1\n",

@@ -411,7 +411,7 @@ TEST_F(SweepTest, BadSweepFilesGiveOneLineErrorsBeforeAnyRun) {
        "c2_um_per_mm2, c_um, alpha, frequency_Hz, wavelength_mm, start_ramp_cycles)"},
       {"base = \"fast.toml\"\n[grid]\nspeed = [1]\n",
        ":3: unknown key 'speed' (allowed: include, model, link_lengths_mm, segments_per_link, plants, actuation, dynamics, hinge_damping_scale, cycles, timestep_s, strip, plant, controller, "
-       "waveform, fluid, metrics, electrical, output)"},
+       "waveform, drive, fluid, metrics, electrical, output)"},
       {"base = \"fast.toml\"\n[grid]\nactuation = [\"single\"]\ncycles = [1, 1.5]\n",
        ":4: cycles must be an integer (got float)"},
       {"base = \"fast.toml\"\n[[point]]\ncycles = 1\n[[point]]\ncontroller.kp = \"8\"\n",

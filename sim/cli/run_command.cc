@@ -12,8 +12,10 @@ namespace {
 
 void PrintClosedLoopResult(const ClosedLoopResult& r) {
   for (const std::string& note : r.notes) std::fprintf(stderr, "note: %s\n", note.c_str());
-  std::printf("%s controller, %s actuation, wave period %.6g s, time step %.3g s\n",
-              r.controller.c_str(), ChoiceText(kActuationNames, r.actuation), r.period_s, r.timestep_s);
+  std::printf("%s %s, %s actuation, wave period %.6g s, time step %.3g s\n",
+              r.open_loop ? "open-loop" : r.controller.c_str(),
+              r.open_loop ? (r.controller + " drive").c_str() : "controller",
+              ChoiceText(kActuationNames, r.actuation), r.period_s, r.timestep_s);
   PrintMetricCycles(r);
   std::printf("%4s %12s %14s %16s %20s %13s %16s\n", "link", "iae_mm_s", "itae_mm_s2",
               "max_abs_error_mm", "max_abs_reference_mm", "rms_voltage_V", "clamped_fraction");

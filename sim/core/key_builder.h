@@ -91,6 +91,11 @@ class Key {
   KeySpec spec_{};
 };
 
+// A file key's value (a string) as an absolute path, resolved against the
+// scenario file's folder; fails naming the key unless it is a readable
+// file (`what` says what to name for an empty one: "a model file (MJCF)").
+std::string ReadablePath(const KeyValue& value, const std::string& what);
+
 // Values as a resolved scenario writes them.
 inline const std::optional<std::string> kLeftOut = std::nullopt;
 std::optional<std::string> TomlString(const std::string& text);

@@ -24,6 +24,7 @@
 #include "plugin/fluid/rft_drag.h"
 #include "sim/core/choice_table.h"
 #include "sim/core/controller_keys.h"
+#include "sim/core/drive_keys.h"
 #include "sim/core/electrical.h"
 #include "sim/core/fluid_keys.h"
 #include "sim/core/strip_keys.h"
@@ -88,6 +89,7 @@ struct ScenarioConfig {
   RunScenario run;
   ControllerScenario controller;  // sim/core/controller_keys.h
   WaveformScenario waveform;      // sim/core/waveform.h
+  DriveScenario drive;            // sim/core/drive_keys.h
   FluidScenario fluid;            // sim/core/fluid_keys.h
   MetricsScenario metrics;
   OutputScenario output;

@@ -16,6 +16,7 @@
 #include "plugin/actuators/ipmc_actuators.h"
 #include "sim/base/numbers.h"
 #include "sim/core/controller_keys.h"
+#include "sim/core/drive_keys.h"
 #include "sim/core/fluid_keys.h"
 #include "sim/core/key_builder.h"
 #include "sim/core/model_generator.h"
@@ -43,6 +44,22 @@ std::optional<std::string> TomlFloats(const std::vector<double>& values) {
 std::optional<std::string> TomlBool(bool value) { return value ? "true" : "false"; }
 std::optional<std::string> TomlInteger(int value) { return std::to_string(value); }
 
+std::string ReadablePath(const KeyValue& value, const std::string& what) {
+  namespace fs = std::filesystem;
+  fs::path path(value.String());
+  if (path.empty()) {
+    value.Fail(value.name() + ": an empty path; name " + what, "", InputProblem::kUnreadable);
+  }
+  if (path.is_relative()) path = fs::path(value.source()).parent_path() / path;
+  path = fs::absolute(path).lexically_normal();
+  std::error_code ignored;
+  if (!fs::is_regular_file(path, ignored) || !std::ifstream(path).good()) {
+    value.Fail(value.name() + ": cannot open '" + path.string() + "'", "",
+               InputProblem::kUnreadable);
+  }
+  return path.string();
+}
+
 namespace {
 
 // Selectors and the values they choose between.
@@ -55,20 +72,7 @@ constexpr int kMaxLinks = 20;
 // The model, resolved against the scenario file's folder; it must be a
 // readable file.
 void ReadModel(const KeyValue& value, ScenarioConfig& config) {
-  namespace fs = std::filesystem;
-  fs::path path(value.String());
-  if (path.empty()) {
-    value.Fail(value.name() + ": an empty path; name a model file (MJCF)", "",
-               InputProblem::kUnreadable);
-  }
-  if (path.is_relative()) path = fs::path(value.source()).parent_path() / path;
-  path = fs::absolute(path).lexically_normal();
-  std::error_code ignored;
-  if (!fs::is_regular_file(path, ignored) || !std::ifstream(path).good()) {
-    value.Fail(value.name() + ": cannot open '" + path.string() + "'", "",
-               InputProblem::kUnreadable);
-  }
-  config.model.path = path.string();
+  config.model.path = ReadablePath(value, "a model file (MJCF)");
 }
 
 // 1 to kMaxLinks positive link lengths [mm].
@@ -337,7 +341,8 @@ std::vector<KeySpec> WaveformKeys() {
               [](const KeyValue& v, ScenarioConfig& c) { c.waveform.wavelength_mm = v.Number(); })
           .Writes([](const ScenarioConfig& c) { return TomlFloat(c.waveform.wavelength_mm); }),
       Key("waveform.start_ramp_cycles", T::kNumber, "", "[0, cycles]", "0.25",
-          "The references fade in by (1 - cos(pi t / T_r)) / 2 over T_r = this / f")
+          "The references (and a sine drive's voltages) fade in by (1 - cos(pi t / T_r)) / 2 over "
+          "T_r = this / f")
           .Default("0.25")
           .Refused("-1")
           .Reads(ReadStartRamp)
@@ -434,7 +439,7 @@ std::vector<KeySpec> MakeScenarioKeys() {
   static_assert(kMaxSegmentsPerLink == 64, "the allowed ranges state this limit");
   std::vector<KeySpec> keys;
   for (std::vector<KeySpec> (*part)() :
-       {ModelKeys, RunKeys, StripAndPlantKeys, ControllerKeys, WaveformKeys, FluidKeys,
+       {ModelKeys, RunKeys, StripAndPlantKeys, ControllerKeys, WaveformKeys, DriveKeys, FluidKeys,
         MetricsKeys, ElectricalKeys, OutputKeys}) {
     const std::vector<KeySpec> part_keys = part();
     keys.insert(keys.end(), part_keys.begin(), part_keys.end());

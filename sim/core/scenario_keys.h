@@ -32,6 +32,8 @@ constexpr char kTimestepKey[] = "timestep_s";
 constexpr char kSampleRateKey[] = "controller.sample_rate_Hz";
 constexpr char kControllerTable[] = "controller";
 constexpr char kWaveformTable[] = "waveform";
+constexpr char kDriveModeKey[] = "drive.mode";
+constexpr char kDriveCsvKey[] = "drive.csv";
 
 // A key's value in a scenario document, checked as it is taken: every
 // failure throws InputError naming the source, the line and the key.

@@ -19,12 +19,14 @@ constexpr int kRootBody = 1;
 
 }  // namespace
 
-SwimMeter::SwimMeter(const mjModel* m) {
+SwimMeter::SwimMeter(const mjModel* m, const mjData* d) {
   for (int q = 1;; ++q) {
-    const int id = mj_name2id(m, mjOBJ_SITE, ("tip" + std::to_string(q)).c_str());
-    if (id < 0) break;
-    tip_sites_.push_back(id);
+    LinkTip tip;
+    tip.site = mj_name2id(m, mjOBJ_SITE, ("tip" + std::to_string(q)).c_str());
+    if (tip.site < 0) break;
+    tips_.push_back(tip);
   }
+  if (tips_.empty() && d != nullptr) tips_ = LinkTips(m, d, "the swim meter's model");
 }
 
 BodyPose SwimMeter::Pose(const mjData* d) const {
@@ -36,9 +38,11 @@ BodyPose SwimMeter::Pose(const mjData* d) const {
   pose.head_y_mm = d->xpos[3 * kRootBody + 1] * kMToMm;
   const mjtNum* xmat = d->xmat + 9 * kRootBody;
   pose.yaw_rad = std::atan2(xmat[3], xmat[0]);
-  for (int site : tip_sites_) {
-    pose.tip_x_mm.push_back(d->site_xpos[3 * site] * kMToMm);
-    pose.tip_y_mm.push_back(d->site_xpos[3 * site + 1] * kMToMm);
+  for (const LinkTip& tip : tips_) {
+    double tip_m[3];
+    tip.Position_W(d, tip_m);
+    pose.tip_x_mm.push_back(tip_m[0] * kMToMm);
+    pose.tip_y_mm.push_back(tip_m[1] * kMToMm);
   }
   return pose;
 }
@@ -61,10 +65,12 @@ double SwimMetrics::LargestReynolds() const {
 }
 
 void SwimMeter::Observe(const mjModel* m, const mjData* d) {
-  if (tip_sites_.empty()) return;
-  const int site = tip_sites_.back();
+  if (tips_.empty()) return;
+  const LinkTip& tip = tips_.back();
+  double tip_m[3];
+  tip.Position_W(d, tip_m);
   mjtNum velocity_W[3];
-  PointVelocity_W(m, d, m->site_bodyid[site], d->site_xpos + 3 * site, velocity_W);
+  PointVelocity_W(m, d, tip.Body(m), tip_m, velocity_W);
   const double velocity_y_m_s = velocity_W[1];
   metrics_.peak_lateral_tip_speed_mm_s =
       std::max(metrics_.peak_lateral_tip_speed_mm_s, std::abs(velocity_y_m_s) * kMToMm);

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/core/link_sensors.h"
 #include "sim/core/step_resolution.h"
 
 namespace ipmc {
@@ -20,7 +21,7 @@ namespace ipmc {
 struct BodyPose {
   double t_s = 0.0;
   double com_x_mm = 0.0, com_y_mm = 0.0, head_x_mm = 0.0, head_y_mm = 0.0, yaw_rad = 0.0;
-  std::vector<double> tip_x_mm, tip_y_mm;  // sites tip1..tipN
+  std::vector<double> tip_x_mm, tip_y_mm;  // sites tip1..tipN, or the links' tips (LinkTips)
 };
 
 struct Displacement_mm {
@@ -78,7 +79,9 @@ void RequireFiniteMetrics(const SwimMetrics& swim, const std::string& what);
 
 class SwimMeter {
  public:
-  explicit SwimMeter(const mjModel* m);
+  // The tips are the sites tip1..tipN; a model without them, given an
+  // attached d, has its IPMC links' tips (LinkTips, sim/core/link_sensors.h).
+  explicit SwimMeter(const mjModel* m, const mjData* d = nullptr);
 
   BodyPose Pose(const mjData* d) const;
   // Marks the start of the run and of its first cycle.
@@ -102,7 +105,7 @@ class SwimMeter {
                      double wavelength_mm = 0.0, double frequency_Hz = 0.0) const;
 
  private:
-  std::vector<int> tip_sites_;
+  std::vector<LinkTip> tips_;
   BodyPose run_start_, cycle_start_;
   std::vector<BodyPose> cycle_starts_;  // of every cycle ended, the first first
   SwimMetrics metrics_;

@@ -280,6 +280,11 @@ void WaveformConfig::Validate() const {
   }
 }
 
+double StartRamp(double t_s, double ramp_s) {
+  if (t_s >= ramp_s) return 1.0;
+  return 0.5 * (1.0 - std::cos(kPi * t_s / ramp_s));
+}
+
 double WaveY_um(const WaveformConfig& wave, double x_mm, double t_s) {
   wave.Validate();
   RequireFinite("x_mm", x_mm);

@@ -44,6 +44,10 @@ struct WaveformScenario : WaveformConfig {
   double start_ramp_cycles = 0.25;
 };
 
+// The start ramp's fade-in: (1 - cos(pi t / T_r)) / 2 for t < T_r =
+// ramp_s, then 1.
+double StartRamp(double t_s, double ramp_s);
+
 // y(x, t) [um].
 double WaveY_um(const WaveformConfig& wave, double x_mm, double t_s);
 

@@ -30,7 +30,9 @@ namespace {
 class PythonSimulation {
  public:
   PythonSimulation(std::unique_ptr<Simulation> sim, std::optional<ScenarioConfig> scenario)
-      : sim_(std::move(sim)), scenario_(std::move(scenario)), meter_(sim_->model()) {
+      : sim_(std::move(sim)),
+        scenario_(std::move(scenario)),
+        meter_(sim_->model(), sim_->data()) {
     const CouplingContext* coupling = FindCoupling(sim_->data());
     if (coupling && coupling->actuators) {
       sensors_ = std::make_unique<LinkSensors>(sim_->model(), sim_->data(), sim_->source());
@@ -58,7 +60,7 @@ class PythonSimulation {
     std::lock_guard<std::mutex> lock(mutex_);
     mj_resetData(sim_->model(), sim_->data());
     mj_forward(sim_->model(), sim_->data());
-    meter_ = SwimMeter(sim_->model());
+    meter_ = SwimMeter(sim_->model(), sim_->data());
     meter_.Start(sim_->data());
     diverged_.clear();
   }

@@ -20,22 +20,23 @@ LinkGeometry ModelLinkGeometry(const Simulation& sim) {
   const mjData* d = sim.data();
   const std::string& source = sim.source();
   LinkGeometry geometry;
+  const CouplingContext* coupling = FindCoupling(d);
+  if (!coupling || !coupling->actuators) {
+    throw std::runtime_error(source + ": model has no IPMC actuators (custom text ipmc_links)");
+  }
+  // Each link's root hinge, then the last link's tip (LinkTips).
   std::vector<double> hinge_x_mm;
-  for (int q = 1;; ++q) {
-    const int joint = mj_name2id(m, mjOBJ_JOINT, ("j" + std::to_string(q)).c_str());
-    if (joint < 0) break;
-    hinge_x_mm.push_back(d->xanchor[3 * joint] * 1e3);
+  for (const LinkChain& chain : coupling->actuators->chains()) {
+    hinge_x_mm.push_back(d->xanchor[3 * chain.joints.front()] * 1e3);
   }
-  const int last_tip =
-      mj_name2id(m, mjOBJ_SITE, ("tip" + std::to_string(hinge_x_mm.size())).c_str());
-  if (hinge_x_mm.empty() || last_tip < 0) {
-    throw std::runtime_error(source + ": closed-loop runs need hinges j1..jN and sites tip1..tipN");
-  }
-  hinge_x_mm.push_back(d->site_xpos[3 * last_tip] * 1e3);
+  const std::vector<LinkTip> tips = LinkTips(m, d, source);
+  double tip_m[3];
+  tips.back().Position_W(d, tip_m);
+  hinge_x_mm.push_back(tip_m[0] * 1e3);
   for (size_t q = 0; q + 1 < hinge_x_mm.size(); ++q) {
     geometry.pitch_mm.push_back(hinge_x_mm[q + 1] - hinge_x_mm[q]);
   }
-  for (double length_m : FindCoupling(d)->actuators->LinkLengths_m()) {
+  for (double length_m : coupling->actuators->LinkLengths_m()) {
     geometry.length_mm.push_back(length_m * 1e3);
   }
   return geometry;
@@ -90,11 +91,6 @@ void RequireSamplesPerWaveCycle(const ScenarioConfig& scenario, double period_s,
       "%.6g Hz",
       scenario.source.c_str(), scenario.waveform.frequency_Hz, samples, 1.0 / sample_period_s,
       kMinSamplesPerWaveCycle, 1.0 / (kMinSamplesPerWaveCycle * sample_period_s)));
-}
-
-double StartRamp(double t_s, double ramp_s) {
-  if (t_s >= ramp_s) return 1.0;
-  return 0.5 * (1.0 - std::cos(kPi * t_s / ramp_s));
 }
 
 std::vector<double> LinkReferences_mm(const ScenarioConfig& scenario,
@@ -250,6 +246,13 @@ ClosedLoopResult StartResult(const ScenarioConfig& scenario, const mjModel* m,
   result.clamp_enabled =
       pid ? scenario.controller.pid.clamp_enabled : scenario.controller.fractional.clamp_enabled;
   result.v_max_V = pid ? scenario.controller.pid.v_max : scenario.controller.fractional.v_max;
+  if (scenario.drive.OpenLoop()) {
+    // The open-loop drive in the controller's place ("sine", "csv"), unclamped.
+    result.controller = ChoiceText(kDriveModeNames, scenario.drive.mode);
+    result.open_loop = true;
+    result.clamp_enabled = false;
+    result.v_max_V = 0.0;
+  }
   result.period_s = timing.period_s;
   result.timestep_s = timing.dt_s;
   result.links.resize(links);
@@ -293,14 +296,17 @@ ClosedLoopResult StepClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
   const LinkSensors sensors(m, d, sim.source());
   const int links = sensors.Links();
   const LinkGeometry geometry = ModelLinkGeometry(sim);
-  if (static_cast<int>(geometry.pitch_mm.size()) != links) {
-    throw std::runtime_error(sim.source() + ": ipmc_links must drive hinges j1..jN in order");
-  }
   const int driven = scenario.actuation == Actuation::kSingle ? 1 : links;
+  const bool open_loop = scenario.drive.OpenLoop();
   std::vector<LinkController> controllers;
   CheckLinkGains(scenario, links);
-  for (int q = 0; q < driven; ++q) controllers.emplace_back(scenario, q);
+  if (!open_loop) {
+    for (int q = 0; q < driven; ++q) controllers.emplace_back(scenario, q);
+  }
   const ClosedLoopTiming timing = PlanTiming(scenario, m, links);
+  const OpenLoopVoltages drive(scenario.drive, scenario.waveform.frequency_Hz,
+                               scenario.waveform.start_ramp_cycles * timing.period_s, links,
+                               scenario.source);
 
   const int from_cycle = MetricsFromCycle(scenario);
   ClosedLoopResult result = StartResult(scenario, m, timing, links);
@@ -308,7 +314,7 @@ ClosedLoopResult StepClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
                              timing.sample_period_s);
   std::vector<double> volts(links, 0.0), reference(links, 0.0), measured(links, 0.0);
   long samples = 0;
-  SwimMeter meter(m);
+  SwimMeter meter(m, d);
   meter.Start(m, d, scenario.waveform.frequency_Hz, scenario.controller.sample_rate_Hz);
   EnergyMeter energy(m, d);
   // Each link's active moment is read at its root hinge.
@@ -322,14 +328,23 @@ ClosedLoopResult StepClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
     for (long step = 0; step < timing.steps_per_cycle; ++step) {
       if (step % timing.steps_per_sample == 0) {
         const double t = d->time;
-        reference = references ? references(t) : LinkReferences_mm(scenario, geometry, t);
-        if (static_cast<int>(reference.size()) != links) {
-          throw std::invalid_argument(sim.source() + ": " + std::to_string(reference.size()) +
-                                      " references for " + std::to_string(links) + " links");
-        }
-        for (int q = 0; q < links; ++q) {
-          measured[q] = sensors.RelativeDeflection_mm(d, q);
-          volts[q] = q < driven ? controllers[q].Update(reference[q] - measured[q]) : 0.0;
+        if (open_loop) {
+          // No references: the link metrics measure the deflections themselves.
+          const std::vector<double> given = drive.At(t);
+          for (int q = 0; q < links; ++q) {
+            measured[q] = sensors.RelativeDeflection_mm(d, q);
+            volts[q] = q < driven ? given[q] : 0.0;
+          }
+        } else {
+          reference = references ? references(t) : LinkReferences_mm(scenario, geometry, t);
+          if (static_cast<int>(reference.size()) != links) {
+            throw std::invalid_argument(sim.source() + ": " + std::to_string(reference.size()) +
+                                        " references for " + std::to_string(links) + " links");
+          }
+          for (int q = 0; q < links; ++q) {
+            measured[q] = sensors.RelativeDeflection_mm(d, q);
+            volts[q] = q < driven ? controllers[q].Update(reference[q] - measured[q]) : 0.0;
+          }
         }
         if (measuring) tracking.AddSample(t, reference, measured, volts);
         SetVoltages(d, volts.data(), links);

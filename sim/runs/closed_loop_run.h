@@ -6,7 +6,10 @@
 // clamped voltage drives the link through ipmc::SetVoltages and is held
 // until the next sample. In single actuation only link 1 is driven (it
 // tracks its own reference); the other links get 0 V and are passive.
-// The references fade in over the scenario's start ramp.
+// The references fade in over the scenario's start ramp. In open loop
+// (drive.mode "sine" or "csv", sim/core/drive_keys.h) the drive's voltages
+// take the controllers' place at the same samples, the references are 0
+// and the links' IAE and ITAE measure the deflections themselves.
 //
 // Tracking indices per link, over the cycles from MetricsFromCycle (by
 // default the cycles after the start ramp; rectangle rule at the sample rate),
@@ -50,7 +53,10 @@ struct ClosedLoopSample {
 };
 
 struct ClosedLoopResult {
+  // The controller's kind ("pid", "fractional"), or in open loop the
+  // drive's mode ("sine", "csv"; sim/core/drive_keys.h).
   std::string controller;
+  bool open_loop = false;
   Actuation actuation = Actuation::kDistributed;
   bool clamp_enabled = false;  // the voltages clamped to +-v_max_V
   double v_max_V = 0.0;
@@ -121,10 +127,6 @@ void RequireSamplesPerWaveCycle(const ScenarioConfig& scenario, double period_s,
 // for the paper's quarter period), or the last cycle if no cycle does.
 int MetricsFromCycle(const ScenarioConfig& scenario);
 
-// The references' fade-in (sim/core/scenario.h): (1 - cos(pi t / T_r)) / 2
-// for t < T_r = ramp_s, then 1.
-double StartRamp(double t_s, double ramp_s);
-
 // A scenario made into a run: loads its model (LoadScenarioSimulation) and
 // steps it (StepClosedLoop). Throws std::runtime_error naming the file on
 // bad input or divergence.
@@ -145,9 +147,10 @@ ClosedLoopResult StepClosedLoop(Simulation& sim, const ScenarioConfig& scenario,
                                 const RunHeartbeat& heartbeat = {},
                                 const LinkReferenceSource& references = {});
 
-// The segment pitches of a model at rest (hinges j1..jN and the last tip)
-// and its IPMC links' lengths, which the references are projected on.
-// Throws std::runtime_error naming the model if it lacks them.
+// The segment pitches of a model at rest (each IPMC link's root hinge, and
+// the last link's tip: LinkTips, sim/core/link_sensors.h) and its links'
+// lengths, which the references are projected on. Throws
+// std::runtime_error naming the model if it has no IPMC links.
 LinkGeometry ModelLinkGeometry(const Simulation& sim);
 
 // Every link's reference at t [mm]: the discretised wave faded in by the

@@ -127,6 +127,17 @@ def test_run(short_scenario, tmp_path):
     assert_same_files(tmp_path / "cli", tmp_path / "python")
 
 
+def test_run_open_loop(tmp_path):
+    # The head-and-tail swimmer driven open loop (drive.mode = "sine"), one
+    # 2 s cycle: the same files from both front ends.
+    scenario = tmp_path / "open_loop.toml"
+    scenario.write_text(f'include = "{SCENARIOS / "head_and_tail_open_loop.toml"}"\n'
+                        "cycles = 1\n[waveform]\nfrequency_Hz = 0.5\n")
+    run_cli("run", scenario, "--out", tmp_path / "cli")
+    ipmc_swim.run(scenario, out=tmp_path / "python")
+    assert_same_files(tmp_path / "cli", tmp_path / "python")
+
+
 def test_sweep(short_scenario, tmp_path):
     sweep_file = tmp_path / "sweep.toml"
     sweep_file.write_text(f'base = "{short_scenario.name}"\n[set]\ncycles = 1\n'
