@@ -3,6 +3,8 @@ voltages the run applied at every controller sample gives the run's
 states: the library steps a model as the program does (tests/replay_test.cc
 does the same in C++, for a flexible strip and Stokes dynamics too)."""
 
+import re
+
 import numpy as np
 
 import ipmc_swim
@@ -84,3 +86,34 @@ def test_from_model_swims_an_open_loop_run(tmp_path):
     assert worst <= 1e-9 * largest
     np.testing.assert_allclose(along, result.cycles["com_along_mm"], rtol=1e-9, atol=0)
     assert along[1] > 0
+
+
+def unnamed_head_and_tail(path):
+    # models/head_and_tail.xml without the paper's naming: hinges h1..h4
+    # (ipmc_links and the ipmc_<joint> motors follow), no sites, no sensors.
+    xml = (SOURCE_DIR / "models" / "head_and_tail.xml").read_text()
+    xml = re.sub(r"<sensor>.*?</sensor>", "", xml, flags=re.S)
+    xml = re.sub(r'<site name="tip\d"[^>]*/>', "", xml)
+    xml = re.sub(r'"(ipmc_)?j(\d)"', r'"\1h\2"', xml)
+    xml = xml.replace('data="j1 j2 j3 j4"', 'data="h1 h2 h3 h4"')
+    assert '"tip1' not in xml and '"angle_' not in xml and '"j1"' not in xml
+    path.write_text(xml)
+    return path
+
+
+def test_python_runs_a_model_without_the_papers_names_as_the_named_one(tmp_path):
+    # As tests/open_loop_test.cc for the program: open loop, the links, tips
+    # and angles found from ipmc_links and the geometry swim bit for bit as
+    # the named model's sites and sensors give them; from_model attaches it.
+    model = unnamed_head_and_tail(tmp_path / "unnamed.xml")
+    scenario = str(SOURCE_DIR / "scenarios" / "head_and_tail_open_loop.toml")
+    settings = {"waveform.frequency_Hz": 0.5}
+    named = ipmc_swim.run(scenario, out=tmp_path / "named", cycles=2, **settings)
+    plain = ipmc_swim.run(scenario, out=tmp_path / "plain", cycles=2, model=str(model), **settings)
+    assert list(plain.cycles["com_along_mm"]) == list(named.cycles["com_along_mm"])
+    assert plain.cycles["com_along_mm"][1] > 0
+    sim = ipmc_swim.Simulation.from_model(model)
+    assert sim.links == 4
+    sim.set_voltages([1.0, -1.0, 1.0, -1.0])
+    sim.step(100)
+    assert np.max(np.abs(sim.qpos())) > 0
