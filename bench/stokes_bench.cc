@@ -28,11 +28,13 @@
 
 #include "bench/ratio_reporter.h"
 #include "sim/core/data_paths.h"
+#include "ipmc_swim/fields.h"
 #include "ipmc_swim/ipmc_swim.h"
 #include "sim/core/model_generator.h"
 #include "sim/core/scenario.h"
 #include "sim/core/simulation.h"
 #include "sim/base/numbers.h"
+#include "sim/io/mjcf_edit.h"
 #include "sim/runs/closed_loop_run.h"
 
 namespace ipmc {
@@ -100,9 +102,9 @@ void StepClamped(int segments_per_link, long steps) {
   spec.segments_per_link = segments_per_link;
   spec.timestep_s = 1e-3;
   spec.integrator = "Euler";
-  IpmcActuatorsOverrides overrides;
-  overrides.dynamics = Dynamics::kStokes;
-  Simulation sim(LoadModelString(GenerateFlagellumMjcf(spec)), "clamped flagellum", overrides);
+  const std::string xml =
+      SetMjcfCustomField(GenerateFlagellumMjcf(spec), "text", kAttrDynamics, "stokes");
+  Simulation sim(LoadModelString(xml), "clamped flagellum");
   std::vector<double> volts(3);
   for (long i = 0; i < steps; ++i) {
     for (int q = 0; q < 3; ++q) volts[q] = 3.0 * std::sin(kTwoPi * sim.data()->time - 0.785 * q);

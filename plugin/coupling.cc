@@ -639,6 +639,8 @@ FluidWrenches ComputeFluidWrenches(CouplingContext& context, const mjData* d) {
 
 }  // namespace
 
+bool IsAttached(const mjData* d) { return FindCoupling(d) != nullptr; }
+
 int LinkCount(const mjData* d) {
   const CouplingContext& context = RequireCoupling(d, "LinkCount");
   return context.actuators ? context.actuators->Links() : 0;
@@ -662,6 +664,132 @@ std::vector<double> LinkActiveMoments_N_m(const mjData* d, int link) {
   std::vector<double> moments_N_m;
   for (int motor : context.actuators->chains()[link].motors) moments_N_m.push_back(d->ctrl[motor]);
   return moments_N_m;
+}
+
+std::vector<double> LinkSegmentLengths_m(const mjData* d, int link) {
+  const CouplingContext& context = RequireCoupling(d, "LinkSegmentLengths_m");
+  RequireLink(context, link, "LinkSegmentLengths_m");
+  return context.actuators->chains()[link].segment_length_m;
+}
+
+double LinkLength_m(const mjData* d, int link) {
+  const CouplingContext& context = RequireCoupling(d, "LinkLength_m");
+  RequireLink(context, link, "LinkLength_m");
+  return context.actuators->chains()[link].length_m;
+}
+
+double LinkFreeDeflection_mm(const mjData* d, int link) {
+  const CouplingContext& context = RequireCoupling(d, "LinkFreeDeflection_mm");
+  RequireLink(context, link, "LinkFreeDeflection_mm");
+  return context.actuators->FreeTipDeflection_mm(link);
+}
+
+long ClampCount(const mjData* d) {
+  const CouplingContext& context = RequireCoupling(d, "ClampCount");
+  return context.actuators ? context.actuators->ClampCount() : 0;
+}
+
+namespace {
+OustaloupBand BandOf(const OustaloupConfig& config) {
+  OustaloupBand band;
+  band.order = config.order;
+  band.low_rad_s = config.w_low_rad_s;
+  band.high_rad_s = config.w_high_rad_s;
+  band.pairs = config.n;
+  band.two_n_plus_one = config.variant == OustaloupVariant::k2NPlus1;
+  return band;
+}
+}  // namespace
+
+LinkPlantParameters LinkPlantOf(const mjData* d, int link) {
+  const CouplingContext& context = RequireCoupling(d, "LinkPlantOf");
+  RequireLink(context, link, "LinkPlantOf");
+  const IpmcLinkParams& params = context.actuators->link_params()[link];
+  LinkPlantParameters plant;
+  plant.g2 = params.kind == IpmcModelKind::kG2;
+  plant.a0_mm_per_V = params.a0_mm_per_V;
+  plant.b1 = params.b1;
+  plant.b2_s2 = params.b2_s2;
+  plant.alpha = params.alpha;
+  plant.integrator = BandOf(params.integrator);
+  plant.fractional_lag = BandOf(params.fractional_lag);
+  return plant;
+}
+
+MomentHold LinkMomentHold(const mjData* d, int link) {
+  const CouplingContext& context = RequireCoupling(d, "LinkMomentHold");
+  RequireLink(context, link, "LinkMomentHold");
+  const IpmcActuators& actuators = *context.actuators;
+  MomentHold hold;
+  hold.first_order = actuators.FirstOrderHold() && context.dynamics == Dynamics::kInertial;
+  const std::vector<double>& start_N_m = actuators.StepStartMoments_N_m();
+  const std::vector<double>& end_N_m = actuators.StepEndMoments_N_m();
+  if (!hold.first_order || end_N_m.empty()) return hold;
+  for (int motor : actuators.chains()[link].motors) {
+    hold.start_N_m.push_back(start_N_m[motor]);
+    hold.end_N_m.push_back(end_N_m[motor]);
+  }
+  return hold;
+}
+
+bool StokesDynamics(const mjData* d) {
+  return RequireCoupling(d, "StokesDynamics").dynamics == Dynamics::kStokes;
+}
+
+std::vector<double> StepDamping(const mjModel* m, const mjData* d) {
+  const CouplingContext& context = RequireCoupling(d, "StepDamping");
+  if (!context.Serves(m)) {
+    throw std::invalid_argument("ipmc::StepDamping: d is attached with another mjModel than m");
+  }
+  const mjModel* step = context.step.model.get();
+  return std::vector<double>(step->dof_damping, step->dof_damping + step->nv);
+}
+
+double StepFluidPower_W(const mjModel* m, const mjData* d) {
+  const CouplingContext& context = RequireCoupling(d, "StepFluidPower_W");
+  if (context.stokes) return context.stokes->fluid_power_W();
+  return context.fluid ? context.fluid->DissipatedPower_W(m, d) : 0.0;
+}
+
+FluidFacts FluidOf(const mjData* d) {
+  const CouplingContext& context = RequireCoupling(d, "FluidOf");
+  FluidFacts facts;
+  if (!context.fluid) return facts;
+  const Fluid& fluid = *context.fluid;
+  facts.drag = true;
+  facts.viscosity_Pa_s = fluid.Viscosity_Pa_s();
+  facts.density_kg_m3 = fluid.FluidDensity_kg_m3();
+  facts.segment_length_m = fluid.SegmentLengths_m();
+  facts.strip_width_m = StripWidth_m(context.model);
+  facts.towing_drag_N_s_m = fluid.TowingDrag_N(1.0);
+  facts.rotational_drag_N_m_s = fluid.RotationalDragScale_N_m_s();
+  return facts;
+}
+
+std::vector<double> DragMatrix(const mjModel* m, const mjData* d) {
+  const CouplingContext& context = RequireCoupling(d, "DragMatrix");
+  if (!context.Serves(m)) {
+    throw std::invalid_argument("ipmc::DragMatrix: d is attached with another mjModel than m");
+  }
+  if (!context.fluid) return {};
+  const int nv = m->nv;
+  const std::unique_ptr<mjData, void (*)(mjData*)> copy(mj_makeData(m), mj_deleteData);
+  mjData* c = copy.get();
+  mj_copyData(c, m, d);
+  mju_zero(c->qvel, nv);
+  mj_fwdPosition(m, c);
+  // Column j: the drag of a unit velocity of dof j (the drag is linear in
+  // the velocities).
+  std::vector<double> drag(static_cast<size_t>(nv) * nv);
+  for (int j = 0; j < nv; ++j) {
+    mju_zero(c->qvel, nv);
+    c->qvel[j] = 1.0;
+    mj_comVel(m, c);
+    mju_zero(c->qfrc_passive, nv);
+    context.fluid->Apply(m, c);
+    for (int i = 0; i < nv; ++i) drag[static_cast<size_t>(i) * nv + j] = -c->qfrc_passive[i];
+  }
+  return drag;
 }
 
 std::vector<BodyFluidForce> FluidForces(const mjModel* m, const mjData* d) {

@@ -8,7 +8,10 @@
 # toolbox), which includes only sim/base. plugin/ and controllers/ include
 # these two and nothing else of sim/ (they are libraries of their own that
 # a program other than ipmc-swim may link); controllers/ includes nothing
-# of plugin/.
+# of plugin/. Outside plugin/ no file (the program, its benchmarks and
+# tests) includes a plugin header but the public ones (plugin/include,
+# included as ipmc_swim/...): what the program does to a model, a user's
+# program can do.
 set(layers
   sim/base
   sim/linear
@@ -20,6 +23,7 @@ set(layers
   plugin/dynamics
   plugin/actuators
   plugin
+  plugin/tests
   sim/core
   sim/runs
   sim/identify
@@ -34,14 +38,16 @@ set(allowed_sim/linear sim/base)
 set(allowed_sim/io sim/base)
 set(allowed_controllers sim/linear sim/base)
 set(allowed_plugin/include "")
-set(allowed_plugin/mjcf sim/base)
-set(allowed_plugin/fluid plugin/mjcf sim/base)
-set(allowed_plugin/dynamics plugin/fluid plugin/mjcf sim/base)
+set(allowed_plugin/mjcf plugin/include sim/base)
+set(allowed_plugin/fluid plugin/include plugin/mjcf sim/base)
+set(allowed_plugin/dynamics plugin/include plugin/fluid plugin/mjcf sim/base)
 set(allowed_plugin/actuators plugin/include plugin/mjcf sim/linear sim/base)
 set(allowed_plugin plugin/include plugin/mjcf plugin/fluid plugin/dynamics plugin/actuators
   sim/linear sim/base)
-set(below_sim sim/base sim/linear sim/io controllers plugin/include plugin/mjcf plugin/fluid
-  plugin/dynamics plugin/actuators plugin)
+# The plugin's unit tests of its internals.
+set(allowed_plugin/tests plugin/include plugin/mjcf plugin/fluid plugin/dynamics plugin/actuators
+  plugin sim/linear sim/base)
+set(below_sim sim/base sim/linear sim/io controllers plugin/include)
 set(allowed_sim/core ${below_sim})
 set(allowed_sim/runs sim/core ${below_sim})
 set(allowed_sim/identify sim/runs sim/core ${below_sim})
@@ -97,6 +103,18 @@ foreach(top plugin controllers sim renders)
       if(found EQUAL -1)
         list(APPEND violations "${source}: includes ${header} (layer ${to}), which ${from} must not depend on")
       endif()
+    endforeach()
+  endforeach()
+endforeach()
+
+# The benchmarks and tests: the public plugin headers only.
+foreach(top bench tests)
+  file(GLOB_RECURSE sources RELATIVE ${SOURCE_DIR} ${SOURCE_DIR}/${top}/*.h ${SOURCE_DIR}/${top}/*.cc)
+  foreach(source ${sources})
+    file(STRINGS ${SOURCE_DIR}/${source} lines REGEX "^#include \"plugin/")
+    foreach(line ${lines})
+      math(EXPR checked "${checked} + 1")
+      list(APPEND violations "${source}: ${line} (outside plugin/ only the public ipmc_swim/ headers)")
     endforeach()
   endforeach()
 endforeach()

@@ -14,7 +14,7 @@
 #include "controllers/closed_loop.h"
 #include "controllers/pid.h"
 #include "controllers/reference_model.h"
-#include "plugin/actuators/ipmc_link_model.h"
+#include "sim/linear/ipmc_link_model.h"
 #include "sim/base/numbers.h"
 #include "sim/linear/frequency_response.h"
 #include "tests/test_util.h"

@@ -1,6 +1,6 @@
 // IPMC links as chains of rigid sub-segments (plugin/actuators/ipmc_actuators.h,
 // sim/core/model_generator.h), the plant assignment and the scaling of a link's
-// plant with its length (plugin/actuators/ipmc_link_model.h).
+// plant with its length (sim/linear/ipmc_link_model.h).
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -14,7 +14,7 @@
 
 #include "plugin/coupling.h"
 #include "plugin/actuators/ipmc_actuators.h"
-#include "plugin/actuators/ipmc_link_model.h"
+#include "sim/linear/ipmc_link_model.h"
 #include "sim/runs/bench_run.h"
 #include "sim/runs/closed_loop_run.h"
 #include "sim/core/model_generator.h"

@@ -27,7 +27,7 @@
 #include <vector>
 
 #include "plugin/actuators/ipmc_actuators.h"
-#include "plugin/actuators/ipmc_link_model.h"
+#include "sim/linear/ipmc_link_model.h"
 #include "sim/base/numbers.h"
 #include "sim/cli/design_command.h"
 #include "sim/cli/identify_command.h"

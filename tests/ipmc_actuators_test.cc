@@ -12,7 +12,7 @@
 #include "ipmc_swim/ipmc_swim.h"
 #include "sim/runs/bench_run.h"
 #include "plugin/coupling.h"
-#include "plugin/actuators/ipmc_link_model.h"
+#include "sim/linear/ipmc_link_model.h"
 #include "tests/test_util.h"
 #include "sim/base/numbers.h"
 

@@ -1,7 +1,7 @@
-// IPMC link model (plugin/actuators/ipmc_link_model.h): paper parameters, Oustaloup
+// IPMC link model (sim/linear/ipmc_link_model.h): paper parameters, Oustaloup
 // realisation against the exact fractional response, and the G2 fit.
 #include "tests/test_util.h"
-#include "plugin/actuators/ipmc_link_model.h"
+#include "sim/linear/ipmc_link_model.h"
 #include "sim/base/numbers.h"
 
 #include <cmath>

@@ -21,7 +21,7 @@
 #include "ipmc_swim/ipmc_swim.h"
 #include "plugin/actuators/ipmc_actuator_bank.h"
 #include "plugin/actuators/ipmc_actuators.h"
-#include "plugin/actuators/ipmc_link_model.h"
+#include "sim/linear/ipmc_link_model.h"
 #include "sim/base/numbers.h"
 #include "sim/core/simulation.h"
 

@@ -1,7 +1,7 @@
 // The IPMC actuators of a flagellum: their stacked linear system and one
 // integrator for it.
 //
-// Each link q is a SISO state-space block (plugin/actuators/ipmc_link_model.h), voltage
+// Each link q is a SISO state-space block (sim/linear/ipmc_link_model.h), voltage
 // u_q [V] -> free tip deflection y_q [mm], stacked once into
 // (plugin/actuators/stacked_linear_system.h)
 //
@@ -31,7 +31,7 @@
 
 #include "sim/linear/state_space.h"
 #include "plugin/actuators/cvode_options.h"
-#include "plugin/actuators/ipmc_link_model.h"
+#include "sim/linear/ipmc_link_model.h"
 #include "plugin/actuators/linear_system_integrator.h"
 #include "plugin/actuators/stacked_linear_system.h"
 

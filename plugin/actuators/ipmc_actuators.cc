@@ -327,6 +327,16 @@ std::optional<IpmcActuatorsConfig> IpmcActuatorsConfig::FromModel(
   return config;
 }
 
+int ModelLinkCount(const mjModel* m) {
+  const std::optional<IpmcActuatorsConfig> config = IpmcActuatorsConfig::FromModel(m);
+  return config ? static_cast<int>(config->chains.size()) : 0;
+}
+
+Actuation ModelActuation(const mjModel* m) {
+  const std::optional<IpmcActuatorsConfig> config = IpmcActuatorsConfig::FromModel(m);
+  return config ? config->actuation : Actuation::kDistributed;
+}
+
 const std::vector<std::string>& IpmcActuatorFields() {
   static const std::vector<std::string> fields = {
       kAttrLinks, kAttrSegments, kAttrPlants, kAttrModel, kAttrActuation, kAttrBand,

@@ -28,7 +28,7 @@
 // is clamped to it (for n = 1, theta0 = +-pi/2); the first clamp of a
 // coupling is reported through mju_warning.
 // delta_free_q is the output of the link's model P_q(s) = s^-0.5 G_q(s)
-// (plugin/actuators/ipmc_link_model.h) driven by its voltage, advanced in
+// (sim/linear/ipmc_link_model.h) driven by its voltage, advanced in
 // mjcb_control (plugin/actuators/ipmc_actuator_bank.h) exactly under the
 // voltages' zero-order hold, or by CVODE.
 //
@@ -64,50 +64,18 @@
 #include <string>
 #include <vector>
 
+#include "ipmc_swim/fields.h"
 #include "ipmc_swim/ipmc_swim.h"
 #include "plugin/actuators/ipmc_actuator_bank.h"
-#include "plugin/actuators/ipmc_link_model.h"
-#include "plugin/mjcf/dynamics.h"
+#include "sim/linear/ipmc_link_model.h"
 
 namespace ipmc {
-
-enum class Actuation { kDistributed, kSingle };
-
-// The model's <custom> fields this file reads (IpmcActuatorsConfig::FromModel),
-// as the model generator (sim/core/model_generator.h) writes them.
-constexpr char kAttrLinks[] = "ipmc_links";
-constexpr char kAttrSegments[] = "ipmc_segments_per_link";
-constexpr char kAttrPlants[] = "ipmc_plants";
-constexpr char kAttrModel[] = "ipmc_model";
-constexpr char kAttrActuation[] = "ipmc_actuation";
-constexpr char kAttrBand[] = "ipmc_integrator_band_rad_s";
-constexpr char kAttrPairs[] = "ipmc_integrator_pairs";
-constexpr char kAttrRelTol[] = "ipmc_cvode_rel_tol";
-constexpr char kAttrIntegration[] = "ipmc_actuator_integration";
-// The largest |voltage| a link accepts [V]; kDefaultVoltageLimit_V if absent.
-constexpr char kAttrVoltageLimit[] = "ipmc_voltage_limit_V";
-// The per-link overrides of Table 2's parameters.
-constexpr char kAttrA0[] = "ipmc_a0_mm_per_V";
-constexpr char kAttrB1[] = "ipmc_b1";
-constexpr char kAttrB2[] = "ipmc_b2_s2";
-constexpr char kAttrAlpha[] = "ipmc_alpha";
-
-// The motor that applies the IPMC moment at hinge `joint`.
-inline std::string IpmcMotorName(const std::string& joint) { return "ipmc_" + joint; }
 
 inline CvodeOptions DefaultCvodeOptions() {
   CvodeOptions options;
   options.rel_tol = 1e-6;
   return options;
 }
-
-// The links' voltage range without ipmc_voltage_limit_V: +-100 V, the
-// bench's range, far beyond the few volts Table 2's strips were driven
-// with; a voltage outside it is a mistake, not an experiment.
-constexpr double kDefaultVoltageLimit_V = 100.0;
-
-// Largest ipmc_segments_per_link.
-constexpr int kMaxSegmentsPerLink = 64;
 
 // One IPMC link as a chain of hinges in the model.
 struct LinkChain {
@@ -154,7 +122,7 @@ class ChainShape {
 // Settings that a program may impose over the model's fields.
 struct IpmcActuatorsOverrides {
   std::optional<PlantAssignment> plants;
-  // Over the model's ipmc_dynamics (plugin/mjcf/dynamics.h); also
+  // Over the model's ipmc_dynamics (ipmc_swim/fields.h); also
   // applies to a model with drag and no actuators.
   std::optional<Dynamics> dynamics;
   // The joints' physical damping c per dof [N m s/rad] when the step

@@ -1,7 +1,7 @@
 // The IPMC links of a flagellum as one stacked linear system, fixed by the
 // model.
 //
-// Each link q is a SISO state-space block (plugin/actuators/ipmc_link_model.h), voltage
+// Each link q is a SISO state-space block (sim/linear/ipmc_link_model.h), voltage
 // u_q [V] -> free tip deflection y_q [mm]. The blocks are stacked into the
 // augmented Oustaloup state x = [x_1; ...; x_L] with block-diagonal A:
 //

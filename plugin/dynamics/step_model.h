@@ -40,7 +40,7 @@
 #include <memory>
 #include <vector>
 
-#include "plugin/mjcf/dynamics.h"
+#include "ipmc_swim/fields.h"
 
 namespace ipmc {
 

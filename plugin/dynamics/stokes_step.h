@@ -47,7 +47,7 @@
 #include <vector>
 
 #include "plugin/fluid/fluid_model.h"
-#include "plugin/mjcf/dynamics.h"
+#include "ipmc_swim/fields.h"
 
 namespace ipmc {
 

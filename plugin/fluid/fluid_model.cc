@@ -143,15 +143,36 @@ std::optional<double> FluidParameterValue(const mjModel* m, const RftDragOverrid
 
 const std::vector<FluidModelEntry>& FluidModels() {
   static const std::vector<FluidModelEntry> kModels = {
-      {"rft", "local resistive-force theory", {}, true, RftDrag::Make, nullptr},
-      {"stokeslets", StokesletFluid::kSummary, StokesletFluid::Parameters(), true,
+      {{"rft", "local resistive-force theory", {}, true}, RftDrag::Make, nullptr},
+      {{"stokeslets", StokesletFluid::kSummary, StokesletFluid::Parameters(), true},
        StokesletFluid::Make, StokesletFluid::ForcePoints},
-      {"ribbon", RibbonFluid::kSummary, RibbonFluid::Parameters(), false, RibbonFluid::Make,
+      {{"ribbon", RibbonFluid::kSummary, RibbonFluid::Parameters(), false}, RibbonFluid::Make,
        nullptr},
-      {"plates", PlateFluid::kSummary, PlateFluid::Parameters(), true, PlateFluid::Make,
+      {{"plates", PlateFluid::kSummary, PlateFluid::Parameters(), true}, PlateFluid::Make,
        PlateFluid::ForcePoints},
   };
   return kModels;
+}
+
+const std::vector<FluidModelDescription>& FluidModelDescriptions() {
+  static const std::vector<FluidModelDescription> kDescriptions(FluidModels().begin(),
+                                                                FluidModels().end());
+  return kDescriptions;
+}
+
+const FluidModelDescription* FindFluidModelDescription(const std::string& name) {
+  for (const FluidModelDescription& description : FluidModelDescriptions()) {
+    if (name == description.name) return &description;
+  }
+  return nullptr;
+}
+
+double FluidForcePoints(const mjModel* m) {
+  const std::optional<RftDragConfig> config = RftDragConfig::FromModel(m);
+  if (!config) return 0.0;
+  const FluidModelEntry& model = ChosenFluidModel(m, {});
+  if (model.force_points == nullptr) return 0.0;
+  return model.force_points(m, RftDrag(m, *config), {});
 }
 
 const FluidModelEntry* FindFluidModel(const std::string& name) {

@@ -48,6 +48,8 @@
 #include <string>
 #include <vector>
 
+#include "ipmc_swim/fields.h"
+
 namespace ipmc {
 
 class RftDrag;
@@ -114,29 +116,6 @@ class Fluid {
                                                  long* version) const;
 };
 
-// A model's setting, declared as MuJoCo's plugins declare their
-// attributes: the model reads it from its own <custom> numeric `field` (SI
-// units), a program's value overrides that (RftDragOverrides::
-// fluid_parameters, by field), and a scenario offers it as the key
-// fluid.<key> (sim/core/fluid_keys.h) in the key's unit.
-struct FluidParameter {
-  enum class Type { kInteger, kNumber, kBoolean };
-  const char* key;    // under [fluid]: "stokeslet_blob_mm"
-  const char* field;  // the <custom> numeric: "ipmc_fluid_stokeslet_blob_m"
-  Type type;
-  const char* unit;        // the key's: "mm", "1/mm", "rad", ""
-  double field_per_key;    // the field's value per unit of the key's (1e-3: mm to m)
-  double default_value;    // in the key's unit; NaN: the model derives it
-  const char* default_text;  // the default as documented; nullptr: default_value
-  double example;          // another allowed value, in the key's unit
-  // The range in the key's unit: above `minimum` (at least it when
-  // `minimum_included`) and at most `maximum` (inf: unbounded).
-  double minimum;
-  bool minimum_included;
-  double maximum;
-  const char* meaning;
-  bool resolution;  // sets how many force points the model has
-};
 // An integer in [minimum, maximum].
 FluidParameter IntegerParameter(const char* key, const char* field, int default_value,
                                 int minimum, int maximum, int example, const char* meaning);
@@ -149,9 +128,6 @@ FluidParameter BooleanParameter(const char* key, const char* field, bool default
                                 const char* meaning);
 // `parameter` marked as one that sets how many force points the model has.
 FluidParameter SetsResolution(FluidParameter parameter);
-// The allowed values as messages and the key table state them: "[1, 16]",
-// "> 0", ">= 0", "true or false".
-std::string FluidParameterRange(const FluidParameter& parameter);
 // The parameter's value in its field's SI unit: the program's override,
 // else the model's <custom> field, else the default (nullopt: the model
 // derives it). Throws std::invalid_argument naming the model, the field
@@ -167,11 +143,7 @@ std::optional<double> FluidParameterValue(const mjModel* m, const RftDragOverrid
 // a model with one dense mobility over force points their number, from
 // the settings alone (before it is built, so that a program can refuse a
 // resolution no machine factors; nullptr: none).
-struct FluidModelEntry {
-  const char* name;
-  const char* summary;
-  std::vector<FluidParameter> parameters;
-  bool wall;
+struct FluidModelEntry : FluidModelDescription {
   std::unique_ptr<Fluid> (*make)(const mjModel* m, const RftDrag& segments,
                                  const RftDragOverrides& overrides);
   double (*force_points)(const mjModel* m, const RftDrag& segments,
@@ -180,11 +152,7 @@ struct FluidModelEntry {
 const std::vector<FluidModelEntry>& FluidModels();
 // The entry called `name`, or nullptr.
 const FluidModelEntry* FindFluidModel(const std::string& name);
-// The models' names as the key table lists its choices: "rft|stokeslets|...".
-std::string FluidModelChoices();
 
-// The <custom> text naming the model's fluid model.
-constexpr char kAttrFluidModel[] = "ipmc_fluid_model";
 // It and every model's parameter fields (the coupling's known fields).
 std::vector<std::string> FluidModelFields();
 // The model the settings choose: the program's RftDragOverrides::

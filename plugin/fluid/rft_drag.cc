@@ -9,7 +9,7 @@
 #include "plugin/fluid/ribbon_coefficients.h"
 #include "plugin/mjcf/custom_fields.h"
 #include "plugin/mjcf/geom_axes.h"
-#include "plugin/mjcf/point_velocity.h"
+#include "ipmc_swim/point_velocity.h"
 #include "sim/base/numbers.h"
 #include "plugin/mjcf/spatial_algebra.h"
 
@@ -142,6 +142,14 @@ void RftDragConfig::Validate() const {
     return;
   }
   ValidateRadius(equivalent_radius_m, kAttrEquivalentRadius);
+}
+
+void CheckRftSegment(const std::string& coefficients, double radius_m, double wavelength_m) {
+  RftDragConfig config;
+  config.model = ParseCoefficientModel(coefficients);
+  config.equivalent_radius_m = radius_m;
+  config.wavelength_m = wavelength_m;
+  config.ValidateRadius(radius_m, kAttrEquivalentRadius);
 }
 
 void RftDragConfig::ValidateRadius(double radius_m, const std::string& what) const {

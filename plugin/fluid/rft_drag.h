@@ -71,24 +71,11 @@
 #include <string>
 #include <vector>
 
+#include "ipmc_swim/fields.h"
 #include "plugin/fluid/fluid_model.h"
 #include "plugin/fluid/geom_resistance.h"
 
 namespace ipmc {
-
-constexpr char kAttrViscosity[] = "ipmc_rft_viscosity_Pa_s";
-constexpr char kAttrCoefficients[] = "ipmc_rft_coefficients";
-constexpr char kAttrEquivalentRadius[] = "ipmc_rft_equivalent_radius_m";
-constexpr char kAttrWavelength[] = "ipmc_rft_wavelength_m";
-constexpr char kAttrXiNormal[] = "ipmc_rft_xi_normal_N_s_m2";
-constexpr char kAttrXiTangential[] = "ipmc_rft_xi_tangential_N_s_m2";
-constexpr char kAttrFluidDensity[] = "ipmc_rft_fluid_density_kg_m3";
-constexpr char kAttrGeoms[] = "ipmc_rft_geoms";
-constexpr char kAttrWallDistance[] = "ipmc_rft_wall_distance_m";
-// All of the above.
-inline const char* const kRftDragFields[] = {
-    kAttrViscosity, kAttrCoefficients, kAttrEquivalentRadius, kAttrWavelength,
-    kAttrXiNormal,  kAttrXiTangential, kAttrFluidDensity,     kAttrGeoms, kAttrWallDistance};
 
 struct DragCoefficients {
   double normal_N_s_m2 = 0.0;
@@ -104,24 +91,6 @@ DragCoefficients GrayHancockCoefficients(double viscosity_Pa_s, double radius_m,
                                          double wavelength_m);
 DragCoefficients LighthillCoefficients(double viscosity_Pa_s, double radius_m,
                                        double wavelength_m);
-
-// kRibbon: calibrated on the flat plates (ribbon_coefficients.h), one set
-// per segment: its share of the straight body's broadside and axial drag
-// per length, and its own rotational drag. kRibbonFitted: the same with the
-// broadside and rotational drags scaled by factors fitted to the plates'
-// swim and fluid power in the paper's default job (ribbon_coefficients.h).
-enum class CoefficientModel {
-  kGrayHancock,
-  kLighthill,
-  kNearWall,
-  kDirect,
-  kRibbon,
-  kRibbonFitted
-};
-// Throws std::invalid_argument naming the allowed set.
-CoefficientModel ParseCoefficientModel(const std::string& text);
-// The word ParseCoefficientModel reads ("gray_hancock", ...).
-const char* CoefficientModelName(CoefficientModel model);
 
 // Settings that a program may impose over the model's fields (a scenario:
 // the coefficient set, and the wavelength of the wave it drives, so that the
@@ -169,9 +138,6 @@ struct RftDragConfig {
   DragCoefficients CoefficientsForRadius(double radius_m) const;
 };
 
-// The strip's width w [m]: the model's ipmc_strip_width_m, else twice its
-// ipmc_rft_equivalent_radius_m (RftDragConfig's default if absent).
-double StripWidth_m(const mjModel* m);
 
 // A rigid slender segment in the world frame.
 struct Segment {

@@ -3,7 +3,7 @@
 //   ipmc-swim bode --controller pid|fractional|fractional-eq15|
 //                  fractional-oustaloup|none [--links 1,2,3] [--plant g1|g2] ...
 // For each link in --links, the open loop L = C x P_link with the exact fractional plant
-// P = s^-0.5 G (plugin/actuators/ipmc_link_model.h, LinkResponseExact). Prints the
+// P = s^-0.5 G (sim/linear/ipmc_link_model.h, LinkResponseExact). Prints the
 // gain crossover, phase margin and gain margin (or "no finite gain
 // margin") of L, searched over [1e-4, 1e5] rad/s (ComputeMargins'
 // defaults), and the controller's and the plant's gain and phase at the

@@ -9,7 +9,6 @@
 #include "controllers/pid.h"
 #include "sim/base/error.h"
 #include "sim/base/numbers.h"
-#include "plugin/coupling.h"
 #include "sim/core/data_paths.h"
 #include "sim/core/fan_out.h"
 #include "sim/core/simulation.h"

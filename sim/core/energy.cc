@@ -4,8 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "plugin/coupling.h"
-#include "plugin/dynamics/step_model.h"
+#include "ipmc_swim/ipmc_swim.h"
 
 namespace ipmc {
 namespace {
@@ -52,28 +51,26 @@ double ElectromechanicalEfficiency(const EnergyPowers& p) {
 
 }  // namespace
 
-EnergyMeter::EnergyMeter(const mjModel* m, const mjData* d) {
-  const CouplingContext* coupling = FindCoupling(d);
-  if (coupling && coupling->actuators) {
-    for (const LinkChain& chain : coupling->actuators->chains()) {
-      std::vector<int> dofs;
-      for (int joint : chain.joints) dofs.push_back(m->jnt_dofadr[joint]);
-      link_dofs_.push_back(dofs);
-    }
+EnergyMeter::EnergyMeter(const mjModel* m, const mjData* d) : attached_(IsAttached(d)) {
+  for (int q = 0; attached_ && q < LinkCount(d); ++q) {
+    std::vector<int> dofs;
+    for (int joint : LinkJoints(d, q)) dofs.push_back(m->jnt_dofadr[joint]);
+    link_dofs_.push_back(dofs);
   }
-  if (coupling && coupling->actuators) actuators_ = &*coupling->actuators;
-  if (coupling && coupling->fluid) {
-    fluid_ = coupling->fluid.get();
-    towing_drag_N_per_m_s_ = fluid_->TowingDrag_N(1.0);
+  if (attached_) {
+    const FluidFacts fluid = FluidOf(d);
+    drag_ = fluid.drag;
+    towing_drag_N_per_m_s_ = fluid.towing_drag_N_s_m;
   }
-  inertial_ = !coupling || coupling->dynamics == Dynamics::kInertial;
-  if (!inertial_) stokes_ = coupling->stokes.get();
-  implicit_damping_ = inertial_ && StepDampsImplicitly(m);
-  first_order_hold_ = implicit_damping_ && actuators_ && actuators_->FirstOrderHold();
+  inertial_ = !attached_ || !StokesDynamics(d);
+  // MuJoCo's Euler and implicit steps take the damping implicitly.
+  implicit_damping_ =
+      inertial_ && (m->opt.integrator == mjINT_EULER || m->opt.integrator == mjINT_IMPLICIT);
+  first_order_hold_ = implicit_damping_ && !link_dofs_.empty() && LinkMomentHold(d, 0).first_order;
   // The damping the step takes (c_eff where the coupling gave it).
-  const mjModel* step = coupling ? coupling->step.model.get() : m;
-  step_damping_.assign(step->dof_damping, step->dof_damping + m->nv);
-  if (first_order_hold_) physical_damping_ = actuators_->PhysicalDamping();
+  step_damping_ = attached_ ? StepDamping(m, d)
+                            : std::vector<double>(m->dof_damping, m->dof_damping + m->nv);
+  if (first_order_hold_) physical_damping_.assign(m->dof_damping, m->dof_damping + m->nv);
   step_start_velocity_.assign(d->qvel, d->qvel + m->nv);
   actuator_J_.assign(link_dofs_.size(), 0.0);
   scratch_.assign(m->nv, 0.0);
@@ -125,17 +122,15 @@ double EnergyMeter::KineticStepError_J(const mjModel* m, const mjData* d) {
 
 double EnergyMeter::FirstOrderHoldStep(const mjModel* m, const mjData* d) {
   const double h = m->opt.timestep;
-  const std::vector<double>& start_N_m = actuators_->StepStartMoments_N_m();
-  const std::vector<double>& end_N_m = actuators_->StepEndMoments_N_m();
   // The held moment's excess over the trapezoid, (w - 1/2) (f_(n+1) - f_n),
   // times the joint rate [W].
   double held_excess_W = 0.0;
   for (size_t q = 0; q < link_dofs_.size(); ++q) {
-    const std::vector<int>& motors = actuators_->chains()[q].motors;
+    const MomentHold hold = LinkMomentHold(d, static_cast<int>(q));
     double power_W = 0.0;
-    for (size_t i = 0; i < link_dofs_[q].size() && !end_N_m.empty(); ++i) {
-      const int dof = link_dofs_[q][i], motor = motors[i];
-      const double mean_N_m = 0.5 * (start_N_m[motor] + end_N_m[motor]);
+    for (size_t i = 0; i < link_dofs_[q].size() && !hold.end_N_m.empty(); ++i) {
+      const int dof = link_dofs_[q][i];
+      const double mean_N_m = 0.5 * (hold.start_N_m[i] + hold.end_N_m[i]);
       power_W += mean_N_m * d->qvel[dof];
       held_excess_W += (d->qfrc_actuator[dof] - mean_N_m) * d->qvel[dof];
     }
@@ -207,15 +202,11 @@ void EnergyMeter::Observe(const mjModel* m, const mjData* d) {
 
 void EnergyMeter::ObserveFluidAndElectrical(const mjModel* m, const mjData* d) {
   const double h = m->opt.timestep;
-  if (stokes_) {
-    fluid_J_ += h * stokes_->fluid_power_W();
-  } else if (fluid_) {
-    fluid_J_ += h * fluid_->DissipatedPower_W(m, d);
-  }
+  if (drag_) fluid_J_ += h * StepFluidPower_W(m, d);
   elastic_J_s_ += h * ElasticEnergy_J(m, d);
   // The voltage set before the step was held over it.
-  for (size_t q = 0; q < impedances_.size() && actuators_; ++q) {
-    electrical_J_[q] += impedances_[q].Hold(actuators_->Voltages_V()[q], h).input_J;
+  for (size_t q = 0; q < impedances_.size(); ++q) {
+    electrical_J_[q] += impedances_[q].Hold(LinkVoltage_V(d, static_cast<int>(q)), h).input_J;
   }
   time_s_ += h;
 }

@@ -12,12 +12,12 @@
 //                   actuators' work the k dtheta0^2 / 2 per step that a
 //                   jump of the rest angle dissipates
 //   fluid           P_f = -sum over the drag segments of (F . v_c + T_c . w)
-//                   (Fluid::DissipatedPower_W: the fluid model itself)
+//                   (ipmc::StepFluidPower_W: the fluid model itself)
 //   hinge damping   P_c = sum over the dofs of c qdot^2 (the joints'
 //                   `damping`, not the paper's plant: docs/ENERGY.md); in
 //                   the inertial mode (MuJoCo's Euler or implicit step,
 //                   spring at the step's start, damping c_eff at its end,
-//                   plugin/dynamics/step_model.h) (c_eff - k h / 2) qdot^2 per
+//                   ipmc::StepDamping) (c_eff - k h / 2) qdot^2 per
 //                   joint, what the step dissipates: the explicit spring
 //                   puts in k dq^2 / 2 per step
 //   time stepping   what the step leaves of the balance. Inertial: the
@@ -30,7 +30,7 @@
 //                   which vanishes for rest angles that change smoothly
 //                   (docs/ENERGY.md gives its size).
 //   inertial, flexible links (the IPMC actuators' first-order hold,
-//                   IpmcActuators::Update: the step applies
+//                   ipmc::LinkMomentHold: the step applies
 //                   f = f_n + w (f_(n+1) - f_n)): the moments' trapezoid
 //                   (f_n + f_(n+1)) / 2 . qdot as the active moments,
 //                   the physical c qdot^2 as the damping, and as stepping
@@ -51,7 +51,7 @@
 //   Lighthill's efficiency  eta = D_tow(U) U / P_f, D_tow the drag of the
 //                           straightened body towed along its axis at the
 //                           mean speed U, from the same drag model
-//                           (Fluid::TowingDrag_N; Lighthill 1975,
+//                           (ipmc::FluidFacts::towing_drag_N_s_m; Lighthill 1975,
 //                           "Mathematical Biofluiddynamics", ch. 3)
 //   cost of transport       P_actuators / |U| [J/m], the actuators' work
 //                           per distance swum
@@ -66,14 +66,10 @@
 
 #include <vector>
 
-#include "plugin/fluid/fluid_model.h"
-#include "plugin/dynamics/stokes_step.h"
 #include "sim/core/electrical.h"
 #include "sim/core/swim_meter.h"
 
 namespace ipmc {
-
-class IpmcActuators;
 
 // Mean powers over one cycle or over several [W].
 struct EnergyPowers {
@@ -143,16 +139,15 @@ class EnergyMeter {
   // Observe's fluid, elastic and electrical shares and the time.
   void ObserveFluidAndElectrical(const mjModel* m, const mjData* d);
 
+  bool attached_ = false;  // d has the coupling
+  bool drag_ = false;      // and a fluid
   std::vector<std::vector<int>> link_dofs_;
-  const Fluid* fluid_ = nullptr;  // the run's fluid model
-  // Stokes dynamics: the stepper, which gives its step's own fluid power.
-  const StokesStepper* stokes_ = nullptr;
   bool inertial_ = true;
   // Inertial with MuJoCo's Euler or implicit integrator: the damping the
-  // step dissipates is c_eff - k h / 2 (plugin/dynamics/step_model.h).
+  // step dissipates is c_eff - k h / 2 (ipmc::StepDamping).
   bool implicit_damping_ = true;
   // Inertial with the IPMC actuators' first-order hold (flexible links,
-  // IpmcActuators::Update): the physical c per dof.
+  // ipmc::LinkMomentHold): the physical c per dof.
   bool first_order_hold_ = false;
   std::vector<double> physical_damping_;
   std::vector<double> step_damping_;  // per dof, as the step takes it [N m s/rad]
@@ -169,7 +164,6 @@ class EnergyMeter {
   std::vector<double> step_start_moment_N_m_;
   // The electrical model: per link its network and the running cycle's
   // electrical energy [J]; empty when off.
-  const IpmcActuators* actuators_ = nullptr;
   std::vector<IpmcImpedance> impedances_;
   std::vector<double> electrical_J_;
 };

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <string>
 
-#include "plugin/fluid/fluid_model.h"
+#include "ipmc_swim/fields.h"
 #include "sim/core/key_builder.h"
 #include "sim/core/scenario.h"
 
@@ -16,7 +16,7 @@ KeySpec ModelKey() {
       "The fluid model (plugin/fluid/fluid_model.h, docs/FLUIDS.md), over the model's "
       "`ipmc_fluid_model`:";
   std::vector<std::string> choices;
-  for (const FluidModelEntry& entry : FluidModels()) {
+  for (const FluidModelDescription& entry : FluidModelDescriptions()) {
     meaning += std::string(choices.empty() ? " " : "; ") + "\"" + entry.name + "\", " +
                entry.summary;
     choices.push_back(entry.name);
@@ -109,7 +109,7 @@ std::string ParameterToml(const FluidParameter& p, double value) {
 
 // The key fluid.<key> of one model's parameter: its range, default and
 // meaning from the parameter, applying only under fluid.model = the model.
-KeySpec ParameterKey(const FluidModelEntry& model, const FluidParameter& p) {
+KeySpec ParameterKey(const FluidModelDescription& model, const FluidParameter& p) {
   const KeyType type = p.type == FluidParameter::Type::kInteger   ? KeyType::kInteger
                        : p.type == FluidParameter::Type::kBoolean ? KeyType::kBoolean
                                                                    : KeyType::kNumber;
@@ -145,7 +145,7 @@ KeySpec ParameterKey(const FluidModelEntry& model, const FluidParameter& p) {
 
 std::vector<KeySpec> FluidKeys() {
   std::vector<KeySpec> keys = RftKeys();
-  for (const FluidModelEntry& model : FluidModels()) {
+  for (const FluidModelDescription& model : FluidModelDescriptions()) {
     for (const FluidParameter& parameter : model.parameters) {
       keys.push_back(ParameterKey(model, parameter));
     }

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "plugin/fluid/rft_drag.h"
+#include "ipmc_swim/fields.h"
 #include "sim/core/scenario_keys.h"
 
 namespace ipmc {
@@ -23,7 +23,7 @@ constexpr char kFluidModelKey[] = "fluid.model";
 // for a free-space model) are refused where the fluid is built
 // (ScenarioFluidOverrides, sim/core/scenario_simulation.h).
 struct FluidScenario {
-  // The fluid model (FluidModels(), plugin/fluid/fluid_model.h) over the
+  // The fluid model (FluidModelDescriptions(), ipmc_swim/fields.h) over the
   // model file's ipmc_fluid_model.
   std::optional<std::string> model;
   std::optional<double> viscosity_Pa_s;  // over the model's

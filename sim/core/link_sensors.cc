@@ -4,7 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "plugin/coupling.h"
+#include "ipmc_swim/ipmc_swim.h"
 
 namespace ipmc {
 namespace {
@@ -70,14 +70,12 @@ void LinkTip::Position_W(const mjData* d, double position_m[3]) const {
 
 std::vector<LinkTip> LinkTips(const mjModel* m, const mjData* d, const std::string& source) {
   std::vector<LinkTip> tips;
-  const CouplingContext* coupling = FindCoupling(d);
-  if (!coupling || !coupling->actuators) return tips;
-  const std::vector<LinkChain>& chains = coupling->actuators->chains();
-  for (size_t q = 0; q < chains.size(); ++q) {
+  if (!IsAttached(d)) return tips;
+  for (int q = 0; q < LinkCount(d); ++q) {
     LinkTip tip;
     tip.site = mj_name2id(m, mjOBJ_SITE, ("tip" + std::to_string(q + 1)).c_str());
     if (tip.site < 0) {
-      const int hinge = chains[q].joints.back();
+      const int hinge = LinkJoints(d, q).back();
       const int body = m->jnt_bodyid[hinge];
       for (int g = 0; g < m->ngeom && tip.geom < 0; ++g) {
         if (m->geom_bodyid[g] == body && FarEnd(m, d, g, d->xanchor + 3 * hinge, tip.local_m)) {
@@ -97,27 +95,24 @@ std::vector<LinkTip> LinkTips(const mjModel* m, const mjData* d, const std::stri
 }
 
 LinkSensors::LinkSensors(const mjModel* m, const mjData* d, const std::string& source) {
-  const CouplingContext* coupling = FindCoupling(d);
-  if (!coupling || !coupling->actuators) {
+  if (!IsAttached(d) || LinkCount(d) == 0) {
     throw std::runtime_error(source + ": model has no IPMC actuators (custom text ipmc_links)");
   }
-  const IpmcActuators& actuators = *coupling->actuators;
   tips_ = LinkTips(m, d, source);
-  for (int q = 0; q < actuators.Links(); ++q) {
-    const LinkChain& chain = actuators.chains()[q];
+  for (int q = 0; q < LinkCount(d); ++q) {
+    const std::vector<int> joints = LinkJoints(d, q);
+    const std::vector<double> segment_length_m = LinkSegmentLengths_m(d, q);
     LinkAngles link;
-    for (size_t i = 0; i < chain.joints.size(); ++i) {
-      const std::string joint = m->names + m->name_jntadr[chain.joints[i]];
+    for (size_t i = 0; i < joints.size(); ++i) {
+      const std::string joint = m->names + m->name_jntadr[joints[i]];
       link.angle_adr.push_back(SensorAddress(m, "angle_" + joint));
-      link.segment_length_mm.push_back(chain.segment_length_m[i] * 1e3);
+      link.segment_length_mm.push_back(segment_length_m[i] * 1e3);
     }
     // Every hinge's sensor, or none of them: the angles from qpos.
     link.from_qpos = std::find(link.angle_adr.begin(), link.angle_adr.end(), -1) !=
                      link.angle_adr.end();
     if (link.from_qpos) {
-      for (size_t i = 0; i < chain.joints.size(); ++i) {
-        link.angle_adr[i] = m->jnt_qposadr[chain.joints[i]];
-      }
+      for (size_t i = 0; i < joints.size(); ++i) link.angle_adr[i] = m->jnt_qposadr[joints[i]];
     }
     links_.push_back(std::move(link));
     const int tip_adr = SensorAddress(m, "tip" + std::to_string(q + 1) + "_pos");

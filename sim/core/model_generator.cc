@@ -8,11 +8,10 @@
 #include <stdexcept>
 #include <utility>
 
-#include "plugin/actuators/ipmc_actuators.h"
+#include "ipmc_swim/fields.h"
+#include "sim/linear/ipmc_link_model.h"
 #include "sim/base/error.h"
 #include "sim/base/numbers.h"
-#include "plugin/fluid/rft_drag.h"
-#include "plugin/mjcf/custom_fields.h"
 
 namespace ipmc {
 namespace {
@@ -208,20 +207,14 @@ void FlagellumSpec::Validate() const {
   // The drag the loader makes of the written fields must accept them: the
   // wavelength must be long against the equivalent radius.
   if (coefficients != "direct") {
-    RftDragConfig drag;
-    drag.viscosity_Pa_s = viscosity_Pa_s;
-    drag.model = coefficients == "lighthill" ? CoefficientModel::kLighthill
-                                             : CoefficientModel::kGrayHancock;
-    drag.equivalent_radius_m = EquivalentRadius_m(*this);
-    drag.wavelength_m = wavelength_mm * kMmToM;
-    drag.fluid_density_kg_m3 = fluid_density_kg_m3;
+    const double radius_m = EquivalentRadius_m(*this);
     try {
-      drag.Validate();
+      CheckRftSegment(coefficients == "lighthill" ? "lighthill" : "gray_hancock", radius_m,
+                      wavelength_mm * kMmToM);
     } catch (const std::invalid_argument& error) {
       throw FieldError("flagellum spec: wavelength_mm = " + FormatShortest(wavelength_mm) +
                            " is too short for the equivalent radius " +
-                           FormatShortest(drag.equivalent_radius_m / kMmToM) + " mm (" +
-                           error.what() + ")",
+                           FormatShortest(radius_m / kMmToM) + " mm (" + error.what() + ")",
                        "wavelength_mm", "long against the equivalent radius");
     }
   }

@@ -20,8 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "plugin/actuators/ipmc_actuators.h"
-#include "plugin/fluid/rft_drag.h"
+#include "ipmc_swim/fields.h"
 #include "sim/core/choice_table.h"
 #include "sim/core/controller_keys.h"
 #include "sim/core/drive_keys.h"

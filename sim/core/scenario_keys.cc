@@ -13,7 +13,7 @@
 #include <string>
 
 #include "controllers/controller_names.h"
-#include "plugin/actuators/ipmc_actuators.h"
+#include "ipmc_swim/fields.h"
 #include "sim/base/numbers.h"
 #include "sim/core/controller_keys.h"
 #include "sim/core/drive_keys.h"

@@ -8,9 +8,7 @@
 #include <stdexcept>
 
 #include "ipmc_swim/ipmc_swim.h"
-#include "plugin/coupling.h"
-#include "plugin/fluid/fluid_model.h"
-#include "plugin/mjcf/custom_fields.h"
+#include "ipmc_swim/fields.h"
 #include "sim/base/numbers.h"
 #include "sim/core/model_generator.h"
 #include "sim/core/sha256.h"
@@ -36,7 +34,7 @@ std::string NoDragMessage(const std::string& model, const std::string& scenario_
 // gives ("model.xml: ipmc_fluid_plate_points_across 16"), else the key or
 // field that chose the model.
 std::string ResolutionSource(const ScenarioConfig& scenario, const mjModel* m,
-                             const std::string& model_source, const FluidModelEntry& model) {
+                             const std::string& model_source, const FluidModelDescription& model) {
   std::string keys, fields;
   for (const FluidParameter& parameter : model.parameters) {
     if (!parameter.resolution) continue;
@@ -60,18 +58,17 @@ std::string ResolutionSource(const ScenarioConfig& scenario, const mjModel* m,
 // reasonable time (CheckStokesletSize), before any step. Bad settings are
 // left to the simulation, which names the model.
 void CheckFluidResolution(const ScenarioConfig& scenario, const mjModel* m,
-                          const std::string& model_source, const RftDragOverrides& overrides) {
+                          const std::string& model_source) {
   double points = 0.0;
-  const FluidModelEntry* model = nullptr;
+  const FluidModelDescription* model = nullptr;
   try {
-    const std::optional<RftDragConfig> config = RftDragConfig::FromModel(m, overrides);
-    if (!config) return;
-    model = &ChosenFluidModel(m, overrides);
-    if (model->force_points == nullptr) return;
-    points = model->force_points(m, RftDrag(m, *config), overrides);
+    points = FluidForcePoints(m);
+    if (points == 0.0) return;
+    model = FindFluidModelDescription(FindCustomText(m, kAttrFluidModel).value_or("rft"));
   } catch (const std::exception&) {
     return;
   }
+  if (model == nullptr) return;
   CheckStokesletSize(points, scenario.run.allow_long,
                      ResolutionSource(scenario, m, model_source, *model));
 }
@@ -93,10 +90,10 @@ namespace {
 // The scenario's fluid settings written into the model's fields (m: the
 // model before them, xml its text).
 std::string WithFluidFields(std::string xml, const ScenarioConfig& scenario, const mjModel* m) {
-  const RftDragOverrides fluid = ScenarioFluidOverrides(scenario, m);
-  if (fluid.model) {
-    xml = SetMjcfCustomField(xml, "text", kAttrCoefficients, CoefficientModelName(*fluid.model));
-    if (*fluid.model != CoefficientModel::kDirect) {
+  const ScenarioFluidFields fluid = ScenarioFluidOverrides(scenario, m);
+  if (fluid.coefficients) {
+    xml = SetMjcfCustomField(xml, "text", kAttrCoefficients, CoefficientModelName(*fluid.coefficients));
+    if (*fluid.coefficients != CoefficientModel::kDirect) {
       // Only a direct coefficient set may keep its coefficients.
       xml = RemoveMjcfCustomField(xml, kAttrXiNormal);
       xml = RemoveMjcfCustomField(xml, kAttrXiTangential);
@@ -112,7 +109,7 @@ std::string WithFluidFields(std::string xml, const ScenarioConfig& scenario, con
                              CoefficientModelName(CoefficientModel::kNearWall));
   }
   if (fluid.fluid_model) xml = SetMjcfCustomField(xml, "text", kAttrFluidModel, *fluid.fluid_model);
-  for (const auto& [field, value] : fluid.fluid_parameters) {
+  for (const auto& [field, value] : fluid.parameters) {
     xml = SetMjcfCustomField(xml, "numeric", field, FormatShortest(value));
   }
   return xml;
@@ -183,10 +180,9 @@ std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenari
   std::string source;
   ModelPtr model = LoadScenarioModel(scenario, &source);
   // Before the simulation's first evaluation factors a dense mobility.
-  CheckFluidResolution(scenario, model.get(), source, {});
+  CheckFluidResolution(scenario, model.get(), source);
   auto sim = std::make_unique<Simulation>(std::move(model), source);
-  const CouplingContext* coupling = FindCoupling(sim->data());
-  if (!(coupling && coupling->drag)) {
+  if (!(IsAttached(sim->data()) && FluidOf(sim->data()).drag)) {
     // Only the keys the scenario sets.
     std::string keys;
     const auto name = [&keys](bool set, const char* key) {
@@ -203,30 +199,27 @@ std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenari
   return sim;
 }
 
-RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mjModel* m) {
+ScenarioFluidFields ScenarioFluidOverrides(const ScenarioConfig& scenario, const mjModel* m) {
   constexpr double kMmToM = 1e-3;
-  RftDragOverrides fluid;
+  ScenarioFluidFields fluid;
   if (scenario.fluid.rft_coefficients && scenario.fluid.wall_gap_mm) {
     throw std::runtime_error(scenario.source +
                              ": fluid.rft_coefficients and fluid.wall_gap_mm exclude each other "
                              "(near a wall RFT takes the near-wall coefficients)");
   }
-  fluid.model = scenario.fluid.rft_coefficients;
+  fluid.coefficients = scenario.fluid.rft_coefficients;
   fluid.wavelength_m =
       scenario.fluid.rft_wavelength_mm.value_or(scenario.waveform.wavelength_mm) * kMmToM;
   if (scenario.fluid.wall_gap_mm) {
     fluid.wall_distance_m = *scenario.fluid.wall_gap_mm * kMmToM + 0.5 * StripWidth_m(m);
   }
   fluid.fluid_model = scenario.fluid.model;
-  const FluidModelEntry* model = nullptr;
-  try {
-    model = &ChosenFluidModel(m, fluid);
-  } catch (const std::invalid_argument&) {
-    return fluid;  // the model file's error, which the simulation reports naming it
-  }
+  const FluidModelDescription* model = FindFluidModelDescription(
+      fluid.fluid_model.value_or(FindCustomText(m, kAttrFluidModel).value_or("rft")));
+  if (model == nullptr) return fluid;  // the error the simulation reports, naming the field
   if (scenario.fluid.wall_gap_mm && !model->wall) {
     std::vector<std::string> walled;
-    for (const FluidModelEntry& entry : FluidModels()) {
+    for (const FluidModelDescription& entry : FluidModelDescriptions()) {
       if (entry.wall) walled.push_back(entry.name);
     }
     throw std::runtime_error(scenario.source + ": fluid.wall_gap_mm needs fluid.model " +
@@ -236,7 +229,7 @@ RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mj
   for (const FluidParameter& parameter : model->parameters) {
     const auto given = scenario.fluid.parameters.find(parameter.key);
     if (given == scenario.fluid.parameters.end()) continue;
-    fluid.fluid_parameters[parameter.field] = given->second * parameter.field_per_key;
+    fluid.parameters[parameter.field] = given->second * parameter.field_per_key;
   }
   return fluid;
 }
@@ -245,25 +238,54 @@ RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mj
 int ScenarioLinkCount(const ScenarioConfig& scenario) {
   std::string source;
   const ModelPtr model = LoadScenarioModel(scenario, &source);
-  std::optional<IpmcActuatorsConfig> actuators;
+  int links = 0;
   try {
-    actuators = IpmcActuatorsConfig::FromModel(model.get());
+    links = ModelLinkCount(model.get());
   } catch (const std::invalid_argument& e) {
     throw std::runtime_error(source + ": " + e.what());
   }
-  if (!actuators) {
+  if (links == 0) {
     throw std::runtime_error(source + ": model has no IPMC actuators (custom text ipmc_links)");
   }
-  return static_cast<int>(actuators->chains.size());
+  return links;
+}
+
+namespace {
+OustaloupConfig OustaloupOf(const OustaloupBand& band) {
+  OustaloupConfig config;
+  config.order = band.order;
+  config.w_low_rad_s = band.low_rad_s;
+  config.w_high_rad_s = band.high_rad_s;
+  config.n = band.pairs;
+  config.variant = band.two_n_plus_one ? OustaloupVariant::k2NPlus1 : OustaloupVariant::kNPairs;
+  return config;
+}
+}  // namespace
+
+std::vector<IpmcLinkParams> AttachedLinkPlants(const mjData* d) {
+  std::vector<IpmcLinkParams> plants;
+  for (int q = 0; IsAttached(d) && q < LinkCount(d); ++q) {
+    const LinkPlantParameters plant = LinkPlantOf(d, q);
+    IpmcLinkParams params;
+    params.kind = plant.g2 ? IpmcModelKind::kG2 : IpmcModelKind::kG1;
+    params.a0_mm_per_V = plant.a0_mm_per_V;
+    params.b1 = plant.b1;
+    params.b2_s2 = plant.b2_s2;
+    params.alpha = plant.alpha;
+    params.integrator = OustaloupOf(plant.integrator);
+    params.fractional_lag = OustaloupOf(plant.fractional_lag);
+    plants.push_back(params);
+  }
+  return plants;
 }
 
 std::vector<IpmcLinkParams> ScenarioLinkPlants(const ScenarioConfig& scenario) {
   const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(scenario);
-  const CouplingContext* coupling = FindCoupling(sim->data());
-  if (coupling == nullptr || !coupling->actuators) {
+  std::vector<IpmcLinkParams> plants = AttachedLinkPlants(sim->data());
+  if (plants.empty()) {
     throw std::runtime_error(scenario.source + ": the links' plants need IPMC actuators");
   }
-  return coupling->actuators->link_params();
+  return plants;
 }
 
 }  // namespace ipmc

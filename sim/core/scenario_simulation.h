@@ -4,12 +4,14 @@
 // hinge damping, and the fluid settings and plants it imposes.
 #pragma once
 
+#include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
-#include "plugin/actuators/ipmc_link_model.h"
-#include "plugin/fluid/rft_drag.h"
+#include "sim/linear/ipmc_link_model.h"
+#include "ipmc_swim/fields.h"
 #include "sim/core/scenario.h"
 #include "sim/core/simulation.h"
 
@@ -43,12 +45,23 @@ std::unique_ptr<Simulation> LoadScenarioSimulation(const ScenarioConfig& scenari
 // below the strip's lower edge: the centreline is the gap plus half the
 // strip's width (m's ipmc_strip_width_m, else 2 ipmc_rft_equivalent_radius_m)
 // from it.
-RftDragOverrides ScenarioFluidOverrides(const ScenarioConfig& scenario, const mjModel* m);
+struct ScenarioFluidFields {
+  std::optional<CoefficientModel> coefficients;  // ipmc_rft_coefficients
+  std::optional<double> wavelength_m;            // ipmc_rft_wavelength_m
+  std::optional<double> wall_distance_m;         // ipmc_rft_wall_distance_m
+  std::optional<std::string> fluid_model;        // ipmc_fluid_model
+  std::map<std::string, double> parameters;      // the fluid model's fields, SI
+};
+ScenarioFluidFields ScenarioFluidOverrides(const ScenarioConfig& scenario, const mjModel* m);
 
 // The number of IPMC links of the scenario's model, read from its fields
 // without building the simulation. Throws std::runtime_error naming the
 // model if it has no IPMC actuators.
 int ScenarioLinkCount(const ScenarioConfig& scenario);
+
+// The plants of d's IPMC links as its coupling made them (ipmc::LinkPlantOf),
+// one per link; empty for a d without actuators.
+std::vector<IpmcLinkParams> AttachedLinkPlants(const mjData* d);
 
 // The links' plants as the run gives them (the model's or the generated
 // flagellum's, with the scenario's plant keys): the simulation's own.

@@ -13,7 +13,6 @@
 #include <stdexcept>
 
 #include "ipmc_swim/ipmc_swim.h"
-#include "plugin/coupling.h"
 #include "sim/io/files.h"
 
 namespace ipmc {
@@ -37,11 +36,10 @@ std::string LoadError(const char* text) {
 // the model declares for the program), so that every mjData made from m
 // can be attached. A malformed ipmc_* field is left for Attach to report,
 // naming the file.
-void ReserveCouplingUserdata(mjModel* m, const IpmcActuatorsOverrides& overrides = {},
-                             const RftDragOverrides& fluid = {}) {
+void ReserveCouplingUserdata(mjModel* m) {
   int needed = 0;
   try {
-    needed = UserdataSizeWithOverrides(m, overrides, fluid);
+    needed = UserdataSize(m);
   } catch (const std::invalid_argument&) {
     return;
   }
@@ -96,13 +94,12 @@ ModelPtr LoadModelString(const std::string& xml, const std::string& directory) {
   return ModelPtr(m);
 }
 
-Simulation::Simulation(ModelPtr m, const std::string& source,
-                       const IpmcActuatorsOverrides& overrides, const RftDragOverrides& fluid)
+Simulation::Simulation(ModelPtr m, const std::string& source)
     : model_(std::move(m)), source_(source) {
-  ReserveCouplingUserdata(model_.get(), overrides, fluid);
+  ReserveCouplingUserdata(model_.get());
   data_.reset(mj_makeData(model_.get()));
   try {
-    AttachWithOverrides(model_.get(), data_.get(), overrides, fluid);
+    Attach(model_.get(), data_.get());
   } catch (const std::exception& e) {
     throw std::runtime_error(source_ + ": " + e.what());
   }

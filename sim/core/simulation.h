@@ -6,8 +6,6 @@
 #include <memory>
 #include <string>
 
-#include "plugin/actuators/ipmc_actuators.h"
-#include "plugin/fluid/rft_drag.h"
 
 namespace ipmc {
 
@@ -30,11 +28,11 @@ ModelPtr LoadModelString(const std::string& xml, const std::string& directory = 
 
 class Simulation {
  public:
-  // Takes ownership of m, makes its data and attaches the coupling, with
-  // `overrides` and `fluid` imposed over the model's fields. Errors from
-  // the model's ipmc_* fields are prefixed with `source` (the file).
-  Simulation(ModelPtr m, const std::string& source,
-             const IpmcActuatorsOverrides& overrides = {}, const RftDragOverrides& fluid = {});
+  // Takes ownership of m, makes its data and attaches the coupling
+  // (ipmc::Attach: a scenario's settings are written into the model's
+  // fields, sim/core/scenario_simulation.h). Errors from the model's ipmc_*
+  // fields are prefixed with `source` (the file).
+  Simulation(ModelPtr m, const std::string& source);
   ~Simulation();
   Simulation(const Simulation&) = delete;
   Simulation& operator=(const Simulation&) = delete;

@@ -8,7 +8,7 @@
 #include <memory>
 #include <sstream>
 
-#include "plugin/coupling.h"
+#include "ipmc_swim/ipmc_swim.h"
 
 namespace ipmc {
 namespace {
@@ -44,9 +44,7 @@ bool StepResolution::Resolved() const {
 StepResolution MeasureStepResolution(const mjModel* m, const mjData* d, double frequency_Hz) {
   StepResolution step;
   step.timestep_s = step.resolving_timestep_s = m->opt.timestep;
-  const CouplingContext* coupling = FindCoupling(d);
-  if (coupling == nullptr || !coupling->fluid || coupling->dynamics != Dynamics::kInertial ||
-      !(frequency_Hz > 0.0)) {
+  if (!IsAttached(d) || StokesDynamics(d) || !FluidOf(d).drag || !(frequency_Hz > 0.0)) {
     return step;
   }
   step.explicit_drag = true;
@@ -56,16 +54,12 @@ StepResolution MeasureStepResolution(const mjModel* m, const mjData* d, double f
   mjData* c = copy.get();
   mju_zero(c->qvel, nv);
   mj_fwdPosition(m, c);
-  Eigen::MatrixXd mass(nv, nv), drag(nv, nv);
+  Eigen::MatrixXd mass(nv, nv);
   mj_fullM(m, mass.data(), c->qM);  // symmetric: row or column major alike
-  for (int j = 0; j < nv; ++j) {
-    mju_zero(c->qvel, nv);
-    c->qvel[j] = 1.0;
-    mj_comVel(m, c);
-    mju_zero(c->qfrc_passive, nv);
-    coupling->fluid->Apply(m, c);
-    for (int i = 0; i < nv; ++i) drag(i, j) = -c->qfrc_passive[i];
-  }
+  const std::vector<double> drag_values = DragMatrix(m, d);
+  const Eigen::MatrixXd drag =
+      Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+          drag_values.data(), nv, nv);
   const double drag_rate = LargestRate(drag, mass);
   step.drag_relaxation_s = drag_rate > 0.0 ? 1.0 / drag_rate : INFINITY;
   step.resolving_timestep_s =

@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "plugin/actuators/ipmc_actuators.h"
-#include "plugin/actuators/ipmc_link_model.h"
+#include "ipmc_swim/fields.h"
+#include "sim/linear/ipmc_link_model.h"
 #include "sim/core/choice_table.h"
 #include "sim/core/scenario_keys.h"
 

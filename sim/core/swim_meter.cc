@@ -7,9 +7,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "plugin/coupling.h"
-#include "plugin/mjcf/custom_fields.h"
-#include "plugin/mjcf/point_velocity.h"
+#include "ipmc_swim/ipmc_swim.h"
+#include "ipmc_swim/point_velocity.h"
 
 namespace ipmc {
 namespace {
@@ -102,22 +101,21 @@ SwimMetrics SwimMeter::Finish(const mjModel* m, const mjData* d, int from_cycle,
   if (elapsed_s > 0.0) {
     metrics.mean_speed_along_mm_s = -(end.com_x_mm - start->com_x_mm) / elapsed_s;
   }
-  const CouplingContext* coupling = FindCoupling(d);
-  if (!coupling || !coupling->fluid) {
+  const FluidFacts fluid = IsAttached(d) ? FluidOf(d) : FluidFacts{};
+  if (!fluid.drag) {
     metrics.warnings = FluidWarnings(metrics, wavelength_mm);
     return metrics;
   }
-  const Fluid& fluid = *coupling->fluid;
   double body_length_m = 0.0, longest_m = 0.0;
-  for (double length_m : fluid.SegmentLengths_m()) {
+  for (double length_m : fluid.segment_length_m) {
     body_length_m += length_m;
     longest_m = std::max(longest_m, length_m);
   }
   metrics.body_length_mm = body_length_m * kMToMm;
-  metrics.viscosity_Pa_s = fluid.Viscosity_Pa_s();
+  metrics.viscosity_Pa_s = fluid.viscosity_Pa_s;
   metrics.longest_segment_mm = longest_m * kMToMm;
-  const double width_m = StripWidth_m(m);
-  const double rho_over_mu = fluid.FluidDensity_kg_m3() / fluid.Viscosity_Pa_s();
+  const double width_m = fluid.strip_width_m;
+  const double rho_over_mu = fluid.density_kg_m3 / fluid.viscosity_Pa_s;
   metrics.reynolds_tip = rho_over_mu * metrics.peak_lateral_tip_speed_mm_s / kMToMm * width_m;
   metrics.reynolds_swim =
       rho_over_mu * std::abs(metrics.mean_speed_along_mm_s) / kMToMm * body_length_m;

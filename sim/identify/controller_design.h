@@ -45,7 +45,7 @@
 #include "controllers/pid.h"
 #include "controllers/reference_model.h"
 #include "sim/linear/state_space.h"
-#include "plugin/actuators/ipmc_link_model.h"
+#include "sim/linear/ipmc_link_model.h"
 
 namespace ipmc {
 

@@ -22,7 +22,7 @@
 #include <nlohmann/json.hpp>
 
 #include "sim/linear/frequency_response.h"
-#include "plugin/actuators/ipmc_link_model.h"
+#include "sim/linear/ipmc_link_model.h"
 #include "sim/identify/controller_design.h"
 #include "sim/identify/levy.h"
 #include "sim/identify/welch.h"

@@ -9,7 +9,7 @@
 
 #include "controllers/fractional_integrator.h"
 #include "controllers/pid.h"
-#include "plugin/actuators/ipmc_link_model.h"
+#include "sim/linear/ipmc_link_model.h"
 
 namespace ipmc {
 

@@ -45,7 +45,7 @@
 #include <complex>
 #include <vector>
 
-#include "plugin/actuators/ipmc_link_model.h"
+#include "sim/linear/ipmc_link_model.h"
 #include "sim/identify/welch.h"
 
 namespace ipmc {

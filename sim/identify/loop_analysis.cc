@@ -20,7 +20,7 @@
 #include "controllers/paper_eq15.h"
 #include "controllers/pid.h"
 #include "controllers/reference_model.h"
-#include "plugin/actuators/ipmc_link_model.h"
+#include "sim/linear/ipmc_link_model.h"
 #include "sim/base/error.h"
 #include "sim/base/numbers.h"
 #include "sim/core/scenario_simulation.h"

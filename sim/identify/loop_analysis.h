@@ -4,7 +4,7 @@
 // return the numbers instead of printing them.
 //
 //  - Bode: open loop L = C x P_link with the exact fractional plant
-//    P = s^-0.5 G (plugin/actuators/ipmc_link_model.h, LinkResponseExact),
+//    P = s^-0.5 G (sim/linear/ipmc_link_model.h, LinkResponseExact),
 //    its gain crossover, phase and gain margins searched over
 //    [1e-4, 1e5] rad/s, the controller and the plant at 5 rad/s, and the
 //    columns of bode.csv (plant, controller, open loop, and the reference
@@ -31,7 +31,7 @@
 #include "controllers/fractional_integrator.h"
 #include "sim/linear/frequency_response.h"
 #include "controllers/pid.h"
-#include "plugin/actuators/ipmc_link_model.h"
+#include "sim/linear/ipmc_link_model.h"
 #include "sim/core/scenario.h"
 #include "sim/io/option_table.h"
 

@@ -13,8 +13,9 @@
 #include "controllers/fractional_integrator.h"
 #include "sim/linear/frequency_response.h"
 #include "controllers/reference_model.h"
-#include "plugin/actuators/ipmc_actuators.h"
-#include "plugin/actuators/ipmc_link_model.h"
+#include "ipmc_swim/fields.h"
+#include "sim/core/scenario_simulation.h"
+#include "sim/linear/ipmc_link_model.h"
 #include "sim/core/data_paths.h"
 #include "sim/core/fan_out.h"
 #include "sim/core/simulation.h"
@@ -145,12 +146,11 @@ PipelineBench LoadPipelineBench(const PipelineSetup& setup) {
   const std::string& path = setup.model_path;
   PipelineBench bench;
   bench.sims.push_back(std::make_unique<Simulation>(LoadModelFile(path), path));
-  const std::optional<IpmcActuatorsConfig> config =
-      IpmcActuatorsConfig::FromModel(bench.sims.front()->model());
-  if (!config) throw std::invalid_argument(name + ": " + path + " has no IPMC actuators");
-  bench.given = config->links;
-  bench.links = static_cast<int>(config->links.size());
-  if (setup.drive_each && config->actuation == Actuation::kSingle && bench.links > 1) {
+  bench.given = AttachedLinkPlants(bench.sims.front()->data());
+  if (bench.given.empty()) throw std::invalid_argument(name + ": " + path + " has no IPMC actuators");
+  bench.links = static_cast<int>(bench.given.size());
+  if (setup.drive_each && ModelActuation(bench.sims.front()->model()) == Actuation::kSingle &&
+      bench.links > 1) {
     throw FieldError(name + ": drive each needs distributed actuation, but " + path +
                          " has ipmc_actuation single",
                      "drive", "first, for a model with single actuation");

@@ -83,7 +83,7 @@ StateSpace ZeroPoleGainStateSpace(const ZeroPoleGain& zpk);
 // ZeroPoleGainStateSpace(OustaloupZpk(config)). Throws
 // std::invalid_argument if the realisation would be improper (m > 0, i.e.
 // a differentiator); realise s^alpha with alpha >= 1 in a denominator by
-// feedback instead (see plugin/actuators/ipmc_link_model.h).
+// feedback instead (see sim/linear/ipmc_link_model.h).
 StateSpace OustaloupStateSpace(const OustaloupConfig& config);
 
 }  // namespace ipmc

@@ -5,7 +5,6 @@
 #include <string>
 #include <vector>
 
-#include "plugin/coupling.h"
 #include "sim/identify/controller_design.h"
 #include "sim/runs/closed_loop_run.h"
 

@@ -1,7 +1,7 @@
 // Controllers retuned for each design (docs/OPTIMIZE.md, "Retuned
 // controllers"): every link's controller designed for that link's own
 // plant, which the design's link lengths scale (ScaleLinkToLength in
-// plugin/actuators/ipmc_link_model.h: a0 as L^2, b2 as L^4), by
+// sim/linear/ipmc_link_model.h: a0 as L^2, b2 as L^4), by
 // the project's design tools (sim/identify/controller_design.h) at their
 // defaults:
 //   pid         eq. 11's J against the reference model 1/((s/5)^1.16 + 1)

@@ -16,7 +16,6 @@
 
 #include "controllers/controller_names.h"
 #include "ipmc_swim/ipmc_swim.h"
-#include "plugin/coupling.h"
 #include "sim/core/link_sensors.h"
 #include "sim/core/simulation.h"
 #include "sim/core/swim_meter.h"
@@ -33,14 +32,13 @@ class PythonSimulation {
       : sim_(std::move(sim)),
         scenario_(std::move(scenario)),
         meter_(sim_->model(), sim_->data()) {
-    const CouplingContext* coupling = FindCoupling(sim_->data());
-    if (coupling && coupling->actuators) {
-      sensors_ = std::make_unique<LinkSensors>(sim_->model(), sim_->data(), sim_->source());
-      for (const LinkChain& chain : coupling->actuators->chains()) {
-        for (size_t i = 0; i < chain.joints.size(); ++i) {
-          joint_qpos_.push_back(sim_->model()->jnt_qposadr[chain.joints[i]]);
-          motors_.push_back(chain.motors[i]);
-          joint_names_.emplace_back(mj_id2name(sim_->model(), mjOBJ_JOINT, chain.joints[i]));
+    const mjData* d = sim_->data();
+    if (IsAttached(d) && LinkCount(d) > 0) {
+      sensors_ = std::make_unique<LinkSensors>(sim_->model(), d, sim_->source());
+      for (int q = 0; q < LinkCount(d); ++q) {
+        for (int joint : LinkJoints(d, q)) {
+          joint_qpos_.push_back(sim_->model()->jnt_qposadr[joint]);
+          joint_names_.emplace_back(mj_id2name(sim_->model(), mjOBJ_JOINT, joint));
         }
       }
     }
@@ -135,8 +133,8 @@ class PythonSimulation {
   }
   double Timestep() const { return sim_->model()->opt.timestep; }
   std::string DynamicsText() const {
-    const CouplingContext* coupling = FindCoupling(sim_->data());
-    return DynamicsName(coupling ? coupling->dynamics : Dynamics::kInertial);
+    const mjData* d = sim_->data();
+    return IsAttached(d) && StokesDynamics(d) ? "stokes" : "inertial";
   }
   int Links() const { return sensors_ ? sensors_->Links() : 0; }
   const std::string& Source() const { return sim_->source(); }
@@ -172,14 +170,18 @@ class PythonSimulation {
   py::dict ActuatorState() {
     std::lock_guard<std::mutex> lock(mutex_);
     RequireActuators("actuator_state");
-    const IpmcActuators& actuators = *FindCoupling(sim_->data())->actuators;
-    std::vector<double> moments;
-    for (int motor : motors_) moments.push_back(sim_->data()->ctrl[motor]);
+    const mjData* d = sim_->data();
+    std::vector<double> voltages_V, free_mm, moments_N_m;
+    for (int q = 0; q < LinkCount(d); ++q) {
+      voltages_V.push_back(LinkVoltage_V(d, q));
+      free_mm.push_back(LinkFreeDeflection_mm(d, q));
+      for (double moment_N_m : LinkActiveMoments_N_m(d, q)) moments_N_m.push_back(moment_N_m);
+    }
     py::dict state;
-    state["voltage_V"] = Array(actuators.Voltages_V());
-    state["free_deflection_mm"] = Array(actuators.FreeTipDeflection_mm());
-    state["active_moment_N_m"] = Array(moments);
-    state["clamp_count"] = actuators.ClampCount();
+    state["voltage_V"] = Array(voltages_V);
+    state["free_deflection_mm"] = Array(free_mm);
+    state["active_moment_N_m"] = Array(moments_N_m);
+    state["clamp_count"] = ClampCount(d);
     return state;
   }
 
@@ -340,7 +342,7 @@ class PythonSimulation {
   std::unique_ptr<LinkSensors> sensors_;
   LinkGeometry geometry_;
   long steps_per_sample_ = 0;
-  std::vector<int> joint_qpos_, motors_;
+  std::vector<int> joint_qpos_;
   std::vector<std::string> joint_names_;
   std::mutex mutex_;
   std::string diverged_;  // what diverged, once it has

@@ -4,9 +4,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "ipmc_swim/fields.h"
 #include "ipmc_swim/ipmc_swim.h"
-#include "plugin/actuators/ipmc_actuators.h"
-#include "plugin/coupling.h"
 #include "sim/core/step_count.h"
 #include "sim/core/link_sensors.h"
 #include "sim/io/columns.h"
@@ -74,7 +73,6 @@ BenchRecord RunBench(Simulation& sim, const BenchSignal& signal, double record_f
   mjModel* m = sim.model();
   mjData* d = sim.data();
   const LinkSensors sensors(m, d, sim.source());
-  const IpmcActuators& actuators = *FindCoupling(d)->actuators;
   const int links = sensors.Links();
   for (int link : signal.driven_links) {
     if (link < 1 || link > links) {
@@ -131,10 +129,10 @@ BenchRecord RunBench(Simulation& sim, const BenchSignal& signal, double record_f
     if (t_s >= record_from_s) {
       record.t_s.push_back(t_s);
       for (int q = 0; q < links; ++q) {
-        record.voltage_V[q].push_back(actuators.Voltages_V()[q]);
+        record.voltage_V[q].push_back(LinkVoltage_V(d, q));
         record.relative_mm[q].push_back(sensors.RelativeDeflection_mm(d, q));
         record.tip_lateral_mm[q].push_back(sensors.TipLateral_mm(d, q));
-        record.free_mm[q].push_back(actuators.FreeTipDeflection_mm(q));
+        record.free_mm[q].push_back(LinkFreeDeflection_mm(d, q));
       }
     }
     if (progress) progress(t_s);

@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 #include "controllers/controller_names.h"
-#include "plugin/coupling.h"
+#include "ipmc_swim/ipmc_swim.h"
 #include "sim/base/numbers.h"
 #include "sim/core/link_sensors.h"
 #include "sim/core/step_count.h"
@@ -20,14 +20,13 @@ LinkGeometry ModelLinkGeometry(const Simulation& sim) {
   const mjData* d = sim.data();
   const std::string& source = sim.source();
   LinkGeometry geometry;
-  const CouplingContext* coupling = FindCoupling(d);
-  if (!coupling || !coupling->actuators) {
+  if (!IsAttached(d) || LinkCount(d) == 0) {
     throw std::runtime_error(source + ": model has no IPMC actuators (custom text ipmc_links)");
   }
   // Each link's root hinge, then the last link's tip (LinkTips).
   std::vector<double> hinge_x_mm;
-  for (const LinkChain& chain : coupling->actuators->chains()) {
-    hinge_x_mm.push_back(d->xanchor[3 * chain.joints.front()] * 1e3);
+  for (int q = 0; q < LinkCount(d); ++q) {
+    hinge_x_mm.push_back(d->xanchor[3 * LinkJoints(d, q).front()] * 1e3);
   }
   const std::vector<LinkTip> tips = LinkTips(m, d, source);
   double tip_m[3];
@@ -36,9 +35,7 @@ LinkGeometry ModelLinkGeometry(const Simulation& sim) {
   for (size_t q = 0; q + 1 < hinge_x_mm.size(); ++q) {
     geometry.pitch_mm.push_back(hinge_x_mm[q + 1] - hinge_x_mm[q]);
   }
-  for (double length_m : coupling->actuators->LinkLengths_m()) {
-    geometry.length_mm.push_back(length_m * 1e3);
-  }
+  for (int q = 0; q < LinkCount(d); ++q) geometry.length_mm.push_back(LinkLength_m(d, q) * 1e3);
   return geometry;
 }
 
@@ -282,7 +279,7 @@ void FinishResult(const ScenarioConfig& scenario, const ClosedLoopTiming& timing
   result.energy = energy.Finish(result.swim, timing.period_s, from_cycle);
   result.from_cycle_given = scenario.metrics.from_cycle > 0;
   result.startup_included = from_cycle - 1 < scenario.waveform.start_ramp_cycles;
-  result.reach_clamps = FindCoupling(d)->actuators->ClampCount();
+  result.reach_clamps = ClampCount(d);
 }
 
 }  // namespace

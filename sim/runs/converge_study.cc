@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "plugin/coupling.h"
+#include "ipmc_swim/ipmc_swim.h"
 #include "sim/base/error.h"
 #include "sim/base/numbers.h"
 #include "sim/core/fan_out.h"
@@ -107,18 +107,17 @@ ConvergeReference Extrapolate(const std::vector<double>& x, const std::vector<do
 // over the step, first order: docs/RUNS.md measures the two-link strip's
 // swim first order) the observed order of the three finest runs, within
 // [1, 2], or 1 with two runs.
-double TimestepOrder(Dynamics dynamics, const std::vector<double>& value) {
+double TimestepOrder(bool stokes, const std::vector<double>& value) {
   const std::size_t n = value.size();
-  if (dynamics != Dynamics::kStokes || n < 3) return 1.0;
+  if (!stokes || n < 3) return 1.0;
   const double coarse = value[n - 2] - value[n - 3], fine = value[n - 1] - value[n - 2];
   if (fine == 0.0 || coarse / fine <= 0.0) return 1.0;
   return std::clamp(std::log2(coarse / fine), 1.0, 2.0);
 }
 
-double TimestepOf(const ScenarioConfig& scenario, Dynamics* dynamics) {
+double TimestepOf(const ScenarioConfig& scenario, bool* stokes) {
   const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(scenario);
-  const CouplingContext* coupling = FindCoupling(sim->data());
-  *dynamics = coupling != nullptr ? coupling->dynamics : Dynamics::kInertial;
+  *stokes = IsAttached(sim->data()) && StokesDynamics(sim->data());
   return sim->model()->opt.timestep;
 }
 
@@ -143,8 +142,8 @@ ConvergeOutcome RunConvergeCommand(const ConvergeCommand& command) {
   };
   const ScenarioConfig base = scenario_with({});
   if (!command.out.empty()) CheckRunOutputDirectory(kCommand, "out", command.out, {command.scenario});
-  Dynamics dynamics = Dynamics::kInertial;
-  const double step_s = TimestepOf(base, &dynamics);
+  bool stokes = false;
+  const double step_s = TimestepOf(base, &stokes);
 
   std::vector<PlannedRun> planned;
   planned.push_back({{"scenario", "as given", 0.0}, {}});
@@ -193,9 +192,9 @@ ConvergeOutcome RunConvergeCommand(const ConvergeCommand& command) {
       power.push_back(p.run.fluid_power_W);
     }
     if (study.runs.size() < 2) continue;
-    study.swim = Extrapolate(x, swim, kind.order > 0.0 ? kind.order : TimestepOrder(dynamics, swim));
+    study.swim = Extrapolate(x, swim, kind.order > 0.0 ? kind.order : TimestepOrder(stokes, swim));
     study.fluid_power =
-        Extrapolate(x, power, kind.order > 0.0 ? kind.order : TimestepOrder(dynamics, power));
+        Extrapolate(x, power, kind.order > 0.0 ? kind.order : TimestepOrder(stokes, power));
     outcome.studies.push_back(study);
   }
 

@@ -3,10 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 #include "sim/base/error.h"
 #include "sim/base/numbers.h"
-#include "plugin/coupling.h"
+#include "ipmc_swim/ipmc_swim.h"
 #include "sim/core/step_count.h"
 
 namespace ipmc {
@@ -31,10 +32,9 @@ std::vector<Servo> FindServos(const mjModel* m) {
 }
 
 // The fluid's scale of the body's rotational drag about one end [N m s]
-// (Fluid::RotationalDragScale_N_m_s: xi_n L^3 / 3 under RFT).
-double RotationalDragScale(const CouplingContext* coupling) {
-  if (!coupling || !coupling->fluid) return 0.0;
-  return coupling->fluid->RotationalDragScale_N_m_s();
+// (xi_n L^3 / 3 under RFT).
+double RotationalDragScale(const mjData* d) {
+  return IsAttached(d) ? FluidOf(d).rotational_drag_N_m_s : 0.0;
 }
 
 void SetServoGains(mjModel* m, const std::vector<Servo>& servos, double kp, double kv) {
@@ -53,12 +53,12 @@ void SetServoGains(mjModel* m, const std::vector<Servo>& servos, double kp, doub
 void SetServoTargets(const mjModel* m, mjData* d, const std::vector<Servo>& servos,
                      const JointReference& ref, double kp, double kv) {
   // The damping the step takes (c_eff where the coupling gave it).
-  const CouplingContext* coupling = FindCoupling(d);
-  const mjModel* step = coupling ? coupling->step.model.get() : m;
+  const std::vector<double> damping =
+      IsAttached(d) ? StepDamping(m, d) : std::vector<double>(m->dof_damping, m->dof_damping + m->nv);
   for (size_t j = 0; j < servos.size(); ++j) {
     const Servo& servo = servos[j];
     const double k = m->jnt_stiffness[servo.joint];
-    const double c = step->dof_damping[servo.dof_adr];
+    const double c = damping[servo.dof_adr];
     const double q = ref.angle_rad[j], qd = ref.velocity_rad_s[j];
     d->ctrl[servo.actuator] = q + ((kv + c) * qd + k * q) / kp;
   }
@@ -116,7 +116,6 @@ GaitRunResult RunGait(Simulation& sim, const Gait& gait, const GaitRunOptions& o
                              " joints but the model has " + std::to_string(servos.size()) +
                              " servo_* actuators");
   }
-  const CouplingContext* coupling = FindCoupling(d);
   SwimMeter meter(m);
 
   // Start at the gait's pose, root at rest.
@@ -129,7 +128,7 @@ GaitRunResult RunGait(Simulation& sim, const Gait& gait, const GaitRunOptions& o
   const double dt = m->opt.timestep;
   const double servo_time_s = options.servo_time_constant_steps * dt;
   const double kv = std::max(
-      options.servo_damping_over_drag * RotationalDragScale(coupling),
+      options.servo_damping_over_drag * RotationalDragScale(d),
       4.0 * HingeInertiaMax(m, d, servos) / servo_time_s);
   const double kp = kv / servo_time_s;
   SetServoGains(m, servos, kp, kv);

@@ -17,7 +17,8 @@
 #include "sim/base/numbers.h"
 #include "controllers/fractional_integrator.h"
 #include "controllers/pid.h"
-#include "plugin/coupling.h"
+#include "ipmc_swim/ipmc_swim.h"
+#include "sim/core/scenario_simulation.h"
 #include "sim/runs/closed_loop_run.h"
 #include "sim/core/fan_out.h"
 #include "sim/runs/output.h"
@@ -54,24 +55,22 @@ std::vector<IpmcLinkParams> ModelLinkPlants(const ScenarioConfig& scenario) {
     throw std::runtime_error(scenario.source + ": the " + std::string(kTransferFunction) +
                              " loop needs a model file, not a generated flagellum");
   }
-  IpmcActuatorsOverrides overrides;
-  overrides.plants = scenario.model.plants;
-  const Simulation sim(LoadModelFile(scenario.model.path), scenario.model.path, overrides);
-  const CouplingContext* coupling = FindCoupling(sim.data());
-  if (coupling == nullptr || !coupling->actuators) {
+  // The model with the scenario's plants (ScenarioModelXml).
+  const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(scenario);
+  const mjData* d = sim->data();
+  if (!IsAttached(d) || LinkCount(d) == 0) {
     throw std::runtime_error(scenario.model.path + ": the model has no IPMC actuators");
   }
   const LinkGeometry paper = PaperLinkGeometry();
-  const std::vector<double> lengths_m = coupling->actuators->LinkLengths_m();
-  bool paper_links = lengths_m.size() == paper.length_mm.size();
-  for (std::size_t q = 0; paper_links && q < lengths_m.size(); ++q) {
-    paper_links = std::abs(lengths_m[q] * 1e3 - paper.length_mm[q]) <= kLengthTolerance_mm;
+  bool paper_links = static_cast<std::size_t>(LinkCount(d)) == paper.length_mm.size();
+  for (int q = 0; paper_links && q < LinkCount(d); ++q) {
+    paper_links = std::abs(LinkLength_m(d, q) * 1e3 - paper.length_mm[q]) <= kLengthTolerance_mm;
   }
   if (!paper_links) {
     throw std::runtime_error(scenario.model.path + ": the " + std::string(kTransferFunction) +
                              " loop needs the paper's three 10 mm links");
   }
-  return coupling->actuators->link_params();
+  return AttachedLinkPlants(d);
 }
 
 // Every link's plant P_q(s) alone in its sampled loop: at t_k = k T the

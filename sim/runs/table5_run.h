@@ -40,7 +40,7 @@
 #include <nlohmann/json.hpp>
 
 #include "controllers/closed_loop.h"
-#include "plugin/actuators/ipmc_link_model.h"
+#include "sim/linear/ipmc_link_model.h"
 #include "sim/core/scenario.h"
 #include "sim/io/option_table.h"
 

@@ -171,6 +171,9 @@ bool Step(const mjModel* m, mjData* d, const StepSettings& options);
 // its last Step in this thread. Valid until the next Step of d.
 const char* LastError(const mjData* d);
 
+// Whether d is attached (Attach returned true for it and no Detach since).
+bool IsAttached(const mjData* d);
+
 // ---- Facts and forces of an attached d. Each throws std::invalid_argument
 // (one line) if d is not attached or an index is out of range.
 
@@ -185,6 +188,84 @@ double LinkVoltage_V(const mjData* d, int link);
 // (LinkJoints' order) [N m], as the last step applied it (d->ctrl of the
 // ipmc_<joint> motors).
 std::vector<double> LinkActiveMoments_N_m(const mjData* d, int link);
+// The lengths [m] of link `link`'s sub-segments, in LinkJoints' order.
+std::vector<double> LinkSegmentLengths_m(const mjData* d, int link);
+// The link's length [m], its sub-segments' summed.
+double LinkLength_m(const mjData* d, int link);
+// The free tip deflection [mm] the link's model gives at its state's
+// time: the output of its transfer function (the plant below), before the
+// link's chain turns it into joint angles (docs/MODEL.md).
+double LinkFreeDeflection_mm(const mjData* d, int link);
+// How often a link's free deflection lay beyond its chain's reach and was
+// clamped to it (only the first clamp warns).
+long ClampCount(const mjData* d);
+
+// One Oustaloup approximation of s^order over [low, high] rad/s with
+// `pairs` zero/pole pairs (or N of the 2N + 1 variant).
+struct OustaloupBand {
+  double order = 0, low_rad_s = 0, high_rad_s = 0;
+  int pairs = 0;
+  bool two_n_plus_one = false;
+};
+// A link's plant, voltage [V] to free tip deflection [mm], as Attach made
+// it from the model's fields (ipmc_model, ipmc_plants, the per-link
+// ipmc_a0_mm_per_V / ipmc_b1 / ipmc_b2_s2 / ipmc_alpha, scaled to the
+// link's length; docs/MODEL.md):
+//   P(s) = s^integrator.order G(s),
+//   G1(s) = a0 / (b2 s^2 + b1 s + 1),  G2(s) = a0 / (b1 s^alpha + 1),
+// each fractional power realised by its Oustaloup band.
+struct LinkPlantParameters {
+  bool g2 = false;         // ipmc_model = g2; G1 otherwise
+  double a0_mm_per_V = 0;  // static gain of G
+  double b1 = 0;           // [s] for G1, [s^alpha] for G2
+  double b2_s2 = 0;        // G1 only
+  double alpha = 0;        // G2's order
+  OustaloupBand integrator, fractional_lag;  // s^-0.5; G2's s^-alpha
+};
+LinkPlantParameters LinkPlantOf(const mjData* d, int link);
+
+// How the last step applied link `link`'s active moments [N m], per joint
+// in LinkJoints' order: with the first-order hold (flexible links in
+// inertial dynamics; docs/LIBRARY.md, "How Step steps") the moments ramp
+// from start_N_m to end_N_m over the step; otherwise the step held the
+// moments LinkActiveMoments_N_m gives and the vectors are empty.
+struct MomentHold {
+  bool first_order = false;
+  std::vector<double> start_N_m, end_N_m;
+};
+MomentHold LinkMomentHold(const mjData* d, int link);
+
+// Whether Step steps d without inertia (ipmc_dynamics = stokes).
+bool StokesDynamics(const mjData* d);
+// The damping each dof's step takes [N m s/rad] (nv values): in inertial
+// dynamics each spring hinge's c_eff = k h / (1 - exp(-k h / c)) (above),
+// else the model's dof_damping.
+std::vector<double> StepDamping(const mjModel* m, const mjData* d);
+// The power [W] the fluid took in d's last step, as the step took it: in
+// Stokes dynamics v^T D v with the velocity it solved for and the
+// resistance D at the step's midpoint (docs/ENERGY.md; FluidPower_W
+// recomputes it at the step's end), in inertial dynamics the drag's power
+// at d's positions and velocities. 0 without drag.
+double StepFluidPower_W(const mjModel* m, const mjData* d);
+
+// What the fluid of d's coupling is (its fields, and SetFluidField).
+struct FluidFacts {
+  bool drag = false;                       // the model declares a fluid
+  double viscosity_Pa_s = 0;
+  double density_kg_m3 = 0;                // for Reynolds numbers only
+  std::vector<double> segment_length_m;    // the segments it acts on
+  double strip_width_m = 0;  // ipmc_strip_width_m, else twice ipmc_rft_equivalent_radius_m
+  // The drag of the body laid straight and towed along its length, per
+  // unit speed [N s/m].
+  double towing_drag_N_s_m = 0;
+  // A scale of the body's rotational drag about one end [N m s].
+  double rotational_drag_N_m_s = 0;
+};
+FluidFacts FluidOf(const mjData* d);
+// The drag's generalised resistance at d's positions: the nv x nv matrix
+// (row-major) C with qfrc = -C qvel that the drag callback applies.
+// Empty without drag.
+std::vector<double> DragMatrix(const mjModel* m, const mjData* d);
 
 // The fluid's force and torque on one body, world frame, SI units, the
 // torque about the body's origin (d->xpos).

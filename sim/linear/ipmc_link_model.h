@@ -31,8 +31,8 @@
 // alpha held fixed (FitG2B1; constants kPaperG2B1). With only b1 free the
 // fit is approximate: relative residuals 0.22 / 0.26 / 0.094 for links
 // 1 / 2 / 3 (G2's resonance, fixed by alpha, is sharper than G1's).
-#ifndef IPMC_SWIM_PLUGIN_IPMC_LINK_MODEL_H_
-#define IPMC_SWIM_PLUGIN_IPMC_LINK_MODEL_H_
+#ifndef IPMC_SWIM_SIM_LINEAR_IPMC_LINK_MODEL_H_
+#define IPMC_SWIM_SIM_LINEAR_IPMC_LINK_MODEL_H_
 
 #include <complex>
 #include <optional>
@@ -151,4 +151,4 @@ G2Fit FitG2B1(const IpmcLinkParams& g1, const IpmcLinkParams& g2,
 
 }  // namespace ipmc
 
-#endif  // IPMC_SWIM_PLUGIN_IPMC_LINK_MODEL_H_
+#endif  // IPMC_SWIM_SIM_LINEAR_IPMC_LINK_MODEL_H_

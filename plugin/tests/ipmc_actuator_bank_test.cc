@@ -16,7 +16,7 @@
 
 #include "sim/linear/oustaloup.h"
 #include "sim/linear/state_space.h"
-#include "plugin/actuators/ipmc_link_model.h"
+#include "sim/linear/ipmc_link_model.h"
 #include "sim/base/numbers.h"
 
 namespace ipmc {

@@ -1,4 +1,4 @@
-#include "plugin/actuators/ipmc_link_model.h"
+#include "sim/linear/ipmc_link_model.h"
 #include "sim/base/numbers.h"
 
 #include <algorithm>
