@@ -8,10 +8,12 @@ set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 source "$root/scripts/setup.sh"
 selection=(-L sanitize)
+target=sanitize_tests
 if [ "${1:-}" = "--all" ]; then
   selection=()
+  target=all
   shift
 fi
 ipmc_install_packages
-ipmc_build_sanitized "$root"
+ipmc_build_sanitized "$root" "$target"
 ipmc_ctest_sanitized "$root" "${selection[@]}" "$@"

@@ -75,14 +75,16 @@ ipmc_build() {
 # ASan + UBSan (including float-cast-overflow) in build-sanitize/, at
 # -O1 -g1: line tables for the reports, and a build about half as long as
 # -O2 -g. The debug information names the tree's root "." so that the
-# cache serves it to another clone too.
+# cache serves it to another clone too. TARGET (default all):
+# sanitize_tests builds only what the tests labelled `sanitize` run.
 ipmc_build_sanitized() {
   local root="$1"
+  local target="${2:-all}"
   local flags="-O1 -g1 -DNDEBUG -fdebug-prefix-map=$root=."
   ipmc_configure "$root" "$root/build-sanitize" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="$flags" -DCMAKE_C_FLAGS_RELWITHDEBINFO="$flags" \
     -DIPMC_SWIM_SANITIZE=ON -DIPMC_SWIM_BUILD_BENCH=OFF
-  cmake --build "$root/build-sanitize" -j "$(ipmc_jobs)"
+  cmake --build "$root/build-sanitize" -j "$(ipmc_jobs)" --target "$target"
 }
 
 # Runs ctest in BUILD_DIR, as many tests at once as there are CPUs
