@@ -14,14 +14,15 @@ function(run)
 endfunction()
 
 run(${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${prefix})
-# The installed headers are the public ones (the coupling and a body's
-# resistance); the internal headers (plugin/, sim/base, sim/linear) are
-# used from the build tree only.
+# The installed headers are the public ones (the coupling, the model's
+# fields, a body's resistance, a point's velocity); the internal headers
+# (plugin/, sim/base, sim/linear) are used from the build tree only.
+set(public_headers
+  "ipmc_swim/fields.h;ipmc_swim/ipmc_swim.h;ipmc_swim/point_velocity.h;ipmc_swim/resistance.h")
 file(GLOB_RECURSE installed_headers RELATIVE ${prefix}/include ${prefix}/include/*)
 list(SORT installed_headers)
-if(NOT installed_headers STREQUAL "ipmc_swim/ipmc_swim.h;ipmc_swim/resistance.h")
-  message(FATAL_ERROR "installed headers: ${installed_headers} (expected ipmc_swim/ipmc_swim.h "
-                      "and ipmc_swim/resistance.h)")
+if(NOT installed_headers STREQUAL public_headers)
+  message(FATAL_ERROR "installed headers: ${installed_headers} (expected ${public_headers})")
 endif()
 # A sanitized package needs its runtime in the consumer too.
 set(consumer_flags "")
@@ -32,6 +33,8 @@ run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/consumer -B ${work}/build
     -DCMAKE_PREFIX_PATH=${prefix} -DEXAMPLE_SOURCE=${SOURCE_DIR}/sim/example_attach.cc
     ${consumer_flags})
 run(${CMAKE_COMMAND} --build ${work}/build)
+# The public headers together, each name they declare defined in the library.
+run(${work}/build/public_headers)
 file(READ ${work}/build/models_dir.txt models_dir)
 set(ENV{LD_LIBRARY_PATH} "${prefix}/lib:${prefix}/lib/x86_64-linux-gnu:$ENV{LD_LIBRARY_PATH}")
 run(${work}/build/example_attach ${models_dir}/flagellum3.xml 2000)
