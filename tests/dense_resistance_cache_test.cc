@@ -61,7 +61,7 @@ TEST(DenseResistanceCacheTest, SecantKeepsTheFlexibleSwimWithinATenthOfAPercent)
 TEST(DenseResistanceCacheTest, FitKeepsTheFlexibleSwimWithinATenthOfAPercent) {
   const Cycle exact = FlexibleRibbonCycle("ribbon_shape_tolerance_rad = 0\n");
   const Cycle fit = FlexibleRibbonCycle("ribbon_fit_tolerance = 1e-4\n");
-  // Measured: the fit at 1e-4 -0.0008 % (swim) and +0.001 % (fluid power)
+  // Measured: the fit at 1e-4 -0.009 % (swim) and +0.001 % (fluid power)
   // off the exact evaluation's; the bound is 0.1 %.
   EXPECT_LT(Relative(fit.swim_mm, exact.swim_mm), 1e-3);
   EXPECT_LT(Relative(fit.fluid_power_W, exact.fluid_power_W), 1e-3);

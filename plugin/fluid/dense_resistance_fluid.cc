@@ -79,7 +79,8 @@ CacheParameters::CacheParameters(const std::string& model, const std::string& re
       fit_meaning_("Between exact evaluations " + resistance +
                    " follows the cubic in time through the last four, over an interval "
                    "that keeps its error, measured at each exact evaluation against the largest "
-                   "translational entry, within this (0: no fit; docs/FLUIDS.md, \"Cost on flexible links\")") {}
+                   "translational entry, within this (0: no fit; docs/FLUIDS.md, \"Cost on "
+                   "flexible links\")") {}
 
 FluidParameter CacheParameters::ShapeToleranceRad() const {
   return NumberParameter(tolerance_key_.c_str(), tolerance_field_.c_str(), "rad", 1.0, 1e-3,
@@ -236,9 +237,9 @@ void DenseResistanceFluid::UpdateFitInterval(double time_s, const Eigen::MatrixX
   last_fit_error_ = error;
   const double grown = kFitGrowth * std::max(fit_interval_s_, tau_s);
   fit_interval_s_ =
-      error > 0.0
-          ? std::min(grown, kFitSafety * tau_s * std::pow(fit_tolerance() / error, 1.0 / kFitPoints))
-          : grown;
+      error > 0.0 ? std::min(grown, kFitSafety * tau_s *
+                                        std::pow(fit_tolerance() / error, 1.0 / kFitPoints))
+                  : grown;
 }
 
 bool DenseResistanceFluid::Fit(double time_s, const std::vector<double>& shape) const {

@@ -38,8 +38,10 @@
 // order in the interval, the next interval is
 // h' = min(2 max(h, tau), 0.9 tau (e / err)^(1/4)), tau the time since the
 // last exact evaluation; the first interval is the last spacing of the
-// four. Until there are four, every evaluation is exact. docs/FLUIDS.md, "Cost on flexible links", measures the fit
-// against the exact evaluation.
+// four. Until there are four, every evaluation is exact. docs/FLUIDS.md,
+// "Cost on flexible links", measures the fit against the exact evaluation:
+// at e = 3e-5 the swim and the fluid power of the paper's strip with
+// flexible links are within 0.1 % of it.
 //
 // The cache belongs to the fluid, not to an mjData: a copy of the data
 // (mj_copyData) that goes its own way gets a resistance within the
@@ -177,7 +179,8 @@ class DenseResistanceFluid : public Fluid {
   void UpdateFitInterval(double time_s, const Eigen::MatrixXd& exact) const;
   // *value = sum_k fit[k] tau^k.
   template <typename Value>
-  static void FitAt(const std::array<Value, kFitPoints>& fit, double tau_s, Value* value);  // The cached R, in the world frame about the subtree centre of mass.
+  static void FitAt(const std::array<Value, kFitPoints>& fit, double tau_s, Value* value);
+  // The cached R, in the world frame about the subtree centre of mass.
   const Eigen::MatrixXd& WorldResistance(const mjData* d) const;
   // The generalised force of body wrenches W (6 per body of bodies_).
   void AddBodyWrenches(const mjModel* m, const mjData* d, const Eigen::VectorXd& wrench,
