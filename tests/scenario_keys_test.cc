@@ -183,11 +183,12 @@ TEST(ScenarioKeysTest, TheReaderAllowsExactlyTheTablesKeys) {
                                       "wall_gap_mm", "model", "stokeslet_width_points",
                                       "stokeslet_points_per_mm", "stokeslet_blob_mm",
                                       "stokeslet_shape_tolerance_rad",
-                                      "stokeslet_secant_reach_rad", "ribbon_modes",
-                                      "ribbon_shape_tolerance_rad", "ribbon_secant_reach_rad",
+                                      "stokeslet_secant_reach_rad", "stokeslet_fit_tolerance",
+                                      "ribbon_modes", "ribbon_shape_tolerance_rad",
+                                      "ribbon_secant_reach_rad", "ribbon_fit_tolerance",
                                       "plate_points_across", "plate_quadrature_refinement",
                                       "plate_richardson", "plate_shape_tolerance_rad",
-                                      "plate_secant_reach_rad"}));
+                                      "plate_secant_reach_rad", "plate_fit_tolerance"}));
   std::vector<std::string> tables = {""};
   for (const std::string& name : ScenarioKeysUnder("")) {
     if (!ScenarioKeysUnder(name).empty()) tables.push_back(name);

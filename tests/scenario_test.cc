@@ -198,9 +198,10 @@ TEST_F(ScenarioErrorTest, UnknownKeysNameTheKeyAndTheAllowedOnes) {
               ":3: unknown key 'fluid.density' (allowed: viscosity_Pa_s, rft_coefficients, "
               "rft_wavelength_mm, wall_gap_mm, model, stokeslet_width_points, "
               "stokeslet_points_per_mm, stokeslet_blob_mm, stokeslet_shape_tolerance_rad, "
-              "stokeslet_secant_reach_rad, ribbon_modes, ribbon_shape_tolerance_rad, "
-              "ribbon_secant_reach_rad, plate_points_across, plate_quadrature_refinement, "
-              "plate_richardson, plate_shape_tolerance_rad, plate_secant_reach_rad)");
+              "stokeslet_secant_reach_rad, stokeslet_fit_tolerance, ribbon_modes, "
+              "ribbon_shape_tolerance_rad, ribbon_secant_reach_rad, ribbon_fit_tolerance, "
+              "plate_points_across, plate_quadrature_refinement, plate_richardson, "
+              "plate_shape_tolerance_rad, plate_secant_reach_rad, plate_fit_tolerance)");
   ExpectError(std::string(kModelLine) + "[output]\ndir = \"x\"\nformat = \"csv\"\n",
               ":4: unknown key 'output.format' (allowed: dir, samples_per_cycle)");
   // The earliest of several.

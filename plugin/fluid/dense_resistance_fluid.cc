@@ -21,6 +21,33 @@ namespace {
 constexpr double kOffSecant = 0.05;
 constexpr double kLongestSecant = 4.0;
 constexpr double kShortestSecant = 0.1;
+// The fit's interval grows by at most kFitGrowth per exact evaluation and
+// is kFitSafety of what its measured error allows.
+constexpr double kFitGrowth = 2.0;
+constexpr double kFitSafety = 0.9;
+
+// The polynomial through (x_k, c_k), k = 0 ... p, x_0 = 0, as its
+// monomials in x: c becomes the coefficients of x^0 ... x^p. Newton's
+// divided differences, then its Horner form P = d_p, P <- P (x - x_k) +
+// d_k for k = p - 1 ... 0 multiplied out.
+template <typename Value, size_t Points>
+void InterpolatingMonomials(const std::array<double, Points>& x,
+                            std::array<Value, Points>* c) {
+  const int p = static_cast<int>(Points) - 1;
+  for (int level = 1; level <= p; ++level) {
+    for (int k = p; k >= level; --k) {
+      (*c)[k] = ((*c)[k] - (*c)[k - 1]) / (x[k] - x[k - level]);
+    }
+  }
+  std::array<Value, Points> monomials;
+  monomials[0] = (*c)[p];
+  for (int k = p - 1, degree = 0; k >= 0; --k, ++degree) {
+    monomials[degree + 1] = monomials[degree];
+    for (int i = degree; i >= 1; --i) monomials[i] = monomials[i - 1] - x[k] * monomials[i];
+    monomials[0] = (*c)[k] - x[k] * monomials[0];
+  }
+  *c = monomials;
+}
 
 // The last dof of body b's chain (its own or its nearest moving
 // ancestor's), -1 if it is fixed to the world.
@@ -46,7 +73,14 @@ CacheParameters::CacheParameters(const std::string& model, const std::string& re
       reach_meaning_("Between exact evaluations " + resistance +
                      " is extrapolated along the secant of the last two while no joint has "
                      "moved more than this (0: the last one as it is; docs/FLUIDS.md, \"Cost "
-                     "on flexible links\")") {}
+                     "on flexible links\")"),
+      fit_key_(model + "_fit_tolerance"),
+      fit_field_("ipmc_fluid_" + fit_key_),
+      fit_meaning_("Between exact evaluations " + resistance +
+                   " follows the cubic in time through the last four, over an interval "
+                   "that keeps its error, measured at each exact evaluation against the largest "
+                   "translational entry, within this (0: no fit; docs/FLUIDS.md, \"Cost on "
+                   "flexible links\")") {}
 
 FluidParameter CacheParameters::ShapeToleranceRad() const {
   return NumberParameter(tolerance_key_.c_str(), tolerance_field_.c_str(), "rad", 1.0, 1e-3,
@@ -56,6 +90,11 @@ FluidParameter CacheParameters::ShapeToleranceRad() const {
 FluidParameter CacheParameters::SecantReachRad() const {
   return NumberParameter(reach_key_.c_str(), reach_field_.c_str(), "rad", 1.0,
                          kDefaultSecantReachRad, "0", 0.0, true, 2e-3, reach_meaning_.c_str());
+}
+
+FluidParameter CacheParameters::FitTolerance() const {
+  return NumberParameter(fit_key_.c_str(), fit_field_.c_str(), "", 1.0, kDefaultFitTolerance, "0",
+                         0.0, true, 1e-4, fit_meaning_.c_str());
 }
 
 DenseResistanceFluid::~DenseResistanceFluid() = default;
@@ -84,6 +123,7 @@ DenseResistanceFluid::DenseResistanceFluid(const mjModel* m, const RftDrag& segm
     }
     shape_joints_.push_back(m->jnt_qposadr[j]);
   }
+  for (double length_m : rft_->SegmentLengths_m()) body_length_m_ += length_m;
 }
 
 void DenseResistanceFluid::Shape(const mjData* d, std::vector<double>* shape) const {
@@ -108,7 +148,11 @@ void DenseResistanceFluid::Recompute(const mjModel* m, const mjData* d) const {
           q.transpose() * world.block<3, 3>(3 * i, 3 * j) * q;
     }
   }
+  // The fit (still through the evaluations before) against the new one.
+  if (fit_ready_) UpdateFitInterval(d->time, newest.root_resistance);
+  newest.time_s = d->time;
   Shape(d, &newest.shape);
+  BuildFit();
   root_resistance_ = newest.root_resistance;
   extrapolated_ = false;
   ++root_version_;
@@ -136,6 +180,81 @@ bool DenseResistanceFluid::Extrapolate(const std::vector<double>& shape) const {
   extrapolated_ = true;
   ++root_version_;
   ++extrapolations_;
+  return true;
+}
+
+void DenseResistanceFluid::BuildFit() const {
+  const bool was_ready = fit_ready_;
+  fit_ready_ = false;
+  if (fit_tolerance() <= 0.0) return;
+  const size_t joints = exact_[0].shape.size();
+  for (int k = 1; k < kFitPoints; ++k) {
+    if (exact_[k].shape.size() != joints || !(exact_[k - 1].time_s > exact_[k].time_s)) return;
+  }
+  std::array<double, kFitPoints> x;
+  for (int k = 0; k < kFitPoints; ++k) {
+    x[k] = exact_[k].time_s - exact_[0].time_s;
+    fit_[k] = exact_[k].root_resistance;
+    shape_fit_[k] = Eigen::Map<const Eigen::VectorXd>(exact_[k].shape.data(),
+                                                      static_cast<Eigen::Index>(joints));
+  }
+  InterpolatingMonomials(x, &fit_);
+  InterpolatingMonomials(x, &shape_fit_);
+  fit_time_s_ = exact_[0].time_s;
+  if (!was_ready) fit_interval_s_ = exact_[0].time_s - exact_[1].time_s;
+  fit_ready_ = true;
+}
+
+template <typename Value>
+void DenseResistanceFluid::FitAt(const std::array<Value, kFitPoints>& fit, double tau_s,
+                                 Value* value) {
+  static_assert(kFitPoints == 4, "the cubic's four terms");
+  *value = fit[0] + tau_s * fit[1] + (tau_s * tau_s) * fit[2] + (tau_s * tau_s * tau_s) * fit[3];
+}
+
+void DenseResistanceFluid::UpdateFitInterval(double time_s, const Eigen::MatrixXd& exact) const {
+  const double tau_s = time_s - fit_time_s_;
+  if (!(tau_s > 0.0)) return;
+  // Each entry against the largest translational diagonal entry T, times
+  // the body's length L for each rotation: the error of the force (N) and
+  // torque (N m / L) on velocities up to 1 m/s over the body.
+  double largest = 0.0;
+  for (int i = 3; i < exact.rows(); i += 6) {
+    for (int k = 0; k < 3; ++k) largest = std::max(largest, exact(i + k, i + k));
+  }
+  if (!(largest > 0.0)) return;
+  Eigen::MatrixXd fit;
+  FitAt(fit_, tau_s, &fit);
+  double error = 0.0;
+  for (int j = 0; j < exact.cols(); ++j) {
+    const double scale_j = j % 6 < 3 ? body_length_m_ : 1.0;
+    for (int i = 0; i < exact.rows(); ++i) {
+      const double scale = scale_j * (i % 6 < 3 ? body_length_m_ : 1.0);
+      error = std::max(error, std::abs(fit(i, j) - exact(i, j)) / scale);
+    }
+  }
+  error /= largest;
+  last_fit_error_ = error;
+  const double grown = kFitGrowth * std::max(fit_interval_s_, tau_s);
+  fit_interval_s_ =
+      error > 0.0 ? std::min(grown, kFitSafety * tau_s *
+                                        std::pow(fit_tolerance() / error, 1.0 / kFitPoints))
+                  : grown;
+}
+
+bool DenseResistanceFluid::Fit(double time_s, const std::vector<double>& shape) const {
+  const double tau_s = time_s - fit_time_s_;
+  if (!(tau_s >= 0.0) || tau_s > fit_interval_s_) return false;
+  const int joints = static_cast<int>(shape.size());
+  const Eigen::Map<const Eigen::VectorXd> q(shape.data(), joints);
+  FitAt(shape_fit_, tau_s, &fit_shape_);
+  if (joints > 0 && (q - fit_shape_).lpNorm<Eigen::Infinity>() > shape_tolerance_rad()) {
+    return false;
+  }
+  FitAt(fit_, tau_s, &root_resistance_);
+  extrapolated_ = true;
+  ++root_version_;
+  ++fits_;
   return true;
 }
 
@@ -183,8 +302,13 @@ void DenseResistanceFluid::UpdateRootResistance(const mjModel* m, const mjData* 
     farthest = std::max(farthest, std::abs(shape_[k] - newest[k]));
   }
   const bool secant = shape_tolerance_rad() > 0.0 && secant_reach_rad() > 0.0;
+  // With a fit, every evaluation is exact until it has its points (the
+  // cached resistance's lag would stay in the run).
+  const bool fit = shape_tolerance_rad() > 0.0 && fit_tolerance() > 0.0;
   if (!cached) {
     Recompute(m, d);
+  } else if (fit) {
+    if (!fit_ready_ || !Fit(d->time, shape_)) Recompute(m, d);
   } else if (secant && Extrapolate(shape_)) {
     // the exact evaluations' fit
   } else if (farthest > shape_tolerance_rad()) {

@@ -25,6 +25,24 @@
 // links"). A shape tolerance of 0 computes every evaluation exactly,
 // whatever the reach.
 //
+// With a fit tolerance e > 0, once four exact evaluations at increasing
+// times t_0 > t_1 > t_2 > t_3 (newest first) are at hand, the resistance
+// between exact evaluations follows the cubic through them in time
+// (Newton's divided differences), for t up to an interval h past t_0 and
+// while no joint is more than the shape tolerance off the same cubic
+// through the shapes (a run that jumps, or goes back in time, evaluates
+// exactly). At each exact evaluation the fit's error there is measured,
+//   err = max_ij |R_fit,ij - R_ij| / (T s_i s_j),
+// T the largest translational diagonal entry of R, s_i = 1 for a
+// velocity and L, the body's length, for a rotation, and, as it is fourth
+// order in the interval, the next interval is
+// h' = min(2 max(h, tau), 0.9 tau (e / err)^(1/4)), tau the time since the
+// last exact evaluation; the first interval is the last spacing of the
+// four. Until there are four, every evaluation is exact. docs/FLUIDS.md,
+// "Cost on flexible links", measures the fit against the exact evaluation:
+// at e = 3e-5 the swim and the fluid power of the paper's strip with
+// flexible links are within 0.1 % of it.
+//
 // The cache belongs to the fluid, not to an mjData: a copy of the data
 // (mj_copyData) that goes its own way gets a resistance within the
 // tolerances of the exact one at its own shape, made from whichever exact
@@ -47,12 +65,16 @@ namespace ipmc {
 // The secant's reach by default [rad]: none, the cached resistance as it
 // is (docs/FLUIDS.md, "Cost on flexible links", measures the secant).
 constexpr double kDefaultSecantReachRad = 0.0;
+// The fit's tolerance by default: none (docs/FLUIDS.md, "Cost on flexible
+// links", measures it).
+constexpr double kDefaultFitTolerance = 0.0;
 
 class RftDrag;
 
 // The two parameters of a dense model's cached resistance (FluidParameter,
 // fluid_model.h), under the model's name: `<model>_shape_tolerance_rad`
-// and `<model>_secant_reach_rad` (fields ipmc_fluid_<model>_...), their
+// `<model>_secant_reach_rad` and `<model>_fit_tolerance` (fields
+// ipmc_fluid_<model>_...), their
 // help naming the model's `resistance` ("the ribbon's resistance") and
 // docs/FLUIDS.md's `section` on the tolerance. Owns the texts the
 // parameters point to: keep it for as long as they are used (a static
@@ -63,10 +85,12 @@ class CacheParameters {
                   const std::string& section);
   FluidParameter ShapeToleranceRad() const;
   FluidParameter SecantReachRad() const;
+  FluidParameter FitTolerance() const;
 
  private:
   std::string tolerance_key_, tolerance_field_, tolerance_meaning_;
   std::string reach_key_, reach_field_, reach_meaning_;
+  std::string fit_key_, fit_field_, fit_meaning_;
 };
 
 class DenseResistanceFluid : public Fluid {
@@ -100,6 +124,10 @@ class DenseResistanceFluid : public Fluid {
   int recomputations() const { return recomputations_; }
   // Evaluations served by the secant between exact ones.
   int extrapolations() const { return extrapolations_; }
+  // Evaluations served by the fit in time between exact ones.
+  int fits() const { return fits_; }
+  // The fit's error measured at the last exact evaluation (0: none yet).
+  double last_fit_error() const { return last_fit_error_; }
 
  protected:
   // `name` starts the error messages ("stokeslet fluid"). Throws
@@ -115,11 +143,16 @@ class DenseResistanceFluid : public Fluid {
   virtual double shape_tolerance_rad() const = 0;
   // 0: the cached resistance is used as it is (no secant).
   virtual double secant_reach_rad() const = 0;
+  // 0: no fit in time.
+  virtual double fit_tolerance() const = 0;
   // Index into InteractingBodies() of rft()'s geom g (in geom_ids() order).
   int body_of_geom(int g) const { return body_of_geom_[g]; }
   int body_count() const { return static_cast<int>(bodies_.size()); }
 
  private:
+  // The fit's points: a cubic in time.
+  static constexpr int kFitPoints = 4;
+
   void Recompute(const mjModel* m, const mjData* d) const;
   // Brings root_resistance_ to d's shape: the same shape's, the secant's,
   // the cached or a new exact one (the tolerances).
@@ -134,6 +167,19 @@ class DenseResistanceFluid : public Fluid {
   // returns true, or returns false if the shape is beyond its reach or off
   // it (or there is no secant).
   bool Extrapolate(const std::vector<double>& shape) const;
+  // Sets root_resistance_ to the fit in time at `time_s` and returns true,
+  // or returns false if `time_s` is outside its interval or `shape` off
+  // the fit's.
+  bool Fit(double time_s, const std::vector<double>& shape) const;
+  // After a new exact evaluation at exact_[0]: the fit through the newest
+  // kFitPoints, if their times increase.
+  void BuildFit() const;
+  // The fit's error against the exact evaluation `exact` at `time_s`
+  // (err above) and the next interval.
+  void UpdateFitInterval(double time_s, const Eigen::MatrixXd& exact) const;
+  // *value = sum_k fit[k] tau^k.
+  template <typename Value>
+  static void FitAt(const std::array<Value, kFitPoints>& fit, double tau_s, Value* value);
   // The cached R, in the world frame about the subtree centre of mass.
   const Eigen::MatrixXd& WorldResistance(const mjData* d) const;
   // The generalised force of body wrenches W (6 per body of bodies_).
@@ -146,13 +192,26 @@ class DenseResistanceFluid : public Fluid {
   std::vector<int> body_of_geom_;  // index into bodies_, per rft_ geom
   std::vector<int> shape_joints_;  // qpos addresses of the non-root hinges and slides
   int root_body_ = -1;
-  // The last two exact evaluations (shape, R about the root's origin in
-  // the root's frame), newest first; an empty shape: none yet.
+  double body_length_m_ = 0.0;  // the segments' lengths summed
+  // The last kFitPoints exact evaluations (time, shape, R about the root's
+  // origin in the root's frame), newest first; an empty shape: none yet.
   struct Exact {
+    double time_s = 0.0;
     std::vector<double> shape;
     Eigen::MatrixXd root_resistance;
   };
-  mutable std::array<Exact, 2> exact_;
+  mutable std::array<Exact, kFitPoints> exact_;
+  // The fit in time through them (BuildFit), valid while fit_ready_: the
+  // monomials' coefficients of R and of the shape in tau = t - fit_time_s_,
+  // and the interval past fit_time_s_ it serves [s].
+  mutable bool fit_ready_ = false;
+  mutable std::array<Eigen::MatrixXd, kFitPoints> fit_;
+  mutable std::array<Eigen::VectorXd, kFitPoints> shape_fit_;
+  mutable Eigen::VectorXd fit_shape_;  // scratch
+  mutable double fit_time_s_ = 0.0;
+  mutable double fit_interval_s_ = 0.0;
+  mutable int fits_ = 0;
+  mutable double last_fit_error_ = 0.0;
   mutable Eigen::MatrixXd root_resistance_;  // in use: exact or extrapolated
   mutable bool extrapolated_ = false;
   mutable std::vector<double> shape_;  // scratch

@@ -90,6 +90,9 @@ void PlateSettings::Validate() const {
   if (!(secant_reach_rad >= 0.0) || !std::isfinite(secant_reach_rad)) {
     throw std::invalid_argument("plate fluid: the secant's reach must be finite and >= 0");
   }
+  if (!(fit_tolerance >= 0.0) || !std::isfinite(fit_tolerance)) {
+    throw std::invalid_argument("plate fluid: the fit's tolerance must be finite and >= 0");
+  }
   if (wall_distance_m && !(*wall_distance_m > 0.5 * width_m && std::isfinite(*wall_distance_m))) {
     std::ostringstream msg;
     msg << "plate fluid: the wall distance must be finite and > half the plates' width "
@@ -307,6 +310,7 @@ PlateSettings SettingsFromParameters(const mjModel* m, const RftDrag& segments,
   settings.richardson = value(Richardson()) != 0.0;
   settings.shape_tolerance_rad = value(Cache().ShapeToleranceRad());
   settings.secant_reach_rad = value(Cache().SecantReachRad());
+  settings.fit_tolerance = value(Cache().FitTolerance());
   settings.wall_distance_m = WallDistance_m(segments);
   return settings;
 }
@@ -315,7 +319,7 @@ PlateSettings SettingsFromParameters(const mjModel* m, const RftDrag& segments,
 
 std::vector<FluidParameter> PlateFluid::Parameters() {
   return {PointsAcross(), QuadratureRefinement(), Richardson(), Cache().ShapeToleranceRad(),
-          Cache().SecantReachRad()};
+          Cache().SecantReachRad(), Cache().FitTolerance()};
 }
 
 std::unique_ptr<Fluid> PlateFluid::Make(const mjModel* m, const RftDrag& segments,

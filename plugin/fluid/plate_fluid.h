@@ -44,7 +44,8 @@
 // image depends on its height and tilt) are recomputed with the shape.
 // The resistance is kept while the shape moves less than
 // `shape_tolerance_rad`, and extrapolated along the secant of the last two
-// within `secant_reach_rad` (dense_resistance_fluid.h).
+// within `secant_reach_rad` or fitted in time within `fit_tolerance`
+// (dense_resistance_fluid.h).
 // docs/FLUIDS.md has the validation (disk, straight strip) and the
 // convergence of the paper's swimmer.
 #pragma once
@@ -73,6 +74,7 @@ struct PlateSettings {
   double width_m = 0.0;            // the plates' width; default the strip's
   double shape_tolerance_rad = 1e-3;  // recompute beyond this joint motion
   double secant_reach_rad = kDefaultSecantReachRad;  // extrapolate within this
+  double fit_tolerance = kDefaultFitTolerance;  // the fit in time's (0: none)
   // The centreline's height h over a no-slip wall z = -h; none: free space.
   std::optional<double> wall_distance_m;
   // Checked: throws std::invalid_argument naming the setting and its range.
@@ -187,6 +189,7 @@ class PlateFluid : public DenseResistanceFluid {
                                     const Eigen::Vector3d& origin_W) const override;
   double shape_tolerance_rad() const override { return settings_.shape_tolerance_rad; }
   double secant_reach_rad() const override { return settings_.secant_reach_rad; }
+  double fit_tolerance() const override { return settings_.fit_tolerance; }
   // R for the plates placed as given, with the cached self blocks (and
   // the wall's images).
   Eigen::MatrixXd Resistance(const std::vector<PlacedSurface>& plates,

@@ -83,6 +83,7 @@ struct StokesletSettings {
   std::optional<double> wall_distance_m;  // the centreline's height over a wall
   double shape_tolerance_rad = 1e-3;      // recompute beyond this joint motion
   double secant_reach_rad = 0.0;          // extrapolate within this (0: none)
+  double fit_tolerance = 0.0;             // the fit in time's (0: none)
 };
 
 struct StokesletGeometry {

@@ -19,7 +19,12 @@ namespace {
 // of its length), graded towards its ends, where the neighbouring piece's
 // kernel is nearly singular at a kink.
 constexpr int kGaussOrder = 8;
-constexpr double kPanelBreaks[] = {0.0, 1.0 / 8, 0.5, 7.0 / 8, 1.0};
+const std::vector<double> kPanelBreaks = {0.0, 1.0 / 8, 0.5, 7.0 / 8, 1.0};
+// Between pieces apart (FarApart), where the kernel is smooth on both,
+// one panel each: Gauss-Legendre's error there is below 1e-9 of the
+// pair's part (the kernel's nearest singularity half a piece beyond the
+// piece's end: (2 + sqrt 3)^-16).
+const std::vector<double> kWholePiece = {0.0, 1.0};
 
 // A quadrature node of the ribbon.
 struct Node {
@@ -33,7 +38,9 @@ struct Node {
   int body = 0;
 };
 
-std::vector<Node> Nodes(const std::vector<RibbonPiece>& pieces, double half_length_m) {
+// The quadrature nodes, piece by piece, on the panels `breaks` of each.
+std::vector<Node> Nodes(const std::vector<RibbonPiece>& pieces, double half_length_m,
+                        const std::vector<double>& breaks) {
   using Gauss = boost::math::quadrature::gauss<double, kGaussOrder>;
   std::vector<Node> nodes;
   double along_m = 0.0;
@@ -41,9 +48,9 @@ std::vector<Node> Nodes(const std::vector<RibbonPiece>& pieces, double half_leng
     const RibbonPiece& piece = pieces[p];
     const Eigen::Vector3d t = piece.tangent_W.normalized();
     const Eigen::Vector3d w = (piece.width_axis_W - piece.width_axis_W.dot(t) * t).normalized();
-    for (size_t k = 0; k + 1 < std::size(kPanelBreaks); ++k) {
-      const double middle_m = 0.5 * (kPanelBreaks[k] + kPanelBreaks[k + 1]) * piece.length_m;
-      const double half_m = 0.5 * (kPanelBreaks[k + 1] - kPanelBreaks[k]) * piece.length_m;
+    for (size_t k = 0; k + 1 < breaks.size(); ++k) {
+      const double middle_m = 0.5 * (breaks[k] + breaks[k + 1]) * piece.length_m;
+      const double half_m = 0.5 * (breaks[k + 1] - breaks[k]) * piece.length_m;
       for (size_t j = 0; j < Gauss::abscissa().size(); ++j) {
         const double x = Gauss::abscissa()[j];
         for (double sign : {-1.0, 1.0}) {
@@ -106,6 +113,40 @@ double LogTerm(double s, double b, double s_cap) {
   return std::log(16.0 * (1.0 - s * s) / (b * b));
 }
 
+// A quadrature of the ribbon: its nodes, w_i P_n(s_i) (row i, column n)
+// and where each piece's nodes start (PieceStarts).
+struct Quadrature {
+  std::vector<Node> nodes;
+  Eigen::MatrixXd legendre;
+  Eigen::MatrixXd weighted;
+  std::vector<int> starts;
+};
+
+Quadrature MakeQuadrature(const std::vector<RibbonPiece>& pieces, double half_length_m,
+                          const std::vector<double>& breaks, int modes) {
+  Quadrature quadrature;
+  quadrature.nodes = Nodes(pieces, half_length_m, breaks);
+  quadrature.legendre = LegendreAtNodes(quadrature.nodes, modes);
+  const std::vector<double> weights = Weights(quadrature.nodes);
+  quadrature.weighted =
+      Eigen::VectorXd::Map(weights.data(), static_cast<Eigen::Index>(weights.size())).asDiagonal() *
+      quadrature.legendre;
+  quadrature.starts = PieceStarts(quadrature.nodes);
+  return quadrature;
+}
+
+// Pieces p and q (on the ribbon the fluid sees) are apart if another lies
+// between them and their centres are at least half the longer one farther
+// apart than if they touched.
+bool FarApart(const std::vector<RibbonPiece>& pieces, int p, int q) {
+  if (std::abs(p - q) < 2) return false;
+  const RibbonPiece &a = pieces[p], &c = pieces[q];
+  const Eigen::Vector3d centre_a = a.hydro_start_W + 0.5 * a.length_m * a.tangent_W;
+  const Eigen::Vector3d centre_c = c.hydro_start_W + 0.5 * c.length_m * c.tangent_W;
+  return (centre_a - centre_c).norm() >=
+         0.5 * (a.length_m + c.length_m) + 0.5 * std::max(a.length_m, c.length_m);
+}
+
 // galerkin.block<3, 3>(3 m, 3 n) += pattern * scalars(m, n) for all m, n.
 void AddPattern(const Eigen::Matrix3d& pattern, const Eigen::MatrixXd& scalars,
                 Eigen::MatrixXd* galerkin) {
@@ -125,14 +166,19 @@ void AddPattern(const Eigen::Matrix3d& pattern, const Eigen::MatrixXd& scalars,
 //   [(1 / d - 1 / |s - s'|) I - t_P t_P / |s - s'| + R R / d^3]
 // in its 8 scalar parts (the I part, the t t part, R R's xx, yy, xy, zz,
 // xz, yz), each projected as weighted_P^T K weighted_Q; the kernel is
-// symmetric, so pair (Q, P) takes the transpose.
-Eigen::MatrixXd GalerkinOperator(const std::vector<Node>& nodes, const Eigen::MatrixXd& weighted,
-                                 const Eigen::MatrixXd& legendre, double b, double s_cap,
+// symmetric, so pair (Q, P) takes the transpose. Pieces far apart
+// (FarApart) take the quadrature `whole`, one panel a piece, the others
+// `graded`.
+Eigen::MatrixXd GalerkinOperator(const std::vector<RibbonPiece>& ribbon, const Quadrature& graded,
+                                 const Quadrature& whole, double b, double s_cap,
                                  double half_length_m) {
+  const std::vector<Node>& nodes = graded.nodes;
+  const Eigen::MatrixXd& weighted = graded.weighted;
+  const Eigen::MatrixXd& legendre = graded.legendre;
   const int modes = static_cast<int>(legendre.cols());
   const Eigen::Matrix3d identity = Eigen::Matrix3d::Identity();
   Eigen::MatrixXd galerkin = Eigen::MatrixXd::Zero(3 * modes, 3 * modes);
-  const std::vector<int> starts = PieceStarts(nodes);
+  const std::vector<int>& starts = graded.starts;
   const int pieces = static_cast<int>(starts.size()) - 1;
   // The harmonic numbers H_n = 1 + 1/2 + ... + 1/n, H_0 = 0.
   Eigen::RowVectorXd harmonic = Eigen::RowVectorXd::Zero(modes);
@@ -176,15 +222,22 @@ Eigen::MatrixXd GalerkinOperator(const std::vector<Node>& nodes, const Eigen::Ma
   bool planar = true;
   for (const Node& node : nodes) planar = planar && node.hydro_W.z() == nodes[0].hydro_W.z();
   const int parts = planar ? 5 : kParts;
+  // The projections summed before their patterns are added: per part
+  // (its pattern the same for every pair), and the t t part per piece.
+  std::array<Eigen::MatrixXd, kParts> part_sums;
+  for (Eigen::MatrixXd& sum : part_sums) sum.setZero(modes, modes);
+  std::vector<Eigen::MatrixXd> tangent_sums(pieces, Eigen::MatrixXd::Zero(modes, modes));
+  Eigen::MatrixXd projected;
   for (int p = 0; p < pieces; ++p) {
     for (int q = p + 1; q < pieces; ++q) {
-      const int p0 = starts[p], np = starts[p + 1] - p0;
-      const int q0 = starts[q], nq = starts[q + 1] - q0;
+      const Quadrature& pair = FarApart(ribbon, p, q) ? whole : graded;
+      const int p0 = pair.starts[p], np = pair.starts[p + 1] - p0;
+      const int q0 = pair.starts[q], nq = pair.starts[q + 1] - q0;
       kernel.resize(np, parts * nq);
       for (int c = 0; c < nq; ++c) {
         for (int a = 0; a < np; ++a) {
-          const Node& na = nodes[p0 + a];
-          const Node& nc = nodes[q0 + c];
+          const Node& na = pair.nodes[p0 + a];
+          const Node& nc = pair.nodes[q0 + c];
           const Eigen::Vector3d r = (na.hydro_W - nc.hydro_W) * inverse_half_length;
           const double inverse_distance = 1.0 / r.norm();
           const double inverse_ds = 1.0 / std::abs(na.s - nc.s);
@@ -200,19 +253,22 @@ Eigen::MatrixXd GalerkinOperator(const std::vector<Node>& nodes, const Eigen::Ma
           kernel(a, 7 * nq + c) = k * r.y() * r.z();
         }
       }
-      left.noalias() = weighted.middleRows(p0, np).transpose() * kernel;
+      left.noalias() = pair.weighted.middleRows(p0, np).transpose() * kernel;
       for (int part = 0; part < parts; ++part) {
-        const Eigen::MatrixXd projected =
-            left.middleCols(part * nq, nq) * weighted.middleRows(q0, nq);
+        projected.noalias() = left.middleCols(part * nq, nq) * pair.weighted.middleRows(q0, nq);
         if (part == 1) {
-          AddPattern(-tangents[p], projected, &galerkin);
-          AddPattern(-tangents[q], projected.transpose(), &galerkin);
+          tangent_sums[p] += projected;
+          tangent_sums[q] += projected.transpose();
         } else {
-          AddPattern(patterns[part], projected + projected.transpose(), &galerkin);
+          part_sums[part] += projected + projected.transpose();
         }
       }
     }
   }
+  for (int part = 0; part < parts; ++part) {
+    if (part != 1) AddPattern(patterns[part], part_sums[part], &galerkin);
+  }
+  for (int p = 0; p < pieces; ++p) AddPattern(-tangents[p], tangent_sums[p], &galerkin);
   return galerkin;
 }
 
@@ -240,6 +296,9 @@ void RibbonSettings::Validate() const {
   if (!(secant_reach_rad >= 0.0) || !std::isfinite(secant_reach_rad)) {
     throw std::invalid_argument("ribbon fluid: the secant's reach must be finite and >= 0");
   }
+  if (!(fit_tolerance >= 0.0) || !std::isfinite(fit_tolerance)) {
+    throw std::invalid_argument("ribbon fluid: the fit's tolerance must be finite and >= 0");
+  }
 }
 
 Eigen::MatrixXd RibbonBodyResistance(const std::vector<RibbonPiece>& pieces, int bodies,
@@ -254,14 +313,14 @@ Eigen::MatrixXd RibbonBodyResistance(const std::vector<RibbonPiece>& pieces, int
   }
   const double b = 0.5 * settings.width_m / half_m;
   const double s_cap = 1.0 - settings.end_cap_m / half_m;
-  const std::vector<Node> nodes = Nodes(pieces, half_m);
-  const int n_nodes = static_cast<int>(nodes.size());
   const int modes = settings.modes;
-  const Eigen::MatrixXd legendre = LegendreAtNodes(nodes, modes);
+  const Quadrature graded = MakeQuadrature(pieces, half_m, kPanelBreaks, modes);
+  const Quadrature whole = MakeQuadrature(pieces, half_m, kWholePiece, modes);
+  const std::vector<Node>& nodes = graded.nodes;
+  const int n_nodes = static_cast<int>(nodes.size());
+  const Eigen::MatrixXd& weighted = graded.weighted;
   // Galerkin: int P_m (operator f - 8 pi mu U) ds = 0 for every mode m.
-  const Eigen::MatrixXd weighted =
-      Eigen::VectorXd::Map(Weights(nodes).data(), n_nodes).asDiagonal() * legendre;
-  const Eigen::MatrixXd galerkin = GalerkinOperator(nodes, weighted, legendre, b, s_cap, half_m);
+  const Eigen::MatrixXd galerkin = GalerkinOperator(pieces, graded, whole, b, s_cap, half_m);
   // The projected rigid motions, int P_m 8 pi mu U ds with U = -[r - c]x w
   // + v on each body: 8 pi mu [-[M1_m - M0_m c]x, M0_m I] from the body's
   // moments M0_m = sum w_i P_m(s_i), M1_m = sum w_i P_m(s_i) r_i.
@@ -324,7 +383,7 @@ const CacheParameters& Cache() {
 }  // namespace
 
 std::vector<FluidParameter> RibbonFluid::Parameters() {
-  return {Modes(), Cache().ShapeToleranceRad(), Cache().SecantReachRad()};
+  return {Modes(), Cache().ShapeToleranceRad(), Cache().SecantReachRad(), Cache().FitTolerance()};
 }
 
 std::unique_ptr<Fluid> RibbonFluid::Make(const mjModel* m, const RftDrag& segments,
@@ -336,6 +395,7 @@ std::unique_ptr<Fluid> RibbonFluid::Make(const mjModel* m, const RftDrag& segmen
   ribbon.modes = static_cast<int>(value(Modes()));
   ribbon.shape_tolerance_rad = value(Cache().ShapeToleranceRad());
   ribbon.secant_reach_rad = value(Cache().SecantReachRad());
+  ribbon.fit_tolerance = value(Cache().FitTolerance());
   return std::make_unique<RibbonFluid>(m, segments, ribbon);
 }
 

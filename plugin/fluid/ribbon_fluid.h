@@ -44,8 +44,8 @@
 // the segments' own points. The resistance is symmetrised (reciprocal
 // theorem) and, as the Stokeslets', kept in the root body's frame until a
 // joint has moved more than `shape_tolerance_rad`, and extrapolated along
-// the secant of the last two within `secant_reach_rad`
-// (dense_resistance_fluid.h). docs/FLUIDS.md has the
+// the secant of the last two within `secant_reach_rad` or fitted in time
+// within `fit_tolerance` (dense_resistance_fluid.h). docs/FLUIDS.md has the
 // validation and the error on the paper's strip.
 #pragma once
 
@@ -70,6 +70,7 @@ struct RibbonSettings {
   double end_cap_m = 0.0;            // length of each elliptic end; default half the width
   double shape_tolerance_rad = 1e-3; // recompute beyond this joint motion
   double secant_reach_rad = kDefaultSecantReachRad;  // extrapolate within this
+  double fit_tolerance = kDefaultFitTolerance;  // the fit in time's (0: none)
   // Checked: throws std::invalid_argument naming the setting and its range.
   void Validate() const;
 };
@@ -123,6 +124,7 @@ class RibbonFluid : public DenseResistanceFluid {
                                     const Eigen::Vector3d& origin_W) const override;
   double shape_tolerance_rad() const override { return settings_.shape_tolerance_rad; }
   double secant_reach_rad() const override { return settings_.secant_reach_rad; }
+  double fit_tolerance() const override { return settings_.fit_tolerance; }
 
   RibbonSettings settings_;
 };

@@ -65,6 +65,9 @@ StokesletSettings StokesletSettingsFromModel(const mjModel* m, const RftDrag& se
   if (!(settings.secant_reach_rad >= 0.0) || !std::isfinite(settings.secant_reach_rad)) {
     throw std::invalid_argument("stokeslet fluid: the secant's reach must be finite and >= 0");
   }
+  if (!(settings.fit_tolerance >= 0.0) || !std::isfinite(settings.fit_tolerance)) {
+    throw std::invalid_argument("stokeslet fluid: the fit's tolerance must be finite and >= 0");
+  }
   if (settings.wall_distance_m) RequirePositive(*settings.wall_distance_m, "the wall distance");
   return settings;
 }
@@ -115,6 +118,12 @@ FluidParameter SecantReachRad() {
                          "links\")");
 }
 
+FluidParameter FitTolerance() {
+  static const CacheParameters cache("stokeslet", "the Stokeslet resistance",
+                                     "Cost on flexible links");
+  return cache.FitTolerance();
+}
+
 // The settings the parameters give, defaults filled in and checked.
 StokesletSettings SettingsFromParameters(const mjModel* m, const RftDrag& segments,
                                          const RftDragOverrides& overrides) {
@@ -127,6 +136,7 @@ StokesletSettings SettingsFromParameters(const mjModel* m, const RftDrag& segmen
   settings.blob_m = value(BlobMm()).value_or(0.0);
   settings.shape_tolerance_rad = *value(ShapeToleranceRad());
   settings.secant_reach_rad = *value(SecantReachRad());
+  settings.fit_tolerance = *value(FitTolerance());
   settings.wall_distance_m = WallDistance_m(segments);
   return StokesletSettingsFromModel(m, segments, settings);
 }
@@ -134,7 +144,8 @@ StokesletSettings SettingsFromParameters(const mjModel* m, const RftDrag& segmen
 }  // namespace
 
 std::vector<FluidParameter> StokesletFluid::Parameters() {
-  return {WidthPoints(), PointsPerMm(), BlobMm(), ShapeToleranceRad(), SecantReachRad()};
+  return {WidthPoints(), PointsPerMm(), BlobMm(), ShapeToleranceRad(), SecantReachRad(),
+          FitTolerance()};
 }
 
 std::unique_ptr<Fluid> StokesletFluid::Make(const mjModel* m, const RftDrag& segments,

@@ -11,7 +11,8 @@
 //
 // The resistance is kept while the shape moves less than
 // `shape_tolerance_rad`, and extrapolated along the secant of the last two
-// within `secant_reach_rad` (plugin/fluid/dense_resistance_fluid.h).
+// within `secant_reach_rad` or fitted in time within `fit_tolerance`
+// (plugin/fluid/dense_resistance_fluid.h).
 //
 // Settings: the model's <custom> fields ipmc_fluid_stokeslet_* and the
 // program's overrides of them (the scenario's fluid.stokeslet_* keys); the
@@ -78,6 +79,7 @@ class StokesletFluid : public DenseResistanceFluid {
                                     const Eigen::Vector3d& origin_W) const override;
   double shape_tolerance_rad() const override { return settings_.shape_tolerance_rad; }
   double secant_reach_rad() const override { return settings_.secant_reach_rad; }
+  double fit_tolerance() const override { return settings_.fit_tolerance; }
 
   StokesletSettings settings_;
   mutable int points_ = 0;
