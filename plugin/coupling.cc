@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "ipmc_swim/ipmc_swim.h"
+#include "plugin/fluid/dense_resistance_fluid.h"
 #include "plugin/mjcf/custom_fields.h"
 
 #include <Eigen/Core>
@@ -764,6 +765,16 @@ FluidFacts FluidOf(const mjData* d) {
   facts.towing_drag_N_s_m = fluid.TowingDrag_N(1.0);
   facts.rotational_drag_N_m_s = fluid.RotationalDragScale_N_m_s();
   return facts;
+}
+
+ResistanceEvaluations FluidResistanceEvaluations(const mjData* d) {
+  const CouplingContext& context = RequireCoupling(d, "FluidResistanceEvaluations");
+  ResistanceEvaluations evaluations;
+  if (const auto* dense = dynamic_cast<const DenseResistanceFluid*>(context.fluid.get())) {
+    evaluations.exact = dense->recomputations();
+    evaluations.fitted = dense->fits();
+  }
+  return evaluations;
 }
 
 std::vector<double> DragMatrix(const mjModel* m, const mjData* d) {

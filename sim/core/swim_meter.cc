@@ -85,7 +85,7 @@ void SwimMeter::EndCycle(const mjData* d) {
   cycle_start_ = end;
 }
 
-SwimMetrics SwimMeter::Finish(const mjModel* m, const mjData* d, int from_cycle,
+SwimMetrics SwimMeter::Finish(const mjData* d, int from_cycle,
                               double wavelength_mm, double frequency_Hz) const {
   SwimMetrics metrics = metrics_;
   metrics.frequency_Hz = std::abs(frequency_Hz);

@@ -101,7 +101,7 @@ class SwimMeter {
   // coupling of d; without them all are 0), with FluidWarnings for the
   // wave's wavelength (0: no wave); the oscillatory Reynolds number at
   // `frequency_Hz` (0: none).
-  SwimMetrics Finish(const mjModel* m, const mjData* d, int from_cycle = 1,
+  SwimMetrics Finish(const mjData* d, int from_cycle = 1,
                      double wavelength_mm = 0.0, double frequency_Hz = 0.0) const;
 
  private:

@@ -263,7 +263,7 @@ class PythonSimulation {
   py::object Swim() {
     std::lock_guard<std::mutex> lock(mutex_);
     RequireNotDiverged("swim");
-    return ToPython(SwimMetricsJson(meter_.Finish(sim_->model(), sim_->data())));
+    return ToPython(SwimMetricsJson(meter_.Finish(sim_->data())));
   }
 
   // The scenario's timing and controller.

@@ -263,9 +263,8 @@ ClosedLoopResult StartResult(const ScenarioConfig& scenario, const mjModel* m,
 void FinishResult(const ScenarioConfig& scenario, const ClosedLoopTiming& timing, int from_cycle,
                   Simulation& sim, SwimMeter& meter, EnergyMeter& energy,
                   ClosedLoopResult& result) {
-  mjModel* m = sim.model();
   mjData* d = sim.data();
-  result.swim = meter.Finish(m, d, from_cycle, scenario.waveform.wavelength_mm,
+  result.swim = meter.Finish(d, from_cycle, scenario.waveform.wavelength_mm,
                              scenario.waveform.frequency_Hz);
   if (scenario.output.samples_per_cycle > timing.samples_per_cycle) {
     // Not silently fewer rows than asked for.

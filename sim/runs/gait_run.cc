@@ -181,7 +181,7 @@ GaitRunResult RunGait(Simulation& sim, const Gait& gait, const GaitRunOptions& o
     }
     meter.EndCycle(d);
   }
-  result.swim = meter.Finish(m, d, 1, 0.0, 1.0 / gait.Period_s());
+  result.swim = meter.Finish(d, 1, 0.0, 1.0 / gait.Period_s());
   RequireFiniteMetrics(result.swim, sim.source());
   return result;
 }

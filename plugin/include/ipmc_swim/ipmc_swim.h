@@ -262,6 +262,16 @@ struct FluidFacts {
   double rotational_drag_N_m_s = 0;
 };
 FluidFacts FluidOf(const mjData* d);
+// How often d's dense fluid (stokeslets, ribbon, plates) evaluated its
+// resistance exactly, and how often it took it from its fit in time
+// between exact evaluations (ipmc_fluid_<model>_fit_tolerance), since
+// Attach; zeros for the other fluids. The rest of its evaluations reused
+// the last one (the shape within its tolerance).
+struct ResistanceEvaluations {
+  long exact = 0;
+  long fitted = 0;
+};
+ResistanceEvaluations FluidResistanceEvaluations(const mjData* d);
 // The drag's generalised resistance at d's positions: the nv x nv matrix
 // (row-major) C with qfrc = -C qvel that the drag callback applies.
 // Empty without drag.
