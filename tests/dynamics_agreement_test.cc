@@ -17,9 +17,12 @@
 #include <string>
 #include <vector>
 
-#include "plugin/coupling.h"
-#include "sim/core/scenario.h"
+#include "ipmc_swim/fields.h"
+#include "ipmc_swim/ipmc_swim.h"
 #include "sim/base/numbers.h"
+#include "sim/core/scenario.h"
+#include "sim/io/files.h"
+#include "sim/io/mjcf_edit.h"
 #include "sim/runs/bench_run.h"
 #include "sim/runs/closed_loop_run.h"
 #include "tests/test_util.h"
@@ -34,14 +37,13 @@ constexpr double kLight = 0.01;  // mass scale of the "inertia-free" inertial ru
 
 // Every body's mass and inertia times `scale`, attached again (the
 // coupling steps the model as Attach read it).
-void ScaleInertia(mjModel* m, mjData* d, double scale,
-                  const IpmcActuatorsOverrides& overrides = {}) {
+void ScaleInertia(mjModel* m, mjData* d, double scale) {
   for (int b = 0; b < m->nbody; ++b) {
     m->body_mass[b] *= scale;
     for (int i = 0; i < 3; ++i) m->body_inertia[3 * b + i] *= scale;
   }
   mj_setConst(m, d);
-  AttachWithOverrides(m, d, overrides);
+  Attach(m, d);
 }
 
 double PaperCycle_mm(Dynamics dynamics, double timestep_s, double mass_scale) {
@@ -79,12 +81,13 @@ Complex Amplitude(const std::vector<double>& t, const std::vector<double>& y, do
 // at frequency_Hz, after four periods of settling, over four periods.
 Complex BenchResponse(Dynamics dynamics, double timestep_s, double mass_scale,
                       double frequency_Hz) {
-  ModelPtr model = LoadModelFile(kSource + "/models/flagellum3_clamped.xml");
+  const std::string path = kSource + "/models/flagellum3_clamped.xml";
+  ModelPtr model = LoadModelString(
+      SetMjcfCustomField(ReadTextFile(path, "model"), "text", kAttrDynamics, DynamicsName(dynamics)),
+      kSource + "/models");
   model->opt.timestep = timestep_s;
-  IpmcActuatorsOverrides overrides;
-  overrides.dynamics = dynamics;
-  Simulation sim(std::move(model), "clamped flagellum", overrides);
-  if (mass_scale != 1.0) ScaleInertia(sim.model(), sim.data(), mass_scale, overrides);
+  Simulation sim(std::move(model), "clamped flagellum");
+  if (mass_scale != 1.0) ScaleInertia(sim.model(), sim.data(), mass_scale);
   BenchSignal signal;
   signal.frequency_Hz = frequency_Hz;
   signal.duration_s = 8.0 / frequency_Hz;

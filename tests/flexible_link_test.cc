@@ -1,6 +1,7 @@
-// IPMC links as chains of rigid sub-segments (plugin/actuators/ipmc_actuators.h,
-// sim/core/model_generator.h), the plant assignment and the scaling of a link's
-// plant with its length (sim/linear/ipmc_link_model.h).
+// IPMC links as chains of rigid sub-segments (sim/core/model_generator.h;
+// the chain's shape itself: plugin/tests/chain_shape_test.cc), the plant
+// assignment and the scaling of a link's plant with its length
+// (sim/linear/ipmc_link_model.h).
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -12,15 +13,17 @@
 #include <string>
 #include <vector>
 
-#include "plugin/coupling.h"
-#include "plugin/actuators/ipmc_actuators.h"
+#include "ipmc_swim/fields.h"
+#include "ipmc_swim/ipmc_swim.h"
+#include "sim/base/numbers.h"
+#include "sim/core/model_generator.h"
+#include "sim/core/scenario.h"
+#include "sim/core/scenario_simulation.h"
+#include "sim/io/mjcf_edit.h"
 #include "sim/linear/ipmc_link_model.h"
 #include "sim/runs/bench_run.h"
 #include "sim/runs/closed_loop_run.h"
-#include "sim/core/model_generator.h"
-#include "sim/core/scenario.h"
 #include "tests/test_util.h"
-#include "sim/base/numbers.h"
 
 namespace ipmc::testing {
 namespace {
@@ -28,76 +31,6 @@ namespace {
 // Fails on any MuJoCo warning the test does not expect.
 class FlexibleLinkTest : public MujocoWarnings {};
 class LinkPlantsTest : public MujocoWarnings {};
-
-// ---------------------------------------------------- the chain's shape ---
-
-TEST(ChainShapeTest, OneSegmentIsTheRigidLink) {
-  const ChainShape shape({0.01});
-  EXPECT_DOUBLE_EQ(shape.Reach_m(), 0.01);
-  bool clamped = true;
-  // theta0 = kappa L / 2 = asin(delta / L).
-  const double kappa = shape.Curvature_1_m(0.004, 0.0, &clamped);
-  EXPECT_FALSE(clamped);
-  EXPECT_DOUBLE_EQ(kappa * shape.Share_m(0), std::asin(0.4));
-  shape.Curvature_1_m(-0.0101, 0.0, &clamped);
-  EXPECT_TRUE(clamped);
-}
-
-// The generator's layout of a link of length L in n >= 2 sub-segments:
-// n - 1 of l = L / (n - 1/2) and a last one of l / 2 (model_generator.h).
-std::vector<double> GeneratorLayout(int n, double length_m) {
-  std::vector<double> lengths(n, length_m / (n - 0.5));
-  lengths.back() *= 0.5;
-  return lengths;
-}
-
-TEST(ChainShapeTest, CurvatureInvertsTheTipDeflection) {
-  for (int n : {2, 3, 8, 64}) {
-    const ChainShape shape(GeneratorLayout(n, 0.01));
-    // Shares: l/2 at the root, l inside and at the last hinge, whose share
-    // reaches the tip (Voronoi lengths adding up to L).
-    const double l = 0.01 / (n - 0.5);
-    EXPECT_DOUBLE_EQ(shape.Share_m(0), 0.5 * l);
-    EXPECT_DOUBLE_EQ(shape.Share_m(1), l);
-    EXPECT_DOUBLE_EQ(shape.Share_m(n - 1), l);
-    for (double deflection_m : {1e-6, -3e-3, 5e-3, 0.99 * shape.Reach_m()}) {
-      bool clamped = true;
-      const double kappa = shape.Curvature_1_m(deflection_m, 0.0, &clamped);
-      EXPECT_FALSE(clamped);
-      EXPECT_NEAR(shape.TipDeflection_m(kappa), deflection_m, 1e-15) << "n = " << n;
-    }
-    // The chain reaches about as far as the arc's first maximum:
-    // (1 - cos(x)) / x L peaks where tan(x / 2) = x, at x = 2.3311,
-    // 0.72461 L. Measured -1.02 / -0.65 / -0.088 % for n = 2 / 3 / 8
-    // (at most 0.059 / n^2).
-    EXPECT_NEAR(shape.Reach_m() / (0.72461 * 0.01), 1.0, 0.1 / (n * n)) << "n = " << n;
-  }
-}
-
-TEST(ChainShapeTest, EqualSegmentsClosedFormMatchesTheSum) {
-  // All sub-segments but the last equal take
-  // f = l sin^2(kappa S / 2) / sin(kappa l / 2) + e sin(kappa L) and its
-  // derivative; lengths 1e-6 apart take the sum over the sub-segments.
-  // The two agree to the perturbation (measured CLOSED_MEASURED relative).
-  double worst = 0;
-  for (int n : {2, 16, 32}) {
-    std::vector<double> uneven = GeneratorLayout(n, 0.01);
-    uneven[0] *= 1 + 1e-6;
-    uneven[n - 2] *= 1 - 1e-6;
-    const ChainShape equal(GeneratorLayout(n, 0.01)), summed(uneven);
-    EXPECT_NEAR(equal.Reach_m() / summed.Reach_m(), 1.0, 2e-6) << "n = " << n;
-    for (double deflection_m : {1e-6, -3e-3, 5e-3, 0.99 * equal.Reach_m()}) {
-      bool clamped = true;
-      const double kappa = equal.Curvature_1_m(deflection_m, 0.0, &clamped);
-      const double kappa_summed = summed.Curvature_1_m(deflection_m, 0.0, &clamped);
-      EXPECT_NEAR(kappa / kappa_summed, 1.0, 2e-6) << "n = " << n;
-      EXPECT_NEAR(equal.TipDeflection_m(kappa) / summed.TipDeflection_m(kappa), 1.0, 2e-6);
-      worst = std::max({worst, std::abs(kappa / kappa_summed - 1),
-                        std::abs(equal.TipDeflection_m(kappa) / summed.TipDeflection_m(kappa) - 1)});
-    }
-  }
-  std::printf("closed form against the sum: %.3g relative\n", worst);
-}
 
 // ------------------------------------------ static bending of the strip ---
 
@@ -201,10 +134,10 @@ Amplitudes SingleActuation(int segments, Dynamics dynamics = Dynamics::kInertial
   spec.segments_per_link = segments;
   spec.actuation = "single";
   if (dynamics == Dynamics::kStokes) spec.timestep_s = 1e-3;
-  IpmcActuatorsOverrides overrides;
-  overrides.dynamics = dynamics;
-  auto sim = std::make_unique<Simulation>(LoadModelString(GenerateFlagellumMjcf(spec)),
-                                          spec.name, overrides);
+  auto sim = std::make_unique<Simulation>(
+      LoadModelString(SetMjcfCustomField(GenerateFlagellumMjcf(spec), "text", kAttrDynamics,
+                                         DynamicsName(dynamics))),
+      spec.name);
   BenchSignal signal;
   signal.frequency_Hz = 0.1;
   signal.duration_s = 20.0;
@@ -361,23 +294,26 @@ TEST_F(FlexibleLinkTest, GeneratorWritesEachLinkAsItsSubSegments) {
   // Root (3 dofs) and 3 hinges per link; a motor per hinge, a servo per link.
   EXPECT_EQ(m->nq, 3 + 9);
   EXPECT_EQ(m->nu, 9 + 3);
-  const IpmcActuators& actuators = *FindCoupling(sim->data())->actuators;
-  ASSERT_EQ(actuators.Links(), 3);
+  const mjData* d = sim->data();
+  ASSERT_EQ(LinkCount(d), 3);
   const double EI = 0.25e9 * 3e-3 * std::pow(250e-6, 3) / 12.0;
-  for (const LinkChain& chain : actuators.chains()) {
-    ASSERT_EQ(chain.joints.size(), 3u);
-    EXPECT_NEAR(chain.length_m, 10e-3, 1e-11);  // 10 digits in the MJCF
+  for (int link = 0; link < 3; ++link) {
+    const std::vector<int> joints = LinkJoints(d, link);
+    const std::vector<double> segment_length_m = LinkSegmentLengths_m(d, link);
+    ASSERT_EQ(joints.size(), 3u);
+    ASSERT_EQ(segment_length_m.size(), 3u);
+    EXPECT_NEAR(LinkLength_m(d, link), 10e-3, 1e-11);  // 10 digits in the MJCF
     // Sub-segments of l = L / (n - 1/2) = 4 mm and a last one of 2 mm;
     // k = E I / s: s = l / 2 at the link's root, l at the others.
-    EXPECT_NEAR(chain.segment_length_m[0], 4e-3, 1e-12);
-    EXPECT_NEAR(chain.segment_length_m[2], 2e-3, 1e-12);
-    EXPECT_NEAR(m->jnt_stiffness[chain.joints[0]], EI / 2e-3, 1e-12);
-    EXPECT_NEAR(m->jnt_stiffness[chain.joints[1]], EI / 4e-3, 1e-12);
-    EXPECT_NEAR(m->jnt_stiffness[chain.joints[2]], EI / 4e-3, 1e-12);
+    EXPECT_NEAR(segment_length_m[0], 4e-3, 1e-12);
+    EXPECT_NEAR(segment_length_m[2], 2e-3, 1e-12);
+    EXPECT_NEAR(m->jnt_stiffness[joints[0]], EI / 2e-3, 1e-12);
+    EXPECT_NEAR(m->jnt_stiffness[joints[1]], EI / 4e-3, 1e-12);
+    EXPECT_NEAR(m->jnt_stiffness[joints[2]], EI / 4e-3, 1e-12);
   }
   // A flexible link's root hinge sits at its strip's root, after the
   // whole gap: link 2's at 10.5 mm.
-  EXPECT_NEAR(sim->data()->xanchor[3 * actuators.chains()[1].joints[0]], 10.5e-3, 1e-11);
+  EXPECT_NEAR(d->xanchor[3 * LinkJoints(d, 1)[0]], 10.5e-3, 1e-11);
   // The body keeps its 31 mm.
   const int tip3 = mj_name2id(m, mjOBJ_SITE, "tip3");
   EXPECT_NEAR(sim->data()->site_xpos[3 * tip3], 31e-3, 1e-11);
@@ -419,29 +355,30 @@ TEST_F(LinkPlantsTest, GeneratedLinksOfOtherLengthsGetScaledPlants) {
   FlagellumSpec spec;
   spec.link_lengths_mm = {5.0, 10.0, 15.0};
   auto sim = MakeSimulation(spec);
-  const IpmcActuators& actuators = *FindCoupling(sim->data())->actuators;
-  EXPECT_EQ(actuators.plants(), PlantAssignment::kUniform);
+  // Every link eq. 7's plant (uniform), scaled to its length.
+  EXPECT_EQ(FindCustomText(sim->model(), kAttrPlants), "uniform");
+  const std::vector<IpmcLinkParams> plants = AttachedLinkPlants(sim->data());
+  ASSERT_EQ(plants.size(), 3u);
   const double a0 = PaperLinkParams(3, IpmcModelKind::kG1).a0_mm_per_V;
-  EXPECT_NEAR(actuators.link_params()[0].a0_mm_per_V, a0 * 0.25, 1e-12);
-  EXPECT_NEAR(actuators.link_params()[1].a0_mm_per_V, a0, 1e-12);
-  EXPECT_NEAR(actuators.link_params()[2].a0_mm_per_V, a0 * 2.25, 1e-12);
+  EXPECT_NEAR(plants[0].a0_mm_per_V, a0 * 0.25, 1e-12);
+  EXPECT_NEAR(plants[1].a0_mm_per_V, a0, 1e-12);
+  EXPECT_NEAR(plants[2].a0_mm_per_V, a0 * 2.25, 1e-12);
 }
 
 TEST_F(LinkPlantsTest, AScenarioChoosesThePlantsOverTheModel) {
-  const std::string models = std::string(IPMC_SWIM_SOURCE_DIR) + "/models/";
-  IpmcActuatorsOverrides table2;
-  table2.plants = PlantAssignment::kTable2;
-  Simulation sim(LoadModelFile(models + "flagellum3.xml"), "flagellum3.xml", table2);
-  const IpmcActuators& actuators = *FindCoupling(sim.data())->actuators;
-  for (int q = 0; q < 3; ++q) {
-    EXPECT_EQ(actuators.link_params()[q].a0_mm_per_V,
-              PaperLinkParams(q + 1, IpmcModelKind::kG1).a0_mm_per_V);
-  }
+  // models/flagellum3.xml says uniform; the scenario's table2 gives each
+  // link its own Table 2 row.
   const ScenarioConfig scenario =
       ParseScenario("model = \"../models/flagellum3.xml\"\nplants = \"table2\"\n",
                     std::string(IPMC_SWIM_SOURCE_DIR) + "/scenarios/x.toml");
   ASSERT_TRUE(scenario.model.plants.has_value());
   EXPECT_EQ(*scenario.model.plants, PlantAssignment::kTable2);
+  const std::vector<IpmcLinkParams> plants =
+      AttachedLinkPlants(LoadScenarioSimulation(scenario)->data());
+  ASSERT_EQ(plants.size(), 3u);
+  for (int q = 0; q < 3; ++q) {
+    EXPECT_EQ(plants[q].a0_mm_per_V, PaperLinkParams(q + 1, IpmcModelKind::kG1).a0_mm_per_V);
+  }
 }
 
 // ---------------------------------------------------------- bad input ---

@@ -26,12 +26,12 @@
 #include <thread>
 #include <vector>
 
-#include "plugin/actuators/ipmc_actuators.h"
 #include "sim/linear/ipmc_link_model.h"
 #include "sim/base/numbers.h"
 #include "sim/cli/design_command.h"
 #include "sim/cli/identify_command.h"
 #include "sim/cli/pipeline_command.h"
+#include "sim/core/scenario_simulation.h"
 #include "sim/core/simulation.h"
 #include "sim/identify/controller_design.h"
 #include "sim/identify/levy.h"
@@ -412,7 +412,7 @@ TEST(IdentificationTest, SimulatedClampedFlagellumGivesItsOwnLinkModels) {
   for (int q = 0; q < 3; ++q) {
     sims.push_back(std::make_unique<Simulation>(LoadModelFile(path), path));
   }
-  const IpmcActuatorsConfig config = *IpmcActuatorsConfig::FromModel(sims[0]->model());
+  const std::vector<IpmcLinkParams> given_plants = AttachedLinkPlants(sims[0]->data());
   std::vector<BenchRecord> records(3);
   std::vector<std::exception_ptr> errors(3);
   std::vector<std::thread> threads;
@@ -456,7 +456,7 @@ TEST(IdentificationTest, SimulatedClampedFlagellumGivesItsOwnLinkModels) {
     LevyOptions options;
     options.w_low_rad_s = estimate.w_rad_s.front();
     const LinkIdentification id = IdentifyLinkModels(estimate, options);
-    const IpmcLinkParams& given = config.links[q];
+    const IpmcLinkParams& given = given_plants[q];
     const IpmcLinkParams& g1 = id.g1.params;
     const double a0 = RelativeDeviation(g1.a0_mm_per_V, given.a0_mm_per_V);
     const double b1 = RelativeDeviation(g1.b1, given.b1);

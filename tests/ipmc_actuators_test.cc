@@ -11,7 +11,6 @@
 
 #include "ipmc_swim/ipmc_swim.h"
 #include "sim/runs/bench_run.h"
-#include "plugin/coupling.h"
 #include "sim/linear/ipmc_link_model.h"
 #include "tests/test_util.h"
 #include "sim/base/numbers.h"
@@ -155,9 +154,8 @@ TEST_F(IpmcActuatorsTest, ClampedDeflectionWarnsOnceThroughMujoco) {
   mjData* d = sim->data();
   const double volts[3] = {50.0, 0.0, 0.0};
   SetVoltages(d, volts, 3);
-  const IpmcActuators& actuators = *FindCoupling(d)->actuators;
-  for (int step = 0; step < 20000 && actuators.ClampCount() < 10; ++step) mj_step(m, d);
-  EXPECT_GE(actuators.ClampCount(), 10);
+  for (int step = 0; step < 20000 && ClampCount(d) < 10; ++step) mj_step(m, d);
+  EXPECT_GE(ClampCount(d), 10);
   EXPECT_EQ(Count("exceeds the link's reach"), 1);  // the first clamp only
   EXPECT_EQ(Count("ipmc link 1:"), 1);
   for (const std::string& warning : Received()) std::printf("warning: %s\n", warning.c_str());

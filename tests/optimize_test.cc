@@ -12,7 +12,8 @@
 
 #include "sim/base/error.h"
 #include "sim/base/numbers.h"
-#include "plugin/coupling.h"
+#include "sim/core/scenario_simulation.h"
+#include "sim/linear/ipmc_link_model.h"
 #include "sim/optimize/nlopt_driver.h"
 #include "sim/optimize/optimize_file.h"
 #include "sim/optimize/optimize_journal.h"
@@ -359,7 +360,7 @@ TEST(RetuneTest, FractionalLoopsMeetTheSpecificationOnEachLinksPlant) {
   const ControllerScenario::LinkGains& g = retuned.controller.link_gains;
   ASSERT_EQ(g.gain.size(), 3u);
   const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(scenario);
-  const auto& plants = FindCoupling(sim->data())->actuators->link_params();
+  const std::vector<IpmcLinkParams> plants = AttachedLinkPlants(sim->data());
   const double w = kRetuneCrossover_rad_s;
   for (int q = 0; q < 3; ++q) {
     const std::complex<double> loop =

@@ -1,4 +1,4 @@
-// The Stokes-flow stepper (plugin/dynamics/stokes_step.h) against the linear
+// The Stokes-flow step (ipmc::Step with ipmc_dynamics = stokes) against the linear
 // elastohydrodynamics of a passive elastic filament whose base angle is
 // driven, theta(0, t) = eps cos(omega t), in RFT drag (Lauga, "Floppy
 // swimming", PRE 75, 041916, 2007; Wiggins & Goldstein, PRL 80, 3879, 1998):
@@ -39,7 +39,6 @@
 #include <vector>
 
 #include "ipmc_swim/ipmc_swim.h"
-#include "plugin/coupling.h"
 #include "sim/core/simulation.h"
 
 namespace ipmc {
@@ -209,8 +208,7 @@ ChainResponse RunChain(int segments, double sperm_number, int steps_per_period, 
     d->qpos[1 + s] = angle - previous;
     previous = angle;
   }
-  const CouplingContext* coupling = FindCoupling(d);
-  EXPECT_TRUE(coupling && coupling->drag);
+  EXPECT_TRUE(IsAttached(d) && FluidOf(d).drag);
   const int last_geom = m->ngeom - 1;
   ChainResponse response{0.0, 0.0};
   for (int period = 0; period < periods; ++period) {
@@ -226,17 +224,14 @@ ChainResponse RunChain(int segments, double sperm_number, int steps_per_period, 
       const double tip_y = d->geom_xpos[3 * last_geom + 1] + 0.5 * l * xmat[3];
       response.tip += tip_y * std::exp(Complex(0, -omega * t_end)) * (2.0 / steps_per_period);
       // The drag at the step's midpoint (q_n + q_(n+1)) / 2 with its
-      // velocity v = (q_(n+1) - q_n) / h: centred, so the sum over a period
-      // has no O(h) bias (at the end point, v . q sums to h/2 <v^2>).
+      // velocity v = (q_(n+1) - q_n) / h (d->qvel, the velocity the step
+      // solved for): centred, so the sum over a period has no O(h) bias
+      // (at the end point, v . q sums to h/2 <v^2>). The fluid's force on
+      // the filament is the sum of its forces on the bodies.
       std::vector<double> end(d->qpos, d->qpos + m->nq);
       for (int i = 0; i < m->nq; ++i) d->qpos[i] = 0.5 * (start[i] + end[i]);
-      mj_kinematics(m, d);
-      mj_comPos(m, d);
-      mj_comVel(m, d);
       double force_x = 0;
-      for (const Segment& segment : coupling->drag->Segments(m, d)) {
-        force_x += SegmentDragExact(segment, coupling->drag->coefficients()).force_W.x();
-      }
+      for (const BodyFluidForce& body : FluidForces(m, d)) force_x += body.force_N[0];
       mju_copy(d->qpos, end.data(), m->nq);
       response.mean_force_N += force_x / steps_per_period;
     }

@@ -8,15 +8,18 @@
 
 #include <cmath>
 #include <filesystem>
+#include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
-#include "plugin/actuators/ipmc_actuators.h"
+#include "ipmc_swim/fields.h"
+#include "ipmc_swim/ipmc_swim.h"
 #include "sim/base/error.h"
 #include "sim/base/numbers.h"
-#include "plugin/coupling.h"
-#include "plugin/fluid/rft_drag.h"
 #include "sim/core/model_generator.h"
 #include "sim/core/scenario.h"
+#include "sim/core/scenario_simulation.h"
 #include "sim/core/strip_keys.h"
 #include "sim/io/files.h"
 #include "sim/optimize/optimize_run.h"
@@ -43,6 +46,23 @@ double RootStiffness(const ScenarioConfig& scenario) {
   return m->jnt_stiffness[mj_name2id(m.get(), mjOBJ_JOINT, "j1")];
 }
 
+// The drag's normal resistance per length xi_n [N s/m^2] of the scenario's
+// model, as its coupling applies it: the straight body's broadside drag
+// (its root_y slide's diagonal of the drag matrix) over the length of the
+// segments the drag acts on (resistive-force theory's drag is local: a
+// segment of length l moving broadside at v takes xi_n l v).
+double NormalResistance_N_s_m2(const ScenarioConfig& scenario) {
+  const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(scenario);
+  const mjModel* m = sim->model();
+  const mjData* d = sim->data();
+  for (int i = 0; i < m->nq; ++i) EXPECT_EQ(d->qpos[i], m->qpos0[i]) << "qpos " << i;
+  const std::vector<double> drag = DragMatrix(m, d);
+  const int dof = m->jnt_dofadr[mj_name2id(m, mjOBJ_JOINT, "root_y")];
+  double length_m = 0;
+  for (double segment_m : FluidOf(d).segment_length_m) length_m += segment_m;
+  return drag[static_cast<size_t>(dof) * m->nv + dof] / length_m;
+}
+
 // The sperm number Sp = L (xi_n omega / (E I))^(1/4) of a link of the
 // scenario (E I = k s, s = L / 2 the root hinge's share; xi_n of its drag).
 double SpermNumber(const ScenarioConfig& scenario) {
@@ -50,7 +70,7 @@ double SpermNumber(const ScenarioConfig& scenario) {
   const ModelPtr m = LoadScenarioModel(scenario, &source);
   const double length_m = 10e-3;
   const double bending_N_m2 = m->jnt_stiffness[mj_name2id(m.get(), mjOBJ_JOINT, "j1")] * 0.5 * length_m;
-  const double xi_n = RftDragConfig::FromModel(m.get())->Coefficients().normal_N_s_m2;
+  const double xi_n = NormalResistance_N_s_m2(scenario);
   const double omega_rad_s = 2 * kPi * scenario.waveform.frequency_Hz;
   return length_m * std::pow(xi_n * omega_rad_s / bending_N_m2, 0.25);
 }
@@ -67,6 +87,18 @@ TEST(StripKeysTest, ThePapersStripAndPlantGenerateTheShippedModel) {
   EXPECT_EQ(GenerateFlagellumMjcf(ScenarioFlagellumSpec(scenario.model)), shipped);
   // plant.model = "g1" is the default: no key, the model file.
   EXPECT_FALSE(PaperWith("[plant]\nmodel = \"g1\"\n").model.Generated());
+}
+
+TEST(StripKeysTest, ThePluginTestsFlexibleFlagellumIsTheGenerators) {
+  // The plugin's unit tests load the generated flagellum with 16
+  // sub-segments per link from a file (they do not link the generator):
+  // `ipmc-swim generate --segments-per-link 16` writes it byte for byte.
+  FlagellumSpec spec;
+  spec.segments_per_link = 16;
+  const std::string file = ReadTextFile(
+      (fs::path(IPMC_SWIM_SOURCE_DIR) / "plugin" / "tests" / "flexible_flagellum.xml").string(),
+      "model");
+  EXPECT_EQ(GenerateFlagellumMjcf(spec), file);
 }
 
 TEST(StripKeysTest, BendingStiffnessScalesAsThicknessCubedAndYoungsModulus) {
@@ -92,13 +124,14 @@ TEST(StripKeysTest, DragFollowsTheEquivalentRadiusAndMassTheDensity) {
         PaperWith("[strip]\nwidth_mm = " + std::to_string(width_mm) + "\nthickness_um = 200.0\n");
     std::string source;
     const ModelPtr m = LoadScenarioModel(scenario, &source);
-    const RftDragConfig drag = *RftDragConfig::FromModel(m.get());
     // Batchelor's flat strip: a = (w + h) / 4.
     const double radius_m = 0.25 * (width_mm * 1e-3 + 200e-6);
-    EXPECT_NEAR(drag.equivalent_radius_m / radius_m, 1.0, 1e-9);
+    const std::optional<double> field_m = FindCustomScalar(m.get(), kAttrEquivalentRadius);
+    ASSERT_TRUE(field_m.has_value());
+    EXPECT_NEAR(*field_m / radius_m, 1.0, 1e-9);
     // Gray and Hancock: xi_n = 4 pi mu / (ln(2 lambda / a) + 1/2).
     const double xi_n = 4 * kPi * 1e-3 / (std::log(2 * 32e-3 / radius_m) + 0.5);
-    EXPECT_NEAR(drag.Coefficients().normal_N_s_m2 / xi_n, 1.0, 1e-6);
+    EXPECT_NEAR(NormalResistance_N_s_m2(scenario) / xi_n, 1.0, 1e-6);
   }
   std::string source;
   const ModelPtr light = LoadScenarioModel(PaperWith("[strip]\ndensity_kg_m3 = 1000.0\n"), &source);
@@ -110,7 +143,7 @@ TEST(StripKeysTest, DragFollowsTheEquivalentRadiusAndMassTheDensity) {
 TEST(StripKeysTest, PlantKeysGiveEachLinkItsPlant) {
   const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(PaperWith(
       "[plant]\na0_mm_per_V = 0.5\nb1 = 0.03\nlink_b2_s2 = [0.002, 0.003, 0.004]\n"));
-  const std::vector<IpmcLinkParams>& links = FindCoupling(sim->data())->actuators->link_params();
+  const std::vector<IpmcLinkParams> links = AttachedLinkPlants(sim->data());
   ASSERT_EQ(links.size(), 3u);
   for (int q = 0; q < 3; ++q) {
     EXPECT_EQ(links[q].kind, IpmcModelKind::kG1);
@@ -120,7 +153,7 @@ TEST(StripKeysTest, PlantKeysGiveEachLinkItsPlant) {
   }
   const std::unique_ptr<Simulation> g2 =
       LoadScenarioSimulation(PaperWith("[plant]\nmodel = \"g2\"\nalpha = 1.7\n"));
-  for (const IpmcLinkParams& link : FindCoupling(g2->data())->actuators->link_params()) {
+  for (const IpmcLinkParams& link : AttachedLinkPlants(g2->data())) {
     EXPECT_EQ(link.kind, IpmcModelKind::kG2);
     EXPECT_DOUBLE_EQ(link.alpha, 1.7);
   }

@@ -10,10 +10,14 @@
 #include <cstdio>
 #include <string>
 
-#include "sim/core/simulation.h"
+#include "plugin/tests/test_model.h"
 
 namespace ipmc::testing {
 namespace {
+
+using plugin_test::DataPtr;
+using plugin_test::LoadXml;
+using plugin_test::ModelPtr;
 
 // The paper's hinge (docs/ENERGY.md): k = 1.95e-4 N m/rad,
 // c = 6.25e-7 N m s/rad.
@@ -94,7 +98,7 @@ TEST(HingeDampingTest, MujocoEulerStepRelaxesAMasslessHinge) {
     damping="6.25e-7" armature="0"/><geom type="sphere" size="1e-2" mass="1e-9"/></body>
     </worldbody></mujoco>)";
   for (double h_s : {5e-4, 5e-2}) {
-    ModelPtr file = LoadModelString(xml);
+    ModelPtr file = LoadXml(xml);
     file->opt.timestep = h_s;
     const StepModel step = MakeStepModel(file.get(), Dynamics::kInertial);
     mjModel* model = step.model.get();
@@ -111,7 +115,7 @@ TEST(HingeDampingTest, MujocoEulerStepRelaxesAMasslessHinge) {
     if (h_s < 1e-3) EXPECT_NEAR(data->qpos[0] / exact, 1.0, 5e-4);
   }
   // The Stokes mode keeps c.
-  ModelPtr model = LoadModelString(xml);
+  ModelPtr model = LoadXml(xml);
   EXPECT_DOUBLE_EQ(MakeStepModel(model.get(), Dynamics::kStokes).model->dof_damping[0], kDamping);
 }
 

@@ -12,11 +12,19 @@
 #include <vector>
 
 #include "plugin/dynamics/stokes_step.h"
-#include "sim/core/model_generator.h"
-#include "sim/core/simulation.h"
+#include "plugin/tests/test_model.h"
 
 namespace ipmc {
 namespace {
+
+using plugin_test::LoadXml;
+using plugin_test::ModelPtr;
+
+// The generated flagellum with 16 sub-segments per link (tests/strip_keys_test.cc
+// checks that the file is what the generator writes).
+ModelPtr FlexibleFlagellum() {
+  return LoadXml(plugin_test::SourceFileText("plugin/tests/flexible_flagellum.xml"));
+}
 
 // Sets qpos and ctrl to values that differ per dof and actuator (some
 // controls beyond their ranges), then compares the two paths on copies.
@@ -51,16 +59,14 @@ void ExpectSameActuation(const mjModel* m, double ctrl_scale) {
 }
 
 TEST(JointActuationTest, FlexibleFlagellumMotorsMatchMujoco) {
-  FlagellumSpec spec;
-  spec.segments_per_link = 16;
-  ModelPtr m = LoadModelString(GenerateFlagellumMjcf(spec));
+  ModelPtr m = FlexibleFlagellum();
   ASSERT_TRUE(JointActuatorsOnly(m.get()));
   ASSERT_EQ(m->nu, 48 + 3);  // a motor per hinge, a servo per link
   ExpectSameActuation(m.get(), 1e-5);
 }
 
 TEST(JointActuationTest, ServosWithLimitsMatchMujoco) {
-  ModelPtr m = LoadModelString(R"(<mujoco><worldbody><body>
+  ModelPtr m = LoadXml(R"(<mujoco><worldbody><body>
       <joint name="a" type="hinge" axis="0 0 1"/><geom type="box" size="0.01 0.001 0.001"/>
       <body pos="0.02 0 0"><joint name="b" type="slide" axis="1 0 0"/>
         <geom type="box" size="0.01 0.001 0.001"/></body></body></worldbody>
@@ -75,12 +81,12 @@ TEST(JointActuationTest, ServosWithLimitsMatchMujoco) {
 }
 
 TEST(JointActuationTest, OtherTransmissionsTakeMujocosPath) {
-  ModelPtr m = LoadModelString(R"(<mujoco><worldbody><body>
+  ModelPtr m = LoadXml(R"(<mujoco><worldbody><body>
       <joint name="a" type="ball"/><geom type="box" size="0.01 0.001 0.001"/>
       </body></worldbody>
     <actuator><motor joint="a" gear="1 0 0 0 0 0"/></actuator></mujoco>)");
   EXPECT_FALSE(JointActuatorsOnly(m.get()));
-  ModelPtr filtered = LoadModelString(R"(<mujoco><worldbody><body>
+  ModelPtr filtered = LoadXml(R"(<mujoco><worldbody><body>
       <joint name="a" type="hinge"/><geom type="box" size="0.01 0.001 0.001"/>
       </body></worldbody>
     <actuator><general joint="a" dyntype="filter" dynprm="0.1"/></actuator></mujoco>)");

@@ -12,8 +12,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -21,12 +19,15 @@
 #include "ipmc_swim/ipmc_swim.h"
 #include "plugin/actuators/ipmc_actuator_bank.h"
 #include "plugin/actuators/ipmc_actuators.h"
+#include "plugin/tests/test_model.h"
 #include "sim/linear/ipmc_link_model.h"
 #include "sim/base/numbers.h"
-#include "sim/core/simulation.h"
 
 namespace ipmc {
 namespace {
+
+using plugin_test::LoadXml;
+using plugin_test::ModelPtr;
 
 std::vector<IpmcLinkParams> PaperLinks(IpmcModelKind kind) {
   return {PaperLinkParams(1, kind), PaperLinkParams(2, kind), PaperLinkParams(3, kind)};
@@ -131,10 +132,7 @@ TEST(ZeroOrderHoldTest, MismatchedBlocksAreRefused) {
 }
 
 std::string ClampedModelWith(const std::string& custom_line) {
-  std::ifstream in(std::string(IPMC_SWIM_SOURCE_DIR) + "/models/flagellum3_clamped.xml");
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string xml = text.str();
+  std::string xml = plugin_test::SourceFileText("models/flagellum3_clamped.xml");
   const size_t at = xml.find("</custom>");
   EXPECT_NE(at, std::string::npos);
   return xml.insert(at, custom_line);
@@ -143,7 +141,7 @@ std::string ClampedModelWith(const std::string& custom_line) {
 // The clamped flagellum's three hinge angles after 2 s of 3 V sines at
 // 1 Hz (links 2 and 3 shifted), new every 1 ms, at the model's 0.5 ms step.
 std::vector<double> ClampedAngles(const std::string& custom_line) {
-  ModelPtr m = LoadModelString(ClampedModelWith(custom_line));
+  ModelPtr m = LoadXml(ClampedModelWith(custom_line));
   mjData* d = mj_makeData(m.get());
   EXPECT_TRUE(Attach(m.get(), d));
   for (int i = 0; i < 4000; ++i) {
@@ -179,7 +177,7 @@ TEST(ZeroOrderHoldTest, CoupledRunsAgreeAndTheFieldIsChecked) {
   EXPECT_GT(scale, 1e-3);
   EXPECT_LT(gap / scale, 1e-9);  // measured 9.5e-11
 
-  ModelPtr bad = LoadModelString(
+  ModelPtr bad = LoadXml(
       ClampedModelWith("<text name=\"ipmc_actuator_integration\" data=\"euler\"/>"));
   mjData* d = mj_makeData(bad.get());
   try {

@@ -11,11 +11,19 @@
 #include <string>
 
 #include "plugin/dynamics/stokes_step.h"
-#include "sim/core/model_generator.h"
-#include "sim/core/simulation.h"
+#include "plugin/tests/test_model.h"
 
 namespace ipmc {
 namespace {
+
+using plugin_test::LoadXml;
+using plugin_test::ModelPtr;
+
+// The generated flagellum with 16 sub-segments per link (tests/strip_keys_test.cc
+// checks that the file is what the generator writes).
+ModelPtr FlexibleFlagellum() {
+  return LoadXml(plugin_test::SourceFileText("plugin/tests/flexible_flagellum.xml"));
+}
 
 void ExpectSameComStages(const mjModel* m) {
   ASSERT_TRUE(HingesAndSlidesOnly(m));
@@ -45,9 +53,7 @@ void ExpectSameComStages(const mjModel* m) {
 }
 
 TEST(StokesKinematicsTest, FlexibleFlagellumMatchesMujoco) {
-  FlagellumSpec spec;
-  spec.segments_per_link = 16;
-  ModelPtr m = LoadModelString(GenerateFlagellumMjcf(spec));
+  ModelPtr m = FlexibleFlagellum();
   ExpectSameComStages(m.get());
 }
 
@@ -72,7 +78,7 @@ TEST(StokesKinematicsTest, SkewChainOfHingesAndSlidesMatchesMujoco) {
   </worldbody>
 </mujoco>
 )";
-  ModelPtr m = LoadModelString(xml);
+  ModelPtr m = LoadXml(xml);
   ExpectSameComStages(m.get());
 }
 
