@@ -56,8 +56,9 @@ inline ModelPtr LoadSourceModel(const std::string& name) {
 // the one before: stiffness E I / length with the paper's E = 0.25 GPa,
 // damping 6.25e-7 N m s), behind a 1 mm head on planar root joints
 // (root_x, root_y, root_yaw; free) or hinged to the world (clamped), in
-// water under Gray & Hancock's RFT (a = 0.8125 mm, lambda = 32 mm).
-// `custom` adds <custom> fields.
+// water under Gray & Hancock's RFT (a = 0.8125 mm, lambda = 32 mm), no
+// gravity and no contacts (as the Stokes step wants). `custom` adds
+// <custom> fields.
 inline std::string SubSegmentedStrip(int segments_per_link, bool clamped,
                                      const std::string& custom = "") {
   const int segments = 3 * segments_per_link;
@@ -65,7 +66,8 @@ inline std::string SubSegmentedStrip(int segments_per_link, bool clamped,
   const double bending_N_m2 = 0.25e9 * 3e-3 * 250e-6 * 250e-6 * 250e-6 / 12;  // E I
   std::ostringstream xml;
   xml.precision(17);
-  xml << "<mujoco><custom><numeric name=\"ipmc_rft_viscosity_Pa_s\" data=\"0.001\"/>"
+  xml << "<mujoco><option gravity=\"0 0 0\"><flag contact=\"disable\"/></option>"
+         "<custom><numeric name=\"ipmc_rft_viscosity_Pa_s\" data=\"0.001\"/>"
          "<numeric name=\"ipmc_rft_equivalent_radius_m\" data=\"0.0008125\"/>"
          "<numeric name=\"ipmc_rft_wavelength_m\" data=\"0.032\"/>"
          "<numeric name=\"ipmc_strip_width_m\" data=\"0.003\"/>"
