@@ -55,7 +55,7 @@ void AttachOnce(const mjModel* m) {
 const Eigen::Vector3d kZero = Eigen::Vector3d::Zero();
 
 // Gray & Hancock's coefficients (1955) [N s/m^2] of a segment of radius a
-// in a wave of length lambda, in the fluid of viscosity kMu:
+// in a wave of length lambda, in a fluid of viscosity mu:
 //   xi_n = 4 pi mu / (ln(2 lambda / a) + 1/2),  xi_t = 2 pi mu / (ln(2 lambda / a) - 1/2).
 struct DragCoefficients {
   double normal_N_s_m2, tangential_N_s_m2;
