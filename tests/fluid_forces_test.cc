@@ -13,9 +13,11 @@
 #include <vector>
 
 #include "ipmc_swim/ipmc_swim.h"
-#include "plugin/fluid/rft_drag.h"
+#include "ipmc_swim/fields.h"
+#include "sim/base/numbers.h"
 #include "sim/core/model_generator.h"
 #include "sim/core/simulation.h"
+#include "sim/io/mjcf_edit.h"
 #include "tests/test_util.h"
 
 namespace ipmc::testing {
@@ -30,10 +32,9 @@ std::unique_ptr<Simulation> StraightBody(Dynamics dynamics, bool actuators = fal
   FlagellumSpec spec;
   spec.head_length_mm = actuators ? 1.0 : 0.0;
   spec.ipmc_actuators = actuators;
-  IpmcActuatorsOverrides overrides;
-  overrides.dynamics = dynamics;
-  return std::make_unique<Simulation>(LoadModelString(GenerateFlagellumMjcf(spec)), "straight",
-                                      overrides);
+  const std::string xml = SetMjcfCustomField(GenerateFlagellumMjcf(spec), "text", kAttrDynamics,
+                                              DynamicsName(dynamics));
+  return std::make_unique<Simulation>(LoadModelString(xml), "straight");
 }
 
 // The sum of the fluid's forces on the bodies [N].
@@ -48,7 +49,15 @@ std::vector<double> TotalForce_N(const mjModel* m, const mjData* d) {
 // The body's length L [m] and RFT's coefficients (Gray & Hancock 1955,
 // the model's fields: docs/FLUID.md).
 constexpr double kLength_m = 30e-3;
-DragCoefficients Xi() { return GrayHancockCoefficients(kViscosity_Pa_s, kRadius_m, kWavelength_m); }
+//   xi_n = 4 pi mu / (ln(2 lambda / a) + 1/2),  xi_t = 2 pi mu / (ln(2 lambda / a) - 1/2).
+struct Coefficients {
+  double normal_N_s_m2, tangential_N_s_m2;
+};
+Coefficients Xi() {
+  const double log_term = std::log(2 * kWavelength_m / kRadius_m);
+  return {4 * kPi * kViscosity_Pa_s / (log_term + 0.5),
+          2 * kPi * kViscosity_Pa_s / (log_term - 0.5)};
+}
 
 TEST(FluidForcesTest, TowedStraightBodyFeelsXiLUInertial) {
   const auto sim = StraightBody(Dynamics::kInertial);

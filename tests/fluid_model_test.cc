@@ -1,11 +1,9 @@
-// The fluid model (plugin/fluid/fluid_model.h): RFT and regularized
-// Stokeslets behind one interface, built by the registry with the form of
-// resistance each has. The Stokeslets' cached resistance, moved with the
-// root, equals one computed afresh (a rigid motion in the
-// plane, with or without the wall parallel to it, changes nothing); the
-// drag callback's power is the model's dissipated power; and the paper's
-// swimmer swims the same way under both models, Stokeslets within a
-// measured band of RFT.
+// The fluid models through the library: the drag callback's power is the
+// model's dissipated power; a model file chooses its fluid as a
+// scenario's keys do; and the paper's swimmer swims the same way under
+// RFT and Stokeslets, Stokeslets within a measured band of RFT. The
+// registry and the Stokeslets' cached resistance:
+// plugin/tests/fluid_model_registry_test.cc.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,12 +15,8 @@
 #include <memory>
 #include <string>
 
+#include "ipmc_swim/fields.h"
 #include "ipmc_swim/ipmc_swim.h"
-#include "plugin/coupling.h"
-#include "plugin/fluid/fluid_model.h"
-#include "plugin/fluid/plate_fluid.h"
-#include "plugin/fluid/ribbon_fluid.h"
-#include "plugin/fluid/stokeslet_fluid.h"
 #include "sim/core/scenario.h"
 #include "sim/core/scenario_keys.h"
 #include "sim/core/scenario_simulation.h"
@@ -56,80 +50,6 @@ void Pose(const mjModel* m, mjData* d, double x, double y, double yaw) {
   mj_forward(m, d);
 }
 
-void ExpectCacheMovesWithTheRoot(const std::string& fluid) {
-  const std::unique_ptr<Simulation> sim =
-      LoadScenarioSimulation(PaperWith("[fluid]\nmodel = \"stokeslets\"\n" + fluid));
-  const mjModel* m = sim->model();
-  mjData* d = sim->data();
-  const auto* interacting = dynamic_cast<const StokesletFluid*>(FindCoupling(d)->fluid.get());
-  ASSERT_NE(interacting, nullptr);
-  const StokesletFluid& model = *interacting;
-  Pose(m, d, 0, 0, 0);
-  model.BodyResistance(m, d);
-  const int computed = model.recomputations();
-  Pose(m, d, 3e-3, -2e-3, 0.7);
-  const Eigen::MatrixXd moved = model.BodyResistance(m, d);
-  EXPECT_EQ(model.recomputations(), computed);  // the shape has not changed
-  const StokesletFluid fresh(m, model.rft(), model.settings());
-  const Eigen::MatrixXd direct = fresh.BodyResistance(m, d);
-  EXPECT_NEAR((moved - direct).norm() / direct.norm(), 0.0, 1e-10);
-  // A joint moved beyond the tolerance makes a new resistance.
-  d->qpos[4] += 2e-3;
-  mj_forward(m, d);
-  model.BodyResistance(m, d);
-  EXPECT_EQ(model.recomputations(), computed + 1);
-}
-
-// The registry builds the model the overrides choose (Stokeslets when they
-// carry Stokeslet settings, RFT otherwise), over the coupling's segments,
-// and the Stokes step's two forms of resistance are each model's own: RFT
-// a block per segment and no dense matrix, Stokeslets a dense matrix over
-// its bodies and no blocks.
-TEST(FluidModelTest, RegistryBuildsTheChosenModel) {
-  const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(PaperWith(""));
-  const mjModel* m = sim->model();
-  mjData* d = sim->data();
-  Pose(m, d, 0, 0, 0);
-  const RftDrag& segments = *FindCoupling(d)->drag;
-  std::vector<std::string> names;
-  for (const FluidModelEntry& entry : FluidModels()) names.push_back(entry.name);
-  EXPECT_EQ(names, (std::vector<std::string>{"rft", "stokeslets", "ribbon", "plates"}));
-
-  const std::unique_ptr<Fluid> rft = MakeFluid(m, segments, {});
-  ASSERT_NE(dynamic_cast<const RftDrag*>(rft.get()), nullptr);
-  BodyResistanceBlocks<6> blocks;
-  rft->LocalResistances(m, d, &blocks);
-  EXPECT_EQ(blocks.size(), segments.geom_ids().size());
-  EXPECT_EQ(rft->InteractionResistance(m, d), nullptr);
-
-  RftDragOverrides overrides;
-  overrides.fluid_model = "stokeslets";
-  const std::unique_ptr<Fluid> stokeslets = MakeFluid(m, segments, overrides);
-  ASSERT_NE(dynamic_cast<const StokesletFluid*>(stokeslets.get()), nullptr);
-  stokeslets->LocalResistances(m, d, &blocks);
-  EXPECT_TRUE(blocks.empty());
-  const Eigen::MatrixXd* dense = stokeslets->InteractionResistance(m, d);
-  ASSERT_NE(dense, nullptr);
-  EXPECT_EQ(dense->rows(), 6 * static_cast<int>(stokeslets->InteractingBodies().size()));
-  EXPECT_FALSE(stokeslets->InteractingBodies().empty());
-
-  RftDragOverrides ribbon_overrides;
-  ribbon_overrides.fluid_model = "ribbon";
-  const std::unique_ptr<Fluid> ribbon = MakeFluid(m, segments, ribbon_overrides);
-  ASSERT_NE(dynamic_cast<const RibbonFluid*>(ribbon.get()), nullptr);
-  ribbon->LocalResistances(m, d, &blocks);
-  EXPECT_TRUE(blocks.empty());
-  const Eigen::MatrixXd* ribbon_dense = ribbon->InteractionResistance(m, d);
-  ASSERT_NE(ribbon_dense, nullptr);
-  EXPECT_EQ(ribbon_dense->rows(), 6 * static_cast<int>(ribbon->InteractingBodies().size()));
-}
-
-TEST(FluidModelTest, CachedStokesletResistanceMovesWithTheRoot) {
-  ExpectCacheMovesWithTheRoot("");
-  ExpectCacheMovesWithTheRoot("wall_gap_mm = 1.0\n");
-  ExpectCacheMovesWithTheRoot("stokeslet_width_points = 3\n");
-}
-
 // mjcb_passive adds -J^T R J qvel: its power qfrc . qvel is minus the
 // dissipated power V^T R V, for both models.
 TEST(FluidModelTest, CallbackPowerIsTheDissipatedPower) {
@@ -141,12 +61,15 @@ TEST(FluidModelTest, CallbackPowerIsTheDissipatedPower) {
     const mjModel* m = sim->model();
     mjData* d = sim->data();
     Pose(m, d, 1e-3, 0, 0.2);
-    const Fluid& fluid = *FindCoupling(d)->fluid;
-    std::vector<mjtNum> before(d->qfrc_passive, d->qfrc_passive + m->nv);
-    mju_zero(d->qfrc_passive, m->nv);
-    fluid.Apply(m, d);
-    const double power = mju_dot(d->qfrc_passive, d->qvel, m->nv);
-    const double dissipated = fluid.DissipatedPower_W(m, d);
+    // The callback's drag, -C qvel (DragMatrix); the model's dissipated
+    // power at d's state (StepFluidPower_W in inertial dynamics).
+    const std::vector<double> drag = DragMatrix(m, d);
+    double power = 0.0;
+    for (int i = 0; i < m->nv; ++i) {
+      for (int j = 0; j < m->nv; ++j) power -= d->qvel[i] * drag[i * m->nv + j] * d->qvel[j];
+    }
+    ASSERT_FALSE(StokesDynamics(d));
+    const double dissipated = StepFluidPower_W(m, d);
     EXPECT_GT(dissipated, 0.0);
     EXPECT_NEAR(power, -dissipated, 1e-9 * dissipated);
   }
@@ -234,12 +157,9 @@ TEST(FluidModelTest, ModelFileChoosesTheFluidAndItsParameters) {
       "plates1", PaperModelWithCustom("<text name=\"ipmc_fluid_model\" data=\"plates\"/>\n"
                                       "<numeric name=\"ipmc_fluid_plate_points_across\" "
                                       "data=\"1\"/>\n"));
+  // The plates' settings from the fields: plugin/tests/fluid_model_registry_test.cc.
   const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(file.Scenario(""));
-  const auto* plates = dynamic_cast<const PlateFluid*>(FindCoupling(sim->data())->fluid.get());
-  ASSERT_NE(plates, nullptr);
-  EXPECT_EQ(plates->settings().points_across, 1);
-  EXPECT_EQ(plates->settings().quadrature_refinement, 4);  // the parameter's default
-  EXPECT_TRUE(plates->settings().richardson);
+  EXPECT_GT(FluidForcePoints(sim->model()), 0.0);  // a dense model
 
   const double by_file = ShortRunSwim_mm(file.Scenario(kShortRun));
   const double by_keys = ShortRunSwim_mm(
@@ -250,7 +170,7 @@ TEST(FluidModelTest, ModelFileChoosesTheFluidAndItsParameters) {
 
   const std::unique_ptr<Simulation> rft =
       LoadScenarioSimulation(file.Scenario("[fluid]\nmodel = \"rft\"\n"));
-  EXPECT_NE(dynamic_cast<const RftDrag*>(FindCoupling(rft->data())->fluid.get()), nullptr);
+  EXPECT_EQ(FluidForcePoints(rft->model()), 0.0);  // RFT: no dense mobility
 }
 
 // A model file's fluid fields are checked where they are read: the
@@ -330,10 +250,14 @@ TEST(FluidModelTest, EveryParameterIsAScenarioKeyOfItsModel) {
   std::ifstream in(std::string(IPMC_SWIM_SOURCE_DIR) + "/docs/LIBRARY.md");
   std::stringstream library;
   library << in.rdbuf();
-  for (const std::string& field : FluidModelFields()) {
+  std::vector<std::string> fields = {kAttrFluidModel};
+  for (const FluidModelDescription& model : FluidModelDescriptions()) {
+    for (const FluidParameter& parameter : model.parameters) fields.push_back(parameter.field);
+  }
+  for (const std::string& field : fields) {
     EXPECT_NE(library.str().find("`" + field + "`"), std::string::npos) << field;
   }
-  for (const FluidModelEntry& model : FluidModels()) {
+  for (const FluidModelDescription& model : FluidModelDescriptions()) {
     for (const FluidParameter& parameter : model.parameters) {
       const std::string name = std::string("fluid.") + parameter.key;
       SCOPED_TRACE(name);
@@ -349,14 +273,13 @@ TEST(FluidModelTest, EveryParameterIsAScenarioKeyOfItsModel) {
       PaperWith("[fluid]\nmodel = \"stokeslets\"\nstokeslet_blob_mm = 1.5\n"
                 "stokeslet_points_per_mm = 2\n");
   const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(scenario);
-  const RftDragOverrides overrides = ScenarioFluidOverrides(scenario, sim->model());
-  EXPECT_EQ(overrides.fluid_parameters.at("ipmc_fluid_stokeslet_blob_m"), 1.5e-3);
-  EXPECT_EQ(overrides.fluid_parameters.at("ipmc_fluid_stokeslet_points_per_m"), 2e3);
-  const auto* stokeslets =
-      dynamic_cast<const StokesletFluid*>(FindCoupling(sim->data())->fluid.get());
-  ASSERT_NE(stokeslets, nullptr);
-  EXPECT_EQ(stokeslets->blob_m(), 1.5e-3);
-  EXPECT_EQ(stokeslets->spacing_m(), 0.5e-3);
+  const ScenarioFluidFields overrides = ScenarioFluidOverrides(scenario, sim->model());
+  EXPECT_EQ(overrides.parameters.at("ipmc_fluid_stokeslet_blob_m"), 1.5e-3);
+  EXPECT_EQ(overrides.parameters.at("ipmc_fluid_stokeslet_points_per_m"), 2e3);
+  // The model the simulation attached holds them (the Stokeslets' blob and
+  // spacing from the fields: plugin/tests/fluid_model_registry_test.cc).
+  EXPECT_EQ(FindCustomScalar(sim->model(), "ipmc_fluid_stokeslet_blob_m"), 1.5e-3);
+  EXPECT_EQ(FindCustomScalar(sim->model(), "ipmc_fluid_stokeslet_points_per_m"), 2e3);
 }
 
 // As the strip gets slender the Stokeslets' swim approaches local RFT's

@@ -13,8 +13,6 @@
 #include <string>
 
 #include "ipmc_swim/ipmc_swim.h"
-#include "plugin/fluid/fluid_model.h"
-#include "plugin/fluid/rft_drag.h"
 #include "sim/base/numbers.h"
 #include "sim/core/model_generator.h"
 #include "sim/core/simulation.h"
@@ -35,26 +33,37 @@ std::string FreeBody(const std::string& geoms, const std::string& custom = "") {
 }
 
 // The wrench [force; torque about the body's origin, body = world axes]
-// the model's RFT drag puts on its free body moving with [v; w].
+// the model's RFT drag puts on its free body moving with [v; w]: minus the
+// drag matrix the coupling applies (ipmc::DragMatrix) times [v; w].
 Eigen::Matrix<double, 6, 1> Drag(const mjModel* m, const Eigen::Vector3d& v,
                                  const Eigen::Vector3d& w) {
-  const std::optional<RftDragConfig> config = RftDragConfig::FromModel(m);
-  const RftDrag drag(m, *config);
-  mjData* d = mj_makeData(m);
-  for (int i = 0; i < 3; ++i) {
-    d->qvel[i] = v[i];
-    d->qvel[3 + i] = w[i];
-  }
-  mj_forward(m, d);
-  mju_zero(d->qfrc_passive, m->nv);
-  drag.Apply(m, d);
-  Eigen::Matrix<double, 6, 1> wrench;
-  for (int i = 0; i < 6; ++i) wrench[i] = d->qfrc_passive[i];
-  mj_deleteData(d);
-  return wrench;
+  Simulation sim(ModelPtr(mj_copyModel(nullptr, m)), "free body");
+  const std::vector<double> drag = DragMatrix(sim.model(), sim.data());
+  Eigen::Matrix<double, 6, 1> velocity;
+  velocity << v, w;
+  return -Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>(drag.data()) * velocity;
+}
+
+// Attaches the coupling to a new mjData of m and detaches it; throws as
+// Attach does.
+void AttachOnce(const mjModel* m) {
+  const DataPtr data(mj_makeData(m));
+  Attach(m, data.get());
+  Detach(data.get());
 }
 
 const Eigen::Vector3d kZero = Eigen::Vector3d::Zero();
+
+// Gray & Hancock's coefficients (1955) [N s/m^2] of a segment of radius a
+// in a wave of length lambda, in a fluid of viscosity mu:
+//   xi_n = 4 pi mu / (ln(2 lambda / a) + 1/2),  xi_t = 2 pi mu / (ln(2 lambda / a) - 1/2).
+struct DragCoefficients {
+  double normal_N_s_m2, tangential_N_s_m2;
+};
+DragCoefficients GrayHancockCoefficients(double mu, double radius_m, double wavelength_m) {
+  const double log_term = std::log(2 * wavelength_m / radius_m);
+  return {4 * kPi * mu / (log_term + 0.5), 2 * kPi * mu / (log_term - 0.5)};
+}
 
 TEST(GeomDragTest, SphereHasStokesDrag) {
   // Stokes (1851): F = -6 pi mu a U, T = -8 pi mu a^3 Omega.
@@ -144,7 +153,7 @@ TEST(GeomDragTest, BoxIsARibbonOfItsWidthAlongItsLongestSide) {
                   (xi.normal_N_s_m2 * 1e-2), 1.0, 1e-12);
   // A cube has no axis: refused by name.
   const ModelPtr cube = LoadModelString(FreeBody("<geom name=\"cube\" type=\"box\" size=\"0.001 0.001 0.001\"/>"));
-  ExpectInvalidArgument([&] { RftDrag(cube.get(), *RftDragConfig::FromModel(cube.get())); },
+  ExpectInvalidArgument([&] { AttachOnce(cube.get()); },
                         "geom 'cube' is a box centred on its body with two equal longest sides");
 }
 
@@ -174,7 +183,7 @@ TEST(GeomDragTest, GeomsTheFluidCannotRepresentAreRefusedByName) {
       "<geom name=\"fin\" type=\"plane\" size=\"1 1 1\"/>"
       "<body><freejoint/><geom type=\"box\" size=\"0.005 0.0001 0.001\"/></body>"
       "</worldbody></mujoco>");
-  ExpectInvalidArgument([&] { RftDrag(plane.get(), *RftDragConfig::FromModel(plane.get())); },
+  ExpectInvalidArgument([&] { AttachOnce(plane.get()); },
                         "geom 'fin' is a plane");
   // A sphere near a wall: its drag there is not the free-space one.
   const ModelPtr wall = LoadModelString(FreeBody(
@@ -182,15 +191,14 @@ TEST(GeomDragTest, GeomsTheFluidCannotRepresentAreRefusedByName) {
       "<numeric name=\"ipmc_rft_equivalent_radius_m\" data=\"0.0008125\"/>"
       "<text name=\"ipmc_rft_coefficients\" data=\"near_wall\"/>"
       "<numeric name=\"ipmc_rft_wall_distance_m\" data=\"0.002\"/>"));
-  ExpectInvalidArgument([&] { RftDrag(wall.get(), *RftDragConfig::FromModel(wall.get())); },
+  ExpectInvalidArgument([&] { AttachOnce(wall.get()); },
                         "geom 'head' is a sphere");
   // The dense models do not represent a head.
   const ModelPtr head = LoadModelString(FreeBody(
       "<geom name=\"head\" type=\"sphere\" size=\"0.001\"/>"
       "<geom name=\"tail\" type=\"capsule\" fromto=\"0.001 0 0 0.02 0 0\" size=\"0.0002\"/>",
       "<text name=\"ipmc_fluid_model\" data=\"stokeslets\"/>"));
-  const RftDrag segments(head.get(), *RftDragConfig::FromModel(head.get()));
-  ExpectInvalidArgument([&] { MakeFluid(head.get(), segments, {}); },
+  ExpectInvalidArgument([&] { AttachOnce(head.get()); },
                         "fluid model stokeslets: geom 'head' is a sphere");
 }
 

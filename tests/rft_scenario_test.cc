@@ -9,10 +9,9 @@
 #include <cstdio>
 #include <string>
 
+#include "ipmc_swim/fields.h"
 #include "ipmc_swim/ipmc_swim.h"
-#include "plugin/coupling.h"
-#include "plugin/fluid/near_wall_rft.h"
-#include "plugin/fluid/rft_drag.h"
+#include "sim/base/numbers.h"
 #include "sim/core/scenario.h"
 #include "sim/core/simulation.h"
 #include "sim/core/swim_meter.h"
@@ -28,56 +27,55 @@ ScenarioConfig PaperWith(const std::string& extra) {
   return ParseScenario("model = \"../models/flagellum3.xml\"\n" + extra, kPaper);
 }
 
-RftDragConfig DragOf(const ScenarioConfig& scenario) {
+// The RFT drag the scenario's simulation attaches: the fields of its model
+// (the scenario's settings written into them) and the normal coefficient
+// the coupling took from them, the drag of the straight body (qpos0)
+// towed broadside (root_y) over its length, sum xi_n L / sum L.
+struct AttachedDrag {
+  CoefficientModel model = CoefficientModel::kGrayHancock;
+  double wavelength_m = 0.0;
+  double wall_distance_m = 0.0;
+  double normal_N_s_m2 = 0.0;
+};
+AttachedDrag DragOf(const ScenarioConfig& scenario) {
   const std::unique_ptr<Simulation> sim = LoadScenarioSimulation(scenario);
-  const CouplingContext* coupling = FindCoupling(sim->data());
-  EXPECT_TRUE(coupling && coupling->drag);
-  return coupling->drag->config();
+  const mjModel* m = sim->model();
+  AttachedDrag drag;
+  drag.model =
+      ParseCoefficientModel(FindCustomText(m, kAttrCoefficients).value_or("gray_hancock"));
+  drag.wavelength_m = FindCustomScalar(m, kAttrWavelength).value_or(0.0);
+  drag.wall_distance_m = FindCustomScalar(m, kAttrWallDistance).value_or(0.0);
+  double length_m = 0.0;
+  for (double segment_m : FluidOf(sim->data()).segment_length_m) length_m += segment_m;
+  const int root_y = m->jnt_dofadr[mj_name2id(m, mjOBJ_JOINT, "root_y")];
+  drag.normal_N_s_m2 = DragMatrix(m, sim->data())[(m->nv + 1) * root_y] / length_m;
+  return drag;
 }
 
 TEST(RftScenarioTest, CoefficientsFollowTheWavelength) {
   // The model file says 32 mm; the wave of 16 mm wins unless the scenario
   // names the coefficients' wavelength itself.
   EXPECT_DOUBLE_EQ(DragOf(PaperWith("")).wavelength_m, 0.032);
-  const RftDragConfig wave = DragOf(PaperWith("[waveform]\nwavelength_mm = 16.0\n"));
+  const AttachedDrag wave = DragOf(PaperWith("[waveform]\nwavelength_mm = 16.0\n"));
   EXPECT_DOUBLE_EQ(wave.wavelength_m, 0.016);
   EXPECT_EQ(wave.model, CoefficientModel::kGrayHancock);
-  const DragCoefficients expected = GrayHancockCoefficients(1e-3, 0.8125e-3, 0.016);
-  const std::unique_ptr<Simulation> sim =
-      LoadScenarioSimulation(PaperWith("[waveform]\nwavelength_mm = 16.0\n"));
-  EXPECT_DOUBLE_EQ(FindCoupling(sim->data())->drag->coefficients().normal_N_s_m2,
-                   expected.normal_N_s_m2);
-  const RftDragConfig given =
+  // Gray & Hancock (1955): xi_n = 4 pi mu / (ln(2 lambda / a) + 1/2), the
+  // model's mu = 1e-3 Pa s and a = 0.8125 mm, lambda = 16 mm. The sum over
+  // the segments rounds: 1e-12.
+  const double expected_N_s_m2 = 4 * kPi * 1e-3 / (std::log(2 * 0.016 / 0.8125e-3) + 0.5);
+  EXPECT_NEAR(wave.normal_N_s_m2 / expected_N_s_m2, 1.0, 1e-12);
+  const AttachedDrag given =
       DragOf(PaperWith("[waveform]\nwavelength_mm = 16.0\n[fluid]\nrft_wavelength_mm = 40.0\n"));
   EXPECT_DOUBLE_EQ(given.wavelength_m, 0.040);
 }
 
 TEST(RftScenarioTest, CoefficientSetIsAScenarioKey) {
-  const RftDragConfig lighthill = DragOf(PaperWith("[fluid]\nrft_coefficients = \"lighthill\"\n"));
+  const AttachedDrag lighthill = DragOf(PaperWith("[fluid]\nrft_coefficients = \"lighthill\"\n"));
   EXPECT_EQ(lighthill.model, CoefficientModel::kLighthill);
   ExpectThrowMentioning<std::runtime_error>(
       [] { PaperWith("[fluid]\nrft_coefficients = \"direct\"\n"); }, "fluid.rft_coefficients");
   ExpectThrowMentioning<std::runtime_error>(
       [] { PaperWith("[fluid]\nrft_wavelength_mm = 0\n"); }, "fluid.rft_wavelength_mm");
-}
-
-TEST(RftScenarioTest, OverridesReplaceTheModelsFields) {
-  // A model with direct coefficients: the override to gray_hancock drops
-  // them instead of refusing them.
-  const ModelPtr model = LoadModelString(R"(<mujoco><custom>
-      <numeric name="ipmc_rft_viscosity_Pa_s" data="0.001"/>
-      <text name="ipmc_rft_coefficients" data="direct"/>
-      <numeric name="ipmc_rft_xi_normal_N_s_m2" data="0.002"/>
-      <numeric name="ipmc_rft_xi_tangential_N_s_m2" data="0.001"/>
-    </custom><worldbody><body><freejoint/><geom type="capsule" size="0.001 0.01"/></body>
-    </worldbody></mujoco>)");
-  EXPECT_EQ(RftDragConfig::FromModel(model.get())->model, CoefficientModel::kDirect);
-  RftDragOverrides overrides;
-  overrides.model = CoefficientModel::kGrayHancock;
-  overrides.wavelength_m = 0.02;
-  const RftDragConfig config = *RftDragConfig::FromModel(model.get(), overrides);
-  EXPECT_EQ(config.model, CoefficientModel::kGrayHancock);
-  EXPECT_DOUBLE_EQ(config.wavelength_m, 0.02);
 }
 
 TEST(RftScenarioTest, WarnsOnReynoldsNumberAndShortWaves) {
@@ -130,15 +128,14 @@ TEST(RftScenarioTest, ARunCarriesItsWarnings) {
 // Katz, Blake & Paveri-Fontana 1975 in near_wall_rft_test.cc) for the
 // centreline's distance from the wall.
 TEST(RftScenarioTest, WallGapGivesNearWallCoefficients) {
-  const DragCoefficients wall = NearWallCoefficients(1e-3, 0.8125e-3, 2.5e-3);
+  // Katz, Blake & Paveri-Fontana: xi_n = 4 pi mu / ln(2 h / a), parallel
+  // to the wall.
+  const double wall_normal_N_s_m2 = 4 * kPi * 1e-3 / std::log(2 * 2.5e-3 / 0.8125e-3);
   // A 1 mm gap below the 3 mm strip puts the centreline 2.5 mm above it.
-  const RftDragConfig config = DragOf(PaperWith("[fluid]\nwall_gap_mm = 1.0\n"));
+  const AttachedDrag config = DragOf(PaperWith("[fluid]\nwall_gap_mm = 1.0\n"));
   EXPECT_EQ(config.model, CoefficientModel::kNearWall);
   EXPECT_DOUBLE_EQ(config.wall_distance_m, 2.5e-3);
-  const std::unique_ptr<Simulation> sim =
-      LoadScenarioSimulation(PaperWith("[fluid]\nwall_gap_mm = 1.0\n"));
-  EXPECT_NEAR(FindCoupling(sim->data())->drag->coefficients().normal_N_s_m2,
-              wall.normal_N_s_m2, 1e-12);
+  EXPECT_NEAR(config.normal_N_s_m2, wall_normal_N_s_m2, 1e-12);
   ExpectThrowMentioning<std::runtime_error>([] { PaperWith("[fluid]\nwall_gap_mm = -1\n"); },
                                             "fluid.wall_gap_mm");
   ExpectThrowMentioning<std::runtime_error>(
