@@ -78,12 +78,6 @@ void ExpectBitIdentical(const std::vector<double>& expected, const std::vector<d
   }
 }
 
-int Mismatches(const std::vector<double>& a, const std::vector<double>& b) {
-  int count = 0;
-  for (size_t i = 0; i < std::min(a.size(), b.size()); ++i) count += a[i] != b[i];
-  return count;
-}
-
 constexpr long kBefore = 2000;  // 0.2 s before the snapshot
 constexpr long kAfter = 1500;   // 0.15 s after it, 150 voltage changes
 

@@ -22,7 +22,7 @@
 #include "plugin/fluid/ribbon_fluid.h"
 #include "plugin/fluid/rft_drag.h"
 #include "plugin/fluid/stokeslet_fluid.h"
-#include "plugin/tests/inline_model.h"
+#include "plugin/tests/test_model.h"
 
 namespace ipmc::testing {
 namespace {
@@ -31,7 +31,7 @@ namespace {
 // `overrides`.
 struct Paper {
   explicit Paper(const RftDragOverrides& overrides, const std::string& xml = "")
-      : model(xml.empty() ? LoadSourceModel("flagellum3.xml") : LoadModel(xml)),
+      : model(xml.empty() ? LoadSourceModel("flagellum3.xml") : LoadXml(xml)),
         data(MakeData(model.get())),
         segments(model.get(), *RftDragConfig::FromModel(model.get(), overrides)),
         fluid(MakeFluid(model.get(), segments, overrides)) {

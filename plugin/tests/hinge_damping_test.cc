@@ -15,9 +15,9 @@
 namespace ipmc::testing {
 namespace {
 
-using plugin_test::DataPtr;
-using plugin_test::LoadXml;
-using plugin_test::ModelPtr;
+using testing::DataPtr;
+using testing::LoadXml;
+using testing::ModelPtr;
 
 // The paper's hinge (docs/ENERGY.md): k = 1.95e-4 N m/rad,
 // c = 6.25e-7 N m s/rad.
@@ -107,12 +107,18 @@ TEST(HingeDampingTest, MujocoEulerStepRelaxesAMasslessHinge) {
     const int steps = 20;
     for (int i = 0; i < steps; ++i) {
       mj_step(model, data.get());
-      if (h_s > 1e-2 && i == 0) EXPECT_LT(std::abs(data->qpos[0]), 1e-4);
+      if (h_s > 1e-2 && i == 0) {
+        EXPECT_LT(std::abs(data->qpos[0]), 1e-4);
+      }
     }
-    if (h_s > 1e-2) EXPECT_LT(std::abs(data->qpos[0]), 1e-60);
+    if (h_s > 1e-2) {
+      EXPECT_LT(std::abs(data->qpos[0]), 1e-60);
+    }
     const double exact = 0.1 * std::exp(-kStiffness * steps * h_s / kDamping);
     std::printf("h = %g s: angle %.12e rad, exact %.12e rad\n", h_s, data->qpos[0], exact);
-    if (h_s < 1e-3) EXPECT_NEAR(data->qpos[0] / exact, 1.0, 5e-4);
+    if (h_s < 1e-3) {
+      EXPECT_NEAR(data->qpos[0] / exact, 1.0, 5e-4);
+    }
   }
   // The Stokes mode keeps c.
   ModelPtr model = LoadXml(xml);

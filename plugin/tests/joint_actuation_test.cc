@@ -17,13 +17,13 @@
 namespace ipmc {
 namespace {
 
-using plugin_test::LoadXml;
-using plugin_test::ModelPtr;
+using testing::LoadXml;
+using testing::ModelPtr;
 
 // The generated flagellum with 16 sub-segments per link (tests/strip_keys_test.cc
 // checks that the file is what the generator writes).
 ModelPtr FlexibleFlagellum() {
-  return LoadXml(plugin_test::SourceFileText("plugin/tests/flexible_flagellum.xml"));
+  return LoadXml(testing::SourceFileText("plugin/tests/flexible_flagellum.xml"));
 }
 
 // Sets qpos and ctrl to values that differ per dof and actuator (some

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "plugin/tests/inline_model.h"
+#include "plugin/tests/test_model.h"
 #include "sim/base/numbers.h"
 
 namespace ipmc::testing {
@@ -126,7 +126,7 @@ TEST(RftDragTest, PlanarResistanceIsTheWholeResistancesBlock) {
 
 // The strip of three links of 3 sub-segments each: a deeper tree than the
 // rigid links'.
-ModelPtr SubSegmentedFlagellum(bool clamped) { return LoadModel(SubSegmentedStrip(3, clamped)); }
+ModelPtr SubSegmentedFlagellum(bool clamped) { return LoadXml(SubSegmentedStrip(3, clamped)); }
 
 // A random pose (angles ~ 0.3 rad) and velocity (~ 1e-3), then mj_forward.
 void RandomState(const mjModel* m, mjData* d, std::mt19937& rng) {
@@ -222,7 +222,7 @@ TEST(RftDragTest, DissipatedPowerIsMinusTheGeneralisedDragPower) {
 TEST(RftScenarioTest, OverridesReplaceTheModelsFields) {
   // A model with direct coefficients: the override to gray_hancock drops
   // them instead of refusing them.
-  const ModelPtr model = LoadModel(R"(<mujoco><custom>
+  const ModelPtr model = LoadXml(R"(<mujoco><custom>
       <numeric name="ipmc_rft_viscosity_Pa_s" data="0.001"/>
       <text name="ipmc_rft_coefficients" data="direct"/>
       <numeric name="ipmc_rft_xi_normal_N_s_m2" data="0.002"/>

@@ -23,7 +23,7 @@
 #include "plugin/fluid/fluid_model.h"
 #include "plugin/fluid/rft_drag.h"
 #include "plugin/fluid/ribbon_coefficients.h"
-#include "plugin/tests/inline_model.h"
+#include "plugin/tests/test_model.h"
 
 namespace ipmc::testing {
 namespace {

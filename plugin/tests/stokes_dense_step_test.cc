@@ -17,7 +17,7 @@
 #include "plugin/dynamics/stokes_step.h"
 #include "plugin/fluid/fluid_model.h"
 #include "plugin/fluid/rft_drag.h"
-#include "plugin/tests/inline_model.h"
+#include "plugin/tests/test_model.h"
 
 namespace ipmc::testing {
 namespace {
@@ -40,7 +40,7 @@ Eigen::MatrixXd Jacobian(const mjModel* m, const std::vector<int>& bodies,
 // Links of 4 sub-segments under the ribbon with the shape tolerance
 // `tolerance_rad`, driven off straight; four steps of 1 ms.
 void ExpectTheDenseSystemAsFormed(double tolerance_rad) {
-  const ModelPtr model = LoadModel(SubSegmentedStrip(4, false));
+  const ModelPtr model = LoadXml(SubSegmentedStrip(4, false));
   mjModel* m = model.get();
   m->opt.timestep = 1e-3;
   const DataPtr data = MakeData(m);

@@ -1,7 +1,7 @@
-// Models for the plugin's unit tests, loaded by MuJoCo alone: MJCF text
-// through MuJoCo's virtual file system, or a file of the source tree, with
-// the userdata the coupling keeps its state in reserved (ipmc_swim.h,
-// "State"), as a program that attaches them does.
+// Models for the plugin's unit tests, loaded by MuJoCo alone (without the
+// program's layers): MJCF text through MuJoCo's virtual file system, or a
+// file of the source tree, with the userdata the coupling keeps its state
+// in reserved (ipmc_swim.h, "State"), as a program that attaches them does.
 #pragma once
 
 #include <mujoco/mujoco.h>
@@ -15,7 +15,7 @@
 
 #include "ipmc_swim/ipmc_swim.h"
 
-namespace ipmc::plugin_test {
+namespace ipmc::testing {
 
 struct ModelDeleter {
   void operator()(mjModel* m) const { mj_deleteModel(m); }
@@ -63,4 +63,50 @@ inline std::string SourceFileText(const std::string& path) {
   return text.str();
 }
 
-}  // namespace ipmc::plugin_test
+// A model of the source tree's models/ folder ("flagellum3.xml").
+inline ModelPtr LoadSourceModel(const std::string& name) {
+  return LoadXml(SourceFileText("models/" + name));
+}
+
+// A strip of three 10 mm links of `segments_per_link` sub-segments each
+// (boxes 3 mm wide and 0.25 mm thick, each hinged about z at its root to
+// the one before: stiffness E I / length with the paper's E = 0.25 GPa,
+// damping 6.25e-7 N m s), behind a 1 mm head on planar root joints
+// (root_x, root_y, root_yaw; free) or hinged to the world (clamped), in
+// water under Gray & Hancock's RFT (a = 0.8125 mm, lambda = 32 mm), no
+// gravity and no contacts (as the Stokes step wants). `custom` adds
+// <custom> fields.
+inline std::string SubSegmentedStrip(int segments_per_link, bool clamped,
+                                     const std::string& custom = "") {
+  const int segments = 3 * segments_per_link;
+  const double length_m = 10e-3 / segments_per_link;
+  const double bending_N_m2 = 0.25e9 * 3e-3 * 250e-6 * 250e-6 * 250e-6 / 12;  // E I
+  std::ostringstream xml;
+  xml.precision(17);
+  xml << "<mujoco><option gravity=\"0 0 0\"><flag contact=\"disable\"/></option>"
+         "<custom><numeric name=\"ipmc_rft_viscosity_Pa_s\" data=\"0.001\"/>"
+         "<numeric name=\"ipmc_rft_equivalent_radius_m\" data=\"0.0008125\"/>"
+         "<numeric name=\"ipmc_rft_wavelength_m\" data=\"0.032\"/>"
+         "<numeric name=\"ipmc_strip_width_m\" data=\"0.003\"/>"
+      << custom << "</custom><worldbody>";
+  if (!clamped) {
+    xml << "<body name=\"head\"><joint name=\"root_x\" type=\"slide\" axis=\"1 0 0\"/>"
+           "<joint name=\"root_y\" type=\"slide\" axis=\"0 1 0\"/>"
+           "<joint name=\"root_yaw\" type=\"hinge\" axis=\"0 0 1\"/>"
+           "<geom type=\"box\" pos=\"-0.0005 0 0\" size=\"0.0005 0.000125 0.0015\"/>";
+  }
+  for (int k = 0; k < segments; ++k) {
+    xml << "<body pos=\"" << (k == 0 ? 0.0 : length_m) << " 0 0\"><joint type=\"hinge\" "
+        << "axis=\"0 0 1\" stiffness=\"" << bending_N_m2 / length_m
+        << "\" damping=\"6.25e-07\"/><geom type=\"box\" pos=\"" << length_m / 2
+        << " 0 0\" size=\"" << length_m / 2 << " 0.000125 0.0015\"/>";
+  }
+  for (int k = 0; k < segments; ++k) xml << "</body>";
+  if (!clamped) xml << "</body>";
+  xml << "</worldbody></mujoco>";
+  return xml.str();
+}
+
+inline DataPtr MakeData(const mjModel* m) { return DataPtr(mj_makeData(m)); }
+
+}  // namespace ipmc::testing

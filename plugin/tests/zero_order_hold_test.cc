@@ -26,8 +26,8 @@
 namespace ipmc {
 namespace {
 
-using plugin_test::LoadXml;
-using plugin_test::ModelPtr;
+using testing::LoadXml;
+using testing::ModelPtr;
 
 std::vector<IpmcLinkParams> PaperLinks(IpmcModelKind kind) {
   return {PaperLinkParams(1, kind), PaperLinkParams(2, kind), PaperLinkParams(3, kind)};
@@ -132,7 +132,7 @@ TEST(ZeroOrderHoldTest, MismatchedBlocksAreRefused) {
 }
 
 std::string ClampedModelWith(const std::string& custom_line) {
-  std::string xml = plugin_test::SourceFileText("models/flagellum3_clamped.xml");
+  std::string xml = testing::SourceFileText("models/flagellum3_clamped.xml");
   const size_t at = xml.find("</custom>");
   EXPECT_NE(at, std::string::npos);
   return xml.insert(at, custom_line);
