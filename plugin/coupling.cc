@@ -574,13 +574,17 @@ bool StepAttached(const mjModel* m, mjData* d, CouplingContext* context) {
 
 namespace {
 
-void RequireLink(const CouplingContext& context, int link, const char* function) {
+// The coupling of d, with `link` one of its links (`function` names the
+// caller in the message).
+const CouplingContext& RequireLinkOf(const mjData* d, int link, const char* function) {
+  const CouplingContext& context = RequireCoupling(d, function);
   const int links = context.actuators ? context.actuators->Links() : 0;
   if (link < 0 || link >= links) {
     throw std::invalid_argument(std::string("ipmc::") + function + ": link " +
                                 std::to_string(link) + " is outside [0, " +
                                 std::to_string(links - 1) + "] (the model's ipmc_links)");
   }
+  return context;
 }
 
 // The fluid's wrenches [torque; force] on each body (world frame, about
@@ -648,40 +652,34 @@ int LinkCount(const mjData* d) {
 }
 
 std::vector<int> LinkJoints(const mjData* d, int link) {
-  const CouplingContext& context = RequireCoupling(d, "LinkJoints");
-  RequireLink(context, link, "LinkJoints");
+  const CouplingContext& context = RequireLinkOf(d, link, "LinkJoints");
   return context.actuators->chains()[link].joints;
 }
 
 double LinkVoltage_V(const mjData* d, int link) {
-  const CouplingContext& context = RequireCoupling(d, "LinkVoltage_V");
-  RequireLink(context, link, "LinkVoltage_V");
+  const CouplingContext& context = RequireLinkOf(d, link, "LinkVoltage_V");
   return context.actuators->Voltages_V()[link];
 }
 
 std::vector<double> LinkActiveMoments_N_m(const mjData* d, int link) {
-  const CouplingContext& context = RequireCoupling(d, "LinkActiveMoments_N_m");
-  RequireLink(context, link, "LinkActiveMoments_N_m");
+  const CouplingContext& context = RequireLinkOf(d, link, "LinkActiveMoments_N_m");
   std::vector<double> moments_N_m;
   for (int motor : context.actuators->chains()[link].motors) moments_N_m.push_back(d->ctrl[motor]);
   return moments_N_m;
 }
 
 std::vector<double> LinkSegmentLengths_m(const mjData* d, int link) {
-  const CouplingContext& context = RequireCoupling(d, "LinkSegmentLengths_m");
-  RequireLink(context, link, "LinkSegmentLengths_m");
+  const CouplingContext& context = RequireLinkOf(d, link, "LinkSegmentLengths_m");
   return context.actuators->chains()[link].segment_length_m;
 }
 
 double LinkLength_m(const mjData* d, int link) {
-  const CouplingContext& context = RequireCoupling(d, "LinkLength_m");
-  RequireLink(context, link, "LinkLength_m");
+  const CouplingContext& context = RequireLinkOf(d, link, "LinkLength_m");
   return context.actuators->chains()[link].length_m;
 }
 
 double LinkFreeDeflection_mm(const mjData* d, int link) {
-  const CouplingContext& context = RequireCoupling(d, "LinkFreeDeflection_mm");
-  RequireLink(context, link, "LinkFreeDeflection_mm");
+  const CouplingContext& context = RequireLinkOf(d, link, "LinkFreeDeflection_mm");
   return context.actuators->FreeTipDeflection_mm(link);
 }
 
@@ -703,8 +701,7 @@ OustaloupBand BandOf(const OustaloupConfig& config) {
 }  // namespace
 
 LinkPlantParameters LinkPlantOf(const mjData* d, int link) {
-  const CouplingContext& context = RequireCoupling(d, "LinkPlantOf");
-  RequireLink(context, link, "LinkPlantOf");
+  const CouplingContext& context = RequireLinkOf(d, link, "LinkPlantOf");
   const IpmcLinkParams& params = context.actuators->link_params()[link];
   LinkPlantParameters plant;
   plant.g2 = params.kind == IpmcModelKind::kG2;
@@ -718,8 +715,7 @@ LinkPlantParameters LinkPlantOf(const mjData* d, int link) {
 }
 
 MomentHold LinkMomentHold(const mjData* d, int link) {
-  const CouplingContext& context = RequireCoupling(d, "LinkMomentHold");
-  RequireLink(context, link, "LinkMomentHold");
+  const CouplingContext& context = RequireLinkOf(d, link, "LinkMomentHold");
   const IpmcActuators& actuators = *context.actuators;
   MomentHold hold;
   hold.first_order = actuators.FirstOrderHold() && context.dynamics == Dynamics::kInertial;

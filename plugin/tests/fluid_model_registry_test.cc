@@ -22,26 +22,11 @@
 #include "plugin/fluid/ribbon_fluid.h"
 #include "plugin/fluid/rft_drag.h"
 #include "plugin/fluid/stokeslet_fluid.h"
+#include "plugin/tests/paper_fluid.h"
 #include "plugin/tests/test_model.h"
 
 namespace ipmc::testing {
 namespace {
-
-// A model (the paper's, or `xml`), its segments and its fluid under
-// `overrides`.
-struct Paper {
-  explicit Paper(const RftDragOverrides& overrides, const std::string& xml = "")
-      : model(xml.empty() ? LoadSourceModel("flagellum3.xml") : LoadXml(xml)),
-        data(MakeData(model.get())),
-        segments(model.get(), *RftDragConfig::FromModel(model.get(), overrides)),
-        fluid(MakeFluid(model.get(), segments, overrides)) {
-    mj_forward(model.get(), data.get());
-  }
-  ModelPtr model;
-  DataPtr data;
-  RftDrag segments;
-  std::unique_ptr<Fluid> fluid;
-};
 
 // A bent shape, the root moved and turned, velocities on every dof.
 void Pose(const mjModel* m, mjData* d, double x, double y, double yaw) {

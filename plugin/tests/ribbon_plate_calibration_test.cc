@@ -23,26 +23,11 @@
 #include "plugin/fluid/fluid_model.h"
 #include "plugin/fluid/rft_drag.h"
 #include "plugin/fluid/ribbon_coefficients.h"
+#include "plugin/tests/paper_fluid.h"
 #include "plugin/tests/test_model.h"
 
 namespace ipmc::testing {
 namespace {
-
-// The paper's model in its reference pose (straight along x), its
-// segments and its fluid under `overrides`.
-struct Paper {
-  explicit Paper(const RftDragOverrides& overrides)
-      : model(LoadSourceModel("flagellum3.xml")),
-        data(MakeData(model.get())),
-        segments(model.get(), *RftDragConfig::FromModel(model.get(), overrides)),
-        fluid(MakeFluid(model.get(), segments, overrides)) {
-    mj_forward(model.get(), data.get());
-  }
-  ModelPtr model;
-  DataPtr data;
-  RftDrag segments;
-  std::unique_ptr<Fluid> fluid;
-};
 
 RftDragOverrides Coefficients(CoefficientModel coefficients) {
   RftDragOverrides overrides;

@@ -19,11 +19,7 @@ namespace {
 using testing::LoadXml;
 using testing::ModelPtr;
 
-// The generated flagellum with 16 sub-segments per link (tests/strip_keys_test.cc
-// checks that the file is what the generator writes).
-ModelPtr FlexibleFlagellum() {
-  return LoadXml(testing::SourceFileText("plugin/tests/flexible_flagellum.xml"));
-}
+using testing::FlexibleFlagellum;
 
 void ExpectSameComStages(const mjModel* m) {
   ASSERT_TRUE(HingesAndSlidesOnly(m));

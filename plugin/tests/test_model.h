@@ -63,6 +63,13 @@ inline std::string SourceFileText(const std::string& path) {
   return text.str();
 }
 
+// The generated flagellum with 16 sub-segments per link
+// (tests/strip_keys_test.cc checks that the file is what the generator
+// writes).
+inline ModelPtr FlexibleFlagellum() {
+  return LoadXml(SourceFileText("plugin/tests/flexible_flagellum.xml"));
+}
+
 // A model of the source tree's models/ folder ("flagellum3.xml").
 inline ModelPtr LoadSourceModel(const std::string& name) {
   return LoadXml(SourceFileText("models/" + name));
