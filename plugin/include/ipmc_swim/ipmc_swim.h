@@ -274,7 +274,8 @@ struct ResistanceEvaluations {
 ResistanceEvaluations FluidResistanceEvaluations(const mjData* d);
 // The drag's generalised resistance at d's positions: the nv x nv matrix
 // (row-major) C with qfrc = -C qvel that the drag callback applies.
-// Empty without drag.
+// Empty without drag. A dense fluid's cache may take the evaluation: call
+// from the thread that steps d.
 std::vector<double> DragMatrix(const mjModel* m, const mjData* d);
 
 // The fluid's force and torque on one body, world frame, SI units, the
