@@ -302,7 +302,7 @@ bool StokesStepper::Solve(const mjModel* m, const double* cdof, const double* st
 // within 1e-12).
 template <int First, int Dim>
 void StokesStepper::ChainBlocks(const mjModel* m, const Fluid& fluid,
-                                const Eigen::MatrixXd& resistance) {
+                                const Eigen::MatrixXd& resistance, Eigen::MatrixXd* blocks) {
   const int nv = m->nv;
   const std::vector<int>& bodies = fluid.InteractingBodies();
   const int count = static_cast<int>(bodies.size());
@@ -321,16 +321,36 @@ void StokesStepper::ChainBlocks(const mjModel* m, const Fluid& fluid,
     const int parent = m->dof_parentid[j];
     if (parent >= 0) body_blocks_.middleRows<Dim>(Dim * parent) += body_blocks_.middleRows<Dim>(Dim * j);
   }
-  // Columns: dense_blocks_ (Dim nv x Dim nv).
-  dense_blocks_.setZero(Dim * nv, Dim * nv);
+  // Columns: the blocks (Dim nv x Dim nv).
+  blocks->setZero(Dim * nv, Dim * nv);
   for (int c = 0; c < count; ++c) {
     const int dof = topology_.body_last_dof[bodies[c]];
-    if (dof >= 0) dense_blocks_.middleCols<Dim>(Dim * dof) += body_blocks_.middleCols<Dim>(Dim * c);
+    if (dof >= 0) blocks->middleCols<Dim>(Dim * dof) += body_blocks_.middleCols<Dim>(Dim * c);
   }
   for (int k = nv - 1; k >= 0; --k) {
     const int parent = m->dof_parentid[k];
-    if (parent >= 0) dense_blocks_.middleCols<Dim>(Dim * parent) += dense_blocks_.middleCols<Dim>(Dim * k);
+    if (parent >= 0) blocks->middleCols<Dim>(Dim * parent) += blocks->middleCols<Dim>(Dim * k);
   }
+}
+
+// A fit's R_F = sum_k tau^k C_k gives blocks sum_k tau^k B(C_k), B the
+// chain sums (linear): each B(C_k) once per fit, the sum at every step.
+void StokesStepper::CubicBlocks(const mjModel* m, const Fluid& fluid, const ResistanceCubic& cubic) {
+  if (cubic.version != cubic_version_ || &fluid != cubic_fluid_of_ || dense_dim_ != cubic_dim_) {
+    for (size_t k = 0; k < cubic_blocks_.size(); ++k) {
+      if (dense_dim_ == 3) {
+        ChainBlocks<2, 3>(m, fluid, (*cubic.coefficients)[k], &cubic_blocks_[k]);
+      } else {
+        ChainBlocks<0, 6>(m, fluid, (*cubic.coefficients)[k], &cubic_blocks_[k]);
+      }
+    }
+    cubic_version_ = cubic.version;
+    cubic_fluid_of_ = &fluid;
+    cubic_dim_ = dense_dim_;
+  }
+  const double t = cubic.tau_s;
+  dense_blocks_ = cubic_blocks_[0] + t * cubic_blocks_[1] + (t * t) * cubic_blocks_[2] +
+                  (t * t * t) * cubic_blocks_[3];
 }
 
 // What R's change of frame does to the dof motions: with R = F^T R_F F
@@ -344,9 +364,11 @@ bool StokesStepper::DenseBlocks(const mjModel* m, const mjData* d, const Fluid& 
                                 bool planar) {
   Eigen::Matrix<double, 6, 6> frame;
   long version = -1;
-  const Eigen::MatrixXd* frame_resistance = fluid.FrameResistance(m, d, &frame, &version);
-  if (!frame_resistance) return false;
-  const Eigen::MatrixXd& resistance = *frame_resistance;
+  ResistanceCubic cubic;
+  const bool fitted = fluid.FrameResistanceCubic(m, d, &frame, &cubic);
+  const Eigen::MatrixXd* frame_resistance =
+      fitted ? nullptr : fluid.FrameResistance(m, d, &frame, &version);
+  if (!fitted && !frame_resistance) return false;
   const bool frame_planar = planar && frame.block<2, 3>(0, 2).isZero(0.0) &&
                             frame.block<1, 3>(5, 2).isZero(0.0);
   last_dense_blocks_.swap(dense_blocks_);
@@ -359,12 +381,14 @@ bool StokesStepper::DenseBlocks(const mjModel* m, const mjData* d, const Fluid& 
                     dense_dim_ == last_dense_dim_;
   dense_version_ = version;
   dense_fluid_of_ = &fluid;
-  if (same) {
+  if (fitted) {
+    CubicBlocks(m, fluid, cubic);
+  } else if (same) {
     dense_blocks_ = last_dense_blocks_;
   } else if (frame_planar) {
-    ChainBlocks<2, 3>(m, fluid, resistance);
+    ChainBlocks<2, 3>(m, fluid, *frame_resistance, &dense_blocks_);
   } else {
-    ChainBlocks<0, 6>(m, fluid, resistance);
+    ChainBlocks<0, 6>(m, fluid, *frame_resistance, &dense_blocks_);
   }
   return true;
 }

@@ -43,6 +43,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/StdVector>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -178,10 +179,14 @@ class StokesStepper {
   // this step's and the last one's dense_blocks_ and frames.
   template <int First, int Dim>
   bool SolveDense(const mjModel* m, const double* stiffness_damping, const double* f, double* v);
-  // dense_blocks_ of the resistance R_F over the fluid's InteractingBodies()
-  // (ExtrapolateToMidpoint).
+  // The chain sums `blocks` (dense_blocks_'s form) of the resistance R_F
+  // over the fluid's InteractingBodies() (ExtrapolateToMidpoint).
   template <int First, int Dim>
-  void ChainBlocks(const mjModel* m, const Fluid& fluid, const Eigen::MatrixXd& resistance);
+  void ChainBlocks(const mjModel* m, const Fluid& fluid, const Eigen::MatrixXd& resistance,
+                   Eigen::MatrixXd* blocks);
+  // dense_blocks_ of a fluid's fitted R_F (Fluid::FrameResistanceCubic), in
+  // dense_dim_: the sums of the cubic's coefficients, made once per fit.
+  void CubicBlocks(const mjModel* m, const Fluid& fluid, const ResistanceCubic& cubic);
   // This step's dense_blocks_ and frame from the fluid's FrameResistance,
   // the last step's kept (ExtrapolateToMidpoint); false if the fluid has
   // no dense resistance.
@@ -228,6 +233,12 @@ class StokesStepper {
   int dense_dim_ = 0, last_dense_dim_ = 0;
   const Fluid* dense_fluid_of_ = nullptr;  // whose version dense_version_ is
   bool extrapolate_dense_ = false;  // the step continues the last with the same form
+  // The chain sums of a fitted R_F's four coefficients (CubicBlocks), of
+  // which fluid's cubic of which version, in which dense_dim_.
+  std::array<Eigen::MatrixXd, 4> cubic_blocks_;
+  long cubic_version_ = -1;
+  const Fluid* cubic_fluid_of_ = nullptr;
+  int cubic_dim_ = 0;
   // The midpoint's dof motions in this step's frame and the last one's,
   // and D = J^T R J; scratch.
   Eigen::Matrix<double, 6, Eigen::Dynamic> frame_motion_, last_frame_motion_;

@@ -27,26 +27,31 @@ constexpr double kFitGrowth = 2.0;
 constexpr double kFitSafety = 0.9;
 
 // The polynomial through (x_k, c_k), k = 0 ... p, x_0 = 0, as its
-// monomials in x: c becomes the coefficients of x^0 ... x^p. Newton's
-// divided differences, then its Horner form P = d_p, P <- P (x - x_k) +
-// d_k for k = p - 1 ... 0 multiplied out.
-template <typename Value, size_t Points>
-void InterpolatingMonomials(const std::array<double, Points>& x,
-                            std::array<Value, Points>* c) {
+// monomials in x: sum_k weights(d, k) c_k is the coefficient of x^d.
+// Newton's divided differences, then its Horner form P = d_p, P <- P (x -
+// x_k) + d_k for k = p - 1 ... 0 multiplied out, on the unit values (the
+// coefficients are linear in the c_k).
+template <size_t Points>
+Eigen::Matrix<double, Points, Points> InterpolatingMonomialWeights(
+    const std::array<double, Points>& x) {
+  using Weights = Eigen::Matrix<double, Points, Points>;
   const int p = static_cast<int>(Points) - 1;
+  Weights c = Weights::Identity();  // row k: the value c_k in the unit values
   for (int level = 1; level <= p; ++level) {
     for (int k = p; k >= level; --k) {
-      (*c)[k] = ((*c)[k] - (*c)[k - 1]) / (x[k] - x[k - level]);
+      c.row(k) = (c.row(k) - c.row(k - 1)) / (x[k] - x[k - level]);
     }
   }
-  std::array<Value, Points> monomials;
-  monomials[0] = (*c)[p];
+  Weights monomials = Weights::Zero();
+  monomials.row(0) = c.row(p);
   for (int k = p - 1, degree = 0; k >= 0; --k, ++degree) {
-    monomials[degree + 1] = monomials[degree];
-    for (int i = degree; i >= 1; --i) monomials[i] = monomials[i - 1] - x[k] * monomials[i];
-    monomials[0] = (*c)[k] - x[k] * monomials[0];
+    monomials.row(degree + 1) = monomials.row(degree);
+    for (int i = degree; i >= 1; --i) {
+      monomials.row(i) = monomials.row(i - 1) - x[k] * monomials.row(i);
+    }
+    monomials.row(0) = c.row(k) - x[k] * monomials.row(0);
   }
-  *c = monomials;
+  return monomials;
 }
 
 // The last dof of body b's chain (its own or its nearest moving
@@ -155,6 +160,7 @@ void DenseResistanceFluid::Recompute(const mjModel* m, const mjData* d) const {
   BuildFit();
   root_resistance_ = newest.root_resistance;
   extrapolated_ = false;
+  root_is_fit_ = root_stale_ = false;
   ++root_version_;
   ++recomputations_;
 }
@@ -178,6 +184,7 @@ bool DenseResistanceFluid::Extrapolate(const std::vector<double>& shape) const {
   root_resistance_ = newest.root_resistance;
   root_resistance_ += alpha * (newest.root_resistance - older.root_resistance);
   extrapolated_ = true;
+  root_is_fit_ = root_stale_ = false;
   ++root_version_;
   ++extrapolations_;
   return true;
@@ -192,17 +199,23 @@ void DenseResistanceFluid::BuildFit() const {
     if (exact_[k].shape.size() != joints || !(exact_[k - 1].time_s > exact_[k].time_s)) return;
   }
   std::array<double, kFitPoints> x;
-  for (int k = 0; k < kFitPoints; ++k) {
-    x[k] = exact_[k].time_s - exact_[0].time_s;
-    fit_[k] = exact_[k].root_resistance;
-    shape_fit_[k] = Eigen::Map<const Eigen::VectorXd>(exact_[k].shape.data(),
-                                                      static_cast<Eigen::Index>(joints));
+  for (int k = 0; k < kFitPoints; ++k) x[k] = exact_[k].time_s - exact_[0].time_s;
+  const Eigen::Matrix4d weights = InterpolatingMonomialWeights(x);
+  const auto shape = [&](int k) {
+    return Eigen::Map<const Eigen::VectorXd>(exact_[k].shape.data(),
+                                             static_cast<Eigen::Index>(joints));
+  };
+  static_assert(kFitPoints == 4, "the cubic's four points");
+  for (int degree = 0; degree < kFitPoints; ++degree) {
+    const auto w = weights.row(degree);
+    fit_[degree] = w(0) * exact_[0].root_resistance + w(1) * exact_[1].root_resistance +
+                   w(2) * exact_[2].root_resistance + w(3) * exact_[3].root_resistance;
+    shape_fit_[degree] = w(0) * shape(0) + w(1) * shape(1) + w(2) * shape(2) + w(3) * shape(3);
   }
-  InterpolatingMonomials(x, &fit_);
-  InterpolatingMonomials(x, &shape_fit_);
   fit_time_s_ = exact_[0].time_s;
   if (!was_ready) fit_interval_s_ = exact_[0].time_s - exact_[1].time_s;
   fit_ready_ = true;
+  ++fit_version_;
 }
 
 template <typename Value>
@@ -251,7 +264,8 @@ bool DenseResistanceFluid::Fit(double time_s, const std::vector<double>& shape) 
   if (joints > 0 && (q - fit_shape_).lpNorm<Eigen::Infinity>() > shape_tolerance_rad()) {
     return false;
   }
-  FitAt(fit_, tau_s, &root_resistance_);
+  root_is_fit_ = root_stale_ = true;
+  root_fit_tau_s_ = tau_s;
   extrapolated_ = true;
   ++root_version_;
   ++fits_;
@@ -270,14 +284,38 @@ const Eigen::MatrixXd* DenseResistanceFluid::FrameResistance(const mjModel* m, c
                                                              Eigen::Matrix<double, 6, 6>* frame,
                                                              long* version) const {
   UpdateRootResistance(m, d);
+  RootFrame(d, frame);
+  *version = root_version_;
+  return &RootResistance();
+}
+
+bool DenseResistanceFluid::FrameResistanceCubic(const mjModel* m, const mjData* d,
+                                                Eigen::Matrix<double, 6, 6>* frame,
+                                                ResistanceCubic* cubic) const {
+  UpdateRootResistance(m, d);
+  if (!root_is_fit_) return false;
+  RootFrame(d, frame);
+  cubic->coefficients = &fit_;
+  cubic->tau_s = root_fit_tau_s_;
+  cubic->version = fit_version_;
+  return true;
+}
+
+void DenseResistanceFluid::RootFrame(const mjData* d, Eigen::Matrix<double, 6, 6>* frame) const {
   const Eigen::Matrix3d q = RootRotation(d);
   const Eigen::Matrix3d x = -CrossMatrix(RootOffset(d));
   frame->topLeftCorner<3, 3>() = q.transpose();
   frame->topRightCorner<3, 3>().setZero();
   frame->bottomLeftCorner<3, 3>() = q.transpose() * x;
   frame->bottomRightCorner<3, 3>() = q.transpose();
-  *version = root_version_;
-  return &root_resistance_;
+}
+
+const Eigen::MatrixXd& DenseResistanceFluid::RootResistance() const {
+  if (root_stale_) {
+    FitAt(fit_, root_fit_tau_s_, &root_resistance_);
+    root_stale_ = false;
+  }
+  return root_resistance_;
 }
 
 Eigen::Matrix3d DenseResistanceFluid::RootRotation(const mjData* d) const {
@@ -316,6 +354,7 @@ void DenseResistanceFluid::UpdateRootResistance(const mjModel* m, const mjData* 
   } else if (extrapolated_) {
     root_resistance_ = exact_.front().root_resistance;  // instead of the fit's last
     extrapolated_ = false;
+    root_is_fit_ = root_stale_ = false;
     ++root_version_;
   }
   used_shape_ = shape_;
@@ -340,10 +379,11 @@ const Eigen::MatrixXd& DenseResistanceFluid::WorldResistance(const mjData* d) co
   // R is symmetric (ComputeResistance), so block (j, i) is (i, j)^T.
   const Eigen::Matrix3d x = -CrossMatrix(r);
   const int bodies = body_count();
+  const Eigen::MatrixXd& root = RootResistance();
   world_resistance_.resize(6 * bodies, 6 * bodies);
   for (int i = 0; i < bodies; ++i) {
     for (int j = i; j < bodies; ++j) {
-      const auto b = root_resistance_.block<6, 6>(6 * i, 6 * j);
+      const auto b = root.block<6, 6>(6 * i, 6 * j);
       const Eigen::Matrix3d c00 = q * b.block<3, 3>(0, 0) * q.transpose();
       const Eigen::Matrix3d c01 = q * b.block<3, 3>(0, 3) * q.transpose();
       const Eigen::Matrix3d c10 = q * b.block<3, 3>(3, 0) * q.transpose();

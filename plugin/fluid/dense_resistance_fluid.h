@@ -110,6 +110,10 @@ class DenseResistanceFluid : public Fluid {
   const Eigen::MatrixXd* FrameResistance(const mjModel* m, const mjData* d,
                                          Eigen::Matrix<double, 6, 6>* frame,
                                          long* version) const override;
+  // While the fit in time serves d's shape: its cubic, in FrameResistance's
+  // frame (the Stokes step sums its own sums of the four coefficients).
+  bool FrameResistanceCubic(const mjModel* m, const mjData* d, Eigen::Matrix<double, 6, 6>* frame,
+                            ResistanceCubic* cubic) const override;
   const std::vector<int>& InteractingBodies() const override { return bodies_; }
   // The segments' (rft()'s): their lengths, the model's viscosity and
   // density, and RFT's rotational drag scale over them.
@@ -157,6 +161,11 @@ class DenseResistanceFluid : public Fluid {
   // Brings root_resistance_ to d's shape: the same shape's, the secant's,
   // the cached or a new exact one (the tolerances).
   void UpdateRootResistance(const mjModel* m, const mjData* d) const;
+  // root_resistance_, the fit's made at its tau first if it is one not
+  // yet made (a caller that takes the cubic never needs the sum).
+  const Eigen::MatrixXd& RootResistance() const;
+  // G of FrameResistance in d.
+  void RootFrame(const mjData* d, Eigen::Matrix<double, 6, 6>* frame) const;
   // The root's rotation Q and its origin's offset from the root's subtree
   // centre of mass r = p - c in d.
   Eigen::Matrix3d RootRotation(const mjData* d) const;
@@ -211,8 +220,14 @@ class DenseResistanceFluid : public Fluid {
   mutable double fit_time_s_ = 0.0;
   mutable double fit_interval_s_ = 0.0;
   mutable int fits_ = 0;
+  mutable long fit_version_ = 0;  // bumped whenever fit_ changes
+  // root_resistance_ is the fit at root_fit_tau_s_ (FrameResistanceCubic),
+  // made only when root_stale_ is cleared (RootResistance).
+  mutable bool root_is_fit_ = false;
+  mutable bool root_stale_ = false;
+  mutable double root_fit_tau_s_ = 0.0;
   mutable double last_fit_error_ = 0.0;
-  mutable Eigen::MatrixXd root_resistance_;  // in use: exact or extrapolated
+  mutable Eigen::MatrixXd root_resistance_;  // in use: exact, extrapolated or fitted
   mutable bool extrapolated_ = false;
   mutable std::vector<double> shape_;  // scratch
   // The shape root_resistance_ was made for, and the exact evaluations then.

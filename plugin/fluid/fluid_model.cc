@@ -37,6 +37,11 @@ const Eigen::MatrixXd* Fluid::FrameResistance(const mjModel* m, const mjData* d,
   return InteractionResistance(m, d);
 }
 
+bool Fluid::FrameResistanceCubic(const mjModel*, const mjData*, Eigen::Matrix<double, 6, 6>*,
+                                 ResistanceCubic*) const {
+  return false;
+}
+
 const std::vector<int>& Fluid::InteractingBodies() const {
   static const std::vector<int> kNone;
   return kNone;

@@ -43,6 +43,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/StdVector>
+#include <array>
 #include <memory>
 #include <optional>
 #include <string>
@@ -67,6 +68,15 @@ struct BodyResistanceBlock {
 template <int Dim>
 using BodyResistanceBlocks =
     std::vector<BodyResistanceBlock<Dim>, Eigen::aligned_allocator<BodyResistanceBlock<Dim>>>;
+
+// A resistance R_F(t) = sum_k tau^k coefficients[k], tau = t - t_0 [s]
+// (Fluid::FrameResistanceCubic); `version` changes whenever the
+// coefficients do.
+struct ResistanceCubic {
+  const std::array<Eigen::MatrixXd, 4>* coefficients = nullptr;
+  double tau_s = 0.0;
+  long version = -1;
+};
 
 class Fluid {
  public:
@@ -114,6 +124,15 @@ class Fluid {
   virtual const Eigen::MatrixXd* FrameResistance(const mjModel* m, const mjData* d,
                                                  Eigen::Matrix<double, 6, 6>* frame,
                                                  long* version) const;
+  // When R_F at d's positions is a cubic in time between exact evaluations
+  // (a dense model's fit, dense_resistance_fluid.h), that cubic:
+  // R_F = sum_k tau^k coefficients[k], so that a caller making something
+  // linear of R_F may make it of each coefficient once per fit and sum
+  // the four at every step. False (nothing set) when R_F is not a fit's:
+  // FrameResistance then has it. The frame G is FrameResistance's.
+  virtual bool FrameResistanceCubic(const mjModel* m, const mjData* d,
+                                    Eigen::Matrix<double, 6, 6>* frame,
+                                    ResistanceCubic* cubic) const;
 };
 
 // An integer in [minimum, maximum].
