@@ -4,6 +4,7 @@
 #include <array>
 #include <boost/math/quadrature/gauss.hpp>
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -170,8 +171,8 @@ void AddPattern(const Eigen::Matrix3d& pattern, const Eigen::MatrixXd& scalars,
 // (FarApart) take the quadrature `whole`, one panel a piece, the others
 // `graded`.
 Eigen::MatrixXd GalerkinOperator(const std::vector<RibbonPiece>& ribbon, const Quadrature& graded,
-                                 const Quadrature& whole, double b, double s_cap,
-                                 double half_length_m) {
+                                 const Quadrature& whole, const RibbonArclengthPart& arclength,
+                                 double b, double s_cap, double half_length_m) {
   const std::vector<Node>& nodes = graded.nodes;
   const Eigen::MatrixXd& weighted = graded.weighted;
   const Eigen::MatrixXd& legendre = graded.legendre;
@@ -233,35 +234,37 @@ Eigen::MatrixXd GalerkinOperator(const std::vector<RibbonPiece>& ribbon, const Q
       const Quadrature& pair = FarApart(ribbon, p, q) ? whole : graded;
       const int p0 = pair.starts[p], np = pair.starts[p + 1] - p0;
       const int q0 = pair.starts[q], nq = pair.starts[q + 1] - q0;
-      kernel.resize(np, parts * nq);
+      // The kernel's shape-dependent parts: 1 / d (slot 0) and R R / d^3
+      // (part k >= 2 in slot k - 1); the 1 / |s - s'| of the I and t t
+      // parts is the arclength part, the same for every shape.
+      kernel.resize(np, (parts - 1) * nq);
       for (int c = 0; c < nq; ++c) {
         for (int a = 0; a < np; ++a) {
           const Node& na = pair.nodes[p0 + a];
           const Node& nc = pair.nodes[q0 + c];
           const Eigen::Vector3d r = (na.hydro_W - nc.hydro_W) * inverse_half_length;
           const double inverse_distance = 1.0 / r.norm();
-          const double inverse_ds = 1.0 / std::abs(na.s - nc.s);
           const double k = inverse_distance * inverse_distance * inverse_distance;
-          kernel(a, c) = inverse_distance - inverse_ds;
-          kernel(a, nq + c) = inverse_ds;
-          kernel(a, 2 * nq + c) = k * r.x() * r.x();
-          kernel(a, 3 * nq + c) = k * r.y() * r.y();
-          kernel(a, 4 * nq + c) = k * r.x() * r.y();
+          kernel(a, c) = inverse_distance;
+          kernel(a, nq + c) = k * r.x() * r.x();
+          kernel(a, 2 * nq + c) = k * r.y() * r.y();
+          kernel(a, 3 * nq + c) = k * r.x() * r.y();
           if (planar) continue;
-          kernel(a, 5 * nq + c) = k * r.z() * r.z();
-          kernel(a, 6 * nq + c) = k * r.x() * r.z();
-          kernel(a, 7 * nq + c) = k * r.y() * r.z();
+          kernel(a, 4 * nq + c) = k * r.z() * r.z();
+          kernel(a, 5 * nq + c) = k * r.x() * r.z();
+          kernel(a, 6 * nq + c) = k * r.y() * r.z();
         }
       }
       left.noalias() = pair.weighted.middleRows(p0, np).transpose() * kernel;
+      const Eigen::MatrixXd& inverse_ds = arclength.Projection(p, q, &pair == &whole);
+      tangent_sums[p] += inverse_ds;
+      tangent_sums[q] += inverse_ds.transpose();
       for (int part = 0; part < parts; ++part) {
-        projected.noalias() = left.middleCols(part * nq, nq) * pair.weighted.middleRows(q0, nq);
-        if (part == 1) {
-          tangent_sums[p] += projected;
-          tangent_sums[q] += projected.transpose();
-        } else {
-          part_sums[part] += projected + projected.transpose();
-        }
+        if (part == 1) continue;
+        const int slot = part == 0 ? 0 : part - 1;
+        projected.noalias() = left.middleCols(slot * nq, nq) * pair.weighted.middleRows(q0, nq);
+        if (part == 0) projected -= inverse_ds;
+        part_sums[part] += projected + projected.transpose();
       }
     }
   }
@@ -301,9 +304,41 @@ void RibbonSettings::Validate() const {
   }
 }
 
+RibbonArclengthPart::RibbonArclengthPart(const std::vector<double>& lengths_m, int modes)
+    : pieces_(static_cast<int>(lengths_m.size())), modes_(modes) {
+  const std::vector<RibbonPiece> straight = StraightRibbon(lengths_m);
+  double length_m = 0.0;
+  for (double piece_m : lengths_m) length_m += piece_m;
+  graded_.resize(pieces_ * pieces_);
+  whole_.resize(pieces_ * pieces_);
+  for (bool whole : {false, true}) {
+    const Quadrature quadrature =
+        MakeQuadrature(straight, 0.5 * length_m, whole ? kWholePiece : kPanelBreaks, modes);
+    for (int p = 0; p < pieces_; ++p) {
+      for (int q = p + 1; q < pieces_; ++q) {
+        const int p0 = quadrature.starts[p], np = quadrature.starts[p + 1] - p0;
+        const int q0 = quadrature.starts[q], nq = quadrature.starts[q + 1] - q0;
+        Eigen::MatrixXd kernel(np, nq);
+        for (int c = 0; c < nq; ++c) {
+          for (int a = 0; a < np; ++a) {
+            kernel(a, c) = 1.0 / std::abs(quadrature.nodes[p0 + a].s - quadrature.nodes[q0 + c].s);
+          }
+        }
+        (whole ? whole_ : graded_)[p * pieces_ + q] =
+            quadrature.weighted.middleRows(p0, np).transpose() * kernel *
+            quadrature.weighted.middleRows(q0, nq);
+      }
+    }
+  }
+}
+
+const Eigen::MatrixXd& RibbonArclengthPart::Projection(int p, int q, bool whole) const {
+  return (whole ? whole_ : graded_)[p * pieces_ + q];
+}
+
 Eigen::MatrixXd RibbonBodyResistance(const std::vector<RibbonPiece>& pieces, int bodies,
                                      const Eigen::Vector3d& c, const RibbonSettings& settings,
-                                     double viscosity_Pa_s) {
+                                     double viscosity_Pa_s, const RibbonArclengthPart* arclength) {
   settings.Validate();
   double length_m = 0.0;
   for (const RibbonPiece& piece : pieces) length_m += piece.length_m;
@@ -320,7 +355,14 @@ Eigen::MatrixXd RibbonBodyResistance(const std::vector<RibbonPiece>& pieces, int
   const int n_nodes = static_cast<int>(nodes.size());
   const Eigen::MatrixXd& weighted = graded.weighted;
   // Galerkin: int P_m (operator f - 8 pi mu U) ds = 0 for every mode m.
-  const Eigen::MatrixXd galerkin = GalerkinOperator(pieces, graded, whole, b, s_cap, half_m);
+  std::optional<RibbonArclengthPart> own_arclength;
+  if (!arclength) {
+    std::vector<double> lengths_m;
+    for (const RibbonPiece& piece : pieces) lengths_m.push_back(piece.length_m);
+    arclength = &own_arclength.emplace(lengths_m, modes);
+  }
+  const Eigen::MatrixXd galerkin =
+      GalerkinOperator(pieces, graded, whole, *arclength, b, s_cap, half_m);
   // The projected rigid motions, int P_m 8 pi mu U ds with U = -[r - c]x w
   // + v on each body: 8 pi mu [-[M1_m - M0_m c]x, M0_m I] from the body's
   // moments M0_m = sum w_i P_m(s_i), M1_m = sum w_i P_m(s_i) r_i.
@@ -404,6 +446,7 @@ RibbonFluid::RibbonFluid(const mjModel* m, const RftDrag& segments, const Ribbon
   if (settings_.width_m == 0.0) settings_.width_m = StripWidth_m(m);
   if (settings_.end_cap_m == 0.0) settings_.end_cap_m = 0.5 * settings_.width_m;
   settings_.Validate();
+  arclength_.emplace(segments.SegmentLengths_m(), settings_.modes);
 }
 
 std::vector<RibbonPiece> RibbonFluid::Pieces(const mjModel* m, const mjData* d) const {
@@ -429,13 +472,13 @@ std::vector<RibbonPiece> RibbonFluid::Pieces(const mjModel* m, const mjData* d) 
 Eigen::MatrixXd RibbonFluid::ComputeResistance(const mjModel* m, const mjData* d,
                                                const Eigen::Vector3d& origin_W) const {
   return RibbonBodyResistance(Pieces(m, d), body_count(), origin_W, settings_,
-                              rft().config().viscosity_Pa_s);
+                              rft().config().viscosity_Pa_s, &*arclength_);
 }
 
 double RibbonFluid::TowingDrag_N(double speed_m_s) const {
   const Eigen::MatrixXd r =
       RibbonBodyResistance(StraightRibbon(rft().SegmentLengths_m()), 1, Eigen::Vector3d::Zero(),
-                           settings_, rft().config().viscosity_Pa_s);
+                           settings_, rft().config().viscosity_Pa_s, &*arclength_);
   return r(3, 3) * speed_m_s;
 }
 

@@ -53,6 +53,7 @@
 
 #include <Eigen/Core>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "plugin/fluid/dense_resistance_fluid.h"
@@ -88,13 +89,35 @@ struct RibbonPiece {
   int body = 0;
 };
 
+// The part of the Galerkin operator between two pieces that depends on
+// their arclengths alone (the -1 / |s - s'| of the regular remainder,
+// projected on the modes, for every pair in both quadratures): the same
+// for every shape of a ribbon with these piece lengths and modes, so a
+// fluid computes it once.
+class RibbonArclengthPart {
+ public:
+  RibbonArclengthPart(const std::vector<double>& lengths_m, int modes);
+  // W_P^T [1 / |s - s'|] W_Q for pieces p < q, `whole` the one-panel
+  // quadrature's (FarApart), the graded one's otherwise.
+  const Eigen::MatrixXd& Projection(int p, int q, bool whole) const;
+  int pieces() const { return pieces_; }
+  int modes() const { return modes_; }
+
+ private:
+  int pieces_ = 0;
+  int modes_ = 0;
+  std::vector<Eigen::MatrixXd> graded_, whole_;  // at p * pieces + q
+};
+
 // The resistance of rigid bodies made of ribbon pieces (in order along the
 // ribbon): R (6 bodies x 6 bodies) maps the bodies' spatial velocities
 // [w; v] (v that of the body point at c) to minus their drag wrenches
 // [torque about c; force]: wrench = -R V. `settings` with its lengths set.
+// `arclength`, if given, is that of the pieces' lengths and the modes.
 Eigen::MatrixXd RibbonBodyResistance(const std::vector<RibbonPiece>& pieces, int bodies,
                                      const Eigen::Vector3d& c, const RibbonSettings& settings,
-                                     double viscosity_Pa_s);
+                                     double viscosity_Pa_s,
+                                     const RibbonArclengthPart* arclength = nullptr);
 
 // Straight pieces of the given lengths end to end along x from the origin,
 // width along z, all of body 0.
@@ -127,6 +150,7 @@ class RibbonFluid : public DenseResistanceFluid {
   double fit_tolerance() const override { return settings_.fit_tolerance; }
 
   RibbonSettings settings_;
+  std::optional<RibbonArclengthPart> arclength_;  // of the segments' lengths
 };
 
 }  // namespace ipmc
