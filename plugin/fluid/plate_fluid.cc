@@ -460,6 +460,10 @@ Eigen::MatrixXd MirrorResistance(const std::vector<PlacedSurface>& surfaces, int
   // About a point on the plane each rigid motion has a parity.
   const Eigen::Vector3d on_plane(c.x(), c.y(), plane.z_m);
   const RigidBodyMaps maps = RigidMaps(surfaces, bodies, on_plane);
+  std::vector<int> body_of_point;
+  for (const PlacedSurface& surface : surfaces) {
+    body_of_point.insert(body_of_point.end(), surface.mesh->force_points.size(), surface.body);
+  }
   Eigen::MatrixXd resistance(6 * bodies, 6 * bodies);
   for (int parity : {1, -1}) {
     const std::vector<MirrorUnknown> unknowns = HalfUnknowns(plane.image, parity);
@@ -477,7 +481,17 @@ Eigen::MatrixXd MirrorResistance(const std::vector<PlacedSurface>& surfaces, int
     }
     const Eigen::MatrixXd forces =
         HalfColumns(velocity, unknowns, parity, rows).partialPivLu().solve(motion);
-    const Eigen::MatrixXd wrench = HalfColumns(maps.wrench, unknowns, parity) * forces;
+    // The wrench: each unknown acts on its own surface's body only, and a
+    // surface's unknowns are consecutive.
+    const Eigen::MatrixXd unknowns_wrench = HalfColumns(maps.wrench, unknowns, parity);
+    Eigen::MatrixXd wrench = Eigen::MatrixXd::Zero(6 * bodies, columns.size());
+    for (size_t first = 0, last = 0; first < unknowns.size(); first = last) {
+      const int body = body_of_point[unknowns[first].point];
+      while (last < unknowns.size() && body_of_point[unknowns[last].point] == body) ++last;
+      const int count = static_cast<int>(last - first);
+      wrench.middleRows<6>(6 * body) += unknowns_wrench.block(6 * body, first, 6, count) *
+                                       forces.middleRows(first, count);
+    }
     for (size_t k = 0; k < columns.size(); ++k) resistance.col(columns[k]) = wrench.col(k);
   }
   if (c.z() != plane.z_m) {
