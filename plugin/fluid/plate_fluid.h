@@ -42,6 +42,17 @@
 // every shape, so it is computed once per plate and rotated; the blocks
 // between plates and, near a wall, every block's image part (a plate's own
 // image depends on its height and tilt) are recomputed with the shape.
+// Mirror symmetry: without a wall, with every plate's width along +-z and
+// every plate centred on one plane z = z0 (links bending in their plane),
+// the reflection z -> 2 z0 - z maps the force points onto force points
+// and the velocity matrix onto itself (A(pi i, pi j) = P A(i, j) P,
+// P = diag(1, 1, -1); the kernel is isotropic). The solve then splits into
+// its z-even and z-odd halves of about n / 2 unknowns, the in-plane rigid
+// motions driving the even half and the out-of-plane ones the odd half: a
+// quarter of the factorisation and solves and half the kernel sums, the
+// same R to round-off (SurfaceResistance; about 3 times faster on the
+// flexible-link bench, docs/FLUIDS.md). Otherwise the full matrix is solved.
+//
 // The resistance is kept while the shape moves less than
 // `shape_tolerance_rad`, and extrapolated along the secant of the last two
 // within `secant_reach_rad` or fitted in time within `fit_tolerance`
