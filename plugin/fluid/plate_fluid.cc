@@ -239,15 +239,6 @@ RigidBodyMaps RigidMaps(const std::vector<PlacedSurface>& surfaces, int bodies,
   return maps;
 }
 
-// The velocity block of target against source: the cached own block
-// rotated, or the kernel summed.
-Eigen::MatrixXd VelocityBlock(const std::vector<PlacedSurface>& surfaces, size_t t, size_t s,
-                              double blob_m, double viscosity_Pa_s,
-                              const std::vector<Eigen::MatrixXd>& self_blocks) {
-  if (s == t && !self_blocks.empty()) return RotateBlocks(self_blocks[s], surfaces[s].rotation);
-  return NearestNeighbourBlock(surfaces[t], surfaces[s], blob_m, viscosity_Pa_s);
-}
-
 // The reciprocal theorem makes R symmetric; its discrete form nearly so.
 Eigen::MatrixXd Reciprocal(const Eigen::MatrixXd& resistance) {
   return 0.5 * (resistance + resistance.transpose());
@@ -263,9 +254,11 @@ Eigen::MatrixXd FullResistance(const std::vector<PlacedSurface>& surfaces, int b
   Eigen::MatrixXd velocity(n, n);  // u = velocity f, f the force per area
   for (size_t t = 0; t < surfaces.size(); ++t) {
     for (size_t s = 0; s < surfaces.size(); ++s) {
-      auto block =
-          velocity.block(offset[t], offset[s], offset[t + 1] - offset[t], offset[s + 1] - offset[s]);
-      block = VelocityBlock(surfaces, t, s, blob_m, viscosity_Pa_s, self_blocks);
+      auto block = velocity.block(offset[t], offset[s], offset[t + 1] - offset[t],
+                                  offset[s + 1] - offset[s]);
+      block = (s == t && !self_blocks.empty())
+                  ? RotateBlocks(self_blocks[s], surfaces[s].rotation)
+                  : NearestNeighbourBlock(surfaces[t], surfaces[s], blob_m, viscosity_Pa_s);
       if (wall_z_m) {
         block += NearestNeighbourImageBlock(surfaces[t], surfaces[s], *wall_z_m, blob_m,
                                             viscosity_Pa_s);
@@ -308,10 +301,15 @@ constexpr double kMirrorSign[3] = {1.0, 1.0, -1.0};
 // round-off (1e-12 of the mesh's extent and of the areas); none otherwise.
 std::optional<std::vector<int>> MeshMirror(const SurfaceMesh& mesh) {
   double extent_m = 0.0;
-  for (const Eigen::Vector3d& p : mesh.force_points) extent_m = std::max(extent_m, p.lpNorm<Eigen::Infinity>());
-  for (const Eigen::Vector3d& p : mesh.quadrature_points) extent_m = std::max(extent_m, p.lpNorm<Eigen::Infinity>());
+  for (const auto* points : {&mesh.force_points, &mesh.quadrature_points}) {
+    for (const Eigen::Vector3d& p : *points) {
+      extent_m = std::max(extent_m, p.lpNorm<Eigen::Infinity>());
+    }
+  }
   const double tolerance_m = 1e-12 * extent_m;
-  const auto mirrored = [](const Eigen::Vector3d& p) { return Eigen::Vector3d(p.x(), p.y(), -p.z()); };
+  const auto mirrored = [](const Eigen::Vector3d& p) {
+    return Eigen::Vector3d(p.x(), p.y(), -p.z());
+  };
   const auto same = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
     return (a - b).lpNorm<Eigen::Infinity>() <= tolerance_m;
   };
@@ -328,7 +326,9 @@ std::optional<std::vector<int>> MeshMirror(const SurfaceMesh& mesh) {
   }
   // Quadrature points: searched among those of the owner's image.
   std::vector<std::vector<int>> owned(points);
-  for (size_t q = 0; q < mesh.owner.size(); ++q) owned[mesh.owner[q]].push_back(static_cast<int>(q));
+  for (size_t q = 0; q < mesh.owner.size(); ++q) {
+    owned[mesh.owner[q]].push_back(static_cast<int>(q));
+  }
   for (size_t q = 0; q < mesh.owner.size(); ++q) {
     const Eigen::Vector3d y = mirrored(mesh.quadrature_points[q]);
     const double area_m2 = mesh.quadrature_area_m2[q];
@@ -399,8 +399,9 @@ std::vector<MirrorUnknown> HalfUnknowns(const std::vector<int>& image, int parit
 // Columns of `full` (3 per force point) combined as the half's unknowns
 // act: column 3a + k plus parity P_kk times its image's 3 pi(a) + k, only
 // the rows `rows` (3 per force point) if given.
-Eigen::MatrixXd HalfColumns(const Eigen::MatrixXd& full, const std::vector<MirrorUnknown>& unknowns,
-                            int parity, const std::vector<int>& rows = {}) {
+Eigen::MatrixXd HalfColumns(const Eigen::MatrixXd& full,
+                            const std::vector<MirrorUnknown>& unknowns, int parity,
+                            const std::vector<int>& rows = {}) {
   const bool all_rows = rows.empty();
   const int m = all_rows ? static_cast<int>(full.rows()) : static_cast<int>(rows.size());
   Eigen::MatrixXd half(m, unknowns.size());
@@ -410,7 +411,8 @@ Eigen::MatrixXd HalfColumns(const Eigen::MatrixXd& full, const std::vector<Mirro
     const double sign = parity * kMirrorSign[u.axis];
     for (int r = 0; r < m; ++r) {
       const int row = all_rows ? r : rows[r];
-      half(r, c) = full(row, column) + (u.image >= 0 ? sign * full(row, 3 * u.image + u.axis) : 0.0);
+      half(r, c) = full(row, column);
+      if (u.image >= 0) half(r, c) += sign * full(row, 3 * u.image + u.axis);
     }
   }
   return half;
@@ -470,7 +472,8 @@ Eigen::MatrixXd MirrorResistance(const std::vector<PlacedSurface>& surfaces, int
     std::vector<int> rows;  // the half's equations: its unknowns' rows
     for (const MirrorUnknown& u : unknowns) rows.push_back(3 * u.point + u.axis);
     // [w_x w_y w_z v_x v_y v_z]: w_z, v_x and v_y even, the others odd.
-    const std::vector<int> motions = parity > 0 ? std::vector<int>{2, 3, 4} : std::vector<int>{0, 1, 5};
+    const std::vector<int> motions =
+        parity > 0 ? std::vector<int>{2, 3, 4} : std::vector<int>{0, 1, 5};
     Eigen::MatrixXd motion(rows.size(), 3 * bodies);
     std::vector<int> columns;
     for (int b = 0; b < bodies; ++b) {
@@ -499,7 +502,9 @@ Eigen::MatrixXd MirrorResistance(const std::vector<PlacedSurface>& surfaces, int
     // (the velocity at p is v_c + w x (p - c), the torque about c
     // tau_p + (p - c) x F).
     Eigen::MatrixXd shift = Eigen::MatrixXd::Identity(6 * bodies, 6 * bodies);
-    for (int b = 0; b < bodies; ++b) shift.block<3, 3>(6 * b + 3, 6 * b) = -CrossMatrix(on_plane - c);
+    for (int b = 0; b < bodies; ++b) {
+      shift.block<3, 3>(6 * b + 3, 6 * b) = -CrossMatrix(on_plane - c);
+    }
     resistance = shift.transpose() * resistance * shift;
   }
   return Reciprocal(resistance);
