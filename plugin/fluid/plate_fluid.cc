@@ -2,11 +2,13 @@
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "sim/base/numbers.h"
 #include "plugin/fluid/regularized_stokeslets.h"
@@ -197,31 +199,30 @@ Eigen::MatrixXd NearestNeighbourImageBlock(const PlacedSurface& target,
   return block;
 }
 
-Eigen::MatrixXd SurfaceResistance(const std::vector<PlacedSurface>& surfaces, int bodies,
-                                  const Eigen::Vector3d& c, double blob_m, double viscosity_Pa_s,
-                                  const std::vector<Eigen::MatrixXd>& self_blocks,
-                                  std::optional<double> wall_z_m) {
+namespace {
+
+// The index of each surface's first row in the velocity matrix (3 per
+// force point), and the total at the end.
+std::vector<int> RowOffsets(const std::vector<PlacedSurface>& surfaces) {
   std::vector<int> offset(surfaces.size() + 1, 0);
   for (size_t s = 0; s < surfaces.size(); ++s) {
     offset[s + 1] = offset[s] + 3 * static_cast<int>(surfaces[s].mesh->force_points.size());
   }
-  const int n = offset.back();
-  Eigen::MatrixXd velocity(n, n);  // u = velocity f, f the force per area
-  Eigen::MatrixXd rigid = Eigen::MatrixXd::Zero(n, 6 * bodies);  // u of the bodies' motion
-  Eigen::MatrixXd wrench = Eigen::MatrixXd::Zero(6 * bodies, n);  // wrench on the fluid of f
+  return offset;
+}
+
+// The rigid motions and the wrench of the force densities about c.
+struct RigidBodyMaps {
+  Eigen::MatrixXd motion;  // n x 6 bodies: u at the force points of [w; v] (v at c)
+  Eigen::MatrixXd wrench;  // 6 bodies x n: [torque about c; force] on the fluid of f
+};
+
+RigidBodyMaps RigidMaps(const std::vector<PlacedSurface>& surfaces, int bodies,
+                        const Eigen::Vector3d& c) {
+  const std::vector<int> offset = RowOffsets(surfaces);
+  RigidBodyMaps maps{Eigen::MatrixXd::Zero(offset.back(), 6 * bodies),
+                     Eigen::MatrixXd::Zero(6 * bodies, offset.back())};
   for (size_t t = 0; t < surfaces.size(); ++t) {
-    for (size_t s = 0; s < surfaces.size(); ++s) {
-      velocity.block(offset[t], offset[s], offset[t + 1] - offset[t], offset[s + 1] - offset[s]) =
-          (s == t && !self_blocks.empty())
-              ? RotateBlocks(self_blocks[s], surfaces[s].rotation)
-              : NearestNeighbourBlock(surfaces[t], surfaces[s], blob_m, viscosity_Pa_s);
-      if (wall_z_m) {
-        velocity.block(offset[t], offset[s], offset[t + 1] - offset[t],
-                       offset[s + 1] - offset[s]) +=
-            NearestNeighbourImageBlock(surfaces[t], surfaces[s], *wall_z_m, blob_m,
-                                       viscosity_Pa_s);
-      }
-    }
     // Each force point's cell area: the areas of the quadrature points it owns.
     const SurfaceMesh& mesh = *surfaces[t].mesh;
     std::vector<double> cell_m2(mesh.force_points.size(), 0.0);
@@ -231,13 +232,300 @@ Eigen::MatrixXd SurfaceResistance(const std::vector<PlacedSurface>& surfaces, in
     for (size_t j = 0; j < x.size(); ++j) {
       Eigen::Matrix<double, 3, 6> motion;  // u = -[x - c]x w + v
       motion << -CrossMatrix(x[j] - c), Eigen::Matrix3d::Identity();
-      rigid.block<3, 6>(offset[t] + 3 * j, 6 * body) = motion;
-      wrench.block<6, 3>(6 * body, offset[t] + 3 * j) = cell_m2[j] * motion.transpose();
+      maps.motion.block<3, 6>(offset[t] + 3 * j, 6 * body) = motion;
+      maps.wrench.block<6, 3>(6 * body, offset[t] + 3 * j) = cell_m2[j] * motion.transpose();
     }
   }
-  const Eigen::MatrixXd forces = velocity.partialPivLu().solve(rigid);
-  const Eigen::MatrixXd resistance = wrench * forces;
-  return 0.5 * (resistance + resistance.transpose());  // reciprocal theorem
+  return maps;
+}
+
+// The reciprocal theorem makes R symmetric; its discrete form nearly so.
+Eigen::MatrixXd Reciprocal(const Eigen::MatrixXd& resistance) {
+  return 0.5 * (resistance + resistance.transpose());
+}
+
+// The whole velocity matrix solved for every rigid motion.
+Eigen::MatrixXd FullResistance(const std::vector<PlacedSurface>& surfaces, int bodies,
+                               const Eigen::Vector3d& c, double blob_m, double viscosity_Pa_s,
+                               const std::vector<Eigen::MatrixXd>& self_blocks,
+                               std::optional<double> wall_z_m) {
+  const std::vector<int> offset = RowOffsets(surfaces);
+  const int n = offset.back();
+  Eigen::MatrixXd velocity(n, n);  // u = velocity f, f the force per area
+  for (size_t t = 0; t < surfaces.size(); ++t) {
+    for (size_t s = 0; s < surfaces.size(); ++s) {
+      auto block = velocity.block(offset[t], offset[s], offset[t + 1] - offset[t],
+                                  offset[s + 1] - offset[s]);
+      block = (s == t && !self_blocks.empty())
+                  ? RotateBlocks(self_blocks[s], surfaces[s].rotation)
+                  : NearestNeighbourBlock(surfaces[t], surfaces[s], blob_m, viscosity_Pa_s);
+      if (wall_z_m) {
+        block += NearestNeighbourImageBlock(surfaces[t], surfaces[s], *wall_z_m, blob_m,
+                                            viscosity_Pa_s);
+      }
+    }
+  }
+  const RigidBodyMaps maps = RigidMaps(surfaces, bodies, c);
+  const Eigen::MatrixXd forces = velocity.partialPivLu().solve(maps.motion);
+  return Reciprocal(maps.wrench * forces);
+}
+
+// Mirror symmetry about the beat plane z = z0. With P = diag(1, 1, -1),
+// the reflection is x -> P x + 2 z0 e_z, and the free-space kernel is
+// isotropic: S_eps(P r) = P S_eps(r) P. If the reflection maps every force
+// point i onto a force point pi(i), and every quadrature point onto one of
+// the same area owned by the image of its owner, the nearest-neighbour sums
+// map term by term and the velocity matrix's 3 x 3 blocks obey
+//   A(pi i, pi j) = P A(i, j) P.
+// So A maps force distributions even under the reflection (f_pi(j) = P f_j)
+// to even velocities, and odd ones (f_pi(j) = -P f_j) to odd ones: in the
+// basis of even and odd distributions A is block diagonal. With one
+// representative i of each pair {i, pi i} the even half is
+//   A(i, j) + A(i, pi j) P,  the odd half  A(i, j) - A(i, pi j) P,
+// and a point on the plane (pi i = i) carries only x and y in the even
+// half and only z in the odd one. A rigid motion about a point on the
+// plane is even for w_z, v_x, v_y and odd for w_x, w_y, v_z, so each half
+// is solved for its three motions of each body only: two LUs of about n / 2
+// (a quarter of the work each) with half the right-hand sides each.
+struct MirrorPlane {
+  double z_m = 0.0;         // the plane z = z0
+  std::vector<int> image;   // pi: each force point's image, all surfaces in order
+};
+
+// P's diagonal.
+constexpr double kMirrorSign[3] = {1.0, 1.0, -1.0};
+
+// The image of each of `mesh`'s force points under z -> -z in its own
+// frame, if that maps force points onto force points and quadrature points
+// onto quadrature points of the same area owned by their owner's image, to
+// round-off (1e-12 of the mesh's extent and of the areas); none otherwise.
+std::optional<std::vector<int>> MeshMirror(const SurfaceMesh& mesh) {
+  double extent_m = 0.0;
+  for (const auto* points : {&mesh.force_points, &mesh.quadrature_points}) {
+    for (const Eigen::Vector3d& p : *points) {
+      extent_m = std::max(extent_m, p.lpNorm<Eigen::Infinity>());
+    }
+  }
+  const double tolerance_m = 1e-12 * extent_m;
+  const auto mirrored = [](const Eigen::Vector3d& p) {
+    return Eigen::Vector3d(p.x(), p.y(), -p.z());
+  };
+  const auto same = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return (a - b).lpNorm<Eigen::Infinity>() <= tolerance_m;
+  };
+  const int points = static_cast<int>(mesh.force_points.size());
+  std::vector<int> image(points, -1);
+  for (int j = 0; j < points; ++j) {
+    for (int k = 0; k < points && image[j] < 0; ++k) {
+      if (same(mirrored(mesh.force_points[j]), mesh.force_points[k])) image[j] = k;
+    }
+    if (image[j] < 0) return std::nullopt;
+  }
+  for (int j = 0; j < points; ++j) {
+    if (image[image[j]] != j) return std::nullopt;
+  }
+  // Quadrature points: searched among those of the owner's image.
+  std::vector<std::vector<int>> owned(points);
+  for (size_t q = 0; q < mesh.owner.size(); ++q) {
+    owned[mesh.owner[q]].push_back(static_cast<int>(q));
+  }
+  for (size_t q = 0; q < mesh.owner.size(); ++q) {
+    const Eigen::Vector3d y = mirrored(mesh.quadrature_points[q]);
+    const double area_m2 = mesh.quadrature_area_m2[q];
+    bool found = false;
+    for (int k : owned[image[mesh.owner[q]]]) {
+      found = same(y, mesh.quadrature_points[k]) &&
+              std::abs(mesh.quadrature_area_m2[k] - area_m2) <= 1e-12 * area_m2;
+      if (found) break;
+    }
+    if (!found) return std::nullopt;
+  }
+  return image;
+}
+
+// The plane all surfaces are mirror-symmetric about, if any: no wall (its
+// image breaks the symmetry), every rotation's third column exactly +-e_z
+// (then P Q = Q P), every surface centred on the same plane z = z0 exactly,
+// and every mesh mirror-symmetric about its own z = 0 (MeshMirror); then
+// P (p + Q x) + 2 z0 e_z = p + Q (P x) maps each surface onto itself.
+std::optional<MirrorPlane> FindMirrorPlane(const std::vector<PlacedSurface>& surfaces,
+                                           std::optional<double> wall_z_m) {
+  if (wall_z_m || surfaces.empty()) return std::nullopt;
+  MirrorPlane plane;
+  plane.z_m = surfaces.front().position.z();
+  std::vector<std::pair<const SurfaceMesh*, std::vector<int>>> seen;  // the meshes checked
+  for (const PlacedSurface& surface : surfaces) {
+    const Eigen::Matrix3d& q = surface.rotation;
+    if (q(2, 0) != 0.0 || q(2, 1) != 0.0 || q(0, 2) != 0.0 || q(1, 2) != 0.0 ||
+        std::abs(q(2, 2)) != 1.0 || surface.position.z() != plane.z_m) {
+      return std::nullopt;
+    }
+    auto it = std::find_if(seen.begin(), seen.end(),
+                           [&](const auto& entry) { return entry.first == surface.mesh; });
+    if (it == seen.end()) {
+      std::optional<std::vector<int>> image = MeshMirror(*surface.mesh);
+      if (!image) return std::nullopt;
+      it = seen.emplace(seen.end(), surface.mesh, std::move(*image));
+    }
+    const int first = static_cast<int>(plane.image.size());
+    for (int k : it->second) plane.image.push_back(first + k);
+  }
+  return plane;
+}
+
+// One unknown of a half: component `axis` of the force at force point
+// `point`, which is its pair's representative (the lower index) and stands
+// for its `image` too (f_image = +-P f_point), or lies on the plane (image -1).
+struct MirrorUnknown {
+  int point, axis, image;
+};
+
+// The unknowns of the even (parity +1) or odd (-1) half.
+std::vector<MirrorUnknown> HalfUnknowns(const std::vector<int>& image, int parity) {
+  std::vector<MirrorUnknown> unknowns;
+  for (int a = 0; a < static_cast<int>(image.size()); ++a) {
+    if (image[a] < a) continue;
+    for (int k = 0; k < 3; ++k) {
+      if (image[a] != a) {
+        unknowns.push_back({a, k, image[a]});
+      } else if (parity * kMirrorSign[k] > 0) {
+        unknowns.push_back({a, k, -1});
+      }
+    }
+  }
+  return unknowns;
+}
+
+// Columns of `full` (3 per force point) combined as the half's unknowns
+// act: column 3a + k plus parity P_kk times its image's 3 pi(a) + k, only
+// the rows `rows` (3 per force point) if given.
+Eigen::MatrixXd HalfColumns(const Eigen::MatrixXd& full,
+                            const std::vector<MirrorUnknown>& unknowns, int parity,
+                            const std::vector<int>& rows = {}) {
+  const bool all_rows = rows.empty();
+  const int m = all_rows ? static_cast<int>(full.rows()) : static_cast<int>(rows.size());
+  Eigen::MatrixXd half(m, unknowns.size());
+  for (size_t c = 0; c < unknowns.size(); ++c) {
+    const MirrorUnknown& u = unknowns[c];
+    const int column = 3 * u.point + u.axis;
+    const double sign = parity * kMirrorSign[u.axis];
+    for (int r = 0; r < m; ++r) {
+      const int row = all_rows ? r : rows[r];
+      half(r, c) = full(row, column);
+      if (u.image >= 0) half(r, c) += sign * full(row, 3 * u.image + u.axis);
+    }
+  }
+  return half;
+}
+
+// The velocity matrix's rows of the pairs' representatives (the other rows
+// follow from them by the symmetry, and are left unset).
+Eigen::MatrixXd RepresentativeRows(const std::vector<PlacedSurface>& surfaces,
+                                   const MirrorPlane& plane, double blob_m, double viscosity_Pa_s,
+                                   const std::vector<Eigen::MatrixXd>& self_blocks) {
+  const std::vector<int> offset = RowOffsets(surfaces);
+  Eigen::MatrixXd velocity(offset.back(), offset.back());
+  for (size_t t = 0; t < surfaces.size(); ++t) {
+    const int first = offset[t] / 3;
+    std::vector<int> representatives;  // the surface's own indices
+    SurfaceMesh targets;               // their force points only
+    for (int j = 0; j < offset[t + 1] / 3 - first; ++j) {
+      if (plane.image[first + j] < first + j) continue;
+      representatives.push_back(j);
+      targets.force_points.push_back(surfaces[t].mesh->force_points[j]);
+    }
+    PlacedSurface target = surfaces[t];
+    target.mesh = &targets;
+    for (size_t s = 0; s < surfaces.size(); ++s) {
+      const int width = offset[s + 1] - offset[s];
+      const bool own = s == t && !self_blocks.empty();
+      const Eigen::MatrixXd block =
+          own ? RotateBlocks(self_blocks[s], surfaces[s].rotation)
+              : NearestNeighbourBlock(target, surfaces[s], blob_m, viscosity_Pa_s);
+      for (size_t r = 0; r < representatives.size(); ++r) {
+        const int from = 3 * (own ? representatives[r] : static_cast<int>(r));
+        velocity.block(offset[t] + 3 * representatives[r], offset[s], 3, width) =
+            block.block(from, 0, 3, width);
+      }
+    }
+  }
+  return velocity;
+}
+
+// R of surfaces mirror-symmetric about `plane`, by the even and odd halves.
+Eigen::MatrixXd MirrorResistance(const std::vector<PlacedSurface>& surfaces, int bodies,
+                                 const Eigen::Vector3d& c, double blob_m, double viscosity_Pa_s,
+                                 const std::vector<Eigen::MatrixXd>& self_blocks,
+                                 const MirrorPlane& plane) {
+  const Eigen::MatrixXd velocity =
+      RepresentativeRows(surfaces, plane, blob_m, viscosity_Pa_s, self_blocks);
+  // About a point on the plane each rigid motion has a parity.
+  const Eigen::Vector3d on_plane(c.x(), c.y(), plane.z_m);
+  const RigidBodyMaps maps = RigidMaps(surfaces, bodies, on_plane);
+  std::vector<int> body_of_point;
+  for (const PlacedSurface& surface : surfaces) {
+    body_of_point.insert(body_of_point.end(), surface.mesh->force_points.size(), surface.body);
+  }
+  Eigen::MatrixXd resistance(6 * bodies, 6 * bodies);
+  for (int parity : {1, -1}) {
+    const std::vector<MirrorUnknown> unknowns = HalfUnknowns(plane.image, parity);
+    std::vector<int> rows;  // the half's equations: its unknowns' rows
+    for (const MirrorUnknown& u : unknowns) rows.push_back(3 * u.point + u.axis);
+    // [w_x w_y w_z v_x v_y v_z]: w_z, v_x and v_y even, the others odd.
+    const std::vector<int> motions =
+        parity > 0 ? std::vector<int>{2, 3, 4} : std::vector<int>{0, 1, 5};
+    Eigen::MatrixXd motion(rows.size(), 3 * bodies);
+    std::vector<int> columns;
+    for (int b = 0; b < bodies; ++b) {
+      for (int k : motions) columns.push_back(6 * b + k);
+    }
+    for (size_t k = 0; k < columns.size(); ++k) {
+      for (size_t r = 0; r < rows.size(); ++r) motion(r, k) = maps.motion(rows[r], columns[k]);
+    }
+    const Eigen::MatrixXd forces =
+        HalfColumns(velocity, unknowns, parity, rows).partialPivLu().solve(motion);
+    // The wrench: each unknown acts on its own surface's body only, and a
+    // surface's unknowns are consecutive.
+    const Eigen::MatrixXd unknowns_wrench = HalfColumns(maps.wrench, unknowns, parity);
+    Eigen::MatrixXd wrench = Eigen::MatrixXd::Zero(6 * bodies, columns.size());
+    for (size_t first = 0, last = 0; first < unknowns.size(); first = last) {
+      const int body = body_of_point[unknowns[first].point];
+      while (last < unknowns.size() && body_of_point[unknowns[last].point] == body) ++last;
+      const int count = static_cast<int>(last - first);
+      wrench.middleRows<6>(6 * body) += unknowns_wrench.block(6 * body, first, 6, count) *
+                                       forces.middleRows(first, count);
+    }
+    for (size_t k = 0; k < columns.size(); ++k) resistance.col(columns[k]) = wrench.col(k);
+  }
+  if (c.z() != plane.z_m) {
+    // Moved to c: R_c = T^T R_p T, T = [I 0; -[p - c]x I] on each body
+    // (the velocity at p is v_c + w x (p - c), the torque about c
+    // tau_p + (p - c) x F).
+    Eigen::MatrixXd shift = Eigen::MatrixXd::Identity(6 * bodies, 6 * bodies);
+    for (int b = 0; b < bodies; ++b) {
+      shift.block<3, 3>(6 * b + 3, 6 * b) = -CrossMatrix(on_plane - c);
+    }
+    resistance = shift.transpose() * resistance * shift;
+  }
+  return Reciprocal(resistance);
+}
+
+}  // namespace
+
+bool MirrorSymmetric(const std::vector<PlacedSurface>& surfaces, std::optional<double> wall_z_m) {
+  return FindMirrorPlane(surfaces, wall_z_m).has_value();
+}
+
+Eigen::MatrixXd SurfaceResistance(const std::vector<PlacedSurface>& surfaces, int bodies,
+                                  const Eigen::Vector3d& c, double blob_m, double viscosity_Pa_s,
+                                  const std::vector<Eigen::MatrixXd>& self_blocks,
+                                  std::optional<double> wall_z_m, SurfaceSolve solve) {
+  if (solve == SurfaceSolve::kMirrorHalvesWhenSymmetric) {
+    if (const std::optional<MirrorPlane> plane = FindMirrorPlane(surfaces, wall_z_m)) {
+      return MirrorResistance(surfaces, bodies, c, blob_m, viscosity_Pa_s, self_blocks, *plane);
+    }
+  }
+  return FullResistance(surfaces, bodies, c, blob_m, viscosity_Pa_s, self_blocks, wall_z_m);
 }
 
 Eigen::MatrixXd ExtrapolatedResistance(const std::vector<PlacedSurface>& surfaces, int bodies,

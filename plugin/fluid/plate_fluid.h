@@ -42,6 +42,17 @@
 // every shape, so it is computed once per plate and rotated; the blocks
 // between plates and, near a wall, every block's image part (a plate's own
 // image depends on its height and tilt) are recomputed with the shape.
+// Mirror symmetry: without a wall, with every plate's width along +-z and
+// every plate centred on one plane z = z0 (links bending in their plane),
+// the reflection z -> 2 z0 - z maps the force points onto force points
+// and the velocity matrix onto itself (A(pi i, pi j) = P A(i, j) P,
+// P = diag(1, 1, -1); the kernel is isotropic). The solve then splits into
+// its z-even and z-odd halves of about n / 2 unknowns, the in-plane rigid
+// motions driving the even half and the out-of-plane ones the odd half: a
+// quarter of the factorisation and solves and half the kernel sums, the
+// same R to round-off (SurfaceResistance; about 3 times faster on the
+// flexible-link bench, docs/FLUIDS.md). Otherwise the full matrix is solved.
+//
 // The resistance is kept while the shape moves less than
 // `shape_tolerance_rad`, and extrapolated along the secant of the last two
 // within `secant_reach_rad` or fitted in time within `fit_tolerance`
@@ -130,6 +141,20 @@ Eigen::MatrixXd NearestNeighbourImageBlock(const PlacedSurface& target,
                                            const PlacedSurface& source, double wall_z_m,
                                            double blob_m, double viscosity_Pa_s);
 
+// Whether the surfaces are mirror-symmetric about a plane z = z0, as
+// SurfaceResistance's split solve needs: no wall, every rotation's third
+// column exactly +-z, every surface centred on the same z exactly, and
+// every mesh mirror-symmetric about its own z = 0 (force points onto force
+// points, quadrature points onto quadrature points of the same area owned
+// by their owner's image, to 1e-12 of the mesh's size).
+bool MirrorSymmetric(const std::vector<PlacedSurface>& surfaces,
+                     std::optional<double> wall_z_m = std::nullopt);
+
+// How SurfaceResistance solves: by the z-even and z-odd halves when the
+// surfaces are MirrorSymmetric (the full matrix otherwise), or always by
+// the full matrix (the reference the halves are tested against).
+enum class SurfaceSolve { kMirrorHalvesWhenSymmetric, kFullMatrix };
+
 // The resistance of rigid bodies made of surfaces: R (6 bodies x 6 bodies)
 // maps the bodies' spatial velocities [w; v] (v that of the body point at
 // c) to minus their drag wrenches [torque about c; force]. `self_blocks`,
@@ -140,7 +165,8 @@ Eigen::MatrixXd NearestNeighbourImageBlock(const PlacedSurface& target,
 Eigen::MatrixXd SurfaceResistance(const std::vector<PlacedSurface>& surfaces, int bodies,
                                   const Eigen::Vector3d& c, double blob_m, double viscosity_Pa_s,
                                   const std::vector<Eigen::MatrixXd>& self_blocks = {},
-                                  std::optional<double> wall_z_m = std::nullopt);
+                                  std::optional<double> wall_z_m = std::nullopt,
+                                  SurfaceSolve solve = SurfaceSolve::kMirrorHalvesWhenSymmetric);
 // The same, Richardson-extrapolated in eps when asked: 2 R(eps/2) - R(eps).
 Eigen::MatrixXd ExtrapolatedResistance(const std::vector<PlacedSurface>& surfaces, int bodies,
                                        const Eigen::Vector3d& c, double blob_m, bool richardson,
