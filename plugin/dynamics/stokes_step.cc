@@ -351,6 +351,38 @@ void StokesStepper::CubicBlocks(const mjModel* m, const Fluid& fluid, const Resi
   const double t = cubic.tau_s;
   dense_blocks_ = cubic_blocks_[0] + t * cubic_blocks_[1] + (t * t) * cubic_blocks_[2] +
                   (t * t * t) * cubic_blocks_[3];
+  if (!cubic.local) return;
+  if (dense_dim_ == 3) {
+    AddLocalChainBlocks<2, 3>(m, fluid, *cubic.local);
+  } else {
+    AddLocalChainBlocks<0, 6>(m, fluid, *cubic.local);
+  }
+}
+
+// The chain sums of a resistance with a block S_b on its diagonal for each
+// body: block (j, k) is the sum of S_b over the bodies whose chain holds
+// both dofs, the subtree sum T_j below dof j when k is j or its ancestor
+// (MuJoCo numbers a dof's parent below it, so j >= k), none otherwise:
+// the blocks on and below the diagonal, the ones SolveDense reads.
+template <int First, int Dim>
+void StokesStepper::AddLocalChainBlocks(const mjModel* m, const Fluid& fluid,
+                                        const std::vector<Eigen::Matrix<double, 6, 6>>& local) {
+  const int nv = m->nv;
+  const std::vector<int>& bodies = fluid.InteractingBodies();
+  subtree_blocks_.setZero(Dim, Dim * nv);
+  for (size_t b = 0; b < bodies.size(); ++b) {
+    const int dof = topology_.body_last_dof[bodies[b]];
+    if (dof >= 0) subtree_blocks_.middleCols<Dim>(Dim * dof) += local[b].block<Dim, Dim>(First, First);
+  }
+  for (int j = nv - 1; j >= 0; --j) {
+    const int parent = m->dof_parentid[j];
+    if (parent >= 0) subtree_blocks_.middleCols<Dim>(Dim * parent) += subtree_blocks_.middleCols<Dim>(Dim * j);
+  }
+  for (int j = 0; j < nv; ++j) {
+    for (int k = j; k >= 0; k = m->dof_parentid[k]) {
+      dense_blocks_.block<Dim, Dim>(Dim * j, Dim * k) += subtree_blocks_.middleCols<Dim>(Dim * j);
+    }
+  }
 }
 
 // What R's change of frame does to the dof motions: with R = F^T R_F F

@@ -187,6 +187,11 @@ class StokesStepper {
   // dense_blocks_ of a fluid's fitted R_F (Fluid::FrameResistanceCubic), in
   // dense_dim_: the sums of the cubic's coefficients, made once per fit.
   void CubicBlocks(const mjModel* m, const Fluid& fluid, const ResistanceCubic& cubic);
+  // dense_blocks_ += the chain sums of a cubic's local part (one 6 x 6 per
+  // interacting body, on R_F's diagonal), on and below the diagonal.
+  template <int First, int Dim>
+  void AddLocalChainBlocks(const mjModel* m, const Fluid& fluid,
+                           const std::vector<Eigen::Matrix<double, 6, 6>>& local);
   // This step's dense_blocks_ and frame from the fluid's FrameResistance,
   // the last step's kept (ExtrapolateToMidpoint); false if the fluid has
   // no dense resistance.
@@ -236,6 +241,7 @@ class StokesStepper {
   // The chain sums of a fitted R_F's four coefficients (CubicBlocks), of
   // which fluid's cubic of which version, in which dense_dim_.
   std::array<Eigen::MatrixXd, 4> cubic_blocks_;
+  Eigen::MatrixXd subtree_blocks_;  // AddLocalChainBlocks' T_j, scratch
   long cubic_version_ = -1;
   const Fluid* cubic_fluid_of_ = nullptr;
   int cubic_dim_ = 0;

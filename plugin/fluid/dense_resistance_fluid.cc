@@ -153,12 +153,14 @@ void DenseResistanceFluid::Recompute(const mjModel* m, const mjData* d) const {
           q.transpose() * world.block<3, 3>(3 * i, 3 * j) * q;
     }
   }
+  root_resistance_ = newest.root_resistance;
+  // With the fit, what is fitted in time is R less its local part.
+  if (Fitting()) AddLocalPart(LocalPart(m, d), -1.0, &newest.root_resistance);
   // The fit (still through the evaluations before) against the new one.
-  if (fit_ready_) UpdateFitInterval(d->time, newest.root_resistance);
+  if (fit_ready_) UpdateFitInterval(d->time, newest.root_resistance, root_resistance_);
   newest.time_s = d->time;
   Shape(d, &newest.shape);
   BuildFit();
-  root_resistance_ = newest.root_resistance;
   extrapolated_ = false;
   root_is_fit_ = root_stale_ = false;
   ++root_version_;
@@ -225,15 +227,16 @@ void DenseResistanceFluid::FitAt(const std::array<Value, kFitPoints>& fit, doubl
   *value = fit[0] + tau_s * fit[1] + (tau_s * tau_s) * fit[2] + (tau_s * tau_s * tau_s) * fit[3];
 }
 
-void DenseResistanceFluid::UpdateFitInterval(double time_s, const Eigen::MatrixXd& exact) const {
+void DenseResistanceFluid::UpdateFitInterval(double time_s, const Eigen::MatrixXd& exact,
+                                             const Eigen::MatrixXd& resistance) const {
   const double tau_s = time_s - fit_time_s_;
   if (!(tau_s > 0.0)) return;
-  // Each entry against the largest translational diagonal entry T, times
+  // Each entry against R's largest translational diagonal entry T, times
   // the body's length L for each rotation: the error of the force (N) and
   // torque (N m / L) on velocities up to 1 m/s over the body.
   double largest = 0.0;
-  for (int i = 3; i < exact.rows(); i += 6) {
-    for (int k = 0; k < 3; ++k) largest = std::max(largest, exact(i + k, i + k));
+  for (int i = 3; i < resistance.rows(); i += 6) {
+    for (int k = 0; k < 3; ++k) largest = std::max(largest, resistance(i + k, i + k));
   }
   if (!(largest > 0.0)) return;
   Eigen::MatrixXd fit;
@@ -255,7 +258,33 @@ void DenseResistanceFluid::UpdateFitInterval(double time_s, const Eigen::MatrixX
                   : grown;
 }
 
-bool DenseResistanceFluid::Fit(double time_s, const std::vector<double>& shape) const {
+bool DenseResistanceFluid::Fitting() const {
+  return shape_tolerance_rad() > 0.0 && fit_tolerance() > 0.0;
+}
+
+std::vector<Matrix6> DenseResistanceFluid::LocalPart(const mjModel* m, const mjData* d) const {
+  const Eigen::Matrix3d q = BodyRotation(d, root_body_);
+  const Eigen::Vector3d origin(d->xpos + 3 * root_body_);
+  const std::vector<Segment> segments = rft_->Segments(m, d);
+  std::vector<Matrix6> local(bodies_.size(), Matrix6::Zero());
+  for (size_t i = 0; i < segments.size(); ++i) {
+    local[body_of_geom_[i]] += SegmentResistance(
+        q.transpose() * (segments[i].center_W - origin), q.transpose() * segments[i].tangent_W,
+        segments[i].length_m, Eigen::Vector3d::Zero(), rft_->segment_coefficients()[i]);
+  }
+  return local;
+}
+
+void DenseResistanceFluid::AddLocalPart(const std::vector<Matrix6>& local, double weight,
+                                        Eigen::MatrixXd* resistance) {
+  for (size_t b = 0; b < local.size(); ++b) {
+    resistance->block<6, 6>(6 * b, 6 * b) += weight * local[b];
+  }
+}
+
+bool DenseResistanceFluid::Fit(const mjModel* m, const mjData* d,
+                               const std::vector<double>& shape) const {
+  const double time_s = d->time;
   const double tau_s = time_s - fit_time_s_;
   if (!(tau_s >= 0.0) || tau_s > fit_interval_s_) return false;
   const int joints = static_cast<int>(shape.size());
@@ -266,6 +295,7 @@ bool DenseResistanceFluid::Fit(double time_s, const std::vector<double>& shape) 
   }
   root_is_fit_ = root_stale_ = true;
   root_fit_tau_s_ = tau_s;
+  local_part_ = LocalPart(m, d);
   extrapolated_ = true;
   ++root_version_;
   ++fits_;
@@ -298,6 +328,7 @@ bool DenseResistanceFluid::FrameResistanceCubic(const mjModel* m, const mjData* 
   cubic->coefficients = &fit_;
   cubic->tau_s = root_fit_tau_s_;
   cubic->version = fit_version_;
+  cubic->local = &local_part_;
   return true;
 }
 
@@ -313,6 +344,7 @@ void DenseResistanceFluid::RootFrame(const mjData* d, Eigen::Matrix<double, 6, 6
 const Eigen::MatrixXd& DenseResistanceFluid::RootResistance() const {
   if (root_stale_) {
     FitAt(fit_, root_fit_tau_s_, &root_resistance_);
+    AddLocalPart(local_part_, 1.0, &root_resistance_);
     root_stale_ = false;
   }
   return root_resistance_;
@@ -346,7 +378,7 @@ void DenseResistanceFluid::UpdateRootResistance(const mjModel* m, const mjData* 
   if (!cached) {
     Recompute(m, d);
   } else if (fit) {
-    if (!fit_ready_ || !Fit(d->time, shape_)) Recompute(m, d);
+    if (!fit_ready_ || !Fit(m, d, shape_)) Recompute(m, d);
   } else if (secant && Extrapolate(shape_)) {
     // the exact evaluations' fit
   } else if (farthest > shape_tolerance_rad()) {

@@ -76,6 +76,9 @@ struct ResistanceCubic {
   const std::array<Eigen::MatrixXd, 4>* coefficients = nullptr;
   double tau_s = 0.0;
   long version = -1;
+  // Plus a part on the diagonal, one 6 x 6 block per interacting body
+  // (the fit follows R less it), at d's shape; null: none.
+  const std::vector<Eigen::Matrix<double, 6, 6>>* local = nullptr;
 };
 
 class Fluid {
