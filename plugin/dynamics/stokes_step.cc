@@ -325,7 +325,8 @@ void StokesStepper::ChainBlocks(const mjModel* m, const Fluid& fluid,
   blocks->setZero(Dim * nv, Dim * nv);
   for (int c = 0; c < count; ++c) {
     const int dof = topology_.body_last_dof[bodies[c]];
-    if (dof >= 0) blocks->middleCols<Dim>(Dim * dof) += body_blocks_.middleCols<Dim>(Dim * c);
+    if (dof < 0) continue;
+    blocks->middleCols<Dim>(Dim * dof) += body_blocks_.middleCols<Dim>(Dim * c);
   }
   for (int k = nv - 1; k >= 0; --k) {
     const int parent = m->dof_parentid[k];
@@ -335,7 +336,8 @@ void StokesStepper::ChainBlocks(const mjModel* m, const Fluid& fluid,
 
 // A fit's R_F = sum_k tau^k C_k gives blocks sum_k tau^k B(C_k), B the
 // chain sums (linear): each B(C_k) once per fit, the sum at every step.
-void StokesStepper::CubicBlocks(const mjModel* m, const Fluid& fluid, const ResistanceCubic& cubic) {
+void StokesStepper::CubicBlocks(const mjModel* m, const Fluid& fluid,
+                                const ResistanceCubic& cubic) {
   if (cubic.version != cubic_version_ || &fluid != cubic_fluid_of_ || dense_dim_ != cubic_dim_) {
     for (size_t k = 0; k < cubic_blocks_.size(); ++k) {
       if (dense_dim_ == 3) {
@@ -372,11 +374,13 @@ void StokesStepper::AddLocalChainBlocks(const mjModel* m, const Fluid& fluid,
   subtree_blocks_.setZero(Dim, Dim * nv);
   for (size_t b = 0; b < bodies.size(); ++b) {
     const int dof = topology_.body_last_dof[bodies[b]];
-    if (dof >= 0) subtree_blocks_.middleCols<Dim>(Dim * dof) += local[b].block<Dim, Dim>(First, First);
+    if (dof < 0) continue;
+    subtree_blocks_.middleCols<Dim>(Dim * dof) += local[b].block<Dim, Dim>(First, First);
   }
   for (int j = nv - 1; j >= 0; --j) {
     const int parent = m->dof_parentid[j];
-    if (parent >= 0) subtree_blocks_.middleCols<Dim>(Dim * parent) += subtree_blocks_.middleCols<Dim>(Dim * j);
+    if (parent < 0) continue;
+    subtree_blocks_.middleCols<Dim>(Dim * parent) += subtree_blocks_.middleCols<Dim>(Dim * j);
   }
   for (int j = 0; j < nv; ++j) {
     for (int k = j; k >= 0; k = m->dof_parentid[k]) {

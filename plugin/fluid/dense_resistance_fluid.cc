@@ -372,12 +372,11 @@ void DenseResistanceFluid::UpdateRootResistance(const mjModel* m, const mjData* 
     farthest = std::max(farthest, std::abs(shape_[k] - newest[k]));
   }
   const bool secant = shape_tolerance_rad() > 0.0 && secant_reach_rad() > 0.0;
-  // With a fit, every evaluation is exact until it has its points (the
-  // cached resistance's lag would stay in the run).
-  const bool fit = shape_tolerance_rad() > 0.0 && fit_tolerance() > 0.0;
   if (!cached) {
     Recompute(m, d);
-  } else if (fit) {
+  } else if (Fitting()) {
+    // Every evaluation exact until the fit has its points (the cached
+    // resistance's lag would stay in the run).
     if (!fit_ready_ || !Fit(m, d, shape_)) Recompute(m, d);
   } else if (secant && Extrapolate(shape_)) {
     // the exact evaluations' fit

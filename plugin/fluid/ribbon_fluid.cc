@@ -321,7 +321,8 @@ RibbonArclengthPart::RibbonArclengthPart(const std::vector<double>& lengths_m, i
         Eigen::MatrixXd kernel(np, nq);
         for (int c = 0; c < nq; ++c) {
           for (int a = 0; a < np; ++a) {
-            kernel(a, c) = 1.0 / std::abs(quadrature.nodes[p0 + a].s - quadrature.nodes[q0 + c].s);
+            const double ds = quadrature.nodes[p0 + a].s - quadrature.nodes[q0 + c].s;
+            kernel(a, c) = 1.0 / std::abs(ds);
           }
         }
         (whole ? whole_ : graded_)[p * pieces_ + q] =
