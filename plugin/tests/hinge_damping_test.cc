@@ -15,9 +15,7 @@
 namespace ipmc::testing {
 namespace {
 
-using testing::DataPtr;
 using testing::LoadXml;
-using testing::ModelPtr;
 
 // The paper's hinge (docs/ENERGY.md): k = 1.95e-4 N m/rad,
 // c = 6.25e-7 N m s/rad.

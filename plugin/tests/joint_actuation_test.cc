@@ -18,7 +18,6 @@ namespace ipmc {
 namespace {
 
 using testing::LoadXml;
-using testing::ModelPtr;
 
 using testing::FlexibleFlagellum;
 

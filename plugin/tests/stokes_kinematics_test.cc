@@ -17,7 +17,6 @@ namespace ipmc {
 namespace {
 
 using testing::LoadXml;
-using testing::ModelPtr;
 
 using testing::FlexibleFlagellum;
 

@@ -17,15 +17,6 @@
 
 namespace ipmc::testing {
 
-struct ModelDeleter {
-  void operator()(mjModel* m) const { mj_deleteModel(m); }
-};
-struct DataDeleter {
-  void operator()(mjData* d) const { mj_deleteData(d); }
-};
-using ModelPtr = std::unique_ptr<mjModel, ModelDeleter>;
-using DataPtr = std::unique_ptr<mjData, DataDeleter>;
-
 // The model of MJCF `xml`, with UserdataSize(m) userdata values for a model
 // with ipmc_* fields (none for malformed fields: Attach reports them).
 // Throws std::runtime_error with MuJoCo's message.

@@ -27,7 +27,6 @@ namespace ipmc {
 namespace {
 
 using testing::LoadXml;
-using testing::ModelPtr;
 
 std::vector<IpmcLinkParams> PaperLinks(IpmcModelKind kind) {
   return {PaperLinkParams(1, kind), PaperLinkParams(2, kind), PaperLinkParams(3, kind)};

@@ -6,17 +6,9 @@
 #include <memory>
 #include <string>
 
+#include "ipmc_swim/ipmc_swim.h"
 
 namespace ipmc {
-
-struct ModelDeleter {
-  void operator()(mjModel* m) const { mj_deleteModel(m); }
-};
-struct DataDeleter {
-  void operator()(mjData* d) const { mj_deleteData(d); }
-};
-using ModelPtr = std::unique_ptr<mjModel, ModelDeleter>;
-using DataPtr = std::unique_ptr<mjData, DataDeleter>;
 
 // Loads an MJCF file. Throws std::runtime_error "PATH: reason" if the
 // file is missing or MuJoCo rejects it.

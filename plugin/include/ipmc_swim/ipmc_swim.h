@@ -77,9 +77,21 @@
 
 #include <mujoco/mujoco.h>
 
+#include <memory>
 #include <vector>
 
 namespace ipmc {
+
+// Owners of a model and its data: mj_deleteModel and mj_deleteData when
+// they go (Detach d first if it is attached).
+struct ModelDeleter {
+  void operator()(mjModel* m) const { mj_deleteModel(m); }
+};
+struct DataDeleter {
+  void operator()(mjData* d) const { mj_deleteData(d); }
+};
+using ModelPtr = std::unique_ptr<mjModel, ModelDeleter>;
+using DataPtr = std::unique_ptr<mjData, DataDeleter>;
 
 // Reads the model's ipmc_* fields and couples them to d. Returns false
 // (and does nothing) for a model without ipmc_* fields. Throws
