@@ -155,7 +155,10 @@ void DenseResistanceFluid::Recompute(const mjModel* m, const mjData* d) const {
   }
   root_resistance_ = newest.root_resistance;
   // With the fit, what is fitted in time is R less its local part.
-  if (Fitting()) AddLocalPart(LocalPart(m, d), -1.0, &newest.root_resistance);
+  if (Fitting()) {
+    LocalPart(m, d, &local_part_);
+    AddLocalPart(local_part_, -1.0, &newest.root_resistance);
+  }
   // The fit (still through the evaluations before) against the new one.
   if (fit_ready_) UpdateFitInterval(d->time, newest.root_resistance, root_resistance_);
   newest.time_s = d->time;
@@ -262,17 +265,17 @@ bool DenseResistanceFluid::Fitting() const {
   return shape_tolerance_rad() > 0.0 && fit_tolerance() > 0.0;
 }
 
-std::vector<Matrix6> DenseResistanceFluid::LocalPart(const mjModel* m, const mjData* d) const {
+void DenseResistanceFluid::LocalPart(const mjModel* m, const mjData* d,
+                                     std::vector<Matrix6>* local) const {
   const Eigen::Matrix3d q = BodyRotation(d, root_body_);
   const Eigen::Vector3d origin(d->xpos + 3 * root_body_);
   const std::vector<Segment> segments = rft_->Segments(m, d);
-  std::vector<Matrix6> local(bodies_.size(), Matrix6::Zero());
+  local->assign(bodies_.size(), Matrix6::Zero());
   for (size_t i = 0; i < segments.size(); ++i) {
-    local[body_of_geom_[i]] += SegmentResistance(
+    (*local)[body_of_geom_[i]] += SegmentResistance(
         q.transpose() * (segments[i].center_W - origin), q.transpose() * segments[i].tangent_W,
         segments[i].length_m, Eigen::Vector3d::Zero(), rft_->segment_coefficients()[i]);
   }
-  return local;
 }
 
 void DenseResistanceFluid::AddLocalPart(const std::vector<Matrix6>& local, double weight,
@@ -295,7 +298,7 @@ bool DenseResistanceFluid::Fit(const mjModel* m, const mjData* d,
   }
   root_is_fit_ = root_stale_ = true;
   root_fit_tau_s_ = tau_s;
-  local_part_ = LocalPart(m, d);
+  LocalPart(m, d, &local_part_);
   extrapolated_ = true;
   ++root_version_;
   ++fits_;

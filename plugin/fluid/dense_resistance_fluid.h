@@ -188,10 +188,10 @@ class DenseResistanceFluid : public Fluid {
   bool Fit(const mjModel* m, const mjData* d, const std::vector<double>& shape) const;
   // The fit in time is on (a shape tolerance and a fit tolerance).
   bool Fitting() const;
-  // The resistance's local part at d's shape: per body of bodies_, RFT's
-  // resistance of its segments (rft()'s coefficients), in the root's frame
-  // about its origin; R's diagonal blocks hold it.
-  std::vector<Matrix6> LocalPart(const mjModel* m, const mjData* d) const;
+  // *local = the resistance's local part at d's shape: per body of
+  // bodies_, RFT's resistance of its segments (rft()'s coefficients), in
+  // the root's frame about its origin; R's diagonal blocks hold it.
+  void LocalPart(const mjModel* m, const mjData* d, std::vector<Matrix6>* local) const;
   // resistance's diagonal blocks += weight local.
   static void AddLocalPart(const std::vector<Matrix6>& local, double weight,
                            Eigen::MatrixXd* resistance);
@@ -243,7 +243,8 @@ class DenseResistanceFluid : public Fluid {
   mutable bool root_is_fit_ = false;
   mutable bool root_stale_ = false;
   mutable double root_fit_tau_s_ = 0.0;
-  // The local part at the fitted state's shape (LocalPart).
+  // The local part at the fitted state's shape (LocalPart; at an exact
+  // evaluation's, scratch).
   mutable std::vector<Matrix6> local_part_;
   mutable double last_fit_error_ = 0.0;
   mutable Eigen::MatrixXd root_resistance_;  // in use: exact, extrapolated or fitted
