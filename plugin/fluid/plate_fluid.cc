@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -158,27 +159,79 @@ SurfaceMesh DiskMesh(double radius_m, int rings, int refinement) {
   return mesh;
 }
 
-Eigen::MatrixXd NearestNeighbourBlock(const PlacedSurface& target, const PlacedSurface& source,
-                                      double blob_m, double viscosity_Pa_s) {
-  const std::vector<Eigen::Vector3d> x = Placed(target, target.mesh->force_points);
-  const std::vector<Eigen::Vector3d> y = Placed(source, source.mesh->quadrature_points);
-  const std::vector<int>& owner = source.mesh->owner;
-  const std::vector<double>& area = source.mesh->quadrature_area_m2;
-  const double e2 = blob_m * blob_m;
+namespace {
+
+// A placed source's quadrature points in the world, grouped by owner
+// (owner j's are [start[j], start[j + 1])), each weighted by its area
+// over 8 pi mu.
+struct OwnedQuadrature {
+  Eigen::ArrayXd x, y, z, weight;
+  std::vector<int> start;
+};
+
+OwnedQuadrature Owned(const PlacedSurface& source, double viscosity_Pa_s) {
+  const SurfaceMesh& mesh = *source.mesh;
+  const int owners = static_cast<int>(mesh.force_points.size());
+  OwnedQuadrature owned;
+  owned.start.assign(owners + 1, 0);
+  for (int owner : mesh.owner) ++owned.start[owner + 1];
+  for (int j = 0; j < owners; ++j) owned.start[j + 1] += owned.start[j];
+  const int points = static_cast<int>(mesh.owner.size());
+  for (Eigen::ArrayXd* a : {&owned.x, &owned.y, &owned.z, &owned.weight}) a->resize(points);
+  std::vector<int> next(owned.start.begin(), owned.start.end() - 1);
   const double scale = 1.0 / (8.0 * kPi * viscosity_Pa_s);
-  Eigen::MatrixXd block = Eigen::MatrixXd::Zero(3 * x.size(), 3 * source.mesh->force_points.size());
+  for (int q = 0; q < points; ++q) {
+    const int k = next[mesh.owner[q]]++;
+    const Eigen::Vector3d y = source.position + source.rotation * mesh.quadrature_points[q];
+    owned.x(k) = y.x();
+    owned.y(k) = y.y();
+    owned.z(k) = y.z();
+    owned.weight(k) = scale * mesh.quadrature_area_m2[q];
+  }
+  return owned;
+}
+
+}  // namespace
+
+std::vector<Eigen::MatrixXd> NearestNeighbourBlocks(const PlacedSurface& target,
+                                                    const PlacedSurface& source,
+                                                    const std::vector<double>& blobs_m,
+                                                    double viscosity_Pa_s) {
+  const std::vector<Eigen::Vector3d> x = Placed(target, target.mesh->force_points);
+  const OwnedQuadrature y = Owned(source, viscosity_Pa_s);
+  const int owners = static_cast<int>(y.start.size()) - 1;
+  std::vector<Eigen::MatrixXd> blocks(blobs_m.size(), Eigen::MatrixXd(3 * x.size(), 3 * owners));
+  const Eigen::Index points = y.x.size();
+  Eigen::ArrayXd rx(points), ry(points), rz(points), r2(points), inv3(points), diagonal(points);
   for (size_t i = 0; i < x.size(); ++i) {
-    for (size_t q = 0; q < y.size(); ++q) {
+    rx = x[i].x() - y.x;
+    ry = x[i].y() - y.y;
+    rz = x[i].z() - y.z;
+    r2 = rx.square() + ry.square() + rz.square();
+    for (size_t b = 0; b < blobs_m.size(); ++b) {
       // Cortez et al. (2005) eq. 10a: [(r^2 + 2 eps^2) I + r r^T] / (r^2 + eps^2)^(3/2).
-      const Eigen::Vector3d r = x[i] - y[q];
-      const double r2 = r.squaredNorm();
-      const double inv3 = scale * area[q] / ((r2 + e2) * std::sqrt(r2 + e2));
-      Eigen::Matrix3d g = (r * inv3) * r.transpose();
-      g.diagonal().array() += (r2 + 2.0 * e2) * inv3;
-      block.block<3, 3>(3 * i, 3 * owner[q]) += g;
+      const double e2 = blobs_m[b] * blobs_m[b];
+      inv3 = y.weight / ((r2 + e2) * (r2 + e2).sqrt());
+      diagonal = (r2 + 2.0 * e2) * inv3;
+      for (int j = 0; j < owners; ++j) {
+        const int first = y.start[j], count = y.start[j + 1] - first;
+        const auto sum = [&](const Eigen::ArrayXd& a, const Eigen::ArrayXd& c) {
+          return (a.segment(first, count) * c.segment(first, count) * inv3.segment(first, count))
+              .sum();
+        };
+        const double d = diagonal.segment(first, count).sum();
+        const double xy = sum(rx, ry), xz = sum(rx, rz), yz = sum(ry, rz);
+        blocks[b].block<3, 3>(3 * i, 3 * j) << sum(rx, rx) + d, xy, xz, xy, sum(ry, ry) + d, yz,
+            xz, yz, sum(rz, rz) + d;
+      }
     }
   }
-  return block;
+  return blocks;
+}
+
+Eigen::MatrixXd NearestNeighbourBlock(const PlacedSurface& target, const PlacedSurface& source,
+                                      double blob_m, double viscosity_Pa_s) {
+  return NearestNeighbourBlocks(target, source, {blob_m}, viscosity_Pa_s)[0];
 }
 
 Eigen::MatrixXd NearestNeighbourImageBlock(const PlacedSurface& target,
@@ -244,30 +297,56 @@ Eigen::MatrixXd Reciprocal(const Eigen::MatrixXd& resistance) {
   return 0.5 * (resistance + resistance.transpose());
 }
 
-// The whole velocity matrix solved for every rigid motion.
-Eigen::MatrixXd FullResistance(const std::vector<PlacedSurface>& surfaces, int bodies,
-                               const Eigen::Vector3d& c, double blob_m, double viscosity_Pa_s,
-                               const std::vector<Eigen::MatrixXd>& self_blocks,
-                               std::optional<double> wall_z_m) {
+// Per blob: each surface's own block in its frame, or none (an empty list).
+using SelfBlocks = std::vector<std::vector<Eigen::MatrixXd>>;
+
+// The blocks of `target`'s force points (all, or a subset the caller's
+// mesh holds) against `source`'s at each blob: surface `s`'s own block
+// rotated when `self_blocks` has it, else the kernel sums.
+std::vector<Eigen::MatrixXd> SourceBlocks(const PlacedSurface& target,
+                                          const std::vector<PlacedSurface>& surfaces, size_t s,
+                                          bool own, const std::vector<double>& blobs_m,
+                                          double viscosity_Pa_s, const SelfBlocks& self_blocks) {
+  if (!own) return NearestNeighbourBlocks(target, surfaces[s], blobs_m, viscosity_Pa_s);
+  std::vector<Eigen::MatrixXd> blocks;
+  for (const std::vector<Eigen::MatrixXd>& self : self_blocks) {
+    blocks.push_back(RotateBlocks(self[s], surfaces[s].rotation));
+  }
+  return blocks;
+}
+
+// The whole velocity matrix solved for every rigid motion, at each blob.
+std::vector<Eigen::MatrixXd> FullResistances(const std::vector<PlacedSurface>& surfaces,
+                                             int bodies, const Eigen::Vector3d& c,
+                                             const std::vector<double>& blobs_m,
+                                             double viscosity_Pa_s, const SelfBlocks& self_blocks,
+                                             std::optional<double> wall_z_m) {
   const std::vector<int> offset = RowOffsets(surfaces);
   const int n = offset.back();
-  Eigen::MatrixXd velocity(n, n);  // u = velocity f, f the force per area
+  // u = velocity f, f the force per area
+  std::vector<Eigen::MatrixXd> velocity(blobs_m.size(), Eigen::MatrixXd(n, n));
   for (size_t t = 0; t < surfaces.size(); ++t) {
     for (size_t s = 0; s < surfaces.size(); ++s) {
-      auto block = velocity.block(offset[t], offset[s], offset[t + 1] - offset[t],
-                                  offset[s + 1] - offset[s]);
-      block = (s == t && !self_blocks.empty())
-                  ? RotateBlocks(self_blocks[s], surfaces[s].rotation)
-                  : NearestNeighbourBlock(surfaces[t], surfaces[s], blob_m, viscosity_Pa_s);
-      if (wall_z_m) {
-        block += NearestNeighbourImageBlock(surfaces[t], surfaces[s], *wall_z_m, blob_m,
-                                            viscosity_Pa_s);
+      const std::vector<Eigen::MatrixXd> blocks =
+          SourceBlocks(surfaces[t], surfaces, s, s == t && !self_blocks.empty(), blobs_m,
+                       viscosity_Pa_s, self_blocks);
+      for (size_t b = 0; b < blobs_m.size(); ++b) {
+        auto block = velocity[b].block(offset[t], offset[s], offset[t + 1] - offset[t],
+                                       offset[s + 1] - offset[s]);
+        block = blocks[b];
+        if (wall_z_m) {
+          block += NearestNeighbourImageBlock(surfaces[t], surfaces[s], *wall_z_m, blobs_m[b],
+                                              viscosity_Pa_s);
+        }
       }
     }
   }
   const RigidBodyMaps maps = RigidMaps(surfaces, bodies, c);
-  const Eigen::MatrixXd forces = velocity.partialPivLu().solve(maps.motion);
-  return Reciprocal(maps.wrench * forces);
+  std::vector<Eigen::MatrixXd> resistances;
+  for (const Eigen::MatrixXd& v : velocity) {
+    resistances.push_back(Reciprocal(maps.wrench * v.partialPivLu().solve(maps.motion)));
+  }
+  return resistances;
 }
 
 // Mirror symmetry about the beat plane z = z0. With P = diag(1, 1, -1),
@@ -397,34 +476,55 @@ std::vector<MirrorUnknown> HalfUnknowns(const std::vector<int>& image, int parit
 }
 
 // Columns of `full` (3 per force point) combined as the half's unknowns
-// act: column 3a + k plus parity P_kk times its image's 3 pi(a) + k, only
-// the rows `rows` (3 per force point) if given.
+// act: column 3a + k plus parity P_kk times its image's 3 pi(a) + k.
 Eigen::MatrixXd HalfColumns(const Eigen::MatrixXd& full,
-                            const std::vector<MirrorUnknown>& unknowns, int parity,
-                            const std::vector<int>& rows = {}) {
-  const bool all_rows = rows.empty();
-  const int m = all_rows ? static_cast<int>(full.rows()) : static_cast<int>(rows.size());
-  Eigen::MatrixXd half(m, unknowns.size());
+                            const std::vector<MirrorUnknown>& unknowns, int parity) {
+  Eigen::MatrixXd half(full.rows(), unknowns.size());
   for (size_t c = 0; c < unknowns.size(); ++c) {
     const MirrorUnknown& u = unknowns[c];
-    const int column = 3 * u.point + u.axis;
-    const double sign = parity * kMirrorSign[u.axis];
-    for (int r = 0; r < m; ++r) {
-      const int row = all_rows ? r : rows[r];
-      half(r, c) = full(row, column);
-      if (u.image >= 0) half(r, c) += sign * full(row, 3 * u.image + u.axis);
-    }
+    half.col(c) = full.col(3 * u.point + u.axis);
+    if (u.image >= 0) half.col(c) += parity * kMirrorSign[u.axis] * full.col(3 * u.image + u.axis);
   }
   return half;
 }
 
-// The velocity matrix's rows of the pairs' representatives (the other rows
-// follow from them by the symmetry, and are left unset).
-Eigen::MatrixXd RepresentativeRows(const std::vector<PlacedSurface>& surfaces,
-                                   const MirrorPlane& plane, double blob_m, double viscosity_Pa_s,
-                                   const std::vector<Eigen::MatrixXd>& self_blocks) {
+// Where each row and column of the full velocity matrix (3 per force
+// point) goes in a half: the row of its unknown's equation (-1: none, an
+// image's row or an axis the half leaves out), and the column of the
+// unknown it acts as, with its sign (-1 and 0: none).
+struct HalfPlaces {
+  std::vector<int> row, column;
+  std::vector<double> sign;
+};
+
+HalfPlaces PlacesOf(const std::vector<MirrorUnknown>& unknowns, int parity, int points) {
+  HalfPlaces places{std::vector<int>(3 * points, -1), std::vector<int>(3 * points, -1),
+                    std::vector<double>(3 * points, 0.0)};
+  for (size_t c = 0; c < unknowns.size(); ++c) {
+    const MirrorUnknown& u = unknowns[c];
+    const int own = 3 * u.point + u.axis;
+    places.row[own] = places.column[own] = static_cast<int>(c);
+    places.sign[own] = 1.0;
+    if (u.image >= 0) {
+      places.column[3 * u.image + u.axis] = static_cast<int>(c);
+      places.sign[3 * u.image + u.axis] = parity * kMirrorSign[u.axis];
+    }
+  }
+  return places;
+}
+
+// The even and odd halves' matrices at each blob, summed straight from
+// the kernel blocks of the pairs' representatives' rows (the other rows
+// follow from them by the symmetry).
+std::array<std::vector<Eigen::MatrixXd>, 2> MirrorHalves(
+    const std::vector<PlacedSurface>& surfaces, const std::array<HalfPlaces, 2>& places,
+    const std::array<int, 2>& sizes, const MirrorPlane& plane, const std::vector<double>& blobs_m,
+    double viscosity_Pa_s, const SelfBlocks& self_blocks) {
+  std::array<std::vector<Eigen::MatrixXd>, 2> halves;
+  for (int h = 0; h < 2; ++h) {
+    halves[h].assign(blobs_m.size(), Eigen::MatrixXd::Zero(sizes[h], sizes[h]));
+  }
   const std::vector<int> offset = RowOffsets(surfaces);
-  Eigen::MatrixXd velocity(offset.back(), offset.back());
   for (size_t t = 0; t < surfaces.size(); ++t) {
     const int first = offset[t] / 3;
     std::vector<int> representatives;  // the surface's own indices
@@ -437,28 +537,52 @@ Eigen::MatrixXd RepresentativeRows(const std::vector<PlacedSurface>& surfaces,
     PlacedSurface target = surfaces[t];
     target.mesh = &targets;
     for (size_t s = 0; s < surfaces.size(); ++s) {
-      const int width = offset[s + 1] - offset[s];
       const bool own = s == t && !self_blocks.empty();
-      const Eigen::MatrixXd block =
-          own ? RotateBlocks(self_blocks[s], surfaces[s].rotation)
-              : NearestNeighbourBlock(target, surfaces[s], blob_m, viscosity_Pa_s);
-      for (size_t r = 0; r < representatives.size(); ++r) {
-        const int from = 3 * (own ? representatives[r] : static_cast<int>(r));
-        velocity.block(offset[t] + 3 * representatives[r], offset[s], 3, width) =
-            block.block(from, 0, 3, width);
+      const std::vector<Eigen::MatrixXd> blocks =
+          SourceBlocks(target, surfaces, s, own, blobs_m, viscosity_Pa_s, self_blocks);
+      const int width = offset[s + 1] - offset[s];
+      for (size_t b = 0; b < blobs_m.size(); ++b) {
+        for (int h = 0; h < 2; ++h) {
+          const HalfPlaces& at = places[h];
+          for (size_t r = 0; r < representatives.size(); ++r) {
+            const int from = 3 * (own ? representatives[r] : static_cast<int>(r));
+            for (int k = 0; k < 3; ++k) {
+              const int row = at.row[offset[t] + 3 * representatives[r] + k];
+              if (row < 0) continue;
+              for (int col = 0; col < width; ++col) {
+                const int column = at.column[offset[s] + col];
+                if (column >= 0) {
+                  halves[h][b](row, column) += at.sign[offset[s] + col] * blocks[b](from + k, col);
+                }
+              }
+            }
+          }
+        }
       }
     }
   }
-  return velocity;
+  return halves;
 }
 
-// R of surfaces mirror-symmetric about `plane`, by the even and odd halves.
-Eigen::MatrixXd MirrorResistance(const std::vector<PlacedSurface>& surfaces, int bodies,
-                                 const Eigen::Vector3d& c, double blob_m, double viscosity_Pa_s,
-                                 const std::vector<Eigen::MatrixXd>& self_blocks,
-                                 const MirrorPlane& plane) {
-  const Eigen::MatrixXd velocity =
-      RepresentativeRows(surfaces, plane, blob_m, viscosity_Pa_s, self_blocks);
+// R of surfaces mirror-symmetric about `plane`, by the even and odd
+// halves, at each blob.
+std::vector<Eigen::MatrixXd> MirrorResistances(const std::vector<PlacedSurface>& surfaces,
+                                               int bodies, const Eigen::Vector3d& c,
+                                               const std::vector<double>& blobs_m,
+                                               double viscosity_Pa_s,
+                                               const SelfBlocks& self_blocks,
+                                               const MirrorPlane& plane) {
+  const int points = static_cast<int>(plane.image.size());
+  std::array<std::vector<MirrorUnknown>, 2> unknowns;  // [even, odd]
+  std::array<HalfPlaces, 2> places;
+  std::array<int, 2> sizes;
+  for (int h = 0; h < 2; ++h) {
+    unknowns[h] = HalfUnknowns(plane.image, h == 0 ? 1 : -1);
+    places[h] = PlacesOf(unknowns[h], h == 0 ? 1 : -1, points);
+    sizes[h] = static_cast<int>(unknowns[h].size());
+  }
+  const std::array<std::vector<Eigen::MatrixXd>, 2> halves =
+      MirrorHalves(surfaces, places, sizes, plane, blobs_m, viscosity_Pa_s, self_blocks);
   // About a point on the plane each rigid motion has a parity.
   const Eigen::Vector3d on_plane(c.x(), c.y(), plane.z_m);
   const RigidBodyMaps maps = RigidMaps(surfaces, bodies, on_plane);
@@ -466,48 +590,73 @@ Eigen::MatrixXd MirrorResistance(const std::vector<PlacedSurface>& surfaces, int
   for (const PlacedSurface& surface : surfaces) {
     body_of_point.insert(body_of_point.end(), surface.mesh->force_points.size(), surface.body);
   }
-  Eigen::MatrixXd resistance(6 * bodies, 6 * bodies);
-  for (int parity : {1, -1}) {
-    const std::vector<MirrorUnknown> unknowns = HalfUnknowns(plane.image, parity);
-    std::vector<int> rows;  // the half's equations: its unknowns' rows
-    for (const MirrorUnknown& u : unknowns) rows.push_back(3 * u.point + u.axis);
+  std::vector<Eigen::MatrixXd> resistances(blobs_m.size(),
+                                           Eigen::MatrixXd(6 * bodies, 6 * bodies));
+  for (int h = 0; h < 2; ++h) {
+    const int parity = h == 0 ? 1 : -1;
     // [w_x w_y w_z v_x v_y v_z]: w_z, v_x and v_y even, the others odd.
     const std::vector<int> motions =
         parity > 0 ? std::vector<int>{2, 3, 4} : std::vector<int>{0, 1, 5};
-    Eigen::MatrixXd motion(rows.size(), 3 * bodies);
     std::vector<int> columns;
     for (int b = 0; b < bodies; ++b) {
       for (int k : motions) columns.push_back(6 * b + k);
     }
+    Eigen::MatrixXd motion(sizes[h], columns.size());  // the half's equations: its unknowns' rows
     for (size_t k = 0; k < columns.size(); ++k) {
-      for (size_t r = 0; r < rows.size(); ++r) motion(r, k) = maps.motion(rows[r], columns[k]);
+      for (int r = 0; r < sizes[h]; ++r) {
+        const MirrorUnknown& u = unknowns[h][r];
+        motion(r, k) = maps.motion(3 * u.point + u.axis, columns[k]);
+      }
     }
-    const Eigen::MatrixXd forces =
-        HalfColumns(velocity, unknowns, parity, rows).partialPivLu().solve(motion);
-    // The wrench: each unknown acts on its own surface's body only, and a
-    // surface's unknowns are consecutive.
-    const Eigen::MatrixXd unknowns_wrench = HalfColumns(maps.wrench, unknowns, parity);
-    Eigen::MatrixXd wrench = Eigen::MatrixXd::Zero(6 * bodies, columns.size());
-    for (size_t first = 0, last = 0; first < unknowns.size(); first = last) {
-      const int body = body_of_point[unknowns[first].point];
-      while (last < unknowns.size() && body_of_point[unknowns[last].point] == body) ++last;
-      const int count = static_cast<int>(last - first);
-      wrench.middleRows<6>(6 * body) += unknowns_wrench.block(6 * body, first, 6, count) *
-                                       forces.middleRows(first, count);
+    const Eigen::MatrixXd unknowns_wrench = HalfColumns(maps.wrench, unknowns[h], parity);
+    for (size_t b = 0; b < blobs_m.size(); ++b) {
+      const Eigen::MatrixXd forces = halves[h][b].partialPivLu().solve(motion);
+      // The wrench: each unknown acts on its own surface's body only, and
+      // a surface's unknowns are consecutive.
+      Eigen::MatrixXd wrench = Eigen::MatrixXd::Zero(6 * bodies, columns.size());
+      for (size_t first = 0, last = 0; first < unknowns[h].size(); first = last) {
+        const int body = body_of_point[unknowns[h][first].point];
+        while (last < unknowns[h].size() && body_of_point[unknowns[h][last].point] == body) {
+          ++last;
+        }
+        const int count = static_cast<int>(last - first);
+        wrench.middleRows<6>(6 * body) += unknowns_wrench.block(6 * body, first, 6, count) *
+                                         forces.middleRows(first, count);
+      }
+      for (size_t k = 0; k < columns.size(); ++k) resistances[b].col(columns[k]) = wrench.col(k);
     }
-    for (size_t k = 0; k < columns.size(); ++k) resistance.col(columns[k]) = wrench.col(k);
   }
-  if (c.z() != plane.z_m) {
-    // Moved to c: R_c = T^T R_p T, T = [I 0; -[p - c]x I] on each body
-    // (the velocity at p is v_c + w x (p - c), the torque about c
-    // tau_p + (p - c) x F).
-    Eigen::MatrixXd shift = Eigen::MatrixXd::Identity(6 * bodies, 6 * bodies);
-    for (int b = 0; b < bodies; ++b) {
-      shift.block<3, 3>(6 * b + 3, 6 * b) = -CrossMatrix(on_plane - c);
+  for (Eigen::MatrixXd& resistance : resistances) {
+    if (c.z() != plane.z_m) {
+      // Moved to c: R_c = T^T R_p T, T = [I 0; -[p - c]x I] on each body
+      // (the velocity at p is v_c + w x (p - c), the torque about c
+      // tau_p + (p - c) x F).
+      Eigen::MatrixXd shift = Eigen::MatrixXd::Identity(6 * bodies, 6 * bodies);
+      for (int b = 0; b < bodies; ++b) {
+        shift.block<3, 3>(6 * b + 3, 6 * b) = -CrossMatrix(on_plane - c);
+      }
+      resistance = shift.transpose() * resistance * shift;
     }
-    resistance = shift.transpose() * resistance * shift;
+    resistance = Reciprocal(resistance);
   }
-  return Reciprocal(resistance);
+  return resistances;
+}
+
+// R at each blob, by the mirror halves when the surfaces allow and `solve`
+// asks, else by the full matrix.
+std::vector<Eigen::MatrixXd> SurfaceResistances(const std::vector<PlacedSurface>& surfaces,
+                                                int bodies, const Eigen::Vector3d& c,
+                                                const std::vector<double>& blobs_m,
+                                                double viscosity_Pa_s,
+                                                const SelfBlocks& self_blocks,
+                                                std::optional<double> wall_z_m,
+                                                SurfaceSolve solve) {
+  if (solve == SurfaceSolve::kMirrorHalvesWhenSymmetric) {
+    if (const std::optional<MirrorPlane> plane = FindMirrorPlane(surfaces, wall_z_m)) {
+      return MirrorResistances(surfaces, bodies, c, blobs_m, viscosity_Pa_s, self_blocks, *plane);
+    }
+  }
+  return FullResistances(surfaces, bodies, c, blobs_m, viscosity_Pa_s, self_blocks, wall_z_m);
 }
 
 }  // namespace
@@ -520,22 +669,24 @@ Eigen::MatrixXd SurfaceResistance(const std::vector<PlacedSurface>& surfaces, in
                                   const Eigen::Vector3d& c, double blob_m, double viscosity_Pa_s,
                                   const std::vector<Eigen::MatrixXd>& self_blocks,
                                   std::optional<double> wall_z_m, SurfaceSolve solve) {
-  if (solve == SurfaceSolve::kMirrorHalvesWhenSymmetric) {
-    if (const std::optional<MirrorPlane> plane = FindMirrorPlane(surfaces, wall_z_m)) {
-      return MirrorResistance(surfaces, bodies, c, blob_m, viscosity_Pa_s, self_blocks, *plane);
-    }
-  }
-  return FullResistance(surfaces, bodies, c, blob_m, viscosity_Pa_s, self_blocks, wall_z_m);
+  const SelfBlocks self = self_blocks.empty() ? SelfBlocks{} : SelfBlocks{self_blocks};
+  return SurfaceResistances(surfaces, bodies, c, {blob_m}, viscosity_Pa_s, self, wall_z_m,
+                            solve)[0];
 }
 
 Eigen::MatrixXd ExtrapolatedResistance(const std::vector<PlacedSurface>& surfaces, int bodies,
                                        const Eigen::Vector3d& c, double blob_m, bool richardson,
-                                       double viscosity_Pa_s, std::optional<double> wall_z_m) {
-  const Eigen::MatrixXd coarse =
-      SurfaceResistance(surfaces, bodies, c, blob_m, viscosity_Pa_s, {}, wall_z_m);
-  if (!richardson) return coarse;
-  return 2.0 * SurfaceResistance(surfaces, bodies, c, 0.5 * blob_m, viscosity_Pa_s, {}, wall_z_m) -
-         coarse;
+                                       double viscosity_Pa_s, std::optional<double> wall_z_m,
+                                       const std::vector<Eigen::MatrixXd>& self_blocks,
+                                       const std::vector<Eigen::MatrixXd>& half_blob_self_blocks) {
+  if (!richardson) return SurfaceResistance(surfaces, bodies, c, blob_m, viscosity_Pa_s,
+                                            self_blocks, wall_z_m);
+  const SelfBlocks self =
+      self_blocks.empty() ? SelfBlocks{} : SelfBlocks{self_blocks, half_blob_self_blocks};
+  const std::vector<Eigen::MatrixXd> r =
+      SurfaceResistances(surfaces, bodies, c, {blob_m, 0.5 * blob_m}, viscosity_Pa_s, self,
+                         wall_z_m, SurfaceSolve::kMirrorHalvesWhenSymmetric);
+  return 2.0 * r[1] - r[0];
 }
 
 StripDragPerLength ConvergedStripDrag(double viscosity_Pa_s, double length_m, double width_m) {
@@ -658,13 +809,9 @@ int PlateFluid::force_points() const {
 
 Eigen::MatrixXd PlateFluid::Resistance(const std::vector<PlacedSurface>& plates,
                                        const Eigen::Vector3d& c) const {
-  const double mu = rft().config().viscosity_Pa_s;
-  const Eigen::MatrixXd coarse =
-      SurfaceResistance(plates, body_count(), c, blob_m_, mu, self_blocks_, wall_z_m());
-  if (!settings_.richardson) return coarse;
-  return 2.0 * SurfaceResistance(plates, body_count(), c, 0.5 * blob_m_, mu,
-                                 half_blob_self_blocks_, wall_z_m()) -
-         coarse;
+  return ExtrapolatedResistance(plates, body_count(), c, blob_m_, settings_.richardson,
+                                rft().config().viscosity_Pa_s, wall_z_m(), self_blocks_,
+                                half_blob_self_blocks_);
 }
 
 PlacedSurface PlateOnSegment(const Segment& segment, const SurfaceMesh* mesh, int body) {

@@ -135,6 +135,11 @@ PlacedSurface PlateOnSegment(const Segment& segment, const SurfaceMesh* mesh, in
 // S_eps(x_i - y) dA(y), for force points i of `target` and j of `source`.
 Eigen::MatrixXd NearestNeighbourBlock(const PlacedSurface& target, const PlacedSurface& source,
                                       double blob_m, double viscosity_Pa_s);
+// The same at each blob of `blobs_m` in one pass over the points pairs.
+std::vector<Eigen::MatrixXd> NearestNeighbourBlocks(const PlacedSurface& target,
+                                                    const PlacedSurface& source,
+                                                    const std::vector<double>& blobs_m,
+                                                    double viscosity_Pa_s);
 // The same with the wall z = wall_z_m's image system in place of the
 // free-space kernel (RegularizedWallImage): the part a wall adds.
 Eigen::MatrixXd NearestNeighbourImageBlock(const PlacedSurface& target,
@@ -167,11 +172,15 @@ Eigen::MatrixXd SurfaceResistance(const std::vector<PlacedSurface>& surfaces, in
                                   const std::vector<Eigen::MatrixXd>& self_blocks = {},
                                   std::optional<double> wall_z_m = std::nullopt,
                                   SurfaceSolve solve = SurfaceSolve::kMirrorHalvesWhenSymmetric);
-// The same, Richardson-extrapolated in eps when asked: 2 R(eps/2) - R(eps).
-Eigen::MatrixXd ExtrapolatedResistance(const std::vector<PlacedSurface>& surfaces, int bodies,
-                                       const Eigen::Vector3d& c, double blob_m, bool richardson,
-                                       double viscosity_Pa_s,
-                                       std::optional<double> wall_z_m = std::nullopt);
+// The same, Richardson-extrapolated in eps when asked: 2 R(eps/2) - R(eps),
+// both blobs' kernels summed in one pass; `half_blob_self_blocks` the own
+// blocks at eps / 2 (given whenever `self_blocks` is).
+Eigen::MatrixXd ExtrapolatedResistance(
+    const std::vector<PlacedSurface>& surfaces, int bodies, const Eigen::Vector3d& c,
+    double blob_m, bool richardson, double viscosity_Pa_s,
+    std::optional<double> wall_z_m = std::nullopt,
+    const std::vector<Eigen::MatrixXd>& self_blocks = {},
+    const std::vector<Eigen::MatrixXd>& half_blob_self_blocks = {});
 
 // The straight strip's drag per length [N s/m^2], broadside (normal to
 // its face) and axial: the plates' resistance of one rectangle, Richardson
