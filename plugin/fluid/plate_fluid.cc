@@ -541,20 +541,23 @@ std::array<std::vector<Eigen::MatrixXd>, 2> MirrorHalves(
       const std::vector<Eigen::MatrixXd> blocks =
           SourceBlocks(target, surfaces, s, own, blobs_m, viscosity_Pa_s, self_blocks);
       const int width = offset[s + 1] - offset[s];
-      for (size_t b = 0; b < blobs_m.size(); ++b) {
-        for (int h = 0; h < 2; ++h) {
-          const HalfPlaces& at = places[h];
-          for (size_t r = 0; r < representatives.size(); ++r) {
-            const int from = 3 * (own ? representatives[r] : static_cast<int>(r));
-            for (int k = 0; k < 3; ++k) {
-              const int row = at.row[offset[t] + 3 * representatives[r] + k];
-              if (row < 0) continue;
-              for (int col = 0; col < width; ++col) {
-                const int column = at.column[offset[s] + col];
-                if (column >= 0) {
-                  halves[h][b](row, column) += at.sign[offset[s] + col] * blocks[b](from + k, col);
-                }
-              }
+      for (int h = 0; h < 2; ++h) {
+        // (the block's row, the half's row) of each of the half's equations here
+        std::vector<std::pair<int, int>> rows;
+        for (size_t r = 0; r < representatives.size(); ++r) {
+          const int from = 3 * (own ? representatives[r] : static_cast<int>(r));
+          for (int k = 0; k < 3; ++k) {
+            const int row = places[h].row[offset[t] + 3 * representatives[r] + k];
+            if (row >= 0) rows.emplace_back(from + k, row);
+          }
+        }
+        for (int col = 0; col < width; ++col) {
+          const int column = places[h].column[offset[s] + col];
+          if (column < 0) continue;
+          const double sign = places[h].sign[offset[s] + col];
+          for (size_t b = 0; b < blobs_m.size(); ++b) {
+            for (const auto& [from, row] : rows) {
+              halves[h][b](row, column) += sign * blocks[b](from, col);
             }
           }
         }
