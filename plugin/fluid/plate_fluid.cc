@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -165,7 +166,8 @@ namespace {
 // (owner j's are [start[j], start[j + 1])), each weighted by its area
 // over 8 pi mu.
 struct OwnedQuadrature {
-  Eigen::ArrayXd x, y, z, weight;
+  std::vector<Eigen::Vector3d> points;
+  std::vector<double> weight;
   std::vector<int> start;
 };
 
@@ -176,62 +178,83 @@ OwnedQuadrature Owned(const PlacedSurface& source, double viscosity_Pa_s) {
   owned.start.assign(owners + 1, 0);
   for (int owner : mesh.owner) ++owned.start[owner + 1];
   for (int j = 0; j < owners; ++j) owned.start[j + 1] += owned.start[j];
-  const int points = static_cast<int>(mesh.owner.size());
-  for (Eigen::ArrayXd* a : {&owned.x, &owned.y, &owned.z, &owned.weight}) a->resize(points);
+  owned.points.resize(mesh.owner.size());
+  owned.weight.resize(mesh.owner.size());
   std::vector<int> next(owned.start.begin(), owned.start.end() - 1);
   const double scale = 1.0 / (8.0 * kPi * viscosity_Pa_s);
-  for (int q = 0; q < points; ++q) {
+  for (size_t q = 0; q < mesh.owner.size(); ++q) {
     const int k = next[mesh.owner[q]]++;
-    const Eigen::Vector3d y = source.position + source.rotation * mesh.quadrature_points[q];
-    owned.x(k) = y.x();
-    owned.y(k) = y.y();
-    owned.z(k) = y.z();
-    owned.weight(k) = scale * mesh.quadrature_area_m2[q];
+    owned.points[k] = source.position + source.rotation * mesh.quadrature_points[q];
+    owned.weight[k] = scale * mesh.quadrature_area_m2[q];
   }
   return owned;
 }
 
-}  // namespace
-
-std::vector<Eigen::MatrixXd> NearestNeighbourBlocks(const PlacedSurface& target,
-                                                    const PlacedSurface& source,
-                                                    const std::vector<double>& blobs_m,
-                                                    double viscosity_Pa_s) {
-  const std::vector<Eigen::Vector3d> x = Placed(target, target.mesh->force_points);
-  const OwnedQuadrature y = Owned(source, viscosity_Pa_s);
-  const int owners = static_cast<int>(y.start.size()) - 1;
-  std::vector<Eigen::MatrixXd> blocks(blobs_m.size(), Eigen::MatrixXd(3 * x.size(), 3 * owners));
-  const Eigen::Index points = y.x.size();
-  Eigen::ArrayXd rx(points), ry(points), rz(points), r2(points), inv3(points), diagonal(points);
-  for (size_t i = 0; i < x.size(); ++i) {
-    rx = x[i].x() - y.x;
-    ry = x[i].y() - y.y;
-    rz = x[i].z() - y.z;
-    r2 = rx.square() + ry.square() + rz.square();
-    for (size_t b = 0; b < blobs_m.size(); ++b) {
-      // Cortez et al. (2005) eq. 10a: [(r^2 + 2 eps^2) I + r r^T] / (r^2 + eps^2)^(3/2).
-      const double e2 = blobs_m[b] * blobs_m[b];
-      inv3 = y.weight / ((r2 + e2) * (r2 + e2).sqrt());
-      diagonal = (r2 + 2.0 * e2) * inv3;
+// The velocity matrix's rows of the targets x (world points, 3 rows each)
+// against the columns of `source`'s force points (3 each), at each blob:
+// (1 / 8 pi mu) sum over the quadrature points y owned by force point j of
+// S_eps(x_i - y) dA(y). Two targets at a time, the sums of each owner's
+// points in order.
+std::vector<Eigen::MatrixXd> KernelSums(const std::vector<Eigen::Vector3d>& x,
+                                        const OwnedQuadrature& source,
+                                        const std::vector<double>& blobs_m) {
+  using Pair = Eigen::Array2d;
+  constexpr int kBlobs = 2;  // blobs summed in one pass
+  const int targets = static_cast<int>(x.size());
+  const int owners = static_cast<int>(source.start.size()) - 1;
+  std::vector<Eigen::MatrixXd> blocks(blobs_m.size(), Eigen::MatrixXd(3 * targets, 3 * owners));
+  for (size_t first_blob = 0; first_blob < blobs_m.size(); first_blob += kBlobs) {
+    const int blobs = static_cast<int>(std::min<size_t>(kBlobs, blobs_m.size() - first_blob));
+    double e2[kBlobs];
+    for (int b = 0; b < blobs; ++b) e2[b] = blobs_m[first_blob + b] * blobs_m[first_blob + b];
+    for (int i = 0; i < targets; i += 2) {
+      const int i1 = std::min(i + 1, targets - 1);  // an odd count's last pair repeats it
+      const Pair tx(x[i].x(), x[i1].x()), ty(x[i].y(), x[i1].y()), tz(x[i].z(), x[i1].z());
       for (int j = 0; j < owners; ++j) {
-        const int first = y.start[j], count = y.start[j + 1] - first;
-        const auto sum = [&](const Eigen::ArrayXd& a, const Eigen::ArrayXd& c) {
-          return (a.segment(first, count) * c.segment(first, count) * inv3.segment(first, count))
-              .sum();
-        };
-        const double d = diagonal.segment(first, count).sum();
-        const double xy = sum(rx, ry), xz = sum(rx, rz), yz = sum(ry, rz);
-        blocks[b].block<3, 3>(3 * i, 3 * j) << sum(rx, rx) + d, xy, xz, xy, sum(ry, ry) + d, yz,
-            xz, yz, sum(rz, rz) + d;
+        // Per blob: the diagonal's (r^2 + 2 eps^2) sum, then r r^T's
+        // xx, yy, zz, xy, xz, yz sums.
+        Pair sum[kBlobs][7];
+        for (auto& blob : sum) {
+          for (Pair& entry : blob) entry.setZero();
+        }
+        for (int q = source.start[j]; q < source.start[j + 1]; ++q) {
+          const Eigen::Vector3d& y = source.points[q];
+          const Pair rx = tx - y.x(), ry = ty - y.y(), rz = tz - y.z();
+          const Pair r2 = rx * rx + ry * ry + rz * rz;
+          for (int b = 0; b < blobs; ++b) {
+            // Cortez et al. (2005) eq. 10a:
+            // [(r^2 + 2 eps^2) I + r r^T] / (r^2 + eps^2)^(3/2).
+            const Pair soft = r2 + e2[b];
+            const Pair inv3 = source.weight[q] / (soft * soft.sqrt());
+            const Pair xs = rx * inv3, ys = ry * inv3, zs = rz * inv3;
+            sum[b][0] += (r2 + 2.0 * e2[b]) * inv3;
+            sum[b][1] += xs * rx;
+            sum[b][2] += ys * ry;
+            sum[b][3] += zs * rz;
+            sum[b][4] += xs * ry;
+            sum[b][5] += xs * rz;
+            sum[b][6] += ys * rz;
+          }
+        }
+        for (int b = 0; b < blobs; ++b) {
+          for (int lane = 0; lane < (i1 > i ? 2 : 1); ++lane) {
+            const auto at = [&](int k) { return sum[b][k][lane]; };
+            blocks[first_blob + b].block<3, 3>(3 * (i + lane), 3 * j) << at(1) + at(0), at(4),
+                at(5), at(4), at(2) + at(0), at(6), at(5), at(6), at(3) + at(0);
+          }
+        }
       }
     }
   }
   return blocks;
 }
 
+}  // namespace
+
 Eigen::MatrixXd NearestNeighbourBlock(const PlacedSurface& target, const PlacedSurface& source,
                                       double blob_m, double viscosity_Pa_s) {
-  return NearestNeighbourBlocks(target, source, {blob_m}, viscosity_Pa_s)[0];
+  return KernelSums(Placed(target, target.mesh->force_points), Owned(source, viscosity_Pa_s),
+                    {blob_m})[0];
 }
 
 Eigen::MatrixXd NearestNeighbourImageBlock(const PlacedSurface& target,
@@ -292,6 +315,70 @@ RigidBodyMaps RigidMaps(const std::vector<PlacedSurface>& surfaces, int bodies,
   return maps;
 }
 
+// Columns at a time in the triangular solves of ProjectedInverse (the
+// fewest instructions on the flexible-link plates of docs/FLUIDS.md).
+constexpr int kSolveChunk = 12;
+
+// T^-1 b for a lower-triangular T, `corner(top)` its trailing corner from
+// row `top` on: the columns of b in the order of their first non-zero row
+// (*order: b's column of each), kSolveChunk at a time, each chunk solved
+// from its first non-zero row down (the solution is zero above it).
+template <typename Corner>
+Eigen::MatrixXd SolveBelowLeadingZeros(const Corner& corner, const Eigen::MatrixXd& b,
+                                       std::vector<int>* order) {
+  const Eigen::Index n = b.rows(), columns = b.cols();
+  std::vector<Eigen::Index> first(columns);
+  for (Eigen::Index c = 0; c < columns; ++c) {
+    Eigen::Index row = 0;
+    while (row < n && b(row, c) == 0.0) ++row;
+    first[c] = row;
+  }
+  order->resize(columns);
+  std::iota(order->begin(), order->end(), 0);
+  std::stable_sort(order->begin(), order->end(), [&](int i, int j) { return first[i] < first[j]; });
+  Eigen::MatrixXd x(n, columns);
+  for (Eigen::Index k = 0; k < columns; ++k) x.col(k) = b.col((*order)[k]);
+  for (Eigen::Index k = 0; k < columns; k += kSolveChunk) {
+    const Eigen::Index top = first[(*order)[k]];
+    if (top == n) break;  // these columns and the rest are zero
+    auto chunk = x.block(top, k, n - top, std::min<Eigen::Index>(kSolveChunk, columns - k));
+    corner(top).solveInPlace(chunk);
+  }
+  return x;
+}
+
+// W A^-1 M from A's partial-pivoting LU (P A = L U) as Z X with
+// X = L^-1 P M and Z^T = U^-T W^T: a body's columns of M and rows of W are
+// non-zero on its own unknowns only, so each triangular solve starts at
+// the body's first row (and skips a third of the work on average).
+Eigen::MatrixXd ProjectedInverse(const Eigen::MatrixXd& a, const Eigen::MatrixXd& motion,
+                                 const Eigen::MatrixXd& wrench) {
+  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(a);
+  const Eigen::MatrixXd& factors = lu.matrixLU();
+  const Eigen::Index n = a.rows();
+  std::vector<int> motion_order, wrench_order;
+  const Eigen::MatrixXd x = SolveBelowLeadingZeros(
+      [&](Eigen::Index top) {
+        return factors.bottomRightCorner(n - top, n - top).triangularView<Eigen::UnitLower>();
+      },
+      lu.permutationP() * motion, &motion_order);
+  const Eigen::MatrixXd zt = SolveBelowLeadingZeros(
+      [&](Eigen::Index top) {
+        return factors.bottomRightCorner(n - top, n - top)
+            .triangularView<Eigen::Upper>()
+            .transpose();
+      },
+      wrench.transpose(), &wrench_order);
+  const Eigen::MatrixXd sorted = zt.transpose() * x;
+  Eigen::MatrixXd projected(wrench.rows(), motion.cols());
+  for (Eigen::Index j = 0; j < sorted.cols(); ++j) {
+    for (Eigen::Index i = 0; i < sorted.rows(); ++i) {
+      projected(wrench_order[i], motion_order[j]) = sorted(i, j);
+    }
+  }
+  return projected;
+}
+
 // The reciprocal theorem makes R symmetric; its discrete form nearly so.
 Eigen::MatrixXd Reciprocal(const Eigen::MatrixXd& resistance) {
   return 0.5 * (resistance + resistance.transpose());
@@ -300,14 +387,19 @@ Eigen::MatrixXd Reciprocal(const Eigen::MatrixXd& resistance) {
 // Per blob: each surface's own block in its frame, or none (an empty list).
 using SelfBlocks = std::vector<std::vector<Eigen::MatrixXd>>;
 
-// The blocks of `target`'s force points (all, or a subset the caller's
-// mesh holds) against `source`'s at each blob: surface `s`'s own block
-// rotated when `self_blocks` has it, else the kernel sums.
-std::vector<Eigen::MatrixXd> SourceBlocks(const PlacedSurface& target,
-                                          const std::vector<PlacedSurface>& surfaces, size_t s,
-                                          bool own, const std::vector<double>& blobs_m,
-                                          double viscosity_Pa_s, const SelfBlocks& self_blocks) {
-  if (!own) return NearestNeighbourBlocks(target, surfaces[s], blobs_m, viscosity_Pa_s);
+// The world positions of the force points of all surfaces, in order.
+std::vector<Eigen::Vector3d> AllForcePoints(const std::vector<PlacedSurface>& surfaces) {
+  std::vector<Eigen::Vector3d> points;
+  for (const PlacedSurface& surface : surfaces) {
+    const std::vector<Eigen::Vector3d> placed = Placed(surface, surface.mesh->force_points);
+    points.insert(points.end(), placed.begin(), placed.end());
+  }
+  return points;
+}
+
+// Surface s's own block at each blob, rotated from its frame.
+std::vector<Eigen::MatrixXd> OwnBlocks(const std::vector<PlacedSurface>& surfaces, size_t s,
+                                       const SelfBlocks& self_blocks) {
   std::vector<Eigen::MatrixXd> blocks;
   for (const std::vector<Eigen::MatrixXd>& self : self_blocks) {
     blocks.push_back(RotateBlocks(self[s], surfaces[s].rotation));
@@ -323,28 +415,28 @@ std::vector<Eigen::MatrixXd> FullResistances(const std::vector<PlacedSurface>& s
                                              std::optional<double> wall_z_m) {
   const std::vector<int> offset = RowOffsets(surfaces);
   const int n = offset.back();
+  const std::vector<Eigen::Vector3d> targets = AllForcePoints(surfaces);
   // u = velocity f, f the force per area
   std::vector<Eigen::MatrixXd> velocity(blobs_m.size(), Eigen::MatrixXd(n, n));
-  for (size_t t = 0; t < surfaces.size(); ++t) {
-    for (size_t s = 0; s < surfaces.size(); ++s) {
-      const std::vector<Eigen::MatrixXd> blocks =
-          SourceBlocks(surfaces[t], surfaces, s, s == t && !self_blocks.empty(), blobs_m,
-                       viscosity_Pa_s, self_blocks);
-      for (size_t b = 0; b < blobs_m.size(); ++b) {
-        auto block = velocity[b].block(offset[t], offset[s], offset[t + 1] - offset[t],
-                                       offset[s + 1] - offset[s]);
-        block = blocks[b];
-        if (wall_z_m) {
-          block += NearestNeighbourImageBlock(surfaces[t], surfaces[s], *wall_z_m, blobs_m[b],
-                                              viscosity_Pa_s);
-        }
+  for (size_t s = 0; s < surfaces.size(); ++s) {
+    const int width = offset[s + 1] - offset[s];
+    const std::vector<Eigen::MatrixXd> columns =
+        KernelSums(targets, Owned(surfaces[s], viscosity_Pa_s), blobs_m);
+    const std::vector<Eigen::MatrixXd> own = OwnBlocks(surfaces, s, self_blocks);
+    for (size_t b = 0; b < blobs_m.size(); ++b) {
+      velocity[b].middleCols(offset[s], width) = columns[b];
+      if (!own.empty()) velocity[b].block(offset[s], offset[s], width, width) = own[b];
+      for (size_t t = 0; wall_z_m && t < surfaces.size(); ++t) {
+        velocity[b].block(offset[t], offset[s], offset[t + 1] - offset[t], width) +=
+            NearestNeighbourImageBlock(surfaces[t], surfaces[s], *wall_z_m, blobs_m[b],
+                                       viscosity_Pa_s);
       }
     }
   }
   const RigidBodyMaps maps = RigidMaps(surfaces, bodies, c);
   std::vector<Eigen::MatrixXd> resistances;
   for (const Eigen::MatrixXd& v : velocity) {
-    resistances.push_back(Reciprocal(maps.wrench * v.partialPivLu().solve(maps.motion)));
+    resistances.push_back(Reciprocal(ProjectedInverse(v, maps.motion, maps.wrench)));
   }
   return resistances;
 }
@@ -514,7 +606,7 @@ HalfPlaces PlacesOf(const std::vector<MirrorUnknown>& unknowns, int parity, int 
 }
 
 // The even and odd halves' matrices at each blob, summed straight from
-// the kernel blocks of the pairs' representatives' rows (the other rows
+// the kernel sums of the pairs' representatives' rows (the other rows
 // follow from them by the symmetry).
 std::array<std::vector<Eigen::MatrixXd>, 2> MirrorHalves(
     const std::vector<PlacedSurface>& surfaces, const std::array<HalfPlaces, 2>& places,
@@ -525,40 +617,46 @@ std::array<std::vector<Eigen::MatrixXd>, 2> MirrorHalves(
     halves[h].assign(blobs_m.size(), Eigen::MatrixXd::Zero(sizes[h], sizes[h]));
   }
   const std::vector<int> offset = RowOffsets(surfaces);
-  for (size_t t = 0; t < surfaces.size(); ++t) {
-    const int first = offset[t] / 3;
-    std::vector<int> representatives;  // the surface's own indices
-    SurfaceMesh targets;               // their force points only
-    for (int j = 0; j < offset[t + 1] / 3 - first; ++j) {
-      if (plane.image[first + j] < first + j) continue;
-      representatives.push_back(j);
-      targets.force_points.push_back(surfaces[t].mesh->force_points[j]);
+  const std::vector<Eigen::Vector3d> points = AllForcePoints(surfaces);
+  // The representatives (global force point indices) and where they are.
+  std::vector<int> representatives;
+  std::vector<Eigen::Vector3d> targets;
+  for (int a = 0; a < static_cast<int>(points.size()); ++a) {
+    if (plane.image[a] < a) continue;
+    representatives.push_back(a);
+    targets.push_back(points[a]);
+  }
+  // (the kernel sums' row, the half's row) of each of the half's equations
+  std::array<std::vector<std::pair<int, int>>, 2> rows;
+  for (int h = 0; h < 2; ++h) {
+    for (size_t r = 0; r < representatives.size(); ++r) {
+      for (int k = 0; k < 3; ++k) {
+        const int row = places[h].row[3 * representatives[r] + k];
+        if (row >= 0) rows[h].emplace_back(3 * static_cast<int>(r) + k, row);
+      }
     }
-    PlacedSurface target = surfaces[t];
-    target.mesh = &targets;
-    for (size_t s = 0; s < surfaces.size(); ++s) {
-      const bool own = s == t && !self_blocks.empty();
-      const std::vector<Eigen::MatrixXd> blocks =
-          SourceBlocks(target, surfaces, s, own, blobs_m, viscosity_Pa_s, self_blocks);
-      const int width = offset[s + 1] - offset[s];
-      for (int h = 0; h < 2; ++h) {
-        // (the block's row, the half's row) of each of the half's equations here
-        std::vector<std::pair<int, int>> rows;
-        for (size_t r = 0; r < representatives.size(); ++r) {
-          const int from = 3 * (own ? representatives[r] : static_cast<int>(r));
-          for (int k = 0; k < 3; ++k) {
-            const int row = places[h].row[offset[t] + 3 * representatives[r] + k];
-            if (row >= 0) rows.emplace_back(from + k, row);
-          }
-        }
-        for (int col = 0; col < width; ++col) {
-          const int column = places[h].column[offset[s] + col];
-          if (column < 0) continue;
-          const double sign = places[h].sign[offset[s] + col];
-          for (size_t b = 0; b < blobs_m.size(); ++b) {
-            for (const auto& [from, row] : rows) {
-              halves[h][b](row, column) += sign * blocks[b](from, col);
-            }
+  }
+  for (size_t s = 0; s < surfaces.size(); ++s) {
+    const int width = offset[s + 1] - offset[s];
+    std::vector<Eigen::MatrixXd> columns =
+        KernelSums(targets, Owned(surfaces[s], viscosity_Pa_s), blobs_m);
+    // The surface's own representatives' rows from its cached block.
+    const std::vector<Eigen::MatrixXd> own = OwnBlocks(surfaces, s, self_blocks);
+    for (size_t r = 0; !own.empty() && r < representatives.size(); ++r) {
+      const int local = representatives[r] - offset[s] / 3;
+      if (local < 0 || local >= width / 3) continue;
+      for (size_t b = 0; b < blobs_m.size(); ++b) {
+        columns[b].middleRows<3>(3 * r) = own[b].middleRows<3>(3 * local);
+      }
+    }
+    for (int h = 0; h < 2; ++h) {
+      for (int col = 0; col < width; ++col) {
+        const int column = places[h].column[offset[s] + col];
+        if (column < 0) continue;
+        const double sign = places[h].sign[offset[s] + col];
+        for (size_t b = 0; b < blobs_m.size(); ++b) {
+          for (const auto& [from, row] : rows[h]) {
+            halves[h][b](row, column) += sign * columns[b](from, col);
           }
         }
       }
@@ -589,12 +687,8 @@ std::vector<Eigen::MatrixXd> MirrorResistances(const std::vector<PlacedSurface>&
   // About a point on the plane each rigid motion has a parity.
   const Eigen::Vector3d on_plane(c.x(), c.y(), plane.z_m);
   const RigidBodyMaps maps = RigidMaps(surfaces, bodies, on_plane);
-  std::vector<int> body_of_point;
-  for (const PlacedSurface& surface : surfaces) {
-    body_of_point.insert(body_of_point.end(), surface.mesh->force_points.size(), surface.body);
-  }
   std::vector<Eigen::MatrixXd> resistances(blobs_m.size(),
-                                           Eigen::MatrixXd(6 * bodies, 6 * bodies));
+                                           Eigen::MatrixXd::Zero(6 * bodies, 6 * bodies));
   for (int h = 0; h < 2; ++h) {
     const int parity = h == 0 ? 1 : -1;
     // [w_x w_y w_z v_x v_y v_z]: w_z, v_x and v_y even, the others odd.
@@ -611,22 +705,18 @@ std::vector<Eigen::MatrixXd> MirrorResistances(const std::vector<PlacedSurface>&
         motion(r, k) = maps.motion(3 * u.point + u.axis, columns[k]);
       }
     }
+    // The wrench of the half's unknowns, on its motions' components only
+    // (the others vanish by the symmetry).
     const Eigen::MatrixXd unknowns_wrench = HalfColumns(maps.wrench, unknowns[h], parity);
+    Eigen::MatrixXd wrench(columns.size(), sizes[h]);
+    for (size_t k = 0; k < columns.size(); ++k) wrench.row(k) = unknowns_wrench.row(columns[k]);
     for (size_t b = 0; b < blobs_m.size(); ++b) {
-      const Eigen::MatrixXd forces = halves[h][b].partialPivLu().solve(motion);
-      // The wrench: each unknown acts on its own surface's body only, and
-      // a surface's unknowns are consecutive.
-      Eigen::MatrixXd wrench = Eigen::MatrixXd::Zero(6 * bodies, columns.size());
-      for (size_t first = 0, last = 0; first < unknowns[h].size(); first = last) {
-        const int body = body_of_point[unknowns[h][first].point];
-        while (last < unknowns[h].size() && body_of_point[unknowns[h][last].point] == body) {
-          ++last;
+      const Eigen::MatrixXd half = ProjectedInverse(halves[h][b], motion, wrench);
+      for (size_t j = 0; j < columns.size(); ++j) {
+        for (size_t i = 0; i < columns.size(); ++i) {
+          resistances[b](columns[i], columns[j]) = half(i, j);
         }
-        const int count = static_cast<int>(last - first);
-        wrench.middleRows<6>(6 * body) += unknowns_wrench.block(6 * body, first, 6, count) *
-                                         forces.middleRows(first, count);
       }
-      for (size_t k = 0; k < columns.size(); ++k) resistances[b].col(columns[k]) = wrench.col(k);
     }
   }
   for (Eigen::MatrixXd& resistance : resistances) {

@@ -135,11 +135,6 @@ PlacedSurface PlateOnSegment(const Segment& segment, const SurfaceMesh* mesh, in
 // S_eps(x_i - y) dA(y), for force points i of `target` and j of `source`.
 Eigen::MatrixXd NearestNeighbourBlock(const PlacedSurface& target, const PlacedSurface& source,
                                       double blob_m, double viscosity_Pa_s);
-// The same at each blob of `blobs_m` in one pass over the points pairs.
-std::vector<Eigen::MatrixXd> NearestNeighbourBlocks(const PlacedSurface& target,
-                                                    const PlacedSurface& source,
-                                                    const std::vector<double>& blobs_m,
-                                                    double viscosity_Pa_s);
 // The same with the wall z = wall_z_m's image system in place of the
 // free-space kernel (RegularizedWallImage): the part a wall adds.
 Eigen::MatrixXd NearestNeighbourImageBlock(const PlacedSurface& target,
