@@ -162,6 +162,14 @@ SurfaceMesh DiskMesh(double radius_m, int rings, int refinement) {
 
 namespace {
 
+// `count` zero matrices, each made in place (a vector's fill would copy
+// the first into each).
+std::vector<Eigen::MatrixXd> ZeroMatrices(size_t count, Eigen::Index rows, Eigen::Index cols) {
+  std::vector<Eigen::MatrixXd> matrices(count);
+  for (Eigen::MatrixXd& matrix : matrices) matrix.setZero(rows, cols);
+  return matrices;
+}
+
 // A placed source's quadrature points in the world, grouped by owner
 // (owner j's are [start[j], start[j + 1])), each weighted by its area
 // over 8 pi mu.
@@ -202,7 +210,7 @@ std::vector<Eigen::MatrixXd> KernelSums(const std::vector<Eigen::Vector3d>& x,
   constexpr int kBlobs = 2;  // blobs summed in one pass
   const int targets = static_cast<int>(x.size());
   const int owners = static_cast<int>(source.start.size()) - 1;
-  std::vector<Eigen::MatrixXd> blocks(blobs_m.size(), Eigen::MatrixXd(3 * targets, 3 * owners));
+  std::vector<Eigen::MatrixXd> blocks = ZeroMatrices(blobs_m.size(), 3 * targets, 3 * owners);
   for (size_t first_blob = 0; first_blob < blobs_m.size(); first_blob += kBlobs) {
     const int blobs = static_cast<int>(std::min<size_t>(kBlobs, blobs_m.size() - first_blob));
     double e2[kBlobs];
@@ -417,7 +425,7 @@ std::vector<Eigen::MatrixXd> FullResistances(const std::vector<PlacedSurface>& s
   const int n = offset.back();
   const std::vector<Eigen::Vector3d> targets = AllForcePoints(surfaces);
   // u = velocity f, f the force per area
-  std::vector<Eigen::MatrixXd> velocity(blobs_m.size(), Eigen::MatrixXd(n, n));
+  std::vector<Eigen::MatrixXd> velocity = ZeroMatrices(blobs_m.size(), n, n);
   for (size_t s = 0; s < surfaces.size(); ++s) {
     const int width = offset[s + 1] - offset[s];
     const std::vector<Eigen::MatrixXd> columns =
@@ -614,7 +622,7 @@ std::array<std::vector<Eigen::MatrixXd>, 2> MirrorHalves(
     double viscosity_Pa_s, const SelfBlocks& self_blocks) {
   std::array<std::vector<Eigen::MatrixXd>, 2> halves;
   for (int h = 0; h < 2; ++h) {
-    halves[h].assign(blobs_m.size(), Eigen::MatrixXd::Zero(sizes[h], sizes[h]));
+    halves[h] = ZeroMatrices(blobs_m.size(), sizes[h], sizes[h]);
   }
   const std::vector<int> offset = RowOffsets(surfaces);
   const std::vector<Eigen::Vector3d> points = AllForcePoints(surfaces);
@@ -636,6 +644,14 @@ std::array<std::vector<Eigen::MatrixXd>, 2> MirrorHalves(
       }
     }
   }
+  // Whether they are the kernel sums' rows in order (no force point on the
+  // plane): then each column is added whole.
+  std::array<bool, 2> in_order;
+  for (int h = 0; h < 2; ++h) {
+    in_order[h] = rows[h].size() == 3 * representatives.size() &&
+                  std::all_of(rows[h].begin(), rows[h].end(),
+                              [](const auto& pair) { return pair.first == pair.second; });
+  }
   for (size_t s = 0; s < surfaces.size(); ++s) {
     const int width = offset[s + 1] - offset[s];
     std::vector<Eigen::MatrixXd> columns =
@@ -655,6 +671,10 @@ std::array<std::vector<Eigen::MatrixXd>, 2> MirrorHalves(
         if (column < 0) continue;
         const double sign = places[h].sign[offset[s] + col];
         for (size_t b = 0; b < blobs_m.size(); ++b) {
+          if (in_order[h]) {
+            halves[h][b].col(column) += sign * columns[b].col(col);
+            continue;
+          }
           for (const auto& [from, row] : rows[h]) {
             halves[h][b](row, column) += sign * columns[b](from, col);
           }
@@ -687,8 +707,8 @@ std::vector<Eigen::MatrixXd> MirrorResistances(const std::vector<PlacedSurface>&
   // About a point on the plane each rigid motion has a parity.
   const Eigen::Vector3d on_plane(c.x(), c.y(), plane.z_m);
   const RigidBodyMaps maps = RigidMaps(surfaces, bodies, on_plane);
-  std::vector<Eigen::MatrixXd> resistances(blobs_m.size(),
-                                           Eigen::MatrixXd::Zero(6 * bodies, 6 * bodies));
+  std::vector<Eigen::MatrixXd> resistances =
+      ZeroMatrices(blobs_m.size(), 6 * bodies, 6 * bodies);
   for (int h = 0; h < 2; ++h) {
     const int parity = h == 0 ? 1 : -1;
     // [w_x w_y w_z v_x v_y v_z]: w_z, v_x and v_y even, the others odd.
