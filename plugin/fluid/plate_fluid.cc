@@ -210,7 +210,8 @@ std::vector<Eigen::MatrixXd> KernelSums(const std::vector<Eigen::Vector3d>& x,
   constexpr int kBlobs = 2;  // blobs summed in one pass
   const int targets = static_cast<int>(x.size());
   const int owners = static_cast<int>(source.start.size()) - 1;
-  std::vector<Eigen::MatrixXd> blocks = ZeroMatrices(blobs_m.size(), 3 * targets, 3 * owners);
+  std::vector<Eigen::MatrixXd> blocks(blobs_m.size());  // every entry set below
+  for (Eigen::MatrixXd& block : blocks) block.resize(3 * targets, 3 * owners);
   for (size_t first_blob = 0; first_blob < blobs_m.size(); first_blob += kBlobs) {
     const int blobs = static_cast<int>(std::min<size_t>(kBlobs, blobs_m.size() - first_blob));
     double e2[kBlobs];

@@ -50,8 +50,16 @@
 // its z-even and z-odd halves of about n / 2 unknowns, the in-plane rigid
 // motions driving the even half and the out-of-plane ones the odd half: a
 // quarter of the factorisation and solves and half the kernel sums, the
-// same R to round-off (SurfaceResistance; about 3 times faster on the
-// flexible-link bench, docs/FLUIDS.md). Otherwise the full matrix is solved.
+// same R to round-off (SurfaceResistance). Otherwise the full matrix is
+// solved.
+//
+// The solve: R = W A^-1 M, M the rigid motions' velocities at the force
+// points and W the forces' wrenches, is Z X with X = L^-1 P M and
+// Z^T = U^-T W^T from A's partial-pivoting LU (P A = L U). A body's
+// columns of M and rows of W are zero outside its own force points, so
+// each triangular solve starts at the body's first unknown. With
+// Richardson the kernel sums at eps and eps / 2 share one pass over the
+// point pairs. docs/FLUIDS.md, "Cost on flexible links", times it.
 //
 // The resistance is kept while the shape moves less than
 // `shape_tolerance_rad`, and extrapolated along the secant of the last two
