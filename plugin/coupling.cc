@@ -189,6 +189,8 @@ std::unique_ptr<CouplingContext> MakeContext(const mjModel* m,
   if (std::optional<RftDragConfig> drag = RftDragConfig::FromModel(m, fluid)) {
     context->drag.emplace(m, *drag);
     context->fluid = MakeFluid(m, *context->drag, fluid);
+    // It steps the model: its drag acts on the model's joints only.
+    context->fluid->set_in_plane_when_planar(true);
   }
   if (std::optional<std::string> text = FindCustomText(m, kAttrDynamics)) {
     context->dynamics = ParseDynamics(*text);
@@ -869,6 +871,7 @@ void SetFluidField(const mjData* d, const char* field, double value) {
   context.fluid.reset();
   context.drag.emplace(m, *config);
   context.fluid = MakeFluid(m, *context.drag, context.fluid_overrides);
+  context.fluid->set_in_plane_when_planar(true);
   if (context.stokes) context.stokes->ForgetHistory();
 }
 

@@ -54,6 +54,20 @@ Eigen::Matrix<double, Points, Points> InterpolatingMonomialWeights(
   return monomials;
 }
 
+// Whether every joint of d moves its bodies in the x-y plane: hinges
+// about +-z, slides along it, exactly (so they stay so; the Stokes step's
+// planar motions).
+bool PlanarJoints(const mjModel* m, const mjData* d) {
+  for (int j = 0; j < m->njnt; ++j) {
+    const mjtNum* axis = d->xaxis + 3 * j;
+    const bool planar = m->jnt_type[j] == mjJNT_HINGE   ? axis[0] == 0 && axis[1] == 0
+                        : m->jnt_type[j] == mjJNT_SLIDE ? axis[2] == 0
+                                                        : false;
+    if (!planar) return false;
+  }
+  return true;
+}
+
 // The last dof of body b's chain (its own or its nearest moving
 // ancestor's), -1 if it is fixed to the world.
 int LastDof(const mjModel* m, int body) {
@@ -136,9 +150,19 @@ void DenseResistanceFluid::Shape(const mjData* d, std::vector<double>* shape) co
   for (size_t k = 0; k < shape_joints_.size(); ++k) (*shape)[k] = d->qpos[shape_joints_[k]];
 }
 
+Eigen::MatrixXd DenseResistanceFluid::ComputeInPlaneResistance(const mjModel* m, const mjData* d,
+                                                               const Eigen::Vector3d& origin_W,
+                                                               bool* out_of_plane_left_out) const {
+  *out_of_plane_left_out = false;
+  return ComputeResistance(m, d, origin_W);
+}
+
 void DenseResistanceFluid::Recompute(const mjModel* m, const mjData* d) const {
   const Eigen::Vector3d origin(d->xpos + 3 * root_body_);
-  const Eigen::MatrixXd world = ComputeResistance(m, d, origin);
+  bool left_out = false;
+  const Eigen::MatrixXd world = in_plane_when_planar() && PlanarJoints(m, d)
+                                    ? ComputeInPlaneResistance(m, d, origin, &left_out)
+                                    : ComputeResistance(m, d, origin);
   // Into the root's frame: R_root = Q6^T R Q6, Q6 = diag(Q, Q, ...),
   // block by block.
   const int n = static_cast<int>(world.rows()) / 3;
@@ -153,6 +177,7 @@ void DenseResistanceFluid::Recompute(const mjModel* m, const mjData* d) const {
           q.transpose() * world.block<3, 3>(3 * i, 3 * j) * q;
     }
   }
+  if (left_out) FillOutOfPlane(m, d, &newest.root_resistance);
   root_resistance_ = newest.root_resistance;
   // With the fit, what is fitted in time is R less its local part.
   if (Fitting()) {
@@ -275,6 +300,19 @@ void DenseResistanceFluid::LocalPart(const mjModel* m, const mjData* d,
     (*local)[body_of_geom_[i]] += SegmentResistance(
         q.transpose() * (segments[i].center_W - origin), q.transpose() * segments[i].tangent_W,
         segments[i].length_m, Eigen::Vector3d::Zero(), rft_->segment_coefficients()[i]);
+  }
+}
+
+void DenseResistanceFluid::FillOutOfPlane(const mjModel* m, const mjData* d,
+                                          Eigen::MatrixXd* root_resistance) const {
+  std::vector<Matrix6> local;
+  LocalPart(m, d, &local);
+  const auto out_of_plane = [](Eigen::Index i) { return i % 6 < 2 || i % 6 == 5; };
+  for (Eigen::Index j = 0; j < root_resistance->cols(); ++j) {
+    for (Eigen::Index i = 0; i < root_resistance->rows(); ++i) {
+      if (!out_of_plane(i) && !out_of_plane(j)) continue;
+      (*root_resistance)(i, j) = i / 6 == j / 6 ? local[i / 6](i % 6, j % 6) : 0.0;
+    }
   }
 }
 

@@ -150,6 +150,13 @@ class DenseResistanceFluid : public Fluid {
   // Symmetric (the reciprocal theorem).
   virtual Eigen::MatrixXd ComputeResistance(const mjModel* m, const mjData* d,
                                             const Eigen::Vector3d& origin_W) const = 0;
+  // The same when only its in-plane part [w_z; v_x; v_y] can act (every
+  // joint of d planar): a model may then leave the rows and columns of
+  // the out-of-plane motions zero and say so in *out_of_plane_left_out.
+  // By default the whole R.
+  virtual Eigen::MatrixXd ComputeInPlaneResistance(const mjModel* m, const mjData* d,
+                                                   const Eigen::Vector3d& origin_W,
+                                                   bool* out_of_plane_left_out) const;
   virtual double shape_tolerance_rad() const = 0;
   // 0: the cached resistance is used as it is (no secant).
   virtual double secant_reach_rad() const = 0;
@@ -164,6 +171,11 @@ class DenseResistanceFluid : public Fluid {
   static constexpr int kFitPoints = 4;
 
   void Recompute(const mjModel* m, const mjData* d) const;
+  // R's rows and columns of the out-of-plane motions, which a model left
+  // out, from the local part at d's shape (RFT's own blocks of each body):
+  // what a caller asking for them reads; the drag on planar joints never
+  // does.
+  void FillOutOfPlane(const mjModel* m, const mjData* d, Eigen::MatrixXd* root_resistance) const;
   // Brings root_resistance_ to d's shape: the same shape's, the secant's,
   // the cached or a new exact one (the tolerances).
   void UpdateRootResistance(const mjModel* m, const mjData* d) const;

@@ -136,6 +136,17 @@ class Fluid {
   virtual bool FrameResistanceCubic(const mjModel* m, const mjData* d,
                                     Eigen::Matrix<double, 6, 6>* frame,
                                     ResistanceCubic* cubic) const;
+
+  // Whether a model may leave out what only out-of-plane motions (w_x,
+  // w_y, v_z) feel when every joint of d moves its bodies in the x-y plane
+  // (hinges about z, slides in the plane): the fluid of a stepped model,
+  // whose drag acts on d's joints only, not one asked for a rigid body's
+  // six motions. Off unless set.
+  void set_in_plane_when_planar(bool on) { in_plane_when_planar_ = on; }
+  bool in_plane_when_planar() const { return in_plane_when_planar_; }
+
+ private:
+  bool in_plane_when_planar_ = false;
 };
 
 // An integer in [minimum, maximum].

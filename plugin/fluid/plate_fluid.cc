@@ -614,15 +614,15 @@ HalfPlaces PlacesOf(const std::vector<MirrorUnknown>& unknowns, int parity, int 
   return places;
 }
 
-// The even and odd halves' matrices at each blob, summed straight from
-// the kernel sums of the pairs' representatives' rows (the other rows
-// follow from them by the symmetry).
+// The even and (with `count` 2) odd halves' matrices at each blob, summed
+// straight from the kernel sums of the pairs' representatives' rows (the
+// other rows follow from them by the symmetry).
 std::array<std::vector<Eigen::MatrixXd>, 2> MirrorHalves(
     const std::vector<PlacedSurface>& surfaces, const std::array<HalfPlaces, 2>& places,
-    const std::array<int, 2>& sizes, const MirrorPlane& plane, const std::vector<double>& blobs_m,
-    double viscosity_Pa_s, const SelfBlocks& self_blocks) {
+    const std::array<int, 2>& sizes, int count, const MirrorPlane& plane,
+    const std::vector<double>& blobs_m, double viscosity_Pa_s, const SelfBlocks& self_blocks) {
   std::array<std::vector<Eigen::MatrixXd>, 2> halves;
-  for (int h = 0; h < 2; ++h) {
+  for (int h = 0; h < count; ++h) {
     halves[h] = ZeroMatrices(blobs_m.size(), sizes[h], sizes[h]);
   }
   const std::vector<int> offset = RowOffsets(surfaces);
@@ -637,7 +637,7 @@ std::array<std::vector<Eigen::MatrixXd>, 2> MirrorHalves(
   }
   // (the kernel sums' row, the half's row) of each of the half's equations
   std::array<std::vector<std::pair<int, int>>, 2> rows;
-  for (int h = 0; h < 2; ++h) {
+  for (int h = 0; h < count; ++h) {
     for (size_t r = 0; r < representatives.size(); ++r) {
       for (int k = 0; k < 3; ++k) {
         const int row = places[h].row[3 * representatives[r] + k];
@@ -648,7 +648,7 @@ std::array<std::vector<Eigen::MatrixXd>, 2> MirrorHalves(
   // Whether they are the kernel sums' rows in order (no force point on the
   // plane): then each column is added whole.
   std::array<bool, 2> in_order;
-  for (int h = 0; h < 2; ++h) {
+  for (int h = 0; h < count; ++h) {
     in_order[h] = rows[h].size() == 3 * representatives.size() &&
                   std::all_of(rows[h].begin(), rows[h].end(),
                               [](const auto& pair) { return pair.first == pair.second; });
@@ -666,7 +666,7 @@ std::array<std::vector<Eigen::MatrixXd>, 2> MirrorHalves(
         columns[b].middleRows<3>(3 * r) = own[b].middleRows<3>(3 * local);
       }
     }
-    for (int h = 0; h < 2; ++h) {
+    for (int h = 0; h < count; ++h) {
       for (int col = 0; col < width; ++col) {
         const int column = places[h].column[offset[s] + col];
         if (column < 0) continue;
@@ -687,30 +687,32 @@ std::array<std::vector<Eigen::MatrixXd>, 2> MirrorHalves(
 }
 
 // R of surfaces mirror-symmetric about `plane`, by the even and odd
-// halves, at each blob.
+// halves, at each blob; `in_plane_only`: the even half only, the rows and
+// columns of the out-of-plane motions left zero.
 std::vector<Eigen::MatrixXd> MirrorResistances(const std::vector<PlacedSurface>& surfaces,
                                                int bodies, const Eigen::Vector3d& c,
                                                const std::vector<double>& blobs_m,
                                                double viscosity_Pa_s,
                                                const SelfBlocks& self_blocks,
-                                               const MirrorPlane& plane) {
+                                               const MirrorPlane& plane, bool in_plane_only) {
+  const int count = in_plane_only ? 1 : 2;
   const int points = static_cast<int>(plane.image.size());
   std::array<std::vector<MirrorUnknown>, 2> unknowns;  // [even, odd]
   std::array<HalfPlaces, 2> places;
   std::array<int, 2> sizes;
-  for (int h = 0; h < 2; ++h) {
+  for (int h = 0; h < count; ++h) {
     unknowns[h] = HalfUnknowns(plane.image, h == 0 ? 1 : -1);
     places[h] = PlacesOf(unknowns[h], h == 0 ? 1 : -1, points);
     sizes[h] = static_cast<int>(unknowns[h].size());
   }
   const std::array<std::vector<Eigen::MatrixXd>, 2> halves =
-      MirrorHalves(surfaces, places, sizes, plane, blobs_m, viscosity_Pa_s, self_blocks);
+      MirrorHalves(surfaces, places, sizes, count, plane, blobs_m, viscosity_Pa_s, self_blocks);
   // About a point on the plane each rigid motion has a parity.
   const Eigen::Vector3d on_plane(c.x(), c.y(), plane.z_m);
   const RigidBodyMaps maps = RigidMaps(surfaces, bodies, on_plane);
   std::vector<Eigen::MatrixXd> resistances =
       ZeroMatrices(blobs_m.size(), 6 * bodies, 6 * bodies);
-  for (int h = 0; h < 2; ++h) {
+  for (int h = 0; h < count; ++h) {
     const int parity = h == 0 ? 1 : -1;
     // [w_x w_y w_z v_x v_y v_z]: w_z, v_x and v_y even, the others odd.
     const std::vector<int> motions =
@@ -756,18 +758,24 @@ std::vector<Eigen::MatrixXd> MirrorResistances(const std::vector<PlacedSurface>&
   return resistances;
 }
 
-// R at each blob, by the mirror halves when the surfaces allow and `solve`
-// asks, else by the full matrix.
+// R at each blob, by the mirror halves (or the even half alone) when the
+// surfaces allow and `solve` asks, else by the full matrix;
+// *out_of_plane_left_out (if given) says whether the even half was alone.
 std::vector<Eigen::MatrixXd> SurfaceResistances(const std::vector<PlacedSurface>& surfaces,
                                                 int bodies, const Eigen::Vector3d& c,
                                                 const std::vector<double>& blobs_m,
                                                 double viscosity_Pa_s,
                                                 const SelfBlocks& self_blocks,
                                                 std::optional<double> wall_z_m,
-                                                SurfaceSolve solve) {
-  if (solve == SurfaceSolve::kMirrorHalvesWhenSymmetric) {
+                                                SurfaceSolve solve,
+                                                bool* out_of_plane_left_out = nullptr) {
+  const bool in_plane_only = solve == SurfaceSolve::kInPlaneHalfWhenSymmetric;
+  if (out_of_plane_left_out) *out_of_plane_left_out = false;
+  if (solve != SurfaceSolve::kFullMatrix) {
     if (const std::optional<MirrorPlane> plane = FindMirrorPlane(surfaces, wall_z_m)) {
-      return MirrorResistances(surfaces, bodies, c, blobs_m, viscosity_Pa_s, self_blocks, *plane);
+      if (out_of_plane_left_out) *out_of_plane_left_out = in_plane_only;
+      return MirrorResistances(surfaces, bodies, c, blobs_m, viscosity_Pa_s, self_blocks, *plane,
+                               in_plane_only);
     }
   }
   return FullResistances(surfaces, bodies, c, blobs_m, viscosity_Pa_s, self_blocks, wall_z_m);
@@ -792,15 +800,18 @@ Eigen::MatrixXd ExtrapolatedResistance(const std::vector<PlacedSurface>& surface
                                        const Eigen::Vector3d& c, double blob_m, bool richardson,
                                        double viscosity_Pa_s, std::optional<double> wall_z_m,
                                        const std::vector<Eigen::MatrixXd>& self_blocks,
-                                       const std::vector<Eigen::MatrixXd>& half_blob_self_blocks) {
-  if (!richardson) return SurfaceResistance(surfaces, bodies, c, blob_m, viscosity_Pa_s,
-                                            self_blocks, wall_z_m);
-  const SelfBlocks self =
-      self_blocks.empty() ? SelfBlocks{} : SelfBlocks{self_blocks, half_blob_self_blocks};
-  const std::vector<Eigen::MatrixXd> r =
-      SurfaceResistances(surfaces, bodies, c, {blob_m, 0.5 * blob_m}, viscosity_Pa_s, self,
-                         wall_z_m, SurfaceSolve::kMirrorHalvesWhenSymmetric);
-  return 2.0 * r[1] - r[0];
+                                       const std::vector<Eigen::MatrixXd>& half_blob_self_blocks,
+                                       SurfaceSolve solve, bool* out_of_plane_left_out) {
+  std::vector<double> blobs_m = {blob_m};
+  SelfBlocks self;
+  if (!self_blocks.empty()) self.push_back(self_blocks);
+  if (richardson) {
+    blobs_m.push_back(0.5 * blob_m);
+    if (!self_blocks.empty()) self.push_back(half_blob_self_blocks);
+  }
+  const std::vector<Eigen::MatrixXd> r = SurfaceResistances(
+      surfaces, bodies, c, blobs_m, viscosity_Pa_s, self, wall_z_m, solve, out_of_plane_left_out);
+  return richardson ? Eigen::MatrixXd(2.0 * r[1] - r[0]) : r[0];
 }
 
 StripDragPerLength ConvergedStripDrag(double viscosity_Pa_s, double length_m, double width_m) {
@@ -922,10 +933,11 @@ int PlateFluid::force_points() const {
 }
 
 Eigen::MatrixXd PlateFluid::Resistance(const std::vector<PlacedSurface>& plates,
-                                       const Eigen::Vector3d& c) const {
+                                       const Eigen::Vector3d& c, SurfaceSolve solve,
+                                       bool* out_of_plane_left_out) const {
   return ExtrapolatedResistance(plates, body_count(), c, blob_m_, settings_.richardson,
                                 rft().config().viscosity_Pa_s, wall_z_m(), self_blocks_,
-                                half_blob_self_blocks_);
+                                half_blob_self_blocks_, solve, out_of_plane_left_out);
 }
 
 PlacedSurface PlateOnSegment(const Segment& segment, const SurfaceMesh* mesh, int body) {
@@ -939,14 +951,25 @@ PlacedSurface PlateOnSegment(const Segment& segment, const SurfaceMesh* mesh, in
   return plate;
 }
 
-Eigen::MatrixXd PlateFluid::ComputeResistance(const mjModel* m, const mjData* d,
-                                              const Eigen::Vector3d& origin_W) const {
+std::vector<PlacedSurface> PlateFluid::Plates(const mjModel* m, const mjData* d) const {
   const std::vector<Segment> segments = rft().Segments(m, d);
   std::vector<PlacedSurface> plates(segments.size());
   for (size_t i = 0; i < segments.size(); ++i) {
     plates[i] = PlateOnSegment(segments[i], &meshes_[i], body_of_geom(static_cast<int>(i)));
   }
-  return Resistance(plates, origin_W);
+  return plates;
+}
+
+Eigen::MatrixXd PlateFluid::ComputeResistance(const mjModel* m, const mjData* d,
+                                              const Eigen::Vector3d& origin_W) const {
+  return Resistance(Plates(m, d), origin_W);
+}
+
+Eigen::MatrixXd PlateFluid::ComputeInPlaneResistance(const mjModel* m, const mjData* d,
+                                                     const Eigen::Vector3d& origin_W,
+                                                     bool* out_of_plane_left_out) const {
+  return Resistance(Plates(m, d), origin_W, SurfaceSolve::kInPlaneHalfWhenSymmetric,
+                    out_of_plane_left_out);
 }
 
 double PlateFluid::TowingDrag_N(double speed_m_s) const {

@@ -159,9 +159,13 @@ bool MirrorSymmetric(const std::vector<PlacedSurface>& surfaces,
                      std::optional<double> wall_z_m = std::nullopt);
 
 // How SurfaceResistance solves: by the z-even and z-odd halves when the
-// surfaces are MirrorSymmetric (the full matrix otherwise), or always by
-// the full matrix (the reference the halves are tested against).
-enum class SurfaceSolve { kMirrorHalvesWhenSymmetric, kFullMatrix };
+// surfaces are MirrorSymmetric (the full matrix otherwise); by the z-even
+// half alone when they are, leaving the rows and columns of the
+// out-of-plane motions (w_x, w_y, v_z) zero (for bodies that cannot make
+// them: they cannot feel them either, R being block diagonal in the
+// halves); or always by the full matrix (the reference the halves are
+// tested against).
+enum class SurfaceSolve { kMirrorHalvesWhenSymmetric, kInPlaneHalfWhenSymmetric, kFullMatrix };
 
 // The resistance of rigid bodies made of surfaces: R (6 bodies x 6 bodies)
 // maps the bodies' spatial velocities [w; v] (v that of the body point at
@@ -177,13 +181,17 @@ Eigen::MatrixXd SurfaceResistance(const std::vector<PlacedSurface>& surfaces, in
                                   SurfaceSolve solve = SurfaceSolve::kMirrorHalvesWhenSymmetric);
 // The same, Richardson-extrapolated in eps when asked: 2 R(eps/2) - R(eps),
 // both blobs' kernels summed in one pass; `half_blob_self_blocks` the own
-// blocks at eps / 2 (given whenever `self_blocks` is).
+// blocks at eps / 2 (given whenever `self_blocks` is);
+// *out_of_plane_left_out (if given): whether `solve` left the out-of-plane
+// rows and columns zero.
 Eigen::MatrixXd ExtrapolatedResistance(
     const std::vector<PlacedSurface>& surfaces, int bodies, const Eigen::Vector3d& c,
     double blob_m, bool richardson, double viscosity_Pa_s,
     std::optional<double> wall_z_m = std::nullopt,
     const std::vector<Eigen::MatrixXd>& self_blocks = {},
-    const std::vector<Eigen::MatrixXd>& half_blob_self_blocks = {});
+    const std::vector<Eigen::MatrixXd>& half_blob_self_blocks = {},
+    SurfaceSolve solve = SurfaceSolve::kMirrorHalvesWhenSymmetric,
+    bool* out_of_plane_left_out = nullptr);
 
 // The straight strip's drag per length [N s/m^2], broadside (normal to
 // its face) and axial: the plates' resistance of one rectangle, Richardson
@@ -225,13 +233,21 @@ class PlateFluid : public DenseResistanceFluid {
  private:
   Eigen::MatrixXd ComputeResistance(const mjModel* m, const mjData* d,
                                     const Eigen::Vector3d& origin_W) const override;
+  // The plates' even half alone when they are mirror-symmetric.
+  Eigen::MatrixXd ComputeInPlaneResistance(const mjModel* m, const mjData* d,
+                                           const Eigen::Vector3d& origin_W,
+                                           bool* out_of_plane_left_out) const override;
+  // The plates on d's segments.
+  std::vector<PlacedSurface> Plates(const mjModel* m, const mjData* d) const;
   double shape_tolerance_rad() const override { return settings_.shape_tolerance_rad; }
   double secant_reach_rad() const override { return settings_.secant_reach_rad; }
   double fit_tolerance() const override { return settings_.fit_tolerance; }
   // R for the plates placed as given, with the cached self blocks (and
   // the wall's images).
-  Eigen::MatrixXd Resistance(const std::vector<PlacedSurface>& plates,
-                             const Eigen::Vector3d& c) const;
+  Eigen::MatrixXd Resistance(
+      const std::vector<PlacedSurface>& plates, const Eigen::Vector3d& c,
+      SurfaceSolve solve = SurfaceSolve::kMirrorHalvesWhenSymmetric,
+      bool* out_of_plane_left_out = nullptr) const;
 
   PlateSettings settings_;
   double blob_m_ = 0.0;

@@ -6,8 +6,9 @@
 // angle), with an even and an odd number of force points across (pairs
 // only, and points on the plane); and the full solve, unchanged, whenever
 // the symmetry is broken (a tilted plate, a plate off the plane, a wall, a
-// mesh that is not symmetric); and both against the textbook solve,
-// written out from the public pieces.
+// mesh that is not symmetric); the even half alone, for bodies that move
+// in the plane; and both solves against the textbook solve, written out
+// from the public pieces.
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <gtest/gtest.h>
@@ -166,6 +167,42 @@ TEST(PlateMirrorTest, BrokenSymmetrySolvesTheFullMatrix) {
     strip.meshes[3].quadrature_points[0].z() += 1e-9;
     ExpectFullSolve(strip.plates, blob_m, std::nullopt);
   }
+}
+
+// The even half alone (kInPlaneHalfWhenSymmetric): R's in-plane entries
+// (w_z, v_x, v_y of every body against every body) bit for bit those of
+// both halves, every entry of an out-of-plane motion zero, and said so;
+// without the symmetry the full solve, bit for bit, and nothing left out.
+TEST(PlateMirrorTest, TheInPlaneHalfIsTheHalvesInPlanePart) {
+  const int across = 4;
+  const double blob_m = 0.5 * kWidth / across;
+  BentStrip strip = MakeBentStrip(across, blob_m);
+  const int bodies = static_cast<int>(strip.plates.size());
+  const Eigen::Vector3d c(2e-3, 1e-3, kPlaneZ);
+  bool left_out = false;
+  const Eigen::MatrixXd in_plane =
+      ExtrapolatedResistance(strip.plates, bodies, c, blob_m, true, kMu, std::nullopt, {}, {},
+                             SurfaceSolve::kInPlaneHalfWhenSymmetric, &left_out);
+  const Eigen::MatrixXd halves = ExtrapolatedResistance(strip.plates, bodies, c, blob_m, true, kMu);
+  EXPECT_TRUE(left_out);
+  const auto out_of_plane = [](Eigen::Index i) { return i % 6 < 2 || i % 6 == 5; };
+  for (Eigen::Index j = 0; j < halves.cols(); ++j) {
+    for (Eigen::Index i = 0; i < halves.rows(); ++i) {
+      const double expected = out_of_plane(i) || out_of_plane(j) ? 0.0 : halves(i, j);
+      ASSERT_EQ(in_plane(i, j), expected) << "row " << i << ", column " << j;
+    }
+  }
+  // A plate tilted about its length: no symmetry, the whole R.
+  strip.plates[5].rotation =
+      Eigen::AngleAxisd(1e-3, strip.plates[5].rotation.col(0)).toRotationMatrix() *
+      strip.plates[5].rotation;
+  const Eigen::MatrixXd tilted =
+      ExtrapolatedResistance(strip.plates, bodies, c, blob_m, true, kMu, std::nullopt, {}, {},
+                             SurfaceSolve::kInPlaneHalfWhenSymmetric, &left_out);
+  EXPECT_FALSE(left_out);
+  EXPECT_EQ(RelativeDifference(tilted,
+                               ExtrapolatedResistance(strip.plates, bodies, c, blob_m, true, kMu)),
+            0.0);
 }
 
 // The textbook solve, written out here from the public pieces: the whole
