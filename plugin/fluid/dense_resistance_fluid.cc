@@ -177,13 +177,11 @@ void DenseResistanceFluid::Recompute(const mjModel* m, const mjData* d) const {
           q.transpose() * world.block<3, 3>(3 * i, 3 * j) * q;
     }
   }
-  if (left_out) FillOutOfPlane(m, d, &newest.root_resistance);
+  if (left_out || Fitting()) LocalPart(m, d, &local_part_);
+  if (left_out) FillOutOfPlane(local_part_, &newest.root_resistance);
   root_resistance_ = newest.root_resistance;
   // With the fit, what is fitted in time is R less its local part.
-  if (Fitting()) {
-    LocalPart(m, d, &local_part_);
-    AddLocalPart(local_part_, -1.0, &newest.root_resistance);
-  }
+  if (Fitting()) AddLocalPart(local_part_, -1.0, &newest.root_resistance);
   // The fit (still through the evaluations before) against the new one.
   if (fit_ready_) UpdateFitInterval(d->time, newest.root_resistance, root_resistance_);
   newest.time_s = d->time;
@@ -303,10 +301,8 @@ void DenseResistanceFluid::LocalPart(const mjModel* m, const mjData* d,
   }
 }
 
-void DenseResistanceFluid::FillOutOfPlane(const mjModel* m, const mjData* d,
-                                          Eigen::MatrixXd* root_resistance) const {
-  std::vector<Matrix6> local;
-  LocalPart(m, d, &local);
+void DenseResistanceFluid::FillOutOfPlane(const std::vector<Matrix6>& local,
+                                          Eigen::MatrixXd* root_resistance) {
   const auto out_of_plane = [](Eigen::Index i) { return i % 6 < 2 || i % 6 == 5; };
   for (Eigen::Index j = 0; j < root_resistance->cols(); ++j) {
     for (Eigen::Index i = 0; i < root_resistance->rows(); ++i) {

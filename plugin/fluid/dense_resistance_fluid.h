@@ -172,10 +172,10 @@ class DenseResistanceFluid : public Fluid {
 
   void Recompute(const mjModel* m, const mjData* d) const;
   // R's rows and columns of the out-of-plane motions, which a model left
-  // out, from the local part at d's shape (RFT's own blocks of each body):
-  // what a caller asking for them reads; the drag on planar joints never
-  // does.
-  void FillOutOfPlane(const mjModel* m, const mjData* d, Eigen::MatrixXd* root_resistance) const;
+  // out, from the local part `local` (LocalPart: RFT's own blocks of each
+  // body): what a caller asking for them reads; the drag on planar joints
+  // never does.
+  static void FillOutOfPlane(const std::vector<Matrix6>& local, Eigen::MatrixXd* root_resistance);
   // Brings root_resistance_ to d's shape: the same shape's, the secant's,
   // the cached or a new exact one (the tolerances).
   void UpdateRootResistance(const mjModel* m, const mjData* d) const;

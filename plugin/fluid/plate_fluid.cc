@@ -730,9 +730,8 @@ std::vector<Eigen::MatrixXd> MirrorResistances(const std::vector<PlacedSurface>&
     }
     // The wrench of the half's unknowns, on its motions' components only
     // (the others vanish by the symmetry).
-    const Eigen::MatrixXd unknowns_wrench = HalfColumns(maps.wrench, unknowns[h], parity);
-    Eigen::MatrixXd wrench(columns.size(), sizes[h]);
-    for (size_t k = 0; k < columns.size(); ++k) wrench.row(k) = unknowns_wrench.row(columns[k]);
+    const Eigen::MatrixXd wrench =
+        HalfColumns(maps.wrench(columns, Eigen::all), unknowns[h], parity);
     for (size_t b = 0; b < blobs_m.size(); ++b) {
       const Eigen::MatrixXd half = ProjectedInverse(halves[h][b], motion, wrench);
       for (size_t j = 0; j < columns.size(); ++j) {

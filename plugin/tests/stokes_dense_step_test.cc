@@ -56,13 +56,7 @@ int ExpectTheDenseSystemAsFormed(double tolerance_rad, double fit_tolerance = 0.
   const std::unique_ptr<Fluid> ribbon = MakeFluid(m, segments, overrides);
   const Fluid& fluid = *ribbon;
   const std::vector<int>& bodies = fluid.InteractingBodies();
-  // The hinges driven off straight, so that the shape and R change.
-  for (int j = 0; j < m->njnt; ++j) {
-    if (m->jnt_type[j] == mjJNT_HINGE && m->jnt_bodyid[j] != 1) {
-      d->qpos[m->jnt_qposadr[j]] = 0.05 * std::sin(0.7 * j);
-      d->qfrc_applied[m->jnt_dofadr[j]] = 1e-7 * std::cos(1.3 * j);
-    }
-  }
+  DriveHingesOffStraight(m, d);
   StokesStepper stepper(m);
   const double h = m->opt.timestep;
   Eigen::MatrixXd last_resistance;

@@ -6,6 +6,7 @@
 
 #include <mujoco/mujoco.h>
 
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <memory>
@@ -106,5 +107,17 @@ inline std::string SubSegmentedStrip(int segments_per_link, bool clamped,
 }
 
 inline DataPtr MakeData(const mjModel* m) { return DataPtr(mj_makeData(m)); }
+
+// SubSegmentedStrip's hinges (not the root's) turned off straight and
+// pushed, each by its own amount, so that the shape and a dense fluid's
+// resistance change over the steps.
+inline void DriveHingesOffStraight(const mjModel* m, mjData* d) {
+  for (int j = 0; j < m->njnt; ++j) {
+    if (m->jnt_type[j] == mjJNT_HINGE && m->jnt_bodyid[j] != 1) {
+      d->qpos[m->jnt_qposadr[j]] = 0.05 * std::sin(0.7 * j);
+      d->qfrc_applied[m->jnt_dofadr[j]] = 1e-7 * std::cos(1.3 * j);
+    }
+  }
+}
 
 }  // namespace ipmc::testing
