@@ -3,8 +3,9 @@
 // under each fluid model (plugin/fluid/fluid_model.h), in one run so that
 // the ratios hold on a loaded machine: RFT (the baseline), regularized
 // Stokeslets at the default resolution (one point per blob, 25 points,
-// the resistance kept within 1e-3 rad of shape) in free space and near a
-// wall (1 mm gap), Stokeslets recomputed at every evaluation (tolerance 0)
+// the resistance fitted in time between exact evaluations, the default)
+// in free space and near a wall (1 mm gap), Stokeslets recomputed at
+// every evaluation (tolerance 0)
 // and at twice the points per mm, and on a sheet of 2 and 4 points across
 // the width; slender-ribbon theory at its default modes; RFT with the
 // coefficients calibrated on the plates (fluid.rft_coefficients = "ribbon",
@@ -16,13 +17,13 @@
 // BM_FlexibleCycle: the paper's gait on flexible links (n sub-segments per
 // link, c1 = 150 um/mm), Stokes dynamics at 1 ms, one 10 s cycle at
 // 0.1 Hz, under RFT, slender-ribbon theory at 8 modes and the plates at 4
-// points across: each with its cached resistance (shape tolerance 1e-3
-// rad, the default) and with the cubic fit in time between exact
-// evaluations (fit tolerance 1e-4, which keeps the swim and the fluid
-// power within 0.1 % of the exact evaluation's, docs/FLUIDS.md), and the
-// ribbon with its resistance exact at every step; each model's CPU time
-// relative to RFT's at the same n, and each run's swim (swim_um) and mean
-// fluid power (fluid_pW).
+// points across: each with the cubic fit in time between exact
+// evaluations (the default, fit tolerance 1e-4, which keeps the swim and
+// the fluid power within 0.1 % of the exact evaluation's,
+// docs/FLUIDS.md), with the cached resistance alone (fit tolerance 0,
+// shape tolerance 1e-3 rad) and, the ribbon, exact at every step; each
+// model's CPU time relative to RFT's at the same n, and each run's swim
+// (swim_um) and mean fluid power (fluid_pW).
 //
 //   ./build/bench/fluid_bench --benchmark_repetitions=3
 //   ./build/bench/fluid_bench --benchmark_filter=BM_FlexibleCycle --benchmark_repetitions=3
@@ -82,19 +83,16 @@ BENCHMARK(BM_PaperCycle)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(1);
 
-// The fit's tolerance the benchmark runs (docs/FLUIDS.md, "Cost on
-// flexible links").
-constexpr char kFitTolerance[] = "1e-4";
-
 // args: n sub-segments per link; model (0 rft, 2 ribbon, 3 plates);
-// resistance (0 cached, 2 the fit in time, 3 exact at every step).
+// resistance (0 cached alone, 2 the fit in time (the default), 3 exact at
+// every step).
 void BM_FlexibleCycle(benchmark::State& state) {
   const int model = static_cast<int>(state.range(1));
   std::string fluid = model == 2 ? "model = \"ribbon\"\nribbon_modes = 8\n"
                       : model == 3 ? "model = \"plates\"\nplate_points_across = 4\n"
                                    : "model = \"rft\"\n";
   const std::string prefix = model == 2 ? "ribbon_" : "plate_";
-  if (state.range(2) == 2) fluid += prefix + "fit_tolerance = " + kFitTolerance + "\n";
+  if (model != 0 && state.range(2) == 0) fluid += prefix + "fit_tolerance = 0\n";
   if (state.range(2) == 3) fluid += prefix + "shape_tolerance_rad = 0\n";
   ScenarioConfig scenario = ParseScenario(
       "include = [\"paper.toml\"]\nsegments_per_link = " + std::to_string(state.range(0)) +

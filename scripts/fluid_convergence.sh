@@ -10,7 +10,7 @@
 #   - slender-ribbon theory, fluid.ribbon_modes;
 #   - RFT with Gray & Hancock's coefficients (the paper's) and calibrated on
 #     the plates (fluid.rft_coefficients = "ribbon"), which have no resolution.
-# About 65 minutes of CPU time, 44 of them the plates at k = 6. A run whose
+# About 90 s of CPU time, a fifth of it the plates at k = 6. A run whose
 # folder in OUT already holds its summary.json is not run again (the runs
 # are deterministic); delete OUT to start afresh.
 #

@@ -83,9 +83,10 @@ CacheParameters::CacheParameters(const std::string& model, const std::string& re
       tolerance_field_("ipmc_fluid_" + tolerance_key_),
       tolerance_meaning_(static_cast<char>(std::toupper(resistance.front())) +
                          resistance.substr(1) +
-                         " is recomputed when a joint has moved more than this since it was "
-                         "last computed, or off the secant of the last two (0: every "
-                         "evaluation; docs/FLUIDS.md, \"" +
+                         " is computed afresh when a joint is more than this off the fit in "
+                         "time's cubic through the last exact shapes, or without the fit when "
+                         "a joint has moved more than this since it was last computed or off "
+                         "the secant of the last two (0: every evaluation; docs/FLUIDS.md, \"" +
                          section + "\")"),
       reach_key_(model + "_secant_reach_rad"),
       reach_field_("ipmc_fluid_" + reach_key_),
@@ -112,8 +113,8 @@ FluidParameter CacheParameters::SecantReachRad() const {
 }
 
 FluidParameter CacheParameters::FitTolerance() const {
-  return NumberParameter(fit_key_.c_str(), fit_field_.c_str(), "", 1.0, kDefaultFitTolerance, "0",
-                         0.0, true, 1e-4, fit_meaning_.c_str());
+  return NumberParameter(fit_key_.c_str(), fit_field_.c_str(), "", 1.0, kDefaultFitTolerance,
+                         "1e-4", 0.0, true, 3e-5, fit_meaning_.c_str());
 }
 
 DenseResistanceFluid::~DenseResistanceFluid() = default;

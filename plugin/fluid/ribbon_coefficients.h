@@ -39,11 +39,11 @@ std::vector<DragCoefficients> PlateCalibratedCoefficients(double viscosity_Pa_s,
 // broadside drag scaled by kFittedBroadsideScale and its rotational drag by
 // kFittedRotationScale, the axial drag kept. The local calibration above
 // leaves out how the links' flows meet as the body bends; in the paper's
-// default job (scenarios/paper.toml, cycle 3) it swims 20.9 % short of the
-// plates extrapolated in the resolution (0.657046 against 0.830256 mm) with
-// 11.4 % more fluid power (1.7762e-12 against 1.59466e-12 W). The two
+// default job (scenarios/paper.toml, cycle 3) it swims 20.7 % short of the
+// plates extrapolated in the resolution (0.657046 against 0.828894 mm) with
+// 11.4 % more fluid power (1.7762e-12 against 1.59463e-12 W). The two
 // factors were fitted, to two figures, so that the job's swim and power
-// match the plates' (docs/FLUIDS.md: 0.2 % and -0.2 % left): they hold for
+// match the plates' (docs/FLUIDS.md: +0.37 % and -0.21 % left): they hold for
 // that strip and gait, and elsewhere only as far as docs/FLUIDS.md shows.
 constexpr double kFittedBroadsideScale = 1.14;
 constexpr double kFittedRotationScale = 0.85;

@@ -100,28 +100,11 @@ FluidParameter BlobMm() {
       "slender cylinder of radius a"));
 }
 
-FluidParameter ShapeToleranceRad() {
-  return NumberParameter("stokeslet_shape_tolerance_rad",
-                         "ipmc_fluid_stokeslet_shape_tolerance_rad", "rad", 1.0, 1e-3, "1e-3",
-                         0.0, true, 1e-4,
-                         "The Stokeslet resistance is recomputed when a joint has moved more "
-                         "than this since it was last computed, or off the secant of the last "
-                         "two (0: every evaluation)");
-}
-
-FluidParameter SecantReachRad() {
-  return NumberParameter("stokeslet_secant_reach_rad", "ipmc_fluid_stokeslet_secant_reach_rad",
-                         "rad", 1.0, kDefaultSecantReachRad, "0", 0.0, true, 2e-3,
-                         "Between exact evaluations the Stokeslet resistance is extrapolated "
-                         "along the secant of the last two while no joint has moved more than "
-                         "this (0: the last one as it is; docs/FLUIDS.md, \"Cost on flexible "
-                         "links\")");
-}
-
-FluidParameter FitTolerance() {
+// The Stokeslet resistance's cache parameters (dense_resistance_fluid.h).
+const CacheParameters& Cache() {
   static const CacheParameters cache("stokeslet", "the Stokeslet resistance",
-                                     "Cost on flexible links");
-  return cache.FitTolerance();
+                                     "Stokeslet resolution, blob and the cached resistance");
+  return cache;
 }
 
 // The settings the parameters give, defaults filled in and checked.
@@ -134,9 +117,9 @@ StokesletSettings SettingsFromParameters(const mjModel* m, const RftDrag& segmen
   settings.width_points = static_cast<int>(*value(WidthPoints()));
   if (const std::optional<double> per_m = value(PointsPerMm())) settings.spacing_m = 1.0 / *per_m;
   settings.blob_m = value(BlobMm()).value_or(0.0);
-  settings.shape_tolerance_rad = *value(ShapeToleranceRad());
-  settings.secant_reach_rad = *value(SecantReachRad());
-  settings.fit_tolerance = *value(FitTolerance());
+  settings.shape_tolerance_rad = *value(Cache().ShapeToleranceRad());
+  settings.secant_reach_rad = *value(Cache().SecantReachRad());
+  settings.fit_tolerance = *value(Cache().FitTolerance());
   settings.wall_distance_m = WallDistance_m(segments);
   return StokesletSettingsFromModel(m, segments, settings);
 }
@@ -144,8 +127,8 @@ StokesletSettings SettingsFromParameters(const mjModel* m, const RftDrag& segmen
 }  // namespace
 
 std::vector<FluidParameter> StokesletFluid::Parameters() {
-  return {WidthPoints(), PointsPerMm(), BlobMm(), ShapeToleranceRad(), SecantReachRad(),
-          FitTolerance()};
+  return {WidthPoints(), PointsPerMm(), BlobMm(), Cache().ShapeToleranceRad(),
+          Cache().SecantReachRad(), Cache().FitTolerance()};
 }
 
 std::unique_ptr<Fluid> StokesletFluid::Make(const mjModel* m, const RftDrag& segments,

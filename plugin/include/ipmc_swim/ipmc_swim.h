@@ -22,9 +22,9 @@
 //    a dst attached before the copy) continues it: dst steps bit for bit
 //    as src does, in either dynamics, with the rft fluid model (and any
 //    whose resistance is a function of the position alone); the dense
-//    fluids' resistance cache (stokeslets, ribbon, plates: recomputed when
-//    the shape has moved beyond its tolerance) is the coupling's own, so a
-//    copy follows within that tolerance; with
+//    fluids' resistance cache (stokeslets, ribbon, plates: exact
+//    evaluations and the fit in time between them) is the coupling's own,
+//    so a copy follows within the fit's tolerance; with
 //    ipmc_actuator_integration = cvode, within its tolerance. Step refuses a dst that holds a coupling's state and is
 //    not attached (mj_step would step it without drag or actuators).
 //  - mj_resetData, mj_resetDataKeyframe: they zero userdata; the next
@@ -278,7 +278,8 @@ FluidFacts FluidOf(const mjData* d);
 // resistance exactly, and how often it took it from its fit in time
 // between exact evaluations (ipmc_fluid_<model>_fit_tolerance), since
 // Attach; zeros for the other fluids. The rest of its evaluations reused
-// the last one (the shape within its tolerance).
+// the last one (the same shape, or without the fit a shape within its
+// tolerance).
 struct ResistanceEvaluations {
   long exact = 0;
   long fitted = 0;
