@@ -34,15 +34,18 @@ struct Cycle {
   double swim_mm = 0.0;
   double fluid_power_W = 0.0;
 };
-Cycle FlexibleRibbonCycle(const std::string& fluid) {
-  ScenarioConfig scenario = ParseScenario(
-      "include = [\"paper.toml\"]\nsegments_per_link = 4\ncycles = 1\ntimestep_s = 1e-3\ndynamics = \"stokes\"\n"
-      "[waveform]\nc1_um_per_mm = 150.0\nfrequency_Hz = 1.0\n"
-      "[fluid]\nmodel = \"ribbon\"\n" + fluid,
-      kSource);
+// The first cycle of the scenario `text` (beside the paper's).
+Cycle FirstCycle(const std::string& text) {
+  ScenarioConfig scenario = ParseScenario(text, kSource);
   scenario.output.dir.clear();
   const auto result = SimulateScenario(scenario);
   return {result.swim.per_cycle.at(0).com_along, result.energy.per_cycle.at(0).fluid_power_W};
+}
+Cycle FlexibleRibbonCycle(const std::string& fluid) {
+  return FirstCycle(
+      "include = [\"paper.toml\"]\nsegments_per_link = 4\ncycles = 1\ntimestep_s = 1e-3\ndynamics = \"stokes\"\n"
+      "[waveform]\nc1_um_per_mm = 150.0\nfrequency_Hz = 1.0\n"
+      "[fluid]\nmodel = \"ribbon\"\n" + fluid);
 }
 
 double Relative(double value, double reference) { return std::abs(value / reference - 1.0); }
@@ -129,13 +132,9 @@ TEST(DenseResistanceCacheTest, FitFollowsTheExactResistanceWithFewEvaluations) {
 // the voltage clamp much of the time and their hinges jerk, under each
 // dense model with its `fluid` keys.
 Cycle ShortCycle(const std::string& fluid) {
-  ScenarioConfig scenario = ParseScenario(
+  return FirstCycle(
       "include = [\"paper.toml\"]\ncycles = 1\ntimestep_s = 1e-3\ndynamics = \"stokes\"\n"
-      "[waveform]\nfrequency_Hz = 0.5\n[fluid]\n" + fluid,
-      kSource);
-  scenario.output.dir.clear();
-  const auto result = SimulateScenario(scenario);
-  return {result.swim.per_cycle.at(0).com_along, result.energy.per_cycle.at(0).fluid_power_W};
+      "[waveform]\nfrequency_Hz = 0.5\n[fluid]\n" + fluid);
 }
 
 // Every dense model fits its resistance in time by default, and the
