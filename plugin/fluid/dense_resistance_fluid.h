@@ -71,9 +71,10 @@ namespace ipmc {
 // The secant's reach by default [rad]: none, the cached resistance as it
 // is (docs/FLUIDS.md, "Cost on flexible links", measures the secant).
 constexpr double kDefaultSecantReachRad = 0.0;
-// The fit's tolerance by default: the swim and fluid power within 0.1 %
-// of the exact evaluation at every step on flexible links (docs/FLUIDS.md,
-// "Cost on flexible links", measures it).
+// The fit's tolerance by default: the paper's strip swims, rigid or
+// flexible, within 0.1 % of the exact evaluation at every step, its fluid
+// power within 0.002 % (docs/FLUIDS.md, "Cost on flexible links", measures
+// it, and a small-stroke strip where it errs more).
 constexpr double kDefaultFitTolerance = 1e-4;
 
 class RftDrag;
