@@ -166,6 +166,15 @@ CouplingContext& RequireCoupling(const mjData* d, const char* function) {
   return *context;
 }
 
+// The fluid that steps m: its drag acts on m's joints only, so a model
+// may leave out what only out-of-plane motions feel when they are planar.
+std::unique_ptr<Fluid> MakeSteppingFluid(const mjModel* m, const RftDrag& drag,
+                                         const RftDragOverrides& overrides) {
+  std::unique_ptr<Fluid> fluid = MakeFluid(m, drag, overrides);
+  fluid->set_in_plane_when_planar(true);
+  return fluid;
+}
+
 // The context Attach couples to a data of m, not yet registered; nullptr
 // for a model without ipmc_* fields.
 std::unique_ptr<CouplingContext> MakeContext(const mjModel* m,
@@ -188,9 +197,7 @@ std::unique_ptr<CouplingContext> MakeContext(const mjModel* m,
   context->fluid_overrides = fluid;
   if (std::optional<RftDragConfig> drag = RftDragConfig::FromModel(m, fluid)) {
     context->drag.emplace(m, *drag);
-    context->fluid = MakeFluid(m, *context->drag, fluid);
-    // It steps the model: its drag acts on the model's joints only.
-    context->fluid->set_in_plane_when_planar(true);
+    context->fluid = MakeSteppingFluid(m, *context->drag, fluid);
   }
   if (std::optional<std::string> text = FindCustomText(m, kAttrDynamics)) {
     context->dynamics = ParseDynamics(*text);
@@ -870,8 +877,7 @@ void SetFluidField(const mjData* d, const char* field, double value) {
   }
   context.fluid.reset();
   context.drag.emplace(m, *config);
-  context.fluid = MakeFluid(m, *context.drag, context.fluid_overrides);
-  context.fluid->set_in_plane_when_planar(true);
+  context.fluid = MakeSteppingFluid(m, *context.drag, context.fluid_overrides);
   if (context.stokes) context.stokes->ForgetHistory();
 }
 
